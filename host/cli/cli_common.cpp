@@ -1,0 +1,34 @@
+#include "cli_common.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+namespace brdfbake::cli {
+
+cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv) {
+  try {
+    return options.parse(argc, argv);
+  } catch (const cxxopts::exceptions::exception& e) {
+    throw UsageError(e.what());
+  }
+}
+
+double finite_number(const cxxopts::ParseResult& r, const std::string& name) {
+  const std::string text = r[name].as<std::string>();
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw UsageError("--" + name + " must be a finite number (got '" + text + "')");
+  return v;
+}
+
+int integer(const cxxopts::ParseResult& r, const std::string& name) {
+  const std::string text = r[name].as<std::string>();
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < -2147483647L || v > 2147483647L)
+    throw UsageError("--" + name + " must be an integer (got '" + text + "')");
+  return static_cast<int>(v);
+}
+
+}  // namespace brdfbake::cli

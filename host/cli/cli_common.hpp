@@ -1,0 +1,31 @@
+// Shared pieces of the command-line front end.
+#pragma once
+
+#include <cxxopts.hpp>
+#include <string>
+
+#include "brdfbake/error.hpp"
+
+namespace brdfbake::cli {
+
+// Exit codes: 0 success, 1 runtime failure (OpenCL, I/O), 2 bad usage or bad input.
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+// A usage error (unknown option, missing argument, bad value): exit code 2.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& m) : Error(m) {}
+};
+
+int cmd_devices(int argc, char** argv);
+int cmd_lut(int argc, char** argv);
+
+// Parses, turning cxxopts' exceptions into UsageError with the command's name.
+cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);
+
+// The value of an option that must be a finite number / a positive integer.
+double finite_number(const cxxopts::ParseResult& r, const std::string& name);
+int integer(const cxxopts::ParseResult& r, const std::string& name);
+
+}  // namespace brdfbake::cli

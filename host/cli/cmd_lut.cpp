@@ -1,0 +1,100 @@
+// brdfbake lut --kind ggx|ggx-multiscatter|charlie --size N [...] -o FILE
+#include <cstdio>
+#include <iostream>
+
+#include "brdfbake/io.hpp"
+#include "brdfbake/lut.hpp"
+#include "cli_common.hpp"
+
+namespace brdfbake::cli {
+
+int cmd_lut(int argc, char** argv) {
+  cxxopts::Options options("brdfbake lut", "Bake a split-sum DFG lookup table");
+  options.add_options()
+      ("kind", "ggx | ggx-multiscatter | charlie", cxxopts::value<std::string>()->default_value("ggx"))
+      ("size", "cells along n_dot_v (and roughness unless --height)", cxxopts::value<std::string>()->default_value("128"))
+      ("height", "cells along roughness", cxxopts::value<std::string>())
+      ("samples", "evaluations per texel (default: the calibrated count for a 1e-4 bound)", cxxopts::value<std::string>())
+      ("max-error", "choose the sample count that keeps the max abs error below this", cxxopts::value<std::string>())
+      ("estimator", "quadrature | vndf | ndf | uniform", cxxopts::value<std::string>()->default_value("quadrature"))
+      ("sheen-visibility", "charlie visibility: estevez-kulla | neubelt", cxxopts::value<std::string>()->default_value("estevez-kulla"))
+      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
+      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
+      ("o,output", "output file (.exr .png .hdr .ktx2 .csv .h), or - for standard output", cxxopts::value<std::string>())
+      ("format", "output format when it cannot come from the file name", cxxopts::value<std::string>())
+      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f16"))
+      ("symbol", "C identifier of the array in a .h output", cxxopts::value<std::string>())
+      ("quiet", "no progress or summary lines")
+      ("h,help", "this help");
+  const auto r = parse(options, argc, argv);
+  if (r.count("help")) {
+    std::cout << options.help() << "\n";
+    return 0;
+  }
+  if (!r.count("output")) throw UsageError("missing -o FILE (or -o - --format csv)");
+  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+
+  LutSpec spec;
+  spec.kind = lut_kind_from_name(r["kind"].as<std::string>());
+  spec.width = integer(r, "size");
+  spec.height = r.count("height") ? integer(r, "height") : spec.width;
+  if (spec.width < 1 || spec.height < 1) throw UsageError("--size and --height must be at least 1");
+  if (r.count("samples")) {
+    spec.samples = integer(r, "samples");
+    if (spec.samples < 1) throw UsageError("--samples must be a positive integer (got '" + r["samples"].as<std::string>() + "')");
+  }
+  if (r.count("max-error")) {
+    spec.max_error = finite_number(r, "max-error");
+    if (spec.max_error <= 0) throw UsageError("--max-error must be positive");
+  }
+  spec.estimator = estimator_from_name(r["estimator"].as<std::string>());
+  spec.sheen_visibility = sheen_visibility_from_name(r["sheen-visibility"].as<std::string>());
+  spec.precision = precision_from_name(r["precision"].as<std::string>());
+
+  const std::string out = r["output"].as<std::string>();
+  TableFormat format;
+  if (r.count("format")) {
+    format = table_format_from_name(r["format"].as<std::string>());
+  } else if (out == "-") {
+    throw UsageError("-o - writes to standard output and needs --format csv");
+  } else {
+    format = table_format_from_path(out);
+  }
+  if (out == "-" && format != TableFormat::Csv) throw UsageError("only --format csv can go to standard output");
+  TableWriteOptions wo;
+  const std::string pixel = r["pixel"].as<std::string>();
+  if (pixel == "f16") wo.pixel = PixelType::F16;
+  else if (pixel == "f32") wo.pixel = PixelType::F32;
+  else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
+  if (r.count("symbol")) wo.symbol = r["symbol"].as<std::string>();
+
+  const bool quiet = r.count("quiet") > 0;
+  const std::string device_name = r["device"].as<std::string>();
+  const LutSpec resolved = resolve_lut_spec(spec);  // validates before any slow work
+  auto progress = [&](double fraction) {
+    if (!quiet) std::fprintf(stderr, "\rbaking %s %dx%d: %3.0f%%", lut_kind_name(spec.kind), resolved.width,
+                             resolved.height, 100.0 * fraction);
+  };
+  LutTiming timing;
+  Table table;
+  if (device_name == "reference") {
+    table = bake_lut_reference(spec, &timing, progress);
+  } else {
+    Device device = Device::open(device_name);
+    table = bake_lut(device, spec, &timing, progress);
+  }
+  if (!quiet) std::fprintf(stderr, "\n");
+  if (out == "-") {
+    write_table_csv(table, std::cout);
+  } else {
+    write_table(table, out, format, wo);
+  }
+  if (!quiet)
+    std::fprintf(stderr, "%s: %s %dx%d, %s, %s samples, %s, error bound %s, %.3f s (device %.3f s)\n",
+                 out == "-" ? "stdout" : out.c_str(), lut_kind_name(spec.kind), table.width, table.height,
+                 table.meta("estimator").c_str(), table.meta("samples").c_str(), table.meta("precision").c_str(),
+                 table.meta("error_bound").c_str(), timing.wall_seconds, timing.device_seconds);
+  return 0;
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,53 @@
+// brdfbake: the command-line tool. The only place that prints errors and chooses exit codes.
+#include <cstring>
+#include <iostream>
+
+#include "brdfbake/version.hpp"
+#include "cli_common.hpp"
+
+namespace {
+
+void usage(std::ostream& out) {
+  out << "brdfbake " << brdfbake::kVersion << ": physically based BRDF tables on OpenCL devices\n\n"
+      << "usage: brdfbake <command> [options]    (brdfbake <command> --help for its options)\n\n"
+      << "commands:\n"
+      << "  devices   list OpenCL platforms and devices\n"
+      << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace brdfbake;
+  if (argc < 2) {
+    usage(std::cerr);
+    return cli::kExitUsage;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
+    if (command == "lut") return cli::cmd_lut(argc - 1, argv + 1);
+    if (command == "--help" || command == "-h" || command == "help") {
+      usage(std::cout);
+      return 0;
+    }
+    if (command == "--version") {
+      std::cout << "brdfbake " << kVersion << "\n";
+      return 0;
+    }
+    std::cerr << "brdfbake: unknown command '" << command << "' (expected devices or lut)\n";
+    return cli::kExitUsage;
+  } catch (const cli::UsageError& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    return cli::kExitUsage;
+  } catch (const ClError& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    return cli::kExitFailure;
+  } catch (const Error& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    return cli::kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    return cli::kExitFailure;
+  }
+}

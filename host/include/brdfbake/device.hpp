@@ -1,0 +1,58 @@
+// OpenCL devices: enumeration, selection and an opened device (context + profiling queue).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace brdfbake {
+
+enum class Precision { Fp32, Fp64 };
+Precision precision_from_name(const std::string& name);  // "fp32" | "fp64"; throws Error otherwise
+const char* precision_name(Precision p);
+
+struct DeviceInfo {
+  int platform_index = -1;
+  int device_index = -1;
+  std::string platform_name;
+  std::string platform_version;
+  std::string name;
+  std::string vendor;
+  std::string version;         // CL_DEVICE_VERSION
+  std::string driver_version;  // CL_DRIVER_VERSION
+  std::string type;            // "cpu", "gpu", "accelerator" or "other"
+  unsigned compute_units = 0;
+  uint64_t global_memory = 0;
+  uint64_t local_memory = 0;
+  uint64_t max_alloc = 0;
+  size_t max_work_group_size = 0;
+  bool fp64 = false;
+  bool is_default = false;  // the device chosen when nothing is asked for
+};
+
+// Every device of every platform; an empty list when there is no OpenCL platform at all.
+std::vector<DeviceInfo> list_devices();
+
+// The device a selector names: "" (then $BRDFBAKE_DEVICE, then the default: the first GPU, else
+// the first CPU, else the first device), "P:D" indices, "cpu", "gpu", or a case-insensitive
+// substring of the device name. Throws Error naming the selector and what exists.
+DeviceInfo select_device(const std::string& selector);
+
+// An opened OpenCL device: context, in-order profiling queue, program cache. Cheap to copy.
+class Device {
+ public:
+  static Device open(const std::string& selector = {});
+  static Device open(const DeviceInfo& info);
+
+  const DeviceInfo& info() const;
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  explicit Device(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+  std::shared_ptr<Impl> impl_;
+};
+
+}  // namespace brdfbake

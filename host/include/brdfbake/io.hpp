@@ -1,0 +1,31 @@
+// Writing tables to files. Every writer writes to a temporary name in the destination folder and
+// renames it when complete, so a failed write leaves no partial file; errors throw brdfbake::Error.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "brdfbake/table.hpp"
+
+namespace brdfbake {
+
+enum class TableFormat { Exr, Png, Hdr, Ktx2, Csv, CHeader };
+enum class PixelType { F16, F32 };
+
+// The format named by a file's extension (.exr .png .hdr .ktx2 .csv .h), or by a --format name
+// ("exr", "png", "hdr", "ktx2", "csv", "h"). Throws brdfbake::Error for anything else.
+TableFormat table_format_from_path(const std::string& path);
+TableFormat table_format_from_name(const std::string& name);
+
+struct TableWriteOptions {
+  PixelType pixel = PixelType::F16;  // for .ktx2 and .h; .exr is always float32, .png 16-bit
+  std::string symbol;                // C identifier for .h (default: derived from the file name)
+};
+
+// Writes `table` to `path` in `format`, atomically.
+void write_table(const Table& table, const std::string& path, TableFormat format,
+                 const TableWriteOptions& options = {});
+// CSV to a stream (for `-o -`): '#' metadata lines, a header row naming every column, one row per cell.
+void write_table_csv(const Table& table, std::ostream& out);
+
+}  // namespace brdfbake

@@ -1,0 +1,73 @@
+// The split-sum DFG lookup tables (GGX scale/bias + Burley diffuse, the multiple-scattering form,
+// and the Charlie sheen albedo), baked on an OpenCL device or by the scalar reference.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "brdfbake/device.hpp"
+#include "brdfbake/table.hpp"
+
+namespace brdfbake {
+
+enum class LutKind { Ggx, GgxMultiscatter, Charlie };
+LutKind lut_kind_from_name(const std::string& name);  // "ggx" | "ggx-multiscatter" | "charlie"
+const char* lut_kind_name(LutKind kind);
+
+// How the lobe integral of each texel is estimated.
+enum class Estimator {
+  Quadrature,  // deterministic Gauss-Legendre in the lobe's CDF variables, split at the horizon
+  Vndf,        // Monte Carlo, GGX visible normals (Heitz 2018), Hammersley points
+  Ndf,         // Monte Carlo, the distribution of normals (GGX or Charlie), Hammersley points
+  Uniform,     // Monte Carlo, uniform hemisphere (Charlie only)
+};
+Estimator estimator_from_name(const std::string& name);  // "quadrature" | "vndf" | "ndf" | "uniform"
+const char* estimator_name(Estimator e);
+
+enum class SheenVisibility { EstevezKulla, Neubelt };
+SheenVisibility sheen_visibility_from_name(const std::string& name);  // "estevez-kulla" | "neubelt"
+const char* sheen_visibility_name(SheenVisibility v);
+
+struct LutSpec {
+  LutKind kind = LutKind::Ggx;
+  int width = 128;             // cells along n_dot_v
+  int height = 0;              // cells along roughness; 0: same as width
+  int samples = 0;             // evaluations per texel; 0: the default (or from max_error)
+  double max_error = 0.0;      // > 0: the fewest samples whose measured max error is below it
+  Estimator estimator = Estimator::Quadrature;
+  Precision precision = Precision::Fp32;
+  SheenVisibility sheen_visibility = SheenVisibility::EstevezKulla;
+  // When non-empty, evaluate at these coordinates instead of the cell centres (tests, corners).
+  std::vector<double> n_dot_v;
+  std::vector<double> roughness;
+};
+
+// Throws Error for sizes < 1 or too large, negative samples, NaN bounds, and estimators the kind
+// does not support. Fills the defaults (height, samples) in the returned copy.
+LutSpec resolve_lut_spec(const LutSpec& spec);
+
+// The channel names of a kind, in order.
+std::vector<std::string> lut_channels(LutKind kind);
+
+struct LutTiming {
+  double device_seconds = 0.0;  // kernel time from OpenCL event profiling
+  double wall_seconds = 0.0;    // the whole call, program build included
+};
+
+// Called with the fraction done (0..1) as rows of the table complete.
+using Progress = std::function<void(double)>;
+
+// Bakes on an OpenCL device.
+Table bake_lut(Device& device, const LutSpec& spec, LutTiming* timing = nullptr,
+               const Progress& progress = {});
+// Bakes with the converged scalar double reference (spec.samples and estimator are ignored).
+Table bake_lut_reference(const LutSpec& spec, LutTiming* timing = nullptr,
+                         const Progress& progress = {});
+
+// The measured max abs error (over every channel of the 128x128 table, against the converged
+// reference) of an estimator at a sample count, from docs/BENCHMARKS.md's calibration; the error
+// of the largest calibrated count not above `samples`, or a negative value when none is known.
+double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, int samples);
+
+}  // namespace brdfbake

@@ -1,0 +1,176 @@
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <sstream>
+
+#include "brdfbake/device.hpp"
+#include "runtime/device_impl.hpp"
+
+namespace brdfbake {
+
+Precision precision_from_name(const std::string& name) {
+  if (name == "fp32") return Precision::Fp32;
+  if (name == "fp64") return Precision::Fp64;
+  throw Error("unknown precision '" + name + "' (expected fp32 or fp64)");
+}
+
+const char* precision_name(Precision p) { return p == Precision::Fp64 ? "fp64" : "fp32"; }
+
+namespace {
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back()))))
+    s.pop_back();
+  size_t start = 0;
+  while (start < s.size() && std::isspace(static_cast<unsigned char>(s[start]))) ++start;
+  return s.substr(start);
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+const char* type_name(cl_device_type t) {
+  if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+  if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+  if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+struct Found {
+  DeviceInfo info;
+  cl::Platform platform;
+  cl::Device device;
+};
+
+std::vector<Found> enumerate() {
+  std::vector<Found> out;
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error&) {
+    return out;  // no ICD or no platform: an empty list, not an error
+  }
+  for (size_t p = 0; p < platforms.size(); ++p) {
+    std::vector<cl::Device> devices;
+    try {
+      platforms[p].getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;  // CL_DEVICE_NOT_FOUND on a platform with no device
+    }
+    for (size_t d = 0; d < devices.size(); ++d) {
+      const cl::Device& dev = devices[d];
+      DeviceInfo info;
+      info.platform_index = static_cast<int>(p);
+      info.device_index = static_cast<int>(d);
+      detail::cl_call("querying device information", [&] {
+        info.platform_name = trim(platforms[p].getInfo<CL_PLATFORM_NAME>());
+        info.platform_version = trim(platforms[p].getInfo<CL_PLATFORM_VERSION>());
+        info.name = trim(dev.getInfo<CL_DEVICE_NAME>());
+        info.vendor = trim(dev.getInfo<CL_DEVICE_VENDOR>());
+        info.version = trim(dev.getInfo<CL_DEVICE_VERSION>());
+        info.driver_version = trim(dev.getInfo<CL_DRIVER_VERSION>());
+        info.type = type_name(dev.getInfo<CL_DEVICE_TYPE>());
+        info.compute_units = dev.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+        info.global_memory = dev.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+        info.local_memory = dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+        info.max_alloc = dev.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+        info.max_work_group_size = dev.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+        const std::string ext = dev.getInfo<CL_DEVICE_EXTENSIONS>();
+        info.fp64 = ext.find("cl_khr_fp64") != std::string::npos ||
+                    dev.getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
+        return 0;
+      });
+      out.push_back({info, platforms[p], dev});
+    }
+  }
+  // The default: the first GPU, else the first CPU, else the first device.
+  auto pick = [&](const char* type) {
+    return std::find_if(out.begin(), out.end(), [&](const Found& f) { return f.info.type == type; });
+  };
+  auto it = pick("gpu");
+  if (it == out.end()) it = pick("cpu");
+  if (it == out.end()) it = out.begin();
+  if (it != out.end()) it->info.is_default = true;
+  return out;
+}
+
+std::string describe(const std::vector<Found>& all) {
+  if (all.empty()) return "no OpenCL device is available (is an ICD such as pocl-opencl-icd installed?)";
+  std::ostringstream s;
+  s << "available:";
+  for (const auto& f : all)
+    s << " " << f.info.platform_index << ":" << f.info.device_index << " '" << f.info.name << "' ("
+      << f.info.type << ")";
+  return s.str();
+}
+
+Found find(const std::string& selector_in) {
+  std::string selector = selector_in;
+  if (selector.empty()) {
+    if (const char* env = std::getenv("BRDFBAKE_DEVICE")) selector = env;
+  }
+  const auto all = enumerate();
+  if (all.empty()) throw Error(describe(all));
+  if (selector.empty() || selector == "default") {
+    for (const auto& f : all)
+      if (f.info.is_default) return f;
+  }
+  // "P:D"
+  const auto colon = selector.find(':');
+  if (colon != std::string::npos) {
+    const std::string a = selector.substr(0, colon), b = selector.substr(colon + 1);
+    const bool digits = !a.empty() && !b.empty() &&
+                        std::all_of(a.begin(), a.end(), ::isdigit) &&
+                        std::all_of(b.begin(), b.end(), ::isdigit);
+    if (digits) {
+      const int p = std::stoi(a), d = std::stoi(b);
+      for (const auto& f : all)
+        if (f.info.platform_index == p && f.info.device_index == d) return f;
+      throw Error("no OpenCL device " + selector + "; " + describe(all));
+    }
+  }
+  const std::string want = lower(selector);
+  if (want == "cpu" || want == "gpu" || want == "accelerator") {
+    for (const auto& f : all)
+      if (f.info.type == want) return f;
+    throw Error("no OpenCL " + want + " device; " + describe(all));
+  }
+  for (const auto& f : all)
+    if (lower(f.info.name).find(want) != std::string::npos) return f;
+  throw Error("no OpenCL device matches '" + selector + "'; " + describe(all));
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> out;
+  for (auto& f : enumerate()) out.push_back(f.info);
+  return out;
+}
+
+DeviceInfo select_device(const std::string& selector) { return find(selector).info; }
+
+Device Device::open(const std::string& selector) {
+  Found f = find(selector);
+  auto impl = std::make_shared<Impl>();
+  impl->info = f.info;
+  impl->platform = f.platform;
+  impl->device = f.device;
+  detail::cl_call("opening device '" + f.info.name + "'", [&] {
+    impl->context = cl::Context(f.device);
+    impl->queue = cl::CommandQueue(impl->context, f.device, CL_QUEUE_PROFILING_ENABLE);
+    return 0;
+  });
+  return Device(std::move(impl));
+}
+
+Device Device::open(const DeviceInfo& info) {
+  return open(std::to_string(info.platform_index) + ":" + std::to_string(info.device_index));
+}
+
+const DeviceInfo& Device::info() const { return impl_->info; }
+
+}  // namespace brdfbake

@@ -1,0 +1,375 @@
+// Split-sum DFG lookup tables over (n_dot_v, perceptual roughness).
+//
+// Compile-time choices (host/src/dfg_lut.cpp defines exactly one of each group):
+//   table:     BRDFBAKE_LUT_GGX            -> scale, bias, burley_albedo
+//              BRDFBAKE_LUT_GGX_MULTISCATTER -> bias (sum Fc V), albedo (sum V), burley_albedo
+//              BRDFBAKE_LUT_CHARLIE        -> sheen albedo
+//   estimator: BRDFBAKE_EST_QUADRATURE | BRDFBAKE_EST_VNDF | BRDFBAKE_EST_NDF | BRDFBAKE_EST_UNIFORM
+//   sheen:     BRDFBAKE_SHEEN_NEUBELT (else Estevez & Kulla's fitted Lambda)
+//
+// Frame: n = +z, v = (sin_v, 0, n_dot_v). A microfacet normal h at polar angle theta_h and azimuth
+// phi reflects v into l = 2 (v.h) h - v, with n.l = 2 (v.h)(n.h) - n.v.
+#include "common/real.clh"
+#include "common/microfacet.clh"
+#include "common/sampling.clh"
+
+// ---------------------------------------------------------------------------------------------
+// Integrands in half-vector space.
+//
+// The albedo integral of a lobe f = D V F over l, with dl = 4 (v.h) dh (the reflection Jacobian),
+// is I = int D(h) V n.l 4 (v.h) dh. Writing the measure D(h) (n.h) dh = dxi dphi / (2 pi), where
+// xi is the CDF of the lobe's polar angle (D is normalised so that int D (n.h) dh = 1), gives
+//   I = (1 / 2 pi) int_0^1 dxi int_0^2pi dphi  V n.l 4 (v.h) / (n.h).
+// For GGX with V = G2 / (4 n.l n.v) the integrand is w = G2 (v.h) / ((n.v)(n.h)): the classic
+// importance-sampling weight. Points where n.l <= 0 contribute 0 (v.h > 0 follows from n.l > 0).
+// ---------------------------------------------------------------------------------------------
+
+// n.l and v.h for the normal (sin_h cos_phi, sin_h sin_phi, cos_h).
+inline real2 reflect_cosines(real n_dot_v, real sin_v, real sin_h, real cos_h, real cos_phi) {
+  const real v_dot_h = sin_v * sin_h * cos_phi + n_dot_v * cos_h;
+  return (real2)(R(2.0) * v_dot_h * cos_h - n_dot_v, v_dot_h);
+}
+
+// GGX: (1 - Fc) w and Fc w, the integrands of scale and bias.
+inline real2 ggx_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, real cos_phi, real alpha) {
+  const real2 c = reflect_cosines(n_dot_v, sin_v, sin_h, cos_h, cos_phi);
+  if (c.x <= R(0.0)) return (real2)(R(0.0), R(0.0));
+  const real w = G2_SmithGGXCorrelated(n_dot_v, c.x, alpha) * c.y / (n_dot_v * cos_h);
+  const real fc = schlick_weight(c.y);
+  return (real2)((R(1.0) - fc) * w, fc * w);
+}
+
+// Charlie: V n.l 4 (v.h) / (n.h).
+inline real charlie_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, real cos_phi, real alpha) {
+  const real2 c = reflect_cosines(n_dot_v, sin_v, sin_h, cos_h, cos_phi);
+  if (c.x <= R(0.0) || cos_h <= R(0.0)) return R(0.0);
+#ifdef BRDFBAKE_SHEEN_NEUBELT
+  const real vnl = V_times_nl_Neubelt(n_dot_v, c.x);
+#else
+  const real vnl = V_times_nl_Charlie(n_dot_v, c.x, alpha);
+#endif
+  return vnl * R(4.0) * c.y / cos_h;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Deterministic quadrature (BRDFBAKE_EST_QUADRATURE).
+//
+// 1. The horizon. n.l = 0 cuts the (theta_h, phi) domain along a curve, and any product rule laid
+// across that kink converges slowly. The curve has a closed form:
+//   n.l > 0  <=>  2 cos_h (sin_v sin_h cos_phi + n.v cos_h) > n.v
+//            <=>  cos_phi > c(theta_h) = -cot(theta_v) cot(2 theta_h),
+// so every phi is valid for theta_h <= theta_1 = pi/4 - theta_v/2 (c <= -1), none for
+// theta_h >= theta_2 = pi/4 + theta_v/2 (c >= 1), and phi in [0, acos c] in between. With
+// tau = tan(theta_v / 2) = sin_v / (1 + n.v): tan(theta_1) = (1 - tau)/(1 + tau) = 1/tan(theta_2).
+// Panel A (theta_h < theta_1) takes the midpoint rule in phi over the whole circle (spectrally
+// accurate for a smooth periodic integrand; the mirror symmetry phi -> -phi halves it); panel B
+// (theta_1 < theta_h < theta_2) takes Gauss-Legendre in phi over [0, acos c], where the integrand
+// goes to zero smoothly at the horizon.
+//
+// 2. The polar variable. Uniform lobe mass (xi) resolves the lobe's peak, but at grazing view the
+// integrand w grows like 1/(n.v)^2 where h nears v, a sliver of xi of relative size (alpha n.v)^2.
+// A logarithmic variable resolves every scale at once: GGX uses y = log(eta), eta = 1 - xi, on both
+// panels (d xi = eta dy); Charlie uses y = log(cos theta_h) on panel B, with its density
+// d xi / dy = (2 + 1/alpha) sin^(1/alpha) cos^2, and xi itself on panel A. Panel B's nodes also go
+// through u = (1 - cos(pi x)) / 2, whose vanishing slope at both ends absorbs the square-root
+// behaviour of acos(c) at theta_1 and theta_2. The convergence this buys is in docs/BENCHMARKS.md.
+//
+// Node buffer q (built on the host, in `real`): n_xi Gauss-Legendre nodes then weights on [0,1];
+// n_xi panel-B nodes u(x) then weights (pi/2) sin(pi x) w; n_phi Gauss-Legendre nodes then weights
+// on [0,1]; n_phi midpoint cosines cos((m + 0.5) pi / n_phi); 8 Gauss-Legendre nodes then weights
+// for the diffuse integral. n_xi is a multiple of BRDFBAKE_VW.
+// ---------------------------------------------------------------------------------------------
+#define Q_PHI_OFFSET (4 * n_xi)
+#define Q_PHI_W_OFFSET (4 * n_xi + n_phi)
+#define Q_MID_OFFSET (4 * n_xi + 2 * n_phi)
+#define Q_D_X(k) q[4 * n_xi + 3 * n_phi + (k)]
+#define Q_D_W(k) q[4 * n_xi + 3 * n_phi + 8 + (k)]
+
+// The inner loops run BRDFBAKE_VW polar nodes at once (one per lane), so the per-node set-up
+// (exp, square roots, acos) is vectorised too; n_xi is padded to a multiple of the width with
+// zero-weight nodes.
+#if defined(BRDFBAKE_LUT_CHARLIE)
+typedef realv acc_t;
+// Charlie's integrand V n.l 4 (v.h) / (n.h), times the node weights pw.
+inline acc_t lobe_lanes(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv cos_phi, realv pw,
+                        real alpha) {
+  const realv v_dot_h = sin_v * sin_h * cos_phi + n_dot_v * cos_h;
+  const realv n_dot_l = R(2.0) * v_dot_h * cos_h - n_dot_v;
+  const realv nl = fmax(n_dot_l, (realv)R(1e-30));
+#ifdef BRDFBAKE_SHEEN_NEUBELT
+  const realv vnl = nl / (R(4.0) * (nl + n_dot_v - nl * n_dot_v));
+#else
+  const realv vnl = R(1.0) / ((R(1.0) + Lambda_Charlie(n_dot_v, alpha) + Lambda_Charlie_v(nl, alpha)) *
+                              R(4.0) * n_dot_v);
+#endif
+  return n_dot_l > R(0.0) ? pw * vnl * R(4.0) * v_dot_h / cos_h : (realv)R(0.0);
+}
+inline real2 acc_total(acc_t a) { return (real2)(lanes_sum(a), R(0.0)); }
+#else
+typedef struct {
+  realv scale, bias;
+} acc_t;
+// GGX's (1 - Fc) w and Fc w, w = G2 (v.h) / ((n.v)(n.h)), times the node weights pw.
+// G2 = 1 / (1 + Lambda(v) + Lambda(l)) with Lambda(l) = (sqrt(nl^2 + a^2 (1 - nl^2)) / nl - 1) / 2
+// (Heitz 2014, eq. 72) is computed as nl / (nl (1/2 + Lambda(v)) + sqrt(...) / 2): one division
+// and one square root a lane.
+inline acc_t lobe_lanes(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv cos_phi, realv pw,
+                        real alpha) {
+  const realv v_dot_h = sin_v * sin_h * cos_phi + n_dot_v * cos_h;
+  const realv n_dot_l = R(2.0) * v_dot_h * cos_h - n_dot_v;
+  const realv nl = fmax(n_dot_l, (realv)R(0.0));
+  const real a2 = alpha * alpha;
+  const real half_plus_lambda_v = R(0.5) + Lambda_GGX(n_dot_v, alpha);
+  const realv g2 = nl / (nl * half_plus_lambda_v + R(0.5) * sqrt(nl * nl * (R(1.0) - a2) + a2));
+  const realv w = pw * g2 * v_dot_h / (n_dot_v * cos_h);
+  const realv fc = schlick_weight_v(v_dot_h);
+  acc_t r;
+  r.scale = w - fc * w;
+  r.bias = fc * w;
+  return r;
+}
+inline void acc_add(acc_t* a, acc_t b) {
+  a->scale += b.scale;
+  a->bias += b.bias;
+}
+inline real2 acc_total(acc_t a) { return (real2)(lanes_sum(a.scale), lanes_sum(a.bias)); }
+
+// GGX: the polar angle of eta = 1 - xi, tan^2(theta_h) = alpha^2 (1 - eta) / eta (Walter et al.
+// 2007, eq. 35), as sin and cos.
+inline void ggx_angle(realv eta, real alpha, realv* sin_h, realv* cos_h) {
+  const realv a2t = alpha * alpha * (R(1.0) - eta);
+  const realv inv = R(1.0) / sqrt(eta + a2t);
+  *sin_h = sqrt(a2t) * inv;
+  *cos_h = sqrt(eta) * inv;
+}
+#endif
+
+#if defined(BRDFBAKE_LUT_CHARLIE)
+#define ACC_ADD(a, b) ((a) += (b))
+#define ACC_ZERO ((realv)R(0.0))
+#else
+#define ACC_ADD(a, b) acc_add(&(a), (b))
+#define ACC_ZERO ((acc_t){(realv)R(0.0), (realv)R(0.0)})
+#endif
+
+// cos(t) for t in [0, pi] as -sin(t - pi/2) by its Taylor polynomial, odd terms to s^11 in fp32
+// (truncation below 6e-8) and to s^19 in fp64 (below 3e-16): the library cos costs several times
+// more and panel B evaluates one per node.
+inline realv cos_0_pi(realv t) {
+  const realv s = t - R(1.57079632679489661923);
+  const realv s2 = s * s;
+#ifdef BRDFBAKE_FP64
+  realv p = (realv)(R(-1.0) / R(121645100408832000.0));  // -1/19!
+  p = p * s2 + R(1.0) / R(355687428096000.0);             // 1/17!
+  p = p * s2 - R(1.0) / R(1307674368000.0);               // 1/15!
+  p = p * s2 + R(1.0) / R(6227020800.0);                  // 1/13!
+  p = p * s2 - R(1.0) / R(39916800.0);                    // 1/11!
+#else
+  realv p = (realv)(R(-1.0) / R(39916800.0));  // -1/11!
+#endif
+  p = p * s2 + R(1.0) / R(362880.0);
+  p = p * s2 - R(1.0) / R(5040.0);
+  p = p * s2 + R(1.0) / R(120.0);
+  p = p * s2 - R(1.0) / R(6.0);
+  p = p * s2 + R(1.0);
+  return -(p * s);
+}
+
+// phi_max of panel B: acos(-cot(theta_v) cot(2 theta_h)), cot(2x) = (cos^2 - sin^2) / (2 sin cos).
+inline realv horizon_phi(real n_dot_v, real sin_v, realv sin_h, realv cos_h) {
+  const realv c = -(n_dot_v / sin_v) * (cos_h - sin_h) * (cos_h + sin_h) / (R(2.0) * sin_h * cos_h);
+  return acos(clamp(c, R(-1.0), R(1.0)));
+}
+
+// tan(theta_1) for the horizon split; tan(theta_2) = 1 / tan(theta_1).
+inline real tan_theta1(real n_dot_v, real sin_v) {
+  const real tau = sin_v / (R(1.0) + n_dot_v);
+  return (R(1.0) - tau) / (R(1.0) + tau);
+}
+
+// Panel A over BRDFBAKE_VW polar nodes: the midpoint rule over the half circle.
+inline acc_t panel_full(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv w, real alpha,
+                        constant real* q, int n_xi, int n_phi) {
+  acc_t acc = ACC_ZERO;
+  const realv wm = w * (BRDFBAKE_PI / (real)n_phi);
+  for (int m = 0; m < n_phi; ++m)
+    ACC_ADD(acc, lobe_lanes(n_dot_v, sin_v, sin_h, cos_h, (realv)q[Q_MID_OFFSET + m], wm, alpha));
+  return acc;
+}
+
+// Panel B over BRDFBAKE_VW polar nodes: Gauss-Legendre over [0, phi_max].
+inline acc_t panel_cut(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv w, real alpha,
+                       constant real* q, int n_xi, int n_phi) {
+  const realv phi_max = horizon_phi(n_dot_v, sin_v, sin_h, cos_h);
+  const realv wp = w * phi_max;
+  acc_t acc = ACC_ZERO;
+  for (int m = 0; m < n_phi; ++m)
+    ACC_ADD(acc, lobe_lanes(n_dot_v, sin_v, sin_h, cos_h, cos_0_pi(phi_max * q[Q_PHI_OFFSET + m]),
+                            wp * q[Q_PHI_W_OFFSET + m], alpha));
+  return acc;
+}
+
+inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real* q, int n_xi,
+                             int n_phi) {
+  const real t1 = tan_theta1(n_dot_v, sin_v);
+  acc_t acc = ACC_ZERO;
+#if defined(BRDFBAKE_LUT_CHARLIE)
+  const real e = R(2.0) + R(1.0) / alpha;
+  const real sin1 = t1 / sqrt(R(1.0) + t1 * t1), cos1 = R(1.0) / sqrt(R(1.0) + t1 * t1);
+  // Panel A: xi = sin^(2 + 1/alpha) in [0, xi_1]. Powers go through logarithms, and cos through
+  // expm1: sin^(1/alpha) with 1/alpha up to 1e7 would amplify a rounding of sin a million-fold.
+  const real log_xi1 = e * log(sin1);
+  if (log_xi1 > R(-700.0)) {
+    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
+      const realv log_s = (log_xi1 + log(vload8(0, q + k))) * (alpha / (R(2.0) * alpha + R(1.0)));
+      const realv s = exp(log_s);
+      const realv c = sqrt(-expm1(R(2.0) * log_s));
+      ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, exp(log_xi1) * vload8(0, q + n_xi + k), alpha, q,
+                              n_xi, n_phi));
+    }
+  }
+  // Panel B: y = log(cos theta_h) from log(cos theta_2) = log(sin theta_1) up to log(cos theta_1),
+  // with density d xi / dy = (2 + 1/alpha) sin^(1/alpha) cos^2, sin^(1/alpha) = exp(log1p(-c^2) / 2 alpha).
+  const real y1 = log(cos1), y2 = log(sin1);
+  if (sin_v > R(0.0) && y1 > y2) {
+    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
+      const realv c = exp(y2 + (y1 - y2) * vload8(0, q + 2 * n_xi + k));
+      const realv s = sqrt(fmax((R(1.0) - c) * (R(1.0) + c), R(0.0)));
+      const realv density = e * exp(log1p(-c * c) * (R(0.5) / alpha)) * c * c;
+      ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, (y1 - y2) * density * vload8(0, q + 3 * n_xi + k),
+                             alpha, q, n_xi, n_phi));
+    }
+  }
+#else
+  const real a2 = alpha * alpha;
+  const real eta1 = a2 / (a2 + t1 * t1), eta2 = a2 / (a2 + R(1.0) / (t1 * t1));
+  // Panel A: y = log(eta) from log(eta_1) up to 0; d xi = eta dy.
+  const real ya = log(eta1);
+  for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
+    const realv eta = exp(ya * (R(1.0) - vload8(0, q + k)));
+    realv s, c;
+    ggx_angle(eta, alpha, &s, &c);
+    ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, -ya * eta * vload8(0, q + n_xi + k), alpha, q, n_xi, n_phi));
+  }
+  // Panel B: y = log(eta) from log(eta_2) up to log(eta_1).
+  const real yb = log(eta2);
+  if (sin_v > R(0.0) && ya > yb) {
+    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
+      const realv eta = exp(yb + (ya - yb) * vload8(0, q + 2 * n_xi + k));
+      realv s, c;
+      ggx_angle(eta, alpha, &s, &c);
+      ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, (ya - yb) * eta * vload8(0, q + 3 * n_xi + k), alpha,
+                             q, n_xi, n_phi));
+    }
+  }
+#endif
+  // (1 / 2 pi) * 2 (mirror symmetry) = 1 / pi
+  return acc_total(acc) * BRDFBAKE_INV_PI;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Monte Carlo estimators with Hammersley points.
+// ---------------------------------------------------------------------------------------------
+inline real2 lobe_monte_carlo(real n_dot_v, real sin_v, real alpha, uint samples) {
+  const real3 v = (real3)(sin_v, R(0.0), n_dot_v);
+  real2 acc = (real2)(R(0.0), R(0.0));
+  for (uint i = 0; i < samples; ++i) {
+    const real2 u = hammersley(i, samples);
+#if defined(BRDFBAKE_LUT_CHARLIE)
+#if defined(BRDFBAKE_EST_UNIFORM)
+    // l uniform on the hemisphere, pdf 1 / (2 pi): weight 2 pi D V n.l.
+    const real cos_l = u.x, sin_l = sqrt(max(R(0.0), R(1.0) - cos_l * cos_l));
+    const real phi = R(2.0) * BRDFBAKE_PI * u.y;
+    const real3 l = (real3)(sin_l * cos(phi), sin_l * sin(phi), cos_l);
+    const real3 h = normalize(v + l);
+    const real sin_h = sqrt(max(R(0.0), R(1.0) - h.z * h.z));
+#ifdef BRDFBAKE_SHEEN_NEUBELT
+    const real vnl = V_times_nl_Neubelt(n_dot_v, cos_l);
+#else
+    const real vnl = V_times_nl_Charlie(n_dot_v, cos_l, alpha);
+#endif
+    acc.x += R(2.0) * BRDFBAKE_PI * D_Charlie(sin_h, alpha) * vnl;
+#else   // BRDFBAKE_EST_NDF: h with density D (n.h), weight V n.l 4 (v.h) / (n.h)
+    const real3 h = sample_charlie_ndf(alpha, u);
+    acc.x += charlie_weight(n_dot_v, sin_v, length(h.xy), h.z, h.x / max(length(h.xy), R(1e-30)), alpha);
+#endif
+#else  // GGX
+#if defined(BRDFBAKE_EST_VNDF)
+    // Heitz 2018: h with density G1(v) (v.h)+ D(h) / (n.v); the weight of l is G2 / G1(v).
+    const real3 h = sample_ggx_vndf(v, alpha, u);
+    const real v_dot_h = dot(v, h);
+    const real n_dot_l = R(2.0) * v_dot_h * h.z - n_dot_v;
+    if (n_dot_l > R(0.0) && v_dot_h > R(0.0)) {
+      const real w = G2_SmithGGXCorrelated(n_dot_v, n_dot_l, alpha) / G1_GGX(n_dot_v, alpha);
+      const real fc = schlick_weight(v_dot_h);
+      acc += (real2)((R(1.0) - fc) * w, fc * w);
+    }
+#else   // BRDFBAKE_EST_NDF: h with density D (n.h)
+    const real3 h = sample_ggx_ndf(alpha, u);
+    const real sin_h = length(h.xy);
+    acc += ggx_weight(n_dot_v, sin_v, sin_h, h.z, sin_h > R(0.0) ? h.x / sin_h : R(1.0), alpha);
+#endif
+#endif
+  }
+  return acc / (real)samples;
+}
+
+// Burley's diffuse albedo by Gauss-Legendre in t = n.l and the midpoint rule in phi. After the phi
+// integral the integrand is a polynomial of degree 8 in t (F_D90 is linear in cos(phi), the lobe
+// quadratic), so 8 nodes in t and 4 on the half circle are exact up to rounding:
+// albedo = (1/pi) int_0^1 t dt int_0^2pi dphi (pi f_d) = (1/2) sum_k w_k t_k sum_m g(t_k, phi_m).
+inline real burley_albedo(real n_dot_v, real sin_v, real roughness, constant real* q, int n_xi,
+                          int n_phi) {
+  real acc = R(0.0);
+  for (int k = 0; k < 8; ++k) {
+    const real t = Q_D_X(k), s = sqrt(max(R(0.0), R(1.0) - t * t));
+    real row = R(0.0);
+    for (int m = 0; m < 4; ++m) {
+      const real cos_phi = cos(((real)m + R(0.5)) * BRDFBAKE_PI * R(0.25));
+      const real l_dot_v = s * sin_v * cos_phi + t * n_dot_v;
+      const real l_dot_h2 = R(0.5) * (R(1.0) + l_dot_v);  // (l.h)^2 with h = (l + v)/|l + v|
+      row += Fd_Burley_times_pi(n_dot_v, t, sqrt(l_dot_h2), roughness);
+    }
+    acc += Q_D_W(k) * t * row;
+  }
+  return R(0.5) * acc;
+}
+
+kernel void dfg_lut(global float* out, global const real* n_dot_vs, global const real* roughnesses,
+                    const int width, const int height, const uint samples, constant real* q,
+                    const int n_xi, const int n_phi) {
+  const int i = (int)get_global_id(0), j = (int)get_global_id(1);
+  if (i >= width || j >= height) return;
+  // Inputs a hair outside [0,1] from upstream rounding are clamped; n.v = 0 exactly has no
+  // defined reflection and stands for its limit (the smallest positive cosine kept).
+  const real n_dot_v = clamp(n_dot_vs[i], R(1e-7), R(1.0));
+  const real sin_v = sqrt(max(R(0.0), (R(1.0) - n_dot_v) * (R(1.0) + n_dot_v)));
+  const real roughness = clamp(roughnesses[j], R(0.0), R(1.0));
+  const real alpha = max(roughness * roughness, BRDFBAKE_MIN_ALPHA);
+#if defined(BRDFBAKE_EST_QUADRATURE)
+  const real2 lobe = lobe_quadrature(n_dot_v, sin_v, alpha, q, n_xi, n_phi);
+#else
+  const real2 lobe = lobe_monte_carlo(n_dot_v, sin_v, alpha, samples);
+#endif
+  const size_t texel = (size_t)j * (size_t)width + (size_t)i;
+#if defined(BRDFBAKE_LUT_CHARLIE)
+  out[texel] = (float)max(lobe.x, R(0.0));
+#else
+  const real diffuse = burley_albedo(n_dot_v, sin_v, roughness, q, n_xi, n_phi);
+  real scale = max(lobe.x, R(0.0)), bias = max(lobe.y, R(0.0));
+  // Energy conservation holds exactly (G2 <= 1); a sum a rounding error above 1 is scaled back.
+  const real sum = scale + bias;
+  if (sum > R(1.0)) {
+    scale /= sum;
+    bias /= sum;
+  }
+#if defined(BRDFBAKE_LUT_GGX_MULTISCATTER)
+  out[3 * texel + 0] = (float)bias;
+  out[3 * texel + 1] = (float)(scale + bias);
+#else
+  out[3 * texel + 0] = (float)scale;
+  out[3 * texel + 1] = (float)bias;
+#endif
+  out[3 * texel + 2] = (float)diffuse;
+#endif
+}

@@ -1,0 +1,245 @@
+// The DFG lookup-table kernels against the scalar double reference, every kind, fp32 and fp64.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "brdfbake/error.hpp"
+#include "brdfbake/lut.hpp"
+#include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
+
+namespace brdfbake {
+namespace {
+
+using test::kLutDefaultBound;
+using test::kLutFp32Rounding;
+using test::kLutQuadratureFp64;
+
+struct Diff {
+  double max_abs = 0;
+  int at_i = -1, at_j = -1, at_c = -1;
+};
+
+Diff compare(const Table& a, const Table& b) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_EQ(a.channels, b.channels);
+  Diff d;
+  for (int j = 0; j < a.height; ++j)
+    for (int i = 0; i < a.width; ++i)
+      for (int c = 0; c < a.channel_count(); ++c) {
+        const double e = std::fabs(double(a.at(i, j, c)) - double(b.at(i, j, c)));
+        if (e > d.max_abs) d = {e, i, j, c};
+      }
+  return d;
+}
+
+void expect_finite_and_bounded(const Table& t) {
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) {
+      for (int c = 0; c < t.channel_count(); ++c) {
+        const float v = t.at(i, j, c);
+        ASSERT_TRUE(std::isfinite(v)) << t.channels[size_t(c)] << " at " << i << "," << j;
+        ASSERT_GE(v, 0.0f) << t.channels[size_t(c)] << " at " << i << "," << j;
+      }
+      const std::string kind = t.meta("kind");
+      if (kind == "ggx") {  // scale + bias is the albedo of a white (F = 1) GGX lobe: <= 1
+        EXPECT_LE(t.at(i, j, 0) + t.at(i, j, 1), 1.0f + 1e-6f) << i << "," << j;
+      } else if (kind == "ggx-multiscatter") {  // bias <= albedo <= 1
+        EXPECT_LE(t.at(i, j, 0), t.at(i, j, 1) + 1e-6f);
+        EXPECT_LE(t.at(i, j, 1), 1.0f + 1e-6f);
+      } else {
+        EXPECT_LE(t.at(i, j, 0), 1.0f + 1e-6f);
+      }
+    }
+}
+
+class LutVsReference : public ::testing::TestWithParam<std::tuple<LutKind, Precision>> {};
+
+// The default sample count promises kLutDefaultBound over the 128x128 table; a 16x12 table at
+// its own cell centres (non-square) is held to the same bound.
+TEST_P(LutVsReference, DefaultSamplesMeetTheBound) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const auto [kind, precision] = GetParam();
+  if (precision == Precision::Fp64) {
+    BRDFBAKE_REQUIRE_FP64(dev);
+  }
+  LutSpec spec;
+  spec.kind = kind;
+  spec.width = 16;
+  spec.height = 12;
+  spec.precision = precision;
+  const Table got = bake_lut(*dev, spec);
+  const Table want = bake_lut_reference(spec);
+  expect_finite_and_bounded(got);
+  const Diff d = compare(got, want);
+  EXPECT_LE(d.max_abs, kLutDefaultBound + kLutFp32Rounding)
+      << "channel " << d.at_c << " at (" << d.at_i << ", " << d.at_j << ")";
+}
+
+// The hard corners: grazing (down to n_dot_v = 1e-6 and exactly 0), normal incidence, mirror
+// (roughness 0) and roughest (1).
+TEST_P(LutVsReference, Corners) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const auto [kind, precision] = GetParam();
+  if (precision == Precision::Fp64) {
+    BRDFBAKE_REQUIRE_FP64(dev);
+  }
+  LutSpec spec;
+  spec.kind = kind;
+  spec.precision = precision;
+  spec.n_dot_v = {0.0, 1e-6, 1e-3, 0.02, 0.5, 0.999, 1.0};
+  spec.roughness = {0.0, 1e-3, 0.02, 0.5, 0.98, 1.0};
+  const Table got = bake_lut(*dev, spec);
+  expect_finite_and_bounded(got);
+  LutSpec ref = spec;
+  ref.n_dot_v.front() = 1e-7;  // n.v = 0 stands for its limit, as the kernel documents
+  const Table want = bake_lut_reference(ref);
+  const Diff d = compare(got, want);
+  EXPECT_LE(d.max_abs, kLutDefaultBound + kLutFp32Rounding)
+      << "channel " << d.at_c << " at (" << d.at_i << ", " << d.at_j << ")";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllKinds, LutVsReference,
+    ::testing::Combine(::testing::Values(LutKind::Ggx, LutKind::GgxMultiscatter, LutKind::Charlie),
+                       ::testing::Values(Precision::Fp32, Precision::Fp64)),
+    [](const auto& info) {
+      std::string n = lut_kind_name(std::get<0>(info.param));
+      std::replace(n.begin(), n.end(), '-', '_');
+      return n + "_" + precision_name(std::get<1>(info.param));
+    });
+
+// Mirror limit, a closed form independent of the reference: as roughness -> 0 the lobe is a
+// perfect mirror, so scale + bias -> 1 and bias -> Fc = (1 - n.v)^5 at h = n.
+TEST(LutClosedForm, MirrorAtRoughnessZero) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  LutSpec spec;
+  spec.n_dot_v = {0.05, 0.2, 0.5, 0.8, 1.0};
+  spec.roughness = {0.0};
+  const Table t = bake_lut(*dev, spec);
+  for (int i = 0; i < t.width; ++i) {
+    const double nv = spec.n_dot_v[size_t(i)];
+    EXPECT_NEAR(t.at(i, 0, 0) + t.at(i, 0, 1), 1.0, 10 * kLutFp32Rounding) << nv;
+    EXPECT_NEAR(t.at(i, 0, 1), std::pow(1.0 - nv, 5.0), 10 * kLutFp32Rounding) << nv;
+  }
+}
+
+// Burley's diffuse albedo at normal incidence has a closed form: with v = n, (l.h)^2 = (1 + t)/2
+// for t = n.l, so F_D90 - 1 = k(t) = -0.5 + r (1 + t) and the n.v factor is 1, giving
+// albedo = 2 int_0^1 (1 + k(t)(1 - t)^5) t dt = 1 - 1/42 + r 5/84 (Beta integrals
+// int t (1-t)^5 = 1/42, int t^2 (1-t)^5 = 1/168).
+TEST(LutClosedForm, BurleyAlbedoAtNormalIncidence) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  LutSpec spec;
+  spec.n_dot_v = {1.0};
+  spec.roughness = {0.5};
+  const Table t = bake_lut(*dev, spec);
+  const double expected = 1.0 - 0.5 * (2.0 / 42.0) + 0.5 * (5.0 / 84.0);
+  EXPECT_NEAR(t.at(0, 0, 2), expected, kLutFp32Rounding);
+}
+
+// Every texel is computed on its own: a 1x1 table equals the same cell of a larger table
+// (different launch shapes and work-group sizes) bit for bit.
+TEST(LutDevice, IndependentOfLaunchShape) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  LutSpec big;
+  big.width = 24;
+  big.height = 20;
+  const Table all = bake_lut(*dev, big);
+  for (auto [i, j] : {std::pair{0, 0}, std::pair{23, 19}, std::pair{7, 13}}) {
+    LutSpec one;
+    one.n_dot_v = {(i + 0.5) / 24};
+    one.roughness = {(j + 0.5) / 20};
+    const Table t = bake_lut(*dev, one);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(t.at(0, 0, c), all.at(i, j, c)) << i << "," << j;
+  }
+}
+
+TEST(LutDevice, OneByOneTable) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  LutSpec spec;
+  spec.width = 1;
+  spec.height = 1;
+  const Table t = bake_lut(*dev, spec);
+  const Table r = bake_lut_reference(spec);
+  ASSERT_EQ(t.width, 1);
+  ASSERT_EQ(t.height, 1);
+  EXPECT_LE(compare(t, r).max_abs, kLutDefaultBound + kLutFp32Rounding);
+}
+
+// At a high count, fp64 quadrature converges to the reference far below the default bound.
+TEST(LutDevice, QuadratureConvergesInFp64) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  BRDFBAKE_REQUIRE_FP64(dev);
+  LutSpec spec;
+  spec.width = 8;
+  spec.height = 8;
+  spec.samples = 8192;
+  spec.precision = Precision::Fp64;
+  for (LutKind k : {LutKind::Ggx, LutKind::Charlie}) {
+    spec.kind = k;
+    const Diff d = compare(bake_lut(*dev, spec), bake_lut_reference(spec));
+    EXPECT_LE(d.max_abs, kLutQuadratureFp64) << lut_kind_name(k) << " channel " << d.at_c << " at ("
+                                             << d.at_i << ", " << d.at_j << ")";
+  }
+}
+
+// The Monte Carlo estimators agree with the reference within their own calibrated error.
+TEST(LutDevice, MonteCarloEstimators) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  struct Case {
+    LutKind kind;
+    Estimator est;
+    int samples;
+  };
+  for (const Case c : {Case{LutKind::Ggx, Estimator::Vndf, 4096}, Case{LutKind::Ggx, Estimator::Ndf, 4096},
+                       Case{LutKind::Charlie, Estimator::Ndf, 4096},
+                       Case{LutKind::Charlie, Estimator::Uniform, 4096}}) {
+    LutSpec spec;
+    spec.kind = c.kind;
+    spec.estimator = c.est;
+    spec.samples = c.samples;
+    spec.width = 8;
+    spec.height = 8;
+    const double bound = lut_error_bound(c.kind, c.est, Precision::Fp32, c.samples);
+    ASSERT_GT(bound, 0) << "no calibration for " << estimator_name(c.est);
+    const Diff d = compare(bake_lut(*dev, spec), bake_lut_reference(spec));
+    // The calibration is the max over 128x128 cells; an 8x8 subset of coarser cells stays below it.
+    EXPECT_LE(d.max_abs, bound + kLutFp32Rounding) << lut_kind_name(c.kind) << "/" << estimator_name(c.est);
+  }
+}
+
+TEST(LutSpecErrors, RejectsBadInput) {
+  LutSpec s;
+  s.width = 0;
+  EXPECT_THROW(resolve_lut_spec(s), Error);
+  s.width = 4;
+  s.samples = -3;
+  EXPECT_THROW(resolve_lut_spec(s), Error);
+  s.samples = 0;
+  s.max_error = std::nan("");
+  EXPECT_THROW(resolve_lut_spec(s), Error);
+  s.max_error = 0;
+  s.kind = LutKind::Charlie;
+  s.estimator = Estimator::Vndf;
+  EXPECT_THROW(resolve_lut_spec(s), Error);
+  EXPECT_THROW(lut_kind_from_name("ggx2"), Error);
+  EXPECT_THROW(estimator_from_name("mc"), Error);
+  s.estimator = Estimator::Quadrature;
+  s.max_error = 1e-30;
+  EXPECT_THROW(resolve_lut_spec(s), Error);
+}
+
+TEST(LutSpecErrors, MaxErrorPicksACalibratedCount) {
+  LutSpec s;
+  s.max_error = 1e-4;
+  const LutSpec r = resolve_lut_spec(s);
+  EXPECT_GT(r.samples, 0);
+  EXPECT_LE(lut_error_bound(LutKind::Ggx, Estimator::Quadrature, Precision::Fp32, r.samples), 1e-4);
+}
+
+}  // namespace
+}  // namespace brdfbake

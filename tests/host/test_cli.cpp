@@ -1,0 +1,149 @@
+// The command-line tool, run as a user runs it: exit codes, one-line errors, no partial files,
+// and the shape of its outputs.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
+Run run(const std::string& args) {
+  static int counter = 0;
+  const fs::path err_file =
+      fs::temp_directory_path() / ("brdfbake-cli-err-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
+  Run r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_file);
+  std::stringstream s;
+  s << e.rdbuf();
+  r.err = s.str();
+  fs::remove(err_file);
+  return r;
+}
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Each bad input: non-zero exit, exactly one line on stderr naming the problem, no file.
+void expect_clean_failure(const std::string& args, const fs::path& out, const std::string& needle) {
+  const Run r = run(args + " --quiet -o " + out.string());
+  EXPECT_NE(r.code, 0) << args;
+  EXPECT_EQ(count_lines(r.err), 1) << args << " -> " << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << args << " -> " << r.err;
+  EXPECT_FALSE(fs::exists(out)) << args;
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST(Cli, BadInputGivesOneLineAndNoFile) {
+  const fs::path dir = temp_dir() / "bad";
+  fs::create_directories(dir);
+  const fs::path out = dir / "t.exr";
+  expect_clean_failure("lut --kind ggx --size 0", out, "size");
+  expect_clean_failure("lut --kind ggx --size -4", out, "size");
+  expect_clean_failure("lut --kind ggx --size 8 --samples nan", out, "samples");
+  expect_clean_failure("lut --kind ggx --size 8 --samples -5", out, "samples");
+  expect_clean_failure("lut --kind ggx --size 8 --max-error nan", out, "max-error");
+  expect_clean_failure("lut --kind phong --size 8", out, "unknown table kind 'phong'");
+  expect_clean_failure("lut --kind ggx --size 8 --estimator magic", out, "unknown estimator 'magic'");
+  expect_clean_failure("lut --kind ggx --size 8 --precision fp16", out, "unknown precision 'fp16'");
+  expect_clean_failure("lut --kind ggx --size 8 --device no-such-device", out, "no-such-device");
+  expect_clean_failure("lut --kind ggx --size 8 --no-such-option", out, "no-such-option");
+  const fs::path bad_ext = dir / "t.xyz";
+  expect_clean_failure("lut --kind ggx --size 8", bad_ext, "unknown output format");
+  // unwritable: a path through a regular file (fails for root too)
+  std::ofstream(dir / "plain") << "x";
+  const Run r = run("lut --kind ggx --size 4 --quiet -o " + (dir / "plain" / "t.exr").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("plain/t.exr"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, CsvToStandardOutput) {
+  const Run r = run("lut --kind ggx --size 4 --height 3 --quiet -o - --format csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string line, header;
+  int comments = 0, rows = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("#", 0) == 0) {
+      ++comments;
+    } else if (header.empty()) {
+      header = line;
+    } else {
+      ++rows;
+    }
+  }
+  EXPECT_EQ(header, "n_dot_v,roughness,scale,bias,diffuse");
+  EXPECT_EQ(rows, 12);
+  EXPECT_GT(comments, 5) << "the metadata lines";
+  EXPECT_NE(r.out.find("# kind: ggx"), std::string::npos);
+  EXPECT_NE(r.out.find("# error_bound: "), std::string::npos);
+  EXPECT_NE(r.out.find("0.125,0.166666"), std::string::npos) << "first cell centre (0.5/4, 0.5/3)";
+}
+
+TEST(Cli, ReferenceDeviceAndEveryFormat) {
+  const fs::path dir = temp_dir() / "formats";
+  fs::create_directories(dir);
+  for (const char* ext : {"exr", "png", "hdr", "ktx2", "csv", "h"}) {
+    const fs::path out = dir / (std::string("lut.") + ext);
+    const Run r = run("lut --kind charlie --size 4 --quiet -o " + out.string());
+    EXPECT_EQ(r.code, 0) << ext << ": " << r.err;
+    EXPECT_TRUE(fs::exists(out)) << ext;
+    EXPECT_GT(fs::file_size(out), 16u) << ext;
+  }
+  const Run r = run("lut --kind ggx --size 2 --device reference -o - --format csv --quiet");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("# device: reference"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(Cli, DevicesListsTheDefaultAndJson) {
+  const Run r = run("devices --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"default\": true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"fp64\""), std::string::npos);
+  EXPECT_NE(r.out.find("\"id\": \"reference\""), std::string::npos);
+  const Run plain = run("devices");
+  EXPECT_EQ(plain.code, 0);
+  EXPECT_NE(plain.out.find(" * "), std::string::npos) << plain.out;
+}
+
+TEST(Cli, UnknownCommand) {
+  const Run r = run("frobnicate");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(count_lines(r.err), 1);
+}
+
+}  // namespace
