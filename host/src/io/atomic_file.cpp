@@ -1,0 +1,101 @@
+#include "io/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <system_error>
+
+#include "brdfbake/error.hpp"
+
+namespace brdfbake::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string os_reason(int error) {
+  return std::error_code(error, std::system_category()).message();
+}
+
+// 64 random bits as 16 hex digits. Uniqueness comes from O_EXCL; the randomness only makes a
+// collision (and a retry) unlikely.
+std::string random_suffix() {
+  thread_local std::mt19937_64 generator{[] {
+    std::random_device device;
+    return (static_cast<uint64_t>(device()) << 32) ^ device();
+  }()};
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(generator()));
+  return text;
+}
+
+}  // namespace
+
+void throw_write_error(const std::string& path, const std::string& reason) {
+  throw Error("cannot write '" + path + "': " + reason);
+}
+
+TempFile::TempFile(std::string destination) : destination_(std::move(destination)) {
+  const fs::path target(destination_);
+  const std::string name = target.filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    throw_write_error(destination_, "not a file name");
+  }
+  const std::string prefix =
+      (target.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) + "-")).string();
+  // Retry only on a name collision with another writer's temporary.
+  constexpr int kAttempts = 8;
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    std::string candidate = prefix + random_suffix();
+    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      temp_ = std::move(candidate);
+      return;
+    }
+    if (errno != EEXIST) throw_write_error(destination_, os_reason(errno));
+  }
+  throw_write_error(destination_, "could not create a unique temporary file");
+}
+
+TempFile::~TempFile() {
+  if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
+}
+
+void TempFile::commit() {
+  std::error_code error;
+  fs::rename(temp_, destination_, error);
+  if (error) throw_write_error(destination_, error.message());
+  committed_ = true;
+}
+
+void write_bytes(const TempFile& temp, std::string_view bytes) {
+  const std::string& path = temp.destination();
+  const int fd = ::open(temp.path().c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) throw_write_error(path, os_reason(errno));
+  const char* cursor = bytes.data();
+  size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, cursor, left);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      throw_write_error(path, os_reason(error));
+    }
+    cursor += written;
+    left -= static_cast<size_t>(written);
+  }
+  if (::close(fd) != 0) throw_write_error(path, os_reason(errno));
+}
+
+void write_file_atomically(const std::string& path, std::string_view bytes) {
+  TempFile temp(path);
+  write_bytes(temp, bytes);
+  temp.commit();
+}
+
+}  // namespace brdfbake::io
