@@ -7,4 +7,56 @@ namespace brdfbake::test {
 // reference evaluations by different routes (identities) allow twice that.
 inline constexpr double kReferenceConverged = 2e-6;
 
+// Closed forms against double arithmetic of a few operations, or quadratures exact by construction.
+inline constexpr double kRounding = 1e-13;
+// Reference against its doubled resolution (2x order, 2x refinement): 10x inside the 1e-6 contract.
+inline constexpr double kSelfConvergence = 1e-7;
+// Reference against closed forms or independent quadratures converged to 1e-11: all but rounding.
+inline constexpr double kAnalytic = 1e-9;
+// Test-side quadratures of the identities (D normalisation, visible normals): smooth integrands.
+inline constexpr double kIdentityQuadrature = 1e-9;
+// Brute-force l-space quadrature must itself be converged this well before it may judge.
+inline constexpr double kBruteForceConverged = 1e-10;
+// GGX at roughness 1e-3 against the mirror limit: its deviation is O(alpha tan^2) = O(1e-6) at
+// n.v = 1e-3 and far smaller above; this bound holds down to n.v = 1e-3.
+inline constexpr double kMirrorLimit = 2e-6;
+// n.v = 0 against the n.v -> 0 limit: the reference evaluates it at n.v = 1e-16, and the integrals
+// are linear in n.v there with slopes up to ~3e7 (alpha floor), so 3e-9 plus extrapolation rounding.
+inline constexpr double kGrazingLimit = 1e-8;
+
+// --- Device kernels against the reference (tests/device) ---
+// The default sample count of every DFG table is calibrated to keep the 128x128 table within 1e-4
+// max abs of the reference (docs/BENCHMARKS.md); the tests hold each kernel to that promise.
+inline constexpr double kLutDefaultBound = 1e-4;
+// fp32 storage and arithmetic: values of order 1 summed over a few hundred nodes lose ~1e-6;
+// 4e-6 leaves room for the longest sums (Charlie's values reach ~12 at grazing, sheen roughness 0).
+inline constexpr double kLutFp32Rounding = 4e-6;
+// fp64 quadrature at 8192 evaluations converges below 1e-7 in our sweeps; the reference's own
+// 1e-6 contract dominates.
+inline constexpr double kLutQuadratureFp64 = 2e-6;
+
+// Charlie in fp32 at n.v <= 1e-6 with sheen roughness <= 1e-3, where the albedo is 260 to 1600
+// and the integrand lives where cos(theta_h) ~ n.v ~ 1e-7: fp32 quadrature plateaus at ~1e-3
+// relative there (fp64 agrees with the reference to 1e-6). Measured worst: 9.4e-4.
+inline constexpr double kCharlieDegenerateFp32 = 2e-3;
+
+// --- Fresnel kernels against the reference (tests/device/test_fresnel.cpp) ---
+// fp32 tables: cos_theta and the parameters rounded to float, a few ulps of arithmetic on values
+// <= 1, then float storage. Measured worst over every model, preset and parameter set: 3.6e-7.
+inline constexpr double kFresnelFp32 = 1e-6;
+// fp64 tables: both sides are rounded to float storage, so one float ulp below 1 (2^-24) remains.
+inline constexpr double kFresnelFp64 = 6e-8;
+// fp32 internal reflection: F = 1 - C sqrt(d) at a distance d past the critical angle, so a
+// float rounding delta of cos_theta (or eta) moves F by C delta / (2 sqrt(d)). Measured worst: 1.9e-5
+// (eta = 1/1.5, the cell centre 1.4e-4 from the critical angle).
+inline constexpr double kFresnelCriticalAngleFp32 = 1e-4;
+// fp32 near-index-matched dielectrics (|eta - 1| < 1e-2): float(eta) - 1 carries a relative error
+// up to 6e-8 / |eta - 1| (1.7e-5 at eta = 1.0001), which shifts F's steep rise near grazing.
+// Measured worst (eta = 1.0001): 3.0e-5.
+inline constexpr double kFresnelIndexMatchedFp32 = 1e-4;
+// cos_theta = 0 gives 1 up to the last bits of a float (contracted multiply-adds): two ulps below 1.
+inline constexpr double kFresnelGrazingOne = 1.2e-7;
+// The Schlick spot values are quoted to 5 decimals.
+inline constexpr double kFresnelSpotValue = 5e-6;
+
 }  // namespace brdfbake::test

@@ -1,0 +1,143 @@
+// Scalar double-precision reference of the bulk-evaluated BRDF models: the Disney principled BRDF
+// (Burley 2012), the glTF 2.0 metallic-roughness BRDF (Appendix B, with KHR_materials_sheen,
+// _clearcoat, _specular and _ior), and the classic shading models (Lambert, Phong, Blinn-Phong,
+// Cook-Torrance, and the Blinn-Phong imitation of metallic-roughness).
+//
+// Written from the papers and specification texts, independently of kernels/brdf_eval.cl. Each
+// physical term is one small cited function; the models are compositions of them (and of the terms
+// of microfacet.hpp and fresnel.hpp, reused where they fit).
+//
+// Conventions (docs/CONVENTIONS.md, "BRDF evaluation"):
+//   - f is the BRDF value, without the cosine: outgoing radiance = f * incident irradiance.
+//   - wi (towards the light) and wo (towards the viewer) are in tangent space: normal +z, tangent +x
+//     (the anisotropy's alpha_x axis), bitangent +y. They need not be unit: they are normalised
+//     here; a zero, infinite or NaN vector throws std::invalid_argument.
+//   - f = 0 when either direction is at or below the horizon (n.wi <= 0 or n.wo <= 0).
+//   - Above it, every cosine with the normal enters the terms floored at kBrdfMinCosine.
+//   - roughness is perceptual; GGX and Beckmann widths are alpha = roughness^2 (floored at kMinAlpha
+//     except in Disney, which keeps Burley's own floor of 0.001).
+//   - Colours are linear RGB, channel by channel.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "brdfbake/reference/fresnel.hpp"
+
+namespace brdfbake::reference {
+
+// A direction or half vector in tangent space.
+struct Vec3 {
+  double x, y, z;
+};
+
+// The floor of n.l and n.v above the horizon. Every term divided by a cosine (the visibilities,
+// Disney's subsurface 1/(n.l + n.v)) stays finite for any direction strictly above the horizon, in
+// fp32 as in double: a direction within 1e-7 rad of the horizon is evaluated as if it were 1e-7
+// above it (its contribution to any integral is below 1e-7 of the lobe's).
+inline constexpr double kBrdfMinCosine = 1e-7;
+// Burley 2012's own floor of the anisotropic GGX widths (disney.brdf: max(.001, ...)).
+inline constexpr double kDisneyMinAlpha = 1e-3;
+// The largest Phong / Blinn-Phong exponent accepted; the lobe is then 0.1 degree wide.
+inline constexpr double kMaxShininess = 1e6;
+
+enum class BrdfModel {
+  Disney,             // Burley 2012, in the BRDF Explorer's disney.brdf formulation
+  Gltf,               // glTF 2.0 Appendix B, separable Smith G
+  GltfCorrelated,     // the same with the height-correlated Smith visibility (Khronos sample renderer)
+  Lambert,            // Lambert 1760
+  Phong,              // Phong 1975, reciprocal BRDF form
+  BlinnPhong,         // Blinn 1977
+  CookTorrance,       // Cook & Torrance 1982, Beckmann or GGX
+  BlinnPhongFromPbr,  // metallic-roughness mapped to a normalised, Fresnel-weighted Blinn-Phong
+};
+
+enum class MicrofacetDistribution { Beckmann, Ggx };
+
+// Every parameter of every model; a model reads only its own (docs/CONVENTIONS.md lists which).
+// Ranges are checked by the host (brdfbake::validate_material); the reference assumes valid ones.
+struct BrdfMaterial {
+  // glTF 2.0 metallic-roughness core and Disney 2012 (baseColor, metallic, roughness).
+  Rgb base_color{0.8, 0.8, 0.8};  // linear, [0, 1]
+  double metallic = 0.0;          // [0, 1]
+  double roughness = 0.5;         // perceptual, [0, 1]
+  // Disney 2012 only, [0, 1] each (BRDF Explorer's defaults).
+  double subsurface = 0.0;
+  double specular = 0.5;          // F0 = 0.08 specular
+  double specular_tint = 0.0;
+  double anisotropic = 0.0;
+  double sheen = 0.0;
+  double sheen_tint = 0.5;
+  double clearcoat = 0.0;         // Disney's clearcoat, and glTF's clearcoatFactor
+  double clearcoat_gloss = 1.0;
+  // glTF extensions.
+  Rgb sheen_color{0.0, 0.0, 0.0};    // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;      // sheenRoughnessFactor, [0, 1]
+  double clearcoat_roughness = 0.0;  // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
+  double ior = 1.5;                  // KHR_materials_ior: 0 or >= 1
+  double specular_factor = 1.0;      // KHR_materials_specular specularFactor, [0, 1]
+  Rgb specular_color_factor{1.0, 1.0, 1.0};  // specularColorFactor, >= 0
+  // Classic models. Unset colours and exponent derive from the metallic-roughness parameters
+  // (classic_diffuse, classic_specular, classic_shininess).
+  std::optional<Rgb> diffuse_color;   // kd, [0, 1]
+  std::optional<Rgb> specular_color;  // ks (Phong, Blinn-Phong), F0 (Cook-Torrance), [0, 1]
+  std::optional<double> shininess;    // Phong / Blinn-Phong exponent, [0, kMaxShininess]
+  bool normalized = true;             // energy-normalised lobes (false: the textbook forms)
+  MicrofacetDistribution distribution = MicrofacetDistribution::Ggx;  // Cook-Torrance's D
+};
+
+// ---- Parameter conventions of the classic models ----------------------------------------------
+// kd = diffuse_color, else base_color (1 - metallic).
+Rgb classic_diffuse(const BrdfMaterial& m);
+// ks = specular_color, else mix(0.04, base_color, metallic) (the metallic-roughness F0).
+Rgb classic_specular(const BrdfMaterial& m);
+// n = shininess, else 2048^(1 - roughness) (the mapping of blinn-phong-from-pbr).
+double classic_shininess(const BrdfMaterial& m);
+
+// ---- Terms (each cites its source in brdf.cpp) --------------------------------------------------
+// Burley 2012, appendix B eq. 13: anisotropic GGX (GTR2) for a unit half vector h in tangent space.
+double D_GGXAniso(const Vec3& h, double alpha_x, double alpha_y);
+// Heitz 2014, eq. 86: anisotropic GGX Smith masking of a direction with cosine n_dot_x (floored by
+// the caller) and tangent-plane components t_dot_x, b_dot_x.
+double G1_SmithGGXAniso(double n_dot_x, double t_dot_x, double b_dot_x, double alpha_x, double alpha_y);
+// Burley 2012, appendix B eq. 4: GTR1 (Berry), the clearcoat distribution, width a in (0, 1].
+double D_GTR1(double n_dot_h, double a);
+// Beckmann 1963 / Walter et al. 2007 eq. 25: normalised Beckmann distribution of a unit half vector,
+// width m = alpha (floored at kMinAlpha).
+double D_Beckmann(const Vec3& h, double m);
+// Cook & Torrance 1982 (after Blinn 1977): V-cavity masking-shadowing min(1, 2 nh nv / vh, 2 nh nl / vh).
+double G_CookTorrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h);
+// Burley 2012 (disney.brdf): the Hanrahan-Krueger-inspired subsurface lobe, including 1/pi:
+// (1.25/pi) (F_ss (1/(n.l + n.v) - 0.5) + 0.5), F_ss90 = roughness (l.h)^2.
+double Fd_DisneySubsurface(double n_dot_v, double n_dot_l, double l_dot_h, double roughness);
+// Phong 1975 lobe in its reciprocal BRDF form, max(0, r.v)^n, normalised by (n + 2) / (2 pi)
+// (Lewis 1994) when `normalized`.
+double phong_lobe(double r_dot_v, double n, bool normalized);
+// Blinn 1977 lobe (n.h)^n, normalised by (n + 8) / (8 pi) (Akenine-Moller et al., Real-Time
+// Rendering 3rd ed., eq. 7.49) when `normalized`.
+double blinn_phong_lobe(double n_dot_h, double n, bool normalized);
+// KHR_materials_sheen's E(x): the directional albedo of the Charlie sheen lobe (sheen colour 1,
+// Estevez-Kulla visibility) at cosine n_dot_x, the charlie_albedo of dfg.hpp. Served from a
+// per-sheen-roughness piecewise Chebyshev interpolant of converged charlie_albedo values (built on
+// first use, ~0.5 s; within 1e-9 of charlie_albedo, see brdf_albedo.cpp); n_dot_x < 1e-7 is
+// evaluated at 1e-7 (kBrdfMinCosine).
+double sheen_albedo(double n_dot_x, double sheen_roughness);
+
+// ---- The models ---------------------------------------------------------------------------------
+// f(wi, wo) of `model` for material `m`. Throws std::invalid_argument for a zero or non-finite
+// direction.
+Rgb brdf(BrdfModel model, const BrdfMaterial& m, const Vec3& wi, const Vec3& wo);
+
+// Whether f(wi, wo) = f(wo, wi) for this material: every model but glTF with a clearcoat, whose
+// layering Fresnel takes n.v (KHR_materials_clearcoat, "Discussion").
+bool brdf_is_reciprocal(BrdfModel model, const BrdfMaterial& m);
+
+// The directional albedo a(wo) = integral over the hemisphere of f(wi, wo) n.wi dwi, for
+// wo = (sin theta_o, 0, cos theta_o) (azimuth 0: along the tangent, which matters only for Disney's
+// anisotropy). Integrated over the half vector by nested adaptive Gauss-Kronrod quadrature split
+// at the horizon (brdf_albedo.cpp), to `tolerance` absolute per channel. theta_o in [0, pi/2).
+inline constexpr double kAlbedoTolerance = 1e-7;
+Rgb directional_albedo(BrdfModel model, const BrdfMaterial& m, double theta_o,
+                       double tolerance = kAlbedoTolerance);
+
+}  // namespace brdfbake::reference
