@@ -89,6 +89,9 @@ inline real charlie_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, rea
 // (exp, square roots, acos) is vectorised too; n_xi is padded to a multiple of the width with
 // zero-weight nodes.
 #if defined(BRDFBAKE_LUT_CHARLIE)
+// Widest panel of Charlie's panel B in y = log(cos theta_h): log(1024), so one panel covers every
+// n.v >= 1/512 (the range is about log(2 / n.v)).
+#define CHARLIE_PANEL_WIDTH R(6.93)
 typedef realv acc_t;
 // Charlie's integrand V n.l 4 (v.h) / (n.h), times the node weights pw.
 inline acc_t lobe_lanes(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv cos_phi, realv pw,
@@ -230,14 +233,23 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   }
   // Panel B: y = log(cos theta_h) from log(cos theta_2) = log(sin theta_1) up to log(cos theta_1),
   // with density d xi / dy = (2 + 1/alpha) sin^(1/alpha) cos^2, sin^(1/alpha) = exp(log1p(-c^2) / 2 alpha).
+  // The range of y grows like log(1 / n.v); beyond CHARLIE_PANEL_WIDTH it is cut into equal
+  // sub-panels, so the rule keeps its resolution at extreme grazing (n.v down to 1e-7, where the
+  // integrand has structure from cos = n.v up to cos ~ 1). Every cell of tables up to 256 wide
+  // (n.v >= 1/512) has a single panel.
   const real y1 = log(cos1), y2 = log(sin1);
   if (sin_v > R(0.0) && y1 > y2) {
-    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
-      const realv c = exp(y2 + (y1 - y2) * vload8(0, q + 2 * n_xi + k));
-      const realv s = sqrt(fmax((R(1.0) - c) * (R(1.0) + c), R(0.0)));
-      const realv density = e * exp(log1p(-c * c) * (R(0.5) / alpha)) * c * c;
-      ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, (y1 - y2) * density * vload8(0, q + 3 * n_xi + k),
-                             alpha, q, n_xi, n_phi));
+    const int n_sub = max(1, (int)ceil((y1 - y2) / CHARLIE_PANEL_WIDTH));
+    const real h = (y1 - y2) / (real)n_sub;
+    for (int p = 0; p < n_sub; ++p) {
+      const real y0 = y2 + h * (real)p;
+      for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
+        const realv c = exp(y0 + h * vload8(0, q + 2 * n_xi + k));
+        const realv s = sqrt(fmax((R(1.0) - c) * (R(1.0) + c), R(0.0)));
+        const realv density = e * exp(log1p(-c * c) * (R(0.5) / alpha)) * c * c;
+        ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, h * density * vload8(0, q + 3 * n_xi + k), alpha, q,
+                               n_xi, n_phi));
+      }
     }
   }
 #else

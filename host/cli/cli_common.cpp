@@ -1,6 +1,10 @@
 #include "cli_common.hpp"
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace brdfbake::cli {
@@ -29,6 +33,26 @@ int integer(const cxxopts::ParseResult& r, const std::string& name) {
   if (text.empty() || *end != '\0' || v < -2147483647L || v > 2147483647L)
     throw UsageError("--" + name + " must be an integer (got '" + text + "')");
   return static_cast<int>(v);
+}
+
+namespace {
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+ProgressLine::ProgressLine(bool quiet) : enabled_(!quiet && ::isatty(2)), start_(now_seconds()) {}
+
+void ProgressLine::update(const std::string& what, double fraction) {
+  if (!enabled_ || (!shown_ && now_seconds() - start_ < 0.5)) return;
+  shown_ = true;
+  std::fprintf(stderr, "\r%s: %3.0f%%", what.c_str(), 100.0 * fraction);
+  std::fflush(stderr);
+}
+
+void ProgressLine::finish() {
+  if (shown_) std::fprintf(stderr, "\n");
+  shown_ = false;
 }
 
 }  // namespace brdfbake::cli

@@ -18,8 +18,27 @@ class UsageError : public Error {
   explicit UsageError(const std::string& m) : Error(m) {}
 };
 
+// A progress line on standard error for long runs: shown only on a terminal, once the run has
+// taken more than half a second, and never with --quiet.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool quiet);
+  void update(const std::string& what, double fraction);
+  void finish();  // ends the line if one was shown
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+  double start_;
+};
+
 int cmd_devices(int argc, char** argv);
 int cmd_lut(int argc, char** argv);
+int cmd_prefilter(int argc, char** argv);
+int cmd_irradiance(int argc, char** argv);
+int cmd_fresnel(int argc, char** argv);
+int cmd_eval(int argc, char** argv);
+int cmd_tabulate(int argc, char** argv);
 
 // Parses, turning cxxopts' exceptions into UsageError with the command's name.
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);

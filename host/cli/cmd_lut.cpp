@@ -71,9 +71,12 @@ int cmd_lut(int argc, char** argv) {
   const bool quiet = r.count("quiet") > 0;
   const std::string device_name = r["device"].as<std::string>();
   const LutSpec resolved = resolve_lut_spec(spec);  // validates before any slow work
+  if (out != "-") check_output_path(out);
+  ProgressLine progress_line(quiet);
   auto progress = [&](double fraction) {
-    if (!quiet) std::fprintf(stderr, "\rbaking %s %dx%d: %3.0f%%", lut_kind_name(spec.kind), resolved.width,
-                             resolved.height, 100.0 * fraction);
+    progress_line.update("baking " + std::string(lut_kind_name(spec.kind)) + " " + std::to_string(resolved.width) +
+                             "x" + std::to_string(resolved.height),
+                         fraction);
   };
   LutTiming timing;
   Table table;
@@ -83,7 +86,7 @@ int cmd_lut(int argc, char** argv) {
     Device device = Device::open(device_name);
     table = bake_lut(device, spec, &timing, progress);
   }
-  if (!quiet) std::fprintf(stderr, "\n");
+  progress_line.finish();
   if (out == "-") {
     write_table_csv(table, std::cout);
   } else {

@@ -25,6 +25,11 @@ struct TableWriteOptions {
 // Writes `table` to `path` in `format`, atomically.
 void write_table(const Table& table, const std::string& path, TableFormat format,
                  const TableWriteOptions& options = {});
+// Throws the Error a write to `path` would give (missing folder, no permission, a path through a
+// regular file), by creating and removing a temporary file beside it: commands call it before
+// slow work so that a bad output path fails at once.
+void check_output_path(const std::string& path);
+
 // CSV to a stream (for `-o -`): '#' metadata lines, a header row naming every column, one row per cell.
 void write_table_csv(const Table& table, std::ostream& out);
 

@@ -65,9 +65,12 @@ Table bake_lut(Device& device, const LutSpec& spec, LutTiming* timing = nullptr,
 Table bake_lut_reference(const LutSpec& spec, LutTiming* timing = nullptr,
                          const Progress& progress = {});
 
-// The measured max abs error (over every channel of the 128x128 table, against the converged
-// reference) of an estimator at a sample count, from docs/BENCHMARKS.md's calibration; the error
-// of the largest calibrated count not above `samples`, or a negative value when none is known.
-double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, int samples);
+// The measured max error (abs below 1, relative above; over every channel of the 128x128 table,
+// against the converged reference, plus a 25% margin) of an estimator at a sample count, from the
+// calibration that bench/lut_accuracy measures (docs/BENCHMARKS.md). For a count that was not
+// measured, the bound of the largest measured count below it, and *measured_at says which count
+// that was; a negative value when none is known.
+double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, int samples,
+                       int* measured_at = nullptr);
 
 }  // namespace brdfbake

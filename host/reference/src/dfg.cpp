@@ -1,5 +1,6 @@
 #include "brdfbake/reference/dfg.hpp"
 
+#include <cstdint>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -139,6 +140,10 @@ struct NdotLFeatures {
 // Visits (cos ph, weight) for the ph quadrature of one th: ph over [0, ph_e] where
 // n.l = A + B cos ph > 0. `mass` bounds the contribution per unit ph (outer weight times the
 // integrand's bound); it lets the refinement stop where a panel cannot matter.
+// Lobe integrand evaluations made by this thread (bench/lut_accuracy's equal-samples comparison).
+thread_local uint64_t t_lobe_evaluations = 0;
+uint64_t panel_nodes(const GaussLegendreRule& rule) { return rule.nodes.size(); }
+
 template <class Visit>
 void for_each_phi_node(double A, double B, const NdotLFeatures& feat, double mass, const Settings& s,
                        std::vector<Panel>& panels, Visit&& visit) {
@@ -191,6 +196,7 @@ void for_each_phi_node(double A, double B, const NdotLFeatures& feat, double mas
     append_panels(0.0, phi_end, EndRefinement{}, at_end, s.max_phi, panels);
   }
   for (const Panel& panel : panels) {
+    t_lobe_evaluations += panel_nodes(*s.rule);
     for_each_node(panel, *s.rule, [&](const PanelNode& node) { visit(std::cos(node.t), node.weight); });
   }
 }
@@ -505,6 +511,8 @@ double charlie_albedo(double n_dot_v, double sheen_roughness, SheenVisibility vi
   const double r = unit_input("charlie_albedo", "sheen_roughness", sheen_roughness);
   return integrate_charlie(nv, r * r, visibility, make_settings(quadrature));
 }
+
+uint64_t lobe_evaluations_this_thread() { return t_lobe_evaluations; }
 
 int lut_channels(LutKind kind) {
   switch (kind) {

@@ -225,6 +225,8 @@ void write_png(const Table& table, const std::string& path) {
   // The fourth channel is data, not coverage: without this, OpenImageIO divides RGB by it
   // ("un-premultiplies") on the way to PNG's straight alpha.
   spec.attribute("oiio:UnassociatedAlpha", 1);
+  // Table values are linear data: no sRGB chunk (OpenImageIO then writes gAMA 1.0).
+  spec.attribute("oiio:ColorSpace", "Linear");
   add_attributes(spec, metadata);
   io::TempFile temp(path);
   write_oiio_image(path, temp, "png", spec, pixels);
@@ -525,6 +527,10 @@ void write_table_csv(const Table& table, std::ostream& out) {
   check_coordinates(table, "-");
   write_csv_to(table, out);
   if (!out) throw Error("cannot write CSV: the output stream failed");
+}
+
+void check_output_path(const std::string& path) {
+  io::TempFile probe(path);  // created exclusively beside the destination, removed on scope exit
 }
 
 }  // namespace brdfbake

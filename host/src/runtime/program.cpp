@@ -76,7 +76,7 @@ uint64_t fnv1a64(const std::string& s) {
   return h;
 }
 
-const char kMagic[] = "BRDFBAKE-PROGRAM-BINARY-1\n";
+const char kMagic[] = "BRDFBAKE-PROGRAM-BINARY-2\n";
 
 std::string cache_file(const std::string& dir, const std::string& key) {
   char name[32];
@@ -84,8 +84,10 @@ std::string cache_file(const std::string& dir, const std::string& key) {
   return (fs::path(dir) / name).string();
 }
 
+// Entry layout: magic, u64 key length, key, u64 binary length, u64 FNV-1a of the binary, binary.
 // The cached binary for `key`, or "" when absent or not ours (the whole key is stored and compared,
-// so a hash collision is a miss, not a wrong program).
+// so a hash collision is a miss, not a wrong program). A truncated or altered entry never reaches
+// the driver: its length or checksum does not match, and it counts as a bad entry.
 std::string load_binary(const std::string& file, const std::string& key) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return {};
@@ -93,32 +95,43 @@ std::string load_binary(const std::string& file, const std::string& key) {
   s << in.rdbuf();
   const std::string all = s.str();
   const size_t magic = sizeof kMagic - 1;
-  if (all.size() < magic + 16 || all.compare(0, magic, kMagic) != 0) {
+  auto u64_at = [&](size_t at) {
+    uint64_t v = 0;
+    std::memcpy(&v, all.data() + at, 8);
+    return v;
+  };
+  if (all.size() < magic + 8 || all.compare(0, magic, kMagic) != 0) {
     ++g_bad_entries;
     return {};
   }
-  uint64_t key_len = 0, bin_len = 0;
-  std::memcpy(&key_len, all.data() + magic, 8);
-  if (key_len > all.size() - magic - 16) {
+  const uint64_t key_len = u64_at(magic);
+  if (key_len > all.size() - magic - 8 || all.size() - magic - 8 - key_len < 16) {
     ++g_bad_entries;
     return {};
   }
   if (all.compare(magic + 8, key_len, key) != 0) return {};
-  std::memcpy(&bin_len, all.data() + magic + 8 + key_len, 8);
-  const size_t bin_at = magic + 16 + key_len;
+  const uint64_t bin_len = u64_at(magic + 8 + key_len);
+  const uint64_t checksum = u64_at(magic + 16 + key_len);
+  const size_t bin_at = magic + 24 + key_len;
   if (bin_len == 0 || bin_len != all.size() - bin_at) {
     ++g_bad_entries;
     return {};
   }
-  return all.substr(bin_at);
+  std::string binary = all.substr(bin_at);
+  if (fnv1a64(binary) != checksum) {
+    ++g_bad_entries;
+    return {};
+  }
+  return binary;
 }
 
 void store_binary(const std::string& file, const std::string& key, const std::string& binary) {
   std::string blob(kMagic);
-  const uint64_t key_len = key.size(), bin_len = binary.size();
+  const uint64_t key_len = key.size(), bin_len = binary.size(), checksum = fnv1a64(binary);
   blob.append(reinterpret_cast<const char*>(&key_len), 8);
   blob.append(key);
   blob.append(reinterpret_cast<const char*>(&bin_len), 8);
+  blob.append(reinterpret_cast<const char*>(&checksum), 8);
   blob.append(binary);
   try {
     fs::create_directories(fs::path(file).parent_path());

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace brdfbake::reference {
@@ -58,6 +59,10 @@ enum class LutKind { Ggx, GgxMultiscatter, Charlie };
 // GgxMultiscatter: bias (sum Fc V), albedo (sum V = scale + bias), burley_albedo (3 channels)
 // Charlie:         albedo                                            (1 channel)
 int lut_channels(LutKind kind);
+
+// The number of lobe integrand evaluations (GGX and Charlie) this thread has made so far: the
+// benchmarks compare rates per evaluation with the device kernels.
+uint64_t lobe_evaluations_this_thread();
 std::vector<double> lut_table(LutKind kind, int width, int height,
                               SheenVisibility visibility = SheenVisibility::EstevezKulla,
                               unsigned threads = 0);
