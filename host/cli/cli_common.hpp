@@ -4,7 +4,10 @@
 #include <cxxopts.hpp>
 #include <string>
 
+#include "brdfbake/device.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/io.hpp"
+#include "brdfbake/table.hpp"
 
 namespace brdfbake::cli {
 
@@ -17,6 +20,28 @@ class UsageError : public Error {
  public:
   explicit UsageError(const std::string& m) : Error(m) {}
 };
+
+// The options every baking command shares: --device, --precision, --quiet, -h/--help.
+void add_common_options(cxxopts::Options& options);
+// The options of a command that writes one table: -o/--output, --format, --pixel, --symbol.
+void add_table_output_options(cxxopts::Options& options);
+
+// Handles -h/--help and stray positional arguments; true when help was printed.
+bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& r);
+
+Precision precision_option(const cxxopts::ParseResult& r);
+std::string device_option(const cxxopts::ParseResult& r);  // "" = default, "reference", or a selector
+bool quiet_option(const cxxopts::ParseResult& r);
+
+// Where and how one table is written, validated before any slow work (the output folder is
+// checked too).
+struct TableOutput {
+  std::string path;  // "-" for standard output
+  TableFormat format = TableFormat::Csv;
+  TableWriteOptions options;
+};
+TableOutput table_output_option(const cxxopts::ParseResult& r);
+void write_table_output(const Table& table, const TableOutput& out);
 
 // A progress line on standard error for long runs: shown only on a terminal, once the run has
 // taken more than half a second, and never with --quiet.

@@ -17,22 +17,11 @@ int cmd_lut(int argc, char** argv) {
       ("samples", "evaluations per texel (default: the calibrated count for a 1e-4 bound)", cxxopts::value<std::string>())
       ("max-error", "choose the sample count that keeps the max abs error below this", cxxopts::value<std::string>())
       ("estimator", "quadrature | vndf | ndf | uniform", cxxopts::value<std::string>()->default_value("quadrature"))
-      ("sheen-visibility", "charlie visibility: estevez-kulla | neubelt", cxxopts::value<std::string>()->default_value("estevez-kulla"))
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
-      ("o,output", "output file (.exr .png .hdr .ktx2 .csv .h), or - for standard output", cxxopts::value<std::string>())
-      ("format", "output format when it cannot come from the file name", cxxopts::value<std::string>())
-      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f16"))
-      ("symbol", "C identifier of the array in a .h output", cxxopts::value<std::string>())
-      ("quiet", "no progress or summary lines")
-      ("h,help", "this help");
+      ("sheen-visibility", "charlie visibility: estevez-kulla | neubelt", cxxopts::value<std::string>()->default_value("estevez-kulla"));
+  add_table_output_options(options);
+  add_common_options(options);
   const auto r = parse(options, argc, argv);
-  if (r.count("help")) {
-    std::cout << options.help() << "\n";
-    return 0;
-  }
-  if (!r.count("output")) throw UsageError("missing -o FILE (or -o - --format csv)");
-  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (help_or_stray(options, r)) return 0;
 
   LutSpec spec;
   spec.kind = lut_kind_from_name(r["kind"].as<std::string>());
@@ -49,29 +38,12 @@ int cmd_lut(int argc, char** argv) {
   }
   spec.estimator = estimator_from_name(r["estimator"].as<std::string>());
   spec.sheen_visibility = sheen_visibility_from_name(r["sheen-visibility"].as<std::string>());
-  spec.precision = precision_from_name(r["precision"].as<std::string>());
-
-  const std::string out = r["output"].as<std::string>();
-  TableFormat format;
-  if (r.count("format")) {
-    format = table_format_from_name(r["format"].as<std::string>());
-  } else if (out == "-") {
-    throw UsageError("-o - writes to standard output and needs --format csv");
-  } else {
-    format = table_format_from_path(out);
-  }
-  if (out == "-" && format != TableFormat::Csv) throw UsageError("only --format csv can go to standard output");
-  TableWriteOptions wo;
-  const std::string pixel = r["pixel"].as<std::string>();
-  if (pixel == "f16") wo.pixel = PixelType::F16;
-  else if (pixel == "f32") wo.pixel = PixelType::F32;
-  else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
-  if (r.count("symbol")) wo.symbol = r["symbol"].as<std::string>();
-
-  const bool quiet = r.count("quiet") > 0;
-  const std::string device_name = r["device"].as<std::string>();
+  spec.precision = precision_option(r);
   const LutSpec resolved = resolve_lut_spec(spec);  // validates before any slow work
-  if (out != "-") check_output_path(out);
+  const TableOutput out = table_output_option(r);
+  const bool quiet = quiet_option(r);
+  const std::string device_name = device_option(r);
+
   ProgressLine progress_line(quiet);
   auto progress = [&](double fraction) {
     progress_line.update("baking " + std::string(lut_kind_name(spec.kind)) + " " + std::to_string(resolved.width) +
@@ -87,14 +59,10 @@ int cmd_lut(int argc, char** argv) {
     table = bake_lut(device, spec, &timing, progress);
   }
   progress_line.finish();
-  if (out == "-") {
-    write_table_csv(table, std::cout);
-  } else {
-    write_table(table, out, format, wo);
-  }
+  write_table_output(table, out);
   if (!quiet)
     std::fprintf(stderr, "%s: %s %dx%d, %s, %s samples, %s, error bound %s, %.3f s (device %.3f s)\n",
-                 out == "-" ? "stdout" : out.c_str(), lut_kind_name(spec.kind), table.width, table.height,
+                 out.path == "-" ? "stdout" : out.path.c_str(), lut_kind_name(spec.kind), table.width, table.height,
                  table.meta("estimator").c_str(), table.meta("samples").c_str(), table.meta("precision").c_str(),
                  table.meta("error_bound").c_str(), timing.wall_seconds, timing.device_seconds);
   return 0;

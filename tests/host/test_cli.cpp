@@ -1,57 +1,28 @@
 // The command-line tool, run as a user runs it: exit codes, one-line errors, no partial files,
 // and the shape of its outputs.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "support/cli_runner.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
+using brdfbake::test::count_lines;
+using brdfbake::test::CliRun;
 
-// Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
-CliRun run(const std::string& args) {
-  static int counter = 0;
-  const fs::path err_file =
-      fs::temp_directory_path() / ("brdfbake-cli-err-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-  const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream s;
-  s << e.rdbuf();
-  r.err = s.str();
-  fs::remove(err_file);
-  return r;
-}
+CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
 fs::path temp_dir() {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-" + std::to_string(::getpid()));
   fs::create_directories(d);
   return d;
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
 }
 
 // Each bad input: non-zero exit, exactly one line on stderr naming the problem, no file.
