@@ -12,7 +12,8 @@ void usage(std::ostream& out) {
       << "usage: brdfbake <command> [options]    (brdfbake <command> --help for its options)\n\n"
       << "commands:\n"
       << "  devices   list OpenCL platforms and devices\n"
-      << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n";
+      << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
+      << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n";
 }
 
 }  // namespace
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "lut") return cli::cmd_lut(argc - 1, argv + 1);
+    if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;
