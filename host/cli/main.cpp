@@ -13,7 +13,9 @@ void usage(std::ostream& out) {
       << "commands:\n"
       << "  devices   list OpenCL platforms and devices\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
-      << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n";
+      << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
+      << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
+      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n";
 }
 
 }  // namespace
@@ -29,6 +31,8 @@ int main(int argc, char** argv) {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "lut") return cli::cmd_lut(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
+    if (command == "eval") return cli::cmd_eval(argc - 1, argv + 1);
+    if (command == "tabulate") return cli::cmd_tabulate(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;

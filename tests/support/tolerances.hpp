@@ -60,4 +60,41 @@ inline constexpr double kFresnelGrazingOne = 1.2e-7;
 // The Schlick spot values are quoted to 5 decimals.
 inline constexpr double kFresnelSpotValue = 5e-6;
 
+// --- Bulk BRDF kernels against the reference (tests/device/test_brdf_eval.cpp) ---
+// Error measure: |got - want| / max(1, |want|), the reference fed the directions the device saw.
+// fp32: a few float roundings of each term; measured worst 3.5e-6 (gltf sheen, grazing corners).
+inline constexpr double kBrdfFp32 = 1e-5;
+// fp32 tables (MERL, grid, slice) generate their directions from angles on the device: the
+// direction moves by ~1e-7 rad, which lobes at least 0.09 wide turn into < 1e-5 relative ...
+inline constexpr double kBrdfTableFp32 = 2e-5;
+// ... and near the horizon a cosine is a difference of O(1) terms, ~1e-7 off absolutely, which the
+// 1/n.l, 1/n.v of the visibilities turn into ~1e-7 / cos relative (measured 1.7e-8 / cos).
+inline constexpr double kBrdfTableDirection = 1e-7;
+// fp64: rounding, and the kernels' cubic pieces of the sheen albedo series (4.3e-10 measured);
+// worst otherwise Phong at n = 1e6 (2.2e-10: the exponent amplifies the last bits of ln cos).
+inline constexpr double kBrdfFp64 = 1e-9;
+// The device albedo's fixed quadrature against the reference's adaptive one (1e-7), in float
+// table storage: measured worst 5.3e-6 (disney) over random and corner materials of every model ...
+inline constexpr double kBrdfAlbedoQuadrature = 2e-5;
+// ... but for Phong, whose max(0, r.v)^n has a kink (n = 1: 4.1e-5) or a step (n = 0: 2.4e-4) where
+// r.v changes sign inside the hemisphere, which a fixed rule resolves only slowly.
+inline constexpr double kPhongAlbedoKink = 5e-4;
+// Albedo bounds of the models that do not conserve energy (docs/CONVENTIONS.md, "Energy"),
+// measured by the reference's adaptive quadrature: normalised Blinn-Phong (max 1.0748 at n = 10,
+// normal incidence); Disney's diffuse with a white base (max 1.5655 at roughness 1, grazing).
+inline constexpr double kBlinnPhongAlbedoBound = 1.076;
+inline constexpr double kDisneyDiffuseAlbedoBound = 1.567;
+
+// --- BRDF reference (tests/reference/test_brdf_reference.cpp) ---
+// f(wi, wo) against f(wo, wi): the same terms in another order of operations (l.h vs v.h, the
+// normalisation of each vector).
+inline constexpr double kBrdfReciprocity = 1e-12;
+// The reference albedo (adaptive, 1e-7 absolute per panel budget) against independent integrals
+// converged to 1e-6 (the DFG reference's contract) or closed forms.
+inline constexpr double kBrdfAlbedoReference = 2e-6;
+// The sheen albedo's Chebyshev series against charlie_albedo at twice the order and refinement:
+// measured 7e-10; the series' nodes carry charlie_albedo's own 1e-9.
+inline constexpr double kSheenAlbedoSeries = 1e-8;
+
+
 }  // namespace brdfbake::test

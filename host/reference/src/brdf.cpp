@@ -21,11 +21,17 @@ double pow5(double x) {
   return x2 * x2 * x;
 }
 double max3(const Rgb& c) { return std::max(c.r, std::max(c.g, c.b)); }
+
+// 1 - (1 - c)^5, the weight that Schlick's F leaves to the layer below, as -expm1(5 log1p(-c)):
+// exact near grazing (c -> 0), where 1 - F would cancel to a few digits.
+double schlick_complement(double c) {
+  const double x = std::clamp(c, 0.0, 1.0);
+  return x >= 1.0 ? 1.0 : -std::expm1(5.0 * std::log1p(-x));
+}
 double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 Rgb operator*(const Rgb& a, double s) { return {a.r * s, a.g * s, a.b * s}; }
-Rgb operator*(const Rgb& a, const Rgb& b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
 Rgb mix(const Rgb& a, const Rgb& b, double t) {
   return {mix(a.r, b.r, t), mix(a.g, b.g, t), mix(a.b, b.b, t)};
@@ -110,6 +116,18 @@ double D_GGXIsotropic(const Vec3& h, double alpha) {
   return D_GGXAniso(h, a, a);
 }
 
+// Estevez & Kulla 2017, "Production Friendly Microfacet Sheen BRDF", eq. 2 (Charlie):
+// D = (2 + 1/alpha) sin^(1/alpha) / (2 pi). microfacet.hpp's D_Charlie(n.h) forms sin^2 from n.h,
+// which rounds to 0 within 1e-8 rad of the normal; here sin^2 comes from the components of h near
+// the normal (n.h >= 1/2), and where the lobe lives (n.h < 1/2) D_Charlie is exact already.
+double D_CharlieFromHalf(const Vec3& h, double alpha) {
+  if (!(h.z >= 0.0)) return 0.0;
+  if (h.z < 0.5) return D_Charlie(h.z, alpha);
+  const double inv_a = 1.0 / std::max(alpha, kMinAlpha);
+  const double log_sin2 = std::log(h.x * h.x + h.y * h.y);
+  return (2.0 + inv_a) * std::exp(0.5 * inv_a * log_sin2) / (2.0 * kPi);
+}
+
 double gltf_specular(const BrdfGeometry& g, double alpha, bool correlated) {
   const double v = correlated ? V_SmithGGXCorrelated(g.nv, g.nl, alpha)
                               : G1_SmithGGX(g.nl, alpha) * G1_SmithGGX(g.nv, alpha) / (4.0 * g.nl * g.nv);
@@ -129,8 +147,10 @@ Rgb gltf(const BrdfMaterial& m, const BrdfGeometry& g, bool correlated) {
   const Rgb f0{std::min(f0_ior * m.specular_color_factor.r, 1.0), std::min(f0_ior * m.specular_color_factor.g, 1.0),
                std::min(f0_ior * m.specular_color_factor.b, 1.0)};
   const Rgb fr = fresnel_schlick(g.lh, f0);
-  const Rgb dielectric =
-      base * (kInvPi * (1.0 - m.specular_factor * max3(fr))) + fr * (m.specular_factor * spec);
+  // 1 - w max3(fr) = (1 - w) + w (1 - max3(f0)) (1 - (1 - v.h)^5): fr is increasing in f0.
+  const double w = m.specular_factor;
+  const double base_weight = (1.0 - w) + w * (1.0 - max3(f0)) * schlick_complement(g.lh);
+  const Rgb dielectric = base * (kInvPi * base_weight) + fr * (w * spec);
   // material = mix(dielectric_brdf, metal_brdf, metallic)
   Rgb f = mix(dielectric, metal, m.metallic);
 
@@ -141,7 +161,7 @@ Rgb gltf(const BrdfMaterial& m, const BrdfGeometry& g, bool correlated) {
   const double sheen_max = max3(m.sheen_color);
   if (sheen_max > 0.0) {
     const double alpha_s = m.sheen_roughness * m.sheen_roughness;
-    const double ds = D_Charlie(g.nh, alpha_s) * V_CharlieEstevezKulla(g.nv, g.nl, alpha_s);
+    const double ds = D_CharlieFromHalf(g.h, alpha_s) * V_CharlieEstevezKulla(g.nv, g.nl, alpha_s);
     const double e_v = sheen_albedo(g.nv, m.sheen_roughness);
     const double e_l = sheen_albedo(g.nl, m.sheen_roughness);
     const double scaling = std::max(0.0, std::min(1.0 - sheen_max * e_v, 1.0 - sheen_max * e_l));
@@ -154,7 +174,8 @@ Rgb gltf(const BrdfMaterial& m, const BrdfGeometry& g, bool correlated) {
   if (m.clearcoat > 0.0) {
     const double coat = gltf_specular(g, m.clearcoat_roughness * m.clearcoat_roughness, correlated);
     const double weight = m.clearcoat * F_Schlick(0.04, 1.0, g.nv);
-    f = f * (1.0 - weight) + grey(weight * coat);
+    const double keep = (1.0 - m.clearcoat) + m.clearcoat * 0.96 * schlick_complement(g.nv);  // 1 - weight
+    f = f * keep + grey(weight * coat);
   }
   return f;
 }
@@ -205,7 +226,9 @@ Rgb blinn_phong_from_pbr(const BrdfMaterial& m, const BrdfGeometry& g) {
   const Rgb f0 = mix(grey(0.04), m.base_color, m.metallic);
   const Rgb f = fresnel_schlick(g.lh, f0);
   const double lobe = blinn_phong_lobe(g.nh, n, true);
-  return Rgb{(1.0 - f.r) * c_diff.r, (1.0 - f.g) * c_diff.g, (1.0 - f.b) * c_diff.b} * kInvPi + f * lobe;
+  const double keep = schlick_complement(g.lh);  // 1 - F = (1 - F0)(1 - (1 - v.h)^5)
+  return Rgb{(1.0 - f0.r) * keep * c_diff.r, (1.0 - f0.g) * keep * c_diff.g, (1.0 - f0.b) * keep * c_diff.b} * kInvPi +
+         f * lobe;
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "brdfbake/reference/fresnel.hpp"
 
@@ -117,11 +118,24 @@ double phong_lobe(double r_dot_v, double n, bool normalized);
 // Rendering 3rd ed., eq. 7.49) when `normalized`.
 double blinn_phong_lobe(double n_dot_h, double n, bool normalized);
 // KHR_materials_sheen's E(x): the directional albedo of the Charlie sheen lobe (sheen colour 1,
-// Estevez-Kulla visibility) at cosine n_dot_x, the charlie_albedo of dfg.hpp. Served from a
-// per-sheen-roughness piecewise Chebyshev interpolant of converged charlie_albedo values (built on
-// first use, ~0.5 s; within 1e-9 of charlie_albedo, see brdf_albedo.cpp); n_dot_x < 1e-7 is
-// evaluated at 1e-7 (kBrdfMinCosine).
+// Estevez-Kulla visibility) at cosine n_dot_x, the charlie_albedo of dfg.hpp, represented per sheen
+// roughness by piecewise Chebyshev series (SheenAlbedoSeries, built on first use, ~0.8 s; within
+// 1e-8 of charlie_albedo, see brdf_albedo.cpp). n_dot_x < 1e-7 is evaluated at 1e-7.
 double sheen_albedo(double n_dot_x, double sheen_roughness);
+
+// The series behind sheen_albedo, which the kernels evaluate too. kSheenLowerPanels uniform panels
+// of w = ln(mu) over [w_low, w_seam] = [ln 1e-7, ln 1/2] (for mu < 1/2), then kSheenUpperPanels
+// uniform panels of s = (1 - mu)^exponent over [0, s_seam], s_seam = (1/2)^exponent (mu >= 1/2);
+// on each, E = sum_k coefficients[panel * order + k] T_k(x), x the panel's local variable in [-1, 1].
+inline constexpr int kSheenSeriesOrder = 16;
+inline constexpr int kSheenLowerPanels = 16;
+inline constexpr int kSheenUpperPanels = 4;
+struct SheenAlbedoSeries {
+  double exponent = 0.0;  // c of Estevez & Kulla's fit at alpha = sheen_roughness^2 (SheenFitExponent)
+  double w_low = 0.0, w_seam = 0.0, s_seam = 0.0;
+  std::vector<double> coefficients;  // (kSheenLowerPanels + kSheenUpperPanels) * kSheenSeriesOrder
+};
+const SheenAlbedoSeries& sheen_albedo_series(double sheen_roughness);
 
 // ---- The models ---------------------------------------------------------------------------------
 // f(wi, wo) of `model` for material `m`. Throws std::invalid_argument for a zero or non-finite

@@ -1,0 +1,176 @@
+// Bulk BRDF evaluation and tabulation: the Disney principled BRDF, the glTF 2.0 metallic-roughness
+// BRDF (with KHR_materials_sheen, _clearcoat, _specular, _ior) and the classic models, evaluated for
+// many materials and direction pairs at once on an OpenCL device (kernels/brdf_eval.cl), or by the
+// scalar double reference (brdfbake/reference/brdf.hpp).
+//
+// Conventions (docs/CONVENTIONS.md, "BRDF evaluation"): f is the BRDF without the cosine;
+// directions are in tangent space, normal +z, tangent +x; f = 0 at and below the horizon.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdfbake/device.hpp"
+#include "brdfbake/reference/brdf.hpp"
+#include "brdfbake/table.hpp"
+
+namespace brdfbake {
+
+using BrdfModel = reference::BrdfModel;
+using Material = reference::BrdfMaterial;  // every parameter of every model; see docs/CONVENTIONS.md
+using Rgb = reference::Rgb;
+
+// "disney", "gltf", "gltf-correlated", "lambert", "phong", "blinn-phong", "cook-torrance",
+// "blinn-phong-from-pbr". Throws Error naming the unknown model and the known ones.
+BrdfModel brdf_model_from_name(const std::string& name);
+const char* brdf_model_name(BrdfModel model);
+const std::vector<BrdfModel>& brdf_models();
+
+// ---- Materials ------------------------------------------------------------------------------------
+
+struct NamedMaterial {
+  std::string name;
+  std::optional<BrdfModel> model;  // the material's "model" (JSON files only)
+  Material params;
+  std::vector<std::string> notes;  // what of the source was not used (glTF textures, other extensions)
+};
+
+// {"materials": [{"name": ..., "model": ..., parameters by their glTF or Disney names}]}, linear
+// colours (docs/CONVENTIONS.md lists every name). Unknown keys, wrong types, values out of range and
+// NaN throw Error naming `origin`, the material and the field.
+std::vector<NamedMaterial> parse_materials_json(const std::string& text, const std::string& origin);
+// The "materials" of a glTF 2.0 JSON document (.gltf): pbrMetallicRoughness factors and the
+// KHR_materials_sheen, _clearcoat, _specular and _ior factors, with the specification's defaults.
+// Textures, buffers and images are not read (each ignored texture is listed in `notes`).
+std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const std::string& origin);
+// Reads `path`: a .gltf file (or any JSON with an "asset" object) as glTF, anything else as ours.
+// A .glb file is refused with a message.
+std::vector<NamedMaterial> read_materials(const std::string& path);
+// Throws Error("<where>: <field> must be ...") for a parameter out of range or NaN.
+void validate_material(const Material& material, const std::string& where);
+// The material called `name`, or the only one when `name` is empty. Throws Error listing the names.
+const NamedMaterial& find_material(const std::vector<NamedMaterial>& materials, const std::string& name,
+                                   const std::string& origin);
+// The model a material is evaluated with: `chosen` if given, else the material's own, else Error.
+BrdfModel resolve_model(const std::optional<BrdfModel>& chosen, const NamedMaterial& material);
+// The parameters of a material as one line of JSON, by their file names (for metadata).
+std::string material_to_json(const NamedMaterial& material);
+
+// ---- Lobes ----------------------------------------------------------------------------------------
+
+// The lobes a program is compiled with (kernels/brdf_eval.cl lists what each means per model).
+struct Lobes {
+  bool diffuse = false, subsurface = false, sheen = false, clearcoat = false, anisotropic = false,
+       metal = false, specular_color = false, beckmann = false, ggx = false;
+};
+// The lobes that some of `materials` uses under `model`.
+Lobes lobes_used(BrdfModel model, const std::vector<Material>& materials);
+// Every lobe of the model (no specialisation).
+Lobes all_lobes(BrdfModel model);
+// "diffuse,sheen,..." (or "none").
+std::string lobes_name(BrdfModel model, const Lobes& lobes);
+
+// ---- Evaluation -----------------------------------------------------------------------------------
+
+struct EvalOptions {
+  Precision precision = Precision::Fp32;
+  bool fast_math = false;   // build with -cl-fast-relaxed-math (an opt-in variant, docs/BENCHMARKS.md)
+  bool specialize = true;   // compile only the lobes the materials use; false: every lobe of the model
+  int lanes = 0;            // directions per work-item (8 or 16); 0: the measured best per precision
+};
+
+struct EvalTiming {
+  double device_seconds = 0.0;  // kernel time from OpenCL event profiling
+  double wall_seconds = 0.0;    // the whole call, conversions and transfers included
+};
+
+// One model's program built for a set of materials, with the materials on the device; evaluates
+// batches of direction pairs against all of them. Construction builds (or fetches) the program;
+// buffers grow to the largest batch and are reused. Not thread-safe.
+class BrdfEvaluator {
+ public:
+  BrdfEvaluator(Device& device, BrdfModel model, std::vector<Material> materials, const EvalOptions& options = {});
+  ~BrdfEvaluator();
+  BrdfEvaluator(const BrdfEvaluator&) = delete;
+  BrdfEvaluator& operator=(const BrdfEvaluator&) = delete;
+
+  // pairs: 6 values per pair (wi.x, wi.y, wi.z, wo.x, wo.y, wo.z), finite and non-zero vectors of
+  // any length (normalised here, in double). out: 3 values per pair per material, material-major:
+  // out[(m * count + i) * 3 + c]. Throws Error naming the pair for a zero or non-finite vector.
+  void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr);
+
+  const Lobes& lobes() const;
+  std::size_t material_count() const;
+  int lanes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same with the scalar reference, one material (pairs and out as above, count pairs).
+void eval_reference(BrdfModel model, const Material& material, const double* pairs, std::size_t count, double* out);
+
+// ---- Tabulation -----------------------------------------------------------------------------------
+
+enum class TableLayout {
+  Merl,    // MERL's 90 x 90 x 180 half/difference-angle table (Matusik et al. 2003)
+  Grid,    // theta_i x theta_o x phi_d at cell centres
+  Albedo,  // directional albedo over theta_o, one row per material
+  Slice,   // f over (theta_h, theta_d) at one phi_d (Burley 2012's image slice)
+};
+TableLayout table_layout_from_name(const std::string& name);  // "merl" | "grid" | "albedo" | "slice"
+const char* table_layout_name(TableLayout layout);
+
+struct TabulateSpec {
+  BrdfModel model = BrdfModel::Disney;
+  std::vector<NamedMaterial> materials;  // merl, grid and slice take exactly one
+  TableLayout layout = TableLayout::Merl;
+  // grid: {n_theta_i, n_theta_o, n_phi_d}; albedo: {n_theta_o}; slice: {width (theta_h), height
+  // (theta_d)}; one value stands for all; empty: the layout's default (merl has its fixed size).
+  std::vector<int> res;
+  double slice_phi_d = 1.5707963267948966;  // slice: phi_d in [0, pi]
+  EvalOptions options;
+};
+
+// The resolved shape of a TabulateSpec (defaults filled, sizes checked): throws Error for a bad one.
+std::vector<int> tabulate_resolution(const TabulateSpec& spec);
+
+// A MERL table in memory: f at the 90 * 90 * 180 bin centres, channel-major in the file's order
+// (values[(c * 90 + i) * 90 * 180 + j * 180 + k] for theta_h bin i, theta_d bin j, phi_d bin k), or
+// kMerlBelowHorizon where the bin's directions fall below the horizon.
+inline constexpr int kMerlThetaH = 90, kMerlThetaD = 90, kMerlPhiD = 180;
+inline constexpr std::size_t kMerlBins = 90u * 90u * 180u;
+inline constexpr double kMerlBelowHorizon = -1.0;
+struct MerlTable {
+  std::vector<double> values;  // 3 * kMerlBins
+  Metadata metadata;
+};
+
+struct TabulateTiming {
+  double device_seconds = 0.0;
+  double wall_seconds = 0.0;
+};
+
+// merl on the device / by the reference.
+MerlTable tabulate_merl(Device& device, const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+MerlTable tabulate_merl_reference(const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+// grid, albedo and slice (channels r, g, b), on the device / by the reference.
+Table tabulate(Device& device, const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+Table tabulate_reference(const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+
+// The MERL binary (three int32 dims 90, 90, 180, then 3 * kMerlBins doubles, channel-major, each f
+// divided by the channel scale MERL's BRDFRead multiplies by: 1/1500, 1.15/1500, 1.66/1500; -1 in
+// below-horizon bins), written atomically, with the metadata in a sidecar "<path>.json".
+void write_merl(const MerlTable& table, const std::string& path);
+// Reads a MERL binary back (values multiplied by the channel scales; negative bins read as
+// kMerlBelowHorizon). Throws Error for a file that is not one.
+MerlTable read_merl(const std::string& path);
+// MERL's lookup_brdf_val: the value of the bin that (wi, wo) falls in (nearest bin, phi_d folded by
+// reciprocity), or kMerlBelowHorizon.
+Rgb merl_lookup(const MerlTable& table, const reference::Vec3& wi, const reference::Vec3& wo);
+
+}  // namespace brdfbake

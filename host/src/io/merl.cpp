@@ -1,0 +1,167 @@
+// MERL BRDF binaries: writer, reader and the reader's lookup. See merl.hpp for the layout.
+#include "io/merl.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "brdfbake/error.hpp"
+#include "io/atomic_file.hpp"
+
+namespace brdfbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = 0.5 * kPi;
+constexpr std::size_t kHeaderBytes = 3 * sizeof(std::int32_t);
+
+reference::Vec3 normalize(const reference::Vec3& v) {
+  const double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  return {v.x / len, v.y / len, v.z / len};
+}
+
+// Rotation of v about the y axis by `angle` (right-handed), and about z.
+reference::Vec3 rotate_y(const reference::Vec3& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {v.x * c + v.z * s, v.y, v.z * c - v.x * s};
+}
+reference::Vec3 rotate_z(const reference::Vec3& v, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {v.x * c - v.y * s, v.x * s + v.y * c, v.z};
+}
+
+}  // namespace
+
+namespace io {
+
+MerlAngles merl_bin_centre(int i, int j, int k) {
+  const double u = (i + 0.5) / kMerlThetaH;
+  return {u * u * kHalfPi, (j + 0.5) / kMerlThetaD * kHalfPi, (k + 0.5) / kMerlPhiD * kPi};
+}
+
+void half_diff_to_directions(double theta_h, double theta_d, double phi_d, reference::Vec3& wi,
+                             reference::Vec3& wo) {
+  const double st = std::sin(theta_h), ct = std::cos(theta_h);
+  const double sd = std::sin(theta_d), cd = std::cos(theta_d);
+  const reference::Vec3 d{sd * std::cos(phi_d), sd * std::sin(phi_d), cd};
+  wi = rotate_y(d, theta_h);
+  // wi.h = cos td for h = (sin th, 0, cos th)
+  wo = {2.0 * cd * st - wi.x, -wi.y, 2.0 * cd * ct - wi.z};
+}
+
+// std_coords_to_half_diff_coords: h = normalize(wi + wo), theta_h = acos(h.z), phi_h = atan2(h.y, h.x);
+// diff = R_y(-theta_h) R_z(-phi_h) wi, theta_d = acos(diff.z), phi_d = atan2(diff.y, diff.x).
+std::size_t merl_index(const reference::Vec3& wi_in, const reference::Vec3& wo_in) {
+  const reference::Vec3 wi = normalize(wi_in), wo = normalize(wo_in);
+  const reference::Vec3 h = normalize({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
+  const double theta_h = std::acos(std::clamp(h.z, -1.0, 1.0));
+  const double phi_h = std::atan2(h.y, h.x);
+  const reference::Vec3 diff = rotate_y(rotate_z(wi, -phi_h), -theta_h);
+  const double theta_d = std::acos(std::clamp(diff.z, -1.0, 1.0));
+  double phi_d = std::atan2(diff.y, diff.x);
+  if (phi_d < 0.0) phi_d += kPi;  // reciprocity
+  // theta_half_index: sqrt(theta_h / (pi/2)) * 90, floored and clamped (0 for theta_h <= 0)
+  int i = 0;
+  if (theta_h > 0.0) i = std::clamp(static_cast<int>(std::sqrt(theta_h / kHalfPi) * kMerlThetaH), 0, kMerlThetaH - 1);
+  const int j = std::clamp(static_cast<int>(theta_d / kHalfPi * kMerlThetaD), 0, kMerlThetaD - 1);
+  const int k = std::clamp(static_cast<int>(phi_d / kPi * kMerlPhiD), 0, kMerlPhiD - 1);
+  return (static_cast<std::size_t>(i) * kMerlThetaD + static_cast<std::size_t>(j)) * kMerlPhiD +
+         static_cast<std::size_t>(k);
+}
+
+}  // namespace io
+
+void write_merl(const MerlTable& table, const std::string& path) {
+  if (table.values.size() != 3 * kMerlBins)
+    io::throw_write_error(path, "a MERL table holds 3 x 90 x 90 x 180 values (got " +
+                                    std::to_string(table.values.size()) + ")");
+  std::string bytes(kHeaderBytes + table.values.size() * sizeof(double), '\0');
+  const std::int32_t dims[3] = {kMerlThetaH, kMerlThetaD, kMerlPhiD};
+  std::memcpy(bytes.data(), dims, kHeaderBytes);
+  char* cursor = bytes.data() + kHeaderBytes;
+  for (std::size_t c = 0; c < 3; ++c) {
+    for (std::size_t b = 0; b < kMerlBins; ++b) {
+      const double f = table.values[c * kMerlBins + b];
+      if (std::isnan(f)) io::throw_write_error(path, "the table holds a NaN (bin " + std::to_string(b) + ")");
+      const double stored = f < 0.0 ? kMerlBelowHorizon : f / io::kMerlScale[c];
+      std::memcpy(cursor, &stored, sizeof stored);
+      cursor += sizeof stored;
+    }
+  }
+  nlohmann::ordered_json sidecar;
+  sidecar["file"] = std::filesystem::path(path).filename().string();
+  sidecar["format"] =
+      "MERL BRDF binary: int32 dims 90 90 180 (theta_h, theta_d, phi_d), then 3 x 1458000 doubles, "
+      "channel-major (red, green, blue), little-endian";
+  nlohmann::ordered_json meta = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : table.metadata) meta[key] = value;
+  sidecar["metadata"] = meta;
+  std::string json_text;
+  try {
+    json_text = sidecar.dump(2) + "\n";
+  } catch (const nlohmann::json::exception& e) {
+    io::throw_write_error(path + ".json", e.what());
+  }
+  io::TempFile binary(path);
+  io::write_bytes(binary, bytes);
+  io::TempFile json(path + ".json");
+  io::write_bytes(json, json_text);
+  binary.commit();
+  json.commit();
+}
+
+MerlTable read_merl(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "'");
+  std::ostringstream s;
+  s << in.rdbuf();
+  const std::string bytes = s.str();
+  if (bytes.size() < kHeaderBytes) throw Error("'" + path + "' is not a MERL BRDF file (shorter than its header)");
+  std::int32_t dims[3];
+  std::memcpy(dims, bytes.data(), kHeaderBytes);
+  const long long n = static_cast<long long>(dims[0]) * dims[1] * dims[2];
+  if (dims[0] != kMerlThetaH || dims[1] != kMerlThetaD || dims[2] != kMerlPhiD)
+    throw Error("'" + path + "' is not a MERL BRDF file (dimensions " + std::to_string(dims[0]) + " x " +
+                std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ", expected 90 x 90 x 180)");
+  const std::size_t expected = kHeaderBytes + 3 * static_cast<std::size_t>(n) * sizeof(double);
+  if (bytes.size() != expected)
+    throw Error("'" + path + "' is not a MERL BRDF file (" + std::to_string(bytes.size()) + " bytes, expected " +
+                std::to_string(expected) + ")");
+  MerlTable table;
+  table.values.resize(3 * kMerlBins);
+  const char* cursor = bytes.data() + kHeaderBytes;
+  for (std::size_t c = 0; c < 3; ++c) {
+    for (std::size_t b = 0; b < kMerlBins; ++b) {
+      double stored;
+      std::memcpy(&stored, cursor, sizeof stored);
+      cursor += sizeof stored;
+      table.values[c * kMerlBins + b] = stored < 0.0 ? kMerlBelowHorizon : stored * io::kMerlScale[c];
+    }
+  }
+  std::ifstream sidecar(path + ".json");
+  if (sidecar) {
+    try {
+      const nlohmann::json j = nlohmann::json::parse(sidecar);
+      if (j.contains("metadata") && j["metadata"].is_object())
+        for (auto it = j["metadata"].begin(); it != j["metadata"].end(); ++it)
+          if (it->is_string()) table.metadata.emplace_back(it.key(), it->get<std::string>());
+    } catch (const nlohmann::json::exception&) {
+      // a sidecar we cannot read only loses the metadata
+    }
+  }
+  return table;
+}
+
+Rgb merl_lookup(const MerlTable& table, const reference::Vec3& wi, const reference::Vec3& wo) {
+  if (table.values.size() != 3 * kMerlBins) throw Error("merl_lookup: not a MERL table");
+  const std::size_t b = io::merl_index(wi, wo);
+  return Rgb{table.values[b], table.values[kMerlBins + b], table.values[2 * kMerlBins + b]};
+}
+
+}  // namespace brdfbake

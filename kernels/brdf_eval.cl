@@ -1,0 +1,500 @@
+// Bulk BRDF evaluation: f(wi, wo) of one model for many materials and directions, and the tables
+// built from it (MERL, theta_i x theta_o x phi_d grid, half/difference slice, directional albedo).
+//
+// Compile-time choices (host/src/brdf_eval.cpp defines them from the materials):
+//   model: exactly one of BRDFBAKE_MODEL_DISNEY, _GLTF, _GLTF_CORRELATED, _LAMBERT, _PHONG,
+//          _BLINN_PHONG, _COOK_TORRANCE, _BLINN_PHONG_FROM_PBR
+//   lobes: only those some material uses are compiled in:
+//          BRDFBAKE_LOBE_DIFFUSE      disney, gltf: a material with metallic < 1
+//          BRDFBAKE_LOBE_SUBSURFACE   disney: subsurface > 0
+//          BRDFBAKE_LOBE_SHEEN        disney: sheen > 0 (and metallic < 1); gltf: sheenColor > 0
+//          BRDFBAKE_LOBE_CLEARCOAT    disney, gltf: clearcoat > 0
+//          BRDFBAKE_LOBE_ANISOTROPIC  disney: anisotropic > 0
+//          BRDFBAKE_LOBE_METAL        gltf: metallic > 0
+//          BRDFBAKE_LOBE_SPECULAR_COLOR gltf: an RGB dielectric F0 or specularFactor < 1
+//                                     (KHR_materials_specular's max3(F) weighting)
+//          BRDFBAKE_CT_BECKMANN, BRDFBAKE_CT_GGX   cook-torrance: the distributions in use
+//   BRDFBAKE_BRDF_LANES (8 or 16): directions per work-item, one per vector lane.
+//
+// Frame and conventions (docs/CONVENTIONS.md, "BRDF evaluation"): tangent space, n = +z, the
+// anisotropy's alpha_x along +x. f is the BRDF without the cosine; f = 0 when l or v is at or
+// below the horizon; above it n.l and n.v are floored at BRDF_MIN_COSINE. The per-material
+// parameter block is laid out in common/brdf_params.clh.
+#include "common/real.clh"
+#include "common/brdf.clh"
+
+typedef struct {
+  brdfv r, g, b;
+} rgbv;
+
+#define P(slot) p[(slot)]
+
+// ---------------------------------------------------------------------------------------------
+// The models. Each evaluates f at unit l, v and h (h = (l + v) / |l + v|, given exactly by the
+// caller), with nl, nv the floored cosines, s2 = h.x^2 + h.y^2, c2 = h.z^2, lh = l.h.
+// ---------------------------------------------------------------------------------------------
+
+#if defined(BRDFBAKE_MODEL_DISNEY)
+// Burley 2012, "Physically-Based Shading at Disney", in disney.brdf's formulation:
+// f = ((1/pi) mix(F_d, f_ss, subsurface) C + F_H sheen C_sheen)(1 - metallic)
+//     + G_s F_s D_s + 0.25 clearcoat G_r F_r D_r.
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  const brdfv fh = schlick5_v(lh);
+  const real ax = P(BRDF_DISNEY_AX), ay = P(BRDF_DISNEY_AY);
+#ifdef BRDFBAKE_LOBE_ANISOTROPIC
+  const brdfv ds = D_GGXAniso_v(hx, hy, c2, R(1.0) / ax, R(1.0) / ay, P(BRDF_DISNEY_D_NORM));
+#else
+  const brdfv ds = D_GGX_v(s2, c2, ax * ax);
+#endif
+  const brdfv spec = ds * smith_g_aniso_v(nl, lx, ly, ax, ay) * smith_g_aniso_v(nv, vx, vy, ax, ay);
+  const brdfv sf = spec * fh;
+  rgbv f;
+  f.r = spec * P(BRDF_DISNEY_SPEC0 + 0) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 0));
+  f.g = spec * P(BRDF_DISNEY_SPEC0 + 1) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 1));
+  f.b = spec * P(BRDF_DISNEY_SPEC0 + 2) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 2));
+#ifdef BRDFBAKE_LOBE_DIFFUSE
+  const brdfv fl = schlick5_v(nl), fv = schlick5_v(nv);
+  const brdfv lh2_rough = lh * lh * P(BRDF_DISNEY_ROUGHNESS);
+  brdfv diffuse = Fd_Burley_v(fl, fv, lh2_rough);
+#ifdef BRDFBAKE_LOBE_SUBSURFACE
+  diffuse = mix(diffuse, Fd_DisneySubsurface_v(fl, fv, lh2_rough, nl, nv), P(BRDF_DISNEY_SUBSURFACE));
+#endif
+  f.r += P(BRDF_DISNEY_KD + 0) * diffuse;
+  f.g += P(BRDF_DISNEY_KD + 1) * diffuse;
+  f.b += P(BRDF_DISNEY_KD + 2) * diffuse;
+#endif
+#ifdef BRDFBAKE_LOBE_SHEEN
+  f.r += P(BRDF_DISNEY_SHEEN + 0) * fh;
+  f.g += P(BRDF_DISNEY_SHEEN + 1) * fh;
+  f.b += P(BRDF_DISNEY_SHEEN + 2) * fh;
+#endif
+#ifdef BRDFBAKE_LOBE_CLEARCOAT
+  // GTR1 at a = mix(0.1, 0.001, gloss), F0 = 0.04, separable Smith GGX at alpha_g = 0.25.
+  const brdfv dr = D_GTR1_v(s2, c2, P(BRDF_DISNEY_COAT_A2), P(BRDF_DISNEY_COAT_NORM));
+  const brdfv g_l = R(1.0) / (nl + sqrt(R(0.0625) + R(0.9375) * nl * nl));
+  const brdfv g_v = R(1.0) / (nv + sqrt(R(0.0625) + R(0.9375) * nv * nv));
+  const brdfv coat = P(BRDF_DISNEY_COAT) * dr * (R(0.04) + R(0.96) * fh) * g_l * g_v;
+  f.r += coat;
+  f.g += coat;
+  f.b += coat;
+#endif
+  return f;
+}
+
+#elif defined(BRDFBAKE_MODEL_GLTF) || defined(BRDFBAKE_MODEL_GLTF_CORRELATED)
+#ifdef BRDFBAKE_MODEL_GLTF_CORRELATED
+#define GLTF_V V_SmithGGXCorrelated_v
+#else
+#define GLTF_V V_SmithGGXSeparable_v
+#endif
+// glTF 2.0 Appendix B: material = mix(dielectric_brdf, metal_brdf, metallic) with
+// metal_brdf = specular_brdf (f0 + (1 - f0)(1 - v.h)^5), f0 = baseColor, and
+// dielectric_brdf = fresnel_mix = (1 - w max3(F)) diffuse_brdf + w F specular_brdf (KHR_materials_
+// specular's form; w = 1 and a grey F without it). Then KHR_materials_sheen's albedo-scaled sheen
+// layer and KHR_materials_clearcoat's coat (its Fresnel at n.v) on top.
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  const real a2 = P(BRDF_GLTF_A2);
+  const brdfv spec = D_GGX_v(s2, c2, a2) * GLTF_V(nl, nv, a2);
+  const brdfv c5 = schlick5_v(lh);
+  rgbv f;
+  f.r = (brdfv)R(0.0);
+  f.g = (brdfv)R(0.0);
+  f.b = (brdfv)R(0.0);
+#ifdef BRDFBAKE_LOBE_DIFFUSE
+  // 1 - w max3(F) = (1 - w) + w (1 - f0max)(1 - (1 - v.h)^5), cancellation-free at grazing
+  const real wd = P(BRDF_GLTF_DIELECTRIC);
+  const brdfv c5c = schlick5_complement_v(lh);
+#ifdef BRDFBAKE_LOBE_SPECULAR_COLOR
+  const real w = P(BRDF_GLTF_WEIGHT);
+  const brdfv fr_r = P(BRDF_GLTF_F0 + 0) + (R(1.0) - P(BRDF_GLTF_F0 + 0)) * c5;
+  const brdfv fr_g = P(BRDF_GLTF_F0 + 1) + (R(1.0) - P(BRDF_GLTF_F0 + 1)) * c5;
+  const brdfv fr_b = P(BRDF_GLTF_F0 + 2) + (R(1.0) - P(BRDF_GLTF_F0 + 2)) * c5;
+  const brdfv base = (R(1.0) - w) + w * (R(1.0) - P(BRDF_GLTF_F0_MAX)) * c5c;
+  f.r = P(BRDF_GLTF_KD + 0) * base + wd * fr_r * spec;
+  f.g = P(BRDF_GLTF_KD + 1) * base + wd * fr_g * spec;
+  f.b = P(BRDF_GLTF_KD + 2) * base + wd * fr_b * spec;
+#else
+  const brdfv fr = P(BRDF_GLTF_F0) + (R(1.0) - P(BRDF_GLTF_F0)) * c5;
+  const brdfv base = (R(1.0) - P(BRDF_GLTF_F0)) * c5c;
+  const brdfv layer = wd * fr * spec;
+  f.r = P(BRDF_GLTF_KD + 0) * base + layer;
+  f.g = P(BRDF_GLTF_KD + 1) * base + layer;
+  f.b = P(BRDF_GLTF_KD + 2) * base + layer;
+#endif
+#endif
+#ifdef BRDFBAKE_LOBE_METAL
+  const brdfv ms = P(BRDF_GLTF_METALLIC) * spec;
+  const brdfv msc = ms * c5;
+  f.r += ms * P(BRDF_GLTF_METAL_F0 + 0) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 0));
+  f.g += ms * P(BRDF_GLTF_METAL_F0 + 1) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 1));
+  f.b += ms * P(BRDF_GLTF_METAL_F0 + 2) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 2));
+#endif
+#ifdef BRDFBAKE_LOBE_SHEEN
+  // f = sheenColor D_charlie V_charlie + f min(1 - max3(sheenColor) E(n.v), 1 - max3(sheenColor) E(n.l)),
+  // the scaling clamped at 0 (E exceeds 1 at grazing angles; docs/CONVENTIONS.md).
+  const real smax = P(BRDF_GLTF_SHEEN_MAX);
+  if (smax > R(0.0)) {
+    const real fa = P(BRDF_GLTF_SHEEN_FIT + 0), fb = P(BRDF_GLTF_SHEEN_FIT + 1), fc = P(BRDF_GLTF_SHEEN_FIT + 2),
+               fd = P(BRDF_GLTF_SHEEN_FIT + 3), fe = P(BRDF_GLTF_SHEEN_FIT + 4), l_half = P(BRDF_GLTF_SHEEN_L_HALF);
+    const brdfv ds = D_Charlie_v(s2, c2, P(BRDF_GLTF_SHEEN_INV_A), P(BRDF_GLTF_SHEEN_NORM));
+    brdfv ev_l, ev_v;
+    const brdfv lambda_l = Lambda_Charlie_v(nl, fa, fb, fc, fd, fe, l_half, &ev_l);
+    const brdfv lambda_v = Lambda_Charlie_v(nv, fa, fb, fc, fd, fe, l_half, &ev_v);
+    const brdfv vs = V_Charlie_v(lambda_l, lambda_v, nl, nv);
+    global const real* table = sheen_table + (int)P(BRDF_GLTF_SHEEN_TABLE);
+    const real s_seam = P(BRDF_GLTF_SHEEN_S_SEAM);
+    const brdfv e_l = sheen_albedo_v(nl, ev_l, table, s_seam), e_v = sheen_albedo_v(nv, ev_v, table, s_seam);
+    const brdfv scaling = fmax((brdfv)R(0.0), R(1.0) - smax * fmax(e_l, e_v));
+    const brdfv sheen = ds * vs;
+    f.r = P(BRDF_GLTF_SHEEN + 0) * sheen + f.r * scaling;
+    f.g = P(BRDF_GLTF_SHEEN + 1) * sheen + f.g * scaling;
+    f.b = P(BRDF_GLTF_SHEEN + 2) * sheen + f.b * scaling;
+  }
+#endif
+#ifdef BRDFBAKE_LOBE_CLEARCOAT
+  // coated = f (1 - clearcoat F_c) + clearcoat F_c specular_brdf(alpha_c), F_c = 0.04 + 0.96 (1 - n.v)^5.
+  const real cc = P(BRDF_GLTF_COAT);
+  if (cc > R(0.0)) {
+    const real ac2 = P(BRDF_GLTF_COAT_A2);
+    const brdfv w = cc * (R(0.04) + R(0.96) * schlick5_v(nv));
+    const brdfv keep = (R(1.0) - cc) + cc * R(0.96) * schlick5_complement_v(nv);  // 1 - w
+    const brdfv coat = w * D_GGX_v(s2, c2, ac2) * GLTF_V(nl, nv, ac2);
+    f.r = f.r * keep + coat;
+    f.g = f.g * keep + coat;
+    f.b = f.b * keep + coat;
+  }
+#endif
+  return f;
+}
+
+#elif defined(BRDFBAKE_MODEL_LAMBERT)
+// Lambert 1760: f = kd / pi.
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  rgbv f;
+  f.r = (brdfv)P(BRDF_CLASSIC_KD + 0);
+  f.g = (brdfv)P(BRDF_CLASSIC_KD + 1);
+  f.b = (brdfv)P(BRDF_CLASSIC_KD + 2);
+  return f;
+}
+
+#elif defined(BRDFBAKE_MODEL_PHONG) || defined(BRDFBAKE_MODEL_BLINN_PHONG)
+// Phong 1975 (reciprocal BRDF form, Lewis 1994): f = kd / pi + ks N max(0, r.v)^n, r the mirror of l;
+// Blinn 1977: f = kd / pi + ks N (n.h)^n. N (normalised or 1) is folded into ks by the host.
+// cos^n goes through sin^2 (pow_cos_v): for Phong, sin^2(r, v) = |r x v|^2 / (|r|^2 |v|^2), which
+// does not care whether fp32 inputs are unit to the last bit (at n = 2048, 1 - r.v would).
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  const real n = P(BRDF_CLASSIC_N);
+#ifdef BRDFBAKE_MODEL_PHONG
+  // r = (-l.x, -l.y, l.z); nl, nv here are the raw cosines (see the caller).
+  const brdfv rz = nl;
+  const brdfv cx = -ly * nv - rz * vy, cy = rz * vx + lx * nv, cz = -lx * vy + ly * vx;
+  const brdfv rv = -lx * vx - ly * vy + rz * nv;
+  const brdfv rr = lx * lx + ly * ly + rz * rz, vv = vx * vx + vy * vy + nv * nv;
+  const brdfv inv_rv2 = R(1.0) / (rr * vv);
+  const brdfv sin2 = (cx * cx + cy * cy + cz * cz) * inv_rv2, cos2 = rv * rv * inv_rv2;
+  const brdfv lobe = rv > R(0.0) ? pow_cos_v(sin2, cos2, n) : (brdfv)R(0.0);
+#else
+  const brdfv lobe = pow_cos_v(s2, c2, n);
+#endif
+  rgbv f;
+  f.r = P(BRDF_CLASSIC_KD + 0) + P(BRDF_CLASSIC_KS + 0) * lobe;
+  f.g = P(BRDF_CLASSIC_KD + 1) + P(BRDF_CLASSIC_KS + 1) * lobe;
+  f.b = P(BRDF_CLASSIC_KD + 2) + P(BRDF_CLASSIC_KS + 2) * lobe;
+  return f;
+}
+
+#elif defined(BRDFBAKE_MODEL_COOK_TORRANCE)
+// Cook & Torrance 1982: f = kd / pi + F D G / (4 n.l n.v), F the exact unpolarised dielectric
+// Fresnel of the index matching F0, at v.h.
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  const real a2 = P(BRDF_CLASSIC_A2);
+#if defined(BRDFBAKE_CT_BECKMANN) && defined(BRDFBAKE_CT_GGX)
+  const brdfv d = P(BRDF_CLASSIC_BECKMANN) > R(0.5) ? D_Beckmann_v(s2, c2, a2) : D_GGX_v(s2, c2, a2);
+#elif defined(BRDFBAKE_CT_BECKMANN)
+  const brdfv d = D_Beckmann_v(s2, c2, a2);
+#else
+  const brdfv d = D_GGX_v(s2, c2, a2);
+#endif
+  const brdfv vh = fmax(lh, BRDF_MIN_COSINE);
+  const brdfv dg = d * G_CookTorrance_v(sqrt(c2), nv, nl, vh) / (R(4.0) * nl * nv);
+  rgbv f;
+  f.r = P(BRDF_CLASSIC_KD + 0) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 0)) * dg;
+  f.g = P(BRDF_CLASSIC_KD + 1) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 1)) * dg;
+  f.b = P(BRDF_CLASSIC_KD + 2) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 2)) * dg;
+  return f;
+}
+
+#elif defined(BRDFBAKE_MODEL_BLINN_PHONG_FROM_PBR)
+// Metallic-roughness imitated by Blinn-Phong: n = 2048^(1 - roughness), lobe (n + 8)/(8 pi) (n.h)^n,
+// F = F0 + (1 - F0)(1 - v.h)^5, f = (1 - F) c_diff / pi + F lobe.
+inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
+                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+  const brdfv lobe = P(BRDF_CLASSIC_NORM) * pow_cos_v(s2, c2, P(BRDF_CLASSIC_N));
+  const brdfv c5 = schlick5_v(lh), c5c = schlick5_complement_v(lh);
+  const brdfv f_r = P(BRDF_CLASSIC_KS + 0) + (R(1.0) - P(BRDF_CLASSIC_KS + 0)) * c5;
+  const brdfv f_g = P(BRDF_CLASSIC_KS + 1) + (R(1.0) - P(BRDF_CLASSIC_KS + 1)) * c5;
+  const brdfv f_b = P(BRDF_CLASSIC_KS + 2) + (R(1.0) - P(BRDF_CLASSIC_KS + 2)) * c5;
+  rgbv f;  // 1 - F = (1 - F0)(1 - (1 - v.h)^5)
+  f.r = P(BRDF_CLASSIC_KD + 0) * (R(1.0) - P(BRDF_CLASSIC_KS + 0)) * c5c + f_r * lobe;
+  f.g = P(BRDF_CLASSIC_KD + 1) * (R(1.0) - P(BRDF_CLASSIC_KS + 1)) * c5c + f_g * lobe;
+  f.b = P(BRDF_CLASSIC_KD + 2) * (R(1.0) - P(BRDF_CLASSIC_KS + 2)) * c5c + f_b * lobe;
+  return f;
+}
+
+#else
+#error "brdf_eval.cl needs one BRDFBAKE_MODEL_* define"
+#endif
+
+// f at unit l, v, h, zero where l or v is at or below the horizon.
+inline rgbv brdf_lanes(brdfv lx, brdfv ly, brdfv lz, brdfv vx, brdfv vy, brdfv vz, brdfv hx, brdfv hy,
+                       brdfv hz, global const real* p, global const real* sheen_table) {
+  const brdfi valid = lz > R(0.0) && vz > R(0.0);
+#if defined(BRDFBAKE_MODEL_PHONG)
+  // Phong needs the raw cosines (its lobe is built from the vectors).
+  const brdfv nl = lz, nv = vz;
+#else
+  const brdfv nl = fmax(lz, BRDF_MIN_COSINE), nv = fmax(vz, BRDF_MIN_COSINE);
+#endif
+  const brdfv s2 = hx * hx + hy * hy, c2 = hz * hz;
+  const brdfv lh = clamp(lx * hx + ly * hy + lz * hz, R(0.0), R(1.0));
+  rgbv f = model_lanes(lx, ly, vx, vy, hx, hy, nl, nv, s2, c2, lh, p, sheen_table);
+  const brdfv zero = (brdfv)R(0.0);
+  f.r = select(zero, f.r, valid);
+  f.g = select(zero, f.g, valid);
+  f.b = select(zero, f.b, valid);
+  return f;
+}
+
+// The unit half vector of l and v. l + v has h.z > 0 wherever both are above the horizon (the only
+// lanes whose result is kept), but can be as short as 1e-38 when l ~ -v near the horizon: its
+// largest component is divided out before normalising, so |h|^2 cannot underflow.
+inline void half_vector(brdfv lx, brdfv ly, brdfv lz, brdfv vx, brdfv vy, brdfv vz, brdfv* hx, brdfv* hy,
+                        brdfv* hz) {
+  brdfv x = lx + vx, y = ly + vy, z = lz + vz;
+  const brdfv inv_m = R(1.0) / fmax(fmax(fabs(x), fabs(y)), fmax(z, (brdfv)R(1e-30)));
+  x *= inv_m;
+  y *= inv_m;
+  z *= inv_m;
+  const brdfv inv_len = rsqrt(x * x + y * y + z * z);
+  *hx = x * inv_len;
+  *hy = y * inv_len;
+  *hz = z * inv_len;
+}
+
+inline void store_rgb(rgbv f, global real* out, size_t plane, size_t at) {
+  BRDF_STORE(f.r, out + at);
+  BRDF_STORE(f.g, out + plane + at);
+  BRDF_STORE(f.b, out + 2 * plane + at);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pairs: dirs holds 9 planes of `stride` values (wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, h.x, h.y, h.z):
+// unit vectors normalised by the host in double, with the half vector h = (wi + wo) / |wi + wo|
+// formed there too. (From float inputs, wi + wo of nearly opposite directions would carry the
+// inputs' 6e-8 rounding of their norms into h's direction, amplified by 1 / |wi + wo|.) stride is a
+// multiple of BRDFBAKE_BRDF_LANES; padding lanes hold zeros and give f = 0. Work-item (i, m)
+// evaluates directions i * LANES ... for material m; out holds 3 planes (r, g, b) of `stride` per
+// material.
+// ---------------------------------------------------------------------------------------------
+kernel void brdf_pairs(global const real* dirs, const int stride, global const real* params,
+                       global const real* sheen_table, global real* out) {
+  const size_t at = get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  const size_t m = get_global_id(1);
+  if (at >= (size_t)stride) return;
+  const size_t s = (size_t)stride;
+  const brdfv lx = BRDF_LOAD(dirs + at), ly = BRDF_LOAD(dirs + s + at), lz = BRDF_LOAD(dirs + 2 * s + at);
+  const brdfv vx = BRDF_LOAD(dirs + 3 * s + at), vy = BRDF_LOAD(dirs + 4 * s + at),
+              vz = BRDF_LOAD(dirs + 5 * s + at);
+  const brdfv hx = BRDF_LOAD(dirs + 6 * s + at), hy = BRDF_LOAD(dirs + 7 * s + at),
+              hz = BRDF_LOAD(dirs + 8 * s + at);
+  const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, params + m * BRDF_PARAM_STRIDE, sheen_table);
+  store_rgb(f, out + m * 3 * s, s, at);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Half/difference angles (Rusinkiewicz 1998): h at (theta_h, phi_h = 0), the difference vector
+// d = (sin td cos pd, sin td sin pd, cos td) in h's frame; wi = R_y(theta_h) d (MERL's
+// half_diff_coords_to_std_coords with phi_h = 0), wo = 2 (wi.h) h - wi with wi.h = cos td.
+// ---------------------------------------------------------------------------------------------
+// *below marks the lanes whose wi or wo is at or below the horizon.
+inline rgbv half_diff_lanes(brdfv th, brdfv td, brdfv pd, global const real* p, global const real* sheen_table,
+                            brdfi* below) {
+  brdfv ct, cd, cp;
+  const brdfv st = sincos(th, &ct), sd = sincos(td, &cd), sp = sincos(pd, &cp);
+  const brdfv dx = sd * cp, dy = sd * sp;
+  const brdfv lx = dx * ct + cd * st, ly = dy, lz = cd * ct - dx * st;
+  const brdfv vx = R(2.0) * cd * st - lx, vy = -ly, vz = R(2.0) * cd * ct - lz;
+  *below = lz <= R(0.0) || vz <= R(0.0);
+  return brdf_lanes(lx, ly, lz, vx, vy, vz, st, (brdfv)R(0.0), ct, p, sheen_table);
+}
+
+#if BRDFBAKE_BRDF_LANES == 16
+#define BRDF_IOTA ((brdfi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#else
+#define BRDF_IOTA ((brdfi)(0, 1, 2, 3, 4, 5, 6, 7))
+#endif
+
+// The MERL table (Matusik et al. 2003, as its BRDFRead / lookup_brdf_val index it): bin
+// (i, j, k) = (theta_h, theta_d, phi_d), at index (i * 90 + j) * 180 + k, holds f at the bin centre
+// on the reader's axes: theta_h = ((i + 0.5) / 90)^2 pi/2, theta_d = (j + 0.5) / 90 pi/2,
+// phi_d = (k + 0.5) / 180 pi. Bins with wi or wo below the horizon hold -1 (MERL's marker).
+// out: 3 planes of 90 * 90 * 180.
+kernel void brdf_merl(global const real* params, global const real* sheen_table, const int material,
+                      global real* out) {
+  const int n = BRDF_MERL_THETA_H * BRDF_MERL_THETA_D * BRDF_MERL_PHI_D;
+  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  if (at >= n) return;
+  const brdfi b = (brdfi)at + BRDF_IOTA;
+  const brdfi i = b / (BRDF_MERL_THETA_D * BRDF_MERL_PHI_D);
+  const brdfi j = (b / BRDF_MERL_PHI_D) % BRDF_MERL_THETA_D;
+  const brdfi k = b % BRDF_MERL_PHI_D;
+  const brdfv u = (BRDF_TO_REAL(i) + R(0.5)) / (real)BRDF_MERL_THETA_H;
+  const brdfv th = u * u * (R(0.5) * BRDFBAKE_PI);
+  const brdfv td = (BRDF_TO_REAL(j) + R(0.5)) / (real)BRDF_MERL_THETA_D * (R(0.5) * BRDFBAKE_PI);
+  const brdfv pd = (BRDF_TO_REAL(k) + R(0.5)) / (real)BRDF_MERL_PHI_D * BRDFBAKE_PI;
+  brdfi below;
+  rgbv f = half_diff_lanes(th, td, pd, params + material * BRDF_PARAM_STRIDE, sheen_table, &below);
+  const brdfv marker = (brdfv)R(-1.0);
+  f.r = select(f.r, marker, below);
+  f.g = select(f.g, marker, below);
+  f.b = select(f.b, marker, below);
+  store_rgb(f, out, (size_t)n, (size_t)at);
+}
+
+// A half/difference slice (Burley 2012's image slice): texel (i, j) of a width x height image at
+// theta_h = (i + 0.5) / width pi/2, theta_d = (j + 0.5) / height pi/2, phi_d fixed, phi_h = 0.
+// out: 3 planes of width * height (row j outer); the texel count is a multiple of the lane width.
+kernel void brdf_slice(global const real* params, global const real* sheen_table, const int material,
+                       const int width, const int height, const real phi_d, global real* out) {
+  const int n = width * height;
+  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  if (at >= n) return;
+  const brdfi b = (brdfi)at + BRDF_IOTA;
+  const brdfv th = (BRDF_TO_REAL(b % width) + R(0.5)) / (real)width * (R(0.5) * BRDFBAKE_PI);
+  const brdfv td = (BRDF_TO_REAL(b / width) + R(0.5)) / (real)height * (R(0.5) * BRDFBAKE_PI);
+  brdfi below;
+  const rgbv f = half_diff_lanes(th, td, (brdfv)phi_d, params + material * BRDF_PARAM_STRIDE, sheen_table, &below);
+  store_rgb(f, out, (size_t)((n + BRDFBAKE_BRDF_LANES - 1) / BRDFBAKE_BRDF_LANES * BRDFBAKE_BRDF_LANES),
+            (size_t)at);
+}
+
+// The theta_i x theta_o x phi_d grid: wi = (sin ti, 0, cos ti), wo = (sin to cos pd, sin to sin pd, cos to)
+// at cell centres ti = (i + 0.5)/n_ti pi/2, to = (j + 0.5)/n_to pi/2, pd = (k + 0.5)/n_pd pi. Cell
+// (i, j, k) at index (k * n_ti + i) * n_to + j. out: 3 planes (padded to the lane width).
+kernel void brdf_grid(global const real* params, global const real* sheen_table, const int material,
+                      const int n_ti, const int n_to, const int n_pd, global real* out) {
+  const int n = n_ti * n_to * n_pd;
+  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  if (at >= n) return;
+  const brdfi b = (brdfi)at + BRDF_IOTA;
+  const brdfi j = b % n_to, i = (b / n_to) % n_ti, k = b / (n_to * n_ti);
+  const brdfv ti = (BRDF_TO_REAL(i) + R(0.5)) / (real)n_ti * (R(0.5) * BRDFBAKE_PI);
+  const brdfv to = (BRDF_TO_REAL(j) + R(0.5)) / (real)n_to * (R(0.5) * BRDFBAKE_PI);
+  const brdfv pd = (BRDF_TO_REAL(k) + R(0.5)) / (real)n_pd * BRDFBAKE_PI;
+  brdfv cti, cto, cpd;
+  const brdfv sti = sincos(ti, &cti), sto = sincos(to, &cto), spd = sincos(pd, &cpd);
+  const brdfv lx = sti, ly = (brdfv)R(0.0), lz = cti;
+  const brdfv vx = sto * cpd, vy = sto * spd, vz = cto;
+  brdfv hx, hy, hz;
+  half_vector(lx, ly, lz, vx, vy, vz, &hx, &hy, &hz);
+  const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, params + material * BRDF_PARAM_STRIDE, sheen_table);
+  store_rgb(f, out, (size_t)((n + BRDFBAKE_BRDF_LANES - 1) / BRDFBAKE_BRDF_LANES * BRDFBAKE_BRDF_LANES),
+            (size_t)at);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Directional albedo a(v) = integral of f(l, v) n.l dl for v = (sin to, 0, cos to), to = (i + 0.5) /
+// n pi/2, by deterministic quadrature over the half vector h = (sin t cos p, sin t sin p, cos t):
+//   a = integral f (n.l) 4 (v.h) sin t dt dp   (dl = 4 (v.h) dh, Walter et al. 2007; dh = sin t dt dp)
+// over the h whose l = 2 (v.h) h - v is above the horizon. With n.l = A + B cos p, A = n.v cos 2t,
+// B = sin_v sin 2t, every p is valid below t1 = pi/4 - to/2 and none above t2 = pi/4 + to/2
+// (tan t2 = 1 / tan t1); between them p < p_e = acos(-A/B). Every model is even in p (v lies in the
+// xz plane), so p runs over [0, pi] or [0, p_e] and the sum is doubled.
+//   Panel A (t < t1): y = ln tan t from y_min (a thousandth of the narrowest lobe, per material) to
+//   ln tan t1, composite Gauss-Legendre (n_a nodes on [0, 1]); dt = sin t cos t dy. p: the midpoint
+//   rule on [0, pi] (n_p nodes), spectrally accurate for the smooth periodic integrand.
+//   Panel B (t1 < t < t2): y from ln tan t1 to ln tan t2 through u = (1 - cos(pi x)) / 2, whose
+//   vanishing slope at both ends absorbs the sqrt(t - t1) and sqrt(t2 - t) of p_e (n_b nodes);
+//   p: Gauss-Legendre on [0, p_e] (n_p nodes).
+// The polar nodes go BRDFBAKE_BRDF_LANES at a time, one per lane (n_a, n_b are multiples of it,
+// padded with zero-weight nodes). Node buffer q: n_a nodes, n_a weights, n_b values u(x),
+// n_b weights u'(x) w, n_p midpoint cosines, n_p midpoint sines, n_p Gauss nodes, n_p Gauss weights.
+// out: 3 planes of `n` per material.
+// ---------------------------------------------------------------------------------------------
+kernel void brdf_albedo(global const real* params, global const real* sheen_table, global const real* y_min,
+                        const int n, global const real* q, const int n_a, const int n_b, const int n_p,
+                        global real* out) {
+  const int i = (int)get_global_id(0), m = (int)get_global_id(1);
+  if (i >= n) return;
+  global const real* p = params + m * BRDF_PARAM_STRIDE;
+  const real to = ((real)i + R(0.5)) / (real)n * (R(0.5) * BRDFBAKE_PI);
+  real n_dot_v;
+  const real sin_v = sincos(to, &n_dot_v);
+  const brdfv vx = (brdfv)sin_v, vy = (brdfv)R(0.0), vz = (brdfv)n_dot_v;
+  const real t1 = R(0.25) * BRDFBAKE_PI - R(0.5) * to;
+  const real ya = log(tan(t1)), y0 = y_min[m];
+  global const real* qa = q;
+  global const real* qb = q + 2 * n_a;
+  global const real* qp = q + 2 * n_a + 2 * n_b;
+  brdfv acc_r = (brdfv)R(0.0), acc_g = (brdfv)R(0.0), acc_b = (brdfv)R(0.0);
+
+  // Panel A.
+  if (ya > y0) {
+    const real span = ya - y0;
+    for (int k = 0; k < n_a; k += BRDFBAKE_BRDF_LANES) {
+      const brdfv e = exp(y0 + span * BRDF_LOAD(qa + k));  // tan t
+      const brdfv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
+      // weight of a node: span w_k (dt/dy = sin t cos t) sin t (pi / n_p) 2
+      const brdfv wt = span * BRDF_LOAD(qa + n_a + k) * sin_t * sin_t * cos_t * (R(2.0) * BRDFBAKE_PI / (real)n_p);
+      for (int j = 0; j < n_p; ++j) {
+        const real cp = qp[j], sp = qp[n_p + j];
+        const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
+        const brdfv vh = sin_v * hx + n_dot_v * hz;
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
+        const brdfv w = wt * R(4.0) * vh * fmax(lz, R(0.0));
+        acc_r += w * f.r;
+        acc_g += w * f.g;
+        acc_b += w * f.b;
+      }
+    }
+  }
+  // Panel B.
+  if (sin_v > R(0.0)) {
+    const real y_lo = ya, span = -R(2.0) * ya;
+    for (int k = 0; k < n_b; k += BRDFBAKE_BRDF_LANES) {
+      const brdfv e = exp(y_lo + span * BRDF_LOAD(qb + k));
+      const brdfv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
+      const brdfv a = n_dot_v * (cos_t - sin_t) * (cos_t + sin_t), bb = sin_v * R(2.0) * sin_t * cos_t;
+      const brdfv p_e = acos(clamp(-a / bb, R(-1.0), R(1.0)));
+      const brdfv wt = span * BRDF_LOAD(qb + n_b + k) * sin_t * sin_t * cos_t * R(2.0) * p_e;
+      for (int j = 0; j < n_p; ++j) {
+        brdfv cp;
+        const brdfv sp = sincos(p_e * qp[2 * n_p + j], &cp);
+        const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
+        const brdfv vh = sin_v * hx + n_dot_v * hz;
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
+        const brdfv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz, R(0.0));
+        acc_r += w * f.r;
+        acc_g += w * f.g;
+        acc_b += w * f.b;
+      }
+    }
+  }
+  real sums[3];
+  real lanes[BRDFBAKE_BRDF_LANES];
+  const brdfv accs[3] = {acc_r, acc_g, acc_b};
+  for (int c = 0; c < 3; ++c) {
+    BRDF_STORE(accs[c], lanes);
+    real s = R(0.0);
+    for (int k = 0; k < BRDFBAKE_BRDF_LANES; ++k) s += lanes[k];
+    sums[c] = s;
+  }
+  for (int c = 0; c < 3; ++c) out[((size_t)m * 3 + (size_t)c) * (size_t)n + (size_t)i] = sums[c];
+}
