@@ -127,7 +127,7 @@ int list_materials() {
 int compare(const cxxopts::ParseResult& r) {
   if (!r.count("material")) throw UsageError("--compare needs --material NAME");
   FresnelCompareOptions o;
-  o.precision = precision_from_name(r["precision"].as<std::string>());
+  o.precision = precision_option(r);
   if (r.count("rate-cells")) {
     o.rate_cells = integer(r, "rate-cells");
     if (o.rate_cells < 1 || o.rate_cells > kFresnelMaxCells)
@@ -137,7 +137,7 @@ int compare(const cxxopts::ParseResult& r) {
   if (r.count("scale")) o.scale = finite_number(r, "scale");
   if (r.count("power")) o.power = finite_number(r, "power");
   const std::string material = r["material"].as<std::string>();
-  const std::string device_name = r["device"].as<std::string>();
+  const std::string device_name = device_option(r);
   FresnelComparison c;
   if (device_name == "reference") {
     c = compare_fresnel_models(material, nullptr, o);
@@ -247,18 +247,12 @@ int cmd_fresnel(int argc, char** argv) {
       ("height", "2d: cells along the y axis (default: --size)", cxxopts::value<std::string>())
       ("range", "2d: the y range LO,HI (default 0,1 for f0 and 1,3 for ior)", cxxopts::value<std::string>())
       ("vs", "exact: add err_r,err_g,err_b = value - exact model for the same material", cxxopts::value<std::string>())
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
-      ("o,output", "output file (.exr .png .hdr .ktx2 .csv .h), or - for standard output", cxxopts::value<std::string>())
-      ("format", "output format when it cannot come from the file name", cxxopts::value<std::string>())
-      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f16"))
-      ("symbol", "C identifier of the array in a .h output", cxxopts::value<std::string>())
       ("list-materials", "list the material presets with their exact and hard-coded F0")
       ("compare", "every model's error against the exact one for --material, and its device rate")
       ("rate-cells", "--compare: cells of the table the rates are measured on (default 1048576)", cxxopts::value<std::string>())
-      ("fit", "Schlick F0 and F82 tint of --material, --n/--k or --ior, with the error each leaves")
-      ("quiet", "no summary line")
-      ("h,help", "this help");
+      ("fit", "Schlick F0 and F82 tint of --material, --n/--k or --ior, with the error each leaves");
+  add_table_output_options(options);
+  add_common_options(options);
   // The issue spells the complex index --n and --k; cxxopts takes long names of two characters or
   // more, so those two are short options (-n, -k) and their double-dash spellings are mapped here.
   std::vector<std::string> args(argv, argv + argc);
@@ -268,11 +262,7 @@ int cmd_fresnel(int argc, char** argv) {
   std::vector<char*> arg_ptrs;
   for (std::string& a : args) arg_ptrs.push_back(a.data());
   const auto r = parse(options, argc, arg_ptrs.data());
-  if (r.count("help")) {
-    std::cout << options.help() << "\n";
-    return 0;
-  }
-  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (help_or_stray(options, r)) return 0;
   const int modes = static_cast<int>(r.count("list-materials") + r.count("compare") + r.count("fit"));
   if (modes > 1) throw UsageError("give one of --list-materials, --compare and --fit");
   if (r.count("list-materials")) {
@@ -291,7 +281,6 @@ int cmd_fresnel(int argc, char** argv) {
 
   if (r.count("rate-cells")) throw UsageError("--rate-cells is for --compare");
   if (!r.count("model")) throw UsageError("missing --model (or --list-materials, --compare, --fit)");
-  if (!r.count("output")) throw UsageError("missing -o FILE (or -o - --format csv)");
   FresnelSpec spec;
   spec.model = fresnel_model_from_name(r["model"].as<std::string>());
   read_parameters(r, spec);
@@ -308,7 +297,7 @@ int cmd_fresnel(int argc, char** argv) {
     if (spec.table != FresnelTableKind::TwoD) throw UsageError("--range is for --table 2d");
     spec.range = range_option(r);
   }
-  spec.precision = precision_from_name(r["precision"].as<std::string>());
+  spec.precision = precision_option(r);
   bool vs_exact = false;
   if (r.count("vs")) {
     const std::string vs = r["vs"].as<std::string>();
@@ -316,29 +305,13 @@ int cmd_fresnel(int argc, char** argv) {
     vs_exact = true;
   }
 
-  const std::string out = r["output"].as<std::string>();
-  TableFormat format;
-  if (r.count("format")) {
-    format = table_format_from_name(r["format"].as<std::string>());
-  } else if (out == "-") {
-    throw UsageError("-o - writes to standard output and needs --format csv");
-  } else {
-    format = table_format_from_path(out);
-  }
-  if (out == "-" && format != TableFormat::Csv) throw UsageError("only --format csv can go to standard output");
-  if (vs_exact && format != TableFormat::Csv && format != TableFormat::CHeader)
-    throw UsageError("--vs exact adds three error columns: write .csv or .h");
-  TableWriteOptions wo;
-  const std::string pixel = r["pixel"].as<std::string>();
-  if (pixel == "f16") wo.pixel = PixelType::F16;
-  else if (pixel == "f32") wo.pixel = PixelType::F32;
-  else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
-  if (r.count("symbol")) wo.symbol = r["symbol"].as<std::string>();
-
   // Validate everything before any slow work (opening the device, building the program).
   validate_fresnel_spec(spec);
+  const TableOutput out = table_output_option(r);
+  if (vs_exact && out.format != TableFormat::Csv && out.format != TableFormat::CHeader)
+    throw UsageError("--vs exact adds three error columns: write .csv or .h");
   const FresnelSpec exact = vs_exact ? exact_fresnel_spec(spec) : FresnelSpec{};
-  const std::string device_name = r["device"].as<std::string>();
+  const std::string device_name = device_option(r);
   FresnelTiming timing;
   Table table;
   if (device_name == "reference") {
@@ -348,13 +321,9 @@ int cmd_fresnel(int argc, char** argv) {
     table = bake_fresnel(device, spec, &timing);
   }
   if (vs_exact) table = with_error_columns(table, bake_fresnel_reference(exact));
-  if (out == "-") {
-    write_table_csv(table, std::cout);
-  } else {
-    write_table(table, out, format, wo);
-  }
-  if (!r.count("quiet")) {
-    std::fprintf(stderr, "%s: %s%s%s %dx%d, %s, %.3f s (device %.3f ms)", out == "-" ? "stdout" : out.c_str(),
+  write_table_output(table, out);
+  if (!quiet_option(r)) {
+    std::fprintf(stderr, "%s: %s%s%s %dx%d, %s, %.3f s (device %.3f ms)", out.path == "-" ? "stdout" : out.path.c_str(),
                  table.meta("model").c_str(), spec.material.empty() ? "" : " ", spec.material.c_str(), table.width,
                  table.height, table.meta("precision").c_str(), timing.wall_seconds, timing.device_seconds * 1e3);
     if (vs_exact) std::fprintf(stderr, ", max |error| vs exact %s", table.meta("error_max_abs").c_str());

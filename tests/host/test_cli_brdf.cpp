@@ -48,16 +48,12 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
+using test::count_lines;
 
+// ../shared/scenes beside the repository (BRDFBAKE_SHARED_DIR), or "" when absent.
 std::string shared_scenes() {
-  for (const char* d : {"/work/shared/scenes", "../shared/scenes", "../../shared/scenes"})
-    if (fs::is_directory(d)) return d;
-  return {};
+  const fs::path d = fs::path(BRDFBAKE_SHARED_DIR) / "scenes";
+  return fs::is_directory(d) ? d.string() : std::string();
 }
 
 const char* kMaterials = R"({"materials": [

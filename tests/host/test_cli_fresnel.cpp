@@ -2,10 +2,8 @@
 // columns of --vs exact, 2-D tables, every format, the listing, comparison and fit modes, and one
 // clear line with a non-zero exit and no file for every bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,48 +14,21 @@
 #include <vector>
 
 #include "brdfbake/reference/fresnel.hpp"
+#include "support/cli_runner.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
+using brdfbake::test::CliRun;
+using brdfbake::test::count_lines;
 
-// Runs the CLI with `args` (a shell-quoted string), capturing stdout and stderr.
-CliRun run(const std::string& args) {
-  static int counter = 0;
-  const fs::path err_file = fs::temp_directory_path() / ("brdfbake-fresnel-err-" + std::to_string(::getpid()) +
-                                                         "-" + std::to_string(counter++));
-  const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream s;
-  s << e.rdbuf();
-  r.err = s.str();
-  fs::remove(err_file);
-  return r;
-}
+CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-fresnel-" + std::to_string(::getpid())) / name;
   fs::create_directories(d);
   return d;
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
 }
 
 // A CSV from standard output: the '#' metadata lines, the header, the rows split into fields.
