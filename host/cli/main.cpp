@@ -14,6 +14,8 @@ void usage(std::ostream& out) {
       << "  devices   list OpenCL platforms and devices\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
       << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
+      << "  prefilter prefilter an environment into a GGX or Charlie radiance mip chain\n"
+      << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
       << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
       << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n";
 }
@@ -30,6 +32,8 @@ int main(int argc, char** argv) {
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "lut") return cli::cmd_lut(argc - 1, argv + 1);
+    if (command == "prefilter") return cli::cmd_prefilter(argc - 1, argv + 1);
+    if (command == "irradiance") return cli::cmd_irradiance(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
     if (command == "eval") return cli::cmd_eval(argc - 1, argv + 1);
     if (command == "tabulate") return cli::cmd_tabulate(argc - 1, argv + 1);

@@ -85,6 +85,44 @@ inline constexpr double kPhongAlbedoKink = 5e-4;
 inline constexpr double kBlinnPhongAlbedoBound = 1.076;
 inline constexpr double kDisneyDiffuseAlbedoBound = 1.567;
 
+// --- Environment maps (tests/reference/test_envmap_reference.cpp, tests/device/test_prefilter.cpp,
+// tests/device/test_irradiance.cpp) ---
+// The reference's sub-cell sums against the exact lobe normalisation and against doubled sub-cells:
+// the midpoint rule on the sphere with q chosen to resolve the lobe (measured worst 2e-4).
+inline constexpr double kEnvReferenceSubCells = 1e-3;
+// SH of a constant cube from sub-cell samples: the l = 4 cubic harmonic is integrated with an
+// O(1/(S q)^2) error (measured 4e-4 of L_00 at S q = 32, ~2.5e-5 at the default S q >= 128); every
+// other coefficient vanishes by symmetry.
+inline constexpr double kEnvShDiscretisation = 1e-3;
+// Direct cosine convolution against the 9-coefficient SH route for an environment of degree 2: the
+// bilinear interpolation of texel samples is not exactly quadratic (measured 1e-3 at S = 16).
+inline constexpr double kEnvIrradianceRoutes = 5e-3;
+// The reference's cosine convolution of a constant environment at its default S q >= 128: the
+// kink at the horizon costs O(1/(S q)^2) (measured 2.0e-5).
+inline constexpr double kEnvReferenceCosine = 5e-5;
+// White furnace: a constant environment through every kernel, fp32 sums of ~1e4 terms.
+inline constexpr double kEnvFurnace = 1e-5;
+// Device prefilter against the brute-force reference on 16^2 - 32^2 cubes: the aim of 1%
+// RMS relative error per level (measured worst 0.63%), and a bound on the worst texel: on sources
+// this coarse the pyramid's box texels and the reference's bilinear interpolation differ at first
+// order where a softbox edge meets Charlie's ring (measured worst 5.8%, GGX 1.8%).
+inline constexpr double kEnvPrefilterRms = 0.01;
+inline constexpr double kEnvPrefilterMax = 0.08;
+// fp32 against fp64 kernels on the same source: sums of ~1e4 terms in fp32 (measured 2e-6).
+inline constexpr double kEnvFp32VsFp64 = 1e-4;
+// The sampling estimator (importance sampling with filtered importance sampling) at 4096 samples
+// per texel on 32^2 cubes: its mip blur is a bias that falls like 1/N (docs/BENCHMARKS.md).
+inline constexpr double kEnvSamplingRms = 0.02;
+inline constexpr double kEnvSamplingMax = 0.10;
+// Device SH projection against the reference's: fp32 sums over 6 x 32^2 texels and the reference's
+// sub-cells against the device's texel centres (O(1/S^2)).
+inline constexpr double kEnvShDevice = 2e-3;
+// Device irradiance cube against the reference's brute force on a 64^2 source: the device sums
+// texels as boxes, the reference interpolates them bilinearly (a tent twice as wide), which differs
+// by O(texel size) only where a sun of 5e4 sits on a normal's horizon (measured worst 0.87%, RMS
+// 0.1%); elsewhere both agree to ~1e-4.
+inline constexpr double kEnvIrradianceDevice = 1e-2;
+inline constexpr double kEnvIrradianceDeviceRms = 2e-3;
 // --- BRDF reference (tests/reference/test_brdf_reference.cpp) ---
 // f(wi, wo) against f(wo, wi): the same terms in another order of operations (l.h vs v.h, the
 // normalisation of each vector).

@@ -1,0 +1,124 @@
+// brdfbake irradiance --env FILE|builtin:NAME [--sh 3|5] [--cube 32] [...] -o FILE.json|.ktx2|.ktx|.dds|DIR
+#include <cstdio>
+#include <filesystem>
+
+#include "brdfbake/environment.hpp"
+#include "cli_common.hpp"
+
+namespace brdfbake::cli {
+
+namespace {
+
+// A path whose writability stands for a folder output: a file inside it when it exists, else the
+// folder itself (created later beside its siblings).
+std::string directory_probe(const std::string& dir) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec)) return (std::filesystem::path(dir) / "probe").string();
+  std::string d = dir;
+  while (d.size() > 1 && d.back() == '/') d.pop_back();
+  return d;
+}
+
+}  // namespace
+
+int cmd_irradiance(int argc, char** argv) {
+  cxxopts::Options options("brdfbake irradiance",
+                           "Diffuse irradiance of an environment: spherical harmonics and an irradiance cube");
+  options.add_options()
+      ("env", "FILE, six face files, a path with {face}, or builtin:studio / builtin:sun", cxxopts::value<std::string>())
+      ("sh", "SH bands: 3 (9 coefficients) or 5 (25)", cxxopts::value<std::string>()->default_value("3"))
+      ("sh-window", "none | hanning | lanczos (against ringing)", cxxopts::value<std::string>()->default_value("none"))
+      ("cube", "face size of the irradiance cube", cxxopts::value<std::string>()->default_value("32"))
+      ("source-size", "face size the environment is converted to first", cxxopts::value<std::string>()->default_value("256"))
+      ("sh-json", "also write the SH coefficients to this JSON file", cxxopts::value<std::string>())
+      ("sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")
+      ("pixel", "f16 | f32", cxxopts::value<std::string>()->default_value("f16"))
+      ("layout", "folder output: faces | cross | vcross | equirect", cxxopts::value<std::string>()->default_value("faces"))
+      ("image-format", "folder output: exr | hdr", cxxopts::value<std::string>()->default_value("exr"))
+      ("dds-legacy", ".dds output: the legacy header instead of DX10")
+      ("o,output", "FILE.json (SH only), or the cube: FILE.ktx2, FILE.ktx, FILE.dds or a folder", cxxopts::value<std::string>());
+  add_common_options(options);
+  const auto r = parse(options, argc, argv);
+  if (help_or_stray(options, r)) return 0;
+  if (!r.count("env")) throw UsageError("missing --env FILE or --env builtin:studio|sun");
+  if (!r.count("output")) throw UsageError("missing -o FILE.json|.ktx2|.ktx|.dds|DIR");
+
+  IrradianceSpec spec;
+  spec.sh_order = integer(r, "sh");
+  if (spec.sh_order != 3 && spec.sh_order != 5)
+    throw UsageError("--sh must be 3 or 5 (got '" + r["sh"].as<std::string>() + "')");
+  spec.window = sh_window_from_name(r["sh-window"].as<std::string>());
+  spec.cube_size = integer(r, "cube");
+  if (spec.cube_size < 1) throw UsageError("--cube must be at least 1 (got " + std::to_string(spec.cube_size) + ")");
+  spec.source_size = integer(r, "source-size");
+  if (spec.source_size < 1) throw UsageError("--source-size must be at least 1");
+  spec.precision = precision_option(r);
+
+  const std::string out = r["output"].as<std::string>();
+  std::string ext = std::filesystem::path(out).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool json_only = ext == ".json";
+  if (json_only) spec.cube_size = 0;
+  CubeFormat format = CubeFormat::Ktx2;
+  CubeWriteOptions wo;
+  if (!json_only) {
+    format = cube_format_from_path(out);
+    if (format == CubeFormat::Dds && r.count("dds-legacy")) format = CubeFormat::DdsLegacy;
+    const std::string pixel = r["pixel"].as<std::string>();
+    if (pixel == "f16") wo.pixel = PixelType::F16;
+    else if (pixel == "f32") wo.pixel = PixelType::F32;
+    else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
+    const std::string layout = r["layout"].as<std::string>();
+    wo.layout = layout == "faces" ? CubeImageLayout::Faces
+                : layout == "cross" ? CubeImageLayout::HorizontalCross
+                : layout == "vcross" ? CubeImageLayout::VerticalCross
+                : layout == "equirect" ? CubeImageLayout::Equirect
+                : throw UsageError("--layout must be faces, cross, vcross or equirect (got '" + layout + "')");
+    const std::string image_format = r["image-format"].as<std::string>();
+    if (image_format == "exr") wo.image_format = CubeImageFormat::Exr;
+    else if (image_format == "hdr") wo.image_format = CubeImageFormat::Hdr;
+    else throw UsageError("--image-format must be exr or hdr (got '" + image_format + "')");
+    wo.stem = "irradiance";
+  }
+
+  // a bad output path fails before any slow work
+  check_output_path(json_only || format != CubeFormat::Directory ? out : directory_probe(out));
+  if (r.count("sh-json")) check_output_path(r["sh-json"].as<std::string>());
+  const bool quiet = quiet_option(r);
+  const std::string device_name = device_option(r);
+  if (device_name == "reference")
+    throw UsageError("--device reference is not available for irradiance; choose an OpenCL device");
+  EnvLoadOptions lo;
+  lo.sanitize = r.count("sanitize") > 0;
+  const EnvImage env = load_environment(r["env"].as<std::string>(), lo);
+  if (!quiet && env.sanitize.replaced)
+    std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
+                 env.source.c_str(), env.sanitize.nan, env.sanitize.infinite, env.sanitize.negative);
+  Device device = Device::open(device_name);
+  ProgressLine line(quiet);
+  auto progress = [&](double fraction, const std::string& what) { line.update("irradiance, " + what, fraction); };
+  const IrradianceResult result = compute_irradiance(device, env, spec, progress);
+  line.finish();
+  Metadata meta = {{"source", env.source}, {"source_size", std::to_string(spec.source_size)}};
+  if (json_only) {
+    write_sh_json(result.sh, meta, out);
+  } else {
+    // the JSON first: if the cube cannot be written, the JSON goes again, so nothing is left half done
+    const std::string sh_json = r.count("sh-json") ? r["sh-json"].as<std::string>() : std::string();
+    if (!sh_json.empty()) write_sh_json(result.sh, meta, sh_json);
+    try {
+      write_cubemap(result.cube, out, format, wo);
+    } catch (...) {
+      if (!sh_json.empty()) std::remove(sh_json.c_str());
+      throw;
+    }
+  }
+  if (!quiet)
+    std::fprintf(stderr, "%s: SH order %d (%d coefficients, window %s)%s, device %.3f s\n", out.c_str(),
+                 result.sh.order, result.sh.order * result.sh.order, sh_window_name(result.sh.window),
+                 json_only ? "" : (", irradiance cube " + std::to_string(spec.cube_size) + "^2 (E / pi)").c_str(),
+                 result.device_seconds);
+  return 0;
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,396 @@
+// Environment-map reference: brute force over every source texel, in double.
+//
+// Every integral over the sphere is a sum over the source cube's texels, each split into q x q
+// sub-cells. A sub-cell [a0, a1] x [b0, b1] of a face contributes f(d) * Omega, with d the unit
+// direction of its centre and Omega its exact solid angle,
+//   Omega = F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0),  F(a, b) = atan2(a b, sqrt(1 + a^2 + b^2)),
+// the antiderivative of the face's area element (1 + a^2 + b^2)^(-3/2) da db. The sub-cells tile
+// the sphere exactly, so the sum is the midpoint rule of the integral on the sphere: it converges
+// like 1/q^2 wherever f is smooth on the scale of a sub-cell, and q is chosen to resolve the lobe.
+#include "brdfbake/reference/envmap.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/quadrature.hpp"
+
+namespace brdfbake::reference {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Dir3 normalized(const Dir3& d) {
+  const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  return {d.x / n, d.y / n, d.z / n};
+}
+
+double dot(const Dir3& a, const Dir3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+void check_cube(const EnvCube& cube) {
+  if (cube.size < 1) throw std::invalid_argument("envmap reference: cube size must be at least 1");
+  const size_t want = 18u * static_cast<size_t>(cube.size) * static_cast<size_t>(cube.size);
+  if (cube.rgb.size() != want)
+    throw std::invalid_argument("envmap reference: cube holds " + std::to_string(cube.rgb.size()) +
+                                " values, expected " + std::to_string(want));
+}
+
+// Runs body(begin, end) over [0, n) split into contiguous ranges, one per thread.
+void parallel_ranges(size_t n, unsigned threads, const std::function<void(size_t, size_t)>& body) {
+  unsigned t = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+  t = static_cast<unsigned>(std::min<size_t>(t, std::max<size_t>(n, 1)));
+  if (t <= 1) {
+    body(0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (unsigned k = 0; k < t; ++k) {
+    const size_t b = n * k / t, e = n * (k + 1) / t;
+    pool.emplace_back(body, b, e);
+  }
+  for (auto& th : pool) th.join();
+}
+
+// One sub-cell of the sphere: unit centre direction and exact solid angle.
+struct Cell {
+  Dir3 d;
+  double omega;
+};
+
+// The q x q sub-cells of every texel of one face of `size`.
+std::vector<Cell> face_cells(int face, int size, int q) {
+  std::vector<Cell> cells;
+  cells.reserve(static_cast<size_t>(size) * static_cast<size_t>(size) * static_cast<size_t>(q) *
+                static_cast<size_t>(q));
+  const int n = size * q;  // sub-cells per face side
+  for (int j = 0; j < n; ++j) {
+    const double b0 = -1.0 + 2.0 * j / n, b1 = -1.0 + 2.0 * (j + 1) / n;
+    for (int i = 0; i < n; ++i) {
+      const double a0 = -1.0 + 2.0 * i / n, a1 = -1.0 + 2.0 * (i + 1) / n;
+      cells.push_back({normalized(cube_plane_point(face, 0.5 * (a0 + a1), 0.5 * (b0 + b1))),
+                       cube_rect_solid_angle(a0, b0, a1, b1)});
+    }
+  }
+  return cells;
+}
+
+// q for the smooth integrands (SH, cosine): the given one, or ceil(128 / size).
+int auto_subdivision(int subdivision, int size) {
+  return subdivision > 0 ? subdivision : std::max(1, (128 + size - 1) / size);
+}
+
+// Integral of f over [a, b] by adaptive bisection of a 20-point Gauss-Legendre rule, to `tol`
+// absolute.
+double adaptive_integral(const std::function<double(double)>& f, double a, double b, double tol,
+                         int depth = 0) {
+  const auto& rule = gauss_legendre(20);
+  auto gl = [&](double lo, double hi) {
+    double s = 0.0;
+    for (size_t k = 0; k < rule.nodes.size(); ++k)
+      s += rule.weights[k] * f(0.5 * (lo + hi) + 0.5 * (hi - lo) * rule.nodes[k]);
+    return 0.5 * (hi - lo) * s;
+  };
+  const double m = 0.5 * (a + b);
+  const double whole = gl(a, b), halves = gl(a, m) + gl(m, b);
+  // done when within the tolerance, or at the integrand's own noise: near R, n.h = sqrt((1 + c) / 2)
+  // carries 1 - n.h ~ theta^2 / 8 with a relative rounding of 1e-16 / (1 - n.h), ~1e-12 where GGX's
+  // narrowest lobes live
+  if (std::fabs(whole - halves) <= std::max(tol, 1e-11 * std::fabs(halves)) || depth >= 24) return halves;
+  return adaptive_integral(f, a, m, 0.5 * tol, depth + 1) + adaptive_integral(f, m, b, 0.5 * tol, depth + 1);
+}
+
+}  // namespace
+
+// ---- Addressing ------------------------------------------------------------------------------------
+
+// The KTX / OpenGL cube map table (OpenGL 4.6, table 8.19), with a = 2 s - 1 and b = 2 t - 1: the
+// major axis ma and the face coordinates sc = a |ma|, tc = b |ma| of a direction (x, y, z) are
+//   +X: sc = -z, tc = -y    -X: sc = +z, tc = -y    +Y: sc = +x, tc = +z
+//   -Y: sc = +x, tc = -z    +Z: sc = +x, tc = -y    -Z: sc = -x, tc = -y
+Dir3 cube_plane_point(int face, double a, double b) {
+  switch (face) {
+    case 0: return {1.0, -b, -a};
+    case 1: return {-1.0, -b, a};
+    case 2: return {a, 1.0, b};
+    case 3: return {a, -1.0, -b};
+    case 4: return {a, -b, 1.0};
+    case 5: return {-a, -b, -1.0};
+    default: throw std::invalid_argument("cube face must be 0..5, not " + std::to_string(face));
+  }
+}
+
+void cube_face_coords(const Dir3& d, int& face, double& a, double& b) {
+  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+  if (ax >= ay && ax >= az) {
+    face = d.x >= 0.0 ? 0 : 1;
+    a = (d.x >= 0.0 ? -d.z : d.z) / ax;
+    b = -d.y / ax;
+  } else if (ay >= az) {
+    face = d.y >= 0.0 ? 2 : 3;
+    a = d.x / ay;
+    b = (d.y >= 0.0 ? d.z : -d.z) / ay;
+  } else {
+    face = d.z >= 0.0 ? 4 : 5;
+    a = (d.z >= 0.0 ? d.x : -d.x) / az;
+    b = -d.y / az;
+  }
+}
+
+Dir3 cube_texel_direction(int face, int size, int i, int j) {
+  return normalized(cube_plane_point(face, 2.0 * (i + 0.5) / size - 1.0, 2.0 * (j + 0.5) / size - 1.0));
+}
+
+double cube_rect_solid_angle(double a0, double b0, double a1, double b1) {
+  auto F = [](double a, double b) { return std::atan2(a * b, std::sqrt(1.0 + a * a + b * b)); };
+  return F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0);
+}
+
+double cube_texel_solid_angle(int size, int i, int j) {
+  return cube_rect_solid_angle(2.0 * i / size - 1.0, 2.0 * j / size - 1.0, 2.0 * (i + 1) / size - 1.0,
+                               2.0 * (j + 1) / size - 1.0);
+}
+
+Dir3 equirect_direction(double u, double v) {
+  const double phi = 2.0 * kPi * (0.5 - u), theta = kPi * (0.5 - v);
+  return {std::sin(phi) * std::cos(theta), std::sin(theta), std::cos(phi) * std::cos(theta)};
+}
+
+void equirect_coords(const Dir3& d, double& u, double& v) {
+  const Dir3 n = normalized(d);
+  u = 0.5 - std::atan2(n.x, n.z) / (2.0 * kPi);
+  v = 0.5 - std::asin(std::clamp(n.y, -1.0, 1.0)) / kPi;
+}
+
+// ---- The environment function --------------------------------------------------------------------
+
+std::array<double, 3> cube_fetch_extended(const EnvCube& cube, int face, int i, int j) {
+  const int n = cube.size;
+  const bool in_i = i >= 0 && i < n, in_j = j >= 0 && j < n;
+  if (in_i && in_j) return {cube.at(face, i, j, 0), cube.at(face, i, j, 1), cube.at(face, i, j, 2)};
+  if (!in_i && !in_j) {
+    const int ci = std::clamp(i, 0, n - 1), cj = std::clamp(j, 0, n - 1);
+    const auto p = cube_fetch_extended(cube, face, ci, j);
+    const auto q = cube_fetch_extended(cube, face, i, cj);
+    const auto r = cube_fetch_extended(cube, face, ci, cj);
+    return {(p[0] + q[0] + r[0]) / 3.0, (p[1] + q[1] + r[1]) / 3.0, (p[2] + q[2] + r[2]) / 3.0};
+  }
+  // The extended texel centre lies just past the edge, on the neighbouring face's edge row.
+  const Dir3 p = cube_plane_point(face, 2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0);
+  int f = 0;
+  double a = 0, b = 0;
+  cube_face_coords(p, f, a, b);
+  const int ni = std::clamp(static_cast<int>(std::floor(0.5 * (a + 1.0) * n)), 0, n - 1);
+  const int nj = std::clamp(static_cast<int>(std::floor(0.5 * (b + 1.0) * n)), 0, n - 1);
+  return {cube.at(f, ni, nj, 0), cube.at(f, ni, nj, 1), cube.at(f, ni, nj, 2)};
+}
+
+std::array<double, 3> cube_bilinear(const EnvCube& cube, const Dir3& d) {
+  int face = 0;
+  double a = 0, b = 0;
+  cube_face_coords(d, face, a, b);
+  const double x = 0.5 * (a + 1.0) * cube.size - 0.5, y = 0.5 * (b + 1.0) * cube.size - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const int i0 = static_cast<int>(x0), j0 = static_cast<int>(y0);
+  const auto t00 = cube_fetch_extended(cube, face, i0, j0);
+  const auto t10 = cube_fetch_extended(cube, face, i0 + 1, j0);
+  const auto t01 = cube_fetch_extended(cube, face, i0, j0 + 1);
+  const auto t11 = cube_fetch_extended(cube, face, i0 + 1, j0 + 1);
+  std::array<double, 3> out{};
+  for (int c = 0; c < 3; ++c)
+    out[size_t(c)] = (1.0 - fy) * ((1.0 - fx) * t00[size_t(c)] + fx * t10[size_t(c)]) +
+                     fy * ((1.0 - fx) * t01[size_t(c)] + fx * t11[size_t(c)]);
+  return out;
+}
+
+// ---- Lobes -----------------------------------------------------------------------------------------
+
+// With n = v = R, h bisects R and l: n.h = cos(theta_l / 2) = sqrt((1 + c) / 2).
+double env_lobe_kernel(EnvLobe lobe, double alpha, double cos_rl) {
+  if (!(cos_rl > 0.0)) return 0.0;
+  const double c = std::min(cos_rl, 1.0);
+  const double n_dot_h = std::sqrt(0.5 * (1.0 + c));
+  const double d = lobe == EnvLobe::Ggx ? D_GGX(n_dot_h, alpha) : D_Charlie(n_dot_h, alpha);
+  return d * c;
+}
+
+// W = 2 pi int_0^(pi/2) K(cos theta) sin theta d theta. GGX's kernel peaks at theta ~ 2 alpha and
+// Charlie's just below pi/2 with a width ~ alpha; geometric breakpoints towards both ends let the
+// adaptive rule find either peak at any alpha.
+double env_lobe_normalization(EnvLobe lobe, double alpha) {
+  const double a = std::max(alpha, kMinAlpha);
+  auto f = [&](double theta) { return 2.0 * kPi * env_lobe_kernel(lobe, a, std::cos(theta)) * std::sin(theta); };
+  std::vector<double> breaks = {0.0, 0.5 * kPi};
+  for (double s = a / 64.0; s < 0.5 * kPi; s *= 4.0) {
+    breaks.push_back(s);
+    breaks.push_back(0.5 * kPi - s);
+  }
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+  // a first pass fixes the absolute tolerance, the second meets it
+  double rough = 0.0;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k)
+    if (breaks[k] >= 0.0 && breaks[k + 1] <= 0.5 * kPi) rough += adaptive_integral(f, breaks[k], breaks[k + 1], 1e-6);
+  double total = 0.0;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k)
+    if (breaks[k] >= 0.0 && breaks[k + 1] <= 0.5 * kPi)
+      total += adaptive_integral(f, breaks[k], breaks[k + 1], 1e-14 * std::fabs(rough));
+  return total;
+}
+
+int env_default_subdivision(EnvLobe lobe, double alpha, int source_size) {
+  const double width = lobe == EnvLobe::Ggx ? 2.0 * std::max(alpha, kMinAlpha) : 1.0;
+  // resolve the lobe, and on small sources the bilinear interpolation itself (a bright texel's
+  // tent, cut by the horizon): at least 64 sub-cells per face side
+  const double q = std::max(std::ceil(8.0 * (2.0 / source_size) / width), std::ceil(64.0 / source_size));
+  return static_cast<int>(std::clamp(q, 1.0, 32.0));
+}
+
+// ---- Prefiltered radiance ---------------------------------------------------------------------------
+
+std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, double roughness,
+                                         const std::vector<Dir3>& dirs, int subdivision, unsigned threads) {
+  check_cube(source);
+  if (!(roughness >= 0.0 && roughness <= 1.0))
+    throw std::invalid_argument("envmap reference: roughness must be in [0, 1]");
+  std::vector<double> out(3 * dirs.size(), 0.0);
+  if (roughness == 0.0) {  // the mirror: the environment itself
+    for (size_t k = 0; k < dirs.size(); ++k) {
+      const auto l = cube_bilinear(source, dirs[k]);
+      for (size_t c = 0; c < 3; ++c) out[3 * k + c] = l[c];
+    }
+    return out;
+  }
+  const double alpha = roughness * roughness;
+  const int q = subdivision > 0 ? subdivision : env_default_subdivision(lobe, alpha, source.size);
+  std::vector<double> num(3 * dirs.size(), 0.0), den(dirs.size(), 0.0);
+  for (int face = 0; face < 6; ++face) {
+    const std::vector<Cell> cells = face_cells(face, source.size, q);
+    std::vector<std::array<double, 3>> radiance(cells.size());
+    for (size_t k = 0; k < cells.size(); ++k) radiance[k] = cube_bilinear(source, cells[k].d);
+    parallel_ranges(dirs.size(), threads, [&](size_t begin, size_t end) {
+      for (size_t k = begin; k < end; ++k) {
+        double n0 = 0, n1 = 0, n2 = 0, w = 0;
+        for (size_t m = 0; m < cells.size(); ++m) {
+          const double c = dot(dirs[k], cells[m].d);
+          if (c <= 0.0) continue;
+          const double kw = env_lobe_kernel(lobe, alpha, c) * cells[m].omega;
+          n0 += kw * radiance[m][0];
+          n1 += kw * radiance[m][1];
+          n2 += kw * radiance[m][2];
+          w += kw;
+        }
+        num[3 * k] += n0;
+        num[3 * k + 1] += n1;
+        num[3 * k + 2] += n2;
+        den[k] += w;
+      }
+    });
+  }
+  for (size_t k = 0; k < dirs.size(); ++k)
+    for (size_t c = 0; c < 3; ++c) out[3 * k + c] = den[k] > 0.0 ? num[3 * k + c] / den[k] : 0.0;
+  return out;
+}
+
+EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size, int subdivision,
+                       unsigned threads) {
+  if (out_size < 1) throw std::invalid_argument("envmap reference: output size must be at least 1");
+  std::vector<Dir3> dirs;
+  for (int f = 0; f < 6; ++f)
+    for (int j = 0; j < out_size; ++j)
+      for (int i = 0; i < out_size; ++i) dirs.push_back(cube_texel_direction(f, out_size, i, j));
+  EnvCube out;
+  out.size = out_size;
+  out.rgb = prefilter_directions(source, lobe, roughness, dirs, subdivision, threads);
+  return out;
+}
+
+// ---- Spherical harmonics and irradiance ----------------------------------------------------------
+
+// Real spherical harmonics as polynomials in (x, y, z) on the unit sphere, without the
+// Condon-Shortley phase (the table of docs/CONVENTIONS.md).
+std::vector<double> sh_basis(int order, const Dir3& d) {
+  if (order < 1 || order > 5) throw std::invalid_argument("SH order must be 1..5");
+  const double x = d.x, y = d.y, z = d.z;
+  const double x2 = x * x, y2 = y * y, z2 = z * z;
+  const double ip = 1.0 / kPi;
+  std::vector<double> v = {
+      0.5 * std::sqrt(ip),
+      std::sqrt(0.75 * ip) * y, std::sqrt(0.75 * ip) * z, std::sqrt(0.75 * ip) * x,
+      0.5 * std::sqrt(15.0 * ip) * x * y, 0.5 * std::sqrt(15.0 * ip) * y * z,
+      0.25 * std::sqrt(5.0 * ip) * (3.0 * z2 - 1.0), 0.5 * std::sqrt(15.0 * ip) * x * z,
+      0.25 * std::sqrt(15.0 * ip) * (x2 - y2),
+      0.25 * std::sqrt(17.5 * ip) * y * (3.0 * x2 - y2), 0.5 * std::sqrt(105.0 * ip) * x * y * z,
+      0.25 * std::sqrt(10.5 * ip) * y * (5.0 * z2 - 1.0), 0.25 * std::sqrt(7.0 * ip) * z * (5.0 * z2 - 3.0),
+      0.25 * std::sqrt(10.5 * ip) * x * (5.0 * z2 - 1.0), 0.25 * std::sqrt(105.0 * ip) * z * (x2 - y2),
+      0.25 * std::sqrt(17.5 * ip) * x * (x2 - 3.0 * y2),
+      0.75 * std::sqrt(35.0 * ip) * x * y * (x2 - y2), 0.75 * std::sqrt(17.5 * ip) * y * z * (3.0 * x2 - y2),
+      0.75 * std::sqrt(5.0 * ip) * x * y * (7.0 * z2 - 1.0), 0.75 * std::sqrt(2.5 * ip) * y * z * (7.0 * z2 - 3.0),
+      (3.0 / 16.0) * std::sqrt(ip) * (35.0 * z2 * z2 - 30.0 * z2 + 3.0),
+      0.75 * std::sqrt(2.5 * ip) * x * z * (7.0 * z2 - 3.0), (3.0 / 8.0) * std::sqrt(5.0 * ip) * (x2 - y2) * (7.0 * z2 - 1.0),
+      0.75 * std::sqrt(17.5 * ip) * x * z * (x2 - 3.0 * y2),
+      (3.0 / 16.0) * std::sqrt(35.0 * ip) * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2)),
+  };
+  v.resize(static_cast<size_t>(order * order));
+  return v;
+}
+
+std::vector<double> sh_project(const EnvCube& source, int order, int subdivision) {
+  check_cube(source);
+  const size_t n = static_cast<size_t>(order * order);
+  std::vector<double> out(3 * n, 0.0);
+  for (int face = 0; face < 6; ++face) {
+    for (const Cell& cell : face_cells(face, source.size, auto_subdivision(subdivision, source.size))) {
+      const auto l = cube_bilinear(source, cell.d);
+      const auto y = sh_basis(order, cell.d);
+      for (size_t k = 0; k < n; ++k)
+        for (size_t c = 0; c < 3; ++c) out[3 * k + c] += l[c] * y[k] * cell.omega;
+    }
+  }
+  return out;
+}
+
+double sh_cosine_lobe(int l) {
+  switch (l) {
+    case 0: return kPi;
+    case 1: return 2.0 * kPi / 3.0;
+    case 2: return kPi / 4.0;
+    case 3: return 0.0;
+    case 4: return -kPi / 24.0;
+    default: throw std::invalid_argument("sh_cosine_lobe: band must be 0..4");
+  }
+}
+
+std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Dir3>& normals,
+                                          int subdivision, unsigned threads) {
+  check_cube(source);
+  std::vector<double> out(3 * normals.size(), 0.0);
+  for (int face = 0; face < 6; ++face) {
+    const std::vector<Cell> cells = face_cells(face, source.size, auto_subdivision(subdivision, source.size));
+    std::vector<std::array<double, 3>> radiance(cells.size());
+    for (size_t k = 0; k < cells.size(); ++k) radiance[k] = cube_bilinear(source, cells[k].d);
+    parallel_ranges(normals.size(), threads, [&](size_t begin, size_t end) {
+      for (size_t k = begin; k < end; ++k) {
+        double e0 = 0, e1 = 0, e2 = 0;
+        for (size_t m = 0; m < cells.size(); ++m) {
+          const double c = dot(normals[k], cells[m].d);
+          if (c <= 0.0) continue;
+          const double w = c * cells[m].omega;
+          e0 += w * radiance[m][0];
+          e1 += w * radiance[m][1];
+          e2 += w * radiance[m][2];
+        }
+        out[3 * k] += e0 / kPi;
+        out[3 * k + 1] += e1 / kPi;
+        out[3 * k + 2] += e2 / kPi;
+      }
+    });
+  }
+  return out;
+}
+
+}  // namespace brdfbake::reference

@@ -1,0 +1,359 @@
+// Loading environments: equirects and crosses through OpenImageIO, six face files, KTX2 cubes, and
+// the procedural builtin:studio and builtin:sun; validation of the values.
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/reference/envmap.hpp"
+
+namespace brdfbake {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+const char* const kFaceNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+
+// ---- Files through OpenImageIO -------------------------------------------------------------------
+
+struct RgbImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  std::string description;
+};
+
+// Level 0 of subimage 0 of any image OpenImageIO reads, as RGB float (R, G, B found by name, else
+// the first three channels; one channel is grey).
+RgbImage read_rgb_image(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("cannot read environment '" + path + "': no such file");
+  if (fs::is_directory(path, ec)) throw Error("cannot read environment '" + path + "': it is a folder");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    std::string why = OIIO::geterror();
+    if (why.empty()) why = "not an image format OpenImageIO reads";
+    throw Error("cannot read environment '" + path + "': " + why);
+  }
+  const OIIO::ImageSpec spec = in->spec(0, 0);
+  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  if (w < 1 || h < 1 || nch < 1) throw Error("environment '" + path + "' has no pixels");
+  if (static_cast<long long>(w) * h > (1ll << 28))
+    throw Error("environment '" + path + "' is too large (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+  int ch[3] = {0, nch > 1 ? 1 : 0, nch > 2 ? 2 : 0};
+  if (nch == 2) ch[1] = ch[2] = 0;
+  for (int c = 0; c < nch; ++c) {
+    const std::string& name = spec.channelnames.size() > size_t(c) ? spec.channelnames[size_t(c)] : "";
+    if (name == "R" || name == "r") ch[0] = c;
+    if (name == "G" || name == "g") ch[1] = c;
+    if (name == "B" || name == "b") ch[2] = c;
+  }
+  std::vector<float> all(static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(nch));
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data())) {
+    std::string why = in->geterror();
+    if (why.empty()) why = "read failed";
+    throw Error("cannot read environment '" + path + "' (truncated or corrupt?): " + why);
+  }
+  RgbImage out;
+  out.width = w;
+  out.height = h;
+  out.rgb.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
+  for (size_t p = 0; p < static_cast<size_t>(w) * static_cast<size_t>(h); ++p)
+    for (size_t c = 0; c < 3; ++c) out.rgb[3 * p + c] = all[p * static_cast<size_t>(nch) + static_cast<size_t>(ch[c])];
+  std::ostringstream d;
+  d << in->format_name() << " " << w << "x" << h << ", " << nch << " channel(s), " << spec.format.c_str();
+  if (spec.tile_width > 0) d << ", tiled";
+  int levels = 1;
+  while (in->seek_subimage(0, levels)) ++levels;
+  if (levels > 1) d << ", " << levels << " mip levels (level 0 read)";
+  out.description = d.str();
+  in->close();
+  return out;
+}
+
+// Cross layouts (docs/CONVENTIONS.md): cells of the face size s, faces as stored in a cube (no
+// rotation) except -Z in the vertical cross, which is turned by 180 degrees.
+//   horizontal (4s x 3s):   . +Y  .  .      vertical (3s x 4s):   . +Y  .
+//                          -X +Z +X -Z                           -X +Z +X
+//                           . -Y  .  .                            . -Y  .
+//                                                                 . -Z  .   (rotated 180)
+struct CrossCell {
+  int col, row;
+  bool rotate180;
+};
+const CrossCell kHorizontalCross[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                       {1, 2, false}, {1, 1, false}, {3, 1, false}};
+const CrossCell kVerticalCross[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                     {1, 2, false}, {1, 1, false}, {1, 3, true}};
+
+EnvImage cube_from_cross(const RgbImage& img, bool horizontal) {
+  const int s = horizontal ? img.width / 4 : img.width / 3;
+  const CrossCell* cells = horizontal ? kHorizontalCross : kVerticalCross;
+  EnvImage env;
+  env.layout = EnvImage::Layout::Cube;
+  env.width = env.height = s;
+  env.rgb.resize(18u * static_cast<size_t>(s) * static_cast<size_t>(s));
+  for (int f = 0; f < 6; ++f)
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) {
+        const int si = cells[f].rotate180 ? s - 1 - i : i, sj = cells[f].rotate180 ? s - 1 - j : j;
+        const size_t src = 3 * (static_cast<size_t>(cells[f].row * s + sj) * static_cast<size_t>(img.width) +
+                                static_cast<size_t>(cells[f].col * s + si));
+        const size_t dst = 3 * ((static_cast<size_t>(f) * static_cast<size_t>(s) + static_cast<size_t>(j)) *
+                                    static_cast<size_t>(s) + static_cast<size_t>(i));
+        for (size_t c = 0; c < 3; ++c) env.rgb[dst + c] = img.rgb[src + c];
+      }
+  return env;
+}
+
+// ---- Validation -------------------------------------------------------------------------------
+
+void validate(EnvImage& env, bool sanitize) {
+  EnvSanitizeReport r;
+  float max_finite = 0.0f;
+  for (float v : env.rgb) {
+    if (std::isnan(v)) ++r.nan;
+    else if (std::isinf(v)) ++r.infinite;
+    else if (v < 0.0f) ++r.negative;
+    else max_finite = std::max(max_finite, v);
+  }
+  if (r.total() == 0) return;
+  if (!sanitize) {
+    throw Error("environment '" + env.source + "' has " + std::to_string(r.nan) + " NaN, " +
+                std::to_string(r.infinite) + " infinite and " + std::to_string(r.negative) +
+                " negative pixel values (of " + std::to_string(env.rgb.size()) +
+                "); pass --sanitize to replace them");
+  }
+  for (float& v : env.rgb) {
+    if (std::isnan(v) || v < 0.0f) v = 0.0f;  // NaN, -inf and negatives
+    else if (std::isinf(v)) v = max_finite;   // +inf
+  }
+  r.replaced = true;
+  env.sanitize = r;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  std::string tail = s.substr(s.size() - suffix.size());
+  std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return tail == suffix;
+}
+
+EnvImage load_faces(const std::vector<std::string>& files, const std::string& spec) {
+  EnvImage env;
+  env.layout = EnvImage::Layout::Cube;
+  env.source = spec;
+  int s = 0;
+  for (size_t f = 0; f < 6; ++f) {
+    const RgbImage img = read_rgb_image(files[f]);
+    if (img.width != img.height)
+      throw Error("cube face '" + files[f] + "' is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                  "; faces must be square");
+    if (f == 0) {
+      s = img.width;
+      env.width = env.height = s;
+      env.rgb.reserve(18u * static_cast<size_t>(s) * static_cast<size_t>(s));
+    } else if (img.width != s) {
+      throw Error("cube face '" + files[f] + "' is " + std::to_string(img.width) + "x" + std::to_string(img.width) +
+                  " but '" + files[0] + "' is " + std::to_string(s) + "x" + std::to_string(s));
+    }
+    env.rgb.insert(env.rgb.end(), img.rgb.begin(), img.rgb.end());
+  }
+  env.description = "six faces of " + std::to_string(s) + "x" + std::to_string(s);
+  return env;
+}
+
+// ---- Built-in environments ----------------------------------------------------------------------
+
+struct V3 {
+  double x, y, z;
+};
+V3 v3(const reference::Dir3& d) { return {d.x, d.y, d.z}; }
+double dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V3 cross(const V3& a, const V3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3 unit(const V3& a) {
+  const double n = std::sqrt(dot(a, a));
+  return {a.x / n, a.y / n, a.z / n};
+}
+// The direction at azimuth and elevation in degrees (azimuth 0 along +Z, 90 along +X).
+V3 from_angles(double azimuth_deg, double elevation_deg) {
+  const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
+  return {std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el)};
+}
+double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// A rectangular softbox: angular half-sizes, soft edges over the outer 20% of each half-size, in
+// the frame (right, up, centre) of its centre direction.
+struct Softbox {
+  V3 centre;
+  double half_w, half_h;  // radians
+  double radiance[3];
+  V3 right, up;
+  double cos_reach;  // directions with d.centre below it are outside (quick rejection)
+};
+Softbox softbox(const V3& centre, double half_w, double half_h, double r, double g, double b) {
+  Softbox s{centre, half_w, half_h, {r, g, b}, {}, {}, 0.0};
+  s.right = unit(std::fabs(centre.y) > 0.99 ? cross(V3{0, 0, 1}, centre) : cross(V3{0, 1, 0}, centre));
+  s.up = cross(centre, s.right);
+  s.cos_reach = std::cos(std::min(1.5, 1.5 * std::hypot(half_w, half_h)));
+  return s;
+}
+double softbox_weight(const Softbox& b, const V3& d) {
+  const double f = dot(d, b.centre);
+  if (f <= b.cos_reach) return 0.0;
+  const double x = std::fabs(std::atan2(dot(d, b.right), f)), y = std::fabs(std::atan2(dot(d, b.up), f));
+  if (x >= b.half_w || y >= b.half_h) return 0.0;
+  return smoothstep(b.half_w, 0.8 * b.half_w, x) * smoothstep(b.half_h, 0.8 * b.half_h, y);
+}
+
+void studio_radiance(const V3& d, double out[3]) {
+  static const Softbox boxes[] = {
+      softbox(from_angles(45, 30), 0.26, 0.17, 30.0, 28.5, 27.0),   // key, warm
+      softbox(from_angles(-60, 15), 0.22, 0.30, 7.0, 7.6, 8.4),     // fill, cool
+      softbox(from_angles(0, 80), 0.35, 0.35, 14.0, 14.0, 14.0),    // top
+      softbox(from_angles(180, 10), 0.52, 0.035, 20.0, 20.0, 20.0), // rim strip behind
+  };
+  // grey room: dark floor, walls brightening towards the ceiling
+  const double g = d.y < 0.0 ? 0.06 + 0.02 * (1.0 + d.y) : 0.10 + 0.22 * d.y;
+  out[0] = g;
+  out[1] = g * 0.98;
+  out[2] = g * 0.95;
+  for (const Softbox& b : boxes) {
+    const double w = softbox_weight(b, d);
+    for (int c = 0; c < 3; ++c) out[c] += w * b.radiance[c];
+  }
+}
+
+// The sun of builtin:sun: 0.5 degree radius, radiance 5e4 (warm white), at azimuth -120 degrees
+// and elevation 35 degrees; a faint aureole falls off as exp(-theta / 1.5 degrees).
+constexpr double kSunRadius = 0.5 * kPi / 180.0;
+constexpr double kSunRadiance = 5.0e4;
+const V3& sun_direction() {
+  static const V3 d = from_angles(-120.0, 35.0);
+  return d;
+}
+void sun_radiance(const V3& d, double out[3]) {
+  if (d.y >= 0.0) {  // sky: deep blue at the zenith, pale at the horizon
+    const double t = std::pow(1.0 - d.y, 3.0);
+    out[0] = 0.20 + 0.70 * t;
+    out[1] = 0.40 + 0.55 * t;
+    out[2] = 0.90 + 0.35 * t;
+  } else {  // dark ground
+    out[0] = 0.10;
+    out[1] = 0.08;
+    out[2] = 0.06;
+  }
+  const double theta = std::acos(std::clamp(dot(d, sun_direction()), -1.0, 1.0));
+  if (theta < kSunRadius) {
+    out[0] += kSunRadiance;
+    out[1] += kSunRadiance * 0.96;
+    out[2] += kSunRadiance * 0.88;
+  } else {
+    const double a = 40.0 * std::exp(-(theta - kSunRadius) / (1.5 * kPi / 180.0));
+    out[0] += a;
+    out[1] += a * 0.95;
+    out[2] += a * 0.85;
+  }
+}
+
+// Renders a direction function into an equirect: each pixel the solid-angle-weighted mean of k x k
+// sub-samples (k = 16 near the sun, where the disc's edge needs it, else 2).
+EnvImage render_equirect(const std::string& name, int width, void (*radiance)(const V3&, double*), bool sun) {
+  const int w = width, h = width / 2;
+  EnvImage env;
+  env.layout = EnvImage::Layout::Equirect;
+  env.width = w;
+  env.height = h;
+  env.source = "builtin:" + name;
+  env.rgb.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
+  const double pixel_angle = 2.0 * kPi / w;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const V3 centre = v3(reference::equirect_direction((x + 0.5) / w, (y + 0.5) / h));
+      int k = 2;
+      if (sun && std::acos(std::clamp(dot(centre, sun_direction()), -1.0, 1.0)) <
+                     kSunRadius + 4.0 * pixel_angle / std::max(0.05, std::sqrt(1.0 - centre.y * centre.y)))
+        k = 16;
+      double sum[3] = {0, 0, 0}, wsum = 0;
+      for (int sy = 0; sy < k; ++sy)
+        for (int sx = 0; sx < k; ++sx) {
+          const double v = (y + (sy + 0.5) / k) / h;
+          const V3 d = v3(reference::equirect_direction((x + (sx + 0.5) / k) / w, v));
+          const double weight = std::cos(kPi * (0.5 - v));  // solid angle of the sub-sample
+          double l[3];
+          radiance(d, l);
+          for (int c = 0; c < 3; ++c) sum[c] += weight * l[c];
+          wsum += weight;
+        }
+      for (size_t c = 0; c < 3; ++c)
+        env.rgb[3 * (static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) + c] =
+            static_cast<float>(sum[c] / wsum);
+    }
+  env.description = "procedural equirect " + std::to_string(w) + "x" + std::to_string(h);
+  return env;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_environment_names() { return {"studio", "sun"}; }
+
+EnvImage builtin_environment(const std::string& name, int width) {
+  if (width < 4 || width % 2 != 0 || width > 16384)
+    throw Error("builtin environment width must be even and in 4..16384 (got " + std::to_string(width) + ")");
+  if (name == "studio") return render_equirect(name, width, studio_radiance, false);
+  if (name == "sun") return render_equirect(name, width, sun_radiance, true);
+  throw Error("unknown builtin environment 'builtin:" + name + "' (expected builtin:studio or builtin:sun)");
+}
+
+EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
+  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
+  if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
+
+  EnvImage env;
+  std::vector<std::string> faces;
+  if (spec.find(',') != std::string::npos) {
+    std::stringstream ss(spec);
+    std::string item;
+    while (std::getline(ss, item, ',')) faces.push_back(item);
+    if (faces.size() != 6)
+      throw Error("a cube from face files needs six files (+X,-X,+Y,-Y,+Z,-Z), got " + std::to_string(faces.size()));
+  } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
+    for (const char* f : kFaceNames) faces.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
+  }
+  if (!faces.empty()) {
+    env = load_faces(faces, spec);
+  } else if (ends_with(spec, ".ktx2")) {
+    env = read_ktx2_cube(spec, 0);
+  } else {
+    const RgbImage img = read_rgb_image(spec);
+    if (img.width == 2 * img.height) {
+      env.layout = EnvImage::Layout::Equirect;
+      env.width = img.width;
+      env.height = img.height;
+      env.rgb = img.rgb;
+      env.description = "equirect: " + img.description;
+    } else if (3 * img.width == 4 * img.height && img.width % 4 == 0) {
+      env = cube_from_cross(img, true);
+      env.description = "horizontal cross: " + img.description;
+    } else if (4 * img.width == 3 * img.height && img.width % 3 == 0) {
+      env = cube_from_cross(img, false);
+      env.description = "vertical cross: " + img.description;
+    } else {
+      throw Error("environment '" + spec + "' is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                  ": expected an equirect of 2:1, a horizontal cross of 4:3 or a vertical cross of 3:4");
+    }
+  }
+  env.source = spec;
+  validate(env, options.sanitize);
+  return env;
+}
+
+}  // namespace brdfbake

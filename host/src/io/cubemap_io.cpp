@@ -1,0 +1,420 @@
+// Writing cubemaps with all their levels: KTX2 (through io/ktx2), KTX1, DDS (DX10 or legacy
+// header), and folders of per-face, cross or equirect images (EXR / HDR through OpenImageIO).
+// Every file goes through io::TempFile: it appears complete or not at all.
+#include "io/cubemap_io.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "brdfbake/error.hpp"
+#include "brdfbake/reference/envmap.hpp"
+#include "io/atomic_file.hpp"
+#include "io/half.hpp"
+#include "io/ktx2.hpp"
+
+#ifndef BRDFBAKE_VERSION
+#define BRDFBAKE_VERSION "unknown"
+#endif
+
+namespace brdfbake {
+
+void CubeLevels::set_meta(const std::string& key, const std::string& value) {
+  auto it = std::find_if(metadata.begin(), metadata.end(), [&](const auto& e) { return e.first == key; });
+  if (it != metadata.end()) it->second = value;
+  else metadata.emplace_back(key, value);
+}
+
+std::string CubeLevels::meta(const std::string& key) const {
+  auto it = std::find_if(metadata.begin(), metadata.end(), [&](const auto& e) { return e.first == key; });
+  return it != metadata.end() ? it->second : std::string();
+}
+
+namespace io {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr const char* kGenerator = "brdfbake " BRDFBAKE_VERSION;
+constexpr const char* kKeyPrefix = "brdfbake:";
+const char* const kFaceNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+
+void put_u32(std::vector<uint8_t>& out, size_t at, uint32_t v) {
+  for (size_t i = 0; i < 4; ++i) out[at + i] = static_cast<uint8_t>(v >> (8 * i));
+}
+void append_u32(std::vector<uint8_t>& out, uint32_t v) {
+  out.resize(out.size() + 4);
+  put_u32(out, out.size() - 4, v);
+}
+void pad_to(std::vector<uint8_t>& out, size_t alignment) {
+  while (out.size() % alignment != 0) out.push_back(0);
+}
+
+void check_cube(const CubeLevels& cube) {
+  if (cube.size < 1 || cube.levels.empty()) throw Error("cube writer: empty cube");
+  for (int l = 0; l < cube.level_count(); ++l) {
+    const size_t s = static_cast<size_t>(cube.level_size(l));
+    if (cube.levels[size_t(l)].size() != 24 * s * s)
+      throw Error("cube writer: level " + std::to_string(l) + " holds " + std::to_string(cube.levels[size_t(l)].size()) +
+                  " floats, expected " + std::to_string(24 * s * s));
+  }
+}
+
+std::string_view as_view(const std::vector<uint8_t>& b) {
+  return std::string_view(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// ---- Image folders ------------------------------------------------------------------------------
+
+void write_oiio(const std::string& path, const TempFile& temp, const char* format, int w, int h,
+                const std::vector<float>& rgb, const Metadata& metadata) {
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  if (std::string(format) == "openexr") {
+    spec.attribute("compression", "zip");
+    for (const auto& [k, v] : metadata) spec.attribute(kKeyPrefix + k, v);
+  }
+  auto out = OIIO::ImageOutput::create(format);
+  if (!out) throw_write_error(path, std::string("OpenImageIO has no '") + format + "' writer");
+  if (!out->open(temp.path(), spec)) throw_write_error(path, out->geterror());
+  if (!out->write_image(OIIO::TypeDesc::FLOAT, rgb.data())) {
+    const std::string why = out->geterror();
+    out->close();
+    throw_write_error(path, why);
+  }
+  if (!out->close()) throw_write_error(path, out->geterror());
+}
+
+// RGB of one face of a level, row 0 first.
+std::vector<float> face_rgb(const CubeLevels& cube, int level, int face) {
+  const int s = cube.level_size(level);
+  std::vector<float> rgb;
+  rgb.reserve(3u * size_t(s) * size_t(s));
+  for (int j = 0; j < s; ++j)
+    for (int i = 0; i < s; ++i) {
+      const float* t = cube.texel(level, face, i, j);
+      rgb.insert(rgb.end(), t, t + 3);
+    }
+  return rgb;
+}
+
+// A cross of one level (docs/CONVENTIONS.md; the same layouts load_environment reads).
+std::vector<float> cross_rgb(const CubeLevels& cube, int level, bool horizontal, int* w, int* h) {
+  struct Cell {
+    int col, row;
+    bool rotate;
+  };
+  static const Cell hz[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {3, 1, false}};
+  static const Cell vt[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {1, 3, true}};
+  const int s = cube.level_size(level);
+  *w = horizontal ? 4 * s : 3 * s;
+  *h = horizontal ? 3 * s : 4 * s;
+  std::vector<float> rgb(3u * size_t(*w) * size_t(*h), 0.0f);
+  for (int f = 0; f < 6; ++f) {
+    const Cell c = horizontal ? hz[f] : vt[f];
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) {
+        const float* t = cube.texel(level, f, c.rotate ? s - 1 - i : i, c.rotate ? s - 1 - j : j);
+        float* o = &rgb[3 * (size_t(c.row * s + j) * size_t(*w) + size_t(c.col * s + i))];
+        std::copy(t, t + 3, o);
+      }
+  }
+  return rgb;
+}
+
+// An equirect of one level (4 s x 2 s): each pixel the seamless bilinear value at its centre.
+std::vector<float> equirect_rgb(const CubeLevels& cube, int level, int* w, int* h) {
+  const int s = cube.level_size(level);
+  *w = std::max(4, 4 * s);
+  *h = *w / 2;
+  reference::EnvCube ec;
+  ec.size = s;
+  ec.rgb.resize(18u * size_t(s) * size_t(s));
+  for (size_t t = 0; t < 6u * size_t(s) * size_t(s); ++t)
+    for (size_t c = 0; c < 3; ++c) ec.rgb[3 * t + c] = cube.levels[size_t(level)][4 * t + c];
+  std::vector<float> rgb(3u * size_t(*w) * size_t(*h));
+  for (int y = 0; y < *h; ++y)
+    for (int x = 0; x < *w; ++x) {
+      const auto v = reference::cube_bilinear(ec, reference::equirect_direction((x + 0.5) / *w, (y + 0.5) / *h));
+      for (size_t c = 0; c < 3; ++c) rgb[3 * (size_t(y) * size_t(*w) + size_t(x)) + c] = static_cast<float>(v[c]);
+    }
+  return rgb;
+}
+
+std::string metadata_json(const CubeLevels& cube, const std::vector<std::string>& files, const std::string& layout) {
+  nlohmann::ordered_json j;
+  j["generator"] = kGenerator;
+  j["layout"] = layout;
+  j["files"] = files;
+  nlohmann::ordered_json meta = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : cube.metadata) meta[k] = v;
+  j["metadata"] = meta;
+  return j.dump(2) + "\n";
+}
+
+void write_directory(const CubeLevels& cube, const std::string& path, const CubeWriteOptions& o) {
+  std::error_code ec;
+  const bool existed = fs::is_directory(path, ec);
+  if (!existed && fs::exists(path, ec)) throw_write_error(path, "exists and is not a folder");
+  if (!existed && !fs::create_directories(path, ec)) throw_write_error(path, ec ? ec.message() : "cannot create");
+  // All files go to temporaries first and are renamed only when every one is complete; a folder
+  // we created is removed again on failure.
+  try {
+    std::vector<std::unique_ptr<TempFile>> temps;
+    std::vector<std::string> names;
+    const char* format = o.image_format == CubeImageFormat::Exr ? "openexr" : "hdr";
+    const char* ext = o.image_format == CubeImageFormat::Exr ? ".exr" : ".hdr";
+    auto write_one = [&](const std::string& name, int w, int h, const std::vector<float>& rgb) {
+      const std::string file = (fs::path(path) / name).string();
+      temps.push_back(std::make_unique<TempFile>(file));
+      write_oiio(file, *temps.back(), format, w, h, rgb, cube.metadata);
+      names.push_back(name);
+    };
+    const std::string layout = o.layout == CubeImageLayout::Faces             ? "faces"
+                               : o.layout == CubeImageLayout::HorizontalCross ? "horizontal-cross"
+                               : o.layout == CubeImageLayout::VerticalCross   ? "vertical-cross"
+                                                                              : "equirect";
+    for (int l = 0; l < cube.level_count(); ++l) {
+      const std::string base = o.stem + std::to_string(l);
+      const int s = cube.level_size(l);
+      if (o.layout == CubeImageLayout::Faces) {
+        for (int f = 0; f < 6; ++f) write_one(base + "_" + kFaceNames[f] + ext, s, s, face_rgb(cube, l, f));
+      } else if (o.layout == CubeImageLayout::Equirect) {
+        int w = 0, h = 0;
+        const auto rgb = equirect_rgb(cube, l, &w, &h);
+        write_one(base + ext, w, h, rgb);
+      } else {
+        int w = 0, h = 0;
+        const auto rgb = cross_rgb(cube, l, o.layout == CubeImageLayout::HorizontalCross, &w, &h);
+        write_one(base + ext, w, h, rgb);
+      }
+    }
+    const std::string json = (fs::path(path) / (o.stem + ".json")).string();
+    temps.push_back(std::make_unique<TempFile>(json));
+    write_bytes(*temps.back(), metadata_json(cube, names, layout));
+    for (auto& t : temps) t->commit();
+  } catch (...) {
+    if (!existed) fs::remove_all(path, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel) {
+  check_cube(cube);
+  std::vector<std::vector<uint8_t>> out;
+  for (const auto& level : cube.levels) {
+    std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
+    for (size_t k = 0; k < level.size(); ++k) {
+      if (pixel == PixelType::F16) {
+        const uint16_t b = float_to_half_bits(level[k]);
+        bytes[2 * k] = static_cast<uint8_t>(b);
+        bytes[2 * k + 1] = static_cast<uint8_t>(b >> 8);
+      } else {
+        uint32_t b = 0;
+        std::memcpy(&b, &level[k], 4);
+        for (size_t i = 0; i < 4; ++i) bytes[4 * k + i] = static_cast<uint8_t>(b >> (8 * i));
+      }
+    }
+    out.push_back(std::move(bytes));
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube) {
+  std::vector<std::pair<std::string, std::string>> kv;
+  for (const auto& [k, v] : cube.metadata) kv.emplace_back(kKeyPrefix + k, v);
+  kv.emplace_back("KTXwriter", kGenerator);
+  return kv;
+}
+
+// KTX 1.1 "File Structure". Every face row of RGBA16F/32F is a multiple of 4 bytes, so rows need
+// no GL_UNPACK_ALIGNMENT padding, and cubePadding and mipPadding are always empty.
+std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
+                                      const std::vector<std::pair<std::string, std::string>>& key_values) {
+  const auto levels = cube_level_bytes(cube, pixel);
+  static const uint8_t kId[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  std::vector<uint8_t> out(kId, kId + 12);
+  const bool half = pixel == PixelType::F16;
+  append_u32(out, 0x04030201);                      // endianness
+  append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
+  append_u32(out, half ? 2 : 4);                    // glTypeSize
+  append_u32(out, kGlRgba);                         // glFormat
+  append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
+  append_u32(out, kGlRgba);                         // glBaseInternalFormat
+  append_u32(out, static_cast<uint32_t>(cube.size));  // pixelWidth
+  append_u32(out, static_cast<uint32_t>(cube.size));  // pixelHeight
+  append_u32(out, 0);                               // pixelDepth
+  append_u32(out, 0);                               // numberOfArrayElements
+  append_u32(out, 6);                               // numberOfFaces
+  append_u32(out, static_cast<uint32_t>(levels.size()));  // numberOfMipmapLevels
+  const size_t kvd_at = out.size();
+  append_u32(out, 0);  // bytesOfKeyValueData, patched below
+  for (const auto& [k, v] : key_values) {
+    append_u32(out, static_cast<uint32_t>(k.size() + 1 + v.size() + 1));  // keyAndValueByteSize
+    out.insert(out.end(), k.begin(), k.end());
+    out.push_back(0);
+    out.insert(out.end(), v.begin(), v.end());
+    out.push_back(0);
+    pad_to(out, 4);  // valuePadding
+  }
+  put_u32(out, kvd_at, static_cast<uint32_t>(out.size() - kvd_at - 4));
+  for (const auto& level : levels) {
+    const size_t face_bytes = level.size() / 6;
+    append_u32(out, static_cast<uint32_t>(face_bytes));  // imageSize: one face (non-array cube)
+    for (size_t f = 0; f < 6; ++f) {
+      out.insert(out.end(), level.begin() + static_cast<std::ptrdiff_t>(f * face_bytes),
+                 level.begin() + static_cast<std::ptrdiff_t>((f + 1) * face_bytes));
+      pad_to(out, 4);  // cubePadding
+    }
+    pad_to(out, 4);  // mipPadding
+  }
+  return out;
+}
+
+// DDS: magic, DDS_HEADER, [DDS_HEADER_DXT10], then faces in order, each with all its mip levels
+// (the opposite nesting of KTX).
+std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bool dx10_header) {
+  const auto levels = cube_level_bytes(cube, pixel);
+  const bool half = pixel == PixelType::F16;
+  const uint32_t texel_bytes = half ? 8 : 16;
+  std::vector<uint8_t> out;
+  append_u32(out, kDdsMagic);
+  append_u32(out, 124);  // dwSize
+  append_u32(out, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPitch | kDdsdPixelFormat | kDdsdMipMapCount);
+  append_u32(out, static_cast<uint32_t>(cube.size));                // dwHeight
+  append_u32(out, static_cast<uint32_t>(cube.size));                // dwWidth
+  append_u32(out, static_cast<uint32_t>(cube.size) * texel_bytes);  // dwPitchOrLinearSize: row pitch
+  append_u32(out, 0);                                              // dwDepth
+  append_u32(out, static_cast<uint32_t>(levels.size()));           // dwMipMapCount
+  for (int k = 0; k < 11; ++k) append_u32(out, 0);                 // dwReserved1
+  // DDS_PIXELFORMAT
+  append_u32(out, 32);
+  append_u32(out, kDdpfFourCC);
+  append_u32(out, dx10_header ? kFourCCDx10 : (half ? kD3dFmtA16B16G16R16F : kD3dFmtA32B32G32R32F));
+  for (int k = 0; k < 5; ++k) append_u32(out, 0);  // dwRGBBitCount and the four masks
+  append_u32(out, kDdsCapsComplex | kDdsCapsTexture | (levels.size() > 1 ? kDdsCapsMipMap : 0u));
+  append_u32(out, kDdsCaps2CubemapAllFaces);
+  append_u32(out, 0);  // dwCaps3
+  append_u32(out, 0);  // dwCaps4
+  append_u32(out, 0);  // dwReserved2
+  if (dx10_header) {
+    append_u32(out, half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);
+    append_u32(out, kD3d10ResourceDimensionTexture2d);
+    append_u32(out, kDdsResourceMiscTextureCube);
+    append_u32(out, 1);  // arraySize: one cube
+    append_u32(out, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  }
+  for (size_t f = 0; f < 6; ++f)
+    for (const auto& level : levels) {
+      const size_t face_bytes = level.size() / 6;
+      out.insert(out.end(), level.begin() + static_cast<std::ptrdiff_t>(f * face_bytes),
+                 level.begin() + static_cast<std::ptrdiff_t>((f + 1) * face_bytes));
+    }
+  return out;
+}
+
+}  // namespace io
+
+CubeFormat cube_format_from_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".ktx2") return CubeFormat::Ktx2;
+  if (ext == ".ktx") return CubeFormat::Ktx1;
+  if (ext == ".dds") return CubeFormat::Dds;
+  std::error_code ec;
+  if (!path.empty() && (path.back() == '/' || std::filesystem::is_directory(path, ec) || ext.empty()))
+    return CubeFormat::Directory;
+  throw Error("cannot tell the output format of '" + path +
+              "' (expected .ktx2, .ktx, .dds, or a folder for per-level images)");
+}
+
+void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat format, const CubeWriteOptions& o) {
+  io::check_cube(cube);
+  switch (format) {
+    case CubeFormat::Ktx2: {
+      io::Ktx2Image image;
+      const bool half = o.pixel == PixelType::F16;
+      image.vk_format = half ? io::kVkFormatR16G16B16A16Sfloat : io::kVkFormatR32G32B32A32Sfloat;
+      image.width = image.height = static_cast<uint32_t>(cube.size);
+      image.faces = 6;
+      image.levels = static_cast<uint32_t>(cube.level_count());
+      image.level_data = io::cube_level_bytes(cube, o.pixel);
+      image.key_values = io::cube_key_values(cube);
+      std::vector<uint8_t> bytes;
+      try {
+        bytes = io::encode_ktx2(image);
+      } catch (const Error& e) {
+        io::throw_write_error(path, e.what());
+      }
+      io::write_file_atomically(path, io::as_view(bytes));
+      return;
+    }
+    case CubeFormat::Ktx1:
+      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube))));
+      return;
+    case CubeFormat::Dds:
+    case CubeFormat::DdsLegacy: {
+      // DDS has no metadata: it goes to a sidecar FILE.json, committed with the image.
+      io::TempFile image(path), json(path + ".json");
+      io::write_bytes(image, io::as_view(io::encode_dds_cube(cube, o.pixel, format == CubeFormat::Dds)));
+      io::write_bytes(json, io::metadata_json(cube, {std::filesystem::path(path).filename().string()},
+                                              format == CubeFormat::Dds ? "dds-dx10" : "dds-legacy"));
+      image.commit();
+      json.commit();
+      return;
+    }
+    case CubeFormat::Directory:
+      io::write_directory(cube, path, o);
+      return;
+  }
+}
+
+EnvImage read_ktx2_cube(const std::string& path, int level) {
+  const io::Ktx2Image k = io::read_ktx2(path);
+  if (k.faces != 6)
+    throw Error("'" + path + "' is not a cubemap (faceCount " + std::to_string(k.faces) + ")");
+  uint32_t components = 0, bytes = 0;
+  switch (k.vk_format) {
+    case 90: components = 3; bytes = 2; break;   // R16G16B16_SFLOAT
+    case 97: components = 4; bytes = 2; break;   // R16G16B16A16_SFLOAT
+    case 106: components = 3; bytes = 4; break;  // R32G32B32_SFLOAT
+    case 109: components = 4; bytes = 4; break;  // R32G32B32A32_SFLOAT
+    default:
+      throw Error("KTX2 cube '" + path + "' has vkFormat " + std::to_string(k.vk_format) +
+                  "; expected RGB or RGBA, 16- or 32-bit float");
+  }
+  if (level < 0 || level >= static_cast<int>(k.levels))
+    throw Error("KTX2 cube '" + path + "' has no level " + std::to_string(level));
+  const uint32_t s = std::max(1u, k.width >> level);
+  EnvImage env;
+  env.layout = EnvImage::Layout::Cube;
+  env.width = env.height = static_cast<int>(s);
+  env.source = path;
+  env.description = "KTX2 cube " + std::to_string(k.width) + "x" + std::to_string(k.width) + ", " +
+                    std::to_string(k.levels) + " level(s), level " + std::to_string(level) + " read";
+  const auto& data = k.level_data[size_t(level)];
+  const size_t texels = 6u * size_t(s) * size_t(s);
+  env.rgb.resize(3 * texels);
+  for (size_t t = 0; t < texels; ++t)
+    for (size_t c = 0; c < 3; ++c) {
+      const uint8_t* p = data.data() + (t * components + c) * bytes;
+      if (bytes == 2) {
+        env.rgb[3 * t + c] = io::half_bits_to_float(static_cast<uint16_t>(p[0] | p[1] << 8));
+      } else {
+        uint32_t b = static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+                     static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+        float f;
+        std::memcpy(&f, &b, 4);
+        env.rgb[3 * t + c] = f;
+      }
+    }
+  return env;
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,291 @@
+// Diffuse irradiance on the device (kernels/irradiance.cl): spherical harmonics projected with a
+// work-group reduction, and an irradiance cube by direct cosine convolution.
+//
+// Conventions (docs/CONVENTIONS.md): real SH without the Condon-Shortley phase, index l (l + 1) + m;
+// "radiance" holds L_lm = int L Y_lm dl; "irradiance_over_pi" holds c_lm = (A_l / pi) w_l L_lm with
+// Ramamoorthi & Hanrahan's A_l and the window w_l, so that E(n) / pi = sum c_lm Y_lm(n): a shader
+// multiplies by the albedo only. The cube's texels hold E / pi too.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/version.hpp"
+#include "io/atomic_file.hpp"
+#include "runtime/program.hpp"
+
+namespace brdfbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kGroups = 64;      // work-groups of the projection (a power of two for sh_reduce)
+constexpr int kGroupSize = 64;   // work-items per group
+constexpr int kMaxPointSource = 64;  // the rest is summed at this face size or below
+constexpr int kBrightSplit = 2;      // sub-cells per texel side of a bright texel's footprint
+
+size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
+
+cl::Buffer real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v) {
+  if (p == Precision::Fp64)
+    return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(double),
+                      const_cast<double*>(v.data()));
+  std::vector<float> f(v.size());
+  for (size_t k = 0; k < v.size(); ++k) f[k] = static_cast<float>(v[k]);
+  return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
+}
+
+std::vector<double> read_reals(Device::Impl& dev, Precision p, const cl::Buffer& b, size_t n) {
+  std::vector<double> out(n);
+  if (p == Precision::Fp64) {
+    dev.queue.enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(double), out.data());
+  } else {
+    std::vector<float> f(n);
+    dev.queue.enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(float), f.data());
+    for (size_t k = 0; k < n; ++k) out[k] = f[k];
+  }
+  return out;
+}
+
+// The rest of the cube (bright texels removed) reduced by solid-angle-weighted 2x2 means to a face
+// size of at most kMaxPointSource (or until the size is odd), as points (direction, L Omega).
+void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright, std::vector<double> (&arrays)[6]) {
+  int s = cube.size;
+  std::vector<double> rgb(3 * face_texels(s));
+  for (size_t t = 0; t < face_texels(s); ++t)
+    for (size_t c = 0; c < 3; ++c) rgb[3 * t + c] = cube.levels[0][4 * t + c];
+  for (const BrightTexel& b : bright)
+    for (size_t c = 0; c < 3; ++c) rgb[3 * ((size_t(b.face) * size_t(s) + size_t(b.j)) * size_t(s) + size_t(b.i)) + c] = 0.0;
+  std::vector<double> omega;
+  auto solid_angles = [&](int n) {
+    omega.assign(size_t(n) * size_t(n), 0.0);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = reference::cube_texel_solid_angle(n, i, j);
+  };
+  solid_angles(s);
+  while (s > kMaxPointSource && s % 2 == 0) {
+    const int h = s / 2;
+    std::vector<double> next(3 * face_texels(h), 0.0);
+    std::vector<double> parent = omega;
+    solid_angles(h);
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < h; ++i) {
+          double sum[3] = {0, 0, 0};
+          for (int dj = 0; dj < 2; ++dj)
+            for (int di = 0; di < 2; ++di) {
+              const size_t src = (size_t(f) * size_t(s) + size_t(2 * j + dj)) * size_t(s) + size_t(2 * i + di);
+              const double w = parent[size_t(2 * j + dj) * size_t(s) + size_t(2 * i + di)];
+              for (size_t c = 0; c < 3; ++c) sum[c] += w * rgb[3 * src + c];
+            }
+          const size_t dst = (size_t(f) * size_t(h) + size_t(j)) * size_t(h) + size_t(i);
+          const double w = omega[size_t(j) * size_t(h) + size_t(i)];
+          for (size_t c = 0; c < 3; ++c) next[3 * dst + c] = sum[c] / w;
+        }
+    rgb = std::move(next);
+    s = h;
+  }
+  for (int f = 0; f < 6; ++f)
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) {
+        const auto d = reference::cube_texel_direction(f, s, i, j);
+        const double w = omega[size_t(j) * size_t(s) + size_t(i)];
+        const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
+        arrays[0].push_back(d.x);
+        arrays[1].push_back(d.y);
+        arrays[2].push_back(d.z);
+        for (size_t c = 0; c < 3; ++c) arrays[3 + c].push_back(rgb[3 * t + c] * w);
+      }
+}
+
+std::string fmt(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
+}  // namespace
+
+ShWindow sh_window_from_name(const std::string& n) {
+  if (n == "none") return ShWindow::None;
+  if (n == "hanning") return ShWindow::Hanning;
+  if (n == "lanczos") return ShWindow::Lanczos;
+  throw Error("unknown SH window '" + n + "' (expected none, hanning or lanczos)");
+}
+const char* sh_window_name(ShWindow w) {
+  return w == ShWindow::Hanning ? "hanning" : w == ShWindow::Lanczos ? "lanczos" : "none";
+}
+
+// Sloan 2008, "Stupid Spherical Harmonics (SH) Tricks", sec. "Windowing": windows that taper the
+// higher bands to reduce ringing, here with the band count `order` as the window width.
+std::vector<double> sh_window_weights(ShWindow w, int order) {
+  std::vector<double> out(size_t(order), 1.0);
+  for (int l = 1; l < order; ++l) {
+    const double x = static_cast<double>(l) / order;
+    if (w == ShWindow::Hanning) out[size_t(l)] = 0.5 * (1.0 + std::cos(kPi * x));
+    if (w == ShWindow::Lanczos) out[size_t(l)] = std::sin(kPi * x) / (kPi * x);
+  }
+  return out;
+}
+
+IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress) {
+  if (spec.sh_order != 3 && spec.sh_order != 5)
+    throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
+  if (spec.cube_size < 0 || spec.cube_size > 1024)
+    throw Error("irradiance cube size must be in 1..1024 (or 0 for none), not " + std::to_string(spec.cube_size));
+  if (spec.source_size < 1 || spec.source_size > 2048)
+    throw Error("irradiance source size must be in 1..2048, not " + std::to_string(spec.source_size));
+  auto& dev = device.impl();
+  IrradianceResult result;
+  if (progress) progress(0.0, "converting to a cube");
+  double seconds = 0.0;
+  const CubeLevels cube = environment_to_cube(device, env, spec.source_size, &seconds);
+  const int s = cube.size;
+  const int n_sh = spec.sh_order * spec.sh_order;
+  const size_t n_acc = size_t(3 * n_sh + 1);
+
+  std::vector<double> totals;
+  detail::cl_call("projecting on spherical harmonics on '" + dev.info.name + "'", [&] {
+    detail::ProgramSpec ps;
+    ps.file = "irradiance.cl";
+    ps.precision = spec.precision;
+    ps.defines = {{"BRDFBAKE_SH_ORDER", std::to_string(spec.sh_order)}, {"BRDFBAKE_ENV_COSINE", "1"}};
+    cl::Program prog = detail::build_program(dev, ps);
+    const size_t real_size = spec.precision == Precision::Fp64 ? sizeof(double) : sizeof(float);
+
+    if (progress) progress(0.1, "spherical harmonics");
+    std::vector<double> omega(size_t(s) * size_t(s));
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+    cl::Buffer cube_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cube.levels[0].size() * sizeof(float),
+                        const_cast<float*>(cube.levels[0].data()));
+    cl::Buffer omega_buf = real_buffer(dev, spec.precision, omega);
+    cl::Buffer partials(dev.context, CL_MEM_READ_WRITE, size_t(kGroups) * n_acc * real_size);
+    cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, n_acc * real_size);
+    cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::LocalSpaceArg> project(prog, "sh_project");
+    cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer> reduce(prog, "sh_reduce");
+    std::vector<cl::Event> events;
+    events.push_back(project(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(kGroups * kGroupSize)), cl::NDRange(kGroupSize)),
+                             cube_buf, s, omega_buf, partials, cl::Local(size_t(kGroupSize) * n_acc * real_size)));
+    events.push_back(reduce(cl::EnqueueArgs(dev.queue, cl::NDRange(n_acc)), partials, kGroups, out));
+    totals = read_reals(dev, spec.precision, out, n_acc);
+    for (auto& e : events) seconds += detail::event_seconds(e);
+
+    if (spec.cube_size > 0) {
+      if (progress) progress(0.4, "irradiance cube");
+      const std::vector<BrightTexel> bright = find_bright_texels(cube, kDefaultBrightTexels, kBrightRatio);
+      std::vector<double> arrays[6];
+      rest_points(cube, bright, arrays);
+      // bright texels at full resolution, as their bilinear footprints split into sub-cells: the
+      // cosine's kink at the horizon cuts through them
+      int n_bright = 0;
+      const std::vector<double> bp = bright_texel_points(bright, s, kBrightSplit, 1.0, &n_bright);
+      const size_t padded = bp.size() / 6;
+      for (size_t a = 0; a < 6; ++a)
+        arrays[a].insert(arrays[a].end(), bp.begin() + static_cast<std::ptrdiff_t>(a * padded),
+                         bp.begin() + static_cast<std::ptrdiff_t>(a * padded + size_t(n_bright)));
+      while (arrays[0].size() % 8 != 0) {
+        arrays[0].push_back(0.0);
+        arrays[1].push_back(0.0);
+        arrays[2].push_back(1.0);
+        for (size_t c = 0; c < 3; ++c) arrays[3 + c].push_back(0.0);
+      }
+      std::vector<double> pts;
+      for (const auto& a : arrays) pts.insert(pts.end(), a.begin(), a.end());
+      const int n_points = static_cast<int>(arrays[0].size());
+      cl::Buffer pts_buf = real_buffer(dev, spec.precision, pts);
+      const int cs = spec.cube_size;
+      cl::Buffer cube_out(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(cs) * sizeof(float));
+      cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> irr(prog, "irradiance_cube");
+      cl::Event e = irr(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(cs), 6u * size_t(cs))), cube_out, cs, pts_buf,
+                        n_points);
+      result.cube.size = cs;
+      result.cube.levels.assign(1, std::vector<float>(4 * face_texels(cs)));
+      dev.queue.enqueueReadBuffer(cube_out, CL_TRUE, 0, result.cube.levels[0].size() * sizeof(float),
+                                  result.cube.levels[0].data());
+      seconds += detail::event_seconds(e);
+    }
+    return 0;
+  });
+
+  // SH: normalise by the solid angle sum (exactly 4 pi up to rounding), apply A_l / pi and the window.
+  ShCoefficients& sh = result.sh;
+  sh.order = spec.sh_order;
+  sh.window = spec.window;
+  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
+  const double scale = 4.0 * kPi / totals[size_t(3 * n_sh)];
+  sh.radiance.resize(size_t(3 * n_sh));
+  sh.irradiance_over_pi.resize(size_t(3 * n_sh));
+  for (int l = 0; l < spec.sh_order; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const size_t k = size_t(l * (l + 1) + m);
+      for (size_t c = 0; c < 3; ++c) {
+        sh.radiance[3 * k + c] = totals[3 * k + c] * scale;
+        sh.irradiance_over_pi[3 * k + c] =
+            sh.radiance[3 * k + c] * reference::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
+      }
+    }
+  result.device_seconds = seconds;
+
+  if (spec.cube_size > 0) {
+    CubeLevels& c = result.cube;
+    c.set_meta("generator", std::string("brdfbake ") + kVersion);
+    c.set_meta("kind", "irradiance");
+    c.set_meta("definition",
+               "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
+               "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse "
+               "albedo only");
+    c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
+    c.set_meta("source", env.source);
+    c.set_meta("source_size", std::to_string(spec.source_size));
+    std::string coeffs;
+    for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
+    c.set_meta("sh_order", std::to_string(sh.order));
+    c.set_meta("sh_irradiance_over_pi", coeffs);
+    c.set_meta("sh_convention",
+               "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
+    c.set_meta("precision", precision_name(spec.precision));
+    c.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
+  }
+  if (progress) progress(1.0, "done");
+  return result;
+}
+
+std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
+  nlohmann::ordered_json j;
+  j["generator"] = std::string("brdfbake ") + kVersion;
+  j["order"] = sh.order;
+  j["coefficients"] = sh.order * sh.order;
+  j["basis"] =
+      "real spherical harmonics without the Condon-Shortley phase (Ramamoorthi & Hanrahan 2001), index "
+      "k = l (l + 1) + m, of the unit direction (x, y, z) with +Y up (docs/CONVENTIONS.md): Y00 = 0.282095, "
+      "Y1-1 = 0.488603 y, Y10 = 0.488603 z, Y11 = 0.488603 x, Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, "
+      "Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2), ...";
+  j["radiance_definition"] = "L_lm = int L(l) Y_lm(l) dl";
+  j["irradiance_definition"] =
+      "c_lm = (A_l / pi) w_l L_lm, A = (pi, 2pi/3, pi/4, 0, -pi/24) (Ramamoorthi & Hanrahan 2001), so that "
+      "E(n) / pi = sum_lm c_lm Y_lm(n): irradiance DIVIDED BY PI, multiply by the albedo only";
+  j["window"] = sh_window_name(sh.window);
+  j["window_weights"] = sh.window_weights;
+  auto triples = [](const std::vector<double>& v) {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (size_t k = 0; k + 2 < v.size(); k += 3) a.push_back({v[k], v[k + 1], v[k + 2]});
+    return a;
+  };
+  j["irradiance_over_pi"] = triples(sh.irradiance_over_pi);
+  j["radiance"] = triples(sh.radiance);
+  nlohmann::ordered_json meta = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : metadata) meta[k] = v;
+  j["metadata"] = meta;
+  return j.dump(2) + "\n";
+}
+
+void write_sh_json(const ShCoefficients& sh, const Metadata& metadata, const std::string& path) {
+  io::write_file_atomically(path, sh_to_json(sh, metadata));
+}
+
+}  // namespace brdfbake

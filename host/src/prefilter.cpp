@@ -1,0 +1,911 @@
+// The prefiltered radiance mip chain on the device (kernels/cubemap.cl, kernels/prefilter.cl).
+//
+// Steps (docs/CONVENTIONS.md, "Environment maps", says what each level holds):
+//   1. the environment becomes a cube of --size on the device: level 0, the mirror (roughness 0);
+//   2. environment sampling: the brightest texels of level 0 (find_bright_texels) are taken out into
+//      an explicit list; the rest, in padded faces, is reduced to a mip chain down to 1x1, each level
+//      the solid-angle-weighted mean of the one above it;
+//   3. every output level l >= 1 is filtered by importance sampling of its lobe with filtered
+//      importance sampling from the rest's chain, plus the exact sum over the bright texels
+//      (kernels/prefilter.cl derives the estimator).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/version.hpp"
+#include "runtime/program.hpp"
+
+namespace brdfbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxSize = 2048;
+constexpr int kMaxSamples = 1 << 16;
+constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
+
+// --max-error: sample counts tried per level, and the cap.
+constexpr int kSearchStart = 32;
+constexpr int kSearchMax = 8192;
+
+std::string fmt(double v, const char* f = "%.6g") {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+double luminance(const float* rgb) {
+  return 0.2126 * double(rgb[0]) + 0.7152 * double(rgb[1]) + 0.0722 * double(rgb[2]);
+}
+
+size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
+
+reference::EnvLobe to_lobe(EnvDistribution d) {
+  return d == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
+}
+
+double van_der_corput(uint32_t i) {
+  i = (i << 16) | (i >> 16);
+  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
+  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
+  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
+  i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
+  return static_cast<double>(i) * 2.3283064365386963e-10;
+}
+
+// The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
+// (kernels/prefilter.cl): N Hammersley points, h from D(h) (n.h), l = 2 (n.h) h - n, kept when
+// n.l > 0, padded to a multiple of the vector width with weight 0.
+std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int source_size, bool fis,
+                                 double lod_bias, int* kept) {
+  std::vector<double> x, y, z, w, lod;
+  const double omega_texel = (2.0 / source_size) * (2.0 / source_size);
+  for (int k = 0; k < n; ++k) {
+    const double u1 = (k + 0.5) / n, u2 = van_der_corput(static_cast<uint32_t>(k));
+    double cos_h, sin_h;
+    if (dist == EnvDistribution::Ggx) {  // Walter et al. 2007, eq. 35: tan^2 = alpha^2 u / (1 - u)
+      const double t2 = alpha * alpha * u1 / (1.0 - u1);
+      cos_h = 1.0 / std::sqrt(1.0 + t2);
+      sin_h = std::sqrt(t2) * cos_h;
+    } else {  // Estevez & Kulla 2017: sin = u^(alpha / (2 alpha + 1))
+      sin_h = std::pow(u1, alpha / (2.0 * alpha + 1.0));
+      cos_h = std::sqrt(std::max(0.0, (1.0 - sin_h) * (1.0 + sin_h)));
+    }
+    const double phi = 2.0 * kPi * u2;
+    const double lz = 2.0 * cos_h * cos_h - 1.0;
+    if (lz <= 0.0) continue;
+    const double d = dist == EnvDistribution::Ggx ? reference::D_GGX(cos_h, alpha) : reference::D_Charlie(cos_h, alpha);
+    // p(l) = D / 4 (dl = 4 (n.h) dh with v = n); the sample covers 1 / (N p) = 4 / (N D)
+    const double omega_sample = 4.0 / (n * d);
+    x.push_back(2.0 * cos_h * sin_h * std::cos(phi));
+    y.push_back(2.0 * cos_h * sin_h * std::sin(phi));
+    z.push_back(lz);
+    w.push_back(lz);
+    // without filtered importance sampling every sample reads level 0, wherever it lands on the
+    // face (a lod far below 0 survives the kernel's texel-size correction and clamps to 0)
+    lod.push_back(fis ? 0.5 * std::log2(omega_sample / omega_texel) + lod_bias : -1e3);
+  }
+  *kept = static_cast<int>(x.size());
+  while (x.size() % kVectorWidth != 0 || x.empty()) {
+    x.push_back(0.0);
+    y.push_back(0.0);
+    z.push_back(1.0);
+    w.push_back(0.0);
+    lod.push_back(0.0);
+  }
+  std::vector<double> out;
+  for (const auto* v : {&x, &y, &z, &w, &lod}) out.insert(out.end(), v->begin(), v->end());
+  return out;
+}
+
+// Sub-cells per texel side of the bright texels' footprints (bright_texel_points): enough to resolve
+// the lobe (4 texels across its width: 2 alpha for GGX, 1 rad for Charlie's ring), and 4 where the
+// kernel's kink at the horizon matters (Charlie; GGX with K'(0) / K(1) = 4 alpha^4 / (1 + alpha^2)^2
+// > 1e-3), so that a bright texel at a texel's horizon is cut where the reference cuts it; at most
+// kMaxBrightPoints points in all.
+constexpr int kMaxBrightPoints = 4096;
+int bright_subdivision(EnvDistribution dist, double alpha, int source_size, size_t bright) {
+  const double width = dist == EnvDistribution::Ggx ? 2.0 * alpha : 1.0;
+  double q = std::ceil(4.0 * (2.0 / source_size) / width);
+  const double a4 = alpha * alpha * alpha * alpha;
+  if (dist == EnvDistribution::Charlie || 4.0 * a4 / ((1.0 + alpha * alpha) * (1.0 + alpha * alpha)) > 1e-3) q = 4.0;
+  q = std::min(q, std::floor(std::sqrt(double(kMaxBrightPoints) / (4.0 * double(std::max<size_t>(bright, 1))))));
+  return static_cast<int>(std::clamp(q, 1.0, 4.0));
+}
+
+// The sampling estimator's default lobe samples per texel: its error is the mip blur of filtered
+// importance sampling, which falls like 1/N (docs/BENCHMARKS.md: about 1-5% RMS at 1024 on the 256^2
+// chain); the quadrature is the default estimator.
+int default_samples(int level, int levels) {
+  (void)level;
+  (void)levels;
+  return 1024;
+}
+
+cl::Buffer real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v) {
+  if (p == Precision::Fp64)
+    return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(double),
+                      const_cast<double*>(v.data()));
+  std::vector<float> f(v.size());
+  for (size_t k = 0; k < v.size(); ++k) f[k] = static_cast<float>(v[k]);
+  return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
+}
+
+cl::Program program(Device::Impl& dev, const char* file, Precision p,
+                    std::vector<std::pair<std::string, std::string>> defines = {}) {
+  detail::ProgramSpec ps;
+  ps.file = file;
+  ps.precision = p;
+  ps.defines = std::move(defines);
+  return detail::build_program(dev, ps);
+}
+
+cl::NDRange cube_range(int size) { return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size)); }
+
+// The padded source chain on the device: every level of the rest cube down to 1x1.
+struct Chain {
+  cl::Buffer buffer;
+  std::vector<cl_int> info;  // offset, size per level
+  int levels = 0;
+  cl::Buffer info_buffer;
+};
+
+// Builds the chain from an unpadded RGBA cube already on the device; appends the kernel events.
+Chain build_chain(Device::Impl& dev, cl::Program& cube_prog, const cl::Buffer& level0, int size,
+                  std::vector<cl::Event>& events) {
+  Chain c;
+  size_t total = 0;
+  for (int s = size;; s = std::max(1, s / 2)) {
+    c.info.push_back(static_cast<cl_int>(total));
+    c.info.push_back(s);
+    total += 6u * static_cast<size_t>(s + 2) * static_cast<size_t>(s + 2);
+    ++c.levels;
+    if (s == 1) break;
+  }
+  if (total > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
+    throw Error("cube of size " + std::to_string(size) + " is too large for the source chain");
+  c.buffer = cl::Buffer(dev.context, CL_MEM_READ_WRITE, total * sizeof(cl_float4));
+  c.info_buffer = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, c.info.size() * sizeof(cl_int),
+                             c.info.data());
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> to_padded(cube_prog, "cube_to_padded");
+  cl::KernelFunctor<cl::Buffer, cl_int, cl_int> fill_border(cube_prog, "cube_fill_border");
+  cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl_int, cl_int> downsample(cube_prog, "cube_downsample");
+  events.push_back(to_padded(cl::EnqueueArgs(dev.queue, cube_range(size)), level0, size, c.buffer, 0));
+  for (int m = 0; m < c.levels; ++m) {
+    const int s = c.info[size_t(2 * m + 1)];
+    if (m > 0)
+      events.push_back(downsample(cl::EnqueueArgs(dev.queue, cube_range(s)), c.buffer, c.info[size_t(2 * m - 2)],
+                                  c.info[size_t(2 * m - 1)], c.info[size_t(2 * m)], s));
+    events.push_back(fill_border(cl::EnqueueArgs(dev.queue, cube_range(s + 2)), c.buffer, c.info[size_t(2 * m)], s));
+  }
+  return c;
+}
+
+double sum_seconds(const std::vector<cl::Event>& events) {
+  double s = 0.0;
+  for (const auto& e : events) s += detail::event_seconds(e);
+  return s;
+}
+
+// One filtered level: a launch of prefilter_level, with the real-typed alpha argument.
+template <class Real>
+cl::Event launch_level(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
+                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha) {
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl::Buffer, cl_int, Real>
+      level(prog, "prefilter_level");
+  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, chain.buffer, chain.info_buffer, chain.levels,
+               samples, n_samples, bright, n_bright, static_cast<Real>(alpha));
+}
+
+// ---- The quadrature's pyramid (kernels/common/env_sampling.clh, env_pyramid_sum) ----------------
+
+struct Pyramid {
+  std::vector<float> data;   // every level's ten arrays (gx gy gz mx my mz omega r g b)
+  std::vector<cl_int> info;  // offset (floats) and face size per level
+  std::vector<int> sizes;
+  int levels = 0;
+};
+
+// Quadtree order within a face (kernels/common/env_sampling.clh): texel (i, j) of a level `depth`
+// levels below the top level (face size top_size) has index root * 4^depth + interleave(i, j) of
+// its position in its root's block, with root = (j >> depth) top_size + (i >> depth); the four
+// children of texel p are 4p .. 4p + 3.
+size_t quadtree_index(int i, int j, int depth, int top_size) {
+  const size_t root = size_t(j >> depth) * size_t(top_size) + size_t(i >> depth);
+  size_t local = 0;
+  for (int bit = 0; bit < depth; ++bit)
+    local |= size_t((i >> bit) & 1) << (2 * bit) | size_t((j >> bit) & 1) << (2 * bit + 1);
+  return (root << (2 * depth)) | local;
+}
+
+// The pyramid of an RGBA cube, in double: level 0 holds each texel's exact solid angle, centre
+// direction and L Omega; each coarser level sums 2 x 2 children (the moments Omega d and
+// lum Omega d, Omega, L Omega), down to 1 x 1 or the first odd size (the top level). Directions are
+// normalised on output.
+Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
+  struct Moments {
+    std::vector<double> g, m, w, l;  // 3, 3, 1, 3 per texel, row-major per face
+  };
+  std::vector<Moments> moments(1);
+  std::vector<int> sizes = {s0};
+  {
+    Moments& cur = moments[0];
+    const size_t n0 = face_texels(s0);
+    cur.g.resize(3 * n0);
+    cur.m.resize(3 * n0);
+    cur.w.resize(n0);
+    cur.l.resize(3 * n0);
+    std::vector<double> omega(size_t(s0) * size_t(s0));
+    for (int j = 0; j < s0; ++j)
+      for (int i = 0; i < s0; ++i)
+        omega[size_t(j) * size_t(s0) + size_t(i)] = reference::cube_texel_solid_angle(s0, i, j);
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < s0; ++j)
+        for (int i = 0; i < s0; ++i) {
+          const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
+          const reference::Dir3 d = reference::cube_texel_direction(f, s0, i, j);
+          const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
+          const double lum = luminance(&rgba[4 * t]) * w;
+          const double dv[3] = {d.x, d.y, d.z};
+          for (size_t c = 0; c < 3; ++c) {
+            cur.g[3 * t + c] = w * dv[c];
+            cur.m[3 * t + c] = lum * dv[c];
+            cur.l[3 * t + c] = double(rgba[4 * t + c]) * w;
+          }
+          cur.w[t] = w;
+        }
+  }
+  while (sizes.back() > 1 && sizes.back() % 2 == 0) {
+    const int s = sizes.back(), h = s / 2;
+    const Moments& cur = moments.back();
+    Moments next;
+    const size_t nh = face_texels(h);
+    next.g.assign(3 * nh, 0.0);
+    next.m.assign(3 * nh, 0.0);
+    next.w.assign(nh, 0.0);
+    next.l.assign(3 * nh, 0.0);
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < s; ++j)
+        for (int i = 0; i < s; ++i) {
+          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
+          const size_t u = (size_t(f) * size_t(h) + size_t(j / 2)) * size_t(h) + size_t(i / 2);
+          for (size_t c = 0; c < 3; ++c) {
+            next.g[3 * u + c] += cur.g[3 * t + c];
+            next.m[3 * u + c] += cur.m[3 * t + c];
+            next.l[3 * u + c] += cur.l[3 * t + c];
+          }
+          next.w[u] += cur.w[t];
+        }
+    moments.push_back(std::move(next));
+    sizes.push_back(h);
+  }
+  Pyramid p;
+  p.levels = static_cast<int>(sizes.size());
+  p.sizes = sizes;
+  const int top_size = sizes.back();
+  size_t offset = 0;
+  for (int k = 0; k < p.levels; ++k) {
+    const int s = sizes[size_t(k)];
+    const size_t n_face = size_t(s) * size_t(s), a = 6 * n_face + 8;
+    p.info.push_back(static_cast<cl_int>(offset));
+    p.info.push_back(s);
+    p.data.resize(offset + 10 * a, 0.0f);
+    const Moments& cur = moments[size_t(k)];
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < s; ++j)
+        for (int i = 0; i < s; ++i) {
+          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
+          const size_t at = offset + size_t(f) * n_face + quadtree_index(i, j, p.levels - 1 - k, top_size);
+          const double* g = &cur.g[3 * t];
+          const double* m = &cur.m[3 * t];
+          const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+          const double mn = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+          for (size_t c = 0; c < 3; ++c) {
+            p.data[at + c * a] = static_cast<float>(g[c] / gn);
+            p.data[at + (3 + c) * a] = static_cast<float>(mn > 0.0 ? m[c] / mn : g[c] / gn);
+            p.data[at + (7 + c) * a] = static_cast<float>(cur.l[3 * t + c]);
+          }
+          p.data[at + 6 * a] = static_cast<float>(cur.w[t]);
+        }
+    offset += 10 * a;
+  }
+  if (offset > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
+    throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
+  return p;
+}
+
+// The refinement thresholds of one output level (env_pyramid_sum). Texel angular size
+// h_k = 2 / S_k (its largest, at a face's centre).
+//   GGX: the core is the lobe of width w = 2 alpha around R; levels coarser than m0 (the coarsest
+//        with h <= w / core_refinement) refine within refinement * h of R: cos_core[k] =
+//        cos(refinement h_k). Where the kernel's kink at n.l = 0 matters (K'(0) / K(1) =
+//        4 alpha^4 / (1 + alpha^2)^2 > 1e-3), levels with h_k > horizon_texel also refine the band
+//        |c| < 2 h_k.
+//   Charlie: no core (D_Charlie vanishes at R); its lobe is a ring at R.l = c* (the maximum of K).
+//        Levels coarser than m0 (h <= 4 half-maximum widths / core_refinement) refine the band where
+//        K > 1e-3 K_max, widened by 2 h_k, joined with the horizon band.
+// band holds (lo, hi) per level; (2, 2) is empty.
+void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s, double refinement,
+                        std::vector<double>& cos_core, std::vector<double>& band) {
+  const reference::EnvLobe lobe = to_lobe(dist);
+  cos_core.assign(size_t(p.levels), 2.0);
+  band.assign(2 * size_t(p.levels), 2.0);
+  auto finest_level = [&](double width) {
+    int m0 = 0;
+    while (m0 + 1 < p.levels && 2.0 / p.sizes[size_t(m0 + 1)] <= width / s.core_refinement) ++m0;
+    return m0;
+  };
+  if (dist == EnvDistribution::Ggx) {
+    const int m0 = finest_level(2.0 * alpha);
+    const double a4 = alpha * alpha * alpha * alpha;
+    const bool horizon = 4.0 * a4 / ((1.0 + alpha * alpha) * (1.0 + alpha * alpha)) > 1e-3;
+    for (int k = 1; k < p.levels; ++k) {
+      const double h = 2.0 / p.sizes[size_t(k)];
+      if (k > m0) cos_core[size_t(k)] = refinement * h >= kPi ? -2.0 : std::cos(refinement * h);
+      if (horizon && h > s.horizon_texel) {
+        band[2 * size_t(k)] = -2.0 * h;
+        band[2 * size_t(k) + 1] = 2.0 * h;
+      }
+    }
+    return;
+  }
+  // Charlie: the ring's extent in theta from the kernel's profile
+  constexpr int kSteps = 4096;
+  double k_max = 0.0;
+  std::vector<double> profile(kSteps + 1);
+  for (int t = 0; t <= kSteps; ++t) {
+    profile[size_t(t)] = reference::env_lobe_kernel(lobe, alpha, std::cos(0.5 * kPi * t / kSteps));
+    k_max = std::max(k_max, profile[size_t(t)]);
+  }
+  double theta_lo = 0.5 * kPi, theta_hi = 0.0, half_lo = 0.5 * kPi, half_hi = 0.0;
+  for (int t = 0; t <= kSteps; ++t) {
+    const double theta = 0.5 * kPi * t / kSteps;
+    if (profile[size_t(t)] > 1e-3 * k_max) {
+      theta_lo = std::min(theta_lo, theta);
+      theta_hi = std::max(theta_hi, theta);
+    }
+    if (profile[size_t(t)] > 0.5 * k_max) {
+      half_lo = std::min(half_lo, theta);
+      half_hi = std::max(half_hi, theta);
+    }
+  }
+  // the ring is broad and smooth on the scale of its half-maximum width: a quarter of the core
+  // refinement resolves it (docs/BENCHMARKS.md)
+  int m0 = 0;
+  while (m0 + 1 < p.levels &&
+         2.0 / p.sizes[size_t(m0 + 1)] <= std::max(half_hi - half_lo, 1e-3) * 4.0 / s.core_refinement)
+    ++m0;
+  for (int k = 1; k < p.levels; ++k) {
+    const double h = 2.0 / p.sizes[size_t(k)];
+    double lo = 2.0, hi = 2.0;
+    if (k > m0) {
+      lo = std::cos(std::min(0.5 * kPi, theta_hi + 2.0 * h));
+      hi = std::cos(std::max(0.0, theta_lo - 2.0 * h));
+    }
+    if (h > s.horizon_texel) {
+      lo = lo > 1.5 ? -2.0 * h : std::min(lo, -2.0 * h);
+      hi = hi > 1.5 ? 2.0 * h : std::max(hi, 2.0 * h);
+    }
+    band[2 * size_t(k)] = lo;
+    band[2 * size_t(k) + 1] = hi;
+  }
+  (void)refinement;
+}
+
+template <class Real>
+cl::Event launch_pyramid(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+                         const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
+                         const cl::Buffer& bright, int n_bright, double alpha) {
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
+      level(prog, "prefilter_pyramid");
+  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, pyramid, info, levels, cos_core, band, bright,
+               n_bright, static_cast<Real>(alpha));
+}
+
+// Biased, opt-in: luminance above `limit` is compressed to limit (1 + log(lum / limit)).
+void clamp_luminance(std::vector<float>& rgba, double limit) {
+  for (size_t t = 0; t < rgba.size(); t += 4) {
+    const double lum = luminance(&rgba[t]);
+    if (lum <= limit) continue;
+    const double scale = limit * (1.0 + std::log(lum / limit)) / lum;
+    for (size_t c = 0; c < 3; ++c) rgba[t + c] = static_cast<float>(double(rgba[t + c]) * scale);
+  }
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& e : v) s += (s.empty() ? "" : ",") + e;
+  return s;
+}
+
+void conventions_metadata(CubeLevels& cube) {
+  cube.set_meta("generator", std::string("brdfbake ") + kVersion);
+  cube.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order)");
+  cube.set_meta("face_orientation",
+                "OpenGL cube map convention (OpenGL 4.6 table 8.19): texel (i, j), row j = 0 stored first, "
+                "a = 2 (i + 0.5) / S - 1, b = 2 (j + 0.5) / S - 1 look along +X: (1, -b, -a), -X: (-1, -b, a), "
+                "+Y: (a, 1, b), -Y: (a, -1, -b), +Z: (a, -b, 1), -Z: (-a, -b, -1)");
+  cube.set_meta("up", "+Y");
+  cube.set_meta("equirect_mapping",
+                "u = (x + 0.5) / W, v = (y + 0.5) / H, phi = 2 pi (0.5 - u), theta = pi (0.5 - v), "
+                "direction (sin phi cos theta, sin theta, cos phi cos theta): top row +Y, centre +Z, u = 1/4 +X "
+                "(OpenEXR LatLongMap orientation)");
+  cube.set_meta("texels", "linear radiance (RGB, alpha 1)");
+}
+
+}  // namespace
+
+// ---- Names and schedules ---------------------------------------------------------------------
+
+EnvDistribution env_distribution_from_name(const std::string& n) {
+  if (n == "ggx") return EnvDistribution::Ggx;
+  if (n == "charlie") return EnvDistribution::Charlie;
+  throw Error("unknown distribution '" + n + "' (expected ggx or charlie)");
+}
+const char* env_distribution_name(EnvDistribution d) { return d == EnvDistribution::Charlie ? "charlie" : "ggx"; }
+
+EnvEstimator env_estimator_from_name(const std::string& n) {
+  if (n == "quadrature") return EnvEstimator::Quadrature;
+  if (n == "sampling") return EnvEstimator::Sampling;
+  throw Error("unknown estimator '" + n + "' (expected quadrature or sampling)");
+}
+const char* env_estimator_name(EnvEstimator e) { return e == EnvEstimator::Sampling ? "sampling" : "quadrature"; }
+
+RoughnessSchedule roughness_schedule_from_name(const std::string& n) {
+  if (n == "linear") return RoughnessSchedule::Linear;
+  if (n == "filament") return RoughnessSchedule::Filament;
+  if (n == "sqrt") return RoughnessSchedule::Sqrt;
+  throw Error("unknown schedule '" + n + "' (expected linear, filament or sqrt)");
+}
+const char* roughness_schedule_name(RoughnessSchedule s) {
+  return s == RoughnessSchedule::Filament ? "filament" : s == RoughnessSchedule::Sqrt ? "sqrt" : "linear";
+}
+
+double schedule_roughness(RoughnessSchedule s, int level, int levels) {
+  if (levels <= 1) return 0.0;
+  const double t = static_cast<double>(level) / (levels - 1);
+  switch (s) {
+    case RoughnessSchedule::Linear: return t;
+    case RoughnessSchedule::Filament: return 1.0 - std::sqrt(1.0 - t);
+    case RoughnessSchedule::Sqrt: return t * t;
+  }
+  return t;
+}
+
+double schedule_lod(RoughnessSchedule s, double r, int levels) {
+  const double m = levels - 1;
+  switch (s) {
+    case RoughnessSchedule::Linear: return m * r;
+    case RoughnessSchedule::Filament: return m * r * (2.0 - r);
+    case RoughnessSchedule::Sqrt: return m * std::sqrt(r);
+  }
+  return m * r;
+}
+
+std::string schedule_lod_formula(RoughnessSchedule s) {
+  switch (s) {
+    case RoughnessSchedule::Linear: return "lod = (levels - 1) * roughness";
+    case RoughnessSchedule::Filament: return "lod = (levels - 1) * roughness * (2 - roughness)";
+    case RoughnessSchedule::Sqrt: return "lod = (levels - 1) * sqrt(roughness)";
+  }
+  return "";
+}
+
+// ---- Specs ----------------------------------------------------------------------------------------
+
+PrefilterSpec resolve_prefilter_spec(const PrefilterSpec& in) {
+  PrefilterSpec s = in;
+  if (s.size < 1 || s.size > kMaxSize)
+    throw Error("size must be in 1.." + std::to_string(kMaxSize) + " (got " + std::to_string(s.size) + ")");
+  if (s.min_size < 1 || s.min_size > s.size)
+    throw Error("min-size must be in 1..size (got " + std::to_string(s.min_size) + " for size " +
+                std::to_string(s.size) + ")");
+  if (s.samples < 0 || s.samples > kMaxSamples)
+    throw Error("samples must be in 1.." + std::to_string(kMaxSamples) + " (got " + std::to_string(s.samples) + ")");
+  if (!std::isfinite(s.max_error) || s.max_error < 0.0) throw Error("max-error must be a positive number");
+  if (s.max_error > 0.0 && s.samples > 0) throw Error("give either samples or max-error, not both");
+  if (!std::isfinite(s.lod_bias)) throw Error("lod bias must be finite");
+  if (!std::isfinite(s.clamp_luminance) || s.clamp_luminance < 0.0) throw Error("clamp must be a positive number");
+  if (s.bright_texels < -1) throw Error("bright texel count must be >= 0 (or -1: automatic)");
+  if (!(s.refinement >= 1.5 && s.refinement <= 64.0)) throw Error("refinement must be in 1.5..64");
+  if (!(s.core_refinement >= 1.0 && s.core_refinement <= 256.0)) throw Error("core refinement must be in 1..256");
+  if (!(s.horizon_texel > 0.0)) throw Error("horizon texel size must be positive");
+  if (s.estimator == EnvEstimator::Quadrature && s.samples > 0)
+    throw Error("samples apply to the sampling estimator; the quadrature takes a refinement (or max-error)");
+  return s;
+}
+
+int prefilter_level_count(const PrefilterSpec& spec) {
+  int levels = 0;
+  for (int l = 0;; ++l) {
+    const int s = std::max(1, spec.size >> l);
+    if (s < spec.min_size || (l > 0 && (spec.size >> l) == 0)) break;
+    ++levels;
+    if (s == 1) break;
+  }
+  return std::max(levels, 1);
+}
+
+// ---- Bright texels ---------------------------------------------------------------------------------
+
+std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_count, double ratio) {
+  std::vector<BrightTexel> out;
+  if (max_count <= 0 || cube.levels.empty()) return out;
+  const int s = cube.size;
+  std::vector<double> omega(static_cast<size_t>(s) * static_cast<size_t>(s));
+  for (int j = 0; j < s; ++j)
+    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+  const size_t n = face_texels(s);
+  std::vector<double> lum(n);
+  double mean = 0.0;
+  for (size_t t = 0; t < n; ++t) {
+    lum[t] = luminance(&cube.levels[0][4 * t]);
+    mean += lum[t] * omega[t % omega.size()];
+  }
+  mean /= 4.0 * kPi;
+  double threshold = ratio * mean;
+  if (n > static_cast<size_t>(max_count)) {
+    std::vector<double> sorted = lum;
+    std::nth_element(sorted.begin(), sorted.begin() + max_count, sorted.end(), std::greater<double>());
+    threshold = std::max(threshold, sorted[size_t(max_count)]);  // the (max_count + 1)-th brightest
+  }
+  for (size_t t = 0; t < n; ++t) {
+    if (!(lum[t] > threshold)) continue;
+    BrightTexel b;
+    b.face = static_cast<int>(t / (size_t(s) * size_t(s)));
+    b.j = static_cast<int>(t % (size_t(s) * size_t(s)) / size_t(s));
+    b.i = static_cast<int>(t % size_t(s));
+    for (size_t c = 0; c < 3; ++c) b.rgb[c] = cube.levels[0][4 * t + c];
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, int size, int q, double scale,
+                                        int* count) {
+  std::vector<double> px, py, pz, pr, pg, pb;
+  const double h = 2.0 / size;  // a texel in face coordinates
+  for (const BrightTexel& t : bright) {
+    const double ca = -1.0 + h * (t.i + 0.5), cb = -1.0 + h * (t.j + 0.5);  // the texel's centre
+    for (int sj = 0; sj < 2 * q; ++sj)
+      for (int si = 0; si < 2 * q; ++si) {
+        // sub-cell [x0, x1] x [y0, y1] of the tent's support [-1, 1]^2 (in texels from the centre)
+        const double x0 = -1.0 + double(si) / q, x1 = x0 + 1.0 / q, y0 = -1.0 + double(sj) / q, y1 = y0 + 1.0 / q;
+        const double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
+        // the tent's exact mean over the sub-cell (it is linear there: the cells do not straddle 0)
+        const double tent = (1.0 - std::fabs(xm)) * (1.0 - std::fabs(ym));
+        const reference::Dir3 p = reference::cube_plane_point(t.face, ca + h * xm, cb + h * ym);
+        const double len = std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+        const double omega =
+            reference::cube_rect_solid_angle(ca + h * x0, cb + h * y0, ca + h * x1, cb + h * y1) * tent * scale;
+        px.push_back(p.x / len);
+        py.push_back(p.y / len);
+        pz.push_back(p.z / len);
+        pr.push_back(double(t.rgb[0]) * omega);
+        pg.push_back(double(t.rgb[1]) * omega);
+        pb.push_back(double(t.rgb[2]) * omega);
+      }
+  }
+  *count = static_cast<int>(px.size());
+  while (px.size() % kVectorWidth != 0 || px.empty()) {
+    px.push_back(0.0);
+    py.push_back(0.0);
+    pz.push_back(1.0);
+    pr.push_back(0.0);
+    pg.push_back(0.0);
+    pb.push_back(0.0);
+  }
+  std::vector<double> out;
+  for (const auto* v : {&px, &py, &pz, &pr, &pg, &pb}) out.insert(out.end(), v->begin(), v->end());
+  return out;
+}
+
+// ---- Conversion ---------------------------------------------------------------------------------
+
+CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds) {
+  if (size < 1 || size > kMaxSize)
+    throw Error("cube size must be in 1.." + std::to_string(kMaxSize) + " (got " + std::to_string(size) + ")");
+  if (env.width < 1 || env.height < 1 || env.rgb.empty()) throw Error("empty environment");
+  auto& dev = device.impl();
+  CubeLevels cube;
+  cube.size = size;
+  cube.levels.assign(1, std::vector<float>(4 * face_texels(size)));
+  const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
+  const double seconds = detail::cl_call(what, [&] {
+    cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
+    std::vector<cl::Event> events;
+    cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
+    if (env.layout == EnvImage::Layout::Equirect) {
+      const size_t px = static_cast<size_t>(env.width) * static_cast<size_t>(env.height);
+      std::vector<float> rgba(4 * px, 1.0f);
+      for (size_t p = 0; p < px; ++p)
+        for (size_t c = 0; c < 3; ++c) rgba[4 * p + c] = env.rgb[3 * p + c];
+      cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rgba.size() * sizeof(float), rgba.data());
+      // k x k samples per texel: about two per equirect pixel along the equator
+      const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
+      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> convert(prog, "equirect_to_cube");
+      // one work-item per 8 texels of a row (kernels/cubemap.cl)
+      const cl::NDRange rows(static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth), 6u * static_cast<size_t>(size));
+      events.push_back(convert(cl::EnqueueArgs(dev.queue, rows), src, env.width, env.height, dst, size, k));
+    } else {
+      const int s = env.width;
+      std::vector<float> rgba(4 * face_texels(s), 1.0f);
+      for (size_t t = 0; t < face_texels(s); ++t)
+        for (size_t c = 0; c < 3; ++c) rgba[4 * t + c] = env.rgb[3 * t + c];
+      if (s == size) {
+        dev.queue.enqueueWriteBuffer(dst, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
+      } else {
+        cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rgba.size() * sizeof(float), rgba.data());
+        Chain chain = build_chain(dev, prog, src, s, events);
+        // resample from the chain level closest above the target size
+        int m = 0;
+        while (m + 1 < chain.levels && chain.info[size_t(2 * m + 3)] >= size) ++m;
+        const int ms = chain.info[size_t(2 * m + 1)];
+        const int k = std::clamp((ms + size - 1) / size, 1, 16);
+        cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> resample(prog, "cube_resample");
+        events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer,
+                                  chain.info[size_t(2 * m)], ms, dst, size, k));
+      }
+    }
+    dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
+    return sum_seconds(events);
+  });
+  if (device_seconds) *device_seconds = seconds;
+  conventions_metadata(cube);
+  cube.set_meta("source", env.source);
+  return cube;
+}
+
+// ---- The chain ------------------------------------------------------------------------------------
+
+CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& in, PrefilterTiming* timing,
+                          const EnvProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const PrefilterSpec s = resolve_prefilter_spec(in);
+  if (source.levels.empty() || source.size != s.size)
+    throw Error("prefilter_cube: the source cube must have size " + std::to_string(s.size));
+  auto& dev = device.impl();
+  const int levels = prefilter_level_count(s);
+  const int s0 = s.size;
+  const bool quadrature = s.estimator == EnvEstimator::Quadrature;
+
+  CubeLevels out;
+  out.size = s0;
+  out.metadata = source.metadata;
+  out.levels.resize(size_t(levels));
+  out.levels[0] = source.levels[0];
+  if (s.clamp_luminance > 0.0) clamp_luminance(out.levels[0], s.clamp_luminance);
+
+  // Environment sampling: the bright texels leave the rest.
+  const int max_bright = s.bright_texels < 0 ? kDefaultBrightTexels : s.bright_texels;
+  const std::vector<BrightTexel> bright = find_bright_texels(out, max_bright, kBrightRatio);
+  std::vector<float> rest = out.levels[0];
+  for (const BrightTexel& b : bright) {
+    float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
+    t[0] = t[1] = t[2] = 0.0f;
+  }
+
+  std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
+  std::vector<double> refinement(static_cast<size_t>(levels), s.refinement);
+  std::vector<int> samples(static_cast<size_t>(levels), 0);
+  for (int l = 0; l < levels; ++l) {
+    roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels);
+    if (l > 0 && !quadrature) samples[size_t(l)] = s.samples > 0 ? s.samples : default_samples(l, levels);
+  }
+
+  double device_seconds = 0.0;
+  const std::string what = "prefiltering on '" + dev.info.name + "'";
+  detail::cl_call(what, [&] {
+    const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
+    cl::Program filter_prog = program(dev, "prefilter.cl", s.precision, {{lobe_define, "1"}});
+    // The source: the quadrature's pyramid (built here, on the host, in double), or the sampling
+    // estimator's padded mip chain (built on the device).
+    Pyramid pyramid;
+    cl::Buffer pyramid_buf, pyramid_info;
+    Chain chain;
+    if (quadrature) {
+      pyramid = build_pyramid(rest, s0);
+      pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pyramid.data.size() * sizeof(float),
+                               pyramid.data.data());
+      pyramid_info = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                pyramid.info.size() * sizeof(cl_int), pyramid.info.data());
+    } else {
+      cl::Program cube_prog = program(dev, "cubemap.cl", s.precision);
+      std::vector<cl::Event> chain_events;
+      cl::Buffer level0(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rest.size() * sizeof(float), rest.data());
+      chain = build_chain(dev, cube_prog, level0, s0, chain_events);
+      for (auto& e : chain_events) e.wait();
+      seconds[0] = sum_seconds(chain_events);
+      device_seconds += seconds[0];
+    }
+
+    // One level into `dst` with n samples (sampling) or refinement r (quadrature); waits, returns
+    // its device seconds.
+    auto run_level = [&](int l, int n, double r, std::vector<float>& dst) {
+      const int size = out.level_size(l);
+      const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], reference::kMinAlpha);
+      int n_points = 0;
+      // Bright points carry L Omega; the sampling estimator divides them by W = int K dl here,
+      // the quadrature by its own sum of K Omega in the kernel.
+      const double scale = quadrature ? 1.0 : 1.0 / reference::env_lobe_normalization(to_lobe(s.distribution), alpha);
+      const std::vector<double> pts = bright_texel_points(bright, s0, bright_subdivision(s.distribution, alpha, s0, bright.size()), scale, &n_points);
+      const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
+      cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
+      cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
+      cl::Event e;
+      const bool fp64 = s.precision == Precision::Fp64;
+      if (quadrature) {
+        std::vector<double> cos_core, band;
+        pyramid_thresholds(pyramid, s.distribution, alpha, s, r, cos_core, band);
+        cl::Buffer core_buf = real_buffer(dev, s.precision, cos_core), band_buf = real_buffer(dev, s.precision, band);
+        e = fp64 ? launch_pyramid<cl_double>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                             core_buf, band_buf, pts_buf, n_pts, alpha)
+                 : launch_pyramid<cl_float>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                            core_buf, band_buf, pts_buf, n_pts, alpha);
+      } else {
+        int n_kept = 0;
+        const std::vector<double> table =
+            lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
+        cl::Buffer table_buf = real_buffer(dev, s.precision, table);
+        const int n_padded = static_cast<int>(table.size() / 5);
+        e = fp64 ? launch_level<cl_double>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha)
+                 : launch_level<cl_float>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha);
+      }
+      dst.resize(4 * face_texels(size));
+      dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
+      return detail::event_seconds(e);
+    };
+
+    // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
+    auto rms_difference = [](const std::vector<float>& a, const std::vector<float>& b) {
+      double sum = 0.0;
+      size_t count = 0;
+      for (size_t t = 0; t < a.size(); t += 4) {
+        const double la = luminance(&a[t]), lb = luminance(&b[t]);
+        const double d = std::fabs(la - lb) / std::max(std::fabs(lb), 1e-30);
+        sum += d * d;
+        ++count;
+      }
+      return std::sqrt(sum / double(std::max<size_t>(count, 1)));
+    };
+
+    // Progress by texel count (the cost per texel is about the same on every level).
+    double total_work = 0.0, done_work = 0.0;
+    for (int l = 1; l < levels; ++l) total_work += double(face_texels(out.level_size(l)));
+    for (int l = 1; l < levels; ++l) {
+      const std::string label = "level " + std::to_string(l) + "/" + std::to_string(levels - 1);
+      if (progress) progress(total_work > 0 ? done_work / total_work : 0.0, label);
+      double& sec = seconds[size_t(l)];
+      if (s.max_error > 0.0 && quadrature) {
+        // Refinement 2, 3, 4, 6, 8, 12, 16: each result is compared with the next; the first
+        // pair closer than max_error keeps the finer result (its error is a fraction of the
+        // difference).
+        static const double kSteps[] = {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0};
+        std::vector<float> a, b;
+        sec += run_level(l, 0, kSteps[0], a);
+        for (size_t k = 1; k < std::size(kSteps); ++k) {
+          sec += run_level(l, 0, kSteps[k], b);
+          refinement[size_t(l)] = kSteps[k];
+          const bool done = rms_difference(a, b) <= s.max_error;
+          a.swap(b);
+          if (done) break;
+        }
+        out.levels[size_t(l)] = std::move(a);
+      } else if (s.max_error > 0.0) {
+        // Sampling: the difference of n and 4n samples estimates the error of n; n doubles from
+        // kSearchStart until it is below max_error, and the 4n result is kept.
+        std::vector<float> a, b;
+        int n = kSearchStart;
+        sec += run_level(l, n, 0.0, a);
+        for (;;) {
+          sec += run_level(l, 4 * n, 0.0, b);
+          if (rms_difference(a, b) <= s.max_error || 4 * n >= kSearchMax) {
+            samples[size_t(l)] = 4 * n;
+            out.levels[size_t(l)] = std::move(b);
+            break;
+          }
+          n *= 2;
+          sec += run_level(l, n, 0.0, a);
+        }
+      } else {
+        sec = run_level(l, samples[size_t(l)], refinement[size_t(l)], out.levels[size_t(l)]);
+      }
+      device_seconds += sec;
+      done_work += double(face_texels(out.level_size(l)));
+    }
+    if (progress) progress(1.0, "done");
+    return 0;
+  });
+
+  // Metadata: what the levels hold, how they were made.
+  conventions_metadata(out);
+  out.set_meta("kind", "prefiltered radiance");
+  out.set_meta("distribution", env_distribution_name(s.distribution));
+  out.set_meta("definition",
+               "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
+               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
+                                                                           : "Charlie (Estevez & Kulla 2017)") +
+                   ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
+                   "the source itself (roughness 0)");
+  out.set_meta("levels", std::to_string(levels));
+  out.set_meta("size", std::to_string(s0));
+  out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
+  out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
+  out.set_meta("roughness_of_level", s.schedule == RoughnessSchedule::Linear ? "roughness = l / (levels - 1)"
+                                     : s.schedule == RoughnessSchedule::Filament
+                                         ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
+                                         : "roughness = (l / (levels - 1))^2");
+  out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
+  std::vector<std::string> r_text, n_text;
+  for (int l = 0; l < levels; ++l) {
+    r_text.push_back(fmt(roughness[size_t(l)], "%.9g"));
+    n_text.push_back(quadrature ? (l == 0 ? std::string("0") : fmt(refinement[size_t(l)], "%g"))
+                                : std::to_string(samples[size_t(l)]));
+  }
+  out.set_meta("roughness_per_level", join(r_text));
+  out.set_meta("estimator", env_estimator_name(s.estimator));
+  if (quadrature) {
+    out.set_meta("refinement_per_level", join(n_text));
+    out.set_meta("estimator_description",
+                 "deterministic hierarchical quadrature: a solid-angle pyramid of level 0 (per texel: solid angle, "
+                 "L Omega, centroid and radiance centroid directions), texels refined within refinement x texel "
+                 "size of R (core to texel size <= 2 alpha / " + fmt(s.core_refinement) +
+                     ") and across the horizon (to " + fmt(s.horizon_texel) +
+                     " rad); K at the radiance centroid, normalised by the sum of K Omega; plus " +
+                     std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
+  } else {
+    out.set_meta("samples_per_level", join(n_text));
+    out.set_meta("estimator_description",
+                 std::string("lobe importance sampling, N = V = R, Hammersley points, ") +
+                     (s.filtered_importance_sampling
+                          ? "filtered importance sampling (Krivanek & Colbert 2008; lod = 0.5 log2(4 / (N D) / texel "
+                            "solid angle) + " + fmt(s.lod_bias) + ") "
+                          : "no filtered importance sampling ") +
+                     "from a solid-angle-weighted mip chain, self-normalised weights (n.l)+; plus " +
+                     std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
+  }
+  if (s.max_error > 0.0)
+    out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
+                                  std::string(quadrature ? "refinements" : "sample counts (N, 4N)") + " <= " +
+                                  fmt(s.max_error) + " (the finer result is kept)");
+  if (s.clamp_luminance > 0.0)
+    out.set_meta("clamp", "BIASED: source luminance above " + fmt(s.clamp_luminance) +
+                              " compressed to limit (1 + log(lum / limit))");
+  out.set_meta("precision", precision_name(s.precision));
+  out.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
+  if (timing) {
+    timing->device_seconds += device_seconds;
+    timing->level_device_seconds = seconds;
+    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return out;
+}
+
+CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& in, PrefilterTiming* timing,
+                                 const EnvProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const PrefilterSpec s = resolve_prefilter_spec(in);
+  if (progress) progress(0.0, "converting to a cube");
+  double convert_seconds = 0.0;
+  CubeLevels source = environment_to_cube(device, env, s.size, &convert_seconds);
+  PrefilterTiming t;
+  t.device_seconds = convert_seconds;
+  CubeLevels out = prefilter_cube(device, source, s, &t, progress);
+  out.set_meta("source", env.source);
+  if (!env.description.empty()) out.set_meta("source_description", env.description);
+  if (env.sanitize.replaced)
+    out.set_meta("sanitized", std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) +
+                                  " infinite, " + std::to_string(env.sanitize.negative) + " negative values replaced");
+  if (timing) {
+    *timing = t;
+    if (!timing->level_device_seconds.empty()) timing->level_device_seconds[0] += convert_seconds;
+    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return out;
+}
+
+}  // namespace brdfbake

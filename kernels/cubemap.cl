@@ -1,0 +1,174 @@
+// Cube map construction: an equirectangular image to a cube, cube to cube resampling, padded
+// levels with seamless borders, and the source mip chain that filtered importance sampling reads.
+// Addressing and the padded layout: common/cubemap.clh.
+#include "common/real.clh"
+#include "common/cubemap.clh"
+
+// ---- Equirectangular to cube ---------------------------------------------------------------------
+//
+// docs/CONVENTIONS.md: pixel (x, y) of a W x H equirect has u = (x + 0.5) / W, v = (y + 0.5) / H;
+// longitude phi = 2 pi (0.5 - u), latitude theta = pi (0.5 - v), and looks along
+// (sin phi cos theta, sin theta, cos phi cos theta) (OpenEXR's LatLongMap orientation): the top row
+// is +Y, the centre column +Z, u = 1/4 is +X. The inverse: u = 0.5 - atan2(x, z) / 2 pi,
+// v = 0.5 - asin(y) / pi.
+
+// Bilinear fetch of the equirect at (u, v): rows clamp at the poles, columns wrap around.
+inline real4 equirect_bilinear(global const float4* src, int width, int height, real u, real v) {
+  const real fx = u * (real)width - R(0.5);
+  const real fy = clamp(v * (real)height - R(0.5), R(0.0), (real)(height - 1));
+  const real x0f = floor(fx), y0f = floor(fy);
+  const real tx = fx - x0f, ty = fy - y0f;
+  int x0 = (int)x0f % width;
+  if (x0 < 0) x0 += width;
+  const int x1 = x0 + 1 == width ? 0 : x0 + 1;
+  const int y0 = (int)y0f, y1 = min(y0 + 1, height - 1);
+  const real4 t00 = convert_real4(src[(size_t)y0 * (size_t)width + (size_t)x0]);
+  const real4 t10 = convert_real4(src[(size_t)y0 * (size_t)width + (size_t)x1]);
+  const real4 t01 = convert_real4(src[(size_t)y1 * (size_t)width + (size_t)x0]);
+  const real4 t11 = convert_real4(src[(size_t)y1 * (size_t)width + (size_t)x1]);
+  return (R(1.0) - ty) * ((R(1.0) - tx) * t00 + tx * t10) + ty * ((R(1.0) - tx) * t01 + tx * t11);
+}
+
+// Eight texels of a row of the cube, global id (chunk, face * size + j), texels i = 8 chunk + lane:
+// each the mean of k x k bilinear samples of the equirect spread evenly over the texel in face
+// coordinates, weighted by their solid angle (the area element), so that the texel holds the
+// equirect's average over its own footprint. The direction maths runs BRDFBAKE_VW texels at a
+// time (PoCL vectorises only explicit vectors); the fetches are per lane.
+kernel void equirect_to_cube(global const float4* src, int width, int height, global float4* dst,
+                             int size, int k) {
+  const int i0 = (int)get_global_id(0) * BRDFBAKE_VW, gj = (int)get_global_id(1);
+  if (i0 >= size || gj >= 6 * size) return;
+  const int face = gj / size, j = gj % size;
+  const realv lane = (realv)(R(0.0), R(1.0), R(2.0), R(3.0), R(4.0), R(5.0), R(6.0), R(7.0));
+  realv sr = (realv)(R(0.0)), sg = (realv)(R(0.0)), sb = (realv)(R(0.0)), wsum = (realv)(R(0.0));
+  for (int sy = 0; sy < k; ++sy)
+    for (int sx = 0; sx < k; ++sx) {
+      const realv a = R(2.0) * ((real)i0 + lane + ((real)sx + R(0.5)) / (real)k) / (real)size - R(1.0);
+      const real b = R(2.0) * ((real)j + ((real)sy + R(0.5)) / (real)k) / (real)size - R(1.0);
+      const realv r2 = R(1.0) + a * a + b * b;
+      const realv inv = rsqrt(r2);
+      const realv w = inv * inv * inv;  // the area element (1 + a^2 + b^2)^(-3/2)
+      // the face's direction (cube_plane_point), normalised
+      realv x, y, z;
+      switch (face) {
+        case 0: x = (realv)(R(1.0)); y = (realv)(-b); z = -a; break;
+        case 1: x = (realv)(R(-1.0)); y = (realv)(-b); z = a; break;
+        case 2: x = a; y = (realv)(R(1.0)); z = (realv)(b); break;
+        case 3: x = a; y = (realv)(R(-1.0)); z = (realv)(-b); break;
+        case 4: x = a; y = (realv)(-b); z = (realv)(R(1.0)); break;
+        default: x = -a; y = (realv)(-b); z = (realv)(R(-1.0)); break;
+      }
+      const realv u = R(0.5) - atan2(x, z) * (R(0.5) * BRDFBAKE_INV_PI);
+      const realv v = R(0.5) - asin(clamp(y * inv, R(-1.0), R(1.0))) * BRDFBAKE_INV_PI;
+      real lu[BRDFBAKE_VW], lv[BRDFBAKE_VW];
+      vstore8(u, 0, lu);
+      vstore8(v, 0, lv);
+      real cr[BRDFBAKE_VW], cg[BRDFBAKE_VW], cb[BRDFBAKE_VW];
+      for (int q = 0; q < BRDFBAKE_VW; ++q) {
+        const real4 t = equirect_bilinear(src, width, height, lu[q], lv[q]);
+        cr[q] = t.x;
+        cg[q] = t.y;
+        cb[q] = t.z;
+      }
+      sr += w * vload8(0, cr);
+      sg += w * vload8(0, cg);
+      sb += w * vload8(0, cb);
+      wsum += w;
+    }
+  real out_r[BRDFBAKE_VW], out_g[BRDFBAKE_VW], out_b[BRDFBAKE_VW];
+  vstore8(sr / wsum, 0, out_r);
+  vstore8(sg / wsum, 0, out_g);
+  vstore8(sb / wsum, 0, out_b);
+  const int n = min(BRDFBAKE_VW, size - i0);
+  for (int q = 0; q < n; ++q)
+    dst[((size_t)face * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q)] =
+        (float4)((float)out_r[q], (float)out_g[q], (float)out_b[q], 1.0f);
+}
+
+// ---- Padded levels -------------------------------------------------------------------------------
+
+// Copies an unpadded cube (6 faces of size x size, row-major) into the interior of a padded level.
+kernel void cube_to_padded(global const float4* src, int size, global float4* chain, int offset) {
+  const int i = (int)get_global_id(0), gj = (int)get_global_id(1);
+  if (i >= size || gj >= 6 * size) return;
+  const int face = gj / size, j = gj % size;
+  chain[cube_padded_index((size_t)offset, size, face, i, j)] =
+      src[((size_t)face * (size_t)size + (size_t)j) * (size_t)size + (size_t)i];
+}
+
+// Fills the one-texel border of every face of a padded level from the faces' interiors
+// (cube_border_texel). Global id (x, face * (size + 2) + y) over the padded faces; interior
+// positions do nothing.
+kernel void cube_fill_border(global float4* chain, int offset, int size) {
+  const int p = size + 2;
+  const int x = (int)get_global_id(0), gy = (int)get_global_id(1);
+  if (x >= p || gy >= 6 * p) return;
+  const int face = gy / p, i = x - 1, j = gy % p - 1;
+  if (i >= 0 && i < size && j >= 0 && j < size) return;
+  chain[cube_padded_index((size_t)offset, size, face, i, j)] =
+      cube_border_texel(chain, (size_t)offset, size, face, i, j);
+}
+
+// One texel of a coarser level from the finer one: the solid-angle-weighted mean of the finer
+// texels under its footprint (fractional coverage where the sizes are not in a 2:1 ratio), so that
+// every level holds the same radiant power as the level above it. Interior only; the border is
+// filled afterwards. Global id (i, face * dst_size + j).
+kernel void cube_downsample(global float4* chain, int src_offset, int src_size, int dst_offset, int dst_size) {
+  const int i = (int)get_global_id(0), gj = (int)get_global_id(1);
+  if (i >= dst_size || gj >= 6 * dst_size) return;
+  const int face = gj / dst_size, j = gj % dst_size;
+  const real r = (real)src_size / (real)dst_size;
+  const real x0 = (real)i * r, x1 = (real)(i + 1) * r, y0 = (real)j * r, y1 = (real)(j + 1) * r;
+  const int sx0 = (int)floor(x0), sx1 = min((int)ceil(x1), src_size);
+  const int sy0 = (int)floor(y0), sy1 = min((int)ceil(y1), src_size);
+  real4 sum = (real4)(R(0.0));
+  real wsum = R(0.0);
+  for (int sy = sy0; sy < sy1; ++sy) {
+    const real cy = fmin(y1, (real)(sy + 1)) - fmax(y0, (real)sy);
+    const real b = R(2.0) * ((real)sy + R(0.5)) / (real)src_size - R(1.0);
+    for (int sx = sx0; sx < sx1; ++sx) {
+      const real cx = fmin(x1, (real)(sx + 1)) - fmax(x0, (real)sx);
+      const real a = R(2.0) * ((real)sx + R(0.5)) / (real)src_size - R(1.0);
+      const real w = cx * cy * cube_area_element(a, b);
+      sum += w * convert_real4(chain[cube_padded_index((size_t)src_offset, src_size, face, sx, sy)]);
+      wsum += w;
+    }
+  }
+  const real4 texel = sum / wsum;
+  chain[cube_padded_index((size_t)dst_offset, dst_size, face, i, j)] =
+      (float4)((float)texel.x, (float)texel.y, (float)texel.z, 1.0f);
+}
+
+// One texel of a cube of dst_size from a padded cube level of src_size: the mean of k x k seamless
+// bilinear samples over the texel's footprint, weighted by solid angle (cube inputs of another
+// size than --size).
+kernel void cube_resample(global const float4* chain, int src_offset, int src_size, global float4* dst,
+                          int dst_size, int k) {
+  const int i = (int)get_global_id(0), gj = (int)get_global_id(1);
+  if (i >= dst_size || gj >= 6 * dst_size) return;
+  const int face = gj / dst_size, j = gj % dst_size;
+  const int p = src_size + 2;
+  real4 sum = (real4)(R(0.0));
+  real wsum = R(0.0);
+  for (int sy = 0; sy < k; ++sy)
+    for (int sx = 0; sx < k; ++sx) {
+      const real a = R(2.0) * ((real)i + ((real)sx + R(0.5)) / (real)k) / (real)dst_size - R(1.0);
+      const real b = R(2.0) * ((real)j + ((real)sy + R(0.5)) / (real)k) / (real)dst_size - R(1.0);
+      const real w = cube_area_element(a, b);
+      real na, nb;
+      const int nf = cube_face_coords(cube_plane_point(face, a, b), &na, &nb);
+      const real x = R(0.5) * (na + R(1.0)) * (real)src_size + R(0.5);
+      const real y = R(0.5) * (nb + R(1.0)) * (real)src_size + R(0.5);
+      const int x0 = clamp((int)x, 0, src_size), y0 = clamp((int)y, 0, src_size);
+      const real tx = x - (real)x0, ty = y - (real)y0;
+      const size_t at = (size_t)src_offset + ((size_t)nf * (size_t)p + (size_t)y0) * (size_t)p + (size_t)x0;
+      const real4 v = (R(1.0) - ty) * ((R(1.0) - tx) * convert_real4(chain[at]) + tx * convert_real4(chain[at + 1])) +
+                      ty * ((R(1.0) - tx) * convert_real4(chain[at + (size_t)p]) +
+                            tx * convert_real4(chain[at + (size_t)p + 1]));
+      sum += w * v;
+      wsum += w;
+    }
+  const real4 texel = sum / wsum;
+  dst[((size_t)face * (size_t)dst_size + (size_t)j) * (size_t)dst_size + (size_t)i] =
+      (float4)((float)texel.x, (float)texel.y, (float)texel.z, 1.0f);
+}

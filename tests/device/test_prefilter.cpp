@@ -1,0 +1,355 @@
+// The prefiltered environment chain on the device against the brute-force reference
+// (host/reference/src/envmap.cpp): white furnace, level 0 = source, a bright texel's lobe, real
+// inputs, huge values, odd sizes, schedules and the equirect orientation chart.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/reference/envmap.hpp"
+#include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
+
+#ifndef BRDFBAKE_SHARED_DIR
+#define BRDFBAKE_SHARED_DIR "../shared"
+#endif
+
+namespace brdfbake {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string shared_envmap(const std::string& name) {
+  return (fs::path(BRDFBAKE_SHARED_DIR) / "envmaps" / name).string();
+}
+
+EnvImage constant_equirect(int width, float r, float g, float b) {
+  EnvImage e;
+  e.layout = EnvImage::Layout::Equirect;
+  e.width = width;
+  e.height = width / 2;
+  e.source = "constant";
+  for (int k = 0; k < e.width * e.height; ++k) e.rgb.insert(e.rgb.end(), {r, g, b});
+  return e;
+}
+
+CubeLevels constant_cube(int size, float v) {
+  CubeLevels c;
+  c.size = size;
+  c.levels.assign(1, std::vector<float>(24u * size_t(size) * size_t(size), v));
+  for (size_t t = 3; t < c.levels[0].size(); t += 4) c.levels[0][t] = 1.0f;
+  return c;
+}
+
+reference::EnvCube to_reference(const CubeLevels& c) {
+  reference::EnvCube e;
+  e.size = c.size;
+  e.rgb.resize(18u * size_t(c.size) * size_t(c.size));
+  for (size_t t = 0; t < e.rgb.size() / 3; ++t)
+    for (size_t ch = 0; ch < 3; ++ch) e.rgb[3 * t + ch] = c.levels[0][4 * t + ch];
+  return e;
+}
+
+struct Errors {
+  double rms = 0, max = 0;
+};
+
+// Per channel |P - P_ref| / max(P_ref, 1e-3 mean(P_ref)), as bench/prefilter_bench measures.
+Errors level_errors(const CubeLevels& got, int level, const reference::EnvCube& want) {
+  double mean = 0;
+  for (double v : want.rgb) mean += v;
+  mean /= double(want.rgb.size());
+  Errors e;
+  double sum = 0;
+  const auto& data = got.levels[size_t(level)];
+  for (size_t t = 0; t < want.rgb.size() / 3; ++t)
+    for (size_t ch = 0; ch < 3; ++ch) {
+      const double w = want.rgb[3 * t + ch];
+      const double d = std::fabs(double(data[4 * t + ch]) - w) / std::max(w, 1e-3 * mean);
+      sum += d * d;
+      e.max = std::max(e.max, d);
+    }
+  e.rms = std::sqrt(sum / double(want.rgb.size()));
+  return e;
+}
+
+void expect_all_finite(const CubeLevels& c) {
+  for (int l = 0; l < c.level_count(); ++l)
+    for (float v : c.levels[size_t(l)]) ASSERT_TRUE(std::isfinite(v)) << "level " << l;
+}
+
+class Furnace : public ::testing::TestWithParam<std::tuple<EnvDistribution, EnvEstimator>> {};
+
+// A constant environment gives that constant in every texel of every level.
+TEST_P(Furnace, ConstantEverywhere) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const auto [dist, est] = GetParam();
+  PrefilterSpec s;
+  s.size = 16;
+  s.min_size = 2;
+  s.distribution = dist;
+  s.estimator = est;
+  if (est == EnvEstimator::Sampling) s.samples = 64;
+  const float rgb[3] = {2.5f, 0.75f, 1.0f};
+  const CubeLevels out = prefilter_environment(*dev, constant_equirect(64, rgb[0], rgb[1], rgb[2]), s);
+  ASSERT_EQ(out.level_count(), 4);
+  for (int l = 0; l < out.level_count(); ++l)
+    for (size_t t = 0; t < out.levels[size_t(l)].size(); t += 4)
+      for (size_t ch = 0; ch < 3; ++ch)
+        ASSERT_NEAR(out.levels[size_t(l)][t + ch] / rgb[ch], 1.0, test::kEnvFurnace)
+            << "level " << l << " texel " << t / 4 << " channel " << ch;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllLobes, Furnace,
+                         ::testing::Combine(::testing::Values(EnvDistribution::Ggx, EnvDistribution::Charlie),
+                                            ::testing::Values(EnvEstimator::Quadrature, EnvEstimator::Sampling)));
+
+// fp64 kernels: the furnace, and the same values as fp32 to fp32's rounding.
+TEST(Prefilter, Fp64) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  BRDFBAKE_REQUIRE_FP64(dev);
+  const CubeLevels source = environment_to_cube(*dev, builtin_environment("sun", 256), 16);
+  for (EnvEstimator est : {EnvEstimator::Quadrature, EnvEstimator::Sampling}) {
+    PrefilterSpec s;
+    s.size = 16;
+    s.min_size = 4;
+    s.estimator = est;
+    if (est == EnvEstimator::Sampling) s.samples = 256;
+    const CubeLevels f32 = prefilter_cube(*dev, source, s);
+    s.precision = Precision::Fp64;
+    const CubeLevels f64 = prefilter_cube(*dev, source, s);
+    EXPECT_EQ(f64.meta("precision"), "fp64");
+    for (int l = 1; l < f64.level_count(); ++l)
+      for (size_t k = 0; k < f64.levels[size_t(l)].size(); ++k)
+        ASSERT_NEAR(double(f64.levels[size_t(l)][k]) / double(f32.levels[size_t(l)][k]), 1.0, test::kEnvFp32VsFp64)
+            << env_estimator_name(est) << " level " << l << " value " << k;
+  }
+  PrefilterSpec s;
+  s.size = 8;
+  s.min_size = 2;
+  s.precision = Precision::Fp64;
+  const CubeLevels c = prefilter_environment(*dev, constant_equirect(32, 3.0f, 3.0f, 3.0f), s);
+  for (int l = 0; l < c.level_count(); ++l)
+    for (size_t k = 0; k < c.levels[size_t(l)].size(); k += 4) ASSERT_NEAR(c.levels[size_t(l)][k] / 3.0f, 1.0, test::kEnvFurnace);
+}
+
+TEST(Prefilter, LevelZeroIsTheSource) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const EnvImage env = builtin_environment("studio", 256);
+  PrefilterSpec s;
+  s.size = 32;
+  s.min_size = 8;
+  const CubeLevels source = environment_to_cube(*dev, env, 32);
+  const CubeLevels out = prefilter_environment(*dev, env, s);
+  ASSERT_EQ(out.levels[0].size(), source.levels[0].size());
+  for (size_t k = 0; k < source.levels[0].size(); ++k)
+    ASSERT_EQ(out.levels[0][k], source.levels[0][k]) << k;
+  EXPECT_EQ(out.meta("roughness_per_level"), "0,0.5,1");
+}
+
+// Every level against the brute-force reference filtering the same source cube.
+void expect_reference_agreement(Device& dev, const EnvImage& env, EnvDistribution dist, EnvEstimator est,
+                                int samples, double rms_bound, double max_bound) {
+  PrefilterSpec s;
+  s.size = 32;
+  s.min_size = 4;
+  s.distribution = dist;
+  s.estimator = est;
+  s.samples = samples;
+  const CubeLevels source = environment_to_cube(dev, env, s.size);
+  const CubeLevels out = prefilter_cube(dev, source, s);
+  expect_all_finite(out);
+  const reference::EnvCube src = to_reference(source);
+  const auto lobe = dist == EnvDistribution::Ggx ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie;
+  for (int l = 1; l < out.level_count(); ++l) {
+    const double r = schedule_roughness(s.schedule, l, out.level_count());
+    const reference::EnvCube want = reference::prefilter_cube(src, lobe, r, out.level_size(l));
+    const Errors e = level_errors(out, l, want);
+    EXPECT_LE(e.rms, rms_bound) << env.source << " " << env_distribution_name(dist) << " level " << l;
+    EXPECT_LE(e.max, max_bound) << env.source << " " << env_distribution_name(dist) << " level " << l;
+  }
+}
+
+TEST(Prefilter, AgreesWithTheReferenceOnBuiltins) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  for (const char* name : {"studio", "sun"})
+    for (EnvDistribution d : {EnvDistribution::Ggx, EnvDistribution::Charlie})
+      expect_reference_agreement(*dev, builtin_environment(name, 256), d, EnvEstimator::Quadrature, 0,
+                                 test::kEnvPrefilterRms, test::kEnvPrefilterMax);
+}
+
+TEST(Prefilter, AgreesWithTheReferenceOnARealMap) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const std::string file = shared_envmap("derived/venice_sunset_256x128_derived.hdr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no shared envmaps at " << BRDFBAKE_SHARED_DIR << " (" << file << ")";
+  const EnvImage env = load_environment(file);
+  for (EnvDistribution d : {EnvDistribution::Ggx, EnvDistribution::Charlie})
+    expect_reference_agreement(*dev, env, d, EnvEstimator::Quadrature, 0, test::kEnvPrefilterRms,
+                               test::kEnvPrefilterMax);
+  // the sampling estimator converges to the same values at a high sample count
+  expect_reference_agreement(*dev, env, EnvDistribution::Ggx, EnvEstimator::Sampling, 4096,
+                             test::kEnvSamplingRms, test::kEnvSamplingMax);
+}
+
+// A single bright texel spreads into the lobe the reference predicts, whether it is summed
+// exactly (environment sampling) or left in the pyramid.
+TEST(Prefilter, BrightTexelSpreadsIntoTheLobe) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  CubeLevels source = constant_cube(16, 0.0f);
+  float* t = source.texel(0, 4, 6, 9);
+  t[0] = t[1] = t[2] = 1e4f;
+  EXPECT_EQ(find_bright_texels(source, 16).size(), 1u);
+  const reference::EnvCube src = to_reference(source);
+  for (int bright : {-1, 0})
+    for (EnvEstimator est : {EnvEstimator::Quadrature, EnvEstimator::Sampling}) {
+      // sampling without environment sampling is the firefly case that environment sampling
+      // exists for (bench/prefilter_bench measures it)
+      if (est == EnvEstimator::Sampling && bright == 0) continue;
+      PrefilterSpec s;
+      s.size = 16;
+      s.min_size = 4;
+      s.bright_texels = bright;
+      s.estimator = est;
+      if (est == EnvEstimator::Sampling) s.samples = 4096;
+      const CubeLevels out = prefilter_cube(*dev, source, s);
+      for (int l = 1; l < out.level_count(); ++l) {
+        const reference::EnvCube want = reference::prefilter_cube(
+            src, reference::EnvLobe::Ggx, schedule_roughness(s.schedule, l, out.level_count()), out.level_size(l));
+        // where the lobe holds the texel's light (above 5% of the brightest value: nearer the
+        // horizon, the pyramid's box texel and the reference's bilinear tent differ at first order
+        // on a source this coarse)
+        double peak = 0, worst = 0;
+        for (double v : want.rgb) peak = std::max(peak, v);
+        for (size_t k = 0; k < want.rgb.size() / 3; ++k) {
+          const double w = want.rgb[3 * k];
+          if (w < 5e-2 * peak) continue;
+          worst = std::max(worst, std::fabs(double(out.levels[size_t(l)][4 * k]) - w) / w);
+        }
+        EXPECT_LE(worst, test::kEnvPrefilterMax) << "level " << l << " bright " << bright << " " << env_estimator_name(est);
+      }
+    }
+}
+
+TEST(Prefilter, HugeValuesStayFinite) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  CubeLevels source = constant_cube(8, 1e6f);
+  float* t = source.texel(0, 2, 3, 3);
+  t[0] = t[1] = t[2] = 3e7f;
+  for (EnvDistribution d : {EnvDistribution::Ggx, EnvDistribution::Charlie}) {
+    PrefilterSpec s;
+    s.size = 8;
+    s.min_size = 1;
+    s.distribution = d;
+    const CubeLevels out = prefilter_cube(*dev, source, s);
+    expect_all_finite(out);
+    for (int l = 1; l < out.level_count(); ++l)
+      for (size_t k = 0; k < out.levels[size_t(l)].size(); k += 4) ASSERT_GE(out.levels[size_t(l)][k], 0.9e6f);
+  }
+}
+
+TEST(Prefilter, OddAndTinySizes) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const EnvImage env = constant_equirect(32, 1.0f, 2.0f, 3.0f);
+  struct Case {
+    int size, min_size, levels;
+  };
+  for (const Case c : {Case{1, 1, 1}, Case{2, 1, 2}, Case{24, 6, 3}, Case{48, 16, 2}, Case{5, 1, 3}}) {
+    PrefilterSpec s;
+    s.size = c.size;
+    s.min_size = c.min_size;
+    const CubeLevels out = prefilter_environment(*dev, env, s);
+    ASSERT_EQ(out.level_count(), c.levels) << c.size;
+    for (int l = 0; l < out.level_count(); ++l) {
+      ASSERT_EQ(out.levels[size_t(l)].size(), 24u * size_t(out.level_size(l)) * size_t(out.level_size(l)));
+      for (size_t k = 0; k < out.levels[size_t(l)].size(); k += 4)
+        ASSERT_NEAR(out.levels[size_t(l)][k + 1], 2.0f, 2.0 * test::kEnvFurnace) << c.size << " level " << l;
+    }
+  }
+  PrefilterSpec bad;
+  bad.size = 0;
+  EXPECT_THROW(resolve_prefilter_spec(bad), Error);
+  bad.size = 16;
+  bad.min_size = 32;
+  EXPECT_THROW(resolve_prefilter_spec(bad), Error);
+}
+
+TEST(Prefilter, SchedulesAndTheirInverse) {
+  for (RoughnessSchedule s : {RoughnessSchedule::Linear, RoughnessSchedule::Filament, RoughnessSchedule::Sqrt})
+    for (int levels : {2, 5, 9})
+      for (int l = 0; l < levels; ++l) {
+        const double r = schedule_roughness(s, l, levels);
+        EXPECT_GE(r, 0.0);
+        EXPECT_LE(r, 1.0);
+        EXPECT_NEAR(schedule_lod(s, r, levels), l, 1e-12) << roughness_schedule_name(s);
+      }
+  EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Linear, 1, 5), 0.25);
+  EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Filament, 1, 5), 1.0 - std::sqrt(0.75));
+  EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Sqrt, 1, 5), 0.0625);
+}
+
+TEST(Prefilter, MaxErrorChoosesPerLevel) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), 16);
+  PrefilterSpec s;
+  s.size = 16;
+  s.min_size = 4;
+  s.max_error = 0.01;
+  const CubeLevels q = prefilter_cube(*dev, source, s);
+  EXPECT_NE(q.meta("refinement_per_level"), "");
+  EXPECT_NE(q.meta("max_error"), "");
+  s.estimator = EnvEstimator::Sampling;
+  const CubeLevels m = prefilter_cube(*dev, source, s);
+  EXPECT_NE(m.meta("samples_per_level"), "");
+}
+
+// OrientationLatLong.exr (OpenEXR's chart) draws, at the four horizon views, short black lines
+// towards the positive axes: from +X towards +Z, from +Z towards +X, from -X towards +Z, from -Z
+// towards +X, and from each view up towards +Y. The cube converted on the device must be black
+// 5 degrees along each line, and not black (white, or the chart's light blue text) 5 degrees the
+// other way along the horizon.
+TEST(Prefilter, EquirectOrientationChart) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const std::string file = shared_envmap("OrientationLatLong.exr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no shared envmaps at " << BRDFBAKE_SHARED_DIR << " (" << file << ")";
+  const CubeLevels cube = environment_to_cube(*dev, load_environment(file), 256);
+  const int n = cube.size;
+  // the darkest luminance within one texel of the direction
+  auto darkest = [&](double x, double y, double z) {
+    int face = 0;
+    double a = 0, b = 0;
+    reference::cube_face_coords({x, y, z}, face, a, b);
+    const int ci = std::clamp(int(std::floor(0.5 * (a + 1) * n)), 0, n - 1);
+    const int cj = std::clamp(int(std::floor(0.5 * (b + 1) * n)), 0, n - 1);
+    double lum = 1e9;
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const float* t = cube.texel(0, face, std::clamp(ci + di, 0, n - 1), std::clamp(cj + dj, 0, n - 1));
+        lum = std::min(lum, (double(t[0]) + double(t[1]) + double(t[2])) / 3.0);
+      }
+    return lum;
+  };
+  const double c = std::cos(5.0 * M_PI / 180.0), s = std::sin(5.0 * M_PI / 180.0);
+  struct Probe {
+    const char* what;
+    double x, y, z;
+    bool dark;
+  };
+  const Probe probes[] = {
+      {"+X towards +Z", c, 0, s, true},   {"+X towards -Z", c, 0, -s, false}, {"+Z towards +X", s, 0, c, true},
+      {"+Z towards -X", -s, 0, c, false}, {"-X towards +Z", -c, 0, s, true},  {"-X towards -Z", -c, 0, -s, false},
+      {"-Z towards +X", s, 0, -c, true},  {"-Z towards -X", -s, 0, -c, false}, {"+X up", c, s, 0, true},
+      {"+Z up", 0, s, c, true},           {"-X up", -c, s, 0, true},          {"-Z up", 0, s, -c, true},
+  };
+  for (const Probe& p : probes) {
+    const double lum = darkest(p.x, p.y, p.z);
+    if (p.dark) EXPECT_LT(lum, 0.3) << p.what;
+    else EXPECT_GT(lum, 0.5) << p.what;
+  }
+}
+
+}  // namespace
+}  // namespace brdfbake

@@ -1,0 +1,209 @@
+// brdfbake prefilter and brdfbake irradiance, run as a user runs them: every output container,
+// exit codes, one-line errors, and no partial output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/ktx2.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+CliRun run(const std::string& args) {
+  static int counter = 0;
+  const fs::path err_file = fs::temp_directory_path() /
+                            ("brdfbake-clienv-err-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_file);
+  std::stringstream s;
+  s << e.rdbuf();
+  r.err = s.str();
+  fs::remove(err_file);
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("brdfbake-clienv-" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+size_t entries(const fs::path& dir) {
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    (void)e;
+    ++n;
+  }
+  return n;
+}
+
+// non-zero exit, one line on stderr naming the problem, nothing written in `dir`
+void expect_clean_failure(const std::string& args, const fs::path& dir, const std::string& needle, int code = 2) {
+  const size_t before = entries(dir);
+  const CliRun r = run(args + " --quiet");
+  EXPECT_EQ(r.code, code) << args << " -> " << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << " -> " << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << args << " -> " << r.err;
+  EXPECT_EQ(entries(dir), before) << args << ": something was left behind";
+}
+
+void write_exr(const fs::path& p, int w, int h, const std::vector<float>& rgb) {
+  auto out = OIIO::ImageOutput::create(p.string());
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  out->open(p.string(), spec);
+  out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
+  out->close();
+}
+
+// A small equirect with some structure (cheaper to load than a builtin at 1024 x 512).
+fs::path small_environment(const fs::path& dir) {
+  std::vector<float> rgb;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) rgb.insert(rgb.end(), {1.0f + float(x) / 16.0f, 0.5f + float(y) / 8.0f, x == 20 && y == 9 ? 500.0f : 1.0f});
+  write_exr(dir / "small.exr", 64, 32, rgb);
+  return dir / "small.exr";
+}
+
+TEST(CliEnv, PrefilterEveryContainer) {
+  const fs::path dir = temp_dir("containers");
+  const fs::path inputs = temp_dir("containers-in");
+  const std::string base = "prefilter --env " + small_environment(inputs).string() + " --size 8 --min-size 2 --quiet ";
+  {
+    const CliRun r = run(base + "-o " + (dir / "c.ktx2").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const brdfbake::io::Ktx2Image k = brdfbake::io::read_ktx2((dir / "c.ktx2").string());
+    EXPECT_EQ(k.faces, 6u);
+    EXPECT_EQ(k.levels, 3u);
+    EXPECT_EQ(k.vk_format, brdfbake::io::kVkFormatR16G16B16A16Sfloat);
+    std::string lod, def;
+    for (const auto& [key, value] : k.key_values) {
+      if (key == "brdfbake:lod_from_roughness") lod = value;
+      if (key == "brdfbake:definition") def = value;
+    }
+    EXPECT_EQ(lod, "lod = (levels - 1) * roughness (levels = 3)");
+    EXPECT_NE(def.find("n = v = R"), std::string::npos);
+  }
+  for (const std::string& args : std::vector<std::string>{"--pixel f32 --distribution charlie --schedule sqrt -o " + (dir / "c32.ktx2").string(),
+                                  "-o " + (dir / "c.ktx").string(), "-o " + (dir / "c.dds").string(),
+                                  "--dds-legacy -o " + (dir / "legacy.dds").string(),
+                                  "--estimator sampling --samples 64 -o " + (dir / "s.ktx2").string(),
+                                  "--max-error 0.02 -o " + (dir / "m.ktx2").string(),
+                                  "--layout cross --image-format hdr -o " + (dir / "cross").string() + "/",
+                                  "--layout equirect -o " + (dir / "eq").string() + "/",
+                                  "-o " + (dir / "faces").string() + "/"}) {
+    const CliRun r = run(base + args);
+    EXPECT_EQ(r.code, 0) << args << ": " << r.err;
+  }
+  EXPECT_TRUE(fs::exists(dir / "c.dds.json"));
+  EXPECT_TRUE(fs::exists(dir / "cross" / "level2.hdr"));
+  EXPECT_TRUE(fs::exists(dir / "eq" / "level0.exr"));
+  EXPECT_TRUE(fs::exists(dir / "faces" / "level1_nz.exr"));
+  EXPECT_TRUE(fs::exists(dir / "faces" / "level.json"));
+  // without --quiet: a summary line (the progress line shows on terminals only)
+  const CliRun loud = run("prefilter --env builtin:sun --size 8 --min-size 4 -o " + (dir / "loud.ktx2").string());
+  EXPECT_EQ(loud.code, 0) << loud.err;
+  EXPECT_NE(loud.err.find("ggx, 2 levels 8^2 -> 4^2, linear schedule (lod = (levels - 1) * roughness"),
+            std::string::npos)
+      << loud.err;
+  fs::remove_all(dir);
+  fs::remove_all(inputs);
+}
+
+TEST(CliEnv, Irradiance) {
+  const fs::path dir = temp_dir("irradiance");
+  const CliRun sh = run("irradiance --env builtin:sun --sh 5 --sh-window hanning --source-size 16 --quiet -o " +
+                        (dir / "sh.json").string());
+  ASSERT_EQ(sh.code, 0) << sh.err;
+  const auto j = nlohmann::json::parse(std::ifstream(dir / "sh.json"));
+  EXPECT_EQ(j["coefficients"], 25);
+  EXPECT_EQ(j["window"], "hanning");
+  const CliRun cube = run("irradiance --env builtin:studio --cube 4 --source-size 16 --quiet -o " +
+                          (dir / "irr.ktx2").string() + " --sh-json " + (dir / "irr.json").string());
+  ASSERT_EQ(cube.code, 0) << cube.err;
+  const brdfbake::io::Ktx2Image k = brdfbake::io::read_ktx2((dir / "irr.ktx2").string());
+  EXPECT_EQ(k.width, 4u);
+  EXPECT_EQ(k.levels, 1u);
+  EXPECT_TRUE(fs::exists(dir / "irr.json"));
+  fs::remove_all(dir);
+}
+
+TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
+  const fs::path dir = temp_dir("bad");
+  const std::string out = " -o " + (dir / "x.ktx2").string();
+  expect_clean_failure("prefilter" + out, dir, "missing --env");
+  expect_clean_failure("prefilter --env builtin:studio", dir, "missing -o");
+  expect_clean_failure("prefilter --env builtin:studio --size 0" + out, dir, "--size");
+  expect_clean_failure("prefilter --env builtin:studio --size 16 --min-size 32" + out, dir, "--min-size");
+  expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--size");
+  expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir, "unknown distribution 'phong'");
+  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "unknown schedule 'cubic'");
+  expect_clean_failure("prefilter --env builtin:studio --samples 64" + out, dir, "--estimator sampling");
+  expect_clean_failure("prefilter --env builtin:studio --estimator sampling --samples 0" + out, dir, "--samples");
+  expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--max-error");
+  expect_clean_failure("prefilter --env builtin:moon" + out, dir, "builtin:moon");
+  expect_clean_failure("prefilter --env builtin:studio -o " + (dir / "x.png").string(), dir, "output format");
+  expect_clean_failure("prefilter --env builtin:studio --device no-such-device --size 4 --min-size 4" + out, dir,
+                       "no-such-device");
+  expect_clean_failure("irradiance --env builtin:studio --sh 4 -o " + (dir / "s.json").string(), dir, "--sh");
+  // inputs
+  const fs::path inputs = temp_dir("inputs");
+  write_exr(inputs / "odd.exr", 10, 7, std::vector<float>(210, 1.0f));
+  std::vector<float> nan(3 * 8 * 4, 1.0f);
+  nan[3] = std::numeric_limits<float>::quiet_NaN();
+  nan[7] = -1.0f;
+  write_exr(inputs / "nan.exr", 8, 4, nan);
+  std::ofstream(inputs / "text.hdr") << "not an image";
+  expect_clean_failure("prefilter --env " + (inputs / "odd.exr").string() + out, dir, "2:1");
+  expect_clean_failure("prefilter --env " + (inputs / "nan.exr").string() + out, dir, "1 NaN, 0 infinite and 1 negative");
+  expect_clean_failure("prefilter --env " + (inputs / "text.hdr").string() + out, dir, "cannot read environment");
+  expect_clean_failure("prefilter --env " + (inputs / "missing.hdr").string() + out, dir, "no such file");
+  // --sanitize accepts it and says so
+  const CliRun ok = run("prefilter --env " + (inputs / "nan.exr").string() + " --sanitize --size 4 --min-size 4" + out);
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("sanitized"), std::string::npos) << ok.err;
+  fs::remove(dir / "x.ktx2");
+  // unwritable output: a path through a regular file
+  std::ofstream(dir / "plain") << "x";
+  const CliRun w = run("prefilter --env builtin:studio --size 4 --min-size 4 --quiet -o " + (dir / "plain" / "c.ktx2").string());
+  EXPECT_EQ(w.code, 2);
+  EXPECT_EQ(count_lines(w.err), 1) << w.err;
+  EXPECT_NE(w.err.find("plain/c.ktx2"), std::string::npos) << w.err;
+  EXPECT_EQ(entries(dir), 1u);
+  fs::remove_all(dir);
+  fs::remove_all(inputs);
+}
+
+}  // namespace
