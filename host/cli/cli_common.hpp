@@ -64,6 +64,8 @@ int cmd_irradiance(int argc, char** argv);
 int cmd_fresnel(int argc, char** argv);
 int cmd_eval(int argc, char** argv);
 int cmd_tabulate(int argc, char** argv);
+int cmd_run(int argc, char** argv);
+int cmd_bake(int argc, char** argv);
 
 // Parses, turning cxxopts' exceptions into UsageError with the command's name.
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);

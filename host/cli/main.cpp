@@ -11,6 +11,8 @@ void usage(std::ostream& out) {
   out << "brdfbake " << brdfbake::kVersion << ": physically based BRDF tables on OpenCL devices\n\n"
       << "usage: brdfbake <command> [options]    (brdfbake <command> --help for its options)\n\n"
       << "commands:\n"
+      << "  bake      read a glTF scene and bake the tables its materials call for (the main job)\n"
+      << "  run       run a job file (JSON: the tables to bake, with every parameter)\n"
       << "  devices   list OpenCL platforms and devices\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
       << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
@@ -37,6 +39,8 @@ int main(int argc, char** argv) {
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
     if (command == "eval") return cli::cmd_eval(argc - 1, argv + 1);
     if (command == "tabulate") return cli::cmd_tabulate(argc - 1, argv + 1);
+    if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
+    if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;
@@ -45,7 +49,7 @@ int main(int argc, char** argv) {
       std::cout << "brdfbake " << kVersion << "\n";
       return 0;
     }
-    std::cerr << "brdfbake: unknown command '" << command << "' (expected devices or lut)\n";
+    std::cerr << "brdfbake: unknown command '" << command << "' (see brdfbake --help)\n";
     return cli::kExitUsage;
   } catch (const cli::UsageError& e) {
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";

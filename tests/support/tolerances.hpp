@@ -134,5 +134,4 @@ inline constexpr double kBrdfAlbedoReference = 2e-6;
 // measured 7e-10; the series' nodes carry charlie_albedo's own 1e-9.
 inline constexpr double kSheenAlbedoSeries = 1e-8;
 
-
 }  // namespace brdfbake::test

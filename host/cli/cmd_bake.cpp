@@ -1,0 +1,212 @@
+// brdfbake bake [--scene FILE.gltf|FILE.glb|FILE.json] [--env FILE|builtin:NAME] [-o DIR]
+//               [--dry-run [--json]] [--no-energy-compensation] [...]
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "brdfbake/job.hpp"
+#include "cli_common.hpp"
+
+namespace brdfbake::cli {
+
+namespace {
+
+std::string list_materials(const std::vector<std::string>& m, size_t shown = 4) {
+  std::string s;
+  for (size_t i = 0; i < m.size() && i < shown; ++i) s += (i ? ", " : "") + m[i];
+  if (m.size() > shown) s += " and " + std::to_string(m.size() - shown) + " more";
+  return s;
+}
+
+std::string params_text(const TableRequest& t) {
+  std::string s;
+  for (const auto& p : t.params) {
+    s += (s.empty() ? "" : ", ") + p.name + " ";
+    if (auto b = std::get_if<bool>(&p.value)) s += *b ? "true" : "false";
+    else if (auto d = std::get_if<double>(&p.value)) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%g", *d);
+      s += buf;
+    } else if (auto n = std::get_if<std::string>(&p.value)) s += *n;
+    else {
+      std::string v;
+      for (double x : std::get<std::vector<double>>(p.value)) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", x);
+        v += (v.empty() ? "" : "/") + std::string(buf);
+      }
+      s += v;
+    }
+  }
+  return s;
+}
+
+std::string human_bytes(std::uint64_t b) {
+  char buf[32];
+  if (b >= (1u << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", double(b) / double(1u << 20));
+  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.0f KiB", double(b) / 1024.0);
+  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
+  return buf;
+}
+
+}  // namespace
+
+// The plan, for people: what fired, each table with the rules and materials that asked for it.
+void print_plan(const Plan& plan, std::ostream& out) {
+  const Job& job = plan.job;
+  out << (job.scene.empty() ? std::string("no scene") : "scene " + job.scene) << ", environment " << job.environment
+      << (plan.options.energy_compensation ? ", energy compensation on" : ", energy compensation off") << "\n";
+  for (const auto& n : job.notes) out << "  " << n << "\n";
+  if (!plan.rules_fired.empty()) {
+    out << "rules fired:";
+    for (const auto& r : plan.rules_fired) out << " " << r;
+    out << "\n";
+  }
+  out << job.tables.size() << (job.tables.size() == 1 ? " table" : " tables") << ":\n";
+  for (const auto& t : job.tables) {
+    out << "  " << t.output << "  (" << table_kind_name(t.kind) << ": " << params_text(t) << ")\n";
+    for (const auto& r : t.requested_by) {
+      out << "      " << r.rule << ": " << r.purpose;
+      if (!r.materials.empty()) out << " [" << list_materials(r.materials) << "]";
+      if (!r.note.empty()) out << "; " << r.note;
+      out << "\n";
+    }
+  }
+}
+
+// What a run wrote, for people.
+void print_manifest_summary(const Manifest& m, std::ostream& out) {
+  std::uint64_t total = 0;
+  size_t width = 13;
+  for (const auto& f : m.files) {
+    total += f.bytes;
+    width = std::max(width, f.path.size());
+  }
+  char head[256];
+  std::snprintf(head, sizeof head, "wrote %s: %zu file%s from %d bake%s, %s, in %.1f s\n", m.output_dir.c_str(),
+                m.files.size(), m.files.size() == 1 ? "" : "s", m.bakes, m.bakes == 1 ? "" : "s",
+                human_bytes(total).c_str(), m.seconds);
+  out << head;
+  for (const auto& f : m.files) {
+    std::string bound = "error bound not measured";
+    if (f.error_bound) {
+      char b[64];
+      std::snprintf(b, sizeof b, "error bound %.2g", *f.error_bound);
+      bound = b;
+    }
+    if (!f.materials.empty())
+      bound += ", " + std::to_string(f.materials.size()) + (f.materials.size() == 1 ? " material" : " materials");
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-*s  %-16s %9s  %s\n", int(width), f.path.c_str(), table_kind_name(f.kind),
+                  human_bytes(f.bytes).c_str(), bound.c_str());
+    out << line;
+  }
+  out << "  manifest.json\n";
+}
+
+int cmd_bake(int argc, char** argv) {
+  cxxopts::Options options("brdfbake bake",
+                           "Read a glTF scene's materials and bake the tables they call for (docs/SCENES.md)");
+  options.add_options()
+      ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
+      ("env", "environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun", cxxopts::value<std::string>()->default_value("builtin:studio"))
+      ("o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))
+      ("dry-run", "print the plan and bake nothing")
+      ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
+      ("no-energy-compensation", "bake the ggx DFG table instead of ggx-multiscatter")
+      ("lut-size", "DFG tables: cells along n_dot_v and roughness", cxxopts::value<std::string>()->default_value("128"))
+      ("cube-size", "prefiltered chains: face size of level 0", cxxopts::value<std::string>()->default_value("256"))
+      ("min-size", "prefiltered chains: face size of the smallest level", cxxopts::value<std::string>()->default_value("16"))
+      ("prefilter-max-error", "prefiltered chains: refine each level until successive refinements differ by less (RMS); 0: fixed refinement, no measured bound", cxxopts::value<std::string>()->default_value("0.01"))
+      ("fresnel-size", "Fresnel tables: cells along cos_theta", cxxopts::value<std::string>()->default_value("256"))
+      ("sh", "irradiance: SH bands, 3 or 5", cxxopts::value<std::string>()->default_value("3"))
+      ("sheen-visibility", "the Charlie DFG table's visibility: estevez-kulla | neubelt", cxxopts::value<std::string>()->default_value("estevez-kulla"))
+      ("table-format", "1-D and 2-D tables: exr | png | hdr | ktx2 | csv | h", cxxopts::value<std::string>()->default_value("exr"))
+      ("cube-format", "prefiltered chains: ktx2 | ktx | dds", cxxopts::value<std::string>()->default_value("ktx2"))
+      ("pixel", "f16 | f32 for .ktx2, .h and cube containers", cxxopts::value<std::string>()->default_value("f16"))
+      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
+      ("device", "P:D, cpu, gpu or a name substring", cxxopts::value<std::string>()->default_value(""))
+      ("quiet", "no plan, progress or summary")
+      ("h,help", "this help");
+  const auto r = parse(options, argc, argv);
+  if (r.count("help")) {
+    std::cout << options.help() << "\n";
+    return 0;
+  }
+  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  const bool dry_run = r.count("dry-run") > 0;
+  const bool as_json = r.count("json") > 0;
+  if (as_json && !dry_run) throw UsageError("--json prints the plan: it goes with --dry-run");
+  const bool quiet = r.count("quiet") > 0;
+
+  PlanOptions o;
+  o.environment = r["env"].as<std::string>();
+  if (o.environment.empty()) throw UsageError("--env must not be empty");
+  o.energy_compensation = r.count("no-energy-compensation") == 0;
+  auto positive = [&](const std::string& name) {
+    const int v = integer(r, name);
+    if (v < 1) throw UsageError("--" + name + " must be at least 1 (got " + std::to_string(v) + ")");
+    return v;
+  };
+  o.lut_size = positive("lut-size");
+  o.cube_size = positive("cube-size");
+  o.cube_min_size = positive("min-size");
+  if (o.cube_min_size > o.cube_size) throw UsageError("--min-size must be at most --cube-size");
+  o.fresnel_size = positive("fresnel-size");
+  o.prefilter_max_error = finite_number(r, "prefilter-max-error");
+  if (o.prefilter_max_error < 0 || o.prefilter_max_error > 1)
+    throw UsageError("--prefilter-max-error must be in [0, 1] (0: not measured)");
+  o.sh_order = integer(r, "sh");
+  if (o.sh_order != 3 && o.sh_order != 5) throw UsageError("--sh must be 3 or 5 (got " + std::to_string(o.sh_order) + ")");
+  o.sheen_visibility = r["sheen-visibility"].as<std::string>();
+  if (o.sheen_visibility != "estevez-kulla" && o.sheen_visibility != "neubelt")
+    throw UsageError("--sheen-visibility must be estevez-kulla or neubelt (got '" + o.sheen_visibility + "')");
+  o.table_format = r["table-format"].as<std::string>();
+  o.cube_format = r["cube-format"].as<std::string>();
+  if (o.cube_format != "ktx2" && o.cube_format != "ktx" && o.cube_format != "dds")
+    throw UsageError("--cube-format must be ktx2, ktx or dds (got '" + o.cube_format + "')");
+  o.pixel = r["pixel"].as<std::string>();
+  if (o.pixel != "f16" && o.pixel != "f32") throw UsageError("--pixel must be f16 or f32 (got '" + o.pixel + "')");
+  o.precision = precision_from_name(r["precision"].as<std::string>());
+  o.device = r["device"].as<std::string>();
+
+  Plan plan;
+  if (r.count("scene")) {
+    const Scene scene = read_scene(r["scene"].as<std::string>());
+    plan = plan_scene(scene, o);
+  } else {
+    plan = plan_default(o);
+  }
+  plan.job.output_dir = r["output"].as<std::string>();
+  if (plan.job.output_dir.empty()) throw UsageError("-o must name a folder");
+
+  if (!quiet || as_json)
+    for (const auto& w : plan.job.warnings) std::cerr << "warning: " << w << "\n";
+  if (dry_run) {
+    if (as_json) std::cout << plan_to_json(plan);
+    else print_plan(plan, std::cout);
+    return 0;
+  }
+  if (!quiet) print_plan(plan, std::cout);
+  std::cout.flush();
+
+  ProgressLine line(quiet);
+  auto progress = [&](const JobEvent& e) {
+    std::string what = "[" + std::to_string(e.bake + 1) + "/" + std::to_string(e.bakes) + "] " + e.what;
+    what.resize(std::max<size_t>(what.size(), 56), ' ');  // overwrite a longer previous line
+    line.update(what, e.fraction);
+  };
+  Manifest manifest;
+  try {
+    manifest = run_job(plan.job, progress);
+  } catch (const NotAvailableError& e) {
+    line.finish();
+    std::cerr << "brdfbake bake: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  line.finish();
+  if (!quiet) print_manifest_summary(manifest, std::cout);
+  return 0;
+}
+
+}  // namespace brdfbake::cli

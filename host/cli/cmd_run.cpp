@@ -1,0 +1,58 @@
+// brdfbake run JOB.json [-o DIR] [--dry-run] [--quiet]
+#include <iostream>
+
+#include "brdfbake/job.hpp"
+#include "cli_common.hpp"
+
+namespace brdfbake::cli {
+
+// cmd_bake.cpp
+void print_manifest_summary(const Manifest& m, std::ostream& out);
+
+int cmd_run(int argc, char** argv) {
+  cxxopts::Options options("brdfbake run", "Run a job: bake every table it lists (docs/SCENES.md, \"Jobs\")");
+  options.add_options()
+      ("job", "the job file (JSON)", cxxopts::value<std::string>())
+      ("o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())
+      ("dry-run", "check the job and print it with every default filled in; bake nothing")
+      ("quiet", "no progress or summary")
+      ("h,help", "this help");
+  options.parse_positional({"job"});
+  options.positional_help("JOB.json");
+  const auto r = parse(options, argc, argv);
+  if (r.count("help")) {
+    std::cout << options.help() << "\n";
+    return 0;
+  }
+  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (!r.count("job")) throw UsageError("missing the job file (brdfbake run JOB.json)");
+  const bool quiet = r.count("quiet") > 0;
+
+  Job job = read_job(r["job"].as<std::string>());
+  if (r.count("output")) job.output_dir = r["output"].as<std::string>();
+  if (r.count("dry-run")) {
+    std::cout << job_to_json(job);
+    return 0;
+  }
+  if (job.output_dir.empty()) throw UsageError("the job has no output_dir: give -o DIR");
+
+  ProgressLine line(quiet);
+  auto progress = [&](const JobEvent& e) {
+    std::string what = "[" + std::to_string(e.bake + 1) + "/" + std::to_string(e.bakes) + "] " + e.what;
+    what.resize(std::max<size_t>(what.size(), 56), ' ');
+    line.update(what, e.fraction);
+  };
+  Manifest manifest;
+  try {
+    manifest = run_job(job, progress);
+  } catch (const NotAvailableError& e) {
+    line.finish();
+    std::cerr << "brdfbake run: " << e.what() << "\n";
+    return kExitFailure;
+  }
+  line.finish();
+  if (!quiet) print_manifest_summary(manifest, std::cout);
+  return 0;
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,499 @@
+// The rules that turn a scene's materials into the tables they call for (docs/SCENES.md states each
+// rule, what it bakes and why). Every table of the plan records the rules and the materials that
+// asked for it; a table asked for twice (by two materials, or two rules) is listed once.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "brdfbake/job.hpp"
+
+namespace brdfbake {
+
+namespace {
+
+std::string num(double v, const char* f = "%.6g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+double max3(const Rgb3& c) { return std::max(c[0], std::max(c[1], c[2])); }
+
+// The rule names, in the order they are applied and listed.
+constexpr const char* kUnlit = "KHR_materials_unlit";
+constexpr const char* kEmissiveOnly = "emissive-only";
+constexpr const char* kCore = "metallic-roughness";
+constexpr const char* kClearcoat = "KHR_materials_clearcoat";
+constexpr const char* kSheen = "KHR_materials_sheen";
+constexpr const char* kAnisotropy = "KHR_materials_anisotropy";
+constexpr const char* kIor = "KHR_materials_ior";
+constexpr const char* kSpecular = "KHR_materials_specular";
+constexpr const char* kDispersion = "KHR_materials_dispersion";
+constexpr const char* kTransmission = "KHR_materials_transmission";
+constexpr const char* kVolume = "KHR_materials_volume";
+constexpr const char* kIridescence = "KHR_materials_iridescence";
+const char* const kRuleOrder[] = {kUnlit,    kEmissiveOnly, kCore,       kClearcoat,   kSheen,   kAnisotropy,
+                                  kIor,      kSpecular,     kDispersion, kTransmission, kVolume, kIridescence};
+
+class Planner {
+ public:
+  explicit Planner(const PlanOptions& o) : o_(o) {
+    plan_.options = o;
+    plan_.job.environment = o.environment;
+    plan_.job.device = o.device;
+    plan_.job.precision = o.precision;
+    plan_.job.source = "bake plan";
+  }
+
+  Plan& plan() { return plan_; }
+
+  // Adds `t` (or finds the identical table already planned) and records who asked for it.
+  void ask(TableRequest t, const std::string& rule, const std::string& purpose, const std::string& material) {
+    t.precision = o_.precision;
+    t.pixel = o_.pixel;
+    const std::string key = key_of(t);
+    auto it = index_.find(key);
+    size_t at;
+    if (it == index_.end()) {
+      at = plan_.job.tables.size();
+      index_[key] = at;
+      plan_.job.tables.push_back(std::move(t));
+    } else {
+      at = it->second;
+    }
+    auto& reqs = plan_.job.tables[at].requested_by;
+    auto r = std::find_if(reqs.begin(), reqs.end(),
+                          [&](const Request& q) { return q.rule == rule && q.purpose == purpose; });
+    if (r == reqs.end()) {
+      reqs.push_back({rule, purpose, {}, {}});
+      r = reqs.end() - 1;
+    }
+    if (!material.empty() && std::find(r->materials.begin(), r->materials.end(), material) == r->materials.end())
+      r->materials.push_back(material);
+    fired(rule);
+  }
+
+  void fired(const std::string& rule) { fired_.insert(rule); }
+
+  // Sets the note of every request of `rule` (e.g. a roughness range).
+  void note_rule(const std::string& rule, const std::string& note) {
+    for (auto& t : plan_.job.tables)
+      for (auto& r : t.requested_by)
+        if (r.rule == rule) r.note = note;
+  }
+
+  void finish() {
+    for (const char* rule : kRuleOrder)
+      if (fired_.count(rule)) plan_.rules_fired.push_back(rule);
+    validate_job(plan_.job);  // fills defaults, canonical parameter order and output names
+  }
+
+  // ---- the tables ----
+  TableRequest dfg(TableKind kind, const std::string& visibility = {}) const {
+    TableRequest t;
+    t.kind = kind;
+    t.params.push_back({"size", double(o_.lut_size)});
+    if (kind == TableKind::Charlie) t.params.push_back({"sheen_visibility", visibility});
+    t.format = o_.table_format;
+    return t;
+  }
+  TableRequest specular_dfg() const {
+    return dfg(o_.energy_compensation ? TableKind::GgxMultiscatter : TableKind::Ggx);
+  }
+  TableRequest prefilter(const std::string& distribution) const {
+    TableRequest t;
+    t.kind = TableKind::Prefilter;
+    t.params.push_back({"distribution", distribution});
+    t.params.push_back({"size", double(o_.cube_size)});
+    t.params.push_back({"min_size", double(std::min(o_.cube_min_size, o_.cube_size))});
+    if (o_.prefilter_max_error > 0) t.params.push_back({"max_error", o_.prefilter_max_error});
+    t.format = o_.cube_format;
+    return t;
+  }
+  TableRequest irradiance() const {
+    TableRequest t;
+    t.kind = TableKind::Irradiance;
+    t.params.push_back({"sh_order", double(o_.sh_order)});
+    t.format = "json";
+    return t;
+  }
+  TableRequest fresnel(const std::string& model, const std::vector<double>& ior, double ior_outside,
+                       bool vs_exact) const {
+    TableRequest t;
+    t.kind = TableKind::Fresnel;
+    t.params.push_back({"model", model});
+    if (ior.size() == 1) t.params.push_back({"ior", ior[0]});
+    else t.params.push_back({"ior", ior});
+    if (ior_outside != 1.0) t.params.push_back({"ior_outside", ior_outside});
+    t.params.push_back({"size", double(o_.fresnel_size)});
+    if (vs_exact) t.params.push_back({"vs_exact", true});
+    // The error columns make six channels: CSV (or a C header) holds them, images do not.
+    t.format = vs_exact ? (o_.table_format == "h" ? "h" : "csv") : o_.table_format;
+    return t;
+  }
+  TableRequest thin_film(double film_ior, const std::string& base_key, const ParamValue& base, double lo,
+                         double hi) const {
+    TableRequest t;
+    t.kind = TableKind::ThinFilm;
+    t.params.push_back({"film_ior", film_ior});
+    t.params.push_back({base_key, base});
+    t.params.push_back({"thickness_min", lo});
+    t.params.push_back({"thickness_max", hi});
+    t.params.push_back({"size", double(o_.thin_film_size)});
+    t.params.push_back({"height", double(hi > lo ? o_.thin_film_size : 1)});
+    t.format = o_.table_format;
+    return t;
+  }
+
+ private:
+  static std::string key_of(const TableRequest& t) {
+    std::string k = table_kind_name(t.kind);
+    for (const auto& p : t.params) {
+      k += "|" + p.name + "=";
+      if (auto b = std::get_if<bool>(&p.value)) k += *b ? "true" : "false";
+      else if (auto d = std::get_if<double>(&p.value)) k += num(*d, "%.9g");
+      else if (auto s = std::get_if<std::string>(&p.value)) k += *s;
+      else
+        for (double v : std::get<std::vector<double>>(p.value)) k += num(v, "%.9g") + ",";
+    }
+    return k;
+  }
+
+  PlanOptions o_;
+  Plan plan_;
+  std::map<std::string, size_t> index_;
+  std::set<std::string> fired_;
+};
+
+// A range of values over the materials a rule fired for.
+struct Range {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  void add(double a, double b) {
+    lo = std::min(lo, a);
+    hi = std::max(hi, b);
+  }
+  bool empty() const { return lo > hi; }
+  std::string text() const { return lo == hi ? num(lo, "%.3g") : num(lo, "%.3g") + " to " + num(hi, "%.3g"); }
+};
+
+// IORs are compared and named at 6 significant digits (glTF files store float32: 1.33 is
+// 1.3300000429153442), so that the same index in two materials is one table.
+double round_ior(double v) { return std::stod(num(v, "%.6g")); }
+
+// The IOR of each colour channel: one value, or three with KHR_materials_dispersion (the
+// extension's own implementation note: half the spread F-C on either side of n_d, red lowest,
+// clamped at 1).
+std::vector<double> channel_iors(const SceneMaterial& m, bool dispersion) {
+  const double n = m.ior;
+  if (!dispersion) return {round_ior(n)};
+  const double half_spread = (n - 1.0) * 0.025 * m.dispersion;
+  return {round_ior(std::max(1.0, n - half_spread)), round_ior(n), round_ior(n + half_spread)};
+}
+
+std::string ior_text(const std::vector<double>& iors) {
+  std::string s;
+  for (size_t i = 0; i < iors.size(); ++i) s += (i ? "/" : "") + num(iors[i]);
+  return s;
+}
+
+bool dispersion_fires(const SceneMaterial& m) {
+  return m.dispersion_ext && m.dispersion > 0 && m.transmission > 0 && m.volume_ext &&
+         (m.thickness > 0) && m.ior != 1.0 && m.ior != 0.0;
+}
+
+// Whether the material emits light and reflects nothing the renderer's IBL would add: a black base
+// colour (factor 0: a texture is multiplied by it) and no lobe extension of its own.
+bool emissive_only(const SceneMaterial& m) {
+  const bool emits = max3(m.emissive) > 0 && m.emissive_strength > 0;
+  const bool black = max3(m.base_color) == 0;
+  const bool lobes = (m.sheen && max3(m.sheen_color) > 0) || m.clearcoat > 0 || m.transmission > 0 ||
+                     m.iridescence > 0;
+  return emits && black && !lobes;
+}
+
+void apply_rules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& clearcoat_range, Range& sheen_range,
+                 Range& anisotropy_range,
+                 std::map<std::pair<double, std::string>, std::pair<Range, std::vector<std::string>>>& films) {
+  const std::string& who = m.label;
+  auto fire = [&](const char* rule) {
+    if (std::find(mp.rules.begin(), mp.rules.end(), rule) == mp.rules.end()) mp.rules.push_back(rule);
+    p.fired(rule);
+  };
+  auto zero = [&](const std::string& ext, const std::string& why) {
+    mp.notes.push_back(ext + ": " + why + ", does not fire");
+  };
+
+  if (m.unlit) {
+    fire(kUnlit);
+    mp.notes.push_back(std::string(kUnlit) + ": shaded by its base colour alone, nothing to bake");
+    return;
+  }
+  if (emissive_only(m)) {
+    fire(kEmissiveOnly);
+    mp.notes.push_back("emissive-only: black base colour and no other lobe, nothing to bake for its emission");
+    return;
+  }
+
+  // metallic-roughness core
+  fire(kCore);
+  p.ask(p.specular_dfg(), kCore, "specular split-sum DFG (F0 scale and F90 bias)", who);
+  p.ask(p.prefilter("ggx"), kCore, "GGX-prefiltered radiance of the specular lobe", who);
+  const bool fully_metallic = m.metallic >= 1.0 && !m.metallic_roughness_texture;
+  const bool fully_transmissive = m.transmission >= 1.0 && !m.transmission_texture;
+  if (!fully_metallic && !fully_transmissive)
+    p.ask(p.irradiance(), kCore, "diffuse irradiance (the material is not fully metallic)", who);
+  else if (!fully_metallic)
+    mp.notes.push_back("fully transmissive (transmissionFactor 1, no texture): no diffuse lobe, no irradiance");
+
+  if (m.clearcoat_ext) {
+    if (m.clearcoat > 0) {
+      fire(kClearcoat);
+      const double lo = m.clearcoat_roughness_texture ? 0.0 : m.clearcoat_roughness;
+      clearcoat_range.add(lo, m.clearcoat_roughness);
+      p.ask(p.specular_dfg(), kClearcoat, "clearcoat layer: GGX DFG at the clearcoat roughness, F0 0.04", who);
+      p.ask(p.prefilter("ggx"), kClearcoat, "clearcoat layer: GGX-prefiltered radiance at the clearcoat roughness",
+            who);
+    } else {
+      zero(kClearcoat, "clearcoatFactor 0");
+    }
+  }
+
+  if (m.sheen) {
+    if (max3(m.sheen_color) > 0) {
+      fire(kSheen);
+      const double lo = m.sheen_roughness_texture ? 0.0 : m.sheen_roughness;
+      sheen_range.add(lo, m.sheen_roughness);
+      p.ask(p.dfg(TableKind::Charlie, p.plan().options.sheen_visibility), kSheen,
+            "sheen DFG: scales the Charlie-prefiltered radiance", who);
+      p.ask(p.dfg(TableKind::Charlie, "estevez-kulla"), kSheen,
+            "sheen albedo E(n.v): the base layer's albedo scaling 1 - max(sheenColor) E", who);
+      p.ask(p.prefilter("charlie"), kSheen, "Charlie-prefiltered radiance of the sheen lobe", who);
+    } else {
+      zero(kSheen, "sheenColorFactor 0");
+    }
+  }
+
+  if (m.anisotropy_ext) {
+    if (m.anisotropy_strength > 0) {
+      fire(kAnisotropy);
+      anisotropy_range.add(m.anisotropy_texture ? 0.0 : m.anisotropy_strength, m.anisotropy_strength);
+      p.ask(p.specular_dfg(), kAnisotropy, "anisotropic GGX through the isotropic DFG (bent normal)", who);
+      p.ask(p.prefilter("ggx"), kAnisotropy,
+            "anisotropic GGX through the isotropic chain: the bent reflection vector", who);
+    } else {
+      zero(kAnisotropy, "anisotropyStrength 0");
+    }
+  }
+
+  // Fresnel tables for the IORs in use.
+  const bool dispersive = dispersion_fires(m);
+  const std::vector<double> iors = channel_iors(m, dispersive);
+  const bool no_reflection = m.ior == 1.0;  // F = 0 everywhere
+  const bool full_reflection = m.ior == 0.0;  // the extension's special value: F = 1
+  auto fresnel_pair = [&](const char* rule, const std::string& why) {
+    p.ask(p.fresnel("dielectric", iors, 1.0, false), rule,
+          "exact dielectric Fresnel at IOR " + ior_text(iors) + why, who);
+    p.ask(p.fresnel("schlick-ior", iors, 1.0, true), rule,
+          "Schlick's approximation at IOR " + ior_text(iors) + " and its error against the exact dielectric", who);
+  };
+  auto trivial_ior_note = [&](const std::string& ext) {
+    if (no_reflection) zero(ext, "ior 1: F = 0 everywhere, no table needed");
+    else if (full_reflection) zero(ext, "ior 0: F = 1 everywhere, no table needed");
+  };
+  if (m.ior_ext) {
+    if (no_reflection || full_reflection) {
+      trivial_ior_note(kIor);
+    } else {
+      fire(kIor);
+      fresnel_pair(kIor, "");
+    }
+  }
+  if (m.specular_ext) {
+    if (m.specular <= 0) zero(kSpecular, "specularFactor 0");
+    else if (max3(m.specular_color) <= 0) zero(kSpecular, "specularColorFactor 0");
+    else if (no_reflection || full_reflection) trivial_ior_note(kSpecular);
+    else {
+      fire(kSpecular);
+      fresnel_pair(kSpecular, ", scaled by specularColor and specularFactor");
+    }
+  }
+  if (m.dispersion_ext) {
+    if (m.dispersion <= 0) zero(kDispersion, "dispersion 0");
+    else if (m.transmission <= 0 || !m.volume_ext || m.thickness <= 0)
+      zero(kDispersion, "no volumetric transmission (it needs transmission and a volume)");
+    else if (no_reflection) zero(kDispersion, "ior 1: no spread, F = 0");
+    else if (full_reflection) zero(kDispersion, "ior 0: F = 1, no refraction");
+    else {
+      fire(kDispersion);
+      fresnel_pair(kDispersion, " (red, green, blue)");
+    }
+  }
+
+  if (m.transmission_ext) {
+    if (m.transmission <= 0) {
+      zero(kTransmission, "transmissionFactor 0");
+      if (m.volume_ext) zero(kVolume, "no transmission");
+    } else {
+      fire(kTransmission);
+      p.ask(p.specular_dfg(), kTransmission, "transmitted fraction 1 - (F0 scale + F90 bias)", who);
+      p.ask(p.prefilter("ggx"), kTransmission,
+            "refracted radiance: the chain sampled along the refracted direction at the IOR-scaled roughness", who);
+      if (no_reflection || full_reflection) {
+        trivial_ior_note(kTransmission);
+      } else {
+        p.ask(p.fresnel("dielectric", iors, 1.0, false), kTransmission,
+              "entering the surface: transmittance 1 - F at IOR " + ior_text(iors), who);
+        if (m.volume_ext && (m.thickness > 0)) {
+          fire(kVolume);
+          if (iors.size() == 1) {
+            p.ask(p.fresnel("dielectric", {1.0}, iors[0], false), kVolume,
+                  "leaving the volume: F from inside (IOR " + num(iors[0]) +
+                      " to air), total internal reflection past the critical angle",
+                  who);
+          } else {
+            // Per channel the relative index is 1 / n (the outside index of a table is one number).
+            std::vector<double> inverse;
+            for (double n : iors) inverse.push_back(round_ior(1.0 / n));
+            p.ask(p.fresnel("dielectric", inverse, 1.0, false), kVolume,
+                  "leaving the volume: F from inside (IOR " + ior_text(iors) +
+                      " to air, as relative indices 1/n), total internal reflection past each channel's critical angle",
+                  who);
+          }
+        } else if (m.volume_ext) {
+          zero(kVolume, "thicknessFactor 0 (thin-walled)");
+        }
+      }
+    }
+  } else if (m.volume_ext) {
+    zero(kVolume, "no KHR_materials_transmission");
+  }
+
+  if (m.iridescence_ext) {
+    // Without a thickness texture the film is iridescenceThicknessMaximum thick.
+    const double lo = m.iridescence_thickness_texture ? m.iridescence_thickness_min : m.iridescence_thickness_max;
+    const double hi = m.iridescence_thickness_max;
+    if (m.iridescence <= 0) {
+      zero(kIridescence, "iridescenceFactor 0");
+    } else if (std::max(lo, hi) <= 0) {
+      zero(kIridescence, "film thickness 0");
+    } else {
+      fire(kIridescence);
+      const double film = round_ior(m.iridescence_ior);
+      auto add = [&](const std::string& base) {
+        auto& f = films[{film, base}];
+        f.first.add(std::min(lo, hi), std::max(lo, hi));
+        if (std::find(f.second.begin(), f.second.end(), who) == f.second.end()) f.second.push_back(who);
+      };
+      if (!fully_metallic) add("base_ior=" + num(m.ior == 0.0 ? 1.5 : round_ior(m.ior)));
+      if (m.metallic > 0 || m.metallic_roughness_texture) {
+        if (m.base_color_texture) {
+          mp.notes.push_back(std::string(kIridescence) +
+                             ": metallic part over a base colour texture: the film over the metal depends on the "
+                             "texel's F0, evaluated at run time (not tabulated)");
+        } else {
+          add("base_f0=" + num(m.base_color[0]) + "," + num(m.base_color[1]) + "," + num(m.base_color[2]));
+        }
+      }
+    }
+  }
+}
+
+MaterialPlan describe(const SceneMaterial& m, bool counted) {
+  MaterialPlan mp;
+  mp.label = m.label;
+  mp.reached_by = m.index < 0                     ? "default"
+                  : m.by_mesh && m.by_variant     ? "mesh+variant"
+                  : m.by_mesh                     ? "mesh"
+                  : m.by_variant                  ? "variant"
+                                                  : "unreferenced";
+  mp.counted = counted;
+  return mp;
+}
+
+}  // namespace
+
+Plan plan_scene(const Scene& scene, const PlanOptions& options) {
+  Planner p(options);
+  p.plan().job.scene = scene.path;
+  p.plan().job.warnings = scene.warnings;
+  Range clearcoat, sheen, anisotropy;
+  std::map<std::pair<double, std::string>, std::pair<Range, std::vector<std::string>>> films;
+
+  std::vector<const SceneMaterial*> all;
+  for (const auto& m : scene.materials) all.push_back(&m);
+  if (scene.default_material) all.push_back(&*scene.default_material);
+  for (const SceneMaterial* m : all) {
+    // A scene with meshes uses what they (and their variants) reach; a file of materials alone
+    // (no meshes) is a material library: every material counts.
+    const bool counted = !scene.has_meshes || m->by_mesh || m->by_variant;
+    MaterialPlan mp = describe(*m, counted);
+    if (counted) apply_rules(p, *m, mp, clearcoat, sheen, anisotropy, films);
+    else mp.notes.push_back("not referenced by any mesh primitive or variant: not planned");
+    p.plan().materials.push_back(std::move(mp));
+  }
+
+  // Thin-film tables: one per (film IOR, base), over the thicknesses its materials span.
+  for (const auto& [key, value] : films) {
+    const auto& [film, base] = key;
+    const Range& r = value.first;
+    const auto eq = base.find('=');
+    const std::string base_key = base.substr(0, eq);
+    ParamValue base_value;
+    if (base_key == "base_ior") {
+      base_value = std::stod(base.substr(eq + 1));
+    } else {
+      std::vector<double> f0;
+      std::string rest = base.substr(eq + 1);
+      size_t at = 0;
+      while (at <= rest.size()) {
+        const size_t comma = rest.find(',', at);
+        f0.push_back(std::stod(rest.substr(at, comma - at)));
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+      }
+      base_value = f0;
+    }
+    const std::string over = base_key == "base_ior" ? "a dielectric base of IOR " + base.substr(eq + 1)
+                                                    : "a metal base of F0 " + base.substr(eq + 1);
+    for (const std::string& who : value.second)
+      p.ask(p.thin_film(film, base_key, base_value, r.lo, r.hi), kIridescence,
+            "thin-film interference Fresnel (Belcour & Barla 2017), film IOR " + num(film) + " over " + over, who);
+  }
+
+  if (!clearcoat.empty()) p.note_rule(kClearcoat, "clearcoat roughness " + clearcoat.text());
+  if (!sheen.empty()) p.note_rule(kSheen, "sheen roughness " + sheen.text());
+  if (!anisotropy.empty())
+    p.note_rule(kAnisotropy, "anisotropy strength " + anisotropy.text() +
+                                 "; the isotropic tables serve (docs/SCENES.md)");
+  p.finish();
+  Plan plan = std::move(p.plan());
+  int counted = 0, variant_only = 0;
+  for (const auto& m : plan.materials) {
+    counted += m.counted;
+    variant_only += m.reached_by == "variant";
+  }
+  plan.job.notes.push_back(std::to_string(counted) + " of " + std::to_string(plan.materials.size()) +
+                           " materials planned" +
+                           (variant_only ? " (" + std::to_string(variant_only) + " reached only through variants)"
+                                         : std::string()));
+  if (plan.job.tables.empty()) plan.job.notes.push_back("no material calls for a table: nothing to bake");
+  return plan;
+}
+
+Plan plan_default(const PlanOptions& options) {
+  Planner p(options);
+  const std::string who;  // no scene: no materials
+  const char* rule = "default";
+  p.ask(p.specular_dfg(), rule, "specular split-sum DFG of metallic-roughness materials", who);
+  p.ask(p.prefilter("ggx"), rule, "GGX-prefiltered radiance of the specular lobe", who);
+  p.ask(p.irradiance(), rule, "diffuse irradiance", who);
+  p.finish();
+  Plan plan = std::move(p.plan());
+  plan.rules_fired = {rule};
+  plan.job.notes.push_back("no scene: the standard set for metallic-roughness materials");
+  return plan;
+}
+
+}  // namespace brdfbake

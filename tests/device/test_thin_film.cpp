@@ -1,0 +1,75 @@
+// The thin-film table on the device against the scalar double reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "brdfbake/reference/thin_film.hpp"
+#include "support/device_fixture.hpp"
+#include "thin_film.hpp"
+
+namespace {
+
+using namespace brdfbake;
+
+// fp32: the phases reach pos * phase ~ 2.2e6 * 2 pi * 4320e-9 ~ 60 rad, where a float keeps
+// 4e-6 rad; the series multiplies that by amplitudes below 1. Measured worst: 6e-7.
+constexpr double kThinFilmFp32 = 1e-5;
+// fp64: rounding of the same arithmetic.
+constexpr double kThinFilmFp64 = 1e-10;
+
+void compare(Device& dev, Precision p, double tolerance) {
+  detail::ThinFilmRequest r;
+  r.film_ior = 1.8;
+  r.base_f0 = reference::Rgb{0.9, 0.5, 0.04};
+  r.thickness_min = 0.0;
+  r.thickness_max = 1200.0;
+  r.width = 33;
+  r.height = 17;
+  r.precision = p;
+  const detail::ThinFilmResult res = detail::bake_thin_film_adapter(&dev, r);
+  const Table& t = res.table;
+  ASSERT_EQ(t.width, 33);
+  ASSERT_EQ(t.height, 17);
+  reference::ThinFilm f;
+  f.film_ior = 1.8;
+  f.base_f0 = *r.base_f0;
+  double worst = 0.0;
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) {
+      const reference::Rgb v = reference::thin_film_fresnel(t.x[size_t(i)], t.y[size_t(j)], f);
+      worst = std::max({worst, std::fabs(double(t.at(i, j, 0)) - v.r), std::fabs(double(t.at(i, j, 1)) - v.g),
+                        std::fabs(double(t.at(i, j, 2)) - v.b)});
+    }
+  // fp64 results are stored as float: allow the storage rounding on top.
+  EXPECT_LT(worst, tolerance + (p == Precision::Fp64 ? 1.2e-7 : 0.0));
+  ASSERT_TRUE(res.error_bound.has_value());
+  EXPECT_LE(*res.error_bound, tolerance + 1.2e-7) << "the measured bound in the metadata";
+}
+
+TEST(ThinFilmDevice, MatchesTheReferenceFp32) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  compare(*dev, Precision::Fp32, kThinFilmFp32);
+}
+
+TEST(ThinFilmDevice, MatchesTheReferenceFp64) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  BRDFBAKE_REQUIRE_FP64(dev);
+  compare(*dev, Precision::Fp64, kThinFilmFp64);
+}
+
+TEST(ThinFilmDevice, DielectricBaseAndOneThickness) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  detail::ThinFilmRequest r;
+  r.base_ior = 1.5;
+  r.thickness_min = r.thickness_max = 400.0;
+  r.width = 8;
+  r.height = 1;
+  const Table t = detail::bake_thin_film_adapter(dev, r).table;
+  EXPECT_EQ(t.y.size(), 1u);
+  EXPECT_DOUBLE_EQ(t.y[0], 400.0);
+  EXPECT_EQ(t.meta("base_ior"), "1.5");
+  const reference::Rgb v = reference::thin_film_fresnel(t.x[3], 400.0, reference::ThinFilm{1.0, 1.3, {0.04, 0.04, 0.04}});
+  EXPECT_NEAR(double(t.at(3, 0, 1)), v.g, kThinFilmFp32);
+}
+
+}  // namespace

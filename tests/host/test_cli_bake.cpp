@@ -1,0 +1,226 @@
+// `brdfbake bake` and `brdfbake run`, run as a user runs them: the plan, what is written, exit
+// codes, one-line errors, nothing half written.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+CliRun run(const std::string& args, const std::string& env = "") {
+  static int counter = 0;
+  const fs::path err_file = fs::temp_directory_path() / ("brdfbake-bake-err-" + std::to_string(::getpid()) + "-" +
+                                                         std::to_string(counter++));
+  const std::string cmd = env + (env.empty() ? "" : " ") + std::string(BRDFBAKE_CLI) + " " + args + " 2>" +
+                          err_file.string();
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_file);
+  std::stringstream s;
+  s << e.rdbuf();
+  r.err = s.str();
+  fs::remove(err_file);
+  return r;
+}
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-bake-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path write_file(const std::string& name, const std::string& bytes) {
+  const fs::path p = temp_dir() / name;
+  std::ofstream(p, std::ios::binary) << bytes;
+  return p;
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Small sizes: the point is the plumbing, not the tables.
+const std::string kSizes = " --lut-size 8 --cube-size 16 --min-size 8 --fresnel-size 16 --prefilter-max-error 0";
+const std::string kSmall = kSizes + " --quiet";
+
+const char* kSheenScene = R"({"asset":{"version":"2.0"},
+  "materials":[{"name":"Velvet","pbrMetallicRoughness":{"metallicFactor":0},
+                "extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0.2,0.2],"sheenRoughnessFactor":0.5}}},
+               {"name":"Chrome","pbrMetallicRoughness":{"metallicFactor":1,"roughnessFactor":0.1}}],
+  "meshes":[{"primitives":[{"attributes":{},"material":0},{"attributes":{},"material":1}]}],
+  "buffers":[{"uri":"missing.bin","byteLength":4}]})";
+
+void expect_clean_failure(const CliRun& r, int code, const std::string& needle, const fs::path& out) {
+  EXPECT_EQ(r.code, code) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << out;
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST(CliBake, DryRunJsonIsThePlan) {
+  const fs::path scene = write_file("sheen.gltf", kSheenScene);
+  const CliRun r = run("bake --scene " + scene.string() + " --dry-run --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning:"), std::string::npos) << "the missing .bin is a warning";
+  const json plan = json::parse(r.out);
+  std::map<std::string, json> by_kind;
+  for (const auto& t : plan["tables"]) by_kind[t["kind"].get<std::string>() + "/" + t.value("distribution", "")] = t;
+  ASSERT_TRUE(by_kind.count("ggx-multiscatter/"));
+  ASSERT_TRUE(by_kind.count("charlie/"));
+  ASSERT_TRUE(by_kind.count("prefilter/ggx"));
+  ASSERT_TRUE(by_kind.count("prefilter/charlie"));
+  ASSERT_TRUE(by_kind.count("irradiance/"));
+  EXPECT_EQ(plan["tables"].size(), 5u);
+  const json& charlie = by_kind["charlie/"];
+  EXPECT_EQ(charlie["requested_by"][0]["rule"], "KHR_materials_sheen");
+  EXPECT_EQ(charlie["materials"], json::array({"#0 Velvet"}));
+  EXPECT_EQ(by_kind["irradiance/"]["materials"], json::array({"#0 Velvet"})) << "Chrome is fully metallic";
+  EXPECT_EQ(by_kind["ggx-multiscatter/"]["materials"], json::array({"#0 Velvet", "#1 Chrome"}));
+  EXPECT_EQ(plan["plan"]["rules_fired"], json::array({"metallic-roughness", "KHR_materials_sheen"}));
+  // Without energy compensation the ggx table replaces ggx-multiscatter.
+  const CliRun off = run("bake --scene " + scene.string() + " --dry-run --json --no-energy-compensation");
+  ASSERT_EQ(off.code, 0);
+  EXPECT_NE(off.out.find("\"kind\": \"ggx\""), std::string::npos);
+  EXPECT_EQ(off.out.find("ggx-multiscatter"), std::string::npos);
+  // The text plan names the rules and materials.
+  const CliRun text = run("bake --scene " + scene.string() + " --dry-run");
+  ASSERT_EQ(text.code, 0);
+  EXPECT_NE(text.out.find("KHR_materials_sheen: sheen DFG"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("[#0 Velvet]"), std::string::npos) << text.out;
+}
+
+TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
+  const fs::path out = temp_dir() / "default";
+  fs::remove_all(out);
+  const CliRun r = run("bake -o " + out.string() + kSizes);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
+  std::ifstream m(out / "manifest.json");
+  const json manifest = json::parse(m);
+  ASSERT_EQ(manifest["files"].size(), 3u);
+  EXPECT_EQ(manifest["files"][0]["kind"], "ggx-multiscatter");
+  fs::remove_all(out);
+}
+
+TEST(CliBake, SceneBakeAndRunOfItsPlanWriteTheSameFiles) {
+  const fs::path scene = write_file("sheen2.gltf", kSheenScene);
+  const fs::path a = temp_dir() / "bake_a";
+  const fs::path b = temp_dir() / "bake_b";
+  fs::remove_all(a);
+  fs::remove_all(b);
+  const CliRun baked = run("bake --scene " + scene.string() + " -o " + a.string() + kSmall);
+  ASSERT_EQ(baked.code, 0) << baked.err;
+  const CliRun plan = run("bake --scene " + scene.string() + " --dry-run --json" + kSmall);
+  ASSERT_EQ(plan.code, 0) << plan.err;
+  const fs::path job = write_file("plan.json", plan.out);
+  const CliRun ran = run("run " + job.string() + " -o " + b.string() + " --quiet");
+  ASSERT_EQ(ran.code, 0) << ran.err;
+  std::set<std::string> files_a, files_b;
+  for (const auto& e : fs::directory_iterator(a)) files_a.insert(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(b)) files_b.insert(e.path().filename().string());
+  EXPECT_EQ(files_a, files_b);
+  EXPECT_EQ(files_a.size(), 6u) << "5 tables and the manifest";
+  std::ifstream m(a / "manifest.json");
+  const json manifest = json::parse(m);
+  for (const auto& f : manifest["files"]) {
+    EXPECT_FALSE(f["requested_by"].empty()) << f["path"];
+    if (f["kind"] == "charlie") {
+      EXPECT_EQ(f["materials"], json::array({"#0 Velvet"}));
+    }
+  }
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+TEST(CliBake, BadInputIsOneLineNonZeroAndNothingWritten) {
+  const fs::path dir = temp_dir() / "bad";
+  fs::create_directories(dir);
+  const fs::path out = dir / "out";
+  const fs::path malformed = write_file("malformed.gltf", "{\"asset\":{\"version\":\"2.0\"},\"materials\":[}");
+  expect_clean_failure(run("bake --scene " + malformed.string() + " -o " + out.string()), 2,
+                       malformed.string() + ": malformed JSON", out);
+  const fs::path truncated = write_file("truncated.glb", std::string("glTF\2\0\0\0\xff\0\0\0", 12) + "{}");
+  expect_clean_failure(run("bake --scene " + truncated.string() + " -o " + out.string()), 2,
+                       truncated.string() + ": truncated GLB", out);
+  const fs::path required = write_file(
+      "required.gltf", R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_magic"],"extensionsRequired":["EXT_magic"]})");
+  expect_clean_failure(run("bake --scene " + required.string() + " -o " + out.string()), 2,
+                       "extensionsRequired[0]: 'EXT_magic'", out);
+  expect_clean_failure(run("bake --scene " + (dir / "none.gltf").string() + " -o " + out.string()), 2, "none.gltf",
+                       out);
+  const fs::path kind = write_file("kind.json", R"({"tables": [{"kind": "phong"}]})");
+  expect_clean_failure(run("run " + kind.string() + " -o " + out.string()), 2,
+                       kind.string() + ": tables[0].kind: unknown table kind 'phong'", out);
+  const fs::path size = write_file("size.json", R"({"tables": [{"kind": "ggx"}, {"kind": "ggx", "size": -8}]})");
+  expect_clean_failure(run("run " + size.string() + " -o " + out.string()), 2,
+                       size.string() + ": tables[1].size: must be an integer", out);
+  const fs::path env = write_file("env.json", R"({"environment": "/no/such.hdr", "tables": [{"kind": "irradiance"}]})");
+  const CliRun e = run("run " + env.string() + " -o " + out.string());
+  EXPECT_NE(e.code, 0);
+  EXPECT_FALSE(fs::exists(out));
+  expect_clean_failure(run("bake --dry-run --json --lut-size 0"), 2, "--lut-size", out);
+  expect_clean_failure(run("bake --json"), 2, "--dry-run", out);
+}
+
+TEST(CliBake, AKindNotAvailableIsNamedAndNothingIsWritten) {
+  const fs::path scene = write_file(
+      "irid.gltf", R"({"asset":{"version":"2.0"},"materials":[{"name":"Film","pbrMetallicRoughness":{"metallicFactor":0},
+        "extensions":{"KHR_materials_iridescence":{"iridescenceFactor":1,"iridescenceIor":1.5}}}]})");
+  const fs::path out = temp_dir() / "irid_out";
+  fs::remove_all(out);
+  // The plan lists the table either way.
+  const CliRun plan = run("bake --scene " + scene.string() + " --dry-run");
+  ASSERT_EQ(plan.code, 0);
+  EXPECT_NE(plan.out.find("thin-film"), std::string::npos) << plan.out;
+  const CliRun r = run("bake --scene " + scene.string() + " -o " + out.string() + kSmall,
+                       "BRDFBAKE_UNAVAILABLE_KINDS=thin-film");
+  expect_clean_failure(r, 1, "not available in this build", out);
+  EXPECT_NE(r.err.find("thin-film"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("KHR_materials_iridescence"), std::string::npos) << r.err;
+}
+
+TEST(CliBake, EveryRealSceneHasAPlan) {
+  const fs::path scenes = fs::path(BRDFBAKE_SHARED_DIR) / "scenes";
+  if (!fs::exists(scenes)) GTEST_SKIP() << scenes.string() << " is missing: the real scenes are not checked";
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(scenes)) {
+    if (e.path().extension() != ".gltf") continue;
+    ++n;
+    const CliRun r = run("bake --scene " + e.path().string() + " --dry-run --json");
+    EXPECT_EQ(r.code, 0) << e.path() << ": " << r.err;
+    EXPECT_TRUE(json::accept(r.out)) << e.path();
+  }
+  EXPECT_EQ(n, 18);
+}
+
+}  // namespace

@@ -1,0 +1,270 @@
+// Jobs: parsing with field-precise errors, defaults and round trips, and the runner: every
+// distinct table baked once, files and manifest.json written all or nothing.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "brdfbake/job.hpp"
+#include "support/device_fixture.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace brdfbake;
+using nlohmann::json;
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path root = fs::temp_directory_path() / ("brdfbake-job-" + std::to_string(::getpid()));
+  fs::create_directories(root);
+  const fs::path d = root / name;
+  fs::remove_all(d);
+  return d;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_job(text, "job.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Nothing but the parent's own entries: no output folder, no temporary left beside it.
+void expect_nothing_written(const fs::path& dir) {
+  EXPECT_FALSE(fs::exists(dir)) << dir;
+  if (!fs::exists(dir.parent_path())) return;
+  for (const auto& e : fs::directory_iterator(dir.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST(Job, ParsesAndFillsDefaults) {
+  const Job job = parse_job(R"({"brdfbake_job": 1, "output_dir": "out", "precision": "fp64",
+      "tables": [{"kind": "ggx", "size": 32},
+                 {"kind": "charlie", "size": 16, "height": 8, "samples": 64, "precision": "fp32", "output": "c.csv"},
+                 {"kind": "fresnel", "model": "dielectric", "ior": [1.4, 1.5, 1.6]},
+                 {"kind": "prefilter", "distribution": "charlie", "environment": "builtin:sun"},
+                 {"kind": "irradiance"}]})",
+                            "job.json");
+  ASSERT_EQ(job.tables.size(), 5u);
+  const TableRequest& g = job.tables[0];
+  EXPECT_EQ(g.number("height"), 32) << "height defaults to size";
+  EXPECT_EQ(g.text("estimator"), "quadrature");
+  EXPECT_EQ(g.precision, Precision::Fp64) << "the job's precision";
+  EXPECT_EQ(g.output, "dfg_ggx_32.exr");
+  EXPECT_EQ(job.tables[1].precision, Precision::Fp32);
+  EXPECT_EQ(job.tables[1].output, "c.csv");
+  EXPECT_EQ(job.tables[1].text("sheen_visibility"), "estevez-kulla");
+  EXPECT_EQ(job.tables[2].output, "fresnel_dielectric_ior1.4_1.5_1.6.exr");
+  EXPECT_EQ(job.tables[2].number("size"), 256);
+  EXPECT_EQ(job.tables[3].output, "prefilter_charlie_256.ktx2");
+  EXPECT_EQ(job.tables[3].environment, "builtin:sun");
+  EXPECT_EQ(job.tables[4].output, "irradiance_sh3.json");
+  // Round trip.
+  const Job back = parse_job(job_to_json(job), "again.json");
+  EXPECT_EQ(job_to_json(back), job_to_json(job));
+}
+
+TEST(Job, BadInputNamesTheFileAndTheField) {
+  const struct {
+    const char* text;
+    const char* needle;
+  } cases[] = {
+      {R"({"tables": [)", "job.json: malformed JSON"},
+      {R"([1, 2])", "job.json: a job is a JSON object"},
+      {R"({"output_dir": "o"})", "job.json: tables: missing"},
+      {R"({"tables": [{"kind": "phong"}]})", "job.json: tables[0].kind: unknown table kind 'phong'"},
+      {R"({"tables": [{"size": 4}]})", "job.json: tables[0].kind: missing"},
+      {R"({"tables": [{"kind": "ggx", "size": -4}]})", "job.json: tables[0].size: must be an integer in 1..65536 (got -4)"},
+      {R"({"tables": [{"kind": "ggx", "size": 0}]})", "tables[0].size"},
+      {R"({"tables": [{"kind": "ggx", "size": 2.5}]})", "tables[0].size: must be an integer"},
+      {R"({"tables": [{"kind": "ggx", "size": "big"}]})", "tables[0].size: must be an integer"},
+      {R"({"tables": [{"kind": "ggx"}, {"kind": "ggx", "sise": 8}]})", "tables[1].sise: unknown field for kind 'ggx'"},
+      {R"({"tables": [{"kind": "ggx", "samples": 16, "max_error": 0.001}]})", "tables[0].max_error: give samples or max_error"},
+      {R"({"tables": [{"kind": "ggx", "estimator": "magic"}]})", "tables[0].estimator: must be one of"},
+      {R"({"tables": [{"kind": "ggx", "precision": "fp16"}]})", "tables[0].precision"},
+      {R"({"tables": [{"kind": "ggx", "output": "../x.exr"}]})", "tables[0].output: '../x.exr' must stay inside"},
+      {R"({"tables": [{"kind": "ggx", "output": "/tmp/x.exr"}]})", "tables[0].output: '/tmp/x.exr' must be relative"},
+      {R"({"tables": [{"kind": "ggx", "output": "manifest.json"}]})", "tables[0].output: 'manifest.json'"},
+      {R"({"tables": [{"kind": "ggx", "output": "x.bmp"}]})", "tables[0].output"},
+      {R"({"tables": [{"kind": "ggx", "size": 8, "output": "a.exr"}, {"kind": "ggx", "size": 16, "output": "a.exr"}]})",
+       "tables[1].output: 'a.exr' is also the output of tables[0]"},
+      {R"({"tables": [{"kind": "fresnel"}]})", "tables[0] (fresnel): model: missing"},
+      {R"({"tables": [{"kind": "fresnel", "model": "dielectric", "ior": [1, 2]}]})", "tables[0].ior: must be a number or an array of 3"},
+      {R"({"tables": [{"kind": "fresnel", "model": "schlick-ior", "ior": 1.5, "vs_exact": true, "output": "s.exr"}]})",
+       "tables[0].output: vs_exact adds three error columns"},
+      {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})", "tables[0].output: 'p.exr': a prefiltered chain"},
+      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})", "tables[0] (prefilter): min_size"},
+      {R"({"tables": [{"kind": "irradiance", "sh_order": 4}]})", "tables[0] (irradiance): sh_order: must be 3 or 5"},
+      {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})", "tables[0] (thin-film): give exactly one"},
+      {R"({"tables": [], "colour": 1})", "job.json: colour: unknown field"},
+      {R"({"brdfbake_job": 2, "tables": []})", "job.json: brdfbake_job: must be 1"},
+      {R"({"tables": [{"kind": "ggx", "requested_by": [{"rule": "x", "why": "y"}]}]})", "tables[0].requested_by[0].why: unknown field"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_NE(e.find(c.needle), std::string::npos) << c.text << "\n  -> " << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << "one line: " << e;
+  }
+}
+
+TEST(Job, IdenticalEntriesMerge) {
+  const Job job = parse_job(R"({"tables": [
+      {"kind": "ggx", "size": 8, "requested_by": [{"rule": "a", "purpose": "p", "materials": ["#0"]}]},
+      {"kind": "ggx", "size": 8, "requested_by": [{"rule": "b", "purpose": "q", "materials": ["#1"]}]}]})",
+                            "job.json");
+  ASSERT_EQ(job.tables.size(), 1u);
+  EXPECT_EQ(job.tables[0].requested_by.size(), 2u);
+  EXPECT_EQ(job.tables[0].materials(), (std::vector<std::string>{"#0", "#1"}));
+}
+
+TEST(Job, KindNames) {
+  for (TableKind k : table_kinds()) EXPECT_EQ(table_kind_from_name(table_kind_name(k)), k);
+  EXPECT_THROW(table_kind_from_name("nope"), Error);
+}
+
+// ---- running -------------------------------------------------------------------------------------
+
+TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const fs::path dir = temp_dir("run");
+  Job job = parse_job(R"({"tables": [
+      {"kind": "ggx-multiscatter", "size": 8, "requested_by": [{"rule": "r1", "purpose": "p", "materials": ["#0 A"]}]},
+      {"kind": "ggx-multiscatter", "size": 8, "output": "copy/dfg.csv",
+       "requested_by": [{"rule": "r2", "purpose": "p", "materials": ["#1 B"]}]},
+      {"kind": "fresnel", "model": "dielectric", "ior": 1.5, "size": 16},
+      {"kind": "fresnel", "model": "schlick-ior", "ior": 1.5, "size": 16, "vs_exact": true},
+      {"kind": "charlie", "size": 8, "device": "reference"},
+      {"kind": "prefilter", "size": 16, "min_size": 8},
+      {"kind": "irradiance", "source_size": 32}],
+      "environment": "builtin:studio"})",
+                      "job.json");
+  job.output_dir = dir.string();
+  int events = 0;
+  const Manifest m = run_job(job, [&](const JobEvent& e) {
+    ++events;
+    EXPECT_LT(e.bake, e.bakes);
+  });
+  EXPECT_GT(events, 0);
+  EXPECT_EQ(m.bakes, 6) << "the two ggx-multiscatter entries are one bake";
+  ASSERT_EQ(m.files.size(), 7u);
+  EXPECT_EQ(m.files[0].bake, m.files[1].bake);
+  for (const auto& f : m.files) EXPECT_TRUE(fs::exists(dir / f.path)) << f.path;
+  EXPECT_TRUE(fs::exists(dir / "copy/dfg.csv"));
+  EXPECT_TRUE(fs::exists(dir / "manifest.json"));
+
+  const json j = json::parse(read(dir / "manifest.json"));
+  ASSERT_EQ(j["files"].size(), 7u);
+  const json& dfg = j["files"][0];
+  EXPECT_EQ(dfg["path"], "dfg_ggx_multiscatter_8.exr");
+  EXPECT_EQ(dfg["kind"], "ggx-multiscatter");
+  EXPECT_EQ(dfg["parameters"]["size"], 8);
+  EXPECT_GT(dfg["parameters"]["samples"].get<int>(), 0) << "resolved by the family";
+  EXPECT_TRUE(dfg["error_bound"].is_number());
+  EXPECT_EQ(dfg["materials"], json::array({"#0 A"}));
+  EXPECT_EQ(dfg["requested_by"][0]["rule"], "r1");
+  EXPECT_EQ(j["files"][1]["materials"], json::array({"#1 B"}));
+  const json& fres = j["files"][2];
+  EXPECT_EQ(fres["kind"], "fresnel");
+  ASSERT_TRUE(fres["error_bound"].is_number());
+  EXPECT_LT(fres["error_bound"].get<double>(), 1e-5) << "fp32 exact dielectric against the double reference";
+  EXPECT_TRUE(j["files"][3].contains("error_vs_exact_max_abs"));
+  EXPECT_EQ(j["files"][4]["device"], "reference");
+  EXPECT_EQ(j["files"][5]["environment"], "builtin:studio");
+  EXPECT_TRUE(j["files"][6]["error_bound"].is_null());
+  EXPECT_FALSE(j["files"][6]["error_bound_definition"].get<std::string>().empty());
+  EXPECT_NE(read(dir / "irradiance_sh3.json").find("irradiance_over_pi"), std::string::npos);
+  // Nothing else in the folder, no temporaries beside it.
+  int entries = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) entries += e.is_regular_file();
+  EXPECT_EQ(entries, 8);
+  for (const auto& e : fs::directory_iterator(dir.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  fs::remove_all(dir);
+}
+
+TEST(RunJob, IntoAnExistingFolderReplacesOnlyItsOwnFiles) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const fs::path dir = temp_dir("existing");
+  fs::create_directories(dir);
+  std::ofstream(dir / "keep.txt") << "mine";
+  std::ofstream(dir / "dfg_ggx_4.exr") << "old";
+  Job job = parse_job(R"({"tables": [{"kind": "ggx", "size": 4}]})", "job.json");
+  job.output_dir = dir.string();
+  run_job(job);
+  EXPECT_EQ(read(dir / "keep.txt"), "mine");
+  EXPECT_NE(read(dir / "dfg_ggx_4.exr"), "old");
+  EXPECT_TRUE(fs::exists(dir / "manifest.json"));
+  fs::remove_all(dir);
+}
+
+TEST(RunJob, AFailureLeavesNothingHalfWritten) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  // The second table's output runs through the first one's file: it fails after the first bake.
+  const fs::path dir = temp_dir("fail/deeper/out");
+  Job job = parse_job(R"({"tables": [{"kind": "ggx", "size": 4, "output": "a.exr"},
+                                     {"kind": "ggx", "size": 8, "output": "a.exr/b.exr"}]})",
+                      "job.json");
+  job.output_dir = dir.string();
+  EXPECT_THROW(run_job(job), Error);
+  expect_nothing_written(dir);
+  EXPECT_FALSE(fs::exists(dir.parent_path())) << "created parents are removed again";
+  // An existing folder keeps what it had.
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.exr") << "before";
+  EXPECT_THROW(run_job(job), Error);
+  EXPECT_EQ(read(dir / "a.exr"), "before");
+  EXPECT_FALSE(fs::exists(dir / "manifest.json"));
+  // A bad environment fails before any bake.
+  Job env = parse_job(R"({"environment": "/no/such/env.hdr", "tables": [{"kind": "ggx", "size": 4}, {"kind": "irradiance"}]})",
+                      "job.json");
+  env.output_dir = (dir.parent_path() / "env").string();
+  EXPECT_THROW(run_job(env), Error);
+  expect_nothing_written(dir.parent_path() / "env");
+  fs::remove_all(temp_dir("fail"));
+}
+
+TEST(RunJob, AKindNotAvailableStopsBeforeAnything) {
+  const fs::path dir = temp_dir("unavailable");
+  Job job = parse_job(R"({"tables": [{"kind": "ggx", "size": 4},
+      {"kind": "thin-film", "base_ior": 1.5, "size": 8, "requested_by": [{"rule": "KHR_materials_iridescence", "purpose": "p", "materials": []}]}]})",
+                      "job.json");
+  job.output_dir = dir.string();
+  ::setenv("BRDFBAKE_UNAVAILABLE_KINDS", "thin-film", 1);
+  std::string message;
+  try {
+    run_job(job);
+  } catch (const NotAvailableError& e) {
+    message = e.what();
+  }
+  ::unsetenv("BRDFBAKE_UNAVAILABLE_KINDS");
+  EXPECT_NE(message.find("not available in this build"), std::string::npos) << message;
+  EXPECT_NE(message.find("thin-film"), std::string::npos) << message;
+  EXPECT_NE(message.find("KHR_materials_iridescence"), std::string::npos) << message;
+  expect_nothing_written(dir);
+}
+
+TEST(RunJob, AnEmptyPlanWritesOnlyTheManifest) {
+  const fs::path dir = temp_dir("empty");
+  Job job;
+  job.output_dir = dir.string();
+  const Manifest m = run_job(job);
+  EXPECT_EQ(m.files.size(), 0u);
+  EXPECT_TRUE(fs::exists(dir / "manifest.json"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
