@@ -14,37 +14,15 @@
 #include <sstream>
 #include <string>
 
+#include "support/cli_runner.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(const std::string& args, const std::string& env = "") {
-  static int counter = 0;
-  const fs::path err_file = fs::temp_directory_path() / ("brdfbake-bake-err-" + std::to_string(::getpid()) + "-" +
-                                                         std::to_string(counter++));
-  const std::string cmd = env + (env.empty() ? "" : " ") + std::string(BRDFBAKE_CLI) + " " + args + " 2>" +
-                          err_file.string();
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream s;
-  s << e.rdbuf();
-  r.err = s.str();
-  fs::remove(err_file);
-  return r;
-}
+using brdfbake::test::CliRun;
+CliRun run(const std::string& args, const std::string& env = "") { return brdfbake::test::run_cli(args, {}, env); }
 
 fs::path temp_dir() {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-bake-" + std::to_string(::getpid()));

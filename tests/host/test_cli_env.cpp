@@ -18,35 +18,15 @@
 
 #include "io/ktx2.hpp"
 
+#include "support/cli_runner.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(const std::string& args) {
-  static int counter = 0;
-  const fs::path err_file = fs::temp_directory_path() /
-                            ("brdfbake-clienv-err-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-  const std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream s;
-  s << e.rdbuf();
-  r.err = s.str();
-  fs::remove(err_file);
-  return r;
-}
+using brdfbake::test::CliRun;
+using brdfbake::test::count_lines;
+CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-clienv-" + std::to_string(::getpid())) / name;
@@ -55,11 +35,6 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
 
 size_t entries(const fs::path& dir) {
   size_t n = 0;

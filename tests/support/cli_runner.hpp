@@ -19,14 +19,15 @@ struct CliRun {
 };
 
 // Runs `BRDFBAKE_CLI args` through the shell (args are shell-quoted by the caller), with `input`
-// on standard input when given, capturing standard output and standard error.
-inline CliRun run_cli(const std::string& args, const std::string& input = {}) {
+// on standard input when given and `env` ("NAME=value ...") set for the command, capturing
+// standard output and standard error.
+inline CliRun run_cli(const std::string& args, const std::string& input = {}, const std::string& env = {}) {
   namespace fs = std::filesystem;
   static int counter = 0;
   const std::string stem = "brdfbake-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   const fs::path err_file = fs::temp_directory_path() / (stem + ".err");
   const fs::path in_file = fs::temp_directory_path() / (stem + ".in");
-  std::string cmd = std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
+  std::string cmd = env + (env.empty() ? "" : " ") + std::string(BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
   if (!input.empty()) {
     std::ofstream(in_file, std::ios::binary) << input;
     cmd += " <" + in_file.string();
