@@ -3,23 +3,9 @@
 #include <filesystem>
 
 #include "brdfbake/environment.hpp"
-#include "cli_common.hpp"
+#include "cli_env.hpp"
 
 namespace brdfbake::cli {
-
-namespace {
-
-// A path whose writability stands for a folder output: a file inside it when it exists, else the
-// folder itself (created later beside its siblings).
-std::string directory_probe(const std::string& dir) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(dir, ec)) return (std::filesystem::path(dir) / "probe").string();
-  std::string d = dir;
-  while (d.size() > 1 && d.back() == '/') d.pop_back();
-  return d;
-}
-
-}  // namespace
 
 int cmd_irradiance(int argc, char** argv) {
   cxxopts::Options options("brdfbake irradiance",
@@ -31,12 +17,8 @@ int cmd_irradiance(int argc, char** argv) {
       ("cube", "face size of the irradiance cube", cxxopts::value<std::string>()->default_value("32"))
       ("source-size", "face size the environment is converted to first", cxxopts::value<std::string>()->default_value("256"))
       ("sh-json", "also write the SH coefficients to this JSON file", cxxopts::value<std::string>())
-      ("sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")
-      ("pixel", "f16 | f32", cxxopts::value<std::string>()->default_value("f16"))
-      ("layout", "folder output: faces | cross | vcross | equirect", cxxopts::value<std::string>()->default_value("faces"))
-      ("image-format", "folder output: exr | hdr", cxxopts::value<std::string>()->default_value("exr"))
-      ("dds-legacy", ".dds output: the legacy header instead of DX10")
       ("o,output", "FILE.json (SH only), or the cube: FILE.ktx2, FILE.ktx, FILE.dds or a folder", cxxopts::value<std::string>());
+  add_cube_output_options(options);
   add_common_options(options);
   const auto r = parse(options, argc, argv);
   if (help_or_stray(options, r)) return 0;
@@ -62,38 +44,19 @@ int cmd_irradiance(int argc, char** argv) {
   CubeFormat format = CubeFormat::Ktx2;
   CubeWriteOptions wo;
   if (!json_only) {
-    format = cube_format_from_path(out);
-    if (format == CubeFormat::Dds && r.count("dds-legacy")) format = CubeFormat::DdsLegacy;
-    const std::string pixel = r["pixel"].as<std::string>();
-    if (pixel == "f16") wo.pixel = PixelType::F16;
-    else if (pixel == "f32") wo.pixel = PixelType::F32;
-    else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
-    const std::string layout = r["layout"].as<std::string>();
-    wo.layout = layout == "faces" ? CubeImageLayout::Faces
-                : layout == "cross" ? CubeImageLayout::HorizontalCross
-                : layout == "vcross" ? CubeImageLayout::VerticalCross
-                : layout == "equirect" ? CubeImageLayout::Equirect
-                : throw UsageError("--layout must be faces, cross, vcross or equirect (got '" + layout + "')");
-    const std::string image_format = r["image-format"].as<std::string>();
-    if (image_format == "exr") wo.image_format = CubeImageFormat::Exr;
-    else if (image_format == "hdr") wo.image_format = CubeImageFormat::Hdr;
-    else throw UsageError("--image-format must be exr or hdr (got '" + image_format + "')");
+    format = cube_container_option(r, out);
+    wo = cube_write_options(r);
     wo.stem = "irradiance";
   }
 
   // a bad output path fails before any slow work
-  check_output_path(json_only || format != CubeFormat::Directory ? out : directory_probe(out));
+  check_output_path(json_only ? out : output_probe(out, format));
   if (r.count("sh-json")) check_output_path(r["sh-json"].as<std::string>());
   const bool quiet = quiet_option(r);
   const std::string device_name = device_option(r);
   if (device_name == "reference")
     throw UsageError("--device reference is not available for irradiance; choose an OpenCL device");
-  EnvLoadOptions lo;
-  lo.sanitize = r.count("sanitize") > 0;
-  const EnvImage env = load_environment(r["env"].as<std::string>(), lo);
-  if (!quiet && env.sanitize.replaced)
-    std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
-                 env.source.c_str(), env.sanitize.nan, env.sanitize.infinite, env.sanitize.negative);
+  const EnvImage env = load_environment_option(r, quiet);
   Device device = Device::open(device_name);
   ProgressLine line(quiet);
   auto progress = [&](double fraction, const std::string& what) { line.update("irradiance, " + what, fraction); };

@@ -4,31 +4,9 @@
 #include <filesystem>
 
 #include "brdfbake/environment.hpp"
-#include "cli_common.hpp"
+#include "cli_env.hpp"
 
 namespace brdfbake::cli {
-
-namespace {
-
-// A path whose writability stands for a folder output: a file inside it when it exists, else the
-// folder itself (created later beside its siblings).
-std::string directory_probe(const std::string& dir) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(dir, ec)) return (std::filesystem::path(dir) / "probe").string();
-  std::string d = dir;
-  while (d.size() > 1 && d.back() == '/') d.pop_back();
-  return d;
-}
-
-CubeImageLayout layout_from_name(const std::string& n) {
-  if (n == "faces") return CubeImageLayout::Faces;
-  if (n == "cross") return CubeImageLayout::HorizontalCross;
-  if (n == "vcross") return CubeImageLayout::VerticalCross;
-  if (n == "equirect") return CubeImageLayout::Equirect;
-  throw UsageError("--layout must be faces, cross, vcross or equirect (got '" + n + "')");
-}
-
-}  // namespace
 
 int cmd_prefilter(int argc, char** argv) {
   cxxopts::Options options("brdfbake prefilter",
@@ -46,12 +24,8 @@ int cmd_prefilter(int argc, char** argv) {
       ("no-env-sampling", "do not sum the bright texels explicitly")
       ("no-fis", "sampling: no filtered importance sampling (every sample reads level 0)")
       ("clamp", "BIASED, opt-in: compress source luminance above this value", cxxopts::value<std::string>())
-      ("sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")
-      ("pixel", "f16 | f32", cxxopts::value<std::string>()->default_value("f16"))
-      ("layout", "folder output: faces | cross | vcross | equirect", cxxopts::value<std::string>()->default_value("faces"))
-      ("image-format", "folder output: exr | hdr", cxxopts::value<std::string>()->default_value("exr"))
-      ("dds-legacy", ".dds output: the legacy header (D3DFMT 113/116) instead of DX10")
       ("o,output", "FILE.ktx2, FILE.ktx, FILE.dds, or a folder", cxxopts::value<std::string>());
+  add_cube_output_options(options);
   add_common_options(options);
   const auto r = parse(options, argc, argv);
   if (help_or_stray(options, r)) return 0;
@@ -88,18 +62,8 @@ int cmd_prefilter(int argc, char** argv) {
   spec.precision = precision_option(r);
 
   const std::string out = r["output"].as<std::string>();
-  const CubeFormat format = cube_format_from_path(out);
-  CubeWriteOptions wo;
-  const std::string pixel = r["pixel"].as<std::string>();
-  if (pixel == "f16") wo.pixel = PixelType::F16;
-  else if (pixel == "f32") wo.pixel = PixelType::F32;
-  else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
-  wo.layout = layout_from_name(r["layout"].as<std::string>());
-  const std::string image_format = r["image-format"].as<std::string>();
-  if (image_format == "exr") wo.image_format = CubeImageFormat::Exr;
-  else if (image_format == "hdr") wo.image_format = CubeImageFormat::Hdr;
-  else throw UsageError("--image-format must be exr or hdr (got '" + image_format + "')");
-  const CubeFormat container = format == CubeFormat::Dds && r.count("dds-legacy") ? CubeFormat::DdsLegacy : format;
+  const CubeFormat container = cube_container_option(r, out);
+  const CubeWriteOptions wo = cube_write_options(r);
 
   const bool quiet = quiet_option(r);
   const std::string device_name = device_option(r);
@@ -107,13 +71,8 @@ int cmd_prefilter(int argc, char** argv) {
     throw UsageError("--device reference is not available for prefilter (the brute-force reference is in "
                      "bench/prefilter_bench); choose an OpenCL device");
   const PrefilterSpec resolved = resolve_prefilter_spec(spec);  // validates before any slow work
-  check_output_path(format == CubeFormat::Directory ? directory_probe(out) : out);
-  EnvLoadOptions lo;
-  lo.sanitize = r.count("sanitize") > 0;
-  const EnvImage env = load_environment(r["env"].as<std::string>(), lo);
-  if (!quiet && env.sanitize.replaced)
-    std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
-                 env.source.c_str(), env.sanitize.nan, env.sanitize.infinite, env.sanitize.negative);
+  check_output_path(output_probe(out, container));
+  const EnvImage env = load_environment_option(r, quiet);
   Device device = Device::open(device_name);
   const int levels = prefilter_level_count(resolved);
   // a progress line while the chain is filtered (on a terminal, for runs longer than half a second)
