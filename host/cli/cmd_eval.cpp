@@ -187,17 +187,10 @@ int cmd_eval(int argc, char** argv) {
       ("i,input", "pairs: CSV with the header wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, or float32 with --binary (default: standard input)", cxxopts::value<std::string>()->default_value("-"))
       ("o,output", "f as r,g,b rows, or float32 with --binary (default: standard output)", cxxopts::value<std::string>()->default_value("-"))
       ("binary", "raw little-endian float32: 6 a pair in, 3 a pair out")
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("fast-math", "build the kernels with -cl-fast-relaxed-math")
-      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
-      ("quiet", "no summary line")
-      ("h,help", "this help");
+      ("fast-math", "build the kernels with -cl-fast-relaxed-math");
+  add_common_options(options);
   const auto r = parse(options, argc, argv);
-  if (r.count("help")) {
-    std::cout << options.help() << "\n";
-    return 0;
-  }
-  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (help_or_stray(options, r)) return 0;
   if (!r.count("material")) throw UsageError("missing --material FILE");
   std::optional<BrdfModel> chosen;
   if (r.count("model")) chosen = brdf_model_from_name(r["model"].as<std::string>());

@@ -42,20 +42,13 @@ int cmd_tabulate(int argc, char** argv) {
       ("layout", "merl (90x90x180 MERL binary) | grid (theta_i x theta_o x phi_d) | albedo (over theta_o) | slice (theta_h x theta_d image)", cxxopts::value<std::string>())
       ("res", "grid: N or NI,NO,NP (default 32); albedo: N (default 90); slice: N or W,H (default 256); not for merl", cxxopts::value<std::string>())
       ("phi-d", "slice: phi_d in radians, in [0, pi] (default pi/2)", cxxopts::value<std::string>())
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
       ("fast-math", "build the kernels with -cl-fast-relaxed-math")
-      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
       ("o,output", "merl: the MERL binary (plus FILE.json); others: .exr .png .hdr .ktx2 .csv .h, or - with --format csv", cxxopts::value<std::string>())
       ("format", "output format when it cannot come from the file name", cxxopts::value<std::string>())
-      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f32"))
-      ("quiet", "no summary line")
-      ("h,help", "this help");
+      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f32"));
+  add_common_options(options);
   const auto r = parse(options, argc, argv);
-  if (r.count("help")) {
-    std::cout << options.help() << "\n";
-    return 0;
-  }
-  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (help_or_stray(options, r)) return 0;
   if (!r.count("material")) throw UsageError("missing --material FILE");
   if (!r.count("layout")) throw UsageError("missing --layout (merl, grid, albedo or slice)");
   if (!r.count("output")) throw UsageError("missing -o FILE");
