@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
 
 using namespace brdfbake;
 namespace fs = std::filesystem;

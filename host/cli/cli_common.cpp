@@ -44,14 +44,6 @@ void add_common_options(cxxopts::Options& options) {
       ("h,help", "this help");
 }
 
-void add_table_output_options(cxxopts::Options& options) {
-  options.add_options()
-      ("o,output", "output file (.exr .png .hdr .ktx2 .csv .h), or - for standard output", cxxopts::value<std::string>())
-      ("format", "output format when it cannot come from the file name", cxxopts::value<std::string>())
-      ("pixel", "f16 | f32 for .ktx2 and .h", cxxopts::value<std::string>()->default_value("f16"))
-      ("symbol", "C identifier of the array in a .h output", cxxopts::value<std::string>());
-}
-
 bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& r) {
   if (r.count("help")) {
     std::printf("%s\n", options.help().c_str());
@@ -66,33 +58,6 @@ Precision precision_option(const cxxopts::ParseResult& r) {
 }
 std::string device_option(const cxxopts::ParseResult& r) { return r["device"].as<std::string>(); }
 bool quiet_option(const cxxopts::ParseResult& r) { return r.count("quiet") > 0; }
-
-TableOutput table_output_option(const cxxopts::ParseResult& r) {
-  if (!r.count("output")) throw UsageError("missing -o FILE (or -o - --format csv)");
-  TableOutput out;
-  out.path = r["output"].as<std::string>();
-  if (r.count("format")) {
-    out.format = table_format_from_name(r["format"].as<std::string>());
-  } else if (out.path == "-") {
-    throw UsageError("-o - writes to standard output and needs --format csv");
-  } else {
-    out.format = table_format_from_path(out.path);
-  }
-  if (out.path == "-" && out.format != TableFormat::Csv)
-    throw UsageError("only --format csv can go to standard output");
-  const std::string pixel = r["pixel"].as<std::string>();
-  if (pixel == "f16") out.options.pixel = PixelType::F16;
-  else if (pixel == "f32") out.options.pixel = PixelType::F32;
-  else throw UsageError("--pixel must be f16 or f32 (got '" + pixel + "')");
-  if (r.count("symbol")) out.options.symbol = r["symbol"].as<std::string>();
-  if (out.path != "-") check_output_path(out.path);
-  return out;
-}
-
-void write_table_output(const Table& table, const TableOutput& out) {
-  if (out.path == "-") write_table_csv(table, std::cout);
-  else write_table(table, out.path, out.format, out.options);
-}
 
 namespace {
 double now_seconds() {

@@ -23,8 +23,6 @@ class UsageError : public Error {
 
 // The options every baking command shares: --device, --precision, --quiet, -h/--help.
 void add_common_options(cxxopts::Options& options);
-// The options of a command that writes one table: -o/--output, --format, --pixel, --symbol.
-void add_table_output_options(cxxopts::Options& options);
 
 // Handles -h/--help and stray positional arguments; true when help was printed.
 bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& r);
@@ -33,15 +31,6 @@ Precision precision_option(const cxxopts::ParseResult& r);
 std::string device_option(const cxxopts::ParseResult& r);  // "" = default, "reference", or a selector
 bool quiet_option(const cxxopts::ParseResult& r);
 
-// Where and how one table is written, validated before any slow work (the output folder is
-// checked too).
-struct TableOutput {
-  std::string path;  // "-" for standard output
-  TableFormat format = TableFormat::Csv;
-  TableWriteOptions options;
-};
-TableOutput table_output_option(const cxxopts::ParseResult& r);
-void write_table_output(const Table& table, const TableOutput& out);
 
 // A progress line on standard error for long runs: shown only on a terminal, once the run has
 // taken more than half a second, and never with --quiet.
@@ -58,12 +47,7 @@ class ProgressLine {
 };
 
 int cmd_devices(int argc, char** argv);
-int cmd_lut(int argc, char** argv);
-int cmd_prefilter(int argc, char** argv);
-int cmd_irradiance(int argc, char** argv);
 int cmd_fresnel(int argc, char** argv);
-int cmd_eval(int argc, char** argv);
-int cmd_tabulate(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_bake(int argc, char** argv);
 

@@ -4,8 +4,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "brdfbake/job.hpp"
-#include "cli_common.hpp"
+#include "brdfbake/plan.hpp"
+#include "cli_table.hpp"
 
 namespace brdfbake::cli {
 
@@ -109,66 +109,35 @@ int cmd_bake(int argc, char** argv) {
                            "Read a glTF scene's materials and bake the tables they call for (docs/SCENES.md)");
   options.add_options()
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
-      ("env", "environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun", cxxopts::value<std::string>()->default_value("builtin:studio"))
-      ("o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))
+      ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
+      ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
+      ("o,output", "output folder (default: out)", cxxopts::value<std::string>()->default_value("out"))
       ("dry-run", "print the plan and bake nothing")
       ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
-      ("no-energy-compensation", "bake the ggx DFG table instead of ggx-multiscatter")
-      ("lut-size", "DFG tables: cells along n_dot_v and roughness", cxxopts::value<std::string>()->default_value("128"))
-      ("cube-size", "prefiltered chains: face size of level 0", cxxopts::value<std::string>()->default_value("256"))
-      ("min-size", "prefiltered chains: face size of the smallest level", cxxopts::value<std::string>()->default_value("16"))
-      ("prefilter-max-error", "prefiltered chains: refine each level until successive refinements differ by less (RMS); 0: fixed refinement, no measured bound", cxxopts::value<std::string>()->default_value("0.01"))
-      ("fresnel-size", "Fresnel tables: cells along cos_theta", cxxopts::value<std::string>()->default_value("256"))
-      ("sh", "irradiance: SH bands, 3 or 5", cxxopts::value<std::string>()->default_value("3"))
-      ("sheen-visibility", "the Charlie DFG table's visibility: estevez-kulla | neubelt", cxxopts::value<std::string>()->default_value("estevez-kulla"))
-      ("table-format", "1-D and 2-D tables: exr | png | hdr | ktx2 | csv | h", cxxopts::value<std::string>()->default_value("exr"))
-      ("cube-format", "prefiltered chains: ktx2 | ktx | dds", cxxopts::value<std::string>()->default_value("ktx2"))
-      ("pixel", "f16 | f32 for .ktx2, .h and cube containers", cxxopts::value<std::string>()->default_value("f16"))
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("device", "P:D, cpu, gpu or a name substring", cxxopts::value<std::string>()->default_value(""))
-      ("quiet", "no plan, progress or summary")
-      ("h,help", "this help");
+      ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>());
+  add_schema_options(options, plan_schema());
+  add_common_options(options);
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
-    std::cout << options.help() << "\n";
+    std::cout << options.help() << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
   const bool dry_run = r.count("dry-run") > 0;
   const bool as_json = r.count("json") > 0;
   if (as_json && !dry_run) throw UsageError("--json prints the plan: it goes with --dry-run");
-  const bool quiet = r.count("quiet") > 0;
+  const bool quiet = quiet_option(r);
 
-  PlanOptions o;
-  o.environment = r["env"].as<std::string>();
+  PlanOptions o = plan_options_from_params(schema_params(r, plan_schema()), true);
+  if (r.count("env")) o.environment = r["env"].as<std::string>();
   if (o.environment.empty()) throw UsageError("--env must not be empty");
-  o.energy_compensation = r.count("no-energy-compensation") == 0;
-  auto positive = [&](const std::string& name) {
-    const int v = integer(r, name);
-    if (v < 1) throw UsageError("--" + name + " must be at least 1 (got " + std::to_string(v) + ")");
-    return v;
-  };
-  o.lut_size = positive("lut-size");
-  o.cube_size = positive("cube-size");
-  o.cube_min_size = positive("min-size");
-  if (o.cube_min_size > o.cube_size) throw UsageError("--min-size must be at most --cube-size");
-  o.fresnel_size = positive("fresnel-size");
-  o.prefilter_max_error = finite_number(r, "prefilter-max-error");
-  if (o.prefilter_max_error < 0 || o.prefilter_max_error > 1)
-    throw UsageError("--prefilter-max-error must be in [0, 1] (0: not measured)");
-  o.sh_order = integer(r, "sh");
-  if (o.sh_order != 3 && o.sh_order != 5) throw UsageError("--sh must be 3 or 5 (got " + std::to_string(o.sh_order) + ")");
-  o.sheen_visibility = r["sheen-visibility"].as<std::string>();
-  if (o.sheen_visibility != "estevez-kulla" && o.sheen_visibility != "neubelt")
-    throw UsageError("--sheen-visibility must be estevez-kulla or neubelt (got '" + o.sheen_visibility + "')");
-  o.table_format = r["table-format"].as<std::string>();
-  o.cube_format = r["cube-format"].as<std::string>();
-  if (o.cube_format != "ktx2" && o.cube_format != "ktx" && o.cube_format != "dds")
-    throw UsageError("--cube-format must be ktx2, ktx or dds (got '" + o.cube_format + "')");
-  o.pixel = r["pixel"].as<std::string>();
-  if (o.pixel != "f16" && o.pixel != "f32") throw UsageError("--pixel must be f16 or f32 (got '" + o.pixel + "')");
-  o.precision = precision_from_name(r["precision"].as<std::string>());
-  o.device = r["device"].as<std::string>();
+  o.sanitize = r.count("sanitize") > 0;
+  if (r.count("pixel")) {
+    o.pixel = r["pixel"].as<std::string>();
+    if (o.pixel != "f16" && o.pixel != "f32") throw UsageError("--pixel must be f16 or f32 (got '" + o.pixel + "')");
+  }
+  o.precision = precision_option(r);
+  o.device = device_option(r);
 
   Plan plan;
   if (r.count("scene")) {
@@ -187,6 +156,10 @@ int cmd_bake(int argc, char** argv) {
     else print_plan(plan, std::cout);
     return 0;
   }
+  // The inputs are checked before the plan is shown: a missing environment fails first.
+  bool needs_environment = false;
+  for (const auto& t : plan.job.tables) needs_environment |= table_kind_uses_environment(t.kind);
+  if (needs_environment) check_environment_source(o.environment);
   if (!quiet) print_plan(plan, std::cout);
   std::cout.flush();
 

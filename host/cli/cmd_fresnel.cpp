@@ -9,8 +9,9 @@
 #include <vector>
 
 #include "brdfbake/fresnel.hpp"
+#include <optional>
 #include "brdfbake/io.hpp"
-#include "cli_common.hpp"
+#include "cli_table.hpp"
 
 namespace brdfbake::cli {
 namespace {
@@ -36,19 +37,6 @@ Rgb rgb_option(const cxxopts::ParseResult& r, const std::string& name) {
   return values.size() == 1 ? Rgb{values[0], values[0], values[0]} : Rgb{values[0], values[1], values[2]};
 }
 
-std::pair<double, double> range_option(const cxxopts::ParseResult& r) {
-  const std::string text = r["range"].as<std::string>();
-  const auto comma = text.find(',');
-  char* e1 = nullptr;
-  char* e2 = nullptr;
-  const std::string lo = text.substr(0, comma), hi = comma == std::string::npos ? "" : text.substr(comma + 1);
-  const double a = std::strtod(lo.c_str(), &e1), b = std::strtod(hi.c_str(), &e2);
-  if (comma == std::string::npos || lo.empty() || hi.empty() || *e1 != '\0' || *e2 != '\0' ||
-      !std::isfinite(a) || !std::isfinite(b))
-    throw UsageError("--range must be two finite numbers LO,HI (got '" + text + "')");
-  return {a, b};
-}
-
 std::string f3(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.3f", v);
@@ -65,24 +53,6 @@ std::string triple(const Rgb& c, std::string (*f)(double) = f3) {
 std::string pad(std::string s, size_t width) {
   if (s.size() < width) s.append(width - s.size(), ' ');
   return s;
-}
-
-// The options of table mode that name model parameters, in the spec.
-void read_parameters(const cxxopts::ParseResult& r, FresnelSpec& s) {
-  if (r.count("material")) s.material = r["material"].as<std::string>();
-  if (r.count("f0")) s.f0 = rgb_option(r, "f0");
-  if (r.count("f90")) s.f90 = rgb_option(r, "f90");
-  if (r.count("f82")) s.f82_tint = rgb_option(r, "f82");
-  if (r.count("base-color")) s.base_color = rgb_option(r, "base-color");
-  if (r.count("metallic")) s.metallic = finite_number(r, "metallic");
-  if (r.count("dielectric-f0")) s.dielectric_f0 = finite_number(r, "dielectric-f0");
-  if (r.count("ior")) s.ior = rgb_option(r, "ior");
-  if (r.count("ior-outside")) s.ior_outside = finite_number(r, "ior-outside");
-  if (r.count("n")) s.n = rgb_option(r, "n");
-  if (r.count("k")) s.k = rgb_option(r, "k");
-  if (r.count("bias")) s.bias = finite_number(r, "bias");
-  if (r.count("scale")) s.scale = finite_number(r, "scale");
-  if (r.count("power")) s.power = finite_number(r, "power");
 }
 
 // Options other than `allowed` that were given: a mode that does not use them rejects them.
@@ -224,112 +194,48 @@ int fit(const cxxopts::ParseResult& r) {
 }  // namespace
 
 int cmd_fresnel(int argc, char** argv) {
-  cxxopts::Options options("brdfbake fresnel", "Bake a Fresnel reflectance table, or compare the models");
-  options.add_options()
-      ("model", "schlick | schlick-metallic | schlick-ior | dielectric | conductor | f82-tint | empirical", cxxopts::value<std::string>())
-      ("material", "a preset (--list-materials)", cxxopts::value<std::string>())
-      ("f0", "schlick, f82-tint: F0, v or r,g,b", cxxopts::value<std::string>())
-      ("f90", "schlick: F90 (default 1)", cxxopts::value<std::string>())
-      ("f82", "f82-tint: the F82 tint, v or r,g,b", cxxopts::value<std::string>())
-      ("base-color", "schlick-metallic: base colour r,g,b", cxxopts::value<std::string>())
-      ("metallic", "schlick-metallic: metallic in [0, 1]", cxxopts::value<std::string>())
-      ("dielectric-f0", "schlick-metallic: the dielectric F0 (default 0.04)", cxxopts::value<std::string>())
-      ("ior", "schlick-ior, dielectric: index of the far side, v or r,g,b", cxxopts::value<std::string>())
-      ("ior-outside", "schlick-ior, dielectric: index of the side the light comes from (default 1)", cxxopts::value<std::string>())
-      ("n", "conductor: real part of the index, r,g,b", cxxopts::value<std::string>())
-      ("k", "conductor: extinction coefficient, r,g,b", cxxopts::value<std::string>())
-      ("bias", "empirical: bias", cxxopts::value<std::string>())
-      ("scale", "empirical: scale", cxxopts::value<std::string>())
-      ("power", "empirical: power", cxxopts::value<std::string>())
-      ("size", "cells along cos_theta", cxxopts::value<std::string>()->default_value("256"))
-      ("endpoints", "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
-      ("table", "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)", cxxopts::value<std::string>()->default_value("1d"))
-      ("height", "2d: cells along the y axis (default: --size)", cxxopts::value<std::string>())
-      ("range", "2d: the y range LO,HI (default 0,1 for f0 and 1,3 for ior)", cxxopts::value<std::string>())
-      ("vs", "exact: add err_r,err_g,err_b = value - exact model for the same material", cxxopts::value<std::string>())
-      ("list-materials", "list the material presets with their exact and hard-coded F0")
-      ("compare", "every model's error against the exact one for --material, and its device rate")
-      ("rate-cells", "--compare: cells of the table the rates are measured on (default 1048576)", cxxopts::value<std::string>())
-      ("fit", "Schlick F0 and F82 tint of --material, --n/--k or --ior, with the error each leaves");
-  add_table_output_options(options);
-  add_common_options(options);
-  // The issue spells the complex index --n and --k; cxxopts takes long names of two characters or
-  // more, so those two are short options (-n, -k) and their double-dash spellings are mapped here.
+  // The modes beside table mode; their options are the schema's where they share a name
+  // (--material, --n, --k, --ior, --ior-outside, --bias, --scale, --power).
+  TableCommand c{"fresnel", "Bake a Fresnel reflectance table, or compare the models",
+                 "brdfbake fresnel --model conductor --material gold -o gold.exr", {}, {}, {"list-materials", "compare", "fit", "rate-cells"}};
+  c.add_extra = [](cxxopts::Options& options) {
+    options.add_options()("list-materials", "list the material presets with their exact and hard-coded F0")(
+        "compare", "every model's error against the exact one for --material, and its device rate")(
+        "rate-cells", "--compare: cells of the table the rates are measured on (default 1048576)", cxxopts::value<std::string>())(
+        "fit", "Schlick F0 and F82 tint of --material, --n/--k or --ior, with the error each leaves");
+  };
+  c.handle_extra = [](const cxxopts::ParseResult& r) -> std::optional<int> {
+    const int modes = static_cast<int>(r.count("list-materials") + r.count("compare") + r.count("fit"));
+    if (modes > 1) throw UsageError("give one of --list-materials, --compare and --fit");
+    if (r.count("list-materials")) {
+      reject_others(r, {"list-materials", "quiet"}, "--list-materials");
+      return list_materials();
+    }
+    if (r.count("compare")) {
+      reject_others(r, {"compare", "material", "precision", "device", "rate-cells", "bias", "scale", "power", "quiet"},
+                    "--compare");
+      return compare(r);
+    }
+    if (r.count("fit")) {
+      reject_others(r, {"fit", "material", "n", "k", "ior", "ior-outside", "quiet"}, "--fit");
+      return fit(r);
+    }
+    if (r.count("rate-cells")) throw UsageError("--rate-cells is for --compare");
+    if (!r.count("model")) throw UsageError("missing --model (or --list-materials, --compare, --fit)");
+    return std::nullopt;
+  };
+  // "--vs exact" (the original spelling) is the flag --vs-exact.
   std::vector<std::string> args(argv, argv + argc);
-  for (std::string& a : args)
-    if (a == "--n" || a == "--k" || a.rfind("--n=", 0) == 0 || a.rfind("--k=", 0) == 0)
-      a = a.size() > 3 ? "-" + a.substr(2, 1) + a.substr(4) : "-" + a.substr(2);
-  std::vector<char*> arg_ptrs;
-  for (std::string& a : args) arg_ptrs.push_back(a.data());
-  const auto r = parse(options, argc, arg_ptrs.data());
-  if (help_or_stray(options, r)) return 0;
-  const int modes = static_cast<int>(r.count("list-materials") + r.count("compare") + r.count("fit"));
-  if (modes > 1) throw UsageError("give one of --list-materials, --compare and --fit");
-  if (r.count("list-materials")) {
-    reject_others(r, {"list-materials", "quiet"}, "--list-materials");
-    return list_materials();
-  }
-  if (r.count("compare")) {
-    reject_others(r, {"compare", "material", "precision", "device", "rate-cells", "bias", "scale", "power", "quiet"},
-                  "--compare");
-    return compare(r);
-  }
-  if (r.count("fit")) {
-    reject_others(r, {"fit", "material", "n", "k", "ior", "ior-outside", "quiet"}, "--fit");
-    return fit(r);
-  }
-
-  if (r.count("rate-cells")) throw UsageError("--rate-cells is for --compare");
-  if (!r.count("model")) throw UsageError("missing --model (or --list-materials, --compare, --fit)");
-  FresnelSpec spec;
-  spec.model = fresnel_model_from_name(r["model"].as<std::string>());
-  read_parameters(r, spec);
-  spec.size = integer(r, "size");
-  if (spec.size < 1) throw UsageError("--size must be at least 1 (got '" + r["size"].as<std::string>() + "')");
-  spec.endpoints = r.count("endpoints") > 0;
-  spec.table = fresnel_table_kind_from_name(r["table"].as<std::string>());
-  if (r.count("height")) {
-    if (spec.table != FresnelTableKind::TwoD) throw UsageError("--height is for --table 2d");
-    spec.height = integer(r, "height");
-    if (spec.height < 1) throw UsageError("--height must be at least 1 (got '" + r["height"].as<std::string>() + "')");
-  }
-  if (r.count("range")) {
-    if (spec.table != FresnelTableKind::TwoD) throw UsageError("--range is for --table 2d");
-    spec.range = range_option(r);
-  }
-  spec.precision = precision_option(r);
-  bool vs_exact = false;
-  if (r.count("vs")) {
-    const std::string vs = r["vs"].as<std::string>();
-    if (vs != "exact") throw UsageError("--vs takes 'exact' (got '" + vs + "')");
-    vs_exact = true;
-  }
-
-  // Validate everything before any slow work (opening the device, building the program).
-  validate_fresnel_spec(spec);
-  const TableOutput out = table_output_option(r);
-  if (vs_exact && out.format != TableFormat::Csv && out.format != TableFormat::CHeader)
-    throw UsageError("--vs exact adds three error columns: write .csv or .h");
-  const FresnelSpec exact = vs_exact ? exact_fresnel_spec(spec) : FresnelSpec{};
-  const std::string device_name = device_option(r);
-  FresnelTiming timing;
-  Table table;
-  if (device_name == "reference") {
-    table = bake_fresnel_reference(spec, &timing);
-  } else {
-    Device device = Device::open(device_name);
-    table = bake_fresnel(device, spec, &timing);
-  }
-  if (vs_exact) table = with_error_columns(table, bake_fresnel_reference(exact));
-  write_table_output(table, out);
-  if (!quiet_option(r)) {
-    std::fprintf(stderr, "%s: %s%s%s %dx%d, %s, %.3f s (device %.3f ms)", out.path == "-" ? "stdout" : out.path.c_str(),
-                 table.meta("model").c_str(), spec.material.empty() ? "" : " ", spec.material.c_str(), table.width,
-                 table.height, table.meta("precision").c_str(), timing.wall_seconds, timing.device_seconds * 1e3);
-    if (vs_exact) std::fprintf(stderr, ", max |error| vs exact %s", table.meta("error_max_abs").c_str());
-    std::fprintf(stderr, "\n");
-  }
-  return 0;
+  for (size_t i = 0; i < args.size(); ++i)
+    if (args[i] == "--vs" || args[i].rfind("--vs=", 0) == 0) {
+      std::string v = args[i] == "--vs" ? (i + 1 < args.size() ? args[i + 1] : "") : args[i].substr(5);
+      if (v != "exact") throw UsageError("--vs takes 'exact' (got '" + v + "')");
+      if (args[i] == "--vs") args.erase(args.begin() + static_cast<long>(i) + 1);
+      args[i] = "--vs-exact";
+    }
+  std::vector<char*> ptrs;
+  for (std::string& a : args) ptrs.push_back(a.data());
+  return run_table_command(c, static_cast<int>(ptrs.size()), ptrs.data());
 }
 
 }  // namespace brdfbake::cli

@@ -15,13 +15,14 @@ int cmd_run(int argc, char** argv) {
       ("job", "the job file (JSON)", cxxopts::value<std::string>())
       ("o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())
       ("dry-run", "check the job and print it with every default filled in; bake nothing")
+      ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
       ("quiet", "no progress or summary")
       ("h,help", "this help");
   options.parse_positional({"job"});
   options.positional_help("JOB.json");
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
-    std::cout << options.help() << "\n";
+    std::cout << options.help() << "\nexample:\n  brdfbake run examples/job.json -o out\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
@@ -30,6 +31,7 @@ int cmd_run(int argc, char** argv) {
 
   Job job = read_job(r["job"].as<std::string>());
   if (r.count("output")) job.output_dir = r["output"].as<std::string>();
+  if (r.count("sanitize")) job.sanitize = true;
   if (r.count("dry-run")) {
     std::cout << job_to_json(job);
     return 0;

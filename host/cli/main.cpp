@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "brdfbake/version.hpp"
-#include "cli_common.hpp"
+#include "cli_table.hpp"
 
 namespace {
 
@@ -16,6 +16,7 @@ void usage(std::ostream& out) {
       << "  devices   list OpenCL platforms and devices\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
       << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
+      << "  thin-film bake a thin-film interference Fresnel table (KHR_materials_iridescence)\n"
       << "  prefilter prefilter an environment into a GGX or Charlie radiance mip chain\n"
       << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
       << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
@@ -33,12 +34,8 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
-    if (command == "lut") return cli::cmd_lut(argc - 1, argv + 1);
-    if (command == "prefilter") return cli::cmd_prefilter(argc - 1, argv + 1);
-    if (command == "irradiance") return cli::cmd_irradiance(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
-    if (command == "eval") return cli::cmd_eval(argc - 1, argv + 1);
-    if (command == "tabulate") return cli::cmd_tabulate(argc - 1, argv + 1);
+    if (const cli::TableCommand* c = cli::table_command(command)) return cli::run_table_command(*c, argc - 1, argv + 1);
     if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {

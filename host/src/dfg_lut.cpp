@@ -68,7 +68,6 @@ const Calibration kCalibration[] = {
 // within kDefaultBound, so that the default table meets it (DEVELOPERS' accuracy goal).
 constexpr double kDefaultBound = 1e-4;
 constexpr int kFallbackSamples = 1024;
-constexpr int kMaxSize = 16384;
 constexpr long long kMaxTexels = 1ll << 26;
 
 int default_samples(LutKind kind, Estimator estimator, Precision precision) {
@@ -223,12 +222,17 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
     if (s.width < 1 || s.height < 1)
       throw Error("table size must be at least 1x1 (got " + std::to_string(s.width) + "x" +
                   std::to_string(s.height) + ")");
-    if (s.width > kMaxSize || s.height > kMaxSize)
-      throw Error("table size must be at most " + std::to_string(kMaxSize) + " per side");
+    if (s.width > kLutMaxSize || s.height > kLutMaxSize)
+      throw Error("table size must be at most " + std::to_string(kLutMaxSize) + " per side");
   }
   if (static_cast<long long>(s.width) * s.height > kMaxTexels)
     throw Error("table has too many texels (at most " + std::to_string(kMaxTexels) + ")");
   if (s.samples < 0) throw Error("samples must be positive (got " + std::to_string(s.samples) + ")");
+  if (s.estimator == Estimator::Quadrature && s.samples > kLutMaxQuadratureSamples)
+    throw Error("the quadrature takes at most " + std::to_string(kLutMaxQuadratureSamples) +
+                " evaluations per texel (got " + std::to_string(s.samples) + "; its error is below 1e-7 long before)");
+  if (s.samples > kLutMaxSamples)
+    throw Error("samples must be at most " + std::to_string(kLutMaxSamples) + " (got " + std::to_string(s.samples) + ")");
   if (std::isnan(s.max_error) || s.max_error < 0.0)
     throw Error("max-error must be a positive number");
   const bool ggx = s.kind != LutKind::Charlie;
@@ -403,7 +407,7 @@ Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& p
   t.set_meta("precision", "fp64");
   t.set_meta("estimator", "reference");
   t.set_meta("samples", "converged");
-  t.set_meta("error_bound", "1e-06");
+  t.set_meta("error_bound", fmt(kLutReferenceBound));
   t.set_meta("error_bound_definition", "the reference's stated convergence (tests/reference)");
   if (timing) {
     timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

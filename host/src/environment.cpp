@@ -1,6 +1,7 @@
 // Loading environments: equirects and crosses through OpenImageIO, six face files, KTX2 cubes, and
 // the procedural builtin:studio and builtin:sun; validation of the values.
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -354,6 +355,35 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   env.source = spec;
   validate(env, options.sanitize);
   return env;
+}
+
+void check_environment_source(const std::string& spec) {
+  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
+  if (spec.rfind("builtin:", 0) == 0) {
+    const std::string name = spec.substr(8);
+    for (const auto& n : builtin_environment_names())
+      if (n == name) return;
+    throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
+  }
+  std::vector<std::string> files;
+  if (spec.find(',') != std::string::npos) {
+    std::stringstream ss(spec);
+    std::string item;
+    while (std::getline(ss, item, ',')) files.push_back(item);
+    if (files.size() != 6)
+      throw Error("a cube from face files needs six files (+X,-X,+Y,-Y,+Z,-Z), got " + std::to_string(files.size()));
+  } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
+    for (const char* f : kFaceNames) files.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
+  } else {
+    files.push_back(spec);
+  }
+  namespace fs = std::filesystem;
+  for (const auto& f : files) {
+    std::error_code ec;
+    if (!fs::exists(f, ec)) throw Error("cannot read environment '" + f + "': no such file");
+    if (fs::is_directory(f, ec)) throw Error("cannot read environment '" + f + "': it is a folder");
+    if (::access(f.c_str(), R_OK) != 0) throw Error("cannot read environment '" + f + "': permission denied");
+  }
 }
 
 }  // namespace brdfbake

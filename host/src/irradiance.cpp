@@ -135,10 +135,10 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
                                     const EnvProgress& progress) {
   if (spec.sh_order != 3 && spec.sh_order != 5)
     throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
-  if (spec.cube_size < 0 || spec.cube_size > 1024)
-    throw Error("irradiance cube size must be in 1..1024 (or 0 for none), not " + std::to_string(spec.cube_size));
-  if (spec.source_size < 1 || spec.source_size > 2048)
-    throw Error("irradiance source size must be in 1..2048, not " + std::to_string(spec.source_size));
+  if (spec.cube_size < 0 || spec.cube_size > kIrradianceMaxCube)
+    throw Error("irradiance cube size must be in 1.." + std::to_string(kIrradianceMaxCube) + " (or 0 for none), not " + std::to_string(spec.cube_size));
+  if (spec.source_size < 1 || spec.source_size > kIrradianceMaxSource)
+    throw Error("irradiance source size must be in 1.." + std::to_string(kIrradianceMaxSource) + ", not " + std::to_string(spec.source_size));
   auto& dev = device.impl();
   IrradianceResult result;
   if (progress) progress(0.0, "converting to a cube");

@@ -24,8 +24,8 @@ namespace brdfbake {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kMaxSize = 2048;
-constexpr int kMaxSamples = 1 << 16;
+constexpr int kMaxSize = kPrefilterMaxSize;
+constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
 
 // --max-error: sample counts tried per level, and the cap.

@@ -1,6 +1,6 @@
 // The thin-film interference Fresnel table (KHR_materials_iridescence), on an OpenCL device
 // (kernels/thin_film.cl) or by the scalar double reference (host/reference/src/thin_film.cpp).
-#include "thin_film.hpp"
+#include "brdfbake/thin_film.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,11 @@
 #include "brdfbake/version.hpp"
 #include "runtime/program.hpp"
 
-namespace brdfbake::detail {
+namespace brdfbake {
+
+using detail::ProgramSpec;
+using detail::build_program;
+using detail::cl_call;
 
 namespace {
 
@@ -22,7 +26,7 @@ std::string fmt(double v) {
   return buf;
 }
 
-reference::ThinFilm film_of(const ThinFilmRequest& r) {
+reference::ThinFilm film_of(const ThinFilmSpec& r) {
   reference::ThinFilm f;
   f.outside_ior = r.outside_ior;
   f.film_ior = r.film_ior;
@@ -35,25 +39,13 @@ reference::ThinFilm film_of(const ThinFilmRequest& r) {
   return f;
 }
 
-void check(const ThinFilmRequest& r) {
-  auto finite = [](double v) { return std::isfinite(v); };
-  if (r.width < 1 || r.height < 1) throw Error("thin-film: size and height must be at least 1");
-  if (!finite(r.film_ior) || r.film_ior < 1.0) throw Error("thin-film: film_ior must be at least 1");
-  if (!finite(r.outside_ior) || r.outside_ior < 1.0) throw Error("thin-film: outside_ior must be at least 1");
-  if (r.base_ior.has_value() == r.base_f0.has_value())
-    throw Error("thin-film: give exactly one of base_ior and base_f0");
-  if (!finite(r.thickness_min) || !finite(r.thickness_max) || r.thickness_min < 0 ||
-      r.thickness_max < r.thickness_min)
-    throw Error("thin-film: thickness_min <= thickness_max, both >= 0");
-}
-
 std::vector<double> cos_grid(int n) {
   std::vector<double> x(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) x[static_cast<size_t>(i)] = (i + 0.5) / n;
   return x;
 }
 
-std::vector<double> thickness_grid(const ThinFilmRequest& r) {
+std::vector<double> thickness_grid(const ThinFilmSpec& r) {
   std::vector<double> y(static_cast<size_t>(r.height));
   for (int j = 0; j < r.height; ++j)
     y[static_cast<size_t>(j)] = r.height == 1 ? r.thickness_min
@@ -62,7 +54,7 @@ std::vector<double> thickness_grid(const ThinFilmRequest& r) {
   return y;
 }
 
-Table make_table(const ThinFilmRequest& r) {
+Table make_table(const ThinFilmSpec& r) {
   const reference::ThinFilm f = film_of(r);
   Table t;
   t.width = r.width;
@@ -97,37 +89,56 @@ Table make_table(const ThinFilmRequest& r) {
 
 }  // namespace
 
-bool thin_film_available() { return true; }
+ThinFilmSpec resolve_thin_film_spec(const ThinFilmSpec& in) {
+  ThinFilmSpec r = in;
+  auto finite = [](double v) { return std::isfinite(v); };
+  if (r.height == 0) r.height = r.thickness_max == r.thickness_min ? 1 : r.width;
+  if (r.width < 1 || r.height < 1) throw Error("thin-film: size and height must be at least 1");
+  if (static_cast<long long>(r.width) * r.height > (1ll << 24))
+    throw Error("thin-film: at most 16777216 cells (got " + std::to_string(r.width) + "x" + std::to_string(r.height) + ")");
+  if (!finite(r.film_ior) || r.film_ior < 1.0) throw Error("thin-film: film_ior must be at least 1");
+  if (!finite(r.outside_ior) || r.outside_ior < 1.0) throw Error("thin-film: outside_ior must be at least 1");
+  if (r.base_ior.has_value() == r.base_f0.has_value())
+    throw Error("thin-film: give exactly one of base_ior and base_f0");
+  if (!finite(r.thickness_min) || !finite(r.thickness_max) || r.thickness_min < 0 ||
+      r.thickness_max < r.thickness_min)
+    throw Error("thin-film: thickness_min <= thickness_max, both >= 0");
+  if (r.thickness_max == r.thickness_min && r.height != 1)
+    throw Error("thin-film: height must be 1 when thickness_min = thickness_max (one thickness)");
+  return r;
+}
 
-ThinFilmResult bake_thin_film_adapter(Device* device, const ThinFilmRequest& r) {
-  check(r);
+Table bake_thin_film_reference(const ThinFilmSpec& in, ThinFilmTiming* timing) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ThinFilmSpec r = resolve_thin_film_spec(in);
   const reference::ThinFilm film = film_of(r);
-  ThinFilmResult result;
-  Table reference_table = make_table(r);
+  Table t = make_table(r);
   for (int j = 0; j < r.height; ++j)
     for (int i = 0; i < r.width; ++i) {
-      const reference::Rgb v = reference::thin_film_fresnel(reference_table.x[static_cast<size_t>(i)],
-                                                            reference_table.y[static_cast<size_t>(j)], film);
-      reference_table.at(i, j, 0) = static_cast<float>(v.r);
-      reference_table.at(i, j, 1) = static_cast<float>(v.g);
-      reference_table.at(i, j, 2) = static_cast<float>(v.b);
+      const reference::Rgb v =
+          reference::thin_film_fresnel(t.x[static_cast<size_t>(i)], t.y[static_cast<size_t>(j)], film);
+      t.at(i, j, 0) = static_cast<float>(v.r);
+      t.at(i, j, 1) = static_cast<float>(v.g);
+      t.at(i, j, 2) = static_cast<float>(v.b);
     }
-  if (!device) {
-    reference_table.set_meta("device", "reference (scalar double)");
-    reference_table.set_meta("precision", "fp64");
-    result.table = std::move(reference_table);
-    result.error_bound = 0.0;
-    result.error_bound_definition = "the scalar double reference itself (stored as float32)";
-    return result;
-  }
+  t.set_meta("device", "reference (scalar double)");
+  t.set_meta("precision", "fp64");
+  if (timing) timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return t;
+}
 
-  auto& dev = device->impl();
+Table bake_thin_film(Device& device, const ThinFilmSpec& in, ThinFilmTiming* timing) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ThinFilmSpec r = resolve_thin_film_spec(in);
+  const reference::ThinFilm film = film_of(r);
+  auto& dev = device.impl();
   ProgramSpec ps;
   ps.file = "thin_film.cl";
   ps.precision = r.precision;
   cl::Program program = build_program(dev, ps);
   Table t = make_table(r);
   const std::vector<double> params = {film.outside_ior, film.film_ior, film.base_f0.r, film.base_f0.g, film.base_f0.b};
+  double device_seconds = 0.0;
   cl_call("kernel thin_film_table on '" + dev.info.name + "'", [&] {
     auto real_buffer = [&](const std::vector<double>& v) {
       if (r.precision == Precision::Fp64)
@@ -145,20 +156,18 @@ ThinFilmResult bake_thin_film_adapter(Device* device, const ThinFilmRequest& r) 
                                                                     static_cast<size_t>(r.height))),
                              out, xb, yb, r.width, r.height, pb);
     event.wait();
+    device_seconds = 1e-9 * double(event.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                                   event.getProfilingInfo<CL_PROFILING_COMMAND_START>());
     dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, t.data.size() * sizeof(float), t.data.data());
     return 0;
   });
   t.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   t.set_meta("precision", precision_name(r.precision));
-  double worst = 0.0;
-  for (size_t k = 0; k < t.data.size(); ++k)
-    worst = std::max(worst, std::fabs(double(t.data[k]) - double(reference_table.data[k])));
-  t.set_meta("error_bound", fmt(worst));
-  result.table = std::move(t);
-  result.error_bound = worst;
-  result.error_bound_definition =
-      "max |table - scalar double reference| over every cell and channel, measured when the table was baked";
-  return result;
+  if (timing) {
+    timing->device_seconds = device_seconds;
+    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return t;
 }
 
-}  // namespace brdfbake::detail
+}  // namespace brdfbake

@@ -2,10 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "brdfbake/reference/thin_film.hpp"
 #include "support/device_fixture.hpp"
-#include "thin_film.hpp"
+#include "brdfbake/tables.hpp"
+#include "brdfbake/thin_film.hpp"
 
 namespace {
 
@@ -17,8 +19,14 @@ constexpr double kThinFilmFp32 = 1e-5;
 // fp64: rounding of the same arithmetic.
 constexpr double kThinFilmFp64 = 1e-10;
 
+std::string detail_format(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
 void compare(Device& dev, Precision p, double tolerance) {
-  detail::ThinFilmRequest r;
+  ThinFilmSpec r;
   r.film_ior = 1.8;
   r.base_f0 = reference::Rgb{0.9, 0.5, 0.04};
   r.thickness_min = 0.0;
@@ -26,8 +34,7 @@ void compare(Device& dev, Precision p, double tolerance) {
   r.width = 33;
   r.height = 17;
   r.precision = p;
-  const detail::ThinFilmResult res = detail::bake_thin_film_adapter(&dev, r);
-  const Table& t = res.table;
+  const Table t = bake_thin_film(dev, r);
   ASSERT_EQ(t.width, 33);
   ASSERT_EQ(t.height, 17);
   reference::ThinFilm f;
@@ -42,8 +49,19 @@ void compare(Device& dev, Precision p, double tolerance) {
     }
   // fp64 results are stored as float: allow the storage rounding on top.
   EXPECT_LT(worst, tolerance + (p == Precision::Fp64 ? 1.2e-7 : 0.0));
+  // The same table as the family bakes it: the measured bound it records.
+  TableRequest q;
+  q.kind = TableKind::ThinFilm;
+  q.params = {{"film_ior", 1.8}, {"base_f0", std::vector<double>{0.9, 0.5, 0.04}}, {"thickness_min", 0.0},
+              {"thickness_max", 1200.0}, {"size", 33.0}, {"height", 17.0}};
+  q.precision = p;
+  validate_table(q);
+  const BakeResult res = bake_table(q, *Backend::open(dev));
   ASSERT_TRUE(res.error_bound.has_value());
-  EXPECT_LE(*res.error_bound, tolerance + 1.2e-7) << "the measured bound in the metadata";
+  EXPECT_LE(*res.error_bound, tolerance + 1.2e-7) << "the measured bound";
+  // Both tables are stored as float32: the bound misses at most their rounding (1.2e-7 below 1).
+  EXPECT_GE(*res.error_bound + 1.2e-7, worst) << "the bound is the measured max difference";
+  EXPECT_EQ(res.table()->meta("error_bound"), detail_format(*res.error_bound)) << "and the file records it";
 }
 
 TEST(ThinFilmDevice, MatchesTheReferenceFp32) {
@@ -59,12 +77,11 @@ TEST(ThinFilmDevice, MatchesTheReferenceFp64) {
 
 TEST(ThinFilmDevice, DielectricBaseAndOneThickness) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
-  detail::ThinFilmRequest r;
+  ThinFilmSpec r;
   r.base_ior = 1.5;
   r.thickness_min = r.thickness_max = 400.0;
   r.width = 8;
-  r.height = 1;
-  const Table t = detail::bake_thin_film_adapter(dev, r).table;
+  const Table t = bake_thin_film(*dev, r);
   EXPECT_EQ(t.y.size(), 1u);
   EXPECT_DOUBLE_EQ(t.y[0], 400.0);
   EXPECT_EQ(t.meta("base_ior"), "1.5");

@@ -46,7 +46,7 @@ TEST(Cli, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure("lut --kind ggx --size 8 --samples -5", out, "samples");
   expect_clean_failure("lut --kind ggx --size 8 --max-error nan", out, "max-error");
   expect_clean_failure("lut --kind phong --size 8", out, "unknown table kind 'phong'");
-  expect_clean_failure("lut --kind ggx --size 8 --estimator magic", out, "unknown estimator 'magic'");
+  expect_clean_failure("lut --kind ggx --size 8 --estimator magic", out, "--estimator: must be one of quadrature, vndf, ndf, uniform (got 'magic')");
   expect_clean_failure("lut --kind ggx --size 8 --precision fp16", out, "unknown precision 'fp16'");
   expect_clean_failure("lut --kind ggx --size 8 --device no-such-device", out, "no-such-device");
   expect_clean_failure("lut --kind ggx --size 8 --no-such-option", out, "no-such-option");

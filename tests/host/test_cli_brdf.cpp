@@ -312,7 +312,7 @@ TEST(CliEval, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure(base + "inf.csv", out, "line 2: field wo_z is not finite");
   expect_clean_failure(base + "trunc.bin --binary", out, "not a whole number of pairs");
   expect_clean_failure("eval --material " + mats.string() + " --name gold --model shiny -i " + (dir / "../zero.csv").string(),
-                       out, "unknown model 'shiny'");
+                       out, "--model: must be one of disney, gltf");
   expect_clean_failure("eval --material " + mats.string() + " -i " + (dir / "../zero.csv").string(), out,
                        "choose one with --name");
   expect_clean_failure("eval --material " + mats.string() + " --name silver -i " + (dir / "../zero.csv").string(), out,
@@ -323,7 +323,7 @@ TEST(CliEval, BadInputGivesOneLineAndNoFile) {
   write_text(dir / "../nomodel.json", R"({"materials": [{"name": "x"}]})");
   expect_clean_failure("eval --material " + (dir / "../nomodel.json").string() + " -i " + (dir / "../zero.csv").string(),
                        out, "names no model");
-  expect_clean_failure("eval -i " + (dir / "../zero.csv").string(), out, "missing --material");
+  expect_clean_failure("eval -i " + (dir / "../zero.csv").string(), out, "--material: missing");
 }
 
 // ---- tabulate -----------------------------------------------------------------------------------
@@ -404,12 +404,12 @@ TEST(CliTabulate, BadInputGivesOneLineAndNoFile) {
   fs::create_directories(dir);
   const fs::path mats = materials_file();
   const std::string base = "tabulate --material " + mats.string() + " --name gold ";
-  expect_clean_failure(base + "--layout merl --res 10", dir / "t.binary", "fixed resolution");
-  expect_clean_failure(base + "--layout cube", dir / "t.exr", "unknown layout 'cube'");
+  expect_clean_failure(base + "--layout merl --res 10", dir / "t.binary", "its size is fixed");
+  expect_clean_failure(base + "--layout cube", dir / "t.exr", "--layout: must be one of merl, grid, albedo, slice (got 'cube')");
   expect_clean_failure(base + "--layout grid --res 4,4", dir / "t.exr", "takes 3 resolution values");
-  expect_clean_failure(base + "--layout grid --res 0", dir / "t.exr", "--res must be positive integers");
-  expect_clean_failure(base + "--layout albedo --phi-d 1", dir / "t.exr", "--phi-d is for --layout slice");
-  expect_clean_failure(base + "--layout slice --phi-d 4", dir / "t.exr", "phi_d must be in [0, pi]");
+  expect_clean_failure(base + "--layout grid --res 0", dir / "t.exr", "--res: must be 1 to 3 integers");
+  expect_clean_failure(base + "--layout albedo --phi-d 1", dir / "t.exr", "--phi-d: is for --layout slice");
+  expect_clean_failure(base + "--layout slice --phi-d 4", dir / "t.exr", "--phi-d: must be a number in 0..3.14159265");
   expect_clean_failure(base + "--layout slice", dir / "t.tiff", ".tiff");
   expect_clean_failure("tabulate --material " + mats.string() + " --layout merl", dir / "t.binary", "--name");
   expect_clean_failure(base + "--precision fp16 --layout merl", dir / "t.binary", "unknown precision 'fp16'");

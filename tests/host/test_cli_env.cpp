@@ -93,7 +93,7 @@ TEST(CliEnv, PrefilterEveryContainer) {
   }
   for (const std::string& args : std::vector<std::string>{"--pixel f32 --distribution charlie --schedule sqrt -o " + (dir / "c32.ktx2").string(),
                                   "-o " + (dir / "c.ktx").string(), "-o " + (dir / "c.dds").string(),
-                                  "--dds-legacy -o " + (dir / "legacy.dds").string(),
+                                  "--format dds-legacy -o " + (dir / "legacy.dds").string(),
                                   "--estimator sampling --samples 64 -o " + (dir / "s.ktx2").string(),
                                   "--max-error 0.02 -o " + (dir / "m.ktx2").string(),
                                   "--layout cross --image-format hdr -o " + (dir / "cross").string() + "/",
@@ -138,13 +138,22 @@ TEST(CliEnv, Irradiance) {
 TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   const fs::path dir = temp_dir("bad");
   const std::string out = " -o " + (dir / "x.ktx2").string();
-  expect_clean_failure("prefilter" + out, dir, "missing --env");
-  expect_clean_failure("prefilter --env builtin:studio", dir, "missing -o");
+  // No --env: the default environment, as in bake and in jobs.
+  {
+    const CliRun r = run("prefilter --size 4 --min-size 4 --quiet" + out);
+    EXPECT_EQ(r.code, 0) << r.err;
+    const brdfbake::io::Ktx2Image k = brdfbake::io::read_ktx2((dir / "x.ktx2").string());
+    std::string source;
+    for (const auto& [key, value] : k.key_values)
+      if (key == "brdfbake:source") source = value;
+    EXPECT_EQ(source, "builtin:studio");
+    fs::remove(dir / "x.ktx2");
+  }
   expect_clean_failure("prefilter --env builtin:studio --size 0" + out, dir, "--size");
   expect_clean_failure("prefilter --env builtin:studio --size 16 --min-size 32" + out, dir, "--min-size");
   expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--size");
-  expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir, "unknown distribution 'phong'");
-  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "unknown schedule 'cubic'");
+  expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir, "--distribution: must be one of ggx, charlie (got 'phong')");
+  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "--schedule: must be one of linear, filament, sqrt (got 'cubic')");
   expect_clean_failure("prefilter --env builtin:studio --samples 64" + out, dir, "--estimator sampling");
   expect_clean_failure("prefilter --env builtin:studio --estimator sampling --samples 0" + out, dir, "--samples");
   expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--max-error");

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
 #include "support/device_fixture.hpp"
 
 namespace {
@@ -88,7 +89,7 @@ TEST(Job, BadInputNamesTheFileAndTheField) {
       {R"({"output_dir": "o"})", "job.json: tables: missing"},
       {R"({"tables": [{"kind": "phong"}]})", "job.json: tables[0].kind: unknown table kind 'phong'"},
       {R"({"tables": [{"size": 4}]})", "job.json: tables[0].kind: missing"},
-      {R"({"tables": [{"kind": "ggx", "size": -4}]})", "job.json: tables[0].size: must be an integer in 1..65536 (got -4)"},
+      {R"({"tables": [{"kind": "ggx", "size": -4}]})", "job.json: tables[0].size: must be an integer in 1..16384 (got -4)"},
       {R"({"tables": [{"kind": "ggx", "size": 0}]})", "tables[0].size"},
       {R"({"tables": [{"kind": "ggx", "size": 2.5}]})", "tables[0].size: must be an integer"},
       {R"({"tables": [{"kind": "ggx", "size": "big"}]})", "tables[0].size: must be an integer"},
@@ -102,14 +103,14 @@ TEST(Job, BadInputNamesTheFileAndTheField) {
       {R"({"tables": [{"kind": "ggx", "output": "x.bmp"}]})", "tables[0].output"},
       {R"({"tables": [{"kind": "ggx", "size": 8, "output": "a.exr"}, {"kind": "ggx", "size": 16, "output": "a.exr"}]})",
        "tables[1].output: 'a.exr' is also the output of tables[0]"},
-      {R"({"tables": [{"kind": "fresnel"}]})", "tables[0] (fresnel): model: missing"},
-      {R"({"tables": [{"kind": "fresnel", "model": "dielectric", "ior": [1, 2]}]})", "tables[0].ior: must be a number or an array of 3"},
+      {R"({"tables": [{"kind": "fresnel"}]})", "tables[0].model: missing"},
+      {R"({"tables": [{"kind": "fresnel", "model": "dielectric", "ior": [1, 2]}]})", "tables[0].ior: must be a number or three numbers r,g,b"},
       {R"({"tables": [{"kind": "fresnel", "model": "schlick-ior", "ior": 1.5, "vs_exact": true, "output": "s.exr"}]})",
        "tables[0].output: vs_exact adds three error columns"},
-      {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})", "tables[0].output: 'p.exr': a prefiltered chain"},
-      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})", "tables[0] (prefilter): min_size"},
-      {R"({"tables": [{"kind": "irradiance", "sh_order": 4}]})", "tables[0] (irradiance): sh_order: must be 3 or 5"},
-      {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})", "tables[0] (thin-film): give exactly one"},
+      {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})", "tables[0].output: unknown output format '.exr' of 'p.exr' (prefilter writes a cube container"},
+      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})", "tables[0].min_size: must be at most size (got 32 > 16)"},
+      {R"({"tables": [{"kind": "irradiance", "sh_order": 4}]})", "tables[0].sh_order: must be 3 or 5"},
+      {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})", "tables[0].base_f0: give exactly one of base_ior"},
       {R"({"tables": [], "colour": 1})", "job.json: colour: unknown field"},
       {R"({"brdfbake_job": 2, "tables": []})", "job.json: brdfbake_job: must be 1"},
       {R"({"tables": [{"kind": "ggx", "requested_by": [{"rule": "x", "why": "y"}]}]})", "tables[0].requested_by[0].why: unknown field"},

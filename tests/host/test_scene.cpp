@@ -15,6 +15,7 @@
 #include <string>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
 
 namespace {
 

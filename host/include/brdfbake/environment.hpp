@@ -58,6 +58,10 @@ struct EnvLoadOptions {
 // infinite or negative values, naming how many of each.
 EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options = {});
 
+// Checks cheaply, without reading pixels, that `spec` names something load_environment can open
+// (a known builtin, existing readable files): commands call it before slow work.
+void check_environment_source(const std::string& spec);
+
 // The built-in environments, as equirects of width x width/2:
 //   studio: soft area lights (three rectangular softboxes and a ring light) over a grey gradient;
 //   sun:    a clear sky gradient over dark ground, a sun of 0.5 degree radius (2.4e-4 sr) and
@@ -146,6 +150,10 @@ enum class EnvEstimator { Quadrature, Sampling };
 EnvEstimator env_estimator_from_name(const std::string& name);  // "quadrature" | "sampling"
 const char* env_estimator_name(EnvEstimator e);
 
+// Limits: the largest level-0 face, and the most lobe samples per texel of the sampling estimator.
+inline constexpr int kPrefilterMaxSize = 2048;
+inline constexpr int kPrefilterMaxSamples = 1 << 16;
+
 struct PrefilterSpec {
   int size = 256;      // face size of level 0 (the source cube, the mirror)
   int min_size = 16;   // the smallest level's face size (levels size, size/2, ..., >= min_size)
@@ -226,6 +234,10 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
 enum class ShWindow { None, Hanning, Lanczos };
 ShWindow sh_window_from_name(const std::string& name);  // "none" | "hanning" | "lanczos"
 const char* sh_window_name(ShWindow w);
+
+// Limits: the largest irradiance cube face and source cube face.
+inline constexpr int kIrradianceMaxCube = 1024;
+inline constexpr int kIrradianceMaxSource = 2048;
 
 struct IrradianceSpec {
   int sh_order = 3;          // bands: 3 (9 coefficients) or 5 (25)

@@ -29,6 +29,14 @@ enum class SheenVisibility { EstevezKulla, Neubelt };
 SheenVisibility sheen_visibility_from_name(const std::string& name);  // "estevez-kulla" | "neubelt"
 const char* sheen_visibility_name(SheenVisibility v);
 
+// Limits: the largest table side, the most evaluations per texel of the Monte Carlo estimators and
+// of the quadrature (its longest rule: 512 polar x 32 azimuthal nodes on each of two panels), and
+// the convergence the scalar reference states (tests/reference).
+inline constexpr int kLutMaxSize = 16384;
+inline constexpr int kLutMaxSamples = 1 << 20;
+inline constexpr int kLutMaxQuadratureSamples = 2 * 512 * 32;
+inline constexpr double kLutReferenceBound = 1e-6;
+
 struct LutSpec {
   LutKind kind = LutKind::Ggx;
   int width = 128;             // cells along n_dot_v

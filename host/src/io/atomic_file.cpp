@@ -92,6 +92,50 @@ void write_bytes(const TempFile& temp, std::string_view bytes) {
   if (::close(fd) != 0) throw_write_error(path, os_reason(errno));
 }
 
+OutputStream::OutputStream(const std::string& path) : path_(path) {
+  if (path_ == "-") {
+    file_ = stdout;
+    return;
+  }
+  temp_ = std::make_unique<TempFile>(path_);
+  file_ = std::fopen(temp_->path().c_str(), "wb");
+  if (!file_) throw_write_error(path_, os_reason(errno));
+}
+
+OutputStream::~OutputStream() {
+  if (temp_ && file_) std::fclose(file_);
+}
+
+void OutputStream::write(const void* data, size_t bytes) {
+  if (bytes > 0 && std::fwrite(data, 1, bytes, file_) != bytes)
+    throw_write_error(temp_ ? path_ : std::string("standard output"), os_reason(errno));
+}
+
+void OutputStream::commit() {
+  if (std::fflush(file_) != 0) throw_write_error(temp_ ? path_ : std::string("standard output"), os_reason(errno));
+  if (!temp_) return;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!closed) throw_write_error(path_, os_reason(errno));
+  temp_->commit();
+}
+
+ParentFolders::ParentFolders(const std::string& path) {
+  std::error_code ec;
+  std::vector<fs::path> missing;
+  for (fs::path p = fs::path(path).parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path())
+    missing.push_back(p);
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (!fs::create_directory(*it, ec) && ec) throw_write_error(path, "cannot create the folder '" + it->string() + "': " + ec.message());
+    created_.push_back(it->string());
+  }
+}
+
+ParentFolders::~ParentFolders() {
+  std::error_code ec;
+  for (auto it = created_.rbegin(); it != created_.rend(); ++it) fs::remove(*it, ec);  // only if empty
+}
+
 void write_file_atomically(const std::string& path, std::string_view bytes) {
   TempFile temp(path);
   write_bytes(temp, bytes);

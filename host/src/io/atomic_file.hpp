@@ -4,8 +4,11 @@
 // against failures of the writer (exceptions, full disks, bad paths), not against power loss.
 #pragma once
 
+#include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace brdfbake::io {
 
@@ -38,6 +41,37 @@ void write_bytes(const TempFile& temp, std::string_view bytes);
 
 // Writes `bytes` to `path` atomically.
 void write_file_atomically(const std::string& path, std::string_view bytes);
+
+// Creates the folders missing above `path` (a file to be written), and removes them again when
+// destroyed unless keep() was called: a failed write leaves no empty folders behind.
+class ParentFolders {
+ public:
+  explicit ParentFolders(const std::string& path);
+  ~ParentFolders();
+  ParentFolders(const ParentFolders&) = delete;
+  ParentFolders& operator=(const ParentFolders&) = delete;
+  void keep() { created_.clear(); }
+
+ private:
+  std::vector<std::string> created_;  // outermost first
+};
+
+// A stream written in pieces: standard output for "-", else a temporary beside `path` renamed over
+// it by commit() (a failure, or destruction without commit, leaves no file).
+class OutputStream {
+ public:
+  explicit OutputStream(const std::string& path);
+  ~OutputStream();
+  OutputStream(const OutputStream&) = delete;
+  OutputStream& operator=(const OutputStream&) = delete;
+  void write(const void* data, size_t bytes);
+  void commit();
+
+ private:
+  std::string path_;
+  std::unique_ptr<TempFile> temp_;
+  std::FILE* file_ = nullptr;
+};
 
 // Throws the Error of a failed write: "cannot write '<path>': <reason>".
 [[noreturn]] void throw_write_error(const std::string& path, const std::string& reason);

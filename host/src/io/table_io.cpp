@@ -530,7 +530,15 @@ void write_table_csv(const Table& table, std::ostream& out) {
 }
 
 void check_output_path(const std::string& path) {
-  io::TempFile probe(path);  // created exclusively beside the destination, removed on scope exit
+  // A missing folder is created when the output is written: probe the nearest folder that exists.
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path probe_at(path);
+  while (!probe_at.parent_path().empty() && !fs::exists(probe_at.parent_path(), ec))
+    probe_at = probe_at.parent_path();
+  if (probe_at.string() != path && fs::exists(probe_at, ec) && !fs::is_directory(probe_at, ec))
+    io::throw_write_error(path, "'" + probe_at.string() + "' is not a folder");
+  io::TempFile probe(probe_at.string());  // created exclusively beside it, removed on scope exit
 }
 
 }  // namespace brdfbake

@@ -7,7 +7,8 @@
 #include <map>
 #include <set>
 
-#include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
+#include "job/job_json.hpp"
 
 namespace brdfbake {
 
@@ -45,6 +46,7 @@ class Planner {
     plan_.job.device = o.device;
     plan_.job.precision = o.precision;
     plan_.job.source = "bake plan";
+    plan_.job.sanitize = o.sanitize;
   }
 
   Plan& plan() { return plan_; }
@@ -94,8 +96,8 @@ class Planner {
   TableRequest dfg(TableKind kind, const std::string& visibility = {}) const {
     TableRequest t;
     t.kind = kind;
-    t.params.push_back({"size", double(o_.lut_size)});
-    if (kind == TableKind::Charlie) t.params.push_back({"sheen_visibility", visibility});
+    if (o_.lut_size) t.params.push_back({"size", double(*o_.lut_size)});
+    if (kind == TableKind::Charlie && !visibility.empty()) t.params.push_back({"sheen_visibility", visibility});
     t.format = o_.table_format;
     return t;
   }
@@ -106,8 +108,9 @@ class Planner {
     TableRequest t;
     t.kind = TableKind::Prefilter;
     t.params.push_back({"distribution", distribution});
-    t.params.push_back({"size", double(o_.cube_size)});
-    t.params.push_back({"min_size", double(std::min(o_.cube_min_size, o_.cube_size))});
+    if (o_.cube_size) t.params.push_back({"size", double(*o_.cube_size)});
+    if (o_.cube_min_size) t.params.push_back({"min_size", double(*o_.cube_min_size)});
+    if (o_.schedule) t.params.push_back({"schedule", *o_.schedule});
     if (o_.prefilter_max_error > 0) t.params.push_back({"max_error", o_.prefilter_max_error});
     t.format = o_.cube_format;
     return t;
@@ -115,7 +118,7 @@ class Planner {
   TableRequest irradiance() const {
     TableRequest t;
     t.kind = TableKind::Irradiance;
-    t.params.push_back({"sh_order", double(o_.sh_order)});
+    if (o_.sh_order) t.params.push_back({"sh_order", double(*o_.sh_order)});
     t.format = "json";
     return t;
   }
@@ -127,7 +130,7 @@ class Planner {
     if (ior.size() == 1) t.params.push_back({"ior", ior[0]});
     else t.params.push_back({"ior", ior});
     if (ior_outside != 1.0) t.params.push_back({"ior_outside", ior_outside});
-    t.params.push_back({"size", double(o_.fresnel_size)});
+    if (o_.fresnel_size) t.params.push_back({"size", double(*o_.fresnel_size)});
     if (vs_exact) t.params.push_back({"vs_exact", true});
     // The error columns make six channels: CSV (or a C header) holds them, images do not.
     t.format = vs_exact ? (o_.table_format == "h" ? "h" : "csv") : o_.table_format;
@@ -141,8 +144,7 @@ class Planner {
     t.params.push_back({base_key, base});
     t.params.push_back({"thickness_min", lo});
     t.params.push_back({"thickness_max", hi});
-    t.params.push_back({"size", double(o_.thin_film_size)});
-    t.params.push_back({"height", double(hi > lo ? o_.thin_film_size : 1)});
+    if (o_.thin_film_size) t.params.push_back({"size", double(*o_.thin_film_size)});
     t.format = o_.table_format;
     return t;
   }
@@ -265,7 +267,7 @@ void apply_rules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& cl
       fire(kSheen);
       const double lo = m.sheen_roughness_texture ? 0.0 : m.sheen_roughness;
       sheen_range.add(lo, m.sheen_roughness);
-      p.ask(p.dfg(TableKind::Charlie, p.plan().options.sheen_visibility), kSheen,
+      p.ask(p.dfg(TableKind::Charlie, p.plan().options.sheen_visibility.value_or("")), kSheen,
             "sheen DFG: scales the Charlie-prefiltered radiance", who);
       p.ask(p.dfg(TableKind::Charlie, "estevez-kulla"), kSheen,
             "sheen albedo E(n.v): the base layer's albedo scaling 1 - max(sheenColor) E", who);
@@ -494,6 +496,99 @@ Plan plan_default(const PlanOptions& options) {
   plan.rules_fired = {rule};
   plan.job.notes.push_back("no scene: the standard set for metallic-roughness materials");
   return plan;
+}
+
+std::string plan_to_json(const Plan& plan) {
+  nlohmann::ordered_json o = detail::job_json(plan.job);
+  nlohmann::ordered_json p;
+  p["energy_compensation"] = plan.options.energy_compensation;
+  p["rules_fired"] = plan.rules_fired;
+  nlohmann::ordered_json mats = nlohmann::ordered_json::array();
+  for (const auto& m : plan.materials) {
+    nlohmann::ordered_json e;
+    e["material"] = m.label;
+    e["reached_by"] = m.reached_by;
+    e["counted"] = m.counted;
+    e["rules"] = m.rules;
+    if (!m.notes.empty()) e["notes"] = m.notes;
+    mats.push_back(e);
+  }
+  p["materials"] = mats;
+  o["plan"] = p;
+  return o.dump(2) + "\n";
+}
+
+// ---- Options as parameters -------------------------------------------------------------------------
+
+namespace {
+
+// A planner option that sets a table parameter: the parameter's definition under the option's name.
+ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help, const char* cli = "") {
+  ParamDef d = *find_param_def(table_schema(kind), param);
+  d.name = name;
+  d.cli = cli;
+  d.help = help;
+  d.fallback.reset();  // unset: the table's own default
+  if (const ParamDef* t = find_param_def(table_schema(kind), param); t && t->fallback)
+    d.default_text = param_value_text(*t->fallback);
+  return d;
+}
+
+}  // namespace
+
+const std::vector<ParamDef>& plan_schema() {
+  static const PlanOptions d;
+  static const std::vector<ParamDef> s = {
+      ParamDef("energy_compensation", ParamType::Flag,
+               "bake ggx-multiscatter (Kulla & Conty energy compensation) instead of the ggx DFG table")
+          .def(d.energy_compensation),
+      from_table(TableKind::GgxMultiscatter, "size", "lut_size", "DFG tables: cells along n_dot_v and roughness"),
+      from_table(TableKind::Prefilter, "size", "cube_size", "prefiltered chains: face size of level 0"),
+      from_table(TableKind::Prefilter, "min_size", "min_size", "prefiltered chains: face size of the smallest level"),
+      from_table(TableKind::Prefilter, "schedule", "schedule", "prefiltered chains: roughness of each level"),
+      ParamDef("prefilter_max_error", ParamType::Number,
+               "prefiltered chains: refine each level until successive refinements differ by less (RMS); 0: fixed "
+               "refinement, no measured bound")
+          .range(0, 1).def(d.prefilter_max_error),
+      from_table(TableKind::Fresnel, "size", "fresnel_size", "Fresnel tables: cells along cos_theta"),
+      from_table(TableKind::ThinFilm, "size", "thin_film_size", "thin-film tables: cells along cos_theta and thickness"),
+      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5", "sh"),
+      from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
+      ParamDef("table_format", ParamType::Name, "1-D and 2-D tables: the file format")
+          .one_of({"exr", "png", "hdr", "ktx2", "csv", "h"}).def(d.table_format),
+      ParamDef("cube_format", ParamType::Name, "prefiltered chains: the container").one_of({"ktx2", "ktx", "dds"}).def(d.cube_format),
+  };
+  return s;
+}
+
+PlanOptions plan_options_from_params(const Params& params, bool cli) {
+  PlanOptions o;
+  const auto& schema = plan_schema();
+  for (const auto& p : params) {
+    const ParamDef* d = find_param_def(schema, p.name);
+    if (!d) throw Error("unknown plan option '" + p.name.substr(0, 60) + "'");
+    check_param(*d, p.value, cli ? "--" + d->cli_name() : p.name);
+    auto integer = [&] { return static_cast<int>(std::get<double>(p.value)); };
+    if (p.name == "energy_compensation") o.energy_compensation = std::get<bool>(p.value);
+    else if (p.name == "lut_size") o.lut_size = integer();
+    else if (p.name == "cube_size") o.cube_size = integer();
+    else if (p.name == "min_size") o.cube_min_size = integer();
+    else if (p.name == "schedule") o.schedule = std::get<std::string>(p.value);
+    else if (p.name == "prefilter_max_error") o.prefilter_max_error = std::get<double>(p.value);
+    else if (p.name == "fresnel_size") o.fresnel_size = integer();
+    else if (p.name == "thin_film_size") o.thin_film_size = integer();
+    else if (p.name == "sh_order") o.sh_order = integer();
+    else if (p.name == "sheen_visibility") o.sheen_visibility = std::get<std::string>(p.value);
+    else if (p.name == "table_format") o.table_format = std::get<std::string>(p.value);
+    else if (p.name == "cube_format") o.cube_format = std::get<std::string>(p.value);
+  }
+  if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
+    throw Error(std::string(cli ? "--sh" : "sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");
+  const int size = o.cube_size.value_or(static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "size")->fallback)));
+  if (o.cube_min_size && *o.cube_min_size > size)
+    throw Error(std::string(cli ? "--min-size" : "min_size") + ": must be at most " + (cli ? "--cube-size" : "cube_size") +
+                " (got " + std::to_string(*o.cube_min_size) + " > " + std::to_string(size) + ")");
+  return o;
 }
 
 }  // namespace brdfbake

@@ -17,7 +17,9 @@
 #include <set>
 #include <sstream>
 
-#include "brdfbake/job.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/scene.hpp"
+#include "io/json_input.hpp"
 
 namespace brdfbake {
 
@@ -69,11 +71,7 @@ class Reader {
     throw Error(origin_ + ": " + path + ": " + problem);
   }
 
-  static std::string describe(const json& v) {
-    std::string s = v.dump();
-    if (s.size() > 40) s = s.substr(0, 37) + "...";
-    return s;
-  }
+  static std::string describe(const json& v) { return io::json_excerpt(v); }
 
   const json* object(const json& parent, const std::string& key, const std::string& path) const {
     auto it = parent.find(key);
@@ -304,14 +302,7 @@ void check_resources(const Reader& r, const json& root, const std::string& key, 
 }  // namespace
 
 Scene parse_scene_json(const std::string& text, const std::string& origin, const std::string& base_dir) {
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();
-    if (auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-    throw Error(origin + ": malformed JSON: " + what);
-  }
+  const json root = io::parse_json(text, origin);
   const Reader r(origin);
   if (!root.is_object()) throw Error(origin + ": not a glTF document (the JSON is not an object)");
   const json* asset = r.object(root, "asset", "asset");

@@ -1,0 +1,236 @@
+#include "cli_table.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <set>
+
+#include "brdfbake/job.hpp"
+
+namespace brdfbake::cli {
+
+namespace {
+
+// Options whose one-letter alias users expect.
+std::string option_spec(const ParamDef& d) {
+  const std::string name = d.cli_name();
+  if (name == "input") return "i,input";
+  return name;
+}
+
+bool negated_flag(const ParamDef& d) {
+  return d.type == ParamType::Flag && d.fallback && std::get<bool>(*d.fallback);
+}
+
+std::string option_name(const ParamDef& d) { return negated_flag(d) ? "no-" + d.cli_name() : d.cli_name(); }
+
+std::string default_text(const ParamDef& d) {
+  if (!d.default_text.empty()) return d.default_text;
+  if (!d.fallback) return "";
+  if (auto s = std::get_if<std::string>(&*d.fallback)) return *s;
+  if (auto b = std::get_if<bool>(&*d.fallback)) return *b ? "on" : "";
+  return param_value_text(*d.fallback);
+}
+
+std::string help_of(const ParamDef& d) {
+  std::string h = d.help;
+  if (negated_flag(d)) return "turn off: " + h;
+  if (d.type == ParamType::Flag) return h;
+  if (!d.choices.empty()) {
+    std::string c;
+    for (const auto& x : d.choices) c += (c.empty() ? "" : " | ") + x;
+    h += " [" + c + "]";
+  } else if (d.type != ParamType::Path && d.type != ParamType::Name) {
+    h += " [" + param_expectation(d) + "]";
+  }
+  const std::string def = default_text(d);
+  if (!def.empty()) h += " (default: " + def + ")";
+  if (d.required) h += " (required)";
+  return h;
+}
+
+std::vector<TableKind> kinds_of(const std::string& command) {
+  std::vector<TableKind> out;
+  for (TableKind k : table_kinds())
+    if (table_kind_command(k) == command) out.push_back(k);
+  return out;
+}
+
+// The union of the kinds' schemas, in order of first appearance.
+std::vector<ParamDef> union_schema(const std::vector<TableKind>& kinds) {
+  std::vector<ParamDef> out;
+  for (TableKind k : kinds)
+    for (const auto& d : table_schema(k))
+      if (!find_param_def(out, d.name)) out.push_back(d);
+  return out;
+}
+
+// A path whose writability stands for the output: a folder output is probed where it will be made.
+std::string output_probe(const std::string& path, TableKind kind) {
+  if (!table_kind_uses_environment(kind)) return path;
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".json" || ext == ".ktx2" || ext == ".ktx" || ext == ".dds") return path;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return (std::filesystem::path(path) / "probe").string();
+  std::string d = path;
+  while (d.size() > 1 && d.back() == '/') d.pop_back();
+  return d;
+}
+
+}  // namespace
+
+void add_schema_options(cxxopts::Options& options, const std::vector<ParamDef>& schema) {
+  auto adder = options.add_options();
+  for (const auto& d : schema) {
+    if (d.type == ParamType::Flag) {
+      adder(negated_flag(d) ? "no-" + d.cli_name() : option_spec(d), help_of(d));
+    } else {
+      adder(option_spec(d), help_of(d), cxxopts::value<std::string>());
+    }
+  }
+}
+
+Params schema_params(const cxxopts::ParseResult& r, const std::vector<ParamDef>& schema) {
+  Params out;
+  for (const auto& d : schema) {
+    const std::string name = option_name(d);
+    if (!r.count(name)) continue;
+    if (d.type == ParamType::Flag) {
+      out.push_back({d.name, !negated_flag(d)});
+      continue;
+    }
+    out.push_back({d.name, parse_param_text(d, r[name].as<std::string>(), "--" + d.cli_name())});
+  }
+  return out;
+}
+
+std::vector<std::string> one_letter_options(int argc, char** argv, const std::vector<ParamDef>& schema) {
+  std::vector<std::string> args(argv, argv + argc);
+  for (std::string& a : args)
+    for (const auto& d : schema) {
+      const std::string n = d.cli_name();
+      if (n.size() != 1) continue;
+      if (a == "--" + n) a = "-" + n;
+      else if (a.rfind("--" + n + "=", 0) == 0) a = "-" + n + a.substr(4);
+    }
+  return args;
+}
+
+int run_table_command(const TableCommand& command, int argc, char** argv) {
+  const std::vector<TableKind> kinds = kinds_of(command.name);
+  const std::vector<ParamDef> schema = union_schema(kinds);
+  const bool env = table_kind_uses_environment(kinds.front());
+  const bool eval = kinds.front() == TableKind::Eval;
+
+  cxxopts::Options options("brdfbake " + command.name, command.description);
+  if (kinds.size() > 1) {
+    std::string names;
+    for (TableKind k : kinds) names += (names.empty() ? "" : " | ") + std::string(table_kind_name(k));
+    options.add_options()("kind", "the table: " + names + " (default: " + table_kind_name(kinds.front()) + ")",
+                          cxxopts::value<std::string>());
+  }
+  add_schema_options(options, schema);
+  if (env)
+    options.add_options()("env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
+                                             "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
+                                     kDefaultEnvironment + ")",
+                          cxxopts::value<std::string>())(
+        "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input");
+  options.add_options()("o,output",
+                        eval ? std::string("f as r,g,b rows, or float32 with --binary; - : standard output (default: -)")
+                             : std::string("output file (its extension picks the format)") +
+                                   (env ? ", or a folder" : ", or - with --format csv for standard output") +
+                                   " (default: a name made of the kind and parameters)",
+                        cxxopts::value<std::string>())(
+      "format", "output format when it cannot come from the file name", cxxopts::value<std::string>())(
+      "pixel", "f16 | f32: the texels of .ktx2, .h and cube containers", cxxopts::value<std::string>());
+  if (command.add_extra) command.add_extra(options);
+  add_common_options(options);
+
+  const std::vector<std::string> args = one_letter_options(argc, argv, schema);
+  std::vector<char*> arg_ptrs;
+  for (const std::string& a : args) arg_ptrs.push_back(const_cast<char*>(a.c_str()));
+  const auto r = parse(options, argc, arg_ptrs.data());
+  if (r.count("help")) {
+    std::printf("%s\n", options.help().c_str());
+    if (!command.example.empty()) std::printf("example:\n  %s\n", command.example.c_str());
+    return 0;
+  }
+  if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
+  if (command.handle_extra)
+    if (const std::optional<int> code = command.handle_extra(r)) return *code;
+  for (const auto& e : command.extra_names)
+    if (r.count(e)) throw UsageError("--" + e + " is not a table option");
+
+  TableRequest t;
+  t.kind = kinds.front();
+  if (r.count("kind")) {
+    t.kind = table_kind_from_name(r["kind"].as<std::string>());
+    if (table_kind_command(t.kind) != command.name)
+      throw UsageError("--kind must be one of the kinds of brdfbake " + command.name + " (got '" +
+                       r["kind"].as<std::string>() + "')");
+  }
+  // Options of another kind of the same command (e.g. --sheen-visibility for --kind ggx).
+  for (const auto& d : schema)
+    if (r.count(option_name(d)) && !find_param_def(table_schema(t.kind), d.name))
+      throw UsageError("--" + option_name(d) + " does not apply to --kind " + table_kind_name(t.kind));
+  t.params = schema_params(r, table_schema(t.kind));
+  t.precision = precision_option(r);
+  t.device = device_option(r);
+  if (r.count("format")) t.format = r["format"].as<std::string>();
+  if (r.count("pixel")) t.pixel = r["pixel"].as<std::string>();
+  if (env) t.environment = r.count("env") ? r["env"].as<std::string>() : std::string(kDefaultEnvironment);
+  if (env && t.environment.empty()) throw UsageError("--env must not be empty");
+  if (r.count("output")) t.output = r["output"].as<std::string>();
+  if (eval) {
+    if (t.output.empty()) t.output = "-";
+    if (!t.find("input")) t.params.push_back({"input", std::string("-")});
+  }
+  if (t.output == "-" && !eval) {
+    if (t.format.empty()) throw UsageError("-o - writes to standard output and needs --format csv");
+    if (t.format != "csv") throw UsageError("only --format csv can go to standard output");
+  }
+  FieldNaming naming;
+  naming.cli = true;
+  validate_table(t, naming);  // everything checked before any slow work
+  if (t.output != "-") check_output_path(output_probe(t.output, t.kind));
+  const bool quiet = quiet_option(r);
+
+  BakeInputs inputs;
+  EnvImage environment;
+  if (env) {
+    EnvLoadOptions lo;
+    lo.sanitize = r.count("sanitize") > 0;
+    environment = load_environment(t.environment, lo);
+    if (!quiet && environment.sanitize.replaced)
+      std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
+                   environment.source.c_str(), environment.sanitize.nan, environment.sanitize.infinite,
+                   environment.sanitize.negative);
+    inputs.environment = &environment;
+  }
+  const std::shared_ptr<Backend> backend = Backend::open(t.device);
+
+  if (eval) {
+    const EvalStreamResult res = eval_stream(t, *backend, t.text("input"), t.output);
+    if (!quiet) std::fprintf(stderr, "%s\n", res.summary.c_str());
+    return 0;
+  }
+  ProgressLine line(quiet);
+  const std::string title = "baking " + std::string(table_kind_name(t.kind));
+  const BakeResult result = bake_table(t, *backend, inputs, [&](double fraction, const std::string& step) {
+    line.update(step.empty() ? title : title + ", " + step, fraction);
+  });
+  line.finish();
+  if (t.output == "-") {
+    const Table* table = result.table();
+    if (!table) throw UsageError("only a table can go to standard output");
+    write_table_csv(*table, std::cout);
+  } else {
+    write_result(result, t, t.output);
+  }
+  if (!quiet) std::fprintf(stderr, "%s: %s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str());
+  return 0;
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,60 @@
+// Backends: where a family's numbers are computed. Two implement the same interface: an OpenCL
+// device (the product's engine) and the scalar double reference (the oracle, slow but converged).
+// Backend::open() is the one factory that turns a selector into either (model: OpenMM's platforms
+// and kernel factories); families call the backend and never branch on which one it is.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brdfbake/brdf.hpp"
+#include "brdfbake/device.hpp"
+#include "brdfbake/environment.hpp"
+#include "brdfbake/fresnel.hpp"
+#include "brdfbake/lut.hpp"
+#include "brdfbake/thin_film.hpp"
+
+namespace brdfbake {
+
+// Evaluates one model for a set of materials at batches of direction pairs (see BrdfEvaluator).
+class PairEvaluator {
+ public:
+  virtual ~PairEvaluator() = default;
+  // pairs: 6 values a pair; out: 3 values a pair a material, material-major.
+  virtual void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr) = 0;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  // "reference": the scalar double reference; anything else selects an OpenCL device as
+  // select_device() does ("" = $BRDFBAKE_DEVICE, else the default device). Throws Error naming the
+  // selector and the devices there are.
+  static std::shared_ptr<Backend> open(const std::string& selector);
+  static std::shared_ptr<Backend> open(const Device& device);
+
+  virtual bool is_reference() const = 0;
+  // The device's name, or "reference".
+  virtual std::string name() const = 0;
+  // The OpenCL device, or nullptr for the reference.
+  virtual Device* device() = 0;
+  // The precision results carry (the reference computes in double whatever is asked).
+  virtual Precision result_precision(Precision requested) const = 0;
+
+  // ---- One entry per family (each family's header documents the spec) ----
+  virtual Table lut(const LutSpec& spec, LutTiming* timing, const Progress& progress) = 0;
+  virtual Table fresnel(const FresnelSpec& spec, FresnelTiming* timing) = 0;
+  virtual Table thin_film(const ThinFilmSpec& spec, ThinFilmTiming* timing) = 0;
+  virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
+                               const EnvProgress& progress) = 0;
+  virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
+  virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
+                                                   const EvalOptions& options) = 0;
+  virtual MerlTable tabulate_merl(const TabulateSpec& spec, TabulateTiming* timing) = 0;
+  virtual Table tabulate(const TabulateSpec& spec, TabulateTiming* timing) = 0;
+};
+
+}  // namespace brdfbake

@@ -1,0 +1,79 @@
+// Typed parameters: the schema every table family declares once (name, type, range, default, help)
+// and the values a job, a command line or a binding gives for them. The job parser, the command-line
+// options, their help and the Python functions are all generated from these schemas, so a parameter
+// exists in one front end exactly when it exists in the others (model: pbrt-v4's typed parameter
+// dictionaries, src/pbrt/paramdict.cpp).
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace brdfbake {
+
+// A parameter value: a flag, a number, a name (or path), or a list of numbers (an RGB triple, a
+// range, a resolution).
+using ParamValue = std::variant<bool, double, std::string, std::vector<double>>;
+struct Param {
+  std::string name;
+  ParamValue value;
+};
+using Params = std::vector<Param>;  // in the schema's canonical order once validated
+
+enum class ParamType {
+  Int,      // an integral number in [lo, hi]
+  Number,   // a finite number in [lo, hi] (lo_open: lo excluded)
+  Name,     // one of `choices` (any text when choices is empty)
+  Path,     // a file path (text; opened by the family)
+  Flag,     // true or false
+  Color,    // a number (grey) or [r, g, b], each in [lo, hi]
+  Range,    // [lo, hi] with lo <= hi, each in the def's [lo, hi]
+  IntList,  // 1 to `max_items` integers, each in [lo, hi]
+};
+
+struct ParamDef {
+  std::string name;   // the job field, snake_case; the command-line option is --name with '-' for '_'
+  ParamType type = ParamType::Number;
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  std::vector<std::string> choices;    // Name: the accepted values
+  std::optional<ParamValue> fallback;  // the default; none: absent unless given (see default_text)
+  std::string help;                    // one line, for --help, docs and Python docstrings
+  std::string cli;                     // the command-line spelling when it is not the name's
+  std::string default_text;            // a default that depends on others, e.g. "size"
+  bool lo_open = false;                // Number: lo itself is refused (e.g. max_error > 0)
+  bool required = false;
+  bool output_only = false;  // changes how the result is written, not what is baked
+  int max_items = 3;         // IntList
+
+  ParamDef() = default;
+  ParamDef(std::string n, ParamType t, std::string h) : name(std::move(n)), type(t), help(std::move(h)) {}
+  // Chained setters, so that a schema reads as a table: ParamDef("size", Int, "...").range(1, 64).def(16.0)
+  ParamDef& range(double l, double h) { lo = l; hi = h; return *this; }
+  ParamDef& above(double l, double h = HUGE_VAL) { lo = l; hi = h; lo_open = true; return *this; }
+  ParamDef& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
+  ParamDef& def(ParamValue v) { fallback = std::move(v); return *this; }
+  ParamDef& defaults_to(std::string text) { default_text = std::move(text); return *this; }
+  ParamDef& spelled(std::string c) { cli = std::move(c); return *this; }
+  ParamDef& needed() { required = true; return *this; }
+  ParamDef& output() { output_only = true; return *this; }
+
+  std::string cli_name() const;  // "sh" for sh_order, "min-size" for min_size
+};
+
+// "true", "0.5", "'ggx'", "[1, 2, 3]".
+std::string param_value_text(const ParamValue& value);
+// The valid range of a definition in words: "an integer in 1..65536", "one of ggx, charlie", ...
+std::string param_expectation(const ParamDef& def);
+// Checks a value against its definition; throws Error("<field>: must be ... (got ...)"), the field
+// named as `field`.
+void check_param(const ParamDef& def, const ParamValue& value, const std::string& field);
+// Parses the text of a command-line option into a value of the definition's type (numbers may be
+// written as 1e6; an Rgb as "v" or "r,g,b"; a Range as "lo,hi"; an IntList as "n" or "n,m,k").
+// Throws Error naming `field` for text that is not of the type; the range is checked by check_param.
+ParamValue parse_param_text(const ParamDef& def, const std::string& text, const std::string& field);
+
+const ParamDef* find_param_def(const std::vector<ParamDef>& schema, const std::string& name);
+
+}  // namespace brdfbake

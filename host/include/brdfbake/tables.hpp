@@ -1,0 +1,170 @@
+// Table kinds and the family registry's public face: what a table request holds, the typed schema
+// of every kind, validation, and one call that bakes any kind on any backend and one that writes the
+// result. The job runner, the command-line tool, the server and the Python package all go through
+// these calls; each family has one home (host/src/families/, docs/ARCHITECTURE.md).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "brdfbake/backend.hpp"
+#include "brdfbake/brdf.hpp"
+#include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/params.hpp"
+#include "brdfbake/table.hpp"
+
+namespace brdfbake {
+
+// ---- Kinds ---------------------------------------------------------------------------------------
+
+enum class TableKind {
+  Ggx,              // DFG: scale, bias, diffuse (brdfbake/lut.hpp)
+  GgxMultiscatter,  // DFG: bias, albedo, diffuse (energy compensation)
+  Charlie,          // DFG: Charlie sheen albedo
+  Fresnel,          // a Fresnel reflectance table (brdfbake/fresnel.hpp)
+  ThinFilm,         // thin-film interference Fresnel over (cos_theta, film thickness)
+  Prefilter,        // a prefiltered radiance mip chain of the environment (brdfbake/environment.hpp)
+  Irradiance,       // diffuse irradiance of the environment: SH coefficients (and a cube)
+  Eval,             // a BRDF evaluated at (wi, wo) pairs read from a file (brdfbake/brdf.hpp)
+  Tabulate,         // a BRDF tabulated: MERL, grid, directional albedo or slice
+};
+// "ggx" | "ggx-multiscatter" | "charlie" | "fresnel" | "thin-film" | "prefilter" | "irradiance" |
+// "eval" | "tabulate"; throws Error naming the known kinds otherwise.
+TableKind table_kind_from_name(const std::string& name);
+const char* table_kind_name(TableKind kind);
+const std::vector<TableKind>& table_kinds();
+// The command-line command that bakes one table of the kind ("lut" for the DFG kinds, "fresnel", ...).
+std::string table_kind_command(TableKind kind);
+// One line: what the kind bakes.
+std::string table_kind_summary(TableKind kind);
+// Whether this build bakes `kind`; when not, *why says what is missing.
+bool table_kind_available(TableKind kind, std::string* why = nullptr);
+// Whether the kind reads the job's environment (prefilter, irradiance).
+bool table_kind_uses_environment(TableKind kind);
+
+// A kind this build cannot bake: the job stops before anything is written.
+class NotAvailableError : public Error {
+ public:
+  explicit NotAvailableError(const std::string& m) : Error(m) {}
+};
+
+// ---- Requests ------------------------------------------------------------------------------------
+
+// Which rule asked for a table, what for, and for which materials.
+struct Request {
+  std::string rule;                    // e.g. "metallic-roughness", "KHR_materials_sheen"
+  std::string purpose;                 // what the renderer does with the table
+  std::vector<std::string> materials;  // material labels, "#3 Name"
+  std::string note;                    // e.g. the clearcoat roughness range
+};
+
+// One table to bake: its kind, its own parameters (table_schema(kind)) and the fields every kind
+// shares.
+struct TableRequest {
+  TableKind kind = TableKind::Ggx;
+  Params params;             // the kind's parameters; validate_table fills defaults in schema order
+  Precision precision = Precision::Fp32;
+  std::string device;        // selector ("" = the job's / the default), or "reference"
+  std::string environment;   // prefilter, irradiance ("" = the job's)
+  std::string output;        // file path (relative to a job's output folder)
+  std::string format;        // "" = from the output's extension
+  std::string pixel;         // f16 | f32 (.ktx2, .h and cube containers); "" = the kind's default
+  std::vector<Request> requested_by;
+
+  const ParamValue* find(const std::string& name) const;
+  double number(const std::string& name, double fallback = 0.0) const;
+  std::string text(const std::string& name, const std::string& fallback = {}) const;
+  bool flag(const std::string& name, bool fallback = false) const;
+  std::vector<double> numbers(const std::string& name) const;  // Rgb (3), Range (2), IntList
+  void set(const std::string& name, ParamValue value);         // sets or replaces
+  // The materials of every request, in order of first appearance, without repeats.
+  std::vector<std::string> materials() const;
+};
+
+// ---- Schemas and validation ----------------------------------------------------------------------
+
+// The parameters of a kind, in canonical order: types, ranges, defaults and help, written once.
+const std::vector<ParamDef>& table_schema(TableKind kind);
+// The fields every table has beside its parameters, in job spelling.
+const std::vector<std::string>& table_common_fields();
+
+// How validation names a field in its messages: in a job "<prefix>.<field>" (e.g.
+// "job.json: tables[0].size: ..."), on the command line the option as the user types it
+// ("--size: ...").
+struct FieldNaming {
+  std::string prefix;  // job: "job.json: tables[0]"
+  bool cli = false;    // command line: "--size"
+  std::string field(TableKind kind, const std::string& name) const;
+};
+
+// Checks a request field by field (types and ranges from the schema, unknown parameters, the
+// family's own rules across fields), fills the defaults in canonical order, the default output name
+// when none is given, and checks the output's name and format. Throws Error naming the field.
+void validate_table(TableRequest& request, const FieldNaming& naming = {});
+// The file name a request is written to when it names none, e.g. "dfg_ggx_multiscatter_128.exr".
+std::string default_table_output(const TableRequest& request);
+// A key equal for requests that bake the same data (output fields aside).
+std::string table_bake_key(const TableRequest& request);
+
+// ---- Baking and writing --------------------------------------------------------------------------
+
+// What an eval request produced: f (without the cosine) at every pair, 3 values (r, g, b) a pair.
+struct EvalResult {
+  std::uint64_t pairs = 0;
+  std::vector<double> values;
+  std::string material;
+  Metadata metadata;
+};
+
+// What one bake produced.
+struct BakeResult {
+  TableKind kind = TableKind::Ggx;
+  std::variant<std::monostate, Table, CubeLevels, IrradianceResult, MerlTable, EvalResult> artifact;
+  std::optional<double> error_bound;   // measured; empty where the family measures none
+  std::string error_bound_definition;  // what the bound measures
+  Params parameters;                   // as baked: every parameter, resolved defaults included
+  Metadata details;                    // what else the family reports (channels, levels, ...)
+  std::string device;                  // the backend's name ("reference" for the oracle)
+  std::string summary;                 // one line for people: what was baked, how well, how fast
+  double seconds = 0.0;                // wall time of the bake
+  double device_seconds = 0.0;         // kernel time (0 on the reference)
+
+  const Table* table() const { return std::get_if<Table>(&artifact); }
+  const CubeLevels* cube() const { return std::get_if<CubeLevels>(&artifact); }
+  const IrradianceResult* irradiance() const { return std::get_if<IrradianceResult>(&artifact); }
+  const MerlTable* merl() const { return std::get_if<MerlTable>(&artifact); }
+  const EvalResult* eval() const { return std::get_if<EvalResult>(&artifact); }
+};
+
+// What a bake reads beside its parameters.
+struct BakeInputs {
+  const EnvImage* environment = nullptr;  // prefilter, irradiance
+};
+
+// Fraction done (0..1) and a short label of the step ("level 2/5").
+using BakeProgress = std::function<void(double fraction, const std::string& step)>;
+
+// Bakes a validated request on `backend`. Throws Error for what the backend cannot do (e.g. a
+// reference prefilter of a large cube, naming the limit).
+BakeResult bake_table(const TableRequest& request, Backend& backend, const BakeInputs& inputs = {},
+                      const BakeProgress& progress = {});
+// Writes a result to `path` in the request's format, atomically (a failure leaves nothing).
+void write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
+
+// The eval kind streamed: pairs read from `input` ("-": standard input) and results written chunk by
+// chunk to `output` ("-": standard output; a file is written to a temporary and renamed at the end),
+// so memory stays constant whatever the input's size. The bytes are those write_result writes.
+struct EvalStreamResult {
+  std::uint64_t pairs = 0;
+  double device_seconds = 0.0;
+  std::string summary;
+};
+EvalStreamResult eval_stream(const TableRequest& request, Backend& backend, const std::string& input,
+                             const std::string& output);
+
+}  // namespace brdfbake

@@ -1,0 +1,348 @@
+// The eval family (kind eval): a BRDF model evaluated at (wi, wo) pairs read from a file.
+// Engine: host/src/brdf_eval.cpp and kernels/brdf_eval.cl; reference: host/reference/src/brdf.cpp;
+// tests: tests/device/test_brdf_eval.cpp, tests/reference/test_brdf_reference.cpp.
+//
+// Input: CSV with the header wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, then six numbers a line ('#' lines and
+// blank lines are skipped), or raw little-endian float32, 6 a pair (binary). Output: CSV with the
+// header r,g,b, then f (without the cosine) a line in the input's order, or float32, 3 a pair.
+// Pairs go through the backend in chunks, so a stream's memory stays constant whatever its size.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "families/family.hpp"
+#include "io/atomic_file.hpp"
+
+namespace brdfbake {
+
+namespace detail {
+namespace {
+
+constexpr size_t kChunkPairs = size_t(1) << 16;
+// An eval held in memory (jobs, bindings) stops here; `brdfbake eval` streams any size.
+constexpr std::uint64_t kMaxPairsInMemory = std::uint64_t(1) << 24;
+constexpr const char* kHeader = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z";
+constexpr const char* kFields[6] = {"wi_x", "wi_y", "wi_z", "wo_x", "wo_y", "wo_z"};
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> v;
+  for (BrdfModel m : brdf_models()) v.push_back(brdf_model_name(m));
+  return v;
+}
+
+// The input: standard input ("-") or a file.
+class Input {
+ public:
+  explicit Input(const std::string& path) : name_(path == "-" ? "standard input" : path) {
+    if (path == "-") {
+      file_ = stdin;
+      return;
+    }
+    file_ = std::fopen(path.c_str(), "rb");
+    if (!file_) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+    owned_ = true;
+  }
+  ~Input() {
+    if (owned_) std::fclose(file_);
+  }
+  Input(const Input&) = delete;
+  Input& operator=(const Input&) = delete;
+  FILE* file() const { return file_; }
+  const std::string& name() const { return name_; }
+
+  // The next line without its end-of-line; false at the end. Lines longer than 4096 bytes are cut
+  // there (no pair needs that many; the field check then names the line).
+  bool line(std::string& out) {
+    out.clear();
+    int c;
+    bool any = false;
+    while ((c = std::fgetc(file_)) != EOF) {
+      any = true;
+      if (c == '\n') break;
+      if (out.size() < 4096) out.push_back(static_cast<char>(c));
+    }
+    if (!out.empty() && out.back() == '\r') out.pop_back();
+    return any;
+  }
+
+ private:
+  std::string name_;
+  FILE* file_ = nullptr;
+  bool owned_ = false;
+};
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t");
+  if (a == std::string::npos) return {};
+  const auto b = s.find_last_not_of(" \t");
+  return s.substr(a, b - a + 1);
+}
+
+// One CSV data line into 6 numbers; errors name the line and the field.
+void parse_pair(const std::string& text, long line, const std::string& origin, double* out) {
+  const std::string at = origin + ": line " + std::to_string(line) + ": ";
+  size_t pos = 0;
+  for (int f = 0; f < 6; ++f) {
+    const size_t comma = text.find(',', pos);
+    if (f < 5 && comma == std::string::npos)
+      throw Error(at + "expected 6 fields (" + kHeader + "), got " + std::to_string(f + 1));
+    const std::string field = trim(text.substr(pos, f < 5 ? comma - pos : std::string::npos));
+    if (f == 5 && field.find(',') != std::string::npos) throw Error(at + "expected 6 fields (" + kHeader + "), got more");
+    char* end = nullptr;
+    const double v = std::strtod(field.c_str(), &end);
+    if (field.empty() || *end != '\0')
+      throw Error(at + "field " + kFields[f] + ": '" + field.substr(0, 40) + "' is not a number");
+    if (!std::isfinite(v)) throw Error(at + "field " + kFields[f] + " is not finite ('" + field.substr(0, 40) + "')");
+    out[f] = v;
+    pos = comma + 1;
+  }
+  for (int d = 0; d < 2; ++d)
+    if (out[3 * d] == 0.0 && out[3 * d + 1] == 0.0 && out[3 * d + 2] == 0.0)
+      throw Error(at + (d == 0 ? "wi" : "wo") + " is the zero vector");
+}
+
+// Reads every pair of `in`, evaluates them in chunks and hands each chunk's f (3 a pair) to `sink`.
+// Returns the number of pairs.
+// The evaluator is made (the program built) with the first chunk, after its lines were checked.
+std::uint64_t stream_pairs(Input& in, bool binary, const std::function<PairEvaluator&()>& ev, double* device_seconds,
+                           const std::function<void(const double* f, size_t count)>& sink,
+                           std::uint64_t max_pairs = ~std::uint64_t(0)) {
+  std::vector<double> pairs, f;
+  pairs.reserve(6 * kChunkPairs);
+  std::uint64_t total = 0;
+  auto evaluate = [&](size_t count) {
+    if (total + count > max_pairs)
+      throw Error(in.name() + ": more than " + std::to_string(max_pairs) +
+                  " pairs: too many to hold in memory (brdfbake eval streams any number)");
+    f.assign(3 * count, 0.0);
+    if (count > 0) {
+      EvalTiming t;
+      ev().eval(pairs.data(), count, f.data(), &t);
+      *device_seconds += t.device_seconds;
+    }
+    sink(f.data(), count);
+    total += count;
+  };
+  if (binary) {
+    constexpr size_t kPairBytes = 6 * sizeof(float);
+    std::vector<unsigned char> bytes(kPairBytes * kChunkPairs);
+    std::vector<float> values;
+    for (;;) {
+      // fread returns short only at the end of the input (or on an error)
+      const size_t got = std::fread(bytes.data(), 1, bytes.size(), in.file());
+      if (std::ferror(in.file())) throw Error("cannot read '" + in.name() + "': " + std::strerror(errno));
+      if (got % kPairBytes != 0)
+        throw Error(in.name() + ": the input is not a whole number of pairs (6 float32 = 24 bytes each): " +
+                    std::to_string(got % kPairBytes) + " bytes left after pair " + std::to_string(total + got / kPairBytes));
+      const size_t count = got / kPairBytes;
+      values.resize(6 * count);
+      if (got > 0) std::memcpy(values.data(), bytes.data(), got);
+      pairs.assign(values.begin(), values.end());
+      for (size_t i = 0; i < count; ++i)
+        for (size_t d = 0; d < 2; ++d) {
+          const double* v = &pairs[6 * i + 3 * d];
+          if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) ||
+              (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0))
+            throw Error(in.name() + ": pair " + std::to_string(total + i) + " (byte " +
+                        std::to_string(kPairBytes * (total + i)) + "): " + (d == 0 ? "wi" : "wo") +
+                        " is zero or not finite");
+        }
+      if (count > 0 || total == 0) evaluate(count);
+      if (got < bytes.size()) break;
+    }
+    return total;
+  }
+  std::string text;
+  long line = 0;
+  bool header = false;
+  while (in.line(text)) {
+    ++line;
+    const std::string t = trim(text);
+    if (t.empty() || t[0] == '#') continue;
+    if (!header) {
+      if (t != kHeader)
+        throw Error(in.name() + ": line " + std::to_string(line) + ": expected the header " + kHeader + " (got '" +
+                    t.substr(0, 80) + "')");
+      header = true;
+      continue;
+    }
+    double v[6];
+    parse_pair(t, line, in.name(), v);
+    pairs.insert(pairs.end(), v, v + 6);
+    if (pairs.size() == 6 * kChunkPairs) {
+      evaluate(kChunkPairs);
+      pairs.clear();
+    }
+  }
+  if (std::ferror(in.file())) throw Error("cannot read '" + in.name() + "': " + std::strerror(errno));
+  if (!header) throw Error(in.name() + ": empty input (expected the header " + std::string(kHeader) + ")");
+  evaluate(pairs.size() / 6);
+  return total;
+}
+
+// The bytes of `count` results: CSV rows (the header before the first chunk) or float32.
+void format_results(const double* f, size_t count, bool binary, bool first, std::string& out) {
+  out.clear();
+  if (binary) {
+    std::vector<float> v(f, f + 3 * count);
+    out.assign(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+    return;
+  }
+  if (first) out = "r,g,b\n";
+  char buf[96];
+  for (size_t i = 0; i < count; ++i) {
+    const int n = std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g\n", f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+    out.append(buf, static_cast<size_t>(n));
+  }
+}
+
+// The material and model a request names (read from its material file).
+struct Chosen {
+  NamedMaterial material;
+  BrdfModel model = BrdfModel::Disney;
+};
+
+Chosen choose_material(const TableRequest& t, const FieldName& name) {
+  const std::string path = t.text("material");
+  const auto materials = read_materials(path);
+  if (!t.find("name") && materials.size() > 1) {
+    std::string names;
+    for (const auto& m : materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
+    throw FieldError("name", path + " holds " + std::to_string(materials.size()) + " materials; choose one with " +
+                                 name("name") + " (" + names + ")");
+  }
+  Chosen c{find_material(materials, t.text("name"), path), BrdfModel::Disney};
+  std::optional<BrdfModel> chosen;
+  if (t.find("model")) chosen = brdf_model_from_name(t.text("model"));
+  c.model = resolve_model(chosen, c.material);
+  return c;
+}
+
+EvalOptions eval_options(const TableRequest& t) {
+  EvalOptions o;
+  o.precision = t.precision;
+  o.fast_math = t.flag("fast_math");
+  return o;
+}
+
+std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t, const Backend& b, double device_seconds) {
+  return std::to_string(pairs) + " pairs, " + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
+         (b.is_reference() ? std::string("reference (fp64)") : std::string(precision_name(t.precision))) + " on " +
+         b.name() + " (device " + fmt_number(device_seconds, "%.3f") + " s)";
+}
+
+class EvalFamily final : public Family {
+ public:
+  std::vector<TableKind> kinds() const override { return {TableKind::Eval}; }
+  std::string command() const override { return "eval"; }
+  std::string summary(TableKind) const override {
+    return "a BRDF evaluated at (wi, wo) pairs: CSV or float32 in, f (without the cosine) out";
+  }
+
+  const std::vector<ParamDef>& schema(TableKind) const override {
+    using T = ParamType;
+    static const std::vector<ParamDef> s = {
+        ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(),
+        ParamDef("name", T::Name, "the material to use when the file holds several"),
+        ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"),
+        ParamDef("input", T::Path,
+                 "pairs: CSV with the header wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, or float32 with binary (- : standard input)")
+            .needed(),
+        ParamDef("binary", T::Flag, "raw little-endian float32: 6 a pair in, 3 a pair out").def(false),
+        ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
+    };
+    return s;
+  }
+
+  void check(TableRequest& t, const FieldName& name) const override {
+    try {
+      (void)choose_material(t, name);
+    } catch (const FieldError&) {
+      throw;
+    } catch (const Error& e) {
+      throw FieldError("material", e.what());
+    }
+  }
+
+  std::string default_output(const TableRequest& t) const override {
+    std::string stem = "eval";
+    if (t.find("model")) stem += "_" + t.text("model");
+    if (t.find("name")) stem += "_" + t.text("name");
+    return stem + (t.flag("binary") ? ".f32" : ".csv");
+  }
+  OutputFormats formats(const TableRequest& t) const override {
+    if (t.flag("binary")) return {{".f32", ".bin", ".raw", ""}, "float32 (any file name)"};
+    return {{".csv", ""}, "CSV (any file name)"};
+  }
+  // The output's bytes are chosen by `binary`, not by the file name.
+  void check_output(const TableRequest& t, const FieldName&) const override {
+    if (!t.format.empty()) throw FieldError("format", "eval's output is CSV, or float32 with binary: give no format");
+  }
+
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress&) const override {
+    const Chosen c = choose_material(t, [](const std::string& f) { return f; });
+    std::unique_ptr<PairEvaluator> ev;
+    auto get = [&]() -> PairEvaluator& {
+      if (!ev) ev = backend.evaluator(c.model, {c.material.params}, eval_options(t));
+      return *ev;
+    };
+    Input in(t.text("input"));
+    EvalResult res;
+    double device_seconds = 0.0;
+    res.pairs = stream_pairs(in, t.flag("binary"), get, &device_seconds,
+                             [&](const double* f, size_t n) { res.values.insert(res.values.end(), f, f + 3 * n); },
+                             kMaxPairsInMemory);
+    res.material = c.material.name;
+    res.metadata = {{"model", brdf_model_name(c.model)}, {"material", material_to_json(c.material)}};
+    BakeResult r;
+    r.error_bound_definition = "not measured (f at the given directions; the kernels' agreement with the reference "
+                               "is in docs/BENCHMARKS.md, \"Bulk BRDF evaluation\")";
+    r.device_seconds = device_seconds;
+    r.summary = describe(res.pairs, c, t, backend, device_seconds);
+    r.artifact = std::move(res);
+    return r;
+  }
+
+  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    const EvalResult& e = *r.eval();
+    std::string bytes;
+    format_results(e.values.data(), e.values.size() / 3, t.flag("binary"), true, bytes);
+    io::write_file_atomically(path, bytes);
+  }
+};
+
+}  // namespace
+
+const Family& eval_family() {
+  static const EvalFamily f;
+  return f;
+}
+
+}  // namespace detail
+
+EvalStreamResult eval_stream(const TableRequest& t, Backend& backend, const std::string& input, const std::string& output) {
+  using namespace detail;
+  const Chosen c = choose_material(t, [](const std::string& f) { return f; });
+  std::unique_ptr<PairEvaluator> ev;
+  auto get = [&]() -> PairEvaluator& {
+    if (!ev) ev = backend.evaluator(c.model, {c.material.params}, eval_options(t));
+    return *ev;
+  };
+  Input in(input);
+  io::OutputStream out(output);
+  EvalStreamResult res;
+  bool first = true;
+  std::string bytes;
+  res.pairs = stream_pairs(in, t.flag("binary"), get, &res.device_seconds, [&](const double* f, size_t n) {
+    format_results(f, n, t.flag("binary"), first, bytes);
+    first = false;
+    out.write(bytes.data(), bytes.size());
+  });
+  out.commit();
+  res.summary = describe(res.pairs, c, t, backend, res.device_seconds);
+  return res;
+}
+
+}  // namespace brdfbake

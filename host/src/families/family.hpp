@@ -1,0 +1,94 @@
+// Internal: one descriptor per table family, the single home of everything the front ends need to
+// know about it: its kinds, its typed schema, its rules across fields, its default file name, the
+// formats it writes, how it bakes on a backend and how it writes the result. The job runner, the
+// scene planner's requests, every command-line command, the server and the Python package reach a
+// family only through its descriptor (docs/ARCHITECTURE.md, "How to add a table family").
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "brdfbake/tables.hpp"
+
+namespace brdfbake::detail {
+
+// A problem with one field: the registry prefixes the field as the front end spells it.
+class FieldError : public Error {
+ public:
+  FieldError(std::string field, const std::string& message) : Error(message), field_(std::move(field)) {}
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string field_;
+};
+
+// Names another field inside a message, as the front end spells it ("base_ior" in a job,
+// "--base-ior" on the command line).
+using FieldName = std::function<std::string(const std::string& field)>;
+
+// What a family's output may be.
+struct OutputFormats {
+  std::vector<std::string> extensions;  // lower case with the dot, e.g. ".exr"; the first is the default
+  std::string description;              // "table formats (.exr .png .hdr .ktx2 .csv .h)"
+};
+
+class Family {
+ public:
+  virtual ~Family() = default;
+
+  virtual std::vector<TableKind> kinds() const = 0;
+  // The command-line command that bakes one request of the family ("lut", "fresnel", ...).
+  virtual std::string command() const = 0;
+  virtual std::string summary(TableKind kind) const = 0;
+  virtual const std::vector<ParamDef>& schema(TableKind kind) const = 0;
+  // The pixel type written when the request names none.
+  virtual std::string default_pixel() const { return "f16"; }
+  virtual bool uses_environment() const { return false; }
+
+  // The family's rules across fields, after every field passed its schema check and the defaults
+  // were filled in; may resolve dependent defaults (t.set). Throws FieldError.
+  virtual void check(TableRequest& t, const FieldName& name) const = 0;
+  virtual std::string default_output(const TableRequest& t) const = 0;
+  virtual OutputFormats formats(const TableRequest& t) const = 0;
+  // Checks that the output's extension and format fit the request; throws FieldError("output" or
+  // "format", ...).
+  virtual void check_output(const TableRequest& t, const FieldName& name) const;
+
+  virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
+                          const BakeProgress& progress) const = 0;
+  virtual void write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+};
+
+// The family that bakes `kind`.
+const Family& family_of(TableKind kind);
+// Every family, in the order of table_kinds().
+const std::vector<const Family*>& families();
+
+// The descriptors, one per file in host/src/families/.
+const Family& dfg_lut_family();
+const Family& fresnel_family();
+const Family& thin_film_family();
+const Family& prefilter_family();
+const Family& irradiance_family();
+const Family& eval_family();
+const Family& tabulate_family();
+
+// ---- Helpers the families share ----------------------------------------------------------------
+
+std::string fmt_number(double v, const char* f = "%.9g");
+std::string lower_extension(const std::string& path);
+// The extension the request's output has (or its format names, e.g. "dds-legacy" -> ".dds").
+std::string output_extension(const TableRequest& t);
+// A table output (DFG, Fresnel, thin film, tabulate grids): format from `format` or the extension.
+TableFormat table_output_format(const TableRequest& t);
+PixelType pixel_of(const TableRequest& t);
+Rgb rgb_of(const ParamValue& v);
+// A value as part of a file name: "1.5", "0.9_0.6_0.2".
+std::string name_part(const ParamValue& v);
+// The formats every 2-D table family writes.
+OutputFormats table_formats();
+// Writes a Table result with the request's format and pixel type.
+void write_table_result(const Table& table, const TableRequest& t, const std::string& path);
+
+}  // namespace brdfbake::detail

@@ -1,0 +1,166 @@
+// The Fresnel family (kind fresnel): 1-D tables over cos_theta and 2-D tables over (cos_theta, F0 or
+// IOR) for every model, exact and approximate.
+// Engine: host/src/fresnel.cpp and kernels/fresnel.cl; reference: host/reference/src/fresnel.cpp;
+// tests: tests/device/test_fresnel.cpp, tests/reference/test_fresnel_reference.cpp.
+#include <algorithm>
+
+#include "brdfbake/fresnel.hpp"
+#include "families/family.hpp"
+
+namespace brdfbake::detail {
+namespace {
+
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> names;
+  for (FresnelModel m : fresnel_models()) names.push_back(fresnel_model_name(m));
+  return names;
+}
+
+class FresnelFamily final : public Family {
+ public:
+  std::vector<TableKind> kinds() const override { return {TableKind::Fresnel}; }
+  std::string command() const override { return "fresnel"; }
+  std::string summary(TableKind) const override {
+    return "a Fresnel reflectance table: exact dielectric and conductor, Schlick and its variants, F82 tint";
+  }
+
+  const std::vector<ParamDef>& schema(TableKind) const override {
+    static const FresnelSpec d;
+    using T = ParamType;
+    static const std::vector<ParamDef> s = {
+        ParamDef("model", T::Name, "the Fresnel model").one_of(model_names()).needed(),
+        ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"),
+        ParamDef("f0", T::Color, "schlick, f82-tint: reflectance at normal incidence").range(0, 1),
+        ParamDef("f90", T::Color, "schlick: reflectance at grazing incidence").range(0, 1).defaults_to("1"),
+        ParamDef("f82", T::Color, "f82-tint: the F82 tint (1 is plain Schlick)").range(0, 1e3),
+        ParamDef("base_color", T::Color, "schlick-metallic: base colour").range(0, 1),
+        ParamDef("metallic", T::Number, "schlick-metallic: metallic").range(0, 1),
+        ParamDef("dielectric_f0", T::Number, "schlick-metallic: the dielectric F0").range(0, 1).defaults_to("0.04"),
+        ParamDef("ior", T::Color, "schlick-ior, dielectric: index of the far side").above(0, kFresnelMaxIndex),
+        ParamDef("ior_outside", T::Number, "schlick-ior, dielectric: index of the side the light comes from")
+            .above(0, kFresnelMaxIndex).defaults_to("1"),
+        ParamDef("n", T::Color, "conductor: real part of the complex index").above(0, kFresnelMaxIndex),
+        ParamDef("k", T::Color, "conductor: extinction coefficient").range(0, kFresnelMaxIndex),
+        ParamDef("bias", T::Number, "empirical: bias"),
+        ParamDef("scale", T::Number, "empirical: scale"),
+        ParamDef("power", T::Number, "empirical: power").range(0, HUGE_VAL),
+        ParamDef("table", T::Name, "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)")
+            .one_of({"1d", "2d"}).def(std::string(fresnel_table_kind_name(d.table))),
+        ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)),
+        ParamDef("height", T::Int, "2d: cells along the y axis").range(1, double(kFresnelMaxCells)).defaults_to("size"),
+        ParamDef("endpoints", T::Flag, "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
+            .def(d.endpoints),
+        ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
+        ParamDef("vs_exact", T::Flag, "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
+            .def(false),
+        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
+    };
+    return s;
+  }
+
+  void check(TableRequest& t, const FieldName& name) const override {
+    const FresnelSpec s = spec_of(t);
+    try {
+      validate_fresnel_spec(s);
+      if (t.flag("vs_exact")) exact_fresnel_spec(s);
+    } catch (const Error& e) {
+      throw FieldError("", e.what());
+    }
+    if (t.flag("vs_exact") && !t.output.empty() && output_extension(t) != ".csv" && output_extension(t) != ".h")
+      throw FieldError("output", name("vs_exact") + " adds three error columns: write .csv or .h");
+  }
+
+  std::string default_output(const TableRequest& t) const override {
+    std::string model = t.text("model");
+    std::replace(model.begin(), model.end(), '-', '_');
+    std::string stem = "fresnel_" + model;
+    if (t.text("table") == "2d") stem += "_2d";
+    if (!t.text("material").empty()) stem += "_" + t.text("material");
+    if (const ParamValue* v = t.find("ior"))  // schlick-ior's name already ends in "ior"
+      stem += (model.size() >= 3 && model.compare(model.size() - 3, 3, "ior") == 0 ? "" : "_ior") + name_part(*v);
+    if (const ParamValue* v = t.find("ior_outside")) stem += "_from" + name_part(*v);
+    if (const ParamValue* v = t.find("f0")) stem += "_f0_" + name_part(*v);
+    if (const ParamValue* v = t.find("f82")) stem += "_f82_" + name_part(*v);
+    if (const ParamValue* v = t.find("n")) stem += "_n" + name_part(*v);
+    if (const ParamValue* v = t.find("k")) stem += "_k" + name_part(*v);
+    if (const ParamValue* v = t.find("base_color")) stem += "_base" + name_part(*v);
+    if (const ParamValue* v = t.find("metallic")) stem += "_metallic" + name_part(*v);
+    if (t.flag("vs_exact")) stem += "_vs_exact";
+    return stem + (t.format.empty() ? (t.flag("vs_exact") ? ".csv" : ".exr") : output_extension(t));
+  }
+  OutputFormats formats(const TableRequest&) const override { return table_formats(); }
+
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress&) const override {
+    const FresnelSpec spec = spec_of(t);
+    FresnelTiming timing;
+    BakeResult r;
+    Table table = backend.fresnel(spec, &timing);
+    if (backend.is_reference()) {
+      r.error_bound = 0.0;
+      r.error_bound_definition = "the scalar double reference itself (stored as float32)";
+    } else {
+      r.error_bound = fresnel_error(table, bake_fresnel_reference(spec)).max_abs;
+      r.error_bound_definition =
+          "max |table - scalar double reference| over every cell and channel, measured when the table was baked";
+    }
+    table.set_meta("error_bound", fmt_number(*r.error_bound, "%.3g"));
+    table.set_meta("error_bound_definition", r.error_bound_definition);
+    if (t.flag("vs_exact")) {
+      table = with_error_columns(table, bake_fresnel_reference(exact_fresnel_spec(spec)));
+      r.details.push_back({"error_vs_exact_max_abs", table.meta("error_max_abs")});
+      r.details.push_back({"error_vs_exact_mean_abs", table.meta("error_mean_abs")});
+    }
+    r.device_seconds = timing.device_seconds;
+    r.summary = table.meta("model") + (spec.material.empty() ? "" : " " + spec.material) + " " +
+                std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
+                ", error bound " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") +
+                " s (device " + fmt_number(timing.device_seconds * 1e3, "%.3f") + " ms)" +
+                (t.flag("vs_exact") ? ", max |error| vs exact " + table.meta("error_max_abs") : "");
+    r.artifact = std::move(table);
+    return r;
+  }
+
+  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    write_table_result(*r.table(), t, path);
+  }
+
+ private:
+  static FresnelSpec spec_of(const TableRequest& t) {
+    FresnelSpec s;
+    s.model = fresnel_model_from_name(t.text("model"));
+    s.material = t.text("material");
+    if (auto v = t.find("f0")) s.f0 = rgb_of(*v);
+    if (auto v = t.find("f90")) s.f90 = rgb_of(*v);
+    if (auto v = t.find("f82")) s.f82_tint = rgb_of(*v);
+    if (auto v = t.find("base_color")) s.base_color = rgb_of(*v);
+    if (auto v = t.find("metallic")) s.metallic = std::get<double>(*v);
+    if (auto v = t.find("dielectric_f0")) s.dielectric_f0 = std::get<double>(*v);
+    if (auto v = t.find("ior")) s.ior = rgb_of(*v);
+    if (auto v = t.find("ior_outside")) s.ior_outside = std::get<double>(*v);
+    if (auto v = t.find("n")) s.n = rgb_of(*v);
+    if (auto v = t.find("k")) s.k = rgb_of(*v);
+    if (auto v = t.find("bias")) s.bias = std::get<double>(*v);
+    if (auto v = t.find("scale")) s.scale = std::get<double>(*v);
+    if (auto v = t.find("power")) s.power = std::get<double>(*v);
+    s.table = fresnel_table_kind_from_name(t.text("table"));
+    s.size = static_cast<int>(t.number("size"));
+    if (t.find("height")) s.height = static_cast<int>(t.number("height"));
+    s.endpoints = t.flag("endpoints");
+    if (t.find("range")) {
+      const std::vector<double> r = t.numbers("range");
+      s.range = std::make_pair(r[0], r[1]);
+    }
+    s.precision = t.precision;
+    return s;
+  }
+};
+
+}  // namespace
+
+const Family& fresnel_family() {
+  static const FresnelFamily f;
+  return f;
+}
+
+}  // namespace brdfbake::detail

@@ -1,0 +1,139 @@
+// The irradiance family (kind irradiance): diffuse irradiance of the environment as spherical
+// harmonics (JSON) and as an irradiance cube.
+// Engine: host/src/irradiance.cpp and kernels/irradiance.cl; reference: host/reference/src/envmap.cpp
+// (sh_project); tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
+#include <algorithm>
+
+#include "brdfbake/environment.hpp"
+#include "families/family.hpp"
+#include "io/atomic_file.hpp"
+
+namespace brdfbake::detail {
+
+// host/src/families/prefilter.cpp
+OutputFormats cube_formats();
+CubeFormat cube_format_of(const TableRequest& t);
+CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string& stem);
+void add_cube_output_params(std::vector<ParamDef>& s);
+void check_cube_output(const TableRequest& t, const FieldName& name);
+
+namespace {
+
+bool is_json(const TableRequest& t) { return output_extension(t) == ".json"; }
+
+Metadata sh_metadata(const BakeResult& r) {
+  Metadata m;
+  for (const auto& [k, v] : r.details)
+    if (k == "source" || k == "source_size") m.push_back({k, v});
+  return m;
+}
+
+class IrradianceFamily final : public Family {
+ public:
+  std::vector<TableKind> kinds() const override { return {TableKind::Irradiance}; }
+  std::string command() const override { return "irradiance"; }
+  std::string summary(TableKind) const override {
+    return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";
+  }
+  bool uses_environment() const override { return true; }
+
+  const std::vector<ParamDef>& schema(TableKind) const override {
+    static const IrradianceSpec d;
+    static const std::vector<ParamDef> s = [] {
+      using T = ParamType;
+      std::vector<ParamDef> v = {
+          ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)").range(3, 5).def(double(d.sh_order)).spelled("sh"),
+          ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
+              .one_of({"none", "hanning", "lanczos"}).def(std::string(sh_window_name(d.window))),
+          ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
+              .range(1, kIrradianceMaxCube).spelled("cube").defaults_to(fmt_number(d.cube_size) + " for a cube output"),
+          ParamDef("source_size", T::Int, "face size the environment is converted to first")
+              .range(1, kIrradianceMaxSource).def(double(d.source_size)),
+          ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output(),
+      };
+      add_cube_output_params(v);
+      return v;
+    }();
+    return s;
+  }
+
+  void check(TableRequest& t, const FieldName& name) const override {
+    if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
+      throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
+    const bool json = t.output.empty() ? !t.find("cube_size") : is_json(t);
+    if (json && t.find("cube_size"))
+      throw FieldError("cube_size", "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
+    if (json && t.find("sh_json"))
+      throw FieldError("sh_json", "is for a cube output (the output already is the SH JSON)");
+    if (!json && !t.find("cube_size")) t.set("cube_size", double(IrradianceSpec{}.cube_size));
+    (void)name;
+  }
+
+  std::string default_output(const TableRequest& t) const override {
+    std::string stem = "irradiance_sh" + fmt_number(t.number("sh_order"), "%.0f");
+    if (!t.find("cube_size")) return stem + ".json";
+    return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") + (t.format.empty() ? ".ktx2" : output_extension(t));
+  }
+  OutputFormats formats(const TableRequest&) const override {
+    OutputFormats f = cube_formats();
+    f.extensions.insert(f.extensions.begin(), ".json");
+    f.description = "SH coefficients (.json) or " + f.description;
+    return f;
+  }
+  void check_output(const TableRequest& t, const FieldName& name) const override {
+    Family::check_output(t, name);
+    if (!is_json(t)) check_cube_output(t, name);
+    else if (!t.format.empty() && t.format != "json")
+      throw FieldError("format", "'" + t.format + "' does not match the extension of '" + t.output + "'");
+  }
+
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
+    IrradianceSpec spec;
+    spec.sh_order = static_cast<int>(t.number("sh_order"));
+    spec.window = sh_window_from_name(t.text("sh_window"));
+    spec.cube_size = static_cast<int>(t.number("cube_size", 0));
+    spec.source_size = static_cast<int>(t.number("source_size"));
+    spec.precision = t.precision;
+    BakeResult r;
+    IrradianceResult res = backend.irradiance(*in.environment, spec, progress);
+    r.error_bound_definition = "not measured when baked (SH projection of the source cube)";
+    r.details.push_back({"sh_coefficients", std::to_string(res.sh.order * res.sh.order)});
+    r.details.push_back({"source", in.environment->source});
+    r.details.push_back({"source_size", fmt_number(spec.source_size, "%.0f")});
+    r.device_seconds = res.device_seconds;
+    r.summary = "SH order " + std::to_string(res.sh.order) + " (" + std::to_string(res.sh.order * res.sh.order) +
+                " coefficients, window " + sh_window_name(res.sh.window) + ")" +
+                (spec.cube_size > 0 ? ", irradiance cube " + std::to_string(spec.cube_size) + "^2 (E / pi)" : "") +
+                ", device " + fmt_number(res.device_seconds, "%.3f") + " s";
+    r.artifact = std::move(res);
+    return r;
+  }
+
+  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    const IrradianceResult& res = *r.irradiance();
+    if (is_json(t)) {
+      write_sh_json(res.sh, sh_metadata(r), path);
+      return;
+    }
+    // The cube and, with sh_json, the coefficients: the JSON is staged first and renamed only once
+    // the cube is written, so a failure leaves an existing JSON file as it was.
+    std::optional<io::TempFile> json;
+    if (t.find("sh_json")) {
+      json.emplace(t.text("sh_json"));
+      io::write_bytes(*json, sh_to_json(res.sh, sh_metadata(r)));
+    }
+    TableRequest at = t;
+    at.output = path;
+    write_cubemap(res.cube, path, cube_format_of(at), cube_write_options_of(at, "irradiance"));
+    if (json) json->commit();
+  }
+};
+
+}  // namespace
+
+const Family& irradiance_family() {
+  static const IrradianceFamily f;
+  return f;
+}
+
+}  // namespace brdfbake::detail

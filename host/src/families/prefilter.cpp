@@ -1,0 +1,192 @@
+// The prefilter family (kind prefilter): a GGX or Charlie prefiltered radiance mip chain of the
+// environment.
+// Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
+// tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
+#include <algorithm>
+#include <filesystem>
+
+#include "brdfbake/environment.hpp"
+#include "families/family.hpp"
+
+namespace brdfbake::detail {
+
+// Shared with the irradiance family (its cube outputs).
+OutputFormats cube_formats() {
+  return {{".ktx2", ".ktx", ".dds", ""}, "a cube container (.ktx2 .ktx .dds) or a folder of images"};
+}
+
+CubeFormat cube_format_of(const TableRequest& t) {
+  CubeFormat f = cube_format_from_path(t.output);
+  if (f == CubeFormat::Dds && t.format == "dds-legacy") f = CubeFormat::DdsLegacy;
+  return f;
+}
+
+CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string& stem) {
+  CubeWriteOptions o;
+  o.pixel = pixel_of(t);
+  const std::string layout = t.text("layout", "faces");
+  o.layout = layout == "cross"      ? CubeImageLayout::HorizontalCross
+             : layout == "vcross"   ? CubeImageLayout::VerticalCross
+             : layout == "equirect" ? CubeImageLayout::Equirect
+                                    : CubeImageLayout::Faces;
+  o.image_format = t.text("image_format", "exr") == "hdr" ? CubeImageFormat::Hdr : CubeImageFormat::Exr;
+  o.stem = stem;
+  return o;
+}
+
+// The output parameters of a cube: folder layout and image format.
+void add_cube_output_params(std::vector<ParamDef>& s) {
+  s.push_back(ParamDef("layout", ParamType::Name, "folder output: the images of each level")
+                  .one_of({"faces", "cross", "vcross", "equirect"}).def(std::string("faces")).output());
+  s.push_back(ParamDef("image_format", ParamType::Name, "folder output: .exr (float) or .hdr (RGBE) images")
+                  .one_of({"exr", "hdr"}).def(std::string("exr")).output());
+}
+
+void check_cube_output(const TableRequest& t, const FieldName& name) {
+  const std::string ext = output_extension(t);
+  const bool folder = cube_format_from_path(t.output) == CubeFormat::Directory;
+  if (!t.format.empty() && t.format != ext.substr(1) && t.format != "dds-legacy")
+    throw FieldError("format", "'" + t.format + "' is not a cube container (ktx2, ktx, dds, dds-legacy)");
+  if (t.format == "dds-legacy" && lower_extension(t.output) != ".dds")
+    throw FieldError("format", "dds-legacy writes a .dds file (got '" + t.output + "')");
+  if (!t.format.empty() && lower_extension(t.output) != ext)
+    throw FieldError("format", "'" + t.format + "' does not match the extension of '" + t.output + "'");
+  if (!folder && (t.find("layout") && t.text("layout") != "faces"))
+    throw FieldError("layout", "is for folder outputs (the output is '" + t.output + "')");
+  (void)name;
+}
+
+namespace {
+
+class PrefilterFamily final : public Family {
+ public:
+  std::vector<TableKind> kinds() const override { return {TableKind::Prefilter}; }
+  std::string command() const override { return "prefilter"; }
+  std::string summary(TableKind) const override {
+    return "a prefiltered radiance mip chain of an environment (GGX or Charlie lobe per level)";
+  }
+  bool uses_environment() const override { return true; }
+
+  const std::vector<ParamDef>& schema(TableKind) const override {
+    static const PrefilterSpec d;
+    static const std::vector<ParamDef> s = [] {
+      using T = ParamType;
+      std::vector<ParamDef> v = {
+          ParamDef("distribution", T::Name, "the lobe each level is filtered with")
+              .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
+          ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)),
+          ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)),
+          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos) | filament | sqrt")
+              .one_of({"linear", "filament", "sqrt"}).def(std::string(roughness_schedule_name(d.schedule))),
+          ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
+              .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
+          ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"),
+          ParamDef("max_error", T::Number,
+                   "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
+                   "(RMS relative luminance)").above(0, 1),
+          ParamDef("refinement", T::Number,
+                   "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with max_error)")
+              .range(1.5, 64).defaults_to(fmt_number(d.refinement)),
+          ParamDef("env_sampling", T::Flag, "sum the brightest texels (suns) exactly").def(d.bright_texels != 0),
+          ParamDef("fis", T::Flag, "sampling: filtered importance sampling (off: every sample reads level 0)")
+              .def(d.filtered_importance_sampling),
+          ParamDef("clamp", T::Number, "BIASED, opt-in: compress source luminance above this value").above(0),
+      };
+      add_cube_output_params(v);
+      return v;
+    }();
+    return s;
+  }
+
+  void check(TableRequest& t, const FieldName& name) const override {
+    if (t.find("samples") && t.text("estimator") != "sampling")
+      throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " + name("refinement") +
+                                      " or " + name("max_error") + ")");
+    if (t.find("samples") && t.find("max_error"))
+      throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
+    if (t.find("refinement") && (t.find("max_error") || t.text("estimator") != "quadrature"))
+      throw FieldError("refinement", t.find("max_error") ? "give " + name("refinement") + " or " + name("max_error") + ", not both"
+                                                         : "applies to " + name("estimator") + " quadrature");
+    if (t.number("min_size") > t.number("size"))
+      throw FieldError("min_size", "must be at most " + name("size") + " (got " + fmt_number(t.number("min_size")) +
+                                       " > " + fmt_number(t.number("size")) + ")");
+    if (!t.flag("fis") && t.text("estimator") != "sampling")
+      throw FieldError("fis", "applies to " + name("estimator") + " sampling");
+    try {
+      resolve_prefilter_spec(spec_of(t));
+    } catch (const Error& e) {
+      throw FieldError("", e.what());
+    }
+  }
+
+  std::string default_output(const TableRequest& t) const override {
+    return "prefilter_" + t.text("distribution") + "_" + fmt_number(t.number("size"), "%.0f") +
+           (t.format.empty() ? ".ktx2" : output_extension(t));
+  }
+  OutputFormats formats(const TableRequest&) const override { return cube_formats(); }
+  void check_output(const TableRequest& t, const FieldName& name) const override {
+    Family::check_output(t, name);
+    check_cube_output(t, name);
+  }
+
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
+    const PrefilterSpec spec = spec_of(t);
+    PrefilterTiming timing;
+    BakeResult r;
+    CubeLevels cube = backend.prefilter(*in.environment, spec, &timing, progress);
+    if (spec.max_error > 0) {
+      r.error_bound = spec.max_error;
+      r.error_bound_definition = cube.meta("max_error");
+    } else {
+      r.error_bound_definition =
+          "not measured when baked (the quadrature's accuracy against the reference is in docs/BENCHMARKS.md; give "
+          "max_error for a per-level measurement)";
+    }
+    if (spec.estimator == EnvEstimator::Quadrature && spec.max_error <= 0)
+      r.parameters.push_back({"refinement", spec.refinement});
+    r.details.push_back({"levels", cube.meta("levels")});
+    r.details.push_back({"lod_from_roughness", cube.meta("lod_from_roughness")});
+    r.device_seconds = timing.device_seconds;
+    const int levels = cube.level_count();
+    r.summary = std::string(env_distribution_name(spec.distribution)) + ", " + std::to_string(levels) +
+                (levels == 1 ? " level " : " levels ") + std::to_string(cube.size) + "^2 -> " +
+                std::to_string(cube.level_size(levels - 1)) + "^2, " + roughness_schedule_name(spec.schedule) +
+                " schedule (" + cube.meta("lod_from_roughness") + "), " + env_estimator_name(spec.estimator) + ", " +
+                fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") + " s)";
+    r.artifact = std::move(cube);
+    return r;
+  }
+
+  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    TableRequest at = t;
+    at.output = path;
+    write_cubemap(*r.cube(), path, cube_format_of(at), cube_write_options_of(at, "level"));
+  }
+
+ private:
+  static PrefilterSpec spec_of(const TableRequest& t) {
+    PrefilterSpec s;
+    s.distribution = env_distribution_from_name(t.text("distribution"));
+    s.size = static_cast<int>(t.number("size"));
+    s.min_size = static_cast<int>(t.number("min_size"));
+    s.schedule = roughness_schedule_from_name(t.text("schedule"));
+    s.estimator = env_estimator_from_name(t.text("estimator"));
+    s.samples = static_cast<int>(t.number("samples", 0));
+    s.max_error = t.number("max_error", 0);
+    s.refinement = t.number("refinement", s.refinement);
+    if (!t.flag("env_sampling", true)) s.bright_texels = 0;
+    s.filtered_importance_sampling = t.flag("fis", true);
+    s.clamp_luminance = t.number("clamp", 0.0);
+    s.precision = t.precision;
+    return s;
+  }
+};
+
+}  // namespace
+
+const Family& prefilter_family() {
+  static const PrefilterFamily f;
+  return f;
+}
+
+}  // namespace brdfbake::detail

@@ -1,0 +1,120 @@
+// The thin-film family (kind thin-film): interference Fresnel over (cos_theta, film thickness) for
+// KHR_materials_iridescence (Belcour & Barla 2017).
+// Engine: host/src/thin_film.cpp and kernels/thin_film.cl; reference: host/reference/src/thin_film.cpp;
+// tests: tests/device/test_thin_film.cpp, tests/reference/test_thin_film_reference.cpp.
+#include <algorithm>
+#include <cmath>
+
+#include "brdfbake/thin_film.hpp"
+#include "families/family.hpp"
+
+namespace brdfbake::detail {
+namespace {
+
+std::string name_number(double v) { return fmt_number(v, "%.6g"); }
+
+class ThinFilmFamily final : public Family {
+ public:
+  std::vector<TableKind> kinds() const override { return {TableKind::ThinFilm}; }
+  std::string command() const override { return "thin-film"; }
+  std::string summary(TableKind) const override {
+    return "thin-film interference Fresnel over (cos_theta, thickness) for KHR_materials_iridescence";
+  }
+
+  const std::vector<ParamDef>& schema(TableKind) const override {
+    static const ThinFilmSpec d;
+    using T = ParamType;
+    static const std::vector<ParamDef> s = {
+        ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior),
+        ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10),
+        ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)").range(0, 1),
+        ParamDef("outside_ior", T::Number, "the medium above the film").range(1, 10).def(d.outside_ior),
+        ParamDef("thickness_min", T::Number, "thinnest film, nm (iridescenceThicknessMinimum)").range(0, 1e5).def(d.thickness_min),
+        ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)").range(0, 1e5).def(d.thickness_max),
+        ParamDef("size", T::Int, "cells along cos_theta").range(1, 8192).def(double(d.width)),
+        ParamDef("height", T::Int, "cells along the thickness").range(1, 8192).defaults_to("size, or 1 when thickness_min = thickness_max"),
+        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
+    };
+    return s;
+  }
+
+  void check(TableRequest& t, const FieldName& name) const override {
+    const bool ior = t.find("base_ior") != nullptr, f0 = t.find("base_f0") != nullptr;
+    if (ior == f0)
+      throw FieldError(ior ? "base_f0" : "base_ior", "give exactly one of " + name("base_ior") +
+                                                         " (a dielectric base) and " + name("base_f0") + " (a metal's F0)");
+    if (t.number("thickness_max") < t.number("thickness_min"))
+      throw FieldError("thickness_max", "must be at least " + name("thickness_min") + " (got " +
+                                            fmt_number(t.number("thickness_max")) + " < " +
+                                            fmt_number(t.number("thickness_min")) + ")");
+    const bool one = t.number("thickness_max") == t.number("thickness_min");
+    if (!t.find("height")) t.set("height", one ? 1.0 : t.number("size"));
+    if (one && t.number("height") != 1)
+      throw FieldError("height", "must be 1 when " + name("thickness_min") + " = " + name("thickness_max") + " (one thickness)");
+  }
+
+  std::string default_output(const TableRequest& t) const override {
+    std::string stem = "thin_film_ior" + name_number(t.number("film_ior"));
+    if (t.find("base_ior")) stem += "_base_ior" + name_number(t.number("base_ior"));
+    if (const ParamValue* v = t.find("base_f0")) stem += "_base_f0_" + name_part(*v);
+    stem += "_" + name_number(t.number("thickness_min"));
+    if (t.number("thickness_max") != t.number("thickness_min")) stem += "-" + name_number(t.number("thickness_max"));
+    return stem + "nm" + (t.format.empty() ? ".exr" : output_extension(t));
+  }
+  OutputFormats formats(const TableRequest&) const override { return table_formats(); }
+
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress&) const override {
+    const ThinFilmSpec spec = spec_of(t);
+    ThinFilmTiming timing;
+    BakeResult r;
+    Table table = backend.thin_film(spec, &timing);
+    if (backend.is_reference()) {
+      r.error_bound = 0.0;
+      r.error_bound_definition = "the scalar double reference itself (stored as float32)";
+    } else {
+      const Table ref = bake_thin_film_reference(spec);
+      double worst = 0.0;
+      for (size_t k = 0; k < table.data.size(); ++k)
+        worst = std::max(worst, std::fabs(double(table.data[k]) - double(ref.data[k])));
+      r.error_bound = worst;
+      r.error_bound_definition =
+          "max |table - scalar double reference| over every cell and channel, measured when the table was baked";
+    }
+    table.set_meta("error_bound", fmt_number(*r.error_bound, "%.3g"));
+    table.set_meta("error_bound_definition", r.error_bound_definition);
+    r.device_seconds = timing.device_seconds;
+    r.summary = "thin film on " + (spec.base_ior ? "ior " + name_number(*spec.base_ior) : std::string("an F0 base")) + " " +
+                std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
+                ", error bound " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") + " s";
+    r.artifact = std::move(table);
+    return r;
+  }
+
+  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    write_table_result(*r.table(), t, path);
+  }
+
+ private:
+  static ThinFilmSpec spec_of(const TableRequest& t) {
+    ThinFilmSpec s;
+    s.film_ior = t.number("film_ior");
+    s.outside_ior = t.number("outside_ior");
+    if (t.find("base_ior")) s.base_ior = t.number("base_ior");
+    if (const ParamValue* v = t.find("base_f0")) s.base_f0 = rgb_of(*v);
+    s.thickness_min = t.number("thickness_min");
+    s.thickness_max = t.number("thickness_max");
+    s.width = static_cast<int>(t.number("size"));
+    s.height = static_cast<int>(t.number("height"));
+    s.precision = t.precision;
+    return s;
+  }
+};
+
+}  // namespace
+
+const Family& thin_film_family() {
+  static const ThinFilmFamily f;
+  return f;
+}
+
+}  // namespace brdfbake::detail

@@ -1,0 +1,179 @@
+// The job runner: each distinct table baked once through the family registry, every file written
+// into a temporary folder beside the output folder and moved in at the end, manifest.json last.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include "brdfbake/job.hpp"
+#include "io/atomic_file.hpp"
+#include "io/staging_dir.hpp"
+
+namespace brdfbake {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string join(const std::vector<std::string>& v, const std::string& sep) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
+  return s;
+}
+
+// A short label of a bake for progress lines: "prefilter ggx 256", "fresnel dielectric 256".
+std::string bake_label(const TableRequest& t) {
+  std::string what = table_kind_name(t.kind);
+  for (const char* key : {"distribution", "model", "layout"})
+    if (!t.text(key).empty()) what += " " + t.text(key);
+  if (t.find("size")) what += " " + std::to_string(static_cast<long long>(t.number("size")));
+  return what;
+}
+
+// The request as written into the staging folder: its output and its other output files there.
+TableRequest staged(const TableRequest& o, const fs::path& staging) {
+  TableRequest s = o;
+  s.output = (staging / fs::path(o.output).lexically_normal()).string();
+  for (const auto& d : table_schema(o.kind))
+    if (d.type == ParamType::Path && d.output_only && o.find(d.name))
+      s.set(d.name, (staging / fs::path(o.text(d.name)).lexically_normal()).string());
+  return s;
+}
+
+std::uint64_t bytes_of(const fs::path& p) {
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) {
+    std::uint64_t total = 0;
+    for (const auto& e : fs::recursive_directory_iterator(p, ec))
+      if (e.is_regular_file(ec)) total += static_cast<std::uint64_t>(e.file_size(ec));
+    return total;
+  }
+  return static_cast<std::uint64_t>(fs::file_size(p, ec));
+}
+
+}  // namespace
+
+Manifest run_job(const Job& in, const JobProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Job job = in;
+  validate_job(job);
+  const std::string origin = job.source.empty() ? std::string("job") : job.source;
+  if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
+
+  // Every kind must be bakeable before anything starts.
+  std::vector<std::string> missing;
+  for (size_t i = 0; i < job.tables.size(); ++i) {
+    std::string why;
+    if (!table_kind_available(job.tables[i].kind, &why)) {
+      std::string who;
+      for (const auto& r : job.tables[i].requested_by) who += (who.empty() ? ", requested by " : " and ") + r.rule;
+      missing.push_back("tables[" + std::to_string(i) + "] (" + table_kind_name(job.tables[i].kind) + " '" +
+                        job.tables[i].output + "'" + who + "): " + why);
+    }
+  }
+  if (!missing.empty())
+    throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
+
+  // The job's defaults made explicit, then identical tables grouped: each group is baked once.
+  for (auto& t : job.tables) {
+    if (t.device.empty()) t.device = job.device;
+    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
+  }
+  std::vector<std::vector<size_t>> groups;
+  {
+    std::map<std::string, size_t> by_key;
+    for (size_t i = 0; i < job.tables.size(); ++i) {
+      const std::string k = table_bake_key(job.tables[i]);
+      auto it = by_key.find(k);
+      if (it == by_key.end()) {
+        by_key[k] = groups.size();
+        groups.push_back({i});
+      } else {
+        groups[it->second].push_back(i);
+      }
+    }
+  }
+
+  std::string target = job.output_dir;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
+  io::StagingDir staging{fs::path(target)};
+
+  // Environments first (a bad file fails before any device work), each loaded once.
+  std::map<std::string, EnvImage> environments;
+  EnvLoadOptions load;
+  load.sanitize = job.sanitize;
+  for (const auto& t : job.tables)
+    if (table_kind_uses_environment(t.kind) && !environments.count(t.environment))
+      environments.emplace(t.environment, load_environment(t.environment, load));
+
+  std::map<std::string, std::shared_ptr<Backend>> backends;
+  auto backend_for = [&](const std::string& selector) -> Backend& {
+    auto it = backends.find(selector);
+    if (it == backends.end()) it = backends.emplace(selector, Backend::open(selector)).first;
+    return *it->second;
+  };
+
+  Manifest manifest;
+  manifest.output_dir = job.output_dir;
+  manifest.job_source = origin;
+  manifest.scene = job.scene;
+  manifest.notes = job.notes;
+  manifest.warnings = job.warnings;
+  manifest.bakes = static_cast<int>(groups.size());
+  for (const auto& [name, env] : environments)
+    if (env.sanitize.replaced)
+      manifest.warnings.push_back("environment '" + name + "' sanitized: replaced " + std::to_string(env.sanitize.nan) +
+                                  " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
+                                  std::to_string(env.sanitize.negative) + " negative values");
+
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const TableRequest& t = job.tables[groups[g].front()];
+    const std::string what = bake_label(t);
+    auto report = [&](double fraction, const std::string& step) {
+      if (progress) progress({int(g), int(groups.size()), step.empty() ? what : what + ": " + step, fraction});
+    };
+    report(0.0, "");
+    Backend& backend = backend_for(t.device);
+    BakeInputs inputs;
+    if (table_kind_uses_environment(t.kind)) inputs.environment = &environments.at(t.environment);
+    const BakeResult r = bake_table(t, backend, inputs, report);
+    report(1.0, "");
+    for (size_t k = 0; k < groups[g].size(); ++k) {
+      const TableRequest& o = job.tables[groups[g][k]];
+      const TableRequest s = staged(o, staging.path());
+      write_result(r, s, s.output);
+      ManifestFile f;
+      f.path = fs::path(o.output).lexically_normal().string();
+      f.kind = o.kind;
+      f.params = o.params;
+      for (const auto& p : r.parameters) {
+        const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
+        if (!(d && d->output_only)) {
+          auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
+          if (it != f.params.end()) it->value = p.value;
+          else f.params.push_back(p);
+        }
+      }
+      f.precision = backend.result_precision(o.precision);
+      f.device = r.device;
+      if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
+      f.error_bound = r.error_bound;
+      f.error_bound_definition = r.error_bound_definition;
+      f.details = r.details;
+      f.requested_by = o.requested_by;
+      f.materials = o.materials();
+      f.bytes = bytes_of(s.output);
+      f.seconds = k == 0 ? r.seconds : 0.0;
+      f.bake = static_cast<int>(g);
+      manifest.files.push_back(std::move(f));
+    }
+  }
+
+  manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  io::write_file_atomically((staging.path() / "manifest.json").string(), manifest_to_json(manifest));
+  staging.commit("manifest.json");
+  return manifest;
+}
+
+}  // namespace brdfbake
