@@ -48,6 +48,7 @@ class ProgressLine {
 
 int cmd_devices(int argc, char** argv);
 int cmd_fresnel(int argc, char** argv);
+int cmd_kinds(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_bake(int argc, char** argv);
 

@@ -121,7 +121,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   const std::vector<TableKind> kinds = kinds_of(command.name);
   const std::vector<ParamDef> schema = union_schema(kinds);
   const bool env = table_kind_uses_environment(kinds.front());
-  const bool eval = kinds.front() == TableKind::Eval;
+  const bool eval = table_kind_streams(kinds.front());
 
   cxxopts::Options options("brdfbake " + command.name, command.description);
   if (kinds.size() > 1) {

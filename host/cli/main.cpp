@@ -14,6 +14,7 @@ void usage(std::ostream& out) {
       << "  bake      read a glTF scene and bake the tables its materials call for (the main job)\n"
       << "  run       run a job file (JSON: the tables to bake, with every parameter)\n"
       << "  devices   list OpenCL platforms and devices\n"
+      << "  kinds     every table kind with its parameters (the job format's reference)\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
       << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
       << "  thin-film bake a thin-film interference Fresnel table (KHR_materials_iridescence)\n"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
+    if (command == "kinds") return cli::cmd_kinds(argc - 1, argv + 1);
     if (const cli::TableCommand* c = cli::table_command(command)) return cli::run_table_command(*c, argc - 1, argv + 1);
     if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);

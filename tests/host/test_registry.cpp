@@ -257,6 +257,17 @@ TEST(Registry, FresnelFilesCarryTheirErrorBound) {
   fs::remove_all(dir.parent_path());
 }
 
+TEST(Registry, TheJobReferenceInTheDocsIsTheSchemas) {
+  const std::string doc = read_file(fs::path(BRDFBAKE_SOURCE_DIR) / "docs" / "SCENES.md");
+  const auto a = doc.find("<!-- kinds:begin -->\n"), b = doc.find("<!-- kinds:end -->");
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  const CliRun r = brdfbake::test::run_cli("kinds --markdown");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(doc.substr(a + 21, b - a - 21), r.out)
+      << "docs/SCENES.md's parameter table is out of date: paste `brdfbake kinds --markdown` between the markers";
+}
+
 TEST(Registry, ValidationNamesTheFieldAsEachFrontEndSpellsIt) {
   TableRequest t;
   t.kind = TableKind::Irradiance;

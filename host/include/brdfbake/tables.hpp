@@ -46,6 +46,10 @@ std::string table_kind_summary(TableKind kind);
 bool table_kind_available(TableKind kind, std::string* why = nullptr);
 // Whether the kind reads the job's environment (prefilter, irradiance).
 bool table_kind_uses_environment(TableKind kind);
+// Whether the command line streams the kind from standard input to standard output (eval).
+bool table_kind_streams(TableKind kind);
+// The pixel type ("f16" or "f32") written when a request names none.
+std::string table_kind_default_pixel(TableKind kind);
 
 // A kind this build cannot bake: the job stops before anything is written.
 class NotAvailableError : public Error {

@@ -237,6 +237,7 @@ class EvalFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Eval}; }
   std::string command() const override { return "eval"; }
+  bool streams() const override { return true; }
   std::string summary(TableKind) const override {
     return "a BRDF evaluated at (wi, wo) pairs: CSV or float32 in, f (without the cosine) out";
   }

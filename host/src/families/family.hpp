@@ -45,6 +45,9 @@ class Family {
   // The pixel type written when the request names none.
   virtual std::string default_pixel() const { return "f16"; }
   virtual bool uses_environment() const { return false; }
+  // Whether the command line streams it (standard input to standard output) instead of baking it
+  // whole (eval_stream).
+  virtual bool streams() const { return false; }
 
   // The family's rules across fields, after every field passed its schema check and the defaults
   // were filled in; may resolve dependent defaults (t.set). Throws FieldError.

@@ -157,6 +157,10 @@ std::string table_kind_summary(TableKind kind) { return family_of(kind).summary(
 
 bool table_kind_uses_environment(TableKind kind) { return family_of(kind).uses_environment(); }
 
+bool table_kind_streams(TableKind kind) { return family_of(kind).streams(); }
+
+std::string table_kind_default_pixel(TableKind kind) { return family_of(kind).default_pixel(); }
+
 bool table_kind_available(TableKind kind, std::string* why) {
   // Developer and test switch: kinds listed here (comma separated) are treated as missing.
   if (const char* off = std::getenv("BRDFBAKE_UNAVAILABLE_KINDS")) {

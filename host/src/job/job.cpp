@@ -285,7 +285,7 @@ json table_json(const TableRequest& t, const Job& job) {
   if (!t.environment.empty()) o["environment"] = t.environment;
   o["output"] = t.output;
   if (!t.format.empty()) o["format"] = t.format;
-  if (!t.pixel.empty()) o["pixel"] = t.pixel;
+  if (!t.pixel.empty() && t.pixel != table_kind_default_pixel(t.kind)) o["pixel"] = t.pixel;
   if (!t.requested_by.empty()) {
     o["requested_by"] = requests_json(t.requested_by);
     o["materials"] = t.materials();
