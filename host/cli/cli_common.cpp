@@ -59,6 +59,17 @@ Precision precision_option(const cxxopts::ParseResult& r) {
 std::string device_option(const cxxopts::ParseResult& r) { return r["device"].as<std::string>(); }
 bool quiet_option(const cxxopts::ParseResult& r) { return r.count("quiet") > 0; }
 
+RunOptions run_options(bool wait, bool quiet) {
+  RunOptions o;
+  o.wait_for_lock = wait;
+  if (!quiet)
+    o.on_wait = [](long pid) {
+      std::fprintf(stderr, "waiting for another brdfbake run%s to finish writing the output folder...\n",
+                   pid > 0 ? (" (pid " + std::to_string(pid) + ")").c_str() : "");
+    };
+  return o;
+}
+
 namespace {
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();

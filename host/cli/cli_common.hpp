@@ -6,6 +6,7 @@
 
 #include "brdfbake/device.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/job.hpp"
 #include "brdfbake/io.hpp"
 #include "brdfbake/table.hpp"
 
@@ -51,6 +52,9 @@ int cmd_fresnel(int argc, char** argv);
 int cmd_kinds(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_bake(int argc, char** argv);
+
+// How bake and run share their output folder: --wait, and a note on stderr when waiting.
+RunOptions run_options(bool wait, bool quiet);
 
 // Parses, turning cxxopts' exceptions into UsageError with the command's name.
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_lock.hpp"
 
 namespace brdfbake::cli {
 
@@ -78,6 +79,14 @@ std::string output_probe(const std::string& path, TableKind kind) {
   return d;
 }
 
+// An environment kind's output that validation accepted as a folder of images (not a container or
+// the SH JSON).
+bool is_folder_output(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return !(ext == ".json" || ext == ".ktx2" || ext == ".ktx" || ext == ".dds");
+}
+
 }  // namespace
 
 void add_schema_options(cxxopts::Options& options, const std::vector<ParamDef>& schema) {
@@ -136,7 +145,8 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
                                              "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
                                      kDefaultEnvironment + ")",
                           cxxopts::value<std::string>())(
-        "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input");
+        "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")(
+        "wait", "a folder output: when another run is writing it, wait for it (default: fail at once)");
   options.add_options()("o,output",
                         eval ? std::string("f as r,g,b rows, or float32 with --binary; - : standard output (default: -)")
                              : std::string("output file (its extension picks the format)") +
@@ -197,6 +207,17 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   if (t.output != "-") check_output_path(output_probe(t.output, t.kind));
   const bool quiet = quiet_option(r);
 
+  // A cube written as a folder of images is one output of many files: one run at a time writes it
+  // (docs/RELIABILITY.md, "Outputs"), and what killed runs left beside it goes.
+  std::optional<OutputLock> lock;
+  if (env && is_folder_output(t.output)) {
+    const RunOptions o = run_options(r.count("wait") > 0, quiet);
+    lock.emplace(t.output, o.wait_for_lock, o.on_wait);
+    remove_stale_temporaries(t.output);
+  }
+  const std::shared_ptr<Backend> backend = Backend::open(t.device);
+  check_backend(t, *backend);  // before the environment is read
+
   BakeInputs inputs;
   EnvImage environment;
   if (env) {
@@ -209,7 +230,6 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
                    environment.sanitize.negative);
     inputs.environment = &environment;
   }
-  const std::shared_ptr<Backend> backend = Backend::open(t.device);
 
   if (eval) {
     const EvalStreamResult res = eval_stream(t, *backend, t.text("input"), t.output);

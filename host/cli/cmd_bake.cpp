@@ -111,6 +111,7 @@ int cmd_bake(int argc, char** argv) {
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
       ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
+      ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
       ("o,output", "output folder (default: out)", cxxopts::value<std::string>()->default_value("out"))
       ("dry-run", "print the plan and bake nothing")
       ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
@@ -171,11 +172,10 @@ int cmd_bake(int argc, char** argv) {
   };
   Manifest manifest;
   try {
-    manifest = run_job(plan.job, progress);
-  } catch (const NotAvailableError& e) {
+    manifest = run_job(plan.job, progress, run_options(r.count("wait") > 0, quiet));
+  } catch (...) {
     line.finish();
-    std::cerr << "brdfbake bake: " << e.what() << "\n";
-    return kExitFailure;
+    throw;
   }
   line.finish();
   if (!quiet) print_manifest_summary(manifest, std::cout);

@@ -16,6 +16,7 @@ int cmd_run(int argc, char** argv) {
       ("o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())
       ("dry-run", "check the job and print it with every default filled in; bake nothing")
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
+      ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
       ("quiet", "no progress or summary")
       ("h,help", "this help");
   options.parse_positional({"job"});
@@ -46,11 +47,10 @@ int cmd_run(int argc, char** argv) {
   };
   Manifest manifest;
   try {
-    manifest = run_job(job, progress);
-  } catch (const NotAvailableError& e) {
+    manifest = run_job(job, progress, run_options(r.count("wait") > 0, quiet));
+  } catch (...) {
     line.finish();
-    std::cerr << "brdfbake run: " << e.what() << "\n";
-    return kExitFailure;
+    throw;
   }
   line.finish();
   if (!quiet) print_manifest_summary(manifest, std::cout);

@@ -1,11 +1,30 @@
-// brdfbake: the command-line tool. The only place that prints errors and chooses exit codes.
+// brdfbake: the command-line tool. The only place that prints errors and chooses exit codes
+// (docs/RELIABILITY.md, "What each failure returns").
+#include <csignal>
 #include <cstring>
 #include <iostream>
+#include <new>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/version.hpp"
 #include "cli_table.hpp"
 
 namespace {
+
+// SIGINT and SIGTERM ask the run to stop at its next check (between device launches, tables and
+// stream chunks); what it was writing is removed as the Cancelled exception unwinds. The handler is
+// one-shot (SA_RESETHAND): a second signal ends the process at once, and the next run into that
+// folder removes what it left. No SA_RESTART, so that a read blocked on standard input returns.
+extern "C" void on_stop_signal(int signal) { brdfbake::request_cancel(signal); }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = static_cast<int>(SA_RESETHAND);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 void usage(std::ostream& out) {
   out << "brdfbake " << brdfbake::kVersion << ": physically based BRDF tables on OpenCL devices\n\n"
@@ -33,6 +52,7 @@ int main(int argc, char** argv) {
     return cli::kExitUsage;
   }
   const std::string command = argv[1];
+  install_stop_handlers();
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
@@ -53,12 +73,18 @@ int main(int argc, char** argv) {
   } catch (const cli::UsageError& e) {
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitUsage;
-  } catch (const ClError& e) {
+  } catch (const Cancelled& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    return e.signal() > 0 ? 128 + e.signal() : cli::kExitFailure;  // 130 for SIGINT, 143 for SIGTERM
+  } catch (const RuntimeFailure& e) {  // I/O, OpenCL, a locked output, a result that is not finite
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitFailure;
-  } catch (const Error& e) {
+  } catch (const Error& e) {  // bad input
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitUsage;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "brdfbake " << command << ": out of memory\n";
+    return cli::kExitFailure;
   } catch (const std::exception& e) {
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitFailure;

@@ -17,6 +17,7 @@
 #include "brdfbake/reference/quadrature.hpp"
 #include "brdfbake/version.hpp"
 #include "io/merl.hpp"
+#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 // The parameter block layout, shared with the kernels.
@@ -680,7 +681,10 @@ void parallel_for(size_t n, Body&& body) {
   std::mutex error_mutex;
   auto worker = [&] {
     try {
-      for (size_t k = next++; k < n; k = next++) body(k);
+      for (size_t k = next++; k < n; k = next++) {
+        throw_if_cancelled();  // caught below and rethrown on the calling thread
+        body(k);
+      }
     } catch (...) {
       const std::lock_guard<std::mutex> lock(error_mutex);
       if (!error) error = std::current_exception();
@@ -896,7 +900,7 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   const std::string what = std::string("kernel brdf_") + table_layout_name(s.layout) + " on '" + dev.info.name + "'";
   const double device_seconds = detail::cl_call(what, [&] {
     cl::Buffer params = real_buffer(dev, prec, packed.params), sheen = real_buffer(dev, prec, packed.sheen);
-    cl::Event e;
+    double launched = 0.0;
     std::vector<double> planes;
     size_t plane = 0;
     if (s.layout == TableLayout::Albedo) {
@@ -924,9 +928,12 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
       cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, 3 * mats.size() * plane * real_size(prec));
       cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer>
           kernel(program, "brdf_albedo");
-      e = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(static_cast<size_t>(n), mats.size())), params, sheen, yb, n, qb,
-                 n_a_padded, kAlbedoNodesB, kAlbedoNodesPhi, out);
-      e.wait();
+      // Every albedo is a whole quadrature: bounded launches over theta_o (runtime/launch.hpp).
+      const double nodes = double(n_a_padded + kAlbedoNodesB) * kAlbedoNodesPhi * double(mats.size());
+      launched = detail::launch_in_parts(static_cast<size_t>(n), nodes, [&](size_t first, size_t count) {
+        return kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(first, 0), cl::NDRange(count, mats.size()), cl::NullRange),
+                      params, sheen, yb, n, qb, n_a_padded, kAlbedoNodesB, kAlbedoNodesPhi, out);
+      });
       planes.resize(3 * mats.size() * plane);
       read_reals(dev, prec, out, planes.size(), planes.data());
       for (size_t m = 0; m < mats.size(); ++m)
@@ -937,24 +944,31 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
       const size_t cells = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
       plane = (cells + l - 1) / l * l;
       cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, 3 * plane * real_size(prec));
+      // One work-item per `l` cells, a BRDF evaluation (about 8 units) each: bounded launches of items.
+      const double cost = 8.0 * double(l);
       if (s.layout == TableLayout::Grid) {
         cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_int, cl::Buffer> kernel(program, "brdf_grid");
-        e = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(plane / l)), params, sheen, 0, res[0], res[1], res[2], out);
+        launched = detail::launch_in_parts(plane / l, cost, [&](size_t first, size_t count) {
+          return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1], res[2], out);
+        });
       } else if (prec == Precision::Fp64) {
         cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_double, cl::Buffer> kernel(program, "brdf_slice");
-        e = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(plane / l)), params, sheen, 0, res[0], res[1], s.slice_phi_d, out);
+        launched = detail::launch_in_parts(plane / l, cost, [&](size_t first, size_t count) {
+          return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1], s.slice_phi_d, out);
+        });
       } else {
         cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_float, cl::Buffer> kernel(program, "brdf_slice");
-        e = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(plane / l)), params, sheen, 0, res[0], res[1],
-                   static_cast<float>(s.slice_phi_d), out);
+        launched = detail::launch_in_parts(plane / l, cost, [&](size_t first, size_t count) {
+          return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1],
+                        static_cast<float>(s.slice_phi_d), out);
+        });
       }
-      e.wait();
       planes.resize(3 * plane);
       read_reals(dev, prec, out, planes.size(), planes.data());
       for (size_t b = 0; b < cells; ++b)
         for (size_t c = 0; c < 3; ++c) t.data[b * 3 + c] = static_cast<float>(planes[c * plane + b]);
     }
-    return detail::event_seconds(e);
+    return launched;
   });
   common_meta(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
   if (s.layout == TableLayout::Albedo)

@@ -6,18 +6,31 @@
 // tooling does not have (shared/scenes holds the JSON alone).
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
+#include "io/json_input.hpp"
 
 namespace brdfbake {
 namespace {
 
-using nlohmann::json;
+// Untrusted input: read with io::parse_json's limits, quoted by io::json_excerpt only.
+using json = nlohmann::ordered_json;
+using io::json_excerpt;
+
+// A name from a file, as messages quote it.
+std::string clip(const std::string& s, size_t n = 60) { return s.size() <= n ? s : s.substr(0, n) + "..."; }
+
+// The names of `materials` for a message: the first few, then how many more.
+std::string name_list(const std::vector<NamedMaterial>& materials, size_t shown = 8) {
+  std::string names;
+  for (size_t i = 0; i < materials.size() && i < shown; ++i) names += (i ? ", '" : "'") + clip(materials[i].name) + "'";
+  if (materials.size() > shown) names += " and " + std::to_string(materials.size() - shown) + " more";
+  return names;
+}
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -87,15 +100,17 @@ std::string known_fields() {
 }
 
 double number(const json& v, const std::string& where, const std::string& key) {
-  if (!v.is_number()) throw Error(where + ": " + key + " must be a number (got " + v.dump() + ")");
-  return v.get<double>();
+  if (!v.is_number()) throw Error(where + ": " + key + " must be a number (got " + json_excerpt(v) + ")");
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw Error(where + ": " + key + " must be a finite number (got " + json_excerpt(v) + ")");
+  return x;
 }
 
 // A colour: [r, g, b], or [r, g, b, a] (glTF's baseColorFactor; alpha is not a BRDF parameter).
 Rgb colour(const json& v, const std::string& where, const std::string& key, bool allow_alpha) {
   if (!v.is_array() || !(v.size() == 3 || (allow_alpha && v.size() == 4)))
     throw Error(where + ": " + key + " must be an array of 3 numbers" + (allow_alpha ? " (or 4 with alpha)" : "") +
-                " (got " + v.dump() + ")");
+                " (got " + json_excerpt(v) + ")");
   return Rgb{number(v[0], where, key + "[0]"), number(v[1], where, key + "[1]"), number(v[2], where, key + "[2]")};
 }
 
@@ -106,33 +121,25 @@ void set_field(const Field& f, Material& m, const json& v, const std::string& wh
     case Kind::OptionalColour: m.*(f.optional_colour) = colour(v, where, key, false); break;
     case Kind::OptionalScalar: m.*(f.optional_scalar) = number(v, where, key); break;
     case Kind::Boolean:
-      if (!v.is_boolean()) throw Error(where + ": " + key + " must be true or false (got " + v.dump() + ")");
+      if (!v.is_boolean()) throw Error(where + ": " + key + " must be true or false (got " + json_excerpt(v) + ")");
       m.normalized = v.get<bool>();
       break;
     case Kind::Distribution: {
       const std::string d = v.is_string() ? v.get<std::string>() : std::string();
       if (d == "ggx") m.distribution = reference::MicrofacetDistribution::Ggx;
       else if (d == "beckmann") m.distribution = reference::MicrofacetDistribution::Beckmann;
-      else throw Error(where + ": distribution must be \"ggx\" or \"beckmann\" (got " + v.dump() + ")");
+      else throw Error(where + ": distribution must be \"ggx\" or \"beckmann\" (got " + json_excerpt(v) + ")");
       break;
     }
   }
 }
 
-json parse_json(const std::string& text, const std::string& origin) {
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw Error(origin + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
-}
-
 // Reads the factor `key` of a glTF object, if present, into a material field.
 void gltf_number(const json& obj, const char* key, double& out, const std::string& where) {
-  if (obj.contains(key)) out = number(obj[key], where, key);
+  if (auto it = obj.find(key); it != obj.end()) out = number(*it, where, key);
 }
 void gltf_colour(const json& obj, const char* key, Rgb& out, const std::string& where, bool alpha) {
-  if (obj.contains(key)) out = colour(obj[key], where, key, alpha);
+  if (auto it = obj.find(key); it != obj.end()) out = colour(*it, where, key, alpha);
 }
 // Texture references are noted, never read.
 void note_textures(const json& obj, const std::string& prefix, std::vector<std::string>& notes) {
@@ -176,28 +183,28 @@ void validate_material(const Material& m, const std::string& where) {
 }
 
 std::vector<NamedMaterial> parse_materials_json(const std::string& text, const std::string& origin) {
-  const json doc = parse_json(text, origin);
-  if (!doc.is_object() || !doc.contains("materials") || !doc["materials"].is_array())
+  const json doc = io::parse_json(text, origin);
+  if (!doc.is_object() || !doc.contains("materials") || !doc.at("materials").is_array())
     throw Error(origin + ": expected {\"materials\": [...]} at the top level");
   std::vector<NamedMaterial> out;
-  const json& list = doc["materials"];
+  const json& list = doc.at("materials");
   if (list.empty()) throw Error(origin + ": the materials array is empty");
   for (size_t i = 0; i < list.size(); ++i) {
     const json& item = list[i];
     std::string where = origin + ": material #" + std::to_string(i);
-    if (!item.is_object()) throw Error(where + " must be an object (got " + item.dump() + ")");
+    if (!item.is_object()) throw Error(where + " must be an object (got " + json_excerpt(item) + ")");
     NamedMaterial nm;
     nm.name = "material_" + std::to_string(i);
-    if (item.contains("name")) {
-      if (!item["name"].is_string()) throw Error(where + ": name must be a string");
-      nm.name = item["name"].get<std::string>();
+    if (auto it = item.find("name"); it != item.end()) {
+      if (!it->is_string()) throw Error(where + ": name must be a string (got " + json_excerpt(*it) + ")");
+      nm.name = it->get<std::string>();
     }
-    where = origin + ": material '" + nm.name + "'";
+    where = origin + ": material '" + clip(nm.name) + "'";
     for (auto it = item.begin(); it != item.end(); ++it) {
       const std::string& key = it.key();
       if (key == "name") continue;
       if (key == "model") {
-        if (!it->is_string()) throw Error(where + ": model must be a string");
+        if (!it->is_string()) throw Error(where + ": model must be a string (got " + json_excerpt(*it) + ")");
         try {
           nm.model = brdf_model_from_name(it->get<std::string>());
         } catch (const Error& e) {
@@ -208,7 +215,8 @@ std::vector<NamedMaterial> parse_materials_json(const std::string& text, const s
       const Field* field = nullptr;
       for (const Field& f : kFields)
         if (key == f.name || (f.alias[0] != '\0' && key == f.alias)) field = &f;
-      if (!field) throw Error(where + ": unknown parameter '" + key + "' (expected " + known_fields() + ")");
+      if (!field)
+        throw Error(where + ": unknown parameter '" + key.substr(0, 60) + "' (expected " + known_fields() + ")");
       set_field(*field, nm.params, *it, where, key);
     }
     validate_material(nm.params, where);
@@ -220,39 +228,42 @@ std::vector<NamedMaterial> parse_materials_json(const std::string& text, const s
 }
 
 std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const std::string& origin) {
-  const json doc = parse_json(text, origin);
+  const json doc = io::parse_json(text, origin);
   if (!doc.is_object()) throw Error(origin + ": not a glTF document (expected a JSON object)");
-  if (!doc.contains("materials") || !doc["materials"].is_array() || doc["materials"].empty())
+  if (!doc.contains("materials") || !doc.at("materials").is_array() || doc.at("materials").empty())
     throw Error(origin + ": the glTF document has no materials");
   std::vector<NamedMaterial> out;
-  const json& list = doc["materials"];
+  const json& list = doc.at("materials");
   for (size_t i = 0; i < list.size(); ++i) {
     const json& mat = list[i];
     std::string where = origin + ": materials[" + std::to_string(i) + "]";
-    if (!mat.is_object()) throw Error(where + " must be an object");
+    if (!mat.is_object()) throw Error(where + " must be an object (got " + json_excerpt(mat) + ")");
     NamedMaterial nm;
     nm.model = BrdfModel::Gltf;
-    nm.name = mat.contains("name") && mat["name"].is_string() ? mat["name"].get<std::string>()
-                                                                : "material_" + std::to_string(i);
-    where += " ('" + nm.name + "')";
+    auto name = mat.find("name");
+    nm.name = name != mat.end() && name->is_string() ? name->get<std::string>() : "material_" + std::to_string(i);
+    where += " ('" + clip(nm.name) + "')";
     Material& m = nm.params;
     // glTF 2.0, 5.19 material.pbrMetallicRoughness: every factor defaults to 1.
     m.base_color = Rgb{1.0, 1.0, 1.0};
     m.metallic = 1.0;
     m.roughness = 1.0;
-    if (mat.contains("pbrMetallicRoughness")) {
-      const json& pbr = mat["pbrMetallicRoughness"];
+    if (auto p = mat.find("pbrMetallicRoughness"); p != mat.end()) {
+      const json& pbr = *p;
+      if (!pbr.is_object())
+        throw Error(where + ": pbrMetallicRoughness must be an object (got " + json_excerpt(pbr) + ")");
       gltf_colour(pbr, "baseColorFactor", m.base_color, where, true);
       gltf_number(pbr, "metallicFactor", m.metallic, where);
       gltf_number(pbr, "roughnessFactor", m.roughness, where);
       note_textures(pbr, "pbrMetallicRoughness.", nm.notes);
     }
     note_textures(mat, "", nm.notes);
-    if (mat.contains("extensions") && mat["extensions"].is_object()) {
-      for (auto it = mat["extensions"].begin(); it != mat["extensions"].end(); ++it) {
+    if (auto x = mat.find("extensions"); x != mat.end() && x->is_object()) {
+      for (auto it = x->begin(); it != x->end(); ++it) {
         const std::string& ext = it.key();
         const json& e = *it;
-        const std::string ew = where + "." + ext;
+        const std::string ew = where + "." + ext.substr(0, 60);
+        if (!e.is_object()) throw Error(ew + " must be an object (got " + json_excerpt(e) + ")");
         if (ext == "KHR_materials_sheen") {
           gltf_colour(e, "sheenColorFactor", m.sheen_color, ew, false);
           gltf_number(e, "sheenRoughnessFactor", m.sheen_roughness, ew);
@@ -266,7 +277,7 @@ std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const s
         } else if (ext == "KHR_materials_ior") {
           gltf_number(e, "ior", m.ior, ew);
         } else {
-          nm.notes.push_back(ext + " ignored (not part of the gltf BRDF here)");
+          nm.notes.push_back(ext.substr(0, 60) + " ignored (not part of the gltf BRDF here)");
           continue;
         }
         note_textures(e, ext + ".", nm.notes);
@@ -279,11 +290,6 @@ std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const s
 }
 
 std::vector<NamedMaterial> read_materials(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read material file '" + path + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  const std::string text = s.str();
   auto ends_with = [&](const char* ext) {
     const std::string e(ext);
     if (path.size() < e.size()) return false;
@@ -291,18 +297,19 @@ std::vector<NamedMaterial> read_materials(const std::string& path) {
     std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return tail == e;
   };
-  if (ends_with(".glb") || text.compare(0, 4, "glTF") == 0)
-    throw Error(path + ": binary glTF (.glb) is not supported; use the .gltf (JSON) form");
+  const std::string glb = path + ": binary glTF (.glb) is not supported; use the .gltf (JSON) form";
+  if (ends_with(".glb")) throw Error(glb);
+  const std::string text = io::read_text_file(path, "material file");
+  if (text.compare(0, 4, "glTF") == 0) throw Error(glb);
   if (ends_with(".gltf")) return parse_gltf_materials(text, path);
-  const json doc = parse_json(text, path);
-  if (doc.is_object() && doc.contains("asset") && doc["asset"].is_object()) return parse_gltf_materials(text, path);
+  const json doc = io::parse_json(text, path);
+  if (doc.is_object() && doc.contains("asset") && doc.at("asset").is_object()) return parse_gltf_materials(text, path);
   return parse_materials_json(text, path);
 }
 
 const NamedMaterial& find_material(const std::vector<NamedMaterial>& materials, const std::string& name,
                                    const std::string& origin) {
-  std::string names;
-  for (const NamedMaterial& m : materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
+  const std::string names = name_list(materials);
   if (name.empty()) {
     if (materials.size() == 1) return materials.front();
     throw Error(origin + " holds " + std::to_string(materials.size()) + " materials (" + names +
@@ -310,7 +317,7 @@ const NamedMaterial& find_material(const std::vector<NamedMaterial>& materials, 
   }
   for (const NamedMaterial& m : materials)
     if (m.name == name) return m;
-  throw Error(origin + " has no material named '" + name + "' (it has " + names + ")");
+  throw Error(origin + " has no material named '" + clip(name) + "' (it has " + names + ")");
 }
 
 BrdfModel resolve_model(const std::optional<BrdfModel>& chosen, const NamedMaterial& material) {
@@ -348,7 +355,7 @@ std::string material_to_json(const NamedMaterial& nm) {
         break;
     }
   }
-  return j.dump();
+  return io::json_text(j, -1);
 }
 
 }  // namespace brdfbake

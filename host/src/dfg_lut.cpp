@@ -13,6 +13,7 @@
 #include "brdfbake/reference/dfg.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "brdfbake/version.hpp"
+#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -68,7 +69,7 @@ const Calibration kCalibration[] = {
 // within kDefaultBound, so that the default table meets it (DEVELOPERS' accuracy goal).
 constexpr double kDefaultBound = 1e-4;
 constexpr int kFallbackSamples = 1024;
-constexpr long long kMaxTexels = 1ll << 26;
+constexpr long long kMaxTexels = kLutMaxTexels;
 
 int default_samples(LutKind kind, Estimator estimator, Precision precision) {
   for (const auto& c : kCalibration)
@@ -328,29 +329,24 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
       return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float),
                         f.data());
     };
+    const double table_bytes = double(t.data.size()) * sizeof(float);
+    detail::check_device_memory(dev, table_bytes, table_bytes, "a " + std::to_string(s.width) + "x" +
+                                                                   std::to_string(s.height) + " DFG table");
     cl::Buffer xs = real_buffer(s.n_dot_v), ys = real_buffer(s.roughness), qb = real_buffer(q);
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, t.data.size() * sizeof(float));
     cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_uint, cl::Buffer, cl_int, cl_int>
         dfg(program, "dfg_lut");
-    // Rows go in chunks so that a progress line can follow them; the launches are queued, and
-    // each costs a few microseconds.
-    const int chunks = progress ? std::min(s.height, 16) : 1;
-    std::vector<cl::Event> events;
-    for (int c = 0; c < chunks; ++c) {
-      const int j0 = static_cast<int>(static_cast<long long>(s.height) * c / chunks);
-      const int j1 = static_cast<int>(static_cast<long long>(s.height) * (c + 1) / chunks);
-      if (j1 <= j0) continue;
-      events.push_back(dfg(cl::EnqueueArgs(dev.queue, cl::NDRange(0, static_cast<size_t>(j0)),
-                                           cl::NDRange(static_cast<size_t>(s.width), static_cast<size_t>(j1 - j0)),
-                                           cl::NullRange),
-                           out, xs, ys, s.width, s.height, static_cast<cl_uint>(s.samples), qb, n_xi, n_phi));
-    }
-    double seconds = 0.0;
-    for (size_t c = 0; c < events.size(); ++c) {
-      events[c].wait();
-      seconds += detail::event_seconds(events[c]);
-      if (progress) progress(static_cast<double>(c + 1) / static_cast<double>(events.size()));
-    }
+    // Rows go in launches of bounded work (runtime/launch.hpp): a progress line follows them, and a
+    // stop request is honoured between them.
+    const double seconds = detail::launch_in_tiles(
+        static_cast<size_t>(s.width), static_cast<size_t>(s.height), double(evaluations(s)),
+        [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+          return dfg(detail::tile_range(dev.queue, x0, nx, y0, ny), out, xs, ys, s.width, s.height,
+                     static_cast<cl_uint>(s.samples), qb, n_xi, n_phi);
+        },
+        [&](double f) {
+          if (progress) progress(f);
+        });
     dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, t.data.size() * sizeof(float), t.data.data());
     return seconds;
   });
@@ -387,7 +383,7 @@ Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& p
   std::atomic<int> next_row{0}, done_rows{0};
   std::mutex progress_mutex;
   auto worker = [&] {
-    for (int j = next_row++; j < s.height; j = next_row++) {
+    for (int j = next_row++; j < s.height && !cancel_requested(); j = next_row++) {
       for (int i = 0; i < s.width; ++i)
         reference_texel(s.kind, s.n_dot_v[size_t(i)], s.roughness[size_t(j)], vis, &t.at(i, j, 0));
       const int done = ++done_rows;
@@ -403,6 +399,7 @@ Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& p
   for (unsigned k = 1; k < n_threads; ++k) pool.emplace_back(worker);
   worker();
   for (auto& th : pool) th.join();
+  throw_if_cancelled();  // the workers stop at the next row (they may not throw themselves)
   t.set_meta("device", "reference (scalar double, converged quadrature)");
   t.set_meta("precision", "fp64");
   t.set_meta("estimator", "reference");

@@ -16,6 +16,8 @@
 #include "brdfbake/reference/envmap.hpp"
 #include "brdfbake/version.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
+#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -168,6 +170,10 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, n_acc * real_size);
     cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::LocalSpaceArg> project(prog, "sh_project");
     cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer> reduce(prog, "sh_reduce");
+    // The reduction needs work-groups of kGroupSize; its one launch loops over the source
+    // (6 x 2048^2 texels at most: about 1e9 multiply-adds over 4096 work-items, well within the
+    // launch budget of runtime/launch.hpp on a GPU).
+    detail::check_work_group(dev, project.getKernel(), kGroupSize, "the SH projection");
     std::vector<cl::Event> events;
     events.push_back(project(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(kGroups * kGroupSize)), cl::NDRange(kGroupSize)),
                              cube_buf, s, omega_buf, partials, cl::Local(size_t(kGroupSize) * n_acc * real_size)));
@@ -201,13 +207,16 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
       const int cs = spec.cube_size;
       cl::Buffer cube_out(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(cs) * sizeof(float));
       cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> irr(prog, "irradiance_cube");
-      cl::Event e = irr(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(cs), 6u * size_t(cs))), cube_out, cs, pts_buf,
-                        n_points);
+      // Every texel sums every point: bounded launches of whole rows (runtime/launch.hpp).
+      seconds += detail::launch_in_tiles(size_t(cs), 6u * size_t(cs), double(n_points),
+                                         [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+                                           return irr(detail::tile_range(dev.queue, x0, nx, y0, ny), cube_out, cs,
+                                                      pts_buf, n_points);
+                                         });
       result.cube.size = cs;
       result.cube.levels.assign(1, std::vector<float>(4 * face_texels(cs)));
       dev.queue.enqueueReadBuffer(cube_out, CL_TRUE, 0, result.cube.levels[0].size() * sizeof(float),
                                   result.cube.levels[0].data());
-      seconds += detail::event_seconds(e);
     }
     return 0;
   });
@@ -256,6 +265,11 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
 }
 
 std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
+  // JSON has no NaN or infinity (nlohmann would write null): refuse rather than write garbage.
+  for (const auto* v : {&sh.radiance, &sh.irradiance_over_pi})
+    for (double x : *v)
+      if (!std::isfinite(x))
+        throw RuntimeFailure("the SH coefficients are not finite (the environment's radiance overflowed); nothing was written");
   nlohmann::ordered_json j;
   j["generator"] = std::string("brdfbake ") + kVersion;
   j["order"] = sh.order;
@@ -281,7 +295,7 @@ std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
   nlohmann::ordered_json meta = nlohmann::ordered_json::object();
   for (const auto& [k, v] : metadata) meta[k] = v;
   j["metadata"] = meta;
-  return j.dump(2) + "\n";
+  return io::json_text(j) + "\n";
 }
 
 void write_sh_json(const ShCoefficients& sh, const Metadata& metadata, const std::string& path) {

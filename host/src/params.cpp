@@ -12,9 +12,11 @@ namespace brdfbake {
 
 namespace {
 
+// A number as the user wrote it where possible: integers in full (2147483647, not 2.14748365e+09).
 std::string num(double v) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
+  if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
 

@@ -18,6 +18,7 @@
 #include "brdfbake/reference/envmap.hpp"
 #include "brdfbake/reference/microfacet.hpp"
 #include "brdfbake/version.hpp"
+#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -192,12 +193,15 @@ double sum_seconds(const std::vector<cl::Event>& events) {
 }
 
 // One filtered level: a launch of prefilter_level, with the real-typed alpha argument.
+// The block [x0, x0 + nx) x [y0, y0 + ny) of the size x 6 size range (runtime/launch.hpp sizes them).
 template <class Real>
 cl::Event launch_level(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
-                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha) {
+                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha,
+                       size_t x0, size_t nx, size_t y0, size_t ny) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_level");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, chain.buffer, chain.info_buffer, chain.levels,
+  return level(detail::tile_range(dev.queue, x0, nx, y0, ny), out, size, chain.buffer,
+               chain.info_buffer, chain.levels,
                samples, n_samples, bright, n_bright, static_cast<Real>(alpha));
 }
 
@@ -399,11 +403,12 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
 template <class Real>
 cl::Event launch_pyramid(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
-                         const cl::Buffer& bright, int n_bright, double alpha) {
+                         const cl::Buffer& bright, int n_bright, double alpha, size_t x0, size_t nx, size_t y0,
+                         size_t ny) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_pyramid");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, pyramid, info, levels, cos_core, band, bright,
-               n_bright, static_cast<Real>(alpha));
+  return level(detail::tile_range(dev.queue, x0, nx, y0, ny), out, size, pyramid, info, levels,
+               cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }
 
 // Biased, opt-in: luminance above `limit` is compressed to limit (1 + log(lum / limit)).
@@ -618,6 +623,11 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
   const double seconds = detail::cl_call(what, [&] {
     cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
     std::vector<cl::Event> events;
+    double converted = 0.0;  // the bounded launches of the conversion (runtime/launch.hpp)
+    const double source_bytes = 16.0 * double(env.rgb.size() / 3);
+    const double cube_bytes = 16.0 * double(face_texels(size));
+    detail::check_device_memory(dev, std::max(source_bytes, cube_bytes), 2.5 * (source_bytes + cube_bytes),
+                                "converting '" + env.source + "' to a cube of " + std::to_string(size) + "^2");
     cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
     if (env.layout == EnvImage::Layout::Equirect) {
       const size_t px = static_cast<size_t>(env.width) * static_cast<size_t>(env.height);
@@ -628,9 +638,13 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
       // k x k samples per texel: about two per equirect pixel along the equator
       const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
       cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> convert(prog, "equirect_to_cube");
-      // one work-item per 8 texels of a row (kernels/cubemap.cl)
-      const cl::NDRange rows(static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth), 6u * static_cast<size_t>(size));
-      events.push_back(convert(cl::EnqueueArgs(dev.queue, rows), src, env.width, env.height, dst, size, k));
+      // one work-item per 8 texels of a row (kernels/cubemap.cl), k x k bilinear samples each
+      const size_t items = static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth);
+      converted = detail::launch_in_tiles(items, 6u * static_cast<size_t>(size), double(kVectorWidth * k * k),
+                                          [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+                                            return convert(detail::tile_range(dev.queue, x0, nx, y0, ny), src,
+                                                           env.width, env.height, dst, size, k);
+                                          });
     } else {
       const int s = env.width;
       std::vector<float> rgba(4 * face_texels(s), 1.0f);
@@ -647,12 +661,16 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
         const int ms = chain.info[size_t(2 * m + 1)];
         const int k = std::clamp((ms + size - 1) / size, 1, 16);
         cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> resample(prog, "cube_resample");
-        events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer,
-                                  chain.info[size_t(2 * m)], ms, dst, size, k));
+        for (auto& e : events) e.wait();
+        converted = detail::launch_in_tiles(static_cast<size_t>(size), 6u * static_cast<size_t>(size), double(k * k),
+                                            [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+                                              return resample(detail::tile_range(dev.queue, x0, nx, y0, ny),
+                                                              chain.buffer, chain.info[size_t(2 * m)], ms, dst, size, k);
+                                            });
       }
     }
     dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
-    return sum_seconds(events);
+    return sum_seconds(events) + converted;
   });
   if (device_seconds) *device_seconds = seconds;
   conventions_metadata(cube);
@@ -709,12 +727,18 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     Chain chain;
     if (quadrature) {
       pyramid = build_pyramid(rest, s0);
+      const double bytes = double(pyramid.data.size()) * sizeof(float);
+      detail::check_device_memory(dev, bytes, bytes + 16.0 * double(face_texels(s0)),
+                                  "the quadrature pyramid of a " + std::to_string(s0) + "^2 cube");
       pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pyramid.data.size() * sizeof(float),
                                pyramid.data.data());
       pyramid_info = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                 pyramid.info.size() * sizeof(cl_int), pyramid.info.data());
     } else {
       cl::Program cube_prog = program(dev, "cubemap.cl", s.precision);
+      const double bytes = 16.0 * 1.4 * double(6u * size_t(s0 + 2) * size_t(s0 + 2));  // every padded level
+      detail::check_device_memory(dev, bytes, bytes + 32.0 * double(face_texels(s0)),
+                                  "the source mip chain of a " + std::to_string(s0) + "^2 cube");
       std::vector<cl::Event> chain_events;
       cl::Buffer level0(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rest.size() * sizeof(float), rest.data());
       chain = build_chain(dev, cube_prog, level0, s0, chain_events);
@@ -736,28 +760,40 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
       cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
-      cl::Event e;
+      double level_seconds = 0.0;
       const bool fp64 = s.precision == Precision::Fp64;
+      const size_t width = static_cast<size_t>(size), rows = 6u * static_cast<size_t>(size);
       if (quadrature) {
         std::vector<double> cos_core, band;
         pyramid_thresholds(pyramid, s.distribution, alpha, s, r, cos_core, band);
         cl::Buffer core_buf = real_buffer(dev, s.precision, cos_core), band_buf = real_buffer(dev, s.precision, band);
-        e = fp64 ? launch_pyramid<cl_double>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                             core_buf, band_buf, pts_buf, n_pts, alpha)
-                 : launch_pyramid<cl_float>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                            core_buf, band_buf, pts_buf, n_pts, alpha);
+        // Work of a texel: the top level's texels and at most 4 x 512 children per face and level
+        // (BRDFBAKE_PYRAMID_CAPACITY), plus the bright points.
+        const double top = double(pyramid.sizes.back());
+        const double cost = 6.0 * (top * top + 4.0 * 512.0 * pyramid.levels) + n_pts;
+        level_seconds = detail::launch_in_tiles(width, rows, cost, [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+          return fp64 ? launch_pyramid<cl_double>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                  pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, x0, nx, y0, ny)
+                      : launch_pyramid<cl_float>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                 pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, x0, nx, y0, ny);
+        });
       } else {
         int n_kept = 0;
         const std::vector<double> table =
             lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
         cl::Buffer table_buf = real_buffer(dev, s.precision, table);
         const int n_padded = static_cast<int>(table.size() / 5);
-        e = fp64 ? launch_level<cl_double>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha)
-                 : launch_level<cl_float>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha);
+        level_seconds = detail::launch_in_tiles(width, rows, 2.0 * n_padded + n_pts,
+                                                [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+          return fp64 ? launch_level<cl_double>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf,
+                                                n_pts, alpha, x0, nx, y0, ny)
+                      : launch_level<cl_float>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf,
+                                               n_pts, alpha, x0, nx, y0, ny);
+        });
       }
       dst.resize(4 * face_texels(size));
       dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
-      return detail::event_seconds(e);
+      return level_seconds;
     };
 
     // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.

@@ -171,7 +171,16 @@ TEST(DeviceSelection, SelectorsAndErrors) {
 
 TEST(ClErrors, NameTheCallAndTheError) {
   const ClError e("clEnqueueNDRangeKernel", -5, "kernel dfg_lut");
-  EXPECT_STREQ(e.what(), "OpenCL error in kernel dfg_lut: clEnqueueNDRangeKernel (-5 CL_OUT_OF_RESOURCES)");
+  // the call, the error's name, and for the errors that end a run on a working driver, what to do
+  EXPECT_STREQ(e.what(),
+               "OpenCL error in kernel dfg_lut: clEnqueueNDRangeKernel (-5 CL_OUT_OF_RESOURCES); the device ran out of "
+               "resources, or its driver stopped a launch (a display watchdog): try a smaller size or another device");
+  const ClError build("clBuildProgram", -11, "program dfg_lut.cl");
+  EXPECT_STREQ(build.what(), "OpenCL error in program dfg_lut.cl: clBuildProgram (-11 CL_BUILD_PROGRAM_FAILURE)");
+  EXPECT_NE(std::string(ClError("clCreateBuffer", -4).what()).find("ran out of memory"), std::string::npos);
+  EXPECT_NE(std::string(ClError("clFinish", -36).what()).find("device was lost"), std::string::npos);
+  // a runtime failure (exit 1), not bad input
+  EXPECT_NE(dynamic_cast<const RuntimeFailure*>(&e), nullptr);
   EXPECT_STREQ(cl_error_name(-11), "CL_BUILD_PROGRAM_FAILURE");
 }
 

@@ -49,10 +49,21 @@ struct JobEvent {
 };
 using JobProgress = std::function<void(const JobEvent&)>;
 
+// How a run shares its output folder with other runs (docs/RELIABILITY.md, "Outputs").
+struct RunOptions {
+  // Another run writing the same folder: false fails at once (LockedError naming its pid), true
+  // waits for it.
+  bool wait_for_lock = false;
+  // Called once when the run starts waiting, with the holder's pid (0 when unknown).
+  std::function<void(long pid)> on_wait;
+};
+
 // Bakes every distinct table once and writes the files and manifest.json into job.output_dir.
-// Everything is written into a temporary folder beside it first and moved in at the end, so a
-// failure (bad input, a kind not available, a device error) leaves the folder as it was. Throws
-// NotAvailableError before any work when a kind cannot be baked by this build.
-Manifest run_job(const Job& job, const JobProgress& progress = {});
+// The folder is locked for the run (a second run into it fails or waits, RunOptions), the
+// temporaries that killed runs left beside it are removed, and everything is written into a
+// temporary folder beside it first and moved in at the end, so a failure (bad input, a kind not
+// available, a device error, SIGINT/SIGTERM through brdfbake/cancel.hpp) leaves the folder as it
+// was. Throws NotAvailableError before any work when a kind cannot be baked by this build.
+Manifest run_job(const Job& job, const JobProgress& progress = {}, const RunOptions& options = {});
 
 }  // namespace brdfbake

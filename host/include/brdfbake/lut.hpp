@@ -36,6 +36,11 @@ inline constexpr int kLutMaxSize = 16384;
 inline constexpr int kLutMaxSamples = 1 << 20;
 inline constexpr int kLutMaxQuadratureSamples = 2 * 512 * 32;
 inline constexpr double kLutReferenceBound = 1e-6;
+// The most texels of a table (8192 x 8192), and the most evaluations of a whole bake (texels x
+// evaluations per texel, 2^40: about a minute on a discrete GPU, hours on a CPU device), so that no
+// request runs unbounded (docs/RELIABILITY.md, "Limits").
+inline constexpr long long kLutMaxTexels = 1ll << 26;
+inline constexpr double kLutMaxEvaluations = 1099511627776.0;
 
 struct LutSpec {
   LutKind kind = LutKind::Ggx;

@@ -51,10 +51,11 @@ bool table_kind_streams(TableKind kind);
 // The pixel type ("f16" or "f32") written when a request names none.
 std::string table_kind_default_pixel(TableKind kind);
 
-// A kind this build cannot bake: the job stops before anything is written.
-class NotAvailableError : public Error {
+// A kind this build cannot bake: the job stops before anything is written (exit 1: the request is
+// valid, this build lacks what it needs).
+class NotAvailableError : public RuntimeFailure {
  public:
-  explicit NotAvailableError(const std::string& m) : Error(m) {}
+  explicit NotAvailableError(const std::string& m) : RuntimeFailure(m) {}
 };
 
 // ---- Requests ------------------------------------------------------------------------------------
@@ -153,11 +154,18 @@ struct BakeInputs {
 // Fraction done (0..1) and a short label of the step ("level 2/5").
 using BakeProgress = std::function<void(double fraction, const std::string& step)>;
 
+// Throws Error when `backend` cannot bake `request` at all (fp64 asked of a device without it),
+// naming the device: front ends call it before slow work (loading an environment).
+void check_backend(const TableRequest& request, Backend& backend);
+
 // Bakes a validated request on `backend`. Throws Error for what the backend cannot do (e.g. a
-// reference prefilter of a large cube, naming the limit).
+// reference prefilter of a large cube, naming the limit), Cancelled when a stop is requested
+// (brdfbake/cancel.hpp; checked at every progress report).
 BakeResult bake_table(const TableRequest& request, Backend& backend, const BakeInputs& inputs = {},
                       const BakeProgress& progress = {});
-// Writes a result to `path` in the request's format, atomically (a failure leaves nothing).
+// Writes a result to `path` in the request's format, atomically (a failure leaves nothing). A
+// result holding a NaN or an infinity is refused first (RuntimeFailure): no NaN or Inf reaches an
+// output.
 void write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
 
 // The eval kind streamed: pairs read from `input` ("-": standard input) and results written chunk by

@@ -59,11 +59,26 @@ class DfgLutFamily final : public Family {
     if (!t.find("height")) t.set("height", t.number("size"));
     if (t.find("samples") && t.find("max_error"))
       throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
+    const double texels = t.number("size") * t.number("height");
+    if (texels > double(kLutMaxTexels))
+      throw FieldError(t.number("height") != t.number("size") ? "height" : "size",
+                       "a " + fmt_number(t.number("size")) + "x" + fmt_number(t.number("height")) + " table has " +
+                           fmt_number(texels) + " texels; at most " + fmt_number(double(kLutMaxTexels)) +
+                           " (8192x8192)");
+    LutSpec resolved;
     try {
-      resolve_lut_spec(spec_of(t));
+      resolved = resolve_lut_spec(spec_of(t));
     } catch (const Error& e) {
       throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what());
     }
+    // The whole bake's work is bounded too: a huge table at a huge sample count would run for days.
+    const double per_texel = resolved.samples;  // evaluations per texel, whatever the estimator
+    if (texels * per_texel > kLutMaxEvaluations)
+      throw FieldError(t.find("samples") ? "samples" : "size",
+                       "a " + fmt_number(t.number("size")) + "x" + fmt_number(t.number("height")) + " table at " +
+                           fmt_number(resolved.samples) + " samples is " + fmt_number(texels * per_texel, "%.3g") +
+                           " evaluations; at most " + fmt_number(kLutMaxEvaluations, "%.3g") + " (2^40): lower " +
+                           name("samples") + " or " + name("size"));
   }
 
   std::string default_output(const TableRequest& t) const override {

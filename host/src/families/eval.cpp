@@ -6,12 +6,20 @@
 // blank lines are skipped), or raw little-endian float32, 6 a pair (binary). Output: CSV with the
 // header r,g,b, then f (without the cosine) a line in the input's order, or float32, 3 a pair.
 // Pairs go through the backend in chunks, so a stream's memory stays constant whatever its size.
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 
+#include <filesystem>
+
+#include "brdfbake/cancel.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
 
@@ -32,45 +40,84 @@ std::vector<std::string> model_names() {
   return v;
 }
 
-// The input: standard input ("-") or a file.
+// The input: standard input ("-") or a file, read through its file descriptor with a buffer of our
+// own. Every wait for data is a poll of at most 100 ms that checks for a stop request
+// (brdfbake/cancel.hpp) in between: a stream whose writer has not closed it stops on SIGINT or
+// SIGTERM however the signal falls (a flag checked before a blocking read() could miss it).
 class Input {
  public:
   explicit Input(const std::string& path) : name_(path == "-" ? "standard input" : path) {
     if (path == "-") {
-      file_ = stdin;
+      fd_ = 0;
       return;
     }
-    file_ = std::fopen(path.c_str(), "rb");
-    if (!file_) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
     owned_ = true;
   }
   ~Input() {
-    if (owned_) std::fclose(file_);
+    if (owned_) ::close(fd_);
   }
   Input(const Input&) = delete;
   Input& operator=(const Input&) = delete;
-  FILE* file() const { return file_; }
   const std::string& name() const { return name_; }
 
   // The next line without its end-of-line; false at the end. Lines longer than 4096 bytes are cut
   // there (no pair needs that many; the field check then names the line).
   bool line(std::string& out) {
     out.clear();
-    int c;
     bool any = false;
-    while ((c = std::fgetc(file_)) != EOF) {
+    for (;;) {
+      if (at_ == size_ && !fill()) break;
       any = true;
+      const char c = buffer_[at_++];
       if (c == '\n') break;
-      if (out.size() < 4096) out.push_back(static_cast<char>(c));
+      if (out.size() < 4096) out.push_back(c);
     }
     if (!out.empty() && out.back() == '\r') out.pop_back();
     return any;
   }
 
+  // Up to `n` bytes into `dst`, fewer only at the end of the input.
+  size_t read(unsigned char* dst, size_t n) {
+    size_t got = 0;
+    while (got < n) {
+      if (at_ == size_ && !fill()) break;
+      const size_t take = std::min(n - got, size_ - at_);
+      std::memcpy(dst + got, buffer_.data() + at_, take);
+      at_ += take;
+      got += take;
+    }
+    return got;
+  }
+
  private:
+  // Refills the buffer; false at the end of the input. Throws Cancelled or IoError.
+  bool fill() {
+    at_ = size_ = 0;
+    for (;;) {
+      throw_if_cancelled();
+      pollfd p{fd_, POLLIN, 0};
+      const int ready = ::poll(&p, 1, 100);
+      if (ready < 0 && errno != EINTR) throw IoError("cannot read '" + name_ + "': " + std::strerror(errno));
+      if (ready <= 0) continue;  // a timeout or a signal: check for a stop request, wait again
+      const ssize_t n = ::read(fd_, buffer_.data(), buffer_.size());
+      if (n < 0) {
+        if (errno == EINTR || errno == EAGAIN) continue;
+        throw IoError("cannot read '" + name_ + "': " + std::strerror(errno));
+      }
+      size_ = static_cast<size_t>(n);
+      return n > 0;
+    }
+  }
+
   std::string name_;
-  FILE* file_ = nullptr;
+  int fd_ = -1;
   bool owned_ = false;
+  std::vector<char> buffer_ = std::vector<char>(size_t(1) << 16);
+  size_t at_ = 0, size_ = 0;
 };
 
 std::string trim(const std::string& s) {
@@ -92,8 +139,8 @@ void parse_pair(const std::string& text, long line, const std::string& origin, d
     if (f == 5 && field.find(',') != std::string::npos) throw Error(at + "expected 6 fields (" + kHeader + "), got more");
     char* end = nullptr;
     const double v = std::strtod(field.c_str(), &end);
-    if (field.empty() || *end != '\0')
-      throw Error(at + "field " + kFields[f] + ": '" + field.substr(0, 40) + "' is not a number");
+    if (field.empty() || end != field.c_str() + field.size())  // the whole field (a NUL byte ends strtod early)
+      throw Error(at + "field " + kFields[f] + ": '" + field.substr(0, 40).c_str() + "' is not a number");
     if (!std::isfinite(v)) throw Error(at + "field " + kFields[f] + " is not finite ('" + field.substr(0, 40) + "')");
     out[f] = v;
     pos = comma + 1;
@@ -116,11 +163,18 @@ std::uint64_t stream_pairs(Input& in, bool binary, const std::function<PairEvalu
     if (total + count > max_pairs)
       throw Error(in.name() + ": more than " + std::to_string(max_pairs) +
                   " pairs: too many to hold in memory (brdfbake eval streams any number)");
+    throw_if_cancelled();  // between chunks: a stream of any length stops within one chunk
     f.assign(3 * count, 0.0);
     if (count > 0) {
       EvalTiming t;
       ev().eval(pairs.data(), count, f.data(), &t);
       *device_seconds += t.device_seconds;
+      // No NaN or Inf reaches an output (docs/RELIABILITY.md): the inputs were checked finite and
+      // non-zero, so a non-finite f is a failure of the evaluation, refused with its pair.
+      for (size_t k = 0; k < 3 * count; ++k)
+        if (!std::isfinite(f[k]))
+          throw RuntimeFailure(in.name() + ": pair " + std::to_string(total + k / 3) +
+                               ": the BRDF value is not finite; the output was not written");
     }
     sink(f.data(), count);
     total += count;
@@ -130,9 +184,8 @@ std::uint64_t stream_pairs(Input& in, bool binary, const std::function<PairEvalu
     std::vector<unsigned char> bytes(kPairBytes * kChunkPairs);
     std::vector<float> values;
     for (;;) {
-      // fread returns short only at the end of the input (or on an error)
-      const size_t got = std::fread(bytes.data(), 1, bytes.size(), in.file());
-      if (std::ferror(in.file())) throw Error("cannot read '" + in.name() + "': " + std::strerror(errno));
+      // short only at the end of the input
+      const size_t got = in.read(bytes.data(), bytes.size());
       if (got % kPairBytes != 0)
         throw Error(in.name() + ": the input is not a whole number of pairs (6 float32 = 24 bytes each): " +
                     std::to_string(got % kPairBytes) + " bytes left after pair " + std::to_string(total + got / kPairBytes));
@@ -176,7 +229,6 @@ std::uint64_t stream_pairs(Input& in, bool binary, const std::function<PairEvalu
       pairs.clear();
     }
   }
-  if (std::ferror(in.file())) throw Error("cannot read '" + in.name() + "': " + std::strerror(errno));
   if (!header) throw Error(in.name() + ": empty input (expected the header " + std::string(kHeader) + ")");
   evaluate(pairs.size() / 6);
   return total;
@@ -209,7 +261,9 @@ Chosen choose_material(const TableRequest& t, const FieldName& name) {
   const auto materials = read_materials(path);
   if (!t.find("name") && materials.size() > 1) {
     std::string names;
-    for (const auto& m : materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
+    for (size_t i = 0; i < materials.size() && i < 8; ++i)
+      names += (i ? ", '" : "'") + materials[i].name.substr(0, 60) + "'";
+    if (materials.size() > 8) names += " and " + std::to_string(materials.size() - 8) + " more";
     throw FieldError("name", path + " holds " + std::to_string(materials.size()) + " materials; choose one with " +
                                  name("name") + " (" + names + ")");
   }

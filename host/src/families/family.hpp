@@ -94,4 +94,15 @@ OutputFormats table_formats();
 // Writes a Table result with the request's format and pixel type.
 void write_table_result(const Table& table, const TableRequest& t, const std::string& path);
 
+// Radiance near FLT_MAX (docs/RELIABILITY.md, "Outputs"): the device sums radiance in fp32, where a
+// sum of values near 3.4e38 overflows to infinity. An environment whose largest value exceeds
+// kRadianceHeadroom is baked from a copy scaled by a power of two (exact in binary floating point:
+// only exponents change), and the results are scaled back in double. Returns the environment to
+// bake (`in` itself, or `storage` holding the copy) and sets *scale to the factor the results are
+// multiplied by (1 when no copy was made).
+inline constexpr double kRadianceHeadroom = 4294967296.0;  // 2^32
+const EnvImage& headroom_environment(const EnvImage& in, EnvImage& storage, double* scale);
+// "12 NaN, 0 infinite and 3 negative values replaced" for an environment --sanitize changed, else "".
+std::string sanitize_note(const EnvImage& env);
+
 }  // namespace brdfbake::detail

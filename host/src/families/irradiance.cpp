@@ -24,7 +24,7 @@ bool is_json(const TableRequest& t) { return output_extension(t) == ".json"; }
 Metadata sh_metadata(const BakeResult& r) {
   Metadata m;
   for (const auto& [k, v] : r.details)
-    if (k == "source" || k == "source_size") m.push_back({k, v});
+    if (k == "source" || k == "source_size" || k == "sanitized") m.push_back({k, v});
   return m;
 }
 
@@ -95,11 +95,27 @@ class IrradianceFamily final : public Family {
     spec.source_size = static_cast<int>(t.number("source_size"));
     spec.precision = t.precision;
     BakeResult r;
-    IrradianceResult res = backend.irradiance(*in.environment, spec, progress);
+    EnvImage scaled;
+    double scale = 1.0;
+    const EnvImage& env = headroom_environment(*in.environment, scaled, &scale);
+    IrradianceResult res = backend.irradiance(env, spec, progress);
+    // SH: scaled back in double (finite for any finite radiance: at most 4 pi 3.4e38 x 0.9); the
+    // cube's E / pi is at most the largest radiance, a float.
+    for (double& v : res.sh.radiance) v *= scale;
+    for (double& v : res.sh.irradiance_over_pi) v *= scale;
+    if (scale != 1.0 && !res.cube.levels.empty()) {
+      for (float& v : res.cube.levels[0]) v = static_cast<float>(double(v) * scale);
+      std::string coeffs;
+      for (double v : res.sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt_number(v);
+      res.cube.set_meta("sh_irradiance_over_pi", coeffs);
+    }
+    const std::string note = sanitize_note(*in.environment);
+    if (!note.empty() && !res.cube.levels.empty()) res.cube.set_meta("sanitized", note);
     r.error_bound_definition = "not measured when baked (SH projection of the source cube)";
     r.details.push_back({"sh_coefficients", std::to_string(res.sh.order * res.sh.order)});
     r.details.push_back({"source", in.environment->source});
     r.details.push_back({"source_size", fmt_number(spec.source_size, "%.0f")});
+    if (!note.empty()) r.details.push_back({"sanitized", note});
     r.device_seconds = res.device_seconds;
     r.summary = "SH order " + std::to_string(res.sh.order) + " (" + std::to_string(res.sh.order * res.sh.order) +
                 " coefficients, window " + sh_window_name(res.sh.window) + ")" +

@@ -130,10 +130,18 @@ class PrefilterFamily final : public Family {
   }
 
   BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
-    const PrefilterSpec spec = spec_of(t);
+    PrefilterSpec spec = spec_of(t);
     PrefilterTiming timing;
     BakeResult r;
-    CubeLevels cube = backend.prefilter(*in.environment, spec, &timing, progress);
+    EnvImage scaled;
+    double scale = 1.0;
+    const EnvImage& env = headroom_environment(*in.environment, scaled, &scale);
+    spec.clamp_luminance /= scale;  // the opt-in clamp is a luminance: scaled with the radiance
+    CubeLevels cube = backend.prefilter(env, spec, &timing, progress);
+    spec.clamp_luminance *= scale;
+    if (scale != 1.0)
+      for (auto& level : cube.levels)
+        for (float& v : level) v = static_cast<float>(double(v) * scale);
     if (spec.max_error > 0) {
       r.error_bound = spec.max_error;
       r.error_bound_definition = cube.meta("max_error");

@@ -7,6 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <cmath>
+#include <thread>
+
+#include "brdfbake/cancel.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
 
@@ -78,6 +82,26 @@ void write_table_result(const Table& table, const TableRequest& t, const std::st
   o.pixel = pixel_of(t);
   o.symbol = t.text("symbol");
   write_table(table, path, table_output_format(t), o);
+}
+
+const EnvImage& headroom_environment(const EnvImage& in, EnvImage& storage, double* scale) {
+  *scale = 1.0;
+  float largest = 0.0f;
+  for (float v : in.rgb) largest = std::max(largest, std::fabs(v));
+  if (!(double(largest) > kRadianceHeadroom)) return in;
+  int e = 0;
+  std::frexp(double(largest) / kRadianceHeadroom, &e);  // largest / 2^32 < 2^e
+  storage = in;
+  const float down = static_cast<float>(std::ldexp(1.0, -e));
+  for (float& v : storage.rgb) v *= down;
+  *scale = std::ldexp(1.0, e);
+  return storage;
+}
+
+std::string sanitize_note(const EnvImage& env) {
+  if (!env.sanitize.replaced) return "";
+  return std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
+         std::to_string(env.sanitize.negative) + " negative values replaced (--sanitize)";
 }
 
 void Family::check_output(const TableRequest& t, const FieldName&) const {
@@ -308,12 +332,70 @@ std::string table_bake_key(const TableRequest& t) {
 
 // ---- Baking and writing --------------------------------------------------------------------------
 
+void check_backend(const TableRequest& t, Backend& backend) {
+  if (t.precision != Precision::Fp64) return;
+  if (const Device* d = backend.device(); d && !d->info().fp64)
+    throw Error("--precision fp64: device '" + d->info().name + "' has no fp64 support (cl_khr_fp64); use fp32, " +
+                "another device (brdfbake devices) or --device reference");
+}
+
+namespace {
+
+// The values of `data` that are not finite: how many, and the index of the first.
+template <class T>
+size_t count_not_finite(const std::vector<T>& data, size_t* first) {
+  size_t n = 0;
+  for (size_t i = 0; i < data.size(); ++i)
+    if (!std::isfinite(data[i])) {
+      if (n++ == 0) *first = i;
+    }
+  return n;
+}
+
+// No NaN or Inf reaches an output (docs/RELIABILITY.md, "Outputs"): a result holding one is refused
+// before anything is written. The families keep their inputs finite and in range, so this is a
+// failure of the bake (exit 1), with where it is for a bug report.
+void check_finite(const BakeResult& r) {
+  size_t first = 0, bad = 0;
+  std::string where;
+  if (const Table* t = r.table()) {
+    bad = count_not_finite(t->data, &first);
+    if (bad) where = "cell " + std::to_string(first / std::max<size_t>(1, t->channels.size()));
+  } else if (const CubeLevels* c = r.cube()) {
+    for (size_t l = 0; l < c->levels.size() && !bad; ++l)
+      if ((bad = count_not_finite(c->levels[l], &first))) where = "level " + std::to_string(l);
+  } else if (const IrradianceResult* i = r.irradiance()) {
+    if ((bad = count_not_finite(i->sh.radiance, &first) + count_not_finite(i->sh.irradiance_over_pi, &first)))
+      where = "the SH coefficients";
+    else if (!i->cube.levels.empty() && (bad = count_not_finite(i->cube.levels[0], &first)))
+      where = "the irradiance cube";
+  } else if (const MerlTable* m = r.merl()) {
+    if ((bad = count_not_finite(m->values, &first))) where = "bin " + std::to_string(first);
+  } else if (const EvalResult* e = r.eval()) {
+    if ((bad = count_not_finite(e->values, &first))) where = "pair " + std::to_string(first / 3);
+  }
+  if (bad)
+    throw RuntimeFailure(std::string(table_kind_name(r.kind)) + ": the result holds " + std::to_string(bad) +
+                         (bad == 1 ? " value" : " values") + " that " + (bad == 1 ? "is" : "are") +
+                         " not finite (first in " + where + "); nothing was written");
+}
+
+}  // namespace
+
 BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs& inputs, const BakeProgress& progress) {
   const Family& family = family_of(t.kind);
   if (family.uses_environment() && !inputs.environment)
     throw Error(std::string(table_kind_name(t.kind)) + " needs an environment");
+  check_backend(t, backend);
+  throw_if_cancelled();
   const auto t0 = std::chrono::steady_clock::now();
-  const BakeProgress report = progress ? progress : [](double, const std::string&) {};
+  // Progress reports are where a stop request is honoured (engines report between launches). The
+  // reference backends report from worker threads, which must not throw: they stop by themselves.
+  const std::thread::id caller = std::this_thread::get_id();
+  const BakeProgress report = [&progress, caller](double fraction, const std::string& step) {
+    if (std::this_thread::get_id() == caller) throw_if_cancelled();
+    if (progress) progress(fraction, step);
+  };
   BakeResult r = family.bake(t, backend, inputs, report);
   r.kind = t.kind;
   r.device = backend.name();
@@ -330,6 +412,7 @@ BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs&
 }
 
 void write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
+  check_finite(r);
   io::ParentFolders parents(path);
   family_of(t.kind).write(r, t, path);
   parents.keep();

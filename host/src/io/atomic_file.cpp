@@ -1,6 +1,7 @@
 #include "io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <system_error>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/output_lock.hpp"
 
 namespace brdfbake::io {
 namespace {
@@ -35,7 +37,11 @@ std::string random_suffix() {
 }  // namespace
 
 void throw_write_error(const std::string& path, const std::string& reason) {
-  throw Error("cannot write '" + path + "': " + reason);
+  throw IoError("cannot write '" + path + "': " + reason);
+}
+
+std::string temp_name_prefix(const std::string& target_name, long pid) {
+  return "." + target_name + ".tmp-" + std::to_string(pid) + "-";
 }
 
 TempFile::TempFile(std::string destination) : destination_(std::move(destination)) {
@@ -44,8 +50,8 @@ TempFile::TempFile(std::string destination) : destination_(std::move(destination
   if (name.empty() || name == "." || name == "..") {
     throw_write_error(destination_, "not a file name");
   }
-  const std::string prefix =
-      (target.parent_path() / ("." + name + ".tmp-" + std::to_string(::getpid()) + "-")).string();
+  ::brdfbake::remove_stale_temporaries(destination_);
+  const std::string prefix = (target.parent_path() / temp_name_prefix(name, ::getpid())).string();
   // Retry only on a name collision with another writer's temporary.
   constexpr int kAttempts = 8;
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
@@ -143,3 +149,42 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
 }
 
 }  // namespace brdfbake::io
+
+namespace brdfbake {
+
+namespace fs = std::filesystem;
+
+int remove_stale_temporaries(const std::string& target_in) {
+  std::string target = target_in;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const fs::path t(target);
+  const std::string name = t.filename().string();
+  if (name.empty() || name == "." || name == "..") return 0;
+  fs::path dir = t.parent_path();
+  if (dir.empty()) dir = ".";
+  const std::string start = "." + name + ".tmp-";
+  std::vector<fs::path> stale;  // collected first: the folder is not changed while it is listed
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (entry.compare(0, start.size(), start) != 0) continue;
+    // ".NAME.tmp-<pid>-<suffix>": the pid, digits up to the next '-'
+    const size_t dash = entry.find('-', start.size());
+    if (dash == std::string::npos || dash == start.size() || dash - start.size() > 9) continue;
+    const std::string digits = entry.substr(start.size(), dash - start.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(digits);
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to test)
+    stale.push_back(it->path());
+  }
+  int removed = 0;
+  for (const fs::path& p : stale) {
+    std::error_code rm;
+    if (fs::remove_all(p, rm) > 0 && !rm) ++removed;
+  }
+  return removed;
+}
+
+}  // namespace brdfbake

@@ -15,6 +15,8 @@ namespace brdfbake::io {
 // A temporary file beside `destination`, named ".NAME.tmp-<pid>-<random>" (hidden, and in the same
 // folder so that the final rename stays within one file system). The constructor creates it empty
 // and exclusively; the destructor removes it unless commit() has renamed it over the destination.
+// The pid in the name is the marker remove_stale_temporaries reads: the constructor first removes
+// the temporaries of `destination` left by processes that are gone (a run killed by SIGKILL).
 class TempFile {
  public:
   // Throws Error("cannot write '<destination>': <OS reason>") when the folder does not take it
@@ -73,7 +75,11 @@ class OutputStream {
   std::FILE* file_ = nullptr;
 };
 
-// Throws the Error of a failed write: "cannot write '<path>': <reason>".
+// Throws the IoError of a failed write: "cannot write '<path>': <reason>" (exit code 1).
 [[noreturn]] void throw_write_error(const std::string& path, const std::string& reason);
+
+// ".NAME.tmp-<pid>-": the start of the name of every temporary of `target` (TempFile, StagingDir);
+// brdfbake::remove_stale_temporaries (brdfbake/output_lock.hpp) reads the pid back.
+std::string temp_name_prefix(const std::string& target_name, long pid);
 
 }  // namespace brdfbake::io

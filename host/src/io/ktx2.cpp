@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -694,6 +695,8 @@ Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes) {
 }
 
 Ktx2Image read_ktx2(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw Error("cannot read '" + path +
@@ -701,7 +704,7 @@ Ktx2Image read_ktx2(const std::string& path) {
   }
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                    std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read '" + path + "': read error");
+  if (in.bad()) throw IoError("cannot read '" + path + "': read error");
   return Decoder(bytes.data(), bytes.size(), "invalid KTX2 file '" + path + "'").decode();
 }
 

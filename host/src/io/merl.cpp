@@ -13,6 +13,7 @@
 
 #include "brdfbake/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/json_input.hpp"
 
 namespace brdfbake {
 namespace {
@@ -58,6 +59,10 @@ void half_diff_to_directions(double theta_h, double theta_d, double phi_d, refer
 // std_coords_to_half_diff_coords: h = normalize(wi + wo), theta_h = acos(h.z), phi_h = atan2(h.y, h.x);
 // diff = R_y(-theta_h) R_z(-phi_h) wi, theta_d = acos(diff.z), phi_d = atan2(diff.y, diff.x).
 std::size_t merl_index(const reference::Vec3& wi_in, const reference::Vec3& wo_in) {
+  for (double c : {wi_in.x, wi_in.y, wi_in.z, wo_in.x, wo_in.y, wo_in.z})
+    if (!std::isfinite(c)) throw Error("merl_lookup: a direction is not finite");
+  if ((wi_in.x == 0.0 && wi_in.y == 0.0 && wi_in.z == 0.0) || (wo_in.x == 0.0 && wo_in.y == 0.0 && wo_in.z == 0.0))
+    throw Error("merl_lookup: a direction is the zero vector");
   const reference::Vec3 wi = normalize(wi_in), wo = normalize(wo_in);
   const reference::Vec3 h = normalize({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
   const double theta_h = std::acos(std::clamp(h.z, -1.0, 1.0));
@@ -66,11 +71,13 @@ std::size_t merl_index(const reference::Vec3& wi_in, const reference::Vec3& wo_i
   const double theta_d = std::acos(std::clamp(diff.z, -1.0, 1.0));
   double phi_d = std::atan2(diff.y, diff.x);
   if (phi_d < 0.0) phi_d += kPi;  // reciprocity
-  // theta_half_index: sqrt(theta_h / (pi/2)) * 90, floored and clamped (0 for theta_h <= 0)
-  int i = 0;
-  if (theta_h > 0.0) i = std::clamp(static_cast<int>(std::sqrt(theta_h / kHalfPi) * kMerlThetaH), 0, kMerlThetaH - 1);
-  const int j = std::clamp(static_cast<int>(theta_d / kHalfPi * kMerlThetaD), 0, kMerlThetaD - 1);
-  const int k = std::clamp(static_cast<int>(phi_d / kPi * kMerlPhiD), 0, kMerlPhiD - 1);
+  // theta_half_index: sqrt(theta_h / (pi/2)) * 90, floored and clamped (0 for theta_h <= 0). The
+  // clamp comes before the conversion to int: a NaN (opposite directions, wi + wo = 0) or an
+  // out-of-range double converted to int is undefined behaviour.
+  auto bin = [](double x, int n) { return x >= 0.0 && x < n ? static_cast<int>(x) : x >= n ? n - 1 : 0; };
+  const int i = theta_h > 0.0 ? bin(std::sqrt(theta_h / kHalfPi) * kMerlThetaH, kMerlThetaH) : 0;
+  const int j = bin(theta_d / kHalfPi * kMerlThetaD, kMerlThetaD);
+  const int k = bin(phi_d / kPi * kMerlPhiD, kMerlPhiD);
   return (static_cast<std::size_t>(i) * kMerlThetaD + static_cast<std::size_t>(j)) * kMerlPhiD +
          static_cast<std::size_t>(k);
 }
@@ -102,12 +109,7 @@ void write_merl(const MerlTable& table, const std::string& path) {
   nlohmann::ordered_json meta = nlohmann::ordered_json::object();
   for (const auto& [key, value] : table.metadata) meta[key] = value;
   sidecar["metadata"] = meta;
-  std::string json_text;
-  try {
-    json_text = sidecar.dump(2) + "\n";
-  } catch (const nlohmann::json::exception& e) {
-    io::throw_write_error(path + ".json", e.what());
-  }
+  const std::string json_text = io::json_text(sidecar) + "\n";
   io::TempFile binary(path);
   io::write_bytes(binary, bytes);
   io::TempFile json(path + ".json");
@@ -116,23 +118,27 @@ void write_merl(const MerlTable& table, const std::string& path) {
   json.commit();
 }
 
-MerlTable read_merl(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  const std::string bytes = s.str();
-  if (bytes.size() < kHeaderBytes) throw Error("'" + path + "' is not a MERL BRDF file (shorter than its header)");
+namespace {
+
+// The values of a MERL binary whose header was read: checks the dimensions and the size before
+// anything is allocated (a hostile header may promise any size).
+void check_merl_header(const std::string& origin, const unsigned char* header, std::uint64_t file_size) {
   std::int32_t dims[3];
-  std::memcpy(dims, bytes.data(), kHeaderBytes);
-  const long long n = static_cast<long long>(dims[0]) * dims[1] * dims[2];
+  std::memcpy(dims, header, kHeaderBytes);
   if (dims[0] != kMerlThetaH || dims[1] != kMerlThetaD || dims[2] != kMerlPhiD)
-    throw Error("'" + path + "' is not a MERL BRDF file (dimensions " + std::to_string(dims[0]) + " x " +
+    throw Error("'" + origin + "' is not a MERL BRDF file (dimensions " + std::to_string(dims[0]) + " x " +
                 std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ", expected 90 x 90 x 180)");
-  const std::size_t expected = kHeaderBytes + 3 * static_cast<std::size_t>(n) * sizeof(double);
-  if (bytes.size() != expected)
-    throw Error("'" + path + "' is not a MERL BRDF file (" + std::to_string(bytes.size()) + " bytes, expected " +
+  const std::uint64_t expected = kHeaderBytes + 3 * std::uint64_t(kMerlBins) * sizeof(double);
+  if (file_size != expected)
+    throw Error("'" + origin + "' is not a MERL BRDF file (" + std::to_string(file_size) + " bytes, expected " +
                 std::to_string(expected) + ")");
+}
+
+}  // namespace
+
+MerlTable decode_merl(const std::string& bytes, const std::string& origin) {
+  if (bytes.size() < kHeaderBytes) throw Error("'" + origin + "' is not a MERL BRDF file (shorter than its header)");
+  check_merl_header(origin, reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size());
   MerlTable table;
   table.values.resize(3 * kMerlBins);
   const char* cursor = bytes.data() + kHeaderBytes;
@@ -141,18 +147,39 @@ MerlTable read_merl(const std::string& path) {
       double stored;
       std::memcpy(&stored, cursor, sizeof stored);
       cursor += sizeof stored;
+      if (std::isnan(stored) || std::isinf(stored))
+        throw Error("'" + origin + "' holds a value that is not finite (channel " + std::to_string(c) + ", bin " +
+                    std::to_string(b) + ")");
       table.values[c * kMerlBins + b] = stored < 0.0 ? kMerlBelowHorizon : stored * io::kMerlScale[c];
     }
   }
-  std::ifstream sidecar(path + ".json");
-  if (sidecar) {
+  return table;
+}
+
+MerlTable read_merl(const std::string& path) {
+  std::error_code ec;
+  namespace fs = std::filesystem;
+  if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "': " + (fs::exists(path, ec) ? "permission denied" : "no such file"));
+  const std::uint64_t size = fs::file_size(path, ec);
+  if (ec) throw IoError("cannot read '" + path + "': " + ec.message());
+  unsigned char header[kHeaderBytes];
+  if (size < kHeaderBytes || !in.read(reinterpret_cast<char*>(header), kHeaderBytes))
+    throw Error("'" + path + "' is not a MERL BRDF file (shorter than its header)");
+  check_merl_header(path, header, size);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw IoError("cannot read '" + path + "': read error");
+  MerlTable table = decode_merl(bytes, path);
+  // The sidecar's metadata, when it can be read: a sidecar we cannot read only loses the metadata.
+  if (fs::is_regular_file(path + ".json", ec)) {
     try {
-      const nlohmann::json j = nlohmann::json::parse(sidecar);
-      if (j.contains("metadata") && j["metadata"].is_object())
-        for (auto it = j["metadata"].begin(); it != j["metadata"].end(); ++it)
+      const nlohmann::ordered_json j = io::parse_json(io::read_text_file(path + ".json", "sidecar"), path + ".json");
+      if (j.is_object() && j.contains("metadata") && j.at("metadata").is_object())
+        for (auto it = j.at("metadata").begin(); it != j.at("metadata").end(); ++it)
           if (it->is_string()) table.metadata.emplace_back(it.key(), it->get<std::string>());
-    } catch (const nlohmann::json::exception&) {
-      // a sidecar we cannot read only loses the metadata
+    } catch (const Error&) {
     }
   }
   return table;

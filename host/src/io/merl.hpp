@@ -36,3 +36,9 @@ void half_diff_to_directions(double theta_h, double theta_d, double phi_d, refer
 std::size_t merl_index(const reference::Vec3& wi, const reference::Vec3& wo);
 
 }  // namespace brdfbake::io
+
+namespace brdfbake {
+// A MERL binary held in memory (read_merl without the file and its sidecar): checks the header's
+// dimensions and the size before allocating; throws Error naming `origin`.
+MerlTable decode_merl(const std::string& bytes, const std::string& origin);
+}  // namespace brdfbake

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "brdfbake/output_lock.hpp"
 #include "io/atomic_file.hpp"
 
 namespace brdfbake::io {
@@ -25,10 +26,11 @@ StagingDir::StagingDir(const fs::path& target) : target_(target) {
   }
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw_write_error(target.string(), "it exists and is not a folder");
+  ::brdfbake::remove_stale_temporaries(target.string());
   std::mt19937_64 g{std::random_device{}()};
   for (int attempt = 0; attempt < 8; ++attempt) {
     const fs::path candidate =
-        parent / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g() % 1000000000ull));
+        parent / (temp_name_prefix(target.filename().string(), ::getpid()) + std::to_string(g() % 1000000000ull));
     if (fs::create_directory(candidate, ec)) {
       path_ = candidate;
       return;

@@ -75,7 +75,10 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
     const std::string& key = it.key();
     const std::string field = where + "." + key;
     if (key == "kind") continue;
-    if (key == "output") t.output = get_string(*it, field);
+    if (key == "output") {
+      t.output = get_string(*it, field);
+      if (t.output.empty()) throw Error(field + ": must not be empty (leave it out for the default name)");
+    }
     else if (key == "format") t.format = get_string(*it, field);
     else if (key == "pixel") t.pixel = get_string(*it, field);
     else if (key == "device") t.device = get_string(*it, field);
@@ -312,6 +315,6 @@ json job_json(const Job& job) {
 
 }  // namespace detail
 
-std::string job_to_json(const Job& job) { return detail::job_json(job).dump(2) + "\n"; }
+std::string job_to_json(const Job& job) { return io::json_text(detail::job_json(job)) + "\n"; }
 
 }  // namespace brdfbake

@@ -3,6 +3,7 @@
 
 #include "brdfbake/version.hpp"
 #include "job/job_json.hpp"
+#include "io/json_input.hpp"
 
 namespace brdfbake {
 
@@ -37,7 +38,7 @@ std::string manifest_to_json(const Manifest& m) {
   o["files"] = files;
   if (!m.notes.empty()) o["notes"] = m.notes;
   if (!m.warnings.empty()) o["warnings"] = m.warnings;
-  return o.dump(2) + "\n";
+  return io::json_text(o) + "\n";
 }
 
 }  // namespace brdfbake

@@ -9,6 +9,7 @@
 
 #include "brdfbake/plan.hpp"
 #include "job/job_json.hpp"
+#include "io/json_input.hpp"
 
 namespace brdfbake {
 
@@ -515,7 +516,7 @@ std::string plan_to_json(const Plan& plan) {
   }
   p["materials"] = mats;
   o["plan"] = p;
-  return o.dump(2) + "\n";
+  return io::json_text(o) + "\n";
 }
 
 // ---- Options as parameters -------------------------------------------------------------------------

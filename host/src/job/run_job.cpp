@@ -6,7 +6,9 @@
 #include <map>
 #include <memory>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_lock.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
 
@@ -54,7 +56,7 @@ std::uint64_t bytes_of(const fs::path& p) {
 
 }  // namespace
 
-Manifest run_job(const Job& in, const JobProgress& progress) {
+Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   validate_job(job);
@@ -97,7 +99,19 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
+  // One run at a time per folder; then what killed runs left beside it can go.
+  OutputLock lock(target, options.wait_for_lock, options.on_wait);
+  remove_stale_temporaries(target);
   io::StagingDir staging{fs::path(target)};
+
+  std::map<std::string, std::shared_ptr<Backend>> backends;
+  auto backend_for = [&](const std::string& selector) -> Backend& {
+    auto it = backends.find(selector);
+    if (it == backends.end()) it = backends.emplace(selector, Backend::open(selector)).first;
+    return *it->second;
+  };
+  // Every table's device, and what it can do, before anything slow (reading environments).
+  for (const auto& g : groups) check_backend(job.tables[g.front()], backend_for(job.tables[g.front()].device));
 
   // Environments first (a bad file fails before any device work), each loaded once.
   std::map<std::string, EnvImage> environments;
@@ -106,13 +120,6 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
   for (const auto& t : job.tables)
     if (table_kind_uses_environment(t.kind) && !environments.count(t.environment))
       environments.emplace(t.environment, load_environment(t.environment, load));
-
-  std::map<std::string, std::shared_ptr<Backend>> backends;
-  auto backend_for = [&](const std::string& selector) -> Backend& {
-    auto it = backends.find(selector);
-    if (it == backends.end()) it = backends.emplace(selector, Backend::open(selector)).first;
-    return *it->second;
-  };
 
   Manifest manifest;
   manifest.output_dir = job.output_dir;
@@ -131,6 +138,7 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
     const TableRequest& t = job.tables[groups[g].front()];
     const std::string what = bake_label(t);
     auto report = [&](double fraction, const std::string& step) {
+      throw_if_cancelled();
       if (progress) progress({int(g), int(groups.size()), step.empty() ? what : what + ": " + step, fraction});
     };
     report(0.0, "");
@@ -171,6 +179,7 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
   }
 
   manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  throw_if_cancelled();  // the last moment a stop leaves the folder as it was
   io::write_file_atomically((staging.path() / "manifest.json").string(), manifest_to_json(manifest));
   staging.commit("manifest.json");
   return manifest;

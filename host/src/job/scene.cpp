@@ -6,6 +6,7 @@
 // whose .bin and images are missing still plans (each missing file is a warning). nlohmann_json
 // reads the JSON (tinygltf would load and decode every buffer and image first).
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -55,6 +56,9 @@ bool extension_known(const std::string& name) {
   return material_extension_known(name) ||
          in_list(name, std::begin(kNeutralExtensions), std::end(kNeutralExtensions));
 }
+
+// A name or text from the file, as messages quote it.
+std::string clip(const std::string& s, size_t n = 60) { return s.size() <= n ? s : s.substr(0, n) + "..."; }
 
 std::string fmt_number(double v) {
   char buf[64];
@@ -162,7 +166,7 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
     if (!it->is_string()) r.fail(at + ".name", "must be a string");
     s.name = it->get<std::string>();
   }
-  s.label = "#" + std::to_string(index) + (s.name.empty() ? "" : " " + s.name);
+  s.label = "#" + std::to_string(index) + (s.name.empty() ? "" : " " + clip(s.name, 80));
 
   if (const json* pbr = r.object(m, "pbrMetallicRoughness", at + ".pbrMetallicRoughness")) {
     const std::string p = at + ".pbrMetallicRoughness";
@@ -179,7 +183,7 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
   if (!ext) return s;
   for (auto it = ext->begin(); it != ext->end(); ++it) {
     s.extensions.push_back(it.key());
-    if (!it->is_object()) r.fail(at + ".extensions." + it.key(), "must be an object");
+    if (!it->is_object()) r.fail(at + ".extensions." + clip(it.key()), "must be an object (got " + r.describe(*it) + ")");
   }
   auto get = [&](const char* name) -> const json* { return r.object(*ext, name, at + ".extensions." + name); };
   auto path = [&](const char* name, const char* field) { return at + ".extensions." + name + "." + field; };
@@ -293,7 +297,7 @@ void check_resources(const Reader& r, const json& root, const std::string& key, 
   }
   if (missing.empty()) return;
   std::string names;
-  for (size_t i = 0; i < missing.size() && i < 3; ++i) names += (i ? ", " : "") + std::string("'") + missing[i] + "'";
+  for (size_t i = 0; i < missing.size() && i < 3; ++i) names += (i ? ", " : "") + std::string("'") + clip(missing[i]) + "'";
   if (missing.size() > 3) names += " and " + std::to_string(missing.size() - 3) + " more";
   warnings.push_back(origin + ": " + std::to_string(missing.size()) + " of " + std::to_string(list->size()) + " " + key +
                      " not found (" + names + "); only the materials are read, so the plan does not need them");
@@ -310,7 +314,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
   auto version = asset->find("version");
   if (version == asset->end() || !version->is_string()) r.fail("asset.version", "missing (a glTF 2.0 file has \"2.0\")");
   const std::string v = version->get<std::string>();
-  if (v.rfind("2.", 0) != 0) r.fail("asset.version", "'" + v + "' is not glTF 2.x");
+  if (v.rfind("2.", 0) != 0) r.fail("asset.version", "'" + clip(v) + "' is not glTF 2.x");
 
   Scene scene;
   scene.path = origin;
@@ -321,12 +325,12 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
     const std::string& name = scene.extensions_required[i];
     if (!extension_known(name))
       r.fail("extensionsRequired[" + std::to_string(i) + "]",
-             "'" + name + "' is required by the file but unknown to brdfbake (it cannot tell which tables it calls for)");
+             "'" + clip(name) + "' is required by the file but unknown to brdfbake (it cannot tell which tables it calls for)");
   }
   for (const std::string& name : scene.extensions_used)
     if (!extension_known(name) && std::find(scene.extensions_required.begin(), scene.extensions_required.end(),
                                             name) == scene.extensions_required.end())
-      scene.warnings.push_back(origin + ": extension " + name + " (extensionsUsed) has no rule and is ignored");
+      scene.warnings.push_back(origin + ": extension " + clip(name) + " (extensionsUsed) has no rule and is ignored");
 
   if (const json* mats = r.array(root, "materials", "materials")) {
     UnknownExtensions unknown;
@@ -336,7 +340,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
       std::string who;
       for (size_t i = 0; i < labels.size() && i < 3; ++i) who += (i ? ", " : "") + labels[i];
       if (labels.size() > 3) who += " and " + std::to_string(labels.size() - 3) + " more";
-      scene.warnings.push_back(origin + ": material extension " + name + " (" + who +
+      scene.warnings.push_back(origin + ": material extension " + clip(name) + " (" + who +
                                ") has no rule; those materials are planned from the extensions brdfbake knows");
     }
   }
@@ -418,15 +422,21 @@ constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
 
 }  // namespace
 
-Scene parse_glb(const std::string& bytes, const std::string& origin, const std::string& base_dir) {
-  const size_t size = bytes.size();
+namespace {
+
+// A binary glTF's JSON chunk, read through `read(offset, count)` from a container of `size` bytes,
+// after checking the header and that every chunk lies inside the file (only chunk headers are read
+// beyond the JSON: a .glb's buffers may be gigabytes).
+template <class Read>
+std::string glb_json_chunk(std::uint64_t size, const std::string& origin, Read read) {
   auto bad = [&](const std::string& what) { return Error(origin + ": " + what); };
   if (size < 12)
     throw bad("truncated GLB: " + std::to_string(size) + " bytes, shorter than the 12-byte header");
-  if (le32(bytes, 0) != kGlbMagic) throw bad("not a binary glTF (the first 4 bytes are not 'glTF')");
-  const uint32_t version = le32(bytes, 4);
+  const std::string header = read(0, 12);
+  if (le32(header, 0) != kGlbMagic) throw bad("not a binary glTF (the first 4 bytes are not 'glTF')");
+  const uint32_t version = le32(header, 4);
   if (version != 2) throw bad("GLB container version " + std::to_string(version) + " (only version 2 is read)");
-  const uint32_t length = le32(bytes, 8);
+  const uint32_t length = le32(header, 8);
   if (length > size)
     throw bad("truncated GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
               std::to_string(size));
@@ -434,46 +444,75 @@ Scene parse_glb(const std::string& bytes, const std::string& origin, const std::
     throw bad("corrupt GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
               std::to_string(size));
   if (length < 20) throw bad("truncated GLB: no JSON chunk after the header");
-  const uint32_t json_length = le32(bytes, 12);
-  if (le32(bytes, 16) != kChunkJson) throw bad("corrupt GLB: the first chunk is not the JSON chunk");
+  const std::string chunk = read(12, 8);
+  const uint32_t json_length = le32(chunk, 0);
+  if (le32(chunk, 4) != kChunkJson) throw bad("corrupt GLB: the first chunk is not the JSON chunk");
   if (size_t(json_length) > length - 20)
     throw bad("truncated GLB: the JSON chunk declares " + std::to_string(json_length) + " bytes, " +
               std::to_string(length - 20) + " remain");
+  if (json_length > io::kJsonMaxBytes)
+    throw bad("the GLB's JSON chunk is larger than " + std::to_string(io::kJsonMaxBytes >> 20) + " MiB (" +
+              std::to_string(json_length) + " bytes)");
   // Any further chunks (BIN, extensions') must lie inside the file too.
-  size_t at = 20 + size_t(json_length);
+  std::uint64_t at = 20 + std::uint64_t(json_length);
   while (at < length) {
     if (length - at < 8) throw bad("truncated GLB: a chunk header at byte " + std::to_string(at) + " is cut off");
-    const uint32_t chunk_length = le32(bytes, at);
-    if (size_t(chunk_length) > length - at - 8)
+    const uint32_t chunk_length = le32(read(at, 8), 0);
+    if (std::uint64_t(chunk_length) > length - at - 8)
       throw bad("truncated GLB: the chunk at byte " + std::to_string(at) + " declares " +
                 std::to_string(chunk_length) + " bytes, " + std::to_string(length - at - 8) + " remain");
-    at += 8 + size_t(chunk_length);
+    at += 8 + std::uint64_t(chunk_length);
   }
   // The JSON chunk is padded with spaces to 4 bytes; some writers pad with zeros.
-  std::string text = bytes.substr(20, json_length);
+  std::string text = read(20, json_length);
   while (!text.empty() && (text.back() == '\0' || text.back() == ' ')) text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+Scene parse_glb(const std::string& bytes, const std::string& origin, const std::string& base_dir) {
+  const std::string text = glb_json_chunk(bytes.size(), origin, [&](std::uint64_t at, std::uint64_t n) {
+    return bytes.substr(static_cast<size_t>(at), static_cast<size_t>(n));
+  });
   Scene scene = parse_scene_json(text, origin, base_dir);
   scene.container = "glb";
   return scene;
 }
 
 Scene read_scene(const std::string& path) {
+  std::error_code ec;
+  if (path.empty()) throw Error("no scene file given");
+  if (fs::is_directory(path, ec)) throw Error("cannot read scene '" + path + "': it is a folder");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    std::error_code ec;
+    const int err = errno;
     const bool exists = fs::exists(path, ec);
-    throw Error("cannot read scene '" + path + "': " + (exists ? std::strerror(errno) : "no such file"));
+    throw Error("cannot read scene '" + path + "': " + (exists ? std::strerror(err ? err : EACCES) : "no such file"));
   }
-  std::ostringstream s;
-  s << in.rdbuf();
-  const std::string bytes = s.str();
   std::string base_dir = fs::path(path).parent_path().string();
   if (base_dir.empty()) base_dir = ".";
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool magic = bytes.size() >= 4 && le32(bytes, 0) == kGlbMagic;
-  if (ext == ".glb" || magic) return parse_glb(bytes, path, base_dir);
-  return parse_scene_json(bytes, path, base_dir);
+  char magic[4] = {0, 0, 0, 0};
+  in.read(magic, 4);
+  const bool glb = in.gcount() == 4 && le32(std::string(magic, 4), 0) == kGlbMagic;
+  in.clear();
+  if (ext == ".glb" || glb) {
+    const auto size = fs::file_size(path, ec);
+    if (ec) throw Error("cannot read scene '" + path + "': " + ec.message());
+    const std::string text = glb_json_chunk(size, path, [&](std::uint64_t at, std::uint64_t n) {
+      std::string b(static_cast<size_t>(n), '\0');
+      in.seekg(static_cast<std::streamoff>(at));
+      in.read(b.data(), static_cast<std::streamsize>(n));
+      if (static_cast<std::uint64_t>(in.gcount()) != n) throw IoError("cannot read scene '" + path + "': read error");
+      return b;
+    });
+    Scene scene = parse_scene_json(text, path, base_dir);
+    scene.container = "glb";
+    return scene;
+  }
+  return parse_scene_json(io::read_text_file(path, "scene"), path, base_dir);
 }
 
 }  // namespace brdfbake

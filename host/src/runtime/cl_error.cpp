@@ -74,15 +74,37 @@ const char* cl_error_name(int code) {
 }
 
 namespace {
+
+// What an error that ends a run (rather than a bug of ours) means for the user.
+const char* cl_hint(int code) {
+  switch (code) {
+    case -4:  // CL_MEM_OBJECT_ALLOCATION_FAILURE
+    case -6:  // CL_OUT_OF_HOST_MEMORY
+    case -61:  // CL_INVALID_BUFFER_SIZE
+      return "the device ran out of memory: try a smaller size, or another device (brdfbake devices)";
+    case -5:  // CL_OUT_OF_RESOURCES: also what most drivers report after a watchdog reset
+      return "the device ran out of resources, or its driver stopped a launch (a display watchdog): try a "
+             "smaller size or another device";
+    case -2:   // CL_DEVICE_NOT_AVAILABLE
+    case -36:  // CL_INVALID_COMMAND_QUEUE: the queue of a lost device
+    case -9999:  // NVIDIA: illegal address / device lost
+      return "the device was lost or is not available: check the driver (brdfbake devices) and run again";
+    default:
+      return nullptr;
+  }
+}
+
 std::string cl_message(const std::string& call, int code, const std::string& what_for) {
   std::string m = "OpenCL error";
   if (!what_for.empty()) m += " in " + what_for;
   m += ": " + call + " (" + std::to_string(code) + " " + cl_error_name(code) + ")";
+  if (const char* hint = cl_hint(code)) m += "; " + std::string(hint);
   return m;
 }
+
 }  // namespace
 
 ClError::ClError(const std::string& call, int code, const std::string& what_for)
-    : Error(cl_message(call, code, what_for)), call_(call), code_(code) {}
+    : RuntimeFailure(cl_message(call, code, what_for)), call_(call), code_(code) {}
 
 }  // namespace brdfbake

@@ -45,6 +45,26 @@ struct Found {
   cl::Device device;
 };
 
+// Test switch: BRDFBAKE_DEVICE_LIMITS="max_alloc=1048576,global_memory=...,max_work_group_size=16,fp64=0"
+// makes every device report these limits, so that the refusals of docs/RELIABILITY.md ("Device
+// limits") can be tested on any device.
+void apply_test_limits(DeviceInfo& info) {
+  const char* text = std::getenv("BRDFBAKE_DEVICE_LIMITS");
+  if (!text) return;
+  std::stringstream list(text);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string key = item.substr(0, eq);
+    const unsigned long long v = std::strtoull(item.c_str() + eq + 1, nullptr, 10);
+    if (key == "max_alloc") info.max_alloc = v;
+    else if (key == "global_memory") info.global_memory = v;
+    else if (key == "max_work_group_size") info.max_work_group_size = static_cast<size_t>(v);
+    else if (key == "fp64") info.fp64 = v != 0;
+  }
+}
+
 std::vector<Found> enumerate() {
   std::vector<Found> out;
   std::vector<cl::Platform> platforms;
@@ -83,6 +103,7 @@ std::vector<Found> enumerate() {
                     dev.getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
         return 0;
       });
+      apply_test_limits(info);
       out.push_back({info, platforms[p], dev});
     }
   }
@@ -113,7 +134,7 @@ Found find(const std::string& selector_in) {
     if (const char* env = std::getenv("BRDFBAKE_DEVICE")) selector = env;
   }
   const auto all = enumerate();
-  if (all.empty()) throw Error(describe(all));
+  if (all.empty()) throw RuntimeFailure(describe(all));  // the machine's set-up, not the request
   if (selector.empty() || selector == "default") {
     for (const auto& f : all)
       if (f.info.is_default) return f;

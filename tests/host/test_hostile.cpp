@@ -1,0 +1,1035 @@
+// The hostile-input table (issue 17, docs/RELIABILITY.md): every input path of the product run the
+// way a hostile or careless user runs it. Each row is a command line, the files it reads (written
+// into the row's own folder first), its standard input, and what must follow: the exit code (2 bad
+// input, 1 runtime or I/O failure, 0 success), words the one-line message must hold, files that must
+// not exist afterwards and files that must keep their content. Every row also checks what must never
+// happen: a crash or a signal, a library's raw exception text, a sanitizer report, a stray temporary.
+//
+// Rows marked `pending` wait for a piece of work named in their reason (the image readers and writers
+// being moved off OpenImageIO): they are skipped with that reason until the lead enables them.
+//
+// The rows come from two sources: written by hand per class of issue 17, and generated from every
+// kind's parameter schema (each numeric, named and list parameter with values out of range, not
+// finite, of the wrong type), on the command line and in a job.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "brdfbake/output_lock.hpp"
+#include "brdfbake/plan.hpp"
+#include "brdfbake/tables.hpp"
+#include "io/ktx2.hpp"
+
+#ifndef BRDFBAKE_CLI
+#define BRDFBAKE_CLI "brdfbake"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using brdfbake::ParamDef;
+using brdfbake::ParamType;
+using brdfbake::TableKind;
+
+// ---- Inputs the rows write ------------------------------------------------------------------------
+
+std::string repeat(const std::string& s, size_t n) {
+  std::string out;
+  out.reserve(s.size() * n);
+  for (size_t i = 0; i < n; ++i) out += s;
+  return out;
+}
+
+// A value nested `depth` arrays deep: what killed the parsers' recursive message code.
+std::string deep(size_t depth) { return repeat("[", depth) + "1" + repeat("]", depth); }
+
+// A Radiance .hdr (RGBE) of w x h pixels of grey `v` (flat scanlines: no RLE run starts with 2, 2).
+std::string rgbe(int w, int h, double v) {
+  std::string s = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(h) + " +X " + std::to_string(w) + "\n";
+  char px[4] = {0, 0, 0, 0};
+  if (v > 0) {
+    int e = 0;
+    const double m = std::frexp(v, &e);
+    const unsigned char b = static_cast<unsigned char>(std::min(255.0, m * 256.0));
+    px[0] = px[1] = px[2] = static_cast<char>(b);
+    px[3] = static_cast<char>(std::min(255, e + 128));
+  }
+  for (int i = 0; i < w * h; ++i) s.append(px, 4);
+  return s;
+}
+
+// A KTX2 cube (RGBA32F, faces of `size`) of grey `v`, with `bad` texels set to `bad_value`.
+std::string ktx2_cube(int size, float v, int bad = 0, float bad_value = NAN) {
+  brdfbake::io::Ktx2Image k;
+  k.vk_format = brdfbake::io::kVkFormatR32G32B32A32Sfloat;
+  k.width = k.height = static_cast<uint32_t>(size);
+  k.faces = 6;
+  std::vector<float> texels(6u * size_t(size) * size_t(size) * 4u, v);
+  for (size_t t = 0; t < texels.size(); t += 4) texels[t + 3] = 1.0f;
+  for (int b = 0; b < bad; ++b) texels[4 * size_t(b)] = bad_value;
+  k.level_data.resize(1);
+  k.level_data[0].resize(texels.size() * sizeof(float));
+  std::memcpy(k.level_data[0].data(), texels.data(), k.level_data[0].size());
+  const std::vector<uint8_t> bytes = brdfbake::io::encode_ktx2(k);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+std::string le32(uint32_t v) {
+  std::string s(4, '\0');
+  for (int i = 0; i < 4; ++i) s[size_t(i)] = static_cast<char>((v >> (8 * i)) & 0xFF);
+  return s;
+}
+
+// A binary glTF holding `json` (padded with spaces), with the header's length `length` (0: correct).
+std::string glb(const std::string& json, uint32_t length = 0, uint32_t version = 2) {
+  std::string chunk = json;
+  while (chunk.size() % 4) chunk += ' ';
+  const uint32_t total = static_cast<uint32_t>(12 + 8 + chunk.size());
+  return "glTF" + le32(version) + le32(length ? length : total) + le32(static_cast<uint32_t>(chunk.size())) + "JSON" + chunk;
+}
+
+std::string floats(const std::vector<float>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+}
+
+const std::string kMaterials =
+    R"({"materials": [{"name": "a", "model": "gltf", "baseColor": [0.5, 0.5, 0.5], "roughness": 0.5}]})";
+const std::string kTwoMaterials =
+    R"({"materials": [{"name": "a", "model": "gltf"}, {"name": "b", "model": "lambert"}]})";
+const std::string kScene =
+    R"({"asset": {"version": "2.0"}, "materials": [{"name": "m", "pbrMetallicRoughness": {"roughnessFactor": 0.5}}]})";
+const std::string kPairs = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0.5,0,0.8\n";
+// A job of one small table (runs in well under a second on a CPU device).
+std::string job(const std::string& tables, const std::string& extra = "") {
+  return R"({"brdfbake_job": 1)" + extra + R"(, "tables": [)" + tables + "]}";
+}
+const std::string kLut = R"({"kind": "ggx", "size": 4, "output": "t.exr"})";
+
+// ---- Rows -----------------------------------------------------------------------------------------
+
+struct File {
+  std::string name;  // relative to the row's folder; "{deadpid}" is replaced by a pid no process has
+  std::string bytes;
+};
+
+struct Row {
+  std::string name;                 // [A-Za-z0-9_] (a gtest name)
+  std::string args;                 // brdfbake's arguments; {d} is the row's folder (shell-quoted)
+  std::vector<File> files;          // written before the run
+  int code = 2;                     // the expected exit code
+  std::vector<std::string> words;   // in standard error
+  std::vector<std::string> absent;  // must not exist afterwards ({d}-relative)
+  std::vector<std::string> kept;    // files of `files` that must still hold their bytes
+  std::string input;                // standard input
+  std::string env;                  // NAME=value ... for the command
+  std::string pending;              // not empty: expected to fail until this is done (skipped)
+  int max_lines = 1;                // lines of standard error a failure may print
+  std::vector<std::pair<std::string, std::string>> file_has, file_lacks;  // (file, text)
+  std::vector<std::string> allowed_tmp;  // temporaries that must stay (a live process's)
+  bool as_root_skip = false;        // permissions mean nothing to root
+  std::string hold_lock;            // the test holds the lock of {d}/<this> during the run
+  int release_after_ms = 0;         // ... and releases it after this long (0: at the end)
+};
+
+// Chained setters so that the table reads as a table.
+struct R {
+  Row r;
+  R(std::string name, std::string args, int code) {
+    r.name = std::move(name);
+    r.args = std::move(args);
+    r.code = code;
+  }
+  R& file(std::string n, std::string b) { r.files.push_back({std::move(n), std::move(b)}); return *this; }
+  R& says(std::string w) { r.words.push_back(std::move(w)); return *this; }
+  R& no(std::string p) { r.absent.push_back(std::move(p)); return *this; }
+  R& keeps(std::string p) { r.kept.push_back(std::move(p)); return *this; }
+  R& stdin_(std::string s) { r.input = std::move(s); return *this; }
+  R& env(std::string e) { r.env = std::move(e); return *this; }
+  R& pending(std::string why) { r.pending = std::move(why); return *this; }
+  R& lines(int n) { r.max_lines = n; return *this; }
+  R& has(std::string f, std::string t) { r.file_has.push_back({std::move(f), std::move(t)}); return *this; }
+  R& lacks(std::string f, std::string t) { r.file_lacks.push_back({std::move(f), std::move(t)}); return *this; }
+  R& allow_tmp(std::string p) { r.allowed_tmp.push_back(std::move(p)); return *this; }
+  R& root_skip() { r.as_root_skip = true; return *this; }
+  R& lock(std::string target, int release_ms = 0) { r.hold_lock = std::move(target); r.release_after_ms = release_ms; return *this; }
+  operator Row() const { return r; }
+};
+
+const char* const kPendingWriters =
+    "the f16 overflow policy (refuse or --clamp-f16, docs/RELIABILITY.md) lands with the image-writer merge";
+const char* const kPendingReaders =
+    "the image-header memory budget (docs/RELIABILITY.md) lands with the image-reader merge";
+
+// -- Class 1: deep and large JSON, everywhere JSON is read.
+void deep_json(std::vector<Row>& rows) {
+  const std::string d = deep(100000);
+  rows.push_back(R("deep_job_document", "run {d}/job.json -o {d}/out", 2).file("job.json", d).says("nested deeper than 64").no("out"));
+  rows.push_back(R("deep_job_value", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", job(R"({"kind": "ggx", "size": )" + d + "}"))
+                     .says("nested deeper than 64").says("tables[0].size").no("out"));
+  rows.push_back(R("deep_job_requested_by", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", job(R"({"kind": "ggx", "requested_by": )" + d + "}"))
+                     .says("nested deeper than 64").no("out"));
+  rows.push_back(R("deep_job_unknown_field", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", job(kLut, R"(, "zzz": )" + d)).says("nested deeper than 64"));
+  rows.push_back(R("deep_scene_gltf", "bake --scene {d}/s.gltf --dry-run", 2)
+                     .file("s.gltf", R"({"asset": {"version": "2.0"}, "materials": )" + d + "}").says("nested deeper than 64"));
+  rows.push_back(R("deep_scene_glb", "bake --scene {d}/s.glb --dry-run", 2)
+                     .file("s.glb", glb(R"({"asset": {"version": "2.0"}, "extras": )" + d + "}")).says("nested deeper than 64"));
+  rows.push_back(R("deep_material_json_eval", "eval --material {d}/m.json -i {d}/p.csv -o {d}/f.csv", 2)
+                     .file("m.json", R"({"materials": [{"name": "a", "roughness": )" + d + "}]}").file("p.csv", kPairs)
+                     .says("nested deeper than 64").no("f.csv"));
+  rows.push_back(R("deep_material_gltf_tabulate", "tabulate --material {d}/m.gltf --layout albedo -o {d}/t.exr", 2)
+                     .file("m.gltf", R"({"asset": {"version": "2.0"}, "materials": [{"extensions": )" + d + "}]}")
+                     .says("nested deeper than 64").no("t.exr"));
+  rows.push_back(R("deep_object_nesting", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", repeat(R"({"a":)", 5000) + "1" + repeat("}", 5000)).says("nested deeper than 64"));
+  rows.push_back(R("large_job_document", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", job(kLut) + std::string((64u << 20) + 16, ' ')).says("larger than 64 MiB").no("out"));
+  rows.push_back(R("large_scene_document", "bake --scene {d}/s.gltf --dry-run", 2)
+                     .file("s.gltf", kScene + std::string((64u << 20) + 16, ' ')).says("larger than 64 MiB"));
+  rows.push_back(R("large_glb_json_chunk", "bake --scene {d}/s.glb --dry-run", 2)
+                     .file("s.glb", glb(kScene + std::string((64u << 20) + 16, ' '))).says("larger than 64 MiB"));
+}
+
+// -- Class 2: numbers a double cannot hold and JSON values of the wrong type: a message naming the
+// field, exit 2, never the library's exception text.
+void raw_exceptions(std::vector<Row>& rows) {
+  struct J { const char* name; std::string doc; const char* field; };
+  const std::vector<J> jobs = {
+      {"job_size_1e999", job(R"({"kind": "ggx", "size": 1e999})"), "tables[0].size"},
+      {"job_size_minus_1e999", job(R"({"kind": "ggx", "size": -1e999})"), "tables[0].size"},
+      {"job_version_1e999", R"({"brdfbake_job": 1e999, "tables": []})", "brdfbake_job"},
+      {"job_version_huge_integer", R"({"brdfbake_job": 18446744073709551615, "tables": []})", "brdfbake_job"},
+      {"job_version_text", R"({"brdfbake_job": "1", "tables": []})", "brdfbake_job"},
+      {"job_tables_object", R"({"brdfbake_job": 1, "tables": {"kind": "ggx"}})", "tables"},
+      {"job_tables_number", R"({"brdfbake_job": 1, "tables": 3})", "tables"},
+      {"job_table_not_object", job("3"), "tables[0]"},
+      {"job_kind_number", job(R"({"kind": 7})"), "tables[0].kind"},
+      {"job_kind_unknown", job(R"({"kind": "phong"})"), "tables[0].kind"},
+      {"job_kind_missing", job(R"({"size": 4})"), "tables[0].kind"},
+      {"job_output_number", job(R"({"kind": "ggx", "output": 5})"), "tables[0].output"},
+      {"job_precision_number", job(R"({"kind": "ggx", "precision": 64})"), "tables[0].precision"},
+      {"job_precision_fp16", job(R"({"kind": "ggx", "precision": "fp16"})"), "tables[0].precision"},
+      {"job_sanitize_text", job(kLut, R"(, "sanitize": "yes")"), "sanitize"},
+      {"job_environment_number", job(kLut, R"(, "environment": 1)"), "environment"},
+      {"job_environment_empty", job(kLut, R"(, "environment": "")"), "environment"},
+      {"job_notes_number", job(kLut, R"(, "notes": 1)"), "notes"},
+      {"job_notes_numbers", job(kLut, R"(, "notes": [1, 2])"), "notes"},
+      {"job_requested_by_object", job(R"({"kind": "ggx", "requested_by": {}})"), "tables[0].requested_by"},
+      {"job_requested_by_unknown", job(R"({"kind": "ggx", "requested_by": [{"who": "x"}]})"), "tables[0].requested_by[0]"},
+      {"job_requested_by_number_rule", job(R"({"kind": "ggx", "requested_by": [{"rule": 5}]})"), "tables[0].requested_by[0].rule"},
+      {"job_materials_numbers", job(R"({"kind": "ggx", "materials": [1]})"), "tables[0].materials"},
+      {"job_param_object", job(R"({"kind": "ggx", "size": {"a": 1}})"), "tables[0].size"},
+      {"job_param_null", job(R"({"kind": "ggx", "size": null})"), "tables[0].size"},
+      {"job_param_list_of_text", job(R"({"kind": "fresnel", "model": "schlick", "f0": ["a", "b", "c"]})"), "tables[0].f0"},
+      {"job_param_nested_list", job(R"({"kind": "fresnel", "model": "schlick", "f0": [[1], [2], [3]]})"), "tables[0].f0"},
+      {"job_unknown_field", job(R"({"kind": "ggx", "colour": 1})"), "tables[0].colour"},
+      {"job_unknown_top_field", job(kLut, R"(, "colour": 1)"), "colour"},
+      {"job_not_object", "[1, 2]", "a job is a JSON object"},
+      {"job_empty_text", "", "malformed JSON"},
+      {"job_binary_garbage", std::string("\x89PNG\r\n\x1a\n\0\0", 10), "malformed JSON"},
+      {"job_trailing_text", job(kLut) + " x", "malformed JSON"},
+      {"job_bad_utf8", std::string("{\"brdfbake_job\": 1, \"tables\": [], \"notes\": [\"\xff\xfe\"]}"), "malformed JSON"},
+      {"job_duplicate_output", job(R"({"kind": "ggx", "size": 4, "output": "t.exr"}, {"kind": "ggx", "size": 8, "output": "t.exr"})"), "tables[1].output"},
+      {"job_output_absolute", job(R"({"kind": "ggx", "output": "/tmp/x.exr"})"), "tables[0].output"},
+      {"job_output_parent", job(R"({"kind": "ggx", "output": "../x.exr"})"), "tables[0].output"},
+      {"job_output_manifest", job(R"({"kind": "ggx", "output": "manifest.json"})"), "tables[0].output"},
+      {"job_output_empty", job(R"({"kind": "ggx", "output": ""})"), "tables[0]"},
+      {"job_sh_json_parent", job(R"({"kind": "irradiance", "output": "c.ktx2", "sh_json": "../sh.json"})"), "tables[0].sh_json"},
+      {"job_eval_input_stdin", job(R"({"kind": "eval", "material": "m.json", "input": "-"})"), "tables[0].input"},
+  };
+  for (const J& j : jobs)
+    rows.push_back(R(j.name, "run {d}/job.json -o {d}/out", 2)
+                       .file("job.json", j.doc).file("m.json", kMaterials).says(j.field).no("out"));
+
+  struct G { const char* name; std::string scene; const char* field; };
+  auto scene = [](const std::string& material) {
+    return R"({"asset": {"version": "2.0"}, "materials": [)" + material + "]}";
+  };
+  const std::vector<G> scenes = {
+      {"gltf_metallic_1e999", scene(R"({"pbrMetallicRoughness": {"metallicFactor": 1e999}})"), "metallicFactor"},
+      {"gltf_roughness_text", scene(R"({"pbrMetallicRoughness": {"roughnessFactor": "x"}})"), "roughnessFactor"},
+      {"gltf_roughness_2", scene(R"({"pbrMetallicRoughness": {"roughnessFactor": 2}})"), "roughnessFactor"},
+      {"gltf_base_color_object", scene(R"({"pbrMetallicRoughness": {"baseColorFactor": {}}})"), "baseColorFactor"},
+      {"gltf_base_color_short", scene(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1]}})"), "baseColorFactor"},
+      {"gltf_base_color_nan_text", scene(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, "NaN", 1, 1]}})"), "baseColorFactor[1]"},
+      {"gltf_pbr_number", scene(R"({"pbrMetallicRoughness": 5})"), "pbrMetallicRoughness"},
+      {"gltf_extensions_list", scene(R"({"extensions": []})"), "extensions"},
+      {"gltf_sheen_number", scene(R"({"extensions": {"KHR_materials_sheen": 3}})"), "KHR_materials_sheen"},
+      {"gltf_sheen_color_1e999", scene(R"({"extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1e999, 0, 0]}}})"), "sheenColorFactor"},
+      {"gltf_ior_half", scene(R"({"extensions": {"KHR_materials_ior": {"ior": 0.5}}})"), "ior"},
+      {"gltf_ior_minus_1e999", scene(R"({"extensions": {"KHR_materials_ior": {"ior": -1e999}}})"), "ior"},
+      {"gltf_texture_negative", scene(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": -1}}})"), "baseColorTexture.index"},
+      {"gltf_texture_text", scene(R"({"emissiveTexture": {"index": "0"}})"), "emissiveTexture.index"},
+      {"gltf_material_number", scene("3"), "materials[0]"},
+      {"gltf_name_number", scene(R"({"name": 5})"), "materials[0].name"},
+      {"gltf_no_asset", R"({"materials": []})", "asset"},
+      {"gltf_version_1", R"({"asset": {"version": "1.0"}})", "asset.version"},
+      {"gltf_version_number", R"({"asset": {"version": 2}})", "asset.version"},
+      {"gltf_required_unknown", R"({"asset": {"version": "2.0"}, "extensionsRequired": ["ACME_magic"]})", "ACME_magic"},
+      {"gltf_required_number", R"({"asset": {"version": "2.0"}, "extensionsRequired": [1]})", "extensionsRequired[0]"},
+      {"gltf_materials_object", R"({"asset": {"version": "2.0"}, "materials": {}})", "materials"},
+      {"gltf_mesh_material_out_of_range", R"({"asset": {"version": "2.0"}, "materials": [{}], "meshes": [{"primitives": [{"material": 7}]}]})", "meshes[0].primitives[0].material"},
+      {"gltf_mesh_material_huge", R"({"asset": {"version": "2.0"}, "materials": [{}], "meshes": [{"primitives": [{"material": 1e300}]}]})", "meshes[0].primitives[0].material"},
+      {"gltf_mesh_material_negative", R"({"asset": {"version": "2.0"}, "materials": [{}], "meshes": [{"primitives": [{"material": -9223372036854775808}]}]})", "meshes[0].primitives[0].material"},
+      {"gltf_mesh_number", R"({"asset": {"version": "2.0"}, "meshes": [5]})", "meshes[0]"},
+      {"gltf_variant_mapping_bad", R"({"asset": {"version": "2.0"}, "materials": [{}], "meshes": [{"primitives": [{"extensions": {"KHR_materials_variants": {"mappings": [{"material": 0, "variants": [3]}]}}}]}]})", "variants[0]"},
+      {"gltf_not_object", "[]", "not a glTF document"},
+  };
+  for (const G& g : scenes) {
+    rows.push_back(R(std::string("bake_") + g.name, "bake --scene {d}/s.gltf -o {d}/out --quiet", 2)
+                       .file("s.gltf", g.scene).says(g.field).no("out"));
+  }
+  // The same documents as eval's material files (glTF materials): the fields it reads.
+  const std::vector<G> eval_gltf = {
+      {"gltf_metallic_1e999", scene(R"({"pbrMetallicRoughness": {"metallicFactor": 1e999}})"), "metallicFactor"},
+      {"gltf_roughness_text", scene(R"({"pbrMetallicRoughness": {"roughnessFactor": "x"}})"), "roughnessFactor"},
+      {"gltf_base_color_object", scene(R"({"pbrMetallicRoughness": {"baseColorFactor": {}}})"), "baseColorFactor"},
+      {"gltf_pbr_number", scene(R"({"pbrMetallicRoughness": 5})"), "pbrMetallicRoughness"},
+      {"gltf_sheen_number", scene(R"({"extensions": {"KHR_materials_sheen": 3}})"), "KHR_materials_sheen"},
+      {"gltf_sheen_roughness_null", scene(R"({"extensions": {"KHR_materials_sheen": {"sheenRoughnessFactor": null}}})"), "sheenRoughnessFactor"},
+      {"gltf_ior_1e999", scene(R"({"extensions": {"KHR_materials_ior": {"ior": 1e999}}})"), "ior"},
+      {"gltf_specular_color_negative", scene(R"({"extensions": {"KHR_materials_specular": {"specularColorFactor": [-1, 0, 0]}}})"), "specularColorFactor"},
+      {"gltf_material_number", scene("3"), "materials[0]"},
+  };
+  for (const G& g : eval_gltf)
+    rows.push_back(R(std::string("eval_") + g.name, "eval --material {d}/m.gltf -i {d}/p.csv -o {d}/f.csv", 2)
+                       .file("m.gltf", g.scene).file("p.csv", kPairs).says(g.field).no("f.csv"));
+
+  struct M { const char* name; std::string doc; const char* words; };
+  const std::vector<M> materials = {
+      {"material_roughness_1e999", R"({"materials": [{"name": "a", "model": "gltf", "roughness": 1e999}]})", "materials[0].roughness"},
+      {"material_roughness_text", R"({"materials": [{"name": "a", "model": "gltf", "roughness": "x"}]})", "roughness"},
+      {"material_roughness_2", R"({"materials": [{"name": "a", "model": "gltf", "roughness": 2}]})", "roughness"},
+      {"material_base_color_short", R"({"materials": [{"name": "a", "model": "gltf", "baseColor": [1]}]})", "baseColor"},
+      {"material_base_color_1e999", R"({"materials": [{"name": "a", "model": "gltf", "baseColor": [0, 1e999, 0]}]})", "baseColor"},
+      {"material_name_number", R"({"materials": [{"name": 5}]})", "name"},
+      {"material_model_number", R"({"materials": [{"name": "a", "model": 7}]})", "model"},
+      {"material_model_unknown", R"({"materials": [{"name": "a", "model": "magic"}]})", "magic"},
+      {"material_unknown_parameter", R"({"materials": [{"name": "a", "model": "gltf", "glow": 1}]})", "glow"},
+      {"material_not_object", R"({"materials": [5]})", "material #0"},
+      {"materials_object", R"({"materials": {}})", "materials"},
+      {"materials_empty", R"({"materials": []})", "empty"},
+      {"material_ior_half", R"({"materials": [{"name": "a", "model": "gltf", "ior": 0.5}]})", "ior"},
+      {"material_shininess_huge", R"({"materials": [{"name": "a", "model": "phong", "shininess": 1e300}]})", "shininess"},
+      {"material_normalized_text", R"({"materials": [{"name": "a", "model": "phong", "normalized": "yes"}]})", "normalized"},
+      {"material_distribution_number", R"({"materials": [{"name": "a", "model": "cook-torrance", "distribution": 1}]})", "distribution"},
+      {"material_name_twice", R"({"materials": [{"name": "a", "model": "gltf"}, {"name": "a", "model": "gltf"}]})", "used twice"},
+      {"material_long_name_missing", kMaterials, "no material named"},
+  };
+  for (const M& m : materials) {
+    const std::string extra = std::string(m.name) == "material_long_name_missing" ? " --name " + repeat("x", 5000) : "";
+    rows.push_back(R(std::string("eval_") + m.name, "eval --material {d}/m.json -i {d}/p.csv -o {d}/f.csv" + extra, 2)
+                       .file("m.json", m.doc).file("p.csv", kPairs).says(m.words).no("f.csv"));
+  }
+  rows.push_back(R("tabulate_material_1e999", "tabulate --material {d}/m.json --layout grid --res 4 -o {d}/t.exr", 2)
+                     .file("m.json", R"({"materials": [{"name": "a", "model": "gltf", "metallic": 1e999}]})")
+                     .says("materials[0].metallic").no("t.exr"));
+  rows.push_back(R("tabulate_two_materials_no_name", "tabulate --material {d}/m.json --layout grid --res 4 -o {d}/t.exr", 2)
+                     .file("m.json", kTwoMaterials).says("--name").no("t.exr"));
+  rows.push_back(R("tabulate_models_differ", "tabulate --material {d}/m.json --layout albedo --res 4 -o {d}/t.exr", 2)
+                     .file("m.json", kTwoMaterials).says("--model").no("t.exr"));
+  rows.push_back(R("eval_material_glb", "eval --material {d}/m.glb -i {d}/p.csv -o {d}/f.csv", 2)
+                     .file("m.glb", glb(kScene)).file("p.csv", kPairs).says(".glb").no("f.csv"));
+  rows.push_back(R("eval_material_glb_magic", "eval --material {d}/m.json -i {d}/p.csv -o {d}/f.csv", 2)
+                     .file("m.json", glb(kScene)).file("p.csv", kPairs).says("binary glTF").no("f.csv"));
+}
+
+// -- Class 3: outputs that cannot hold a value, and radiance near FLT_MAX.
+void numeric_outputs(std::vector<Row>& rows) {
+  const std::string huge = rgbe(16, 8, 1.69e38);  // near FLT_MAX: sums of two overflow in fp32
+  rows.push_back(R("sh_of_radiance_near_flt_max", "irradiance --env {d}/huge.hdr --source-size 8 --quiet -o {d}/sh.json", 0)
+                     .file("huge.hdr", huge).has("sh.json", "irradiance_over_pi").lacks("sh.json", "null")
+                     .lacks("sh.json", "inf").lines(0));
+  rows.push_back(R("sh5_of_radiance_near_flt_max", "irradiance --env {d}/huge.hdr --sh 5 --sh-window lanczos --source-size 8 --quiet -o {d}/sh.json", 0)
+                     .file("huge.hdr", huge).has("sh.json", "\"order\": 5").lacks("sh.json", "null").lines(0));
+  rows.push_back(R("irradiance_cube_of_radiance_near_flt_max",
+                   "irradiance --env {d}/huge.hdr --source-size 8 --cube 4 --pixel f32 --quiet -o {d}/c.ktx2 --sh-json {d}/sh.json", 0)
+                     .file("huge.hdr", huge).lacks("sh.json", "null").lines(0));
+  rows.push_back(R("prefilter_of_radiance_near_flt_max", "prefilter --env {d}/huge.hdr --size 8 --min-size 4 --pixel f32 --quiet -o {d}/p.ktx2", 0)
+                     .file("huge.hdr", huge).lines(0));
+  rows.push_back(R("job_sh_of_radiance_near_flt_max", "run {d}/job.json -o {d}/out --quiet", 0)
+                     .file("huge.hdr", huge)
+                     .file("job.json", job(R"({"kind": "irradiance", "source_size": 8, "output": "sh.json"})", R"(, "environment": "huge.hdr")"))
+                     .lines(0));
+  // NaN and infinite radiance: refused, or replaced and recorded with --sanitize.
+  const std::string nan_cube = ktx2_cube(4, 1.0f, 5, NAN), inf_cube = ktx2_cube(4, 1.0f, 3, INFINITY);
+  rows.push_back(R("prefilter_nan_env_refused", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", nan_cube).says("5 NaN").says("--sanitize").no("p.ktx2"));
+  rows.push_back(R("prefilter_inf_env_refused", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", inf_cube).says("3 infinite").no("p.ktx2"));
+  rows.push_back(R("prefilter_negative_env_refused", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", ktx2_cube(4, 1.0f, 2, -4.0f)).says("2 negative").no("p.ktx2"));
+  rows.push_back(R("prefilter_nan_env_sanitized", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 --sanitize -o {d}/p.ktx2", 0)
+                     .file("e.ktx2", nan_cube).says("replaced 5 NaN").has("p.ktx2", "sanitized"));
+  rows.push_back(R("irradiance_nan_env_sanitized", "irradiance --env {d}/e.ktx2 --source-size 8 --sanitize -o {d}/sh.json", 0)
+                     .file("e.ktx2", nan_cube).says("replaced 5 NaN").has("sh.json", "sanitized").lacks("sh.json", "null"));
+  rows.push_back(R("irradiance_inf_env_refused", "irradiance --env {d}/e.ktx2 --source-size 8 -o {d}/sh.json", 2)
+                     .file("e.ktx2", inf_cube).says("infinite").no("sh.json"));
+  rows.push_back(R("bake_nan_env_refused", "bake --env {d}/e.ktx2 --lut-size 4 --cube-size 8 --min-size 4 -o {d}/out --quiet", 2)
+                     .file("e.ktx2", nan_cube).says("--sanitize").no("out"));
+  rows.push_back(R("run_nan_env_sanitized", "run {d}/job.json -o {d}/out --sanitize --quiet", 0)
+                     .file("e.ktx2", nan_cube)
+                     .file("job.json", job(R"({"kind": "irradiance", "source_size": 8, "output": "sh.json"})", R"(, "environment": "e.ktx2")"))
+                     .has("out/manifest.json", "sanitized").lines(0));
+  rows.push_back(R("run_nan_env_job_sanitize", "run {d}/job.json -o {d}/out --quiet", 0)
+                     .file("e.ktx2", nan_cube)
+                     .file("job.json", job(R"({"kind": "irradiance", "source_size": 8, "output": "sh.json"})", R"(, "environment": "e.ktx2", "sanitize": true)"))
+                     .has("out/manifest.json", "sanitized").has("out/sh.json", "sanitized").lines(0));
+  // Above 65504 in half floats: refused with the option that fixes it (pending: the writers).
+  const std::string sun = rgbe(16, 8, 1.0e5);
+  rows.push_back(R("prefilter_f16_overflow_ktx2", "prefilter --env {d}/sun.hdr --size 8 --min-size 4 --pixel f16 -o {d}/p.ktx2", 2)
+                     .file("sun.hdr", sun).says("65504").says("--pixel f32").no("p.ktx2").pending(kPendingWriters));
+  rows.push_back(R("prefilter_f16_overflow_dds", "prefilter --env {d}/sun.hdr --size 8 --min-size 4 --pixel f16 -o {d}/p.dds", 2)
+                     .file("sun.hdr", sun).says("65504").no("p.dds").pending(kPendingWriters));
+  rows.push_back(R("irradiance_f16_overflow_cube", "irradiance --env {d}/sun.hdr --source-size 8 --cube 4 -o {d}/c.ktx2", 2)
+                     .file("sun.hdr", sun).says("65504").no("c.ktx2").pending(kPendingWriters));
+  rows.push_back(R("tabulate_f16_overflow_header", "tabulate --material {d}/m.json --layout slice --res 8 --pixel f16 -o {d}/t.h", 2)
+                     .file("m.json", R"({"materials": [{"name": "a", "model": "phong", "shininess": 100000, "specularColor": [1, 1, 1]}]})")
+                     .says("65504").no("t.h").pending(kPendingWriters));
+  rows.push_back(R("prefilter_f16_clamp_recorded", "prefilter --env {d}/sun.hdr --size 8 --min-size 4 --pixel f16 --clamp-f16 -o {d}/p.ktx2", 0)
+                     .file("sun.hdr", sun).has("p.ktx2", "clamped").pending(kPendingWriters));
+}
+
+// -- Class 4: memory before validation (pending: the image readers).
+void memory_before_validation(std::vector<Row>& rows) {
+  rows.push_back(R("hdr_header_promises_16384x8192", "prefilter --env {d}/big.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("big.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n")
+                     .says("memory budget").no("p.ktx2").pending(kPendingReaders));
+  rows.push_back(R("webp_sniffed_13057x14338", "prefilter --env {d}/x.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("x.hdr", std::string("RIFF\x0c\0\0\0WEBPVP8L\x00\x00\x00\x00\x2f\x00\xc0\xff\x7f", 25))
+                     .no("p.ktx2").pending(kPendingReaders));
+  rows.push_back(R("memory_budget_option", "prefilter --env {d}/e.hdr --memory-budget 1KiB --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", rgbe(16, 8, 1.0)).says("memory budget").no("p.ktx2").pending(kPendingReaders));
+  // Containers whose headers promise more than the file holds are refused before allocation.
+  std::string big = ktx2_cube(4, 1.0f);
+  // pixelWidth/pixelHeight at bytes 20..27: claim 65536 x 65536
+  big.replace(20, 8, le32(65536) + le32(65536));
+  rows.push_back(R("ktx2_header_promises_65536", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", big).says("KTX2").no("p.ktx2"));
+  rows.push_back(R("glb_header_promises_4gb", "bake --scene {d}/s.glb --dry-run", 2)
+                     .file("s.glb", glb(kScene, 0xFFFFFFF0u)).says("truncated GLB"));
+  std::string chunk = glb(kScene);
+  chunk.replace(12, 4, le32(0x7FFFFFF0u));
+  rows.push_back(R("glb_json_chunk_promises_2gb", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", chunk).says("JSON chunk"));
+}
+
+// -- Class 5: out-of-range knobs, named as the user typed them, with the valid range.
+void knobs(std::vector<Row>& rows) {
+  struct K { const char* name; const char* args; std::vector<std::string> words; };
+  const std::vector<K> ks = {
+      {"lut_samples_1000000", "lut --samples 1000000", {"--samples", "32768"}},
+      {"lut_samples_1e6", "lut --samples 1e6", {"--samples", "32768"}},
+      {"lut_vndf_samples_int_max", "lut --estimator vndf --samples 2147483647", {"--samples", "2147483647"}},
+      {"lut_vndf_work_bound", "lut --size 8192 --estimator vndf --samples 1000000", {"--samples", "2^40"}},
+      {"lut_table_too_large", "lut --size 16384", {"--size", "67108864"}},
+      {"lut_height_too_large", "lut --size 8 --height 100000", {"--height", "1..16384"}},
+      {"lut_samples_and_max_error", "lut --samples 64 --max-error 0.01", {"--samples", "--max-error"}},
+      {"lut_uniform_for_ggx", "lut --kind ggx --estimator uniform", {"uniform"}},
+      {"lut_sheen_visibility_for_ggx", "lut --kind ggx --sheen-visibility neubelt", {"--sheen-visibility"}},
+      {"lut_samples_negative_zero", "lut --samples -0", {"--samples"}},
+      {"lut_samples_hex", "lut --samples 0x10p99", {"--samples"}},
+      {"lut_samples_empty", "lut --samples ''", {"--samples"}},
+      {"lut_size_missing_value", "lut --size", {"size"}},
+      {"bake_cube_size_5000", "bake --cube-size 5000", {"--cube-size", "1..2048"}},
+      {"bake_min_size_above_cube_size", "bake --cube-size 16 --min-size 64", {"--min-size", "--cube-size"}},
+      {"bake_sh_4", "bake --sh 4", {"--sh"}},
+      {"bake_json_without_dry_run", "bake --json", {"--json", "--dry-run"}},
+      {"bake_pixel_f8", "bake --pixel f8", {"--pixel"}},
+      {"prefilter_size_5000", "prefilter --size 5000", {"--size", "1..2048"}},
+      {"prefilter_samples_65537", "prefilter --estimator sampling --samples 65537", {"--samples", "65536"}},
+      {"prefilter_samples_with_quadrature", "prefilter --samples 64", {"--samples", "--estimator sampling"}},
+      {"prefilter_min_size_above_size", "prefilter --size 16 --min-size 32", {"--min-size", "--size"}},
+      {"prefilter_refinement_1", "prefilter --refinement 1", {"--refinement", "1.5..64"}},
+      {"prefilter_clamp_zero", "prefilter --clamp 0", {"--clamp", "greater than 0"}},
+      {"prefilter_layout_for_container", "prefilter --layout cross --size 8 --min-size 4 -o {d}/p.ktx2", {"--layout"}},
+      {"prefilter_stdout", "prefilter --size 8 -o -", {"--format csv"}},
+      {"irradiance_cube_5000", "irradiance --cube 5000 -o x.ktx2", {"--cube", "1..1024"}},
+      {"irradiance_source_size_99999", "irradiance --source-size 99999", {"--source-size", "1..2048"}},
+      {"irradiance_sh_4", "irradiance --sh 4", {"--sh", "3 or 5"}},
+      {"irradiance_cube_for_json", "irradiance --cube 8 -o x.json", {"--cube", ".json"}},
+      {"fresnel_size_1e9", "fresnel --model schlick --f0 0.04 --size 1e9", {"--size", "16777216"}},
+      {"fresnel_2d_too_many_cells", "fresnel --model schlick --table 2d --size 8192 --height 8192", {"cells"}},
+      {"fresnel_ior_1e999", "fresnel --model dielectric --ior 1e999", {"--ior"}},
+      {"fresnel_f0_three_values_of_four", "fresnel --model schlick --f0 1,2,3,4", {"--f0"}},
+      {"thin_film_size_1e6", "thin-film --base-ior 1.5 --size 1e6", {"--size", "1..8192"}},
+      {"thin_film_thickness_negative", "thin-film --base-ior 1.5 --thickness-min -5", {"--thickness-min", "0..100000"}},
+      {"thin_film_both_bases", "thin-film --base-ior 1.5 --base-f0 0.5", {"--base-ior", "--base-f0"}},
+      {"tabulate_res_100000", "tabulate --material {d}/m.json --layout grid --res 100000", {"--res", "1..4096"}},
+      {"tabulate_res_four_values", "tabulate --material {d}/m.json --layout grid --res 1,2,3,4", {"--res"}},
+      {"tabulate_res_for_merl", "tabulate --material {d}/m.json --layout merl --res 8", {"--res", "merl"}},
+      {"tabulate_phi_d_for_grid", "tabulate --material {d}/m.json --layout grid --phi-d 1", {"--phi-d"}},
+      {"tabulate_layout_missing", "tabulate --material {d}/m.json", {"--layout"}},
+      {"tabulate_grid_too_many_cells", "tabulate --material {d}/m.json --layout grid --res 4096", {"cells"}},
+      {"eval_format_given", "eval --material {d}/m.json -i {d}/p.csv --format csv", {"format"}},
+      {"eval_model_unknown", "eval --material {d}/m.json -i {d}/p.csv --model magic", {"--model"}},
+  };
+  for (const K& k : ks) {
+    R row(k.name, std::string(k.args) + " -o {d}/out.exr", 2);
+    // a command with its own -o keeps it (the first -o wins in cxxopts? no: refuse two): give none
+    if (std::string(k.args).find(" -o ") != std::string::npos) row.r.args = k.args;
+    for (const auto& w : k.words) row.says(w);
+    row.file("m.json", kMaterials).file("p.csv", kPairs).no("out.exr");
+    rows.push_back(row);
+  }
+  rows.push_back(R("fresnel_list_materials_with_size", "fresnel --list-materials --size 8", 2).says("--size"));
+  rows.push_back(R("unknown_command", "bakery", 2).says("unknown command"));
+  rows.push_back(R("no_command", "", 2).says("usage").lines(20));
+  rows.push_back(R("stray_argument", "lut --size 8 stray -o {d}/t.exr", 2).says("stray").no("t.exr"));
+  rows.push_back(R("devices_unknown_option", "devices --bogus", 2).says("bogus"));
+  rows.push_back(R("kinds_unknown_option", "kinds --bogus", 2).says("bogus"));
+  rows.push_back(R("run_without_job", "run", 2).says("missing the job file"));
+  rows.push_back(R("run_without_output", "run {d}/job.json", 2).file("job.json", job(kLut)).says("-o DIR"));
+  rows.push_back(R("device_unknown", "lut --size 4 --device no-such-device -o {d}/t.exr", 2).says("no-such-device").no("t.exr"));
+  rows.push_back(R("device_index_unknown", "lut --size 4 --device 9:9 -o {d}/t.exr", 2).says("9:9").no("t.exr"));
+  rows.push_back(R("precision_fp16", "lut --size 4 --precision fp16 -o {d}/t.exr", 2).says("fp16").no("t.exr"));
+}
+
+// -- Class 6: misleading messages: folders, missing and unreadable files, malformed ones.
+void messages(std::vector<Row>& rows) {
+  rows.push_back(R("job_is_a_folder", "run {d}/dir -o {d}/out", 2).file("dir/x", "").says("it is a folder").no("out"));
+  rows.push_back(R("job_missing", "run {d}/none.json -o {d}/out", 2).says("no such file").no("out"));
+  rows.push_back(R("scene_is_a_folder", "bake --scene {d}/dir --dry-run", 2).file("dir/x", "").says("it is a folder"));
+  rows.push_back(R("scene_glb_is_a_folder", "bake --scene {d}/dir.glb --dry-run", 2).file("dir.glb/x", "").says("it is a folder"));
+  rows.push_back(R("scene_missing", "bake --scene {d}/none.gltf --dry-run", 2).says("no such file"));
+  rows.push_back(R("material_is_a_folder", "eval --material {d}/dir -i {d}/p.csv -o {d}/f.csv", 2)
+                     .file("dir/x", "").file("p.csv", kPairs).says("it is a folder").no("f.csv"));
+  rows.push_back(R("material_missing", "tabulate --material {d}/none.json --layout grid -o {d}/t.exr", 2).says("no such file").no("t.exr"));
+  rows.push_back(R("eval_input_is_a_folder", "eval --material {d}/m.json -i {d}/dir -o {d}/f.csv", 2)
+                     .file("m.json", kMaterials).file("dir/x", "").says("it is a folder").no("f.csv"));
+  rows.push_back(R("eval_input_missing", "eval --material {d}/m.json -i {d}/none.csv -o {d}/f.csv", 2)
+                     .file("m.json", kMaterials).says("No such file").no("f.csv"));
+  rows.push_back(R("env_is_a_folder", "prefilter --env {d}/dir --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("dir/x", "").says("it is a folder").no("p.ktx2"));
+  rows.push_back(R("env_ktx2_is_a_folder", "prefilter --env {d}/dir.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("dir.ktx2/x", "").says("folder").no("p.ktx2"));
+  rows.push_back(R("env_missing", "irradiance --env {d}/none.hdr -o {d}/sh.json", 2).says("no such file").no("sh.json"));
+  rows.push_back(R("env_missing_in_bake", "bake --env {d}/none.hdr -o {d}/out --quiet", 2).says("no such file").no("out"));
+  rows.push_back(R("env_builtin_unknown", "prefilter --env builtin:moon --size 8 --min-size 4 -o {d}/p.ktx2", 2).says("builtin:moon").no("p.ktx2"));
+  rows.push_back(R("env_empty", "prefilter --env '' -o {d}/p.ktx2", 2).says("--env").no("p.ktx2"));
+  rows.push_back(R("env_five_faces", "prefilter --env a,b,c,d,e -o {d}/p.ktx2", 2).says("six files").no("p.ktx2"));
+  rows.push_back(R("env_face_pattern_missing", "prefilter --env {d}/f_{face}.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .says("f_px.hdr").no("p.ktx2"));
+  rows.push_back(R("env_faces_not_square", "prefilter --env {d}/f_{face}.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("f_px.hdr", rgbe(8, 4, 1)).file("f_nx.hdr", rgbe(8, 4, 1)).file("f_py.hdr", rgbe(8, 4, 1))
+                     .file("f_ny.hdr", rgbe(8, 4, 1)).file("f_pz.hdr", rgbe(8, 4, 1)).file("f_nz.hdr", rgbe(8, 4, 1))
+                     .says("square").no("p.ktx2"));
+  rows.push_back(R("env_faces_of_two_sizes", "prefilter --env {d}/f_{face}.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("f_px.hdr", rgbe(8, 8, 1)).file("f_nx.hdr", rgbe(4, 4, 1)).file("f_py.hdr", rgbe(8, 8, 1))
+                     .file("f_ny.hdr", rgbe(8, 8, 1)).file("f_pz.hdr", rgbe(8, 8, 1)).file("f_nz.hdr", rgbe(8, 8, 1))
+                     .says("f_nx.hdr").no("p.ktx2"));
+  rows.push_back(R("env_aspect_3_to_1", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", rgbe(24, 8, 1)).says("24x8").no("p.ktx2"));
+  rows.push_back(R("env_hdr_truncated", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", rgbe(16, 8, 1).substr(0, 100)).says("e.hdr").no("p.ktx2"));
+  rows.push_back(R("env_hdr_garbage", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", "this is not an image at all\n").says("e.hdr").no("p.ktx2"));
+  rows.push_back(R("env_empty_file", "prefilter --env {d}/e.exr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.exr", "").says("e.exr").no("p.ktx2"));
+  rows.push_back(R("env_unreadable", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", rgbe(16, 8, 1)).says("ermission denied").no("p.ktx2").root_skip());
+  std::string ktx = ktx2_cube(4, 1.0f);
+  rows.push_back(R("env_ktx2_truncated", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", ktx.substr(0, ktx.size() - 17)).says("KTX2").no("p.ktx2"));
+  rows.push_back(R("env_ktx2_bad_identifier", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", "KTX 11" + ktx.substr(6)).says("KTX2").no("p.ktx2"));
+  rows.push_back(R("env_ktx2_header_only", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", ktx.substr(0, 40)).says("KTX2").no("p.ktx2"));
+  {
+    std::string one_face = ktx;
+    one_face.replace(36, 4, le32(1));  // faceCount
+    rows.push_back(R("env_ktx2_face_count_1", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                       .file("e.ktx2", one_face).says("e.ktx2").no("p.ktx2"));
+    std::string format = ktx;
+    format.replace(12, 4, le32(37));  // vkFormat R8G8B8A8_UNORM
+    rows.push_back(R("env_ktx2_format_unsupported", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                       .file("e.ktx2", format).says("vkFormat").no("p.ktx2"));
+    std::string levels = ktx;
+    levels.replace(40, 4, le32(0xFFFFFFFFu));  // levelCount
+    rows.push_back(R("env_ktx2_level_count_huge", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                       .file("e.ktx2", levels).says("levelCount").no("p.ktx2"));
+  }
+  rows.push_back(R("scene_glb_truncated", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", glb(kScene).substr(0, 30)).says("GLB"));
+  rows.push_back(R("scene_glb_short", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", "glTF").says("truncated GLB"));
+  rows.push_back(R("scene_glb_version_1", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", glb(kScene, 0, 1)).says("version 1"));
+  rows.push_back(R("scene_glb_not_json", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", glb("not json")).says("malformed JSON"));
+  rows.push_back(R("scene_glb_bad_magic", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", "GLTF" + glb(kScene).substr(4)).says("not a binary glTF"));
+  {
+    std::string bin = glb(kScene);
+    bin += le32(64) + "BIN" + std::string(1, '\0') + std::string(8, '\0');  // a chunk promising 64 bytes, holding 8
+    bin.replace(8, 4, le32(static_cast<uint32_t>(bin.size())));
+    rows.push_back(R("scene_glb_bin_chunk_truncated", "bake --scene {d}/s.glb --dry-run", 2).file("s.glb", bin).says("truncated GLB"));
+  }
+  rows.push_back(R("scene_gltf_not_json", "bake --scene {d}/s.gltf --dry-run", 2).file("s.gltf", "{\"asset\": ").says("malformed JSON"));
+  rows.push_back(R("scene_gltf_empty", "bake --scene {d}/s.gltf --dry-run", 2).file("s.gltf", "").says("malformed JSON"));
+  rows.push_back(R("scene_unreadable", "bake --scene {d}/s.gltf --dry-run", 2).file("s.gltf", kScene).says("ermission denied").root_skip());
+  rows.push_back(R("job_unreadable", "run {d}/job.json -o {d}/out", 2).file("job.json", job(kLut)).says("ermission denied").root_skip());
+}
+
+// -- Class 7: outputs and faults: I/O failures exit 1, nothing partial, existing outputs kept,
+// stale temporaries removed, one run per folder.
+void outputs(std::vector<Row>& rows) {
+  // A path through a regular file cannot be written, even by root.
+  struct O { const char* name; std::string args; };
+  const std::vector<O> io = {
+      {"lut_through_a_file", "lut --size 4 -o {d}/plain/t.exr"},
+      {"fresnel_through_a_file", "fresnel --model schlick --f0 0.04 --size 4 -o {d}/plain/f.csv"},
+      {"thin_film_through_a_file", "thin-film --base-ior 1.5 --size 4 -o {d}/plain/t.exr"},
+      {"tabulate_merl_through_a_file", "tabulate --material {d}/m.json --layout merl -o {d}/plain/t.binary"},
+      {"tabulate_grid_through_a_file", "tabulate --material {d}/m.json --layout grid --res 4 -o {d}/plain/t.exr"},
+      {"eval_through_a_file", "eval --material {d}/m.json -i {d}/p.csv -o {d}/plain/f.csv"},
+      {"prefilter_folder_through_a_file", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/plain/dir/"},
+      {"prefilter_ktx2_through_a_file", "prefilter --env {d}/e.hdr --size 8 --min-size 4 -o {d}/plain/p.ktx2"},
+      {"irradiance_through_a_file", "irradiance --env {d}/e.hdr --source-size 8 -o {d}/plain/sh.json"},
+      {"run_through_a_file", "run {d}/job.json -o {d}/plain/out"},
+      {"bake_through_a_file", "bake --lut-size 4 --env {d}/e.hdr -o {d}/plain/out"},
+      {"run_output_is_a_file", "run {d}/job.json -o {d}/plain"},
+  };
+  for (const O& o : io)
+    rows.push_back(R(o.name, o.args + " --quiet", 1)
+                       .file("plain", "a file").file("m.json", kMaterials).file("p.csv", kPairs)
+                       .file("e.hdr", rgbe(16, 8, 1.0)).file("job.json", job(kLut))
+                       .says("cannot write").keeps("plain"));
+  rows.push_back(R("eval_stdout_full", "eval --material {d}/m.json -i {d}/p.csv -o - >/dev/full", 1)
+                     .file("m.json", kMaterials).file("p.csv", kPairs).says("cannot write 'standard output'"));
+  rows.push_back(R("lut_stdout_csv", "lut --size 2 --format csv -o - --quiet", 0).lines(0));
+  // A failure keeps what was there.
+  rows.push_back(R("failed_lut_keeps_old_file", "lut --size 0 -o {d}/t.exr", 2).file("t.exr", "old").keeps("t.exr").says("--size"));
+  rows.push_back(R("failed_run_keeps_old_folder", "run {d}/job.json -o {d}/out", 2)
+                     .file("out/manifest.json", "old").file("job.json", job(R"({"kind": "ggx", "size": -1})"))
+                     .keeps("out/manifest.json").says("tables[0].size"));
+  rows.push_back(R("irradiance_cube_failure_keeps_sh_json",
+                   "irradiance --env {d}/e.hdr --source-size 8 --cube 4 --sh-json {d}/sh.json -o {d}/plain/c.ktx2", 1)
+                     .file("plain", "a file").file("sh.json", "old").file("e.hdr", rgbe(16, 8, 1.0))
+                     .keeps("sh.json").says("cannot write"));
+  rows.push_back(R("run_nan_env_keeps_old_folder", "run {d}/job.json -o {d}/out", 2)
+                     .file("out/manifest.json", "old").file("e.ktx2", ktx2_cube(4, 1.0f, 1, NAN))
+                     .file("job.json", job(R"({"kind": "irradiance", "source_size": 8, "output": "sh.json"})", R"(, "environment": "e.ktx2")"))
+                     .keeps("out/manifest.json").says("NaN").no("out/sh.json"));
+  // Temporaries of killed runs are removed by the next run into that folder; a live process's stay.
+  rows.push_back(R("run_removes_stale_staging_folder", "run {d}/job.json -o {d}/out --quiet", 0)
+                     .file("job.json", job(kLut)).file(".out.tmp-{deadpid}-12345/t.exr", "partial")
+                     .no(".out.tmp-{deadpid}-12345").lines(0));
+  rows.push_back(R("run_keeps_live_staging_folder", "run {d}/job.json -o {d}/out --quiet", 0)
+                     .file("job.json", job(kLut)).file(".out.tmp-{livepid}-1/t.exr", "partial")
+                     .allow_tmp(".out.tmp-{livepid}-1").lines(0));
+  rows.push_back(R("lut_removes_stale_temporary_file", "lut --size 4 --quiet -o {d}/t.exr", 0)
+                     .file(".t.exr.tmp-{deadpid}-00ff00ff00ff00ff", "partial").no(".t.exr.tmp-{deadpid}-00ff00ff00ff00ff").lines(0));
+  rows.push_back(R("prefilter_removes_stale_folder", "prefilter --env {d}/e.hdr --size 8 --min-size 4 --quiet -o {d}/cube/", 0)
+                     .file("e.hdr", rgbe(16, 8, 1.0)).file(".cube.tmp-{deadpid}-7/level_0_px.exr", "partial")
+                     .no(".cube.tmp-{deadpid}-7").lines(0));
+  rows.push_back(R("bake_dry_run_touches_nothing", "bake --dry-run --json -o {d}/out", 0)
+                     .file(".out.tmp-{deadpid}-7/x", "partial").allow_tmp(".out.tmp-{deadpid}-7").lines(50));
+  // One run per folder: a second fails at once naming the first, or waits with --wait.
+  rows.push_back(R("run_into_locked_folder", "run {d}/job.json -o {d}/out --quiet", 1)
+                     .file("job.json", job(kLut)).lock("out").says("being written by another brdfbake run (pid").says("--wait").no("out"));
+  rows.push_back(R("bake_into_locked_folder", "bake --lut-size 4 -o {d}/out --quiet", 1)
+                     .lock("out").says("being written by").no("out"));
+  rows.push_back(R("prefilter_into_locked_folder", "prefilter --env {d}/e.hdr --size 8 --min-size 4 --quiet -o {d}/cube/", 1)
+                     .file("e.hdr", rgbe(16, 8, 1.0)).lock("cube").says("being written by").no("cube"));
+  rows.push_back(R("run_waits_for_locked_folder", "run {d}/job.json -o {d}/out --wait --quiet", 0)
+                     .file("job.json", job(kLut)).lock("out", 1500).has("out/manifest.json", "t.exr").lines(0));
+  rows.push_back(R("run_waits_and_says_so", "run {d}/job.json -o {d}/out --wait", 0)
+                     .file("job.json", job(kLut)).lock("out", 800).says("waiting for another brdfbake run").lines(5));
+  rows.push_back(R("lock_left_by_dead_process", "run {d}/job.json -o {d}/out --quiet", 0)
+                     .file("job.json", job(kLut)).file(".out.lock", "999999999\n").has("out/manifest.json", "t.exr").lines(0));
+  // Kinds this build is told to lack: exit 1 before anything is written.
+  rows.push_back(R("run_kind_not_available", "run {d}/job.json -o {d}/out", 1)
+                     .file("job.json", job(kLut)).env("BRDFBAKE_UNAVAILABLE_KINDS=ggx").says("not available").no("out"));
+}
+
+// -- Class 8: eval's input streams.
+void eval_streams(std::vector<Row>& rows) {
+  struct E { const char* name; std::string input; const char* words; int code; };
+  const std::string h = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n";
+  const std::vector<E> es = {
+      {"csv_empty", "", "empty input", 2},
+      {"csv_comments_only", "# nothing\n\n", "empty input", 2},
+      {"csv_no_header", "0,0,1,0,0,1\n", "expected the header", 2},
+      {"csv_wrong_header", "a,b,c,d,e,f\n", "expected the header", 2},
+      {"csv_five_fields", h + "0,0,1,0,0\n", "line 2", 2},
+      {"csv_seven_fields", h + "0,0,1,0,0,1,7\n", "line 2", 2},
+      {"csv_nan", h + "nan,0,1,0,0,1\n", "wi_x", 2},
+      {"csv_inf", h + "0,inf,1,0,0,1\n", "wi_y", 2},
+      {"csv_1e999", h + "0,0,1e999,0,0,1\n", "wi_z", 2},
+      {"csv_text", h + "0,0,1,x,0,1\n", "wo_x", 2},
+      {"csv_empty_field", h + "0,0,1,,0,1\n", "wo_x", 2},
+      {"csv_zero_wi", h + "0,0,0,0,0,1\n", "wi is the zero vector", 2},
+      {"csv_zero_wo", h + "0,0,1,0,0,0\n", "wo is the zero vector", 2},
+      {"csv_long_line", h + repeat("1", 100000) + "\n", "line 2", 2},
+      {"csv_nul_bytes", h + std::string("0,0,1,0\0,0,1\n", 13), "line 2", 2},
+      {"csv_crlf", "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\r\n0,0,1,0,0,1\r\n", "", 0},
+      {"csv_header_only", h, "", 0},
+      {"csv_below_horizon", h + "0,0,-1,0,0,1\n", "", 0},
+  };
+  for (const E& e : es) {
+    R row(std::string("eval_") + e.name, "eval --material {d}/m.json -i - -o {d}/f.csv --quiet", e.code);
+    row.file("m.json", kMaterials).stdin_(e.input);
+    if (e.code) row.says(e.words).no("f.csv");
+    else row.has("f.csv", "r,g,b").lines(0);
+    rows.push_back(row);
+  }
+  struct B { const char* name; std::string input; const char* words; int code; };
+  const std::vector<B> bs = {
+      {"binary_empty", "", "", 0},
+      {"binary_25_bytes", floats({0, 0, 1, 0, 0, 1}) + "x", "not a whole number of pairs", 2},
+      {"binary_nan", floats({NAN, 0, 1, 0, 0, 1}), "pair 0", 2},
+      {"binary_inf", floats({0, 0, 1, 0, INFINITY, 1}), "wo", 2},
+      {"binary_zero", floats({0, 0, 0, 0, 0, 1}), "wi", 2},
+      {"binary_one_pair", floats({0, 0, 1, 0, 0, 1}), "", 0},
+  };
+  for (const B& b : bs) {
+    R row(std::string("eval_") + b.name, "eval --material {d}/m.json --binary -i {d}/p.f32 -o {d}/f.f32 --quiet", b.code);
+    row.file("m.json", kMaterials).file("p.f32", b.input);
+    if (b.code) row.says(b.words).no("f.f32");
+    else row.lines(0);
+    rows.push_back(row);
+  }
+  rows.push_back(R("eval_stdin_binary_truncated", "eval --material {d}/m.json --binary -i - -o - --quiet", 2)
+                     .file("m.json", kMaterials).stdin_(std::string(7, '\1')).says("not a whole number"));
+  rows.push_back(R("eval_in_job_bad_input", "run {d}/job.json -o {d}/out --quiet", 2)
+                     .file("m.json", kMaterials).file("p.csv", "wi_x\n")
+                     .file("job.json", job(R"({"kind": "eval", "material": "m.json", "input": "p.csv", "output": "f.csv"})"))
+                     .says("expected the header").no("out"));
+}
+
+// -- Class 9: device limits and faults, through the test switch BRDFBAKE_DEVICE_LIMITS.
+void device_limits(std::vector<Row>& rows) {
+  rows.push_back(R("fp64_on_device_without_it", "lut --size 4 --precision fp64 -o {d}/t.exr", 2)
+                     .env("BRDFBAKE_DEVICE_LIMITS=fp64=0").says("no fp64 support").says("device '").no("t.exr"));
+  rows.push_back(R("fp64_on_device_without_it_before_env", "prefilter --env {d}/e.ktx2 --precision fp64 -o {d}/p.ktx2", 2)
+                     .file("e.ktx2", ktx2_cube(4, 1.0f, 1, NAN))  // the device is refused before the file is read
+                     .env("BRDFBAKE_DEVICE_LIMITS=fp64=0").says("no fp64 support").no("p.ktx2"));
+  rows.push_back(R("fp64_job_on_device_without_it", "run {d}/job.json -o {d}/out", 2)
+                     .file("job.json", job(kLut, R"(, "precision": "fp64")"))
+                     .env("BRDFBAKE_DEVICE_LIMITS=fp64=0").says("no fp64 support").no("out"));
+  rows.push_back(R("max_alloc_too_small", "lut --size 64 -o {d}/t.exr", 1)
+                     .env("BRDFBAKE_DEVICE_LIMITS=max_alloc=1024").says("CL_DEVICE_MAX_MEM_ALLOC_SIZE").no("t.exr"));
+  rows.push_back(R("global_memory_too_small", "prefilter --env {d}/e.hdr --size 64 --min-size 4 -o {d}/p.ktx2", 1)
+                     .file("e.hdr", rgbe(16, 8, 1.0))
+                     .env("BRDFBAKE_DEVICE_LIMITS=global_memory=65536").says("CL_DEVICE_GLOBAL_MEM_SIZE").no("p.ktx2"));
+  rows.push_back(R("work_group_too_small", "irradiance --env {d}/e.hdr --source-size 8 -o {d}/sh.json", 1)
+                     .file("e.hdr", rgbe(16, 8, 1.0))
+                     .env("BRDFBAKE_DEVICE_LIMITS=max_work_group_size=16").says("CL_KERNEL_WORK_GROUP_SIZE").no("sh.json"));
+  rows.push_back(R("no_device_at_all", "lut --size 4 -o {d}/t.exr", 1)
+                     .env("OCL_ICD_VENDORS=/nonexistent OCL_ICD_FILENAMES=/nonexistent").says("no OpenCL device").no("t.exr"));
+  rows.push_back(R("reference_prefilter_refused", "prefilter --env {d}/e.hdr --device reference --size 8 --min-size 4 -o {d}/p.ktx2", 2)
+                     .file("e.hdr", rgbe(16, 8, 1.0)).says("reference").no("p.ktx2"));
+}
+
+// -- Generated: every schema parameter, out of range, not finite and of the wrong type, on the
+// command line and in a job.
+struct Command {
+  const char* command;
+  TableKind kind;
+  std::vector<std::pair<std::string, std::string>> base;  // options the command needs (name, value)
+  std::string ext;                                         // the output's extension
+  std::vector<std::pair<std::string, std::string>> job;    // the table's other fields (name, JSON)
+};
+
+// Bad command-line values for a parameter: not finite, not a number, out of its range.
+std::vector<std::pair<std::string, std::string>> bad_cli_values(const ParamDef& d) {
+  std::vector<std::pair<std::string, std::string>> v;  // (label, value)
+  auto num = [](double x) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.17g", x);
+    return std::string(b);
+  };
+  switch (d.type) {
+    case ParamType::Int:
+    case ParamType::Number:
+      v = {{"inf", "1e999"}, {"text", "abc"}};
+      if (std::isfinite(d.hi)) v.push_back({"above", num(d.hi + 1)});
+      else if (std::isfinite(d.lo)) v.push_back({"below", d.lo_open ? num(d.lo) : num(d.lo - 1)});
+      else v.push_back({"nan", "nan"});
+      break;
+    case ParamType::Name:
+      if (!d.choices.empty()) v = {{"unknown", "no-such-choice"}};
+      break;
+    case ParamType::Color:
+      v = {{"two", "0.5,0.5"}, {"inf", "1e999,0,0"}};
+      break;
+    case ParamType::Range:
+      v = {{"reversed", "2,1"}};
+      break;
+    case ParamType::IntList:
+      v = {{"zero", "0"}, {"four", "1,2,3,4"}};
+      break;
+    default:
+      break;
+  }
+  return v;
+}
+
+// Bad JSON values for a parameter in a job: a number a double cannot hold, the wrong JSON type.
+std::vector<std::pair<std::string, std::string>> bad_job_values(const ParamDef& d) {
+  switch (d.type) {
+    case ParamType::Int:
+    case ParamType::Number:
+      return {{"inf", "1e999"}, {"text", "\"abc\""}};
+    case ParamType::Name:
+      return {{"number", "5"}};
+    case ParamType::Color:
+    case ParamType::Range:
+    case ParamType::IntList:
+      return {{"inf", "[1e999, 0, 0]"}, {"nested", "[[1]]"}};
+    case ParamType::Flag:
+      return {{"text", "\"yes\""}};
+    case ParamType::Path:
+      return {{"number", "5"}};
+  }
+  return {};
+}
+
+void generated(std::vector<Row>& rows) {
+  const std::vector<Command> commands = {
+      {"lut", TableKind::Ggx, {{"kind", "ggx"}}, ".exr", {}},
+      {"lut", TableKind::Charlie, {{"kind", "charlie"}}, ".exr", {}},
+      {"fresnel", TableKind::Fresnel, {{"model", "schlick"}}, ".exr", {{"model", "\"schlick\""}}},
+      {"thin-film", TableKind::ThinFilm, {{"base-ior", "1.5"}}, ".exr", {{"base_ior", "1.5"}}},
+      {"prefilter", TableKind::Prefilter, {{"env", "builtin:studio"}}, ".ktx2", {}},
+      {"irradiance", TableKind::Irradiance, {{"env", "builtin:studio"}}, ".json", {}},
+      {"eval", TableKind::Eval, {{"material", "{d}/m.json"}, {"input", "{d}/p.csv"}}, ".csv",
+       {{"material", "\"m.json\""}, {"input", "\"p.csv\""}}},
+      {"tabulate", TableKind::Tabulate, {{"material", "{d}/m.json"}, {"layout", "grid"}}, ".exr",
+       {{"material", "\"m.json\""}, {"layout", "\"grid\""}}},
+  };
+  for (const Command& c : commands) {
+    for (const ParamDef& d : brdfbake::table_schema(c.kind)) {
+      const std::string base_name = std::string(c.command) + "_" + brdfbake::table_kind_name(c.kind) + "_" + d.name;
+      // the command line and the job: what the command needs, without the parameter under test
+      std::string base, fields;
+      for (const auto& [option, value] : c.base)
+        if (option != d.cli_name()) base += " --" + option + " " + value;
+      for (const auto& [field, value] : c.job)
+        if (field != d.name) fields += ", \"" + field + "\": " + value;
+      for (const auto& [label, value] : bad_cli_values(d)) {
+        R row("cli_" + base_name + "_" + label,
+              std::string(c.command) + base + " --" + d.cli_name() + " '" + value + "' -o {d}/out" + c.ext, 2);
+        row.file("m.json", kMaterials).file("p.csv", kPairs).says("--" + d.cli_name()).says("must be").no("out" + c.ext);
+        rows.push_back(row);
+      }
+      for (const auto& [label, value] : bad_job_values(d)) {
+        const std::string table = R"({"kind": ")" + std::string(brdfbake::table_kind_name(c.kind)) + "\"" + fields +
+                                  R"(, ")" + d.name + "\": " + value + "}";
+        R row("job_" + base_name + "_" + label, "run {d}/job.json -o {d}/out", 2);
+        row.file("job.json", job(table)).file("m.json", kMaterials).file("p.csv", kPairs)
+            .says("tables[0]." + d.name).no("out");
+        rows.push_back(row);
+      }
+    }
+  }
+  // bake's plan options
+  for (const ParamDef& d : brdfbake::plan_schema())
+    for (const auto& [label, value] : bad_cli_values(d)) {
+      R row("cli_bake_" + d.name + "_" + label, "bake --" + d.cli_name() + " '" + value + "' -o {d}/out", 2);
+      row.says("--" + d.cli_name()).says("must be").no("out");
+      rows.push_back(row);
+    }
+}
+
+std::vector<Row> all_rows() {
+  std::vector<Row> rows;
+  deep_json(rows);
+  raw_exceptions(rows);
+  numeric_outputs(rows);
+  memory_before_validation(rows);
+  knobs(rows);
+  messages(rows);
+  outputs(rows);
+  eval_streams(rows);
+  device_limits(rows);
+  generated(rows);
+  return rows;
+}
+
+// ---- Running a row ----------------------------------------------------------------------------------
+
+// A pid that no process has (for the temporaries of a "killed" run).
+long dead_pid() {
+  static const long pid = [] {
+    for (long p = 4000000; p > 1000; --p)
+      if (::kill(static_cast<pid_t>(p), 0) != 0 && errno == ESRCH) return p;
+    return 0L;
+  }();
+  return pid;
+}
+
+std::string substitute(std::string s, const std::string& from, const std::string& to) {
+  for (size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  return s;
+}
+
+std::string expand(const std::string& s, const fs::path& dir) {
+  std::string out = substitute(s, "{d}", dir.string());
+  out = substitute(out, "{deadpid}", std::to_string(dead_pid()));
+  return substitute(out, "{livepid}", std::to_string(::getpid()));
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+constexpr int kRowSeconds = 120;
+
+struct RowRun {
+  int code = -1;
+  int signal = 0;
+  std::string err;
+};
+
+// The binary under test: $BRDFBAKE_CLI_UNDER_TEST (to run the table against another build), else
+// the one this suite was built with.
+std::string cli() {
+  const char* other = std::getenv("BRDFBAKE_CLI_UNDER_TEST");
+  return other && *other ? other : BRDFBAKE_CLI;
+}
+
+RowRun run_row(const Row& row, const fs::path& dir) {
+  const fs::path err = dir / ".stderr";
+  const fs::path in = dir / ".stdin";
+  std::ofstream(in, std::ios::binary) << row.input;
+  // Every row is bounded: a run that takes minutes is a failure of the row (exit 124 from timeout).
+  const std::string cmd = "cd " + dir.string() + " && " + row.env + (row.env.empty() ? "" : " ") +
+                          "timeout -k 5 " + std::to_string(kRowSeconds) + " " + cli() + " " +
+                          expand(row.args, dir) + " <" + in.string() + " 2>" + err.string() +
+                          (row.args.find(">/dev/full") == std::string::npos ? " >/dev/null" : "");
+  const int status = std::system(cmd.c_str());
+  RowRun r;
+  if (status != -1 && WIFEXITED(status)) {
+    r.code = WEXITSTATUS(status);
+    if (r.code > 128) r.signal = r.code - 128;  // the shell reports a killed child as 128 + signal
+  }
+  r.err = read_file(err);
+  fs::remove(err);
+  fs::remove(in);
+  return r;
+}
+
+class Hostile : public ::testing::TestWithParam<Row> {};
+
+// gtest prints a parameter that fails: the row's name and command, not its bytes.
+void PrintTo(const Row& row, std::ostream* out) { *out << row.name << ": brdfbake " << row.args; }
+
+TEST_P(Hostile, Row) {
+  const Row& row = GetParam();
+  if (!row.pending.empty()) GTEST_SKIP() << "expected to fail until " << row.pending;
+  if (row.as_root_skip && ::geteuid() == 0) GTEST_SKIP() << "root reads files whatever their permissions";
+  const fs::path dir = fs::temp_directory_path() / ("brdfbake-hostile-" + std::to_string(::getpid())) / row.name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const File& f : row.files) {
+    const fs::path p = dir / expand(f.name, dir);
+    fs::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << f.bytes;
+  }
+  if (row.as_root_skip)
+    for (const File& f : row.files) fs::permissions(dir / f.name, fs::perms::none);
+
+  std::optional<brdfbake::OutputLock> lock;
+  std::thread releaser;
+  if (!row.hold_lock.empty()) {
+    lock.emplace((dir / row.hold_lock).string(), false);
+    if (row.release_after_ms > 0)
+      releaser = std::thread([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(row.release_after_ms));
+        lock.reset();
+      });
+  }
+  const RowRun r = run_row(row, dir);
+  if (releaser.joinable()) releaser.join();
+  lock.reset();
+
+  const std::string what = row.name + ": brdfbake " + expand(row.args, dir) + "\n  stderr: " + r.err;
+  EXPECT_EQ(r.signal, 0) << what;
+  EXPECT_EQ(r.code, row.code) << what;
+  for (const auto& w : row.words) EXPECT_NE(r.err.find(expand(w, dir)), std::string::npos) << "missing '" << w << "' in " << what;
+  for (const char* never : {"json.exception", "terminate called", "Sanitizer", "runtime error:", "what():", "Assertion",
+                            "basic_string", "std::", "Segmentation", "core dumped"})
+    EXPECT_EQ(r.err.find(never), std::string::npos) << "'" << never << "' in " << what;
+  if (row.code != 0) {
+    EXPECT_FALSE(r.err.empty()) << what;
+    int lines = 0;
+    for (char c : r.err) lines += c == '\n';
+    EXPECT_LE(lines, row.max_lines) << what;
+    EXPECT_EQ(r.err.rfind("brdfbake", 0) == 0 || row.max_lines > 1, true) << what;
+  } else if (row.max_lines == 0) {
+    EXPECT_TRUE(r.err.empty()) << what;
+  }
+  for (const auto& a : row.absent) EXPECT_FALSE(fs::exists(dir / expand(a, dir))) << a << " exists after " << what;
+  for (const auto& k : row.kept) {
+    bool found = false;
+    for (const File& f : row.files)
+      if (f.name == k) {
+        found = true;
+        EXPECT_EQ(read_file(dir / k), f.bytes) << k << " changed by " << what;
+      }
+    EXPECT_TRUE(found) << k;
+  }
+  for (const auto& [f, text] : row.file_has)
+    EXPECT_NE(read_file(dir / f).find(text), std::string::npos) << f << " lacks '" << text << "' after " << what;
+  for (const auto& [f, text] : row.file_lacks)
+    EXPECT_EQ(read_file(dir / f).find(text), std::string::npos) << f << " holds '" << text << "' after " << what;
+  // Nothing half-written is left: no temporary and no lock file, save a live process's.
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::string rel = fs::relative(it->path(), dir).string();
+    bool allowed = false;
+    for (const auto& a : row.allowed_tmp) allowed |= rel.rfind(expand(a, dir), 0) == 0;
+    if (allowed) continue;
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "left behind: " << rel << " by " << what;
+    EXPECT_FALSE(name.size() > 5 && name.compare(name.size() - 5, 5, ".lock") == 0) << "left behind: " << rel << " by " << what;
+  }
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+// gtest names: letters, digits and '_' ("thin-film" becomes "thin_film").
+std::string row_name(const ::testing::TestParamInfo<Row>& info) {
+  std::string n = info.param.name;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, Hostile, ::testing::ValuesIn(all_rows()), row_name);
+
+// The table's size and the classes it covers (issue 17 asks for 200 rows at least).
+TEST(HostileTable, HasEveryClassAndAtLeast200Rows) {
+  const std::vector<Row> rows = all_rows();
+  EXPECT_GE(rows.size(), 200u);
+  std::vector<std::string> names;
+  for (const Row& r : rows) {
+    EXPECT_EQ(std::count(names.begin(), names.end(), r.name), 0) << "two rows named " << r.name;
+    names.push_back(r.name);
+  }
+  auto count = [&](const std::string& part) {
+    return std::count_if(rows.begin(), rows.end(), [&](const Row& r) { return r.name.find(part) != std::string::npos; });
+  };
+  for (const char* part : {"deep_", "1e999", "flt_max", "f16", "promises", "folder", "through_a_file", "locked", "stale",
+                           "eval_csv", "eval_binary", "fp64", "cli_", "job_", "bake_", "glb"})
+    EXPECT_GT(count(part), 0) << "no row for " << part;
+}
+
+}  // namespace
