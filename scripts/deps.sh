@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages brdfbake needs (those missing only), then configures and builds
-# Release in build/. Sourced by run.sh and test.sh.
+# Release in build/. Sourced by run.sh and test.sh. BRDFBAKE_WITH_CLANG=1 also installs clang 14 and
+# its sanitizer and libFuzzer runtimes (test.sh --sanitize); BRDFBAKE_DEPS_ONLY=1 stops after the
+# packages.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -13,6 +15,10 @@ BRDFBAKE_PACKAGES=(
   gnuplot-nox
 )
 
+# The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).
+BRDFBAKE_CLANG_PACKAGES=(clang-14 libclang-rt-14-dev)
+if [[ ${BRDFBAKE_WITH_CLANG:-0} == 1 ]]; then BRDFBAKE_PACKAGES+=("${BRDFBAKE_CLANG_PACKAGES[@]}"); fi
+
 missing=()
 for p in "${BRDFBAKE_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -24,6 +30,8 @@ if ((${#missing[@]})); then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
+
+if [[ ${BRDFBAKE_DEPS_ONLY:-0} == 1 ]]; then return 0 2>/dev/null || exit 0; fi
 
 BUILD_DIR=${BRDFBAKE_BUILD_DIR:-build}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >&2

@@ -1,7 +1,24 @@
 #!/usr/bin/env bash
 # Quick start, command 2: install what is needed, build, and run the whole test suite.
+#   scripts/test.sh             the Release build and every test (ctest); then, when clang 14 is
+#                               installed, each libFuzzer harness for a few seconds (scripts/fuzz.sh;
+#                               BRDFBAKE_FUZZ_SECONDS, default 5, 0 skips it)
+#   scripts/test.sh --sanitize  the same tests built with AddressSanitizer and UndefinedBehavior-
+#                               Sanitizer (CMakePresets.json "asan", in build-asan/; installs clang 14)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+case "${1:-}" in
+  "") ;;
+  --sanitize)
+    BRDFBAKE_WITH_CLANG=1 BRDFBAKE_DEPS_ONLY=1 source scripts/deps.sh
+    cmake --preset asan >&2
+    cmake --build --preset asan -j "$(nproc)" >&2
+    exec ctest --preset asan -j "$(nproc)" --timeout 1800 ;;
+  -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+  *) echo "scripts/test.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+esac
 source scripts/deps.sh
 cd "$BUILD_DIR"
 ctest --output-on-failure -j "$(nproc)" --timeout 600
+cd - >/dev/null
+scripts/fuzz.sh "${BRDFBAKE_FUZZ_SECONDS:-5}"

@@ -1,0 +1,33 @@
+// The job parser: parse_job (JSON limits, every field, the registry's validation of each table)
+// and, for a job it accepts, job_to_json read back again (the round trip must hold).
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "brdfbake/job.hpp"
+#include "fuzz.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace brdfbake;
+  static const bool in_empty_folder = [] {
+    // Tables name files (eval's and tabulate's materials) that validation opens: relative names
+    // resolve in an empty folder of our own.
+    const auto dir = std::filesystem::temp_directory_path() / ("brdfbake-fuzz-job-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    return ::chdir(dir.c_str()) == 0;
+  }();
+  (void)in_empty_folder;
+  const std::string text = fuzz::text(data, size);
+  // Devices and pipes would block or never end; the harness is about the parser.
+  if (text.find("/dev") != std::string::npos || text.find("/proc") != std::string::npos ||
+      text.find("/sys") != std::string::npos)
+    return 0;
+  fuzz::expect_answer([&] {
+    const Job job = parse_job(text, "fuzz.json");
+    const std::string again = job_to_json(job);
+    const Job back = parse_job(again, "round trip");
+    if (job_to_json(back) != again) std::abort();  // job_to_json is a fixed point of parse_job
+  });
+  return 0;
+}
