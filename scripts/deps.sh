@@ -9,7 +9,7 @@ BRDFBAKE_PACKAGES=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   libopenimageio-dev openimageio-tools
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev
   gnuplot-nox
 )
 
@@ -26,5 +26,6 @@ if ((${#missing[@]})); then
 fi
 
 BUILD_DIR=${BRDFBAKE_BUILD_DIR:-build}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >&2
+# The test command builds with warnings as errors (BRDFBAKE_WARNINGS_AS_ERRORS=ON from test.sh).
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBRDFBAKE_WARNINGS_AS_ERRORS="${BRDFBAKE_WARNINGS_AS_ERRORS:-OFF}" >&2
 cmake --build "$BUILD_DIR" -j "$(nproc)" >&2
