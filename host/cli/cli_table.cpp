@@ -222,14 +222,16 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     line.update(step.empty() ? title : title + ", " + step, fraction);
   });
   line.finish();
-  if (t.output == "-") {
-    const Table* table = result.table();
-    if (!table) throw UsageError("only a table can go to standard output");
-    write_table_csv(*table, std::cout);
-  } else {
-    write_result(result, t, t.output);
+  const WriteReport written = write_result(result, t, t.output);
+  std::string stored;
+  if (written.error_bound) {
+    char b[160];
+    std::snprintf(b, sizeof b, "; stored values within %.2g of converged (%s adds %.2g)", *written.error_bound,
+                  written.encoding.c_str(), written.storage_error);
+    stored = b;
   }
-  if (!quiet) std::fprintf(stderr, "%s: %s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str());
+  if (!quiet)
+    std::fprintf(stderr, "%s: %s%s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str(), stored.c_str());
   return 0;
 }
 

@@ -157,8 +157,21 @@ using BakeProgress = std::function<void(double fraction, const std::string& step
 // reference prefilter of a large cube, naming the limit).
 BakeResult bake_table(const TableRequest& request, Backend& backend, const BakeInputs& inputs = {},
                       const BakeProgress& progress = {});
-// Writes a result to `path` in the request's format, atomically (a failure leaves nothing).
-void write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
+// What writing a result stored. The bound a file records is on |stored value - converged value|:
+// the result's own bound (its integration) plus what the format's encoding adds, measured on the
+// values the file stores (docs/CONVENTIONS.md, "Error bounds").
+struct WriteReport {
+  std::optional<double> error_bound;  // delivered; empty where the family measures none
+  double storage_error = 0.0;         // what the encoding added (0 for float32 and exact text)
+  std::string encoding;               // e.g. "binary16 (round to nearest even)"
+  Metadata details;                   // e.g. png_scale, clamped values
+};
+
+// Writes a result to `path` in the request's format, atomically (a failure leaves nothing); "-"
+// writes a table as CSV to standard output. A value the format cannot hold is refused with a
+// message naming the option that fixes it (a 16-bit PNG outside [0, 1] unless png_range says
+// otherwise; binary16 beyond 65504; NaN or infinity anywhere).
+WriteReport write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
 
 // The eval kind streamed: pairs read from `input` ("-": standard input) and results written chunk by
 // chunk to `output` ("-": standard output; a file is written to a temporary and renamed at the end),

@@ -22,6 +22,11 @@ std::string runtime_formula(TableKind k) {
   }
 }
 
+std::vector<ParamDef> with_output_params(std::vector<ParamDef> s) {
+  add_table_output_params(s);
+  return s;
+}
+
 class DfgLutFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie}; }
@@ -37,7 +42,7 @@ class DfgLutFamily final : public Family {
   const std::vector<ParamDef>& schema(TableKind k) const override {
     static const LutSpec d;
     using T = ParamType;
-    static const std::vector<ParamDef> ggx = {
+    static const std::vector<ParamDef> ggx = with_output_params({
         ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)").range(1, kLutMaxSize).def(double(d.width)),
         ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"),
         ParamDef("samples", T::Int, "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
@@ -45,11 +50,12 @@ class DfgLutFamily final : public Family {
         ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
         ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
             .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
-    };
+    });
     static const std::vector<ParamDef> charlie = [] {
-      std::vector<ParamDef> s = ggx;
+      std::vector<ParamDef> s(ggx.begin(), ggx.end() - 2);  // before the output parameters
       s.push_back(ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
                       .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))));
+      add_table_output_params(s);
       return s;
     }();
     return k == TableKind::Charlie ? charlie : ggx;
@@ -100,7 +106,7 @@ class DfgLutFamily final : public Family {
     r.device_seconds = timing.device_seconds;
     r.summary = std::string(table_kind_name(t.kind)) + " " + std::to_string(table.width) + "x" +
                 std::to_string(table.height) + ", " + table.meta("estimator") + ", " + table.meta("samples") +
-                " samples, " + table.meta("precision") + ", error bound " +
+                " samples, " + table.meta("precision") + ", integration error bound " +
                 (r.error_bound ? fmt_number(*r.error_bound, "%.2g") : std::string("not measured")) + ", " +
                 fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") +
                 " s); runtime: " + runtime_formula(t.kind);
@@ -108,8 +114,8 @@ class DfgLutFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    return write_table_result(*r.table(), t, path, r.error_bound);
   }
 
  private:

@@ -306,11 +306,14 @@ class EvalFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     const EvalResult& e = *r.eval();
     std::string bytes;
     format_results(e.values.data(), e.values.size() / 3, t.flag("binary"), true, bytes);
     io::write_file_atomically(path, bytes);
+    WriteReport w;
+    w.encoding = t.flag("binary") ? "float32" : "decimal text, 9 significant digits";
+    return w;
   }
 };
 

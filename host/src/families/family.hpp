@@ -60,7 +60,7 @@ class Family {
 
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;
-  virtual void write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+  virtual WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
 };
 
 // The family that bakes `kind`.
@@ -91,7 +91,11 @@ Rgb rgb_of(const ParamValue& v);
 std::string name_part(const ParamValue& v);
 // The formats every 2-D table family writes.
 OutputFormats table_formats();
-// Writes a Table result with the request's format and pixel type.
-void write_table_result(const Table& table, const TableRequest& t, const std::string& path);
+// The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
+void add_table_output_params(std::vector<ParamDef>& schema);
+// Writes a Table result with the request's format and pixel type; `bound` is the table's own
+// (integration) bound, to which the storage error is added.
+WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
+                               std::optional<double> bound);
 
 }  // namespace brdfbake::detail

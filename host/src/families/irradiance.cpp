@@ -109,11 +109,13 @@ class IrradianceFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     const IrradianceResult& res = *r.irradiance();
+    WriteReport w;
     if (is_json(t)) {
       write_sh_json(res.sh, sh_metadata(r), path);
-      return;
+      w.encoding = "decimal text (JSON)";
+      return w;
     }
     // The cube and, with sh_json, the coefficients: the JSON is staged first and renamed only once
     // the cube is written, so a failure leaves an existing JSON file as it was.
@@ -126,6 +128,7 @@ class IrradianceFamily final : public Family {
     at.output = path;
     write_cubemap(res.cube, path, cube_format_of(at), cube_write_options_of(at, "irradiance"));
     if (json) json->commit();
+    return w;
   }
 };
 

@@ -157,10 +157,13 @@ class PrefilterFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     TableRequest at = t;
     at.output = path;
     write_cubemap(*r.cube(), path, cube_format_of(at), cube_write_options_of(at, "level"));
+    WriteReport w;
+    w.error_bound = r.error_bound;
+    return w;
   }
 
  private:

@@ -5,10 +5,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
+#include "io/storage.hpp"
 
 namespace brdfbake {
 
@@ -73,11 +76,98 @@ OutputFormats table_formats() {
   return {{".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"}, "a table format (.exr .png .hdr .ktx2 .csv .h)"};
 }
 
-void write_table_result(const Table& table, const TableRequest& t, const std::string& path) {
+void add_table_output_params(std::vector<ParamDef>& s) {
+  s.push_back(ParamDef("symbol", ParamType::Name, "C identifier of the array in a .h output").output());
+  s.push_back(ParamDef("png_range", ParamType::Name,
+                       "16-bit .png holds [0, 1]: refuse other values, scale each channel by its largest value "
+                       "(recorded as png_scale), or clamp them (recorded)")
+                  .one_of({"refuse", "scale", "clamp"})
+                  .def(std::string("refuse"))
+                  .output());
+}
+
+namespace {
+
+// A bound as text, rounded up to three significant digits: the recorded text is never below it.
+std::string bound_text(double v) {
+  if (!(v > 0) || !std::isfinite(v)) return fmt_number(v, "%.3g");
+  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
+  return fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
+}
+
+std::string count_text(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
+
+}  // namespace
+
+WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
+                               std::optional<double> bound) {
+  const TableFormat format = path == "-" && t.format.empty() ? TableFormat::Csv : table_output_format(t);
+  const PixelType pixel = pixel_of(t);
+  Table out = table;
+  io::StorageReport s = io::measure_storage(out, format, pixel);
+  WriteReport w;
+  if (format == TableFormat::Png && s.out_of_range > 0) {
+    const std::string policy = t.text("png_range", "refuse");
+    if (policy == "refuse")
+      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " outside [0, 1] (largest " +
+                  fmt_number(s.largest, "%.4g") +
+                  "), which a 16-bit PNG cannot hold: write .exr or .ktx2, or give png_range scale (or clamp)");
+    if (policy == "scale") {
+      // Each channel divided by its largest value (at least 1): stored = value / scale.
+      const size_t channels = out.channels.size();
+      std::vector<double> scale(channels, 1.0);
+      for (size_t k = 0; k < out.data.size(); ++k)
+        scale[k % channels] = std::max(scale[k % channels], std::fabs(double(out.data[k])));
+      std::string text;
+      for (size_t c = 0; c < channels; ++c) text += (c ? "," : "") + fmt_number(scale[c], "%.9g");
+      for (size_t k = 0; k < out.data.size(); ++k) out.data[k] = float(double(out.data[k]) / scale[k % channels]);
+      out.set_meta("png_scale", text);
+      out.set_meta("png_scale_definition", "value = stored * png_scale (per channel, in the order of channels)");
+      w.details.push_back({"png_scale", text});
+      const io::StorageReport scaled = io::measure_storage(out, format, pixel);
+      // the scaled error, back in the table's units
+      double worst = 0.0;
+      for (double k : scale) worst = std::max(worst, k);
+      s.max_error = scaled.max_error * worst;
+      s.out_of_range = scaled.out_of_range;
+    } else {
+      out.set_meta("png_clamped", count_text(s.out_of_range, "value") + " clamped to [0, 1], the largest " +
+                                      fmt_number(s.largest, "%.6g"));
+      w.details.push_back({"png_clamped", std::to_string(s.out_of_range)});
+      s.out_of_range = 0;  // asked for: the error is measured (it includes the clamping)
+    }
+  }
+  if (s.out_of_range > 0) {
+    if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
+      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
+                  fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+    throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " the format cannot hold (largest |value| " +
+                fmt_number(s.largest, "%.6g") + "): no NaN or infinity is written");
+  }
+  w.storage_error = s.max_error;
+  w.encoding = s.encoding;
+  if (bound) {
+    w.error_bound = *bound + s.max_error;
+    out.set_meta("integration_error_bound", bound_text(*bound));
+    const std::string definition = out.meta("error_bound_definition");
+    if (!definition.empty()) out.set_meta("integration_error_bound_definition", definition);
+    out.set_meta("storage_error", bound_text(s.max_error));
+    out.set_meta("storage_encoding", s.encoding);
+    out.set_meta("error_bound", bound_text(*w.error_bound));
+    out.set_meta("error_bound_definition",
+                 "bound on |stored value - converged value| (abs below 1, relative above) of every value this "
+                 "file stores: integration_error_bound plus storage_error, the encoding's error measured on the "
+                 "stored values");
+  }
+  if (path == "-") {
+    write_table_csv(out, std::cout);
+    return w;
+  }
   TableWriteOptions o;
-  o.pixel = pixel_of(t);
+  o.pixel = pixel;
   o.symbol = t.text("symbol");
-  write_table(table, path, table_output_format(t), o);
+  write_table(out, path, format, o);
+  return w;
 }
 
 void Family::check_output(const TableRequest& t, const FieldName&) const {
@@ -329,10 +419,12 @@ BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs&
   return r;
 }
 
-void write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
+WriteReport write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
+  if (path == "-") return family_of(t.kind).write(r, t, path);
   io::ParentFolders parents(path);
-  family_of(t.kind).write(r, t, path);
+  WriteReport w = family_of(t.kind).write(r, t, path);
   parents.keep();
+  return w;
 }
 
 }  // namespace brdfbake

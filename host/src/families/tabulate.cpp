@@ -26,7 +26,8 @@ class TabulateFamily final : public Family {
 
   const std::vector<ParamDef>& schema(TableKind) const override {
     using T = ParamType;
-    static const std::vector<ParamDef> s = {
+    static const std::vector<ParamDef> s = [] {
+      std::vector<ParamDef> v = {
         ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(),
         ParamDef("name", T::Name,
                  "the material to use (albedo: default every material; the others: needed when the file holds several)"),
@@ -39,8 +40,10 @@ class TabulateFamily final : public Family {
             .range(1, 4096),
         ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"),
         ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
-        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
-    };
+      };
+      add_table_output_params(v);
+      return v;
+    }();
     return s;
   }
 
@@ -93,9 +96,14 @@ class TabulateFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    if (const MerlTable* m = r.merl()) write_merl(*m, path);
-    else write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    if (const MerlTable* m = r.merl()) {
+      write_merl(*m, path);
+      WriteReport w;
+      w.encoding = "float64 (MERL binary)";
+      return w;
+    }
+    return write_table_result(*r.table(), t, path, r.error_bound);
   }
 
  private:

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "brdfbake/job.hpp"
+#include "families/family.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
 
@@ -142,7 +143,7 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
     for (size_t k = 0; k < groups[g].size(); ++k) {
       const TableRequest& o = job.tables[groups[g][k]];
       const TableRequest s = staged(o, staging.path());
-      write_result(r, s, s.output);
+      const WriteReport written = write_result(r, s, s.output);
       ManifestFile f;
       f.path = fs::path(o.output).lexically_normal().string();
       f.kind = o.kind;
@@ -158,9 +159,18 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
       f.precision = backend.result_precision(o.precision);
       f.device = r.device;
       if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
-      f.error_bound = r.error_bound;
+      f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
       f.error_bound_definition = r.error_bound_definition;
       f.details = r.details;
+      if (written.error_bound && r.error_bound) {
+        f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
+                                   "storage error measured on the stored values";
+        f.details.push_back({"integration_error_bound", detail::fmt_number(*r.error_bound, "%.3g")});
+        f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
+        f.details.push_back({"storage_error", detail::fmt_number(written.storage_error, "%.3g")});
+        f.details.push_back({"storage_encoding", written.encoding});
+      }
+      for (const auto& d : written.details) f.details.push_back(d);
       f.requested_by = o.requested_by;
       f.materials = o.materials();
       f.bytes = bytes_of(s.output);

@@ -1,0 +1,186 @@
+// The error a file records is the error of the values it stores: each lossy format is written,
+// read back with an independent reader (OpenImageIO for images, our KTX2 reader, the text of .h and
+// .csv files), and the stored values are compared with the converged reference at the same cells.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "brdfbake/tables.hpp"
+#include "io/half.hpp"
+#include "io/ktx2.hpp"
+#include "support/device_fixture.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace brdfbake;
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("brdfbake-delivered-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The stored values of a file, texel-major with `channels` values a texel, read independently.
+std::vector<float> read_back(const fs::path& p, int channels) {
+  const std::string ext = p.extension().string();
+  std::vector<float> v;
+  if (ext == ".ktx2") {
+    const io::Ktx2Image k = io::read_ktx2(p.string());
+    const bool half = k.vk_format == io::kVkFormatR16G16B16A16Sfloat;
+    const std::vector<uint8_t>& bytes = k.level_data.front();
+    const size_t texels = bytes.size() / (half ? 8 : 16);
+    for (size_t t = 0; t < texels; ++t)
+      for (int c = 0; c < channels; ++c) {
+        if (half) {
+          uint16_t bits;
+          std::memcpy(&bits, bytes.data() + (t * 4 + size_t(c)) * 2, 2);
+          v.push_back(io::half_bits_to_float(bits));
+        } else {
+          float f;
+          std::memcpy(&f, bytes.data() + (t * 4 + size_t(c)) * 4, 4);
+          v.push_back(f);
+        }
+      }
+    return v;
+  }
+  if (ext == ".h") {
+    // the array's initialiser: 0x.... half bit patterns
+    const std::string text = read_file(p);
+    const std::regex hex("0x([0-9a-f]{4})");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), hex); it != std::sregex_iterator(); ++it)
+      v.push_back(io::half_bits_to_float(static_cast<uint16_t>(std::stoul((*it)[1].str(), nullptr, 16))));
+    return v;
+  }
+  auto in = OIIO::ImageInput::open(p.string());
+  if (!in) return v;
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> all(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data());
+  in->close();
+  for (size_t t = 0; t < size_t(spec.width) * size_t(spec.height); ++t)
+    for (int c = 0; c < channels; ++c) v.push_back(all[t * size_t(spec.nchannels) + size_t(c)]);
+  return v;
+}
+
+double recorded_bound(const fs::path& p) {
+  std::string text = p.extension() == ".hdr" ? read_file(p.string() + ".json") : read_file(p);
+  const std::regex key(R"(error_bound[^_a-z][^0-9]*([0-9.eE+-]+))");
+  std::smatch m;
+  if (!std::regex_search(text, m, key)) return -1.0;
+  return std::stod(m[1].str());
+}
+
+TEST(DeliveredError, RecordedBoundCoversTheStoredValues) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const fs::path dir = temp_dir();
+  auto device = Backend::open(*dev);
+  auto reference = Backend::open("reference");
+  for (TableKind kind : {TableKind::Ggx, TableKind::Charlie}) {
+    TableRequest t;
+    t.kind = kind;
+    t.params = {{"size", 16.0}};
+    validate_table(t);
+    const BakeResult baked = bake_table(t, *device);
+    const BakeResult converged = bake_table(t, *reference);
+    const Table& ref = *converged.table();
+    const int channels = ref.channel_count();
+    for (const std::string file : {"t.ktx2", "t.h", "t.hdr", "t.exr", "t.png"}) {
+      if (file == "t.png" && kind == TableKind::Ggx) continue;  // refused: the diffuse channel exceeds 1
+      TableRequest o = t;
+      o.output = (dir / file).string();
+      if (file == "t.png") o.set("png_range", std::string("scale"));  // Charlie's albedo exceeds 1 too
+      const WriteReport w = write_result(baked, o, o.output);
+      ASSERT_TRUE(w.error_bound.has_value()) << file;
+      const std::vector<float> stored = read_back(dir / file, channels);
+      ASSERT_EQ(stored.size(), ref.data.size()) << file;
+      std::vector<double> png_scale(size_t(channels), 1.0);
+      if (file == "t.png") {
+        // the file records its scale; the stored value times it is the table's value
+        const std::string text = read_file(dir / file);
+        const auto at = text.find("png_scale");
+        ASSERT_NE(at, std::string::npos);
+        std::stringstream s(text.substr(at + 10, 80));
+        for (int c = 0; c < channels; ++c) {
+          s >> png_scale[size_t(c)];
+          s.ignore(1);
+        }
+      }
+      double worst = 0.0;
+      for (size_t k = 0; k < stored.size(); ++k) {
+        const double value = double(stored[k]) * png_scale[k % size_t(channels)];
+        worst = std::max(worst, std::fabs(value - double(ref.data[k])) / std::max(1.0, std::fabs(double(ref.data[k]))));
+      }
+      const double recorded = recorded_bound(dir / file);
+      // The reference itself is converged to 1e-9 and stored as float32 (6e-8 relative).
+      constexpr double kReferenceStorage = 1.2e-7;
+      EXPECT_GE(recorded + kReferenceStorage, worst) << table_kind_name(kind) << " " << file;
+      EXPECT_GE(*w.error_bound + kReferenceStorage, worst) << table_kind_name(kind) << " " << file;
+      // and the bound is not vacuous: within a factor of the storage error plus the integration bound
+      EXPECT_LE(recorded, 3.0 * (worst + *baked.error_bound) + 1e-6) << table_kind_name(kind) << " " << file;
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(DeliveredError, ValuesAFormatCannotHoldAreRefused) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const fs::path dir = temp_dir() / "refused";
+  fs::create_directories(dir);
+  TableRequest t;
+  t.kind = TableKind::Ggx;
+  t.params = {{"size", 8.0}};
+  validate_table(t);
+  const BakeResult baked = bake_table(t, *Backend::open(*dev));
+  TableRequest png = t;
+  png.output = (dir / "t.png").string();
+  try {
+    write_result(baked, png, png.output);
+    ADD_FAILURE() << "a diffuse channel above 1 went into a 16-bit PNG";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("outside [0, 1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("png_range"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "t.png"));
+  // clamping is an explicit choice, and recorded
+  png.set("png_range", std::string("clamp"));
+  const WriteReport w = write_result(baked, png, png.output);
+  EXPECT_GT(w.storage_error, 0.1) << "the clamping is part of the measured storage error";
+  EXPECT_NE(read_file(dir / "t.png").find("png_clamped"), std::string::npos);
+  // binary16 beyond 65504
+  BakeResult big = baked;
+  std::get<Table>(big.artifact).data[0] = 1e5f;
+  TableRequest ktx = t;
+  ktx.output = (dir / "t.ktx2").string();
+  try {
+    write_result(big, ktx, ktx.output);
+    ADD_FAILURE() << "1e5 written as binary16";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--pixel f32"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "t.ktx2"));
+  // non-finite values are never written, whatever the format
+  std::get<Table>(big.artifact).data[0] = std::nanf("");
+  TableRequest exr = t;
+  exr.output = (dir / "t.exr").string();
+  EXPECT_THROW(write_result(big, exr, exr.output), Error);
+  EXPECT_FALSE(fs::exists(dir / "t.exr"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
