@@ -127,11 +127,18 @@ Table make_table(const LutSpec& s) {
   std::string channels;
   for (const auto& c : t.channels) channels += (channels.empty() ? "" : ",") + c;
   t.set_meta("channels", channels);
-  t.set_meta("x_axis", "n_dot_v = (i + 0.5) / width, the cell centre of column i");
-  t.set_meta("y_axis", std::string(s.kind == LutKind::Charlie ? "sheen_roughness" : "roughness") +
-                           " = (j + 0.5) / height, perceptual, the cell centre of row j; alpha = " +
-                           (s.kind == LutKind::Charlie ? "sheen_roughness^2" : "roughness^2"));
-  t.set_meta("layout", "row j = 0 (smallest roughness) stored first; sample at uv = (n_dot_v, roughness)");
+  const std::string rough = s.kind == LutKind::Charlie ? "sheen_roughness" : "roughness";
+  const bool sx = s.n_dot_v_axis == LutAxis::Sqrt, sy = s.roughness_axis == LutAxis::Sqrt;
+  t.set_meta("x_axis", std::string("n_dot_v = ") + (sx ? "((i + 0.5) / width)^2" : "(i + 0.5) / width") +
+                           ", at the cell centre of column i");
+  t.set_meta("y_axis", rough + " = " + (sy ? "((j + 0.5) / height)^2" : "(j + 0.5) / height") +
+                           ", perceptual, at the cell centre of row j; alpha = " + rough + "^2");
+  t.set_meta("n_dot_v_axis", lut_axis_name(s.n_dot_v_axis));
+  t.set_meta("roughness_axis", lut_axis_name(s.roughness_axis));
+  t.set_meta("layout", "row j = 0 (smallest roughness) stored first; sample at uv = (" +
+                           std::string(sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " + (sy ? "sqrt(" + rough + ")" : rough) + ")");
+  t.set_meta("lookup", std::string("uv = (") + (sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " +
+                           (sy ? "sqrt(" + rough + ")" : rough) + "), bilinear, clamp to edge");
   switch (s.kind) {
     case LutKind::Ggx:
       t.set_meta("definition",
@@ -196,6 +203,15 @@ SheenVisibility sheen_visibility_from_name(const std::string& n) {
   return from_name<SheenVisibility>(kVisibilities, n, "sheen visibility");
 }
 const char* sheen_visibility_name(SheenVisibility v) { return to_name(kVisibilities, v); }
+
+LutAxis lut_axis_from_name(const std::string& n) {
+  if (n == "uniform") return LutAxis::Uniform;
+  if (n == "sqrt") return LutAxis::Sqrt;
+  throw Error("unknown axis '" + n + "' (expected uniform or sqrt)");
+}
+const char* lut_axis_name(LutAxis a) { return a == LutAxis::Sqrt ? "sqrt" : "uniform"; }
+double lut_axis_uv(LutAxis a, double x) { return a == LutAxis::Sqrt ? std::sqrt(std::max(0.0, x)) : x; }
+double lut_axis_value(LutAxis a, double uv) { return a == LutAxis::Sqrt ? uv * uv : uv; }
 
 std::vector<std::string> lut_channels(LutKind kind) {
   switch (kind) {
@@ -262,8 +278,9 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
   if (!has_custom_points(s)) {
     s.n_dot_v.resize(static_cast<size_t>(s.width));
     s.roughness.resize(static_cast<size_t>(s.height));
-    for (int i = 0; i < s.width; ++i) s.n_dot_v[static_cast<size_t>(i)] = (i + 0.5) / s.width;
-    for (int j = 0; j < s.height; ++j) s.roughness[static_cast<size_t>(j)] = (j + 0.5) / s.height;
+    for (int i = 0; i < s.width; ++i) s.n_dot_v[static_cast<size_t>(i)] = lut_axis_value(s.n_dot_v_axis, (i + 0.5) / s.width);
+    for (int j = 0; j < s.height; ++j)
+      s.roughness[static_cast<size_t>(j)] = lut_axis_value(s.roughness_axis, (j + 0.5) / s.height);
   }
   return s;
 }

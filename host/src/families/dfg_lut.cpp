@@ -50,6 +50,8 @@ class DfgLutFamily final : public Family {
         ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
         ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
             .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
+        ParamDef("n_dot_v_axis", T::Name, "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
+            .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
     });
     static const std::vector<ParamDef> charlie = [] {
       std::vector<ParamDef> s(ggx.begin(), ggx.end() - 2);  // before the output parameters
@@ -79,6 +81,7 @@ class DfgLutFamily final : public Family {
     if (t.kind == TableKind::Charlie && t.text("sheen_visibility") != "estevez-kulla") stem += "_" + t.text("sheen_visibility");
     stem += "_" + fmt_number(t.number("size"), "%.0f");
     if (t.number("height") != t.number("size")) stem += "x" + fmt_number(t.number("height"), "%.0f");
+    if (t.text("n_dot_v_axis") == "sqrt") stem += "_sqrt_nv";
     return stem + (t.format.empty() ? ".exr" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override { return table_formats(); }
@@ -101,6 +104,34 @@ class DfgLutFamily final : public Family {
         r.details.push_back({"error_bound_measured_at", table.meta("error_bound_measured_at")});
       r.parameters.push_back({"samples", double(resolved.samples)});
     }
+    std::string interpolation;
+    // What a shader's bilinear lookup of this table misses between texel centres: the table looked
+    // up at the lines between centres (and at both edges) against the backend's own evaluation
+    // there; both are within the integration bound of the converged values.
+    {
+      const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
+      LutSpec probe = resolved;
+      probe.n_dot_v.clear();
+      probe.roughness.clear();
+      for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
+      for (double v : vs) probe.roughness.push_back(lut_axis_value(resolved.roughness_axis, v));
+      const Table truth = backend.lut(probe, nullptr, {});
+      const LookupError e = bilinear_lookup_error(table, us, vs, truth);
+      const double margin = 2.0 * r.error_bound.value_or(0.0);
+      const std::string interior = fmt_number(e.interior + margin, "%.3g"), edge = fmt_number(e.edge + margin, "%.3g");
+      r.details.push_back({"interpolation_error", interior});
+      r.details.push_back({"edge_error", edge});
+      table.set_meta("interpolation_error", interior);
+      table.set_meta("interpolation_error_definition",
+                     "max |bilinear lookup - converged value| (abs below 1, relative above) on the lines between "
+                     "texel centres: measured against the same estimator there, plus twice its integration bound");
+      table.set_meta("edge_error", edge);
+      table.set_meta("edge_error_definition",
+                     "the same within half a texel of the table's edges (n_dot_v or roughness near 0 or 1), where "
+                     "clamp to edge returns the outermost texel");
+      interpolation = ", bilinear lookup within " + fmt_number(e.interior + margin, "%.2g") + " (" +
+                      fmt_number(e.edge + margin, "%.2g") + " at the edges)";
+    }
     r.details.push_back({"channels", table.meta("channels")});
     r.details.push_back({"runtime", runtime_formula(t.kind)});
     r.device_seconds = timing.device_seconds;
@@ -109,7 +140,7 @@ class DfgLutFamily final : public Family {
                 " samples, " + table.meta("precision") + ", integration error bound " +
                 (r.error_bound ? fmt_number(*r.error_bound, "%.2g") : std::string("not measured")) + ", " +
                 fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") +
-                " s); runtime: " + runtime_formula(t.kind);
+                " s)" + interpolation + "; runtime: " + runtime_formula(t.kind);
     r.artifact = std::move(table);
     return r;
   }
@@ -128,6 +159,7 @@ class DfgLutFamily final : public Family {
     s.max_error = t.number("max_error", 0);
     s.estimator = estimator_from_name(t.text("estimator"));
     if (t.kind == TableKind::Charlie) s.sheen_visibility = sheen_visibility_from_name(t.text("sheen_visibility"));
+    s.n_dot_v_axis = lut_axis_from_name(t.text("n_dot_v_axis"));
     s.precision = t.precision;
     return s;
   }

@@ -89,6 +89,19 @@ PixelType pixel_of(const TableRequest& t);
 Rgb rgb_of(const ParamValue& v);
 // A value as part of a file name: "1.5", "0.9_0.6_0.2".
 std::string name_part(const ParamValue& v);
+// What a shader's bilinear lookup of `table` (texel i's centre at u = (i + 0.5) / width, clamp to
+// edge) misses, over probe points at lookup coordinates us x vs against `probe`, the table's quantity
+// evaluated there (probe.width = us.size(), probe.height = vs.size()); abs below 1, relative above.
+struct LookupError {
+  double interior = 0.0;  // between the outermost texel centres: the interpolation error
+  double edge = 0.0;      // within half a texel of an edge, where clamp to edge holds the outer texel
+};
+LookupError bilinear_lookup_error(const Table& table, const std::vector<double>& us, const std::vector<double>& vs,
+                                  const Table& probe);
+// The lookup coordinates where a table's lookup error is measured: the lines between texel centres
+// (i / n) and points closing in on both edges.
+std::vector<double> probe_coordinates(int n);
+
 // The formats every 2-D table family writes.
 OutputFormats table_formats();
 // The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.

@@ -2,6 +2,7 @@
 // every front end bakes and writes through. Nothing here knows a family's parameters: those live in
 // each family's descriptor (host/src/families/<family>.cpp).
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -70,6 +71,55 @@ std::string name_part(const ParamValue& v) {
   std::string s;
   for (double x : std::get<std::vector<double>>(v)) s += (s.empty() ? "" : "_") + fmt_number(x, "%.6g");
   return s;
+}
+
+std::vector<double> probe_coordinates(int n) {
+  // The lines between texel centres, i / n, and within half a texel of each edge (where clamp to
+  // edge holds the outermost texel and the tables change fastest) points that close in on it
+  // geometrically: 0.5 / n * 2^-k.
+  std::vector<double> u;
+  constexpr int kEdgePoints = 6;
+  u.push_back(0.0);
+  for (int k = kEdgePoints; k >= 1; --k) u.push_back(0.5 / n * std::ldexp(1.0, -k));
+  for (int i = 1; i < n; ++i) u.push_back(static_cast<double>(i) / n);
+  for (int k = 1; k <= kEdgePoints; ++k) u.push_back(1.0 - 0.5 / n * std::ldexp(1.0, -k));
+  u.push_back(1.0);
+  return u;
+}
+
+LookupError bilinear_lookup_error(const Table& t, const std::vector<double>& us, const std::vector<double>& vs,
+                                  const Table& probe) {
+  const int channels = t.channel_count();
+  // texel coordinate of a lookup: (u * n - 0.5), clamped to the first and last centres
+  auto split = [](double uv, int n, int* i0, double* f) {
+    const double x = std::clamp(uv * n - 0.5, 0.0, double(n - 1));
+    *i0 = std::min(static_cast<int>(x), std::max(n - 2, 0));
+    *f = n > 1 ? x - *i0 : 0.0;
+  };
+  // outside the outermost centres (within half a texel of an edge) clamp to edge holds the value
+  auto on_edge = [](double uv, int n) { return uv < 0.5 / n || uv > 1.0 - 0.5 / n; };
+  LookupError e;
+  for (size_t b = 0; b < vs.size(); ++b) {
+    int j0 = 0;
+    double fy = 0.0;
+    split(vs[b], t.height, &j0, &fy);
+    const int j1 = std::min(j0 + 1, t.height - 1);
+    for (size_t a = 0; a < us.size(); ++a) {
+      int i0 = 0;
+      double fx = 0.0;
+      split(us[a], t.width, &i0, &fx);
+      const int i1 = std::min(i0 + 1, t.width - 1);
+      const bool edge = on_edge(us[a], t.width) || (t.height > 1 && on_edge(vs[b], t.height));
+      for (int c = 0; c < channels; ++c) {
+        const double lookup = (1 - fy) * ((1 - fx) * double(t.at(i0, j0, c)) + fx * double(t.at(i1, j0, c))) +
+                              fy * ((1 - fx) * double(t.at(i0, j1, c)) + fx * double(t.at(i1, j1, c)));
+        const double truth = double(probe.at(static_cast<int>(a), static_cast<int>(b), c));
+        const double d = std::fabs(lookup - truth) / std::max(1.0, std::fabs(truth));
+        (edge ? e.edge : e.interior) = std::max(edge ? e.edge : e.interior, d);
+      }
+    }
+  }
+  return e;
 }
 
 OutputFormats table_formats() {
