@@ -692,6 +692,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
   std::vector<double> refinement(static_cast<size_t>(levels), s.refinement);
   std::vector<int> samples(static_cast<size_t>(levels), 0);
+  std::vector<double> measured(static_cast<size_t>(levels), 0.0);  // max_error: the last difference per level
   for (int l = 0; l < levels; ++l) {
     roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels);
     if (l > 0 && !quadrature) samples[size_t(l)] = s.samples > 0 ? s.samples : default_samples(l, levels);
@@ -790,7 +791,8 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         for (size_t k = 1; k < std::size(kSteps); ++k) {
           sec += run_level(l, 0, kSteps[k], b);
           refinement[size_t(l)] = kSteps[k];
-          const bool done = rms_difference(a, b) <= s.max_error;
+          measured[size_t(l)] = rms_difference(a, b);
+          const bool done = measured[size_t(l)] <= s.max_error;
           a.swap(b);
           if (done) break;
         }
@@ -803,7 +805,8 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         sec += run_level(l, n, 0.0, a);
         for (;;) {
           sec += run_level(l, 4 * n, 0.0, b);
-          if (rms_difference(a, b) <= s.max_error || 4 * n >= kSearchMax) {
+          measured[size_t(l)] = rms_difference(a, b);
+          if (measured[size_t(l)] <= s.max_error || 4 * n >= kSearchMax) {
             samples[size_t(l)] = 4 * n;
             out.levels[size_t(l)] = std::move(b);
             break;
@@ -868,10 +871,30 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
                      "from a solid-angle-weighted mip chain, self-normalised weights (n.l)+; plus " +
                      std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
   }
-  if (s.max_error > 0.0)
+  if (s.max_error > 0.0) {
+    // A level that reached the largest refinement (or sample count) without meeting the target makes
+    // the chain fail: no file may claim a bound it does not meet.
+    double worst = 0.0;
+    int worst_level = 0;
+    std::vector<std::string> m_text;
+    for (int l = 0; l < levels; ++l) {
+      m_text.push_back(fmt(measured[size_t(l)], "%.3g"));
+      if (measured[size_t(l)] > worst) {
+        worst = measured[size_t(l)];
+        worst_level = l;
+      }
+    }
+    if (worst > s.max_error)
+      throw Error("max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) + " still differs by " +
+                  fmt(worst, "%.3g") + " (RMS) between its two finest " +
+                  (quadrature ? "refinements (the largest is 16)" : "sample counts (the largest is " + std::to_string(kSearchMax) + ")") +
+                  "; ask for max-error " + fmt(worst * 1.5, "%.2g") + " or more");
     out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
                                   std::string(quadrature ? "refinements" : "sample counts (N, 4N)") + " <= " +
                                   fmt(s.max_error) + " (the finer result is kept)");
+    out.set_meta("measured_error_per_level", join(m_text));
+    out.set_meta("measured_error", fmt(worst, "%.3g"));
+  }
   if (s.clamp_luminance > 0.0)
     out.set_meta("clamp", "BIASED: source luminance above " + fmt(s.clamp_luminance) +
                               " compressed to limit (1 + log(lum / limit))");

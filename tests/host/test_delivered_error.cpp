@@ -18,6 +18,7 @@
 #include "brdfbake/tables.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"
+#include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
 
 namespace {
@@ -194,6 +195,30 @@ TEST(DeliveredError, InterpolationErrorCoversLookupsAnywhere) {
     EXPECT_LE(worst_edge, 1.1 * edge) << axis;
     EXPECT_GT(worst_in, 0.1 * interior) << axis << ": the bound is not vacuous";
   }
+}
+
+TEST(DeliveredError, MaxErrorCoversTheDelivery) {
+  const fs::path dir = temp_dir() / "max-error";
+  fs::create_directories(dir);
+  auto run = [&](const std::string& args) { return brdfbake::test::run_cli(args + " --quiet"); };
+  // binary16 alone rounds by up to 4.9e-4: refused before any work, naming what would meet it
+  const auto f16 = run("lut --max-error 1e-4 -o " + (dir / "a.ktx2").string());
+  EXPECT_EQ(f16.code, 2);
+  EXPECT_NE(f16.err.find("--pixel f32"), std::string::npos) << f16.err;
+  EXPECT_FALSE(fs::exists(dir / "a.ktx2"));
+  // float32 delivers it: the recorded bound is at most the request
+  const auto f32 = run("lut --max-error 1e-4 --pixel f32 --size 16 -o " + (dir / "b.ktx2").string());
+  ASSERT_EQ(f32.code, 0) << f32.err;
+  // beyond the calibration in fp32, fp64 is named when it reaches the target
+  const auto deep = run("lut --max-error 4e-7 --size 8 -o " + (dir / "c.exr").string());
+  EXPECT_EQ(deep.code, 2);
+  EXPECT_NE(deep.err.find("--precision fp64"), std::string::npos) << deep.err;
+  // a prefiltered chain that cannot reach its target fails without a file
+  const auto chain = run("prefilter --env builtin:sun --size 64 --min-size 8 --max-error 1e-6 -o " + (dir / "d.ktx2").string());
+  EXPECT_EQ(chain.code, 2);
+  EXPECT_NE(chain.err.find("is not reached"), std::string::npos) << chain.err;
+  EXPECT_FALSE(fs::exists(dir / "d.ktx2"));
+  fs::remove_all(dir);
 }
 
 TEST(DeliveredError, ValuesAFormatCannotHoldAreRefused) {

@@ -2,6 +2,7 @@
 // Engine: host/src/dfg_lut.cpp and kernels/dfg_lut.cl; reference: host/reference/src/dfg.cpp;
 // tests: tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
 #include <algorithm>
+#include <cmath>
 
 #include "brdfbake/lut.hpp"
 #include "families/family.hpp"
@@ -25,6 +26,30 @@ std::string runtime_formula(TableKind k) {
 std::vector<ParamDef> with_output_params(std::vector<ParamDef> s) {
   add_table_output_params(s);
   return s;
+}
+
+// The most the output's encoding can add to a value in [0, 2] (the DFG channels' range; abs below 1,
+// relative above): binary16 rounds to 11 significant bits, 16-bit UNORM to 1/65535, RGBE's shared
+// exponent leaves the smaller channels 8 bits of the largest; float32 and 9-digit text add nothing.
+double storage_allowance(const TableRequest& t) {
+  if (t.output.empty() || t.output == "-") return 0.0;
+  switch (table_output_format(t)) {
+    case TableFormat::Ktx2:
+    case TableFormat::CHeader: return t.pixel == "f32" ? 0.0 : std::ldexp(1.0, -11);
+    case TableFormat::Png: return 0.5 / 65535.0;
+    case TableFormat::Hdr: return std::ldexp(1.0, -7);
+    default: return 0.0;
+  }
+}
+
+std::string storage_name(const TableRequest& t) {
+  switch (table_output_format(t)) {
+    case TableFormat::Ktx2:
+    case TableFormat::CHeader: return "binary16";
+    case TableFormat::Png: return "16-bit PNG";
+    case TableFormat::Hdr: return "RGBE (.hdr)";
+    default: return "this format";
+  }
 }
 
 class DfgLutFamily final : public Family {
@@ -67,11 +92,7 @@ class DfgLutFamily final : public Family {
     if (!t.find("height")) t.set("height", t.number("size"));
     if (t.find("samples") && t.find("max_error"))
       throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
-    try {
-      resolve_lut_spec(spec_of(t));
-    } catch (const Error& e) {
-      throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what());
-    }
+    resolve_or_explain(t);
   }
 
   std::string default_output(const TableRequest& t) const override {
@@ -85,6 +106,18 @@ class DfgLutFamily final : public Family {
     return stem + (t.format.empty() ? ".exr" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override { return table_formats(); }
+
+  // max_error bounds the delivered values: the integration gets what the format's storage leaves.
+  void check_output(const TableRequest& t, const FieldName& name) const override {
+    Family::check_output(t, name);
+    if (!t.find("max_error")) return;
+    const double target = t.number("max_error");
+    const double storage = storage_allowance(t);
+    if (storage >= target)
+      throw FieldError("max_error", fmt_number(target) + " cannot be delivered in " + storage_name(t) + " (its rounding alone is up to " +
+                                        fmt_number(storage, "%.2g") + "): give pixel f32 (--pixel f32) or write .exr or .csv");
+    resolve_or_explain(t);
+  }
 
   BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress& progress) const override {
     const LutSpec spec = spec_of(t);
@@ -110,7 +143,8 @@ class DfgLutFamily final : public Family {
     // there; both are within the integration bound of the converged values.
     {
       const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
-      LutSpec probe = resolved;
+      LutSpec probe = resolved;  // the same estimator and sample count
+      probe.max_error = 0.0;
       probe.n_dot_v.clear();
       probe.roughness.clear();
       for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
@@ -146,17 +180,37 @@ class DfgLutFamily final : public Family {
   }
 
   WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    return write_table_result(*r.table(), t, path, r.error_bound);
+    return write_table_result(*r.table(), t, path, r.error_bound,
+                              t.find("max_error") ? std::optional<double>(t.number("max_error")) : std::nullopt);
   }
 
  private:
+  // resolve_lut_spec, its message naming the field and, for an unreachable max_error, what reaches it.
+  static void resolve_or_explain(const TableRequest& t) {
+    try {
+      resolve_lut_spec(spec_of(t));
+    } catch (const Error& e) {
+      std::string hint;
+      if (t.find("max_error") && t.precision == Precision::Fp32) {
+        LutSpec fp64 = spec_of(t);
+        fp64.precision = Precision::Fp64;
+        try {
+          resolve_lut_spec(fp64);
+          hint = "; precision fp64 (--precision fp64) reaches it";
+        } catch (const Error&) {
+        }
+      }
+      throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what() + hint);
+    }
+  }
+
   static LutSpec spec_of(const TableRequest& t) {
     LutSpec s;
     s.kind = lut_kind_of(t.kind);
     s.width = static_cast<int>(t.number("size"));
     s.height = static_cast<int>(t.number("height", t.number("size")));
     s.samples = static_cast<int>(t.number("samples", 0));
-    s.max_error = t.number("max_error", 0);
+    s.max_error = t.find("max_error") ? std::max(0.0, t.number("max_error") - storage_allowance(t)) : 0.0;
     s.estimator = estimator_from_name(t.text("estimator"));
     if (t.kind == TableKind::Charlie) s.sheen_visibility = sheen_visibility_from_name(t.text("sheen_visibility"));
     s.n_dot_v_axis = lut_axis_from_name(t.text("n_dot_v_axis"));

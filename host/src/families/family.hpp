@@ -107,8 +107,9 @@ OutputFormats table_formats();
 // The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
 void add_table_output_params(std::vector<ParamDef>& schema);
 // Writes a Table result with the request's format and pixel type; `bound` is the table's own
-// (integration) bound, to which the storage error is added.
+// (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
+// request's max_error) is refused before anything is written.
 WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound);
+                               std::optional<double> bound, std::optional<double> limit = std::nullopt);
 
 }  // namespace brdfbake::detail

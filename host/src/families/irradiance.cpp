@@ -16,6 +16,8 @@ CubeFormat cube_format_of(const TableRequest& t);
 CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string& stem);
 void add_cube_output_params(std::vector<ParamDef>& s);
 void check_cube_output(const TableRequest& t, const FieldName& name);
+WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
+                              const std::string& stem, std::optional<double> bound);
 
 namespace {
 
@@ -124,9 +126,7 @@ class IrradianceFamily final : public Family {
       json.emplace(t.text("sh_json"));
       io::write_bytes(*json, sh_to_json(res.sh, sh_metadata(r)));
     }
-    TableRequest at = t;
-    at.output = path;
-    write_cubemap(res.cube, path, cube_format_of(at), cube_write_options_of(at, "irradiance"));
+    w = write_cube_result(res.cube, t, path, "irradiance", std::nullopt);
     if (json) json->commit();
     return w;
   }

@@ -7,6 +7,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
+#include "io/storage.hpp"
 
 namespace brdfbake::detail {
 
@@ -54,6 +55,35 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
   if (!folder && (t.find("layout") && t.text("layout") != "faces"))
     throw FieldError("layout", "is for folder outputs (the output is '" + t.output + "')");
   (void)name;
+}
+
+// Writes a cube with the request's container and pixel type, refusing texels the pixel type cannot
+// hold (binary16 beyond 65504: a real sun) and adding the storage rounding to `bound`.
+WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
+                              const std::string& stem, std::optional<double> bound) {
+  const PixelType pixel = pixel_of(t);
+  const io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
+  if (s.out_of_range > 0) {
+    const std::string what = std::to_string(s.out_of_range) + " texel value" + (s.out_of_range == 1 ? "" : "s");
+    if (pixel == PixelType::F16)
+      throw Error("'" + path + "': " + what + " beyond 65504 (largest " + fmt_number(s.largest, "%.6g") +
+                  "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+    throw Error("'" + path + "': " + what + " not finite: no NaN or infinity is written");
+  }
+  TableRequest at = t;
+  at.output = path;
+  CubeLevels out = cube;
+  WriteReport w;
+  w.storage_error = s.max_error;
+  w.encoding = s.encoding;
+  if (bound) {
+    w.error_bound = *bound + s.max_error;
+    out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
+    out.set_meta("storage_encoding", s.encoding);
+    out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
+  }
+  write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
+  return w;
 }
 
 namespace {
@@ -135,8 +165,12 @@ class PrefilterFamily final : public Family {
     BakeResult r;
     CubeLevels cube = backend.prefilter(*in.environment, spec, &timing, progress);
     if (spec.max_error > 0) {
-      r.error_bound = spec.max_error;
-      r.error_bound_definition = cube.meta("max_error");
+      // The measured difference of each level's two finest estimates (at most max_error, or the
+      // bake fails): the estimate of its distance from the converged level.
+      r.error_bound = std::stod(cube.meta("measured_error"));
+      r.error_bound_definition = "the largest over the levels of the RMS relative luminance difference between its two "
+                                 "finest estimates (per level: measured_error_per_level), at most max_error " +
+                                 fmt_number(spec.max_error);
     } else {
       r.error_bound_definition =
           "not measured when baked (the quadrature's accuracy against the reference is in docs/BENCHMARKS.md; give "
@@ -158,12 +192,7 @@ class PrefilterFamily final : public Family {
   }
 
   WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    TableRequest at = t;
-    at.output = path;
-    write_cubemap(*r.cube(), path, cube_format_of(at), cube_write_options_of(at, "level"));
-    WriteReport w;
-    w.error_bound = r.error_bound;
-    return w;
+    return write_cube_result(*r.cube(), t, path, "level", r.error_bound);
   }
 
  private:

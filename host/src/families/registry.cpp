@@ -150,7 +150,7 @@ std::string count_text(size_t n, const char* what) { return std::to_string(n) + 
 }  // namespace
 
 WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound) {
+                               std::optional<double> bound, std::optional<double> limit) {
   const TableFormat format = path == "-" && t.format.empty() ? TableFormat::Csv : table_output_format(t);
   const PixelType pixel = pixel_of(t);
   Table out = table;
@@ -198,6 +198,12 @@ WriteReport write_table_result(const Table& table, const TableRequest& t, const 
   w.encoding = s.encoding;
   if (bound) {
     w.error_bound = *bound + s.max_error;
+    if (limit && *w.error_bound > *limit)
+      throw Error("'" + path + "': the stored values would be within " + bound_text(*w.error_bound) +
+                  " of converged (integration " + bound_text(*bound) + " + " + s.encoding + " " + bound_text(s.max_error) +
+                  "), above max_error " + fmt_number(*limit) + ": " +
+                  (format == TableFormat::Png || format == TableFormat::Hdr ? "write .exr, .csv or a .ktx2 with pixel f32"
+                                                                            : "give pixel f32 (--pixel f32)"));
     out.set_meta("integration_error_bound", bound_text(*bound));
     const std::string definition = out.meta("error_bound_definition");
     if (!definition.empty()) out.set_meta("integration_error_bound_definition", definition);

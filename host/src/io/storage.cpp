@@ -72,4 +72,22 @@ StorageReport measure_storage(const Table& table, TableFormat format, PixelType 
   return r;
 }
 
+StorageReport measure_cube_storage(const std::vector<std::vector<float>>& levels, PixelType pixel) {
+  StorageReport r;
+  r.encoding = pixel == PixelType::F16 ? "binary16 (round to nearest even)" : "float32";
+  for (const auto& level : levels)
+    for (size_t k = 0; k < level.size(); ++k) {
+      if (k % 4 == 3) continue;  // alpha is 1
+      const float v = level[k];
+      const float s = pixel == PixelType::F16 ? half_round_trip(v) : v;
+      if (!std::isfinite(v) || !std::isfinite(s)) {
+        ++r.out_of_range;
+        r.largest = std::max(r.largest, std::isfinite(v) ? std::fabs(double(v)) : HUGE_VAL);
+        continue;
+      }
+      if (v != s) r.max_error = std::max(r.max_error, std::fabs(double(s) - double(v)) / std::max(std::fabs(double(v)), 1e-30));
+    }
+  return r;
+}
+
 }  // namespace brdfbake::io

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "brdfbake/io.hpp"
 #include "brdfbake/table.hpp"
@@ -22,5 +23,10 @@ struct StorageReport {
 };
 
 StorageReport measure_storage(const Table& table, TableFormat format, PixelType pixel);
+
+// The same for every texel of every level of a cube written with `pixel` texels (containers: RGBA
+// binary16 or float32). The error is relative (|stored - value| / max(|value|, tiny)), the metric
+// of the chains' bounds.
+StorageReport measure_cube_storage(const std::vector<std::vector<float>>& levels, PixelType pixel);
 
 }  // namespace brdfbake::io
