@@ -903,6 +903,10 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   if (timing) {
     timing->device_seconds += device_seconds;
     timing->level_device_seconds = seconds;
+    if (s.max_error > 0.0) {
+      timing->measured_error_per_level = measured;
+      timing->measured_error = *std::max_element(measured.begin(), measured.end());
+    }
     timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return out;

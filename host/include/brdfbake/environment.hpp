@@ -189,6 +189,10 @@ struct PrefilterTiming {
   double device_seconds = 0.0;              // every kernel (conversion, mips, filtering)
   double wall_seconds = 0.0;
   std::vector<double> level_device_seconds;  // the filtering of each level (level 0: conversion)
+  // With max_error: per level, the RMS relative luminance difference between its two finest
+  // estimates, and the largest of them (the chain's measured bound); empty / -1 otherwise.
+  std::vector<double> measured_error_per_level;
+  double measured_error = -1.0;
 };
 
 // Progress: fraction done (0..1) and a short label ("level 2/4").

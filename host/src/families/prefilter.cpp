@@ -167,7 +167,7 @@ class PrefilterFamily final : public Family {
     if (spec.max_error > 0) {
       // The measured difference of each level's two finest estimates (at most max_error, or the
       // bake fails): the estimate of its distance from the converged level.
-      r.error_bound = std::stod(cube.meta("measured_error"));
+      r.error_bound = timing.measured_error;
       r.error_bound_definition = "the largest over the levels of the RMS relative luminance difference between its two "
                                  "finest estimates (per level: measured_error_per_level), at most max_error " +
                                  fmt_number(spec.max_error);
