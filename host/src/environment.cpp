@@ -314,11 +314,8 @@ EnvImage builtin_environment(const std::string& name, int width) {
   throw Error("unknown builtin environment 'builtin:" + name + "' (expected builtin:studio or builtin:sun)");
 }
 
-EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
-  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
-  if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
-
-  EnvImage env;
+// The six face files a spec names ("PX,NX,PY,NY,PZ,NZ", or a path holding "{face}"), or none.
+std::vector<std::string> face_files(const std::string& spec) {
   std::vector<std::string> faces;
   if (spec.find(',') != std::string::npos) {
     std::stringstream ss(spec);
@@ -329,6 +326,15 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
     for (const char* f : kFaceNames) faces.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
   }
+  return faces;
+}
+
+EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
+  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
+  if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
+
+  EnvImage env;
+  const std::vector<std::string> faces = face_files(spec);
   if (!faces.empty()) {
     env = load_faces(faces, spec);
   } else if (ends_with(spec, ".ktx2")) {
@@ -365,18 +371,8 @@ void check_environment_source(const std::string& spec) {
       if (n == name) return;
     throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
   }
-  std::vector<std::string> files;
-  if (spec.find(',') != std::string::npos) {
-    std::stringstream ss(spec);
-    std::string item;
-    while (std::getline(ss, item, ',')) files.push_back(item);
-    if (files.size() != 6)
-      throw Error("a cube from face files needs six files (+X,-X,+Y,-Y,+Z,-Z), got " + std::to_string(files.size()));
-  } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
-    for (const char* f : kFaceNames) files.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
-  } else {
-    files.push_back(spec);
-  }
+  std::vector<std::string> files = face_files(spec);
+  if (files.empty()) files.push_back(spec);
   namespace fs = std::filesystem;
   for (const auto& f : files) {
     std::error_code ec;
