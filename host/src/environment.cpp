@@ -315,7 +315,7 @@ EnvImage builtin_environment(const std::string& name, int width) {
 }
 
 // The six face files a spec names ("PX,NX,PY,NY,PZ,NZ", or a path holding "{face}"), or none.
-std::vector<std::string> face_files(const std::string& spec) {
+static std::vector<std::string> face_files(const std::string& spec) {
   std::vector<std::string> faces;
   if (spec.find(',') != std::string::npos) {
     std::stringstream ss(spec);
