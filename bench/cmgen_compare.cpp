@@ -1,12 +1,13 @@
 // Side by side with Filament's cmgen (issue 11): each job of the issue's table run by brdfbake and
 // by cmgen as whole processes, interleaved, with wall time, peak memory and our error.
 //
-//   cmgen_compare [--runs N] [--jobs dfg,sh,irradiance,ggx256,ggx1024,startup]
-//                 [--brdfbake PATH] [--cmgen PATH] [--shared DIR] [--keep]
+//   cmgen_compare [--runs N] [--jobs startup,dfg,sh,irradiance,ggx256,ggx1024]
+//                 [--brdfbake PATH] [--cmgen PATH] [--baseline PATH] [--shared DIR] [--keep]
 //
-// Every job: one warm-up run of each tool (kernel binary cache, page cache), then N pairs (default
-// 5) alternating which tool goes first; each run is a fork/exec whose wall time comes from a steady
-// clock and whose peak memory is wait4's ru_maxrss. Printed: the medians of each tool, the median
+// Every job: one warm-up run of each tool (kernel binary cache, page cache), then N rounds (default
+// 5), each running every tool once, starting with a different one each round; each run is a
+// fork/exec whose wall time comes from a steady clock and whose peak memory is wait4's ru_maxrss.
+// --baseline runs our commands with another brdfbake build too (before/after a change). Printed: the medians of each tool, the median
 // of the per-pair ratios ours/cmgen, the median peak memory, and our error against an independent
 // reference computed here:
 //   dfg         max abs error of our 128^2 multiscatter table against the converged double
@@ -128,10 +129,6 @@ struct Job {
   std::vector<std::string> ours, theirs;  // theirs empty: no cmgen counterpart
 };
 
-struct Result {
-  std::vector<Run> ours, theirs;
-  std::string error;
-};
 
 // ---- Our errors ------------------------------------------------------------------------------------
 
@@ -251,7 +248,7 @@ void write_upsampled(const EnvImage& env, int factor, const fs::path& out) {
 int main(int argc, char** argv) {
   int runs = 5;
   std::string jobs_wanted = "startup,dfg,sh,irradiance,ggx256,ggx1024";
-  std::string ours_bin = BRDFBAKE_CLI, cmgen_name = "cmgen", shared = BRDFBAKE_SHARED_DIR;
+  std::string ours_bin = BRDFBAKE_CLI, cmgen_name = "cmgen", shared = BRDFBAKE_SHARED_DIR, baseline;
   bool keep = false;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -266,11 +263,12 @@ int main(int argc, char** argv) {
     else if (arg == "--jobs") jobs_wanted = value();
     else if (arg == "--brdfbake") ours_bin = value();
     else if (arg == "--cmgen") cmgen_name = value();
+    else if (arg == "--baseline") baseline = value();
     else if (arg == "--shared") shared = value();
     else if (arg == "--keep") keep = true;
     else {
       std::fprintf(stderr, "usage: cmgen_compare [--runs N] [--jobs LIST] [--brdfbake PATH] [--cmgen PATH] "
-                           "[--shared DIR] [--keep]\n");
+                           "[--baseline PATH] [--shared DIR] [--keep]\n");
       return 2;
     }
   }
@@ -291,6 +289,7 @@ int main(int argc, char** argv) {
   std::printf("- machine: %s, %ld cores; load average before: %s\n", first_line("/proc/cpuinfo", "model name").c_str(),
               ::sysconf(_SC_NPROCESSORS_ONLN), load_average().c_str());
   std::printf("- brdfbake: %s\n", ours_bin.c_str());
+  if (!baseline.empty()) std::printf("- before: %s (the same commands, interleaved)\n", baseline.c_str());
   if (cmgen.empty())
     std::printf("- cmgen: NOT FOUND ('%s' is not on PATH; Debian: apt-get install libfilament-tools): "
                 "our side only, no ratios\n", cmgen_name.c_str());
@@ -341,34 +340,41 @@ int main(int argc, char** argv) {
                       {cmgen, "--quiet", "--size=1024", "--format=hdr", "--ibl-min-lod-size=16",
                        "--ibl-ld=" + (dir / "ggx1024_cmgen").string(), env4k.string()}});
 
-    std::printf("| job | ours (median s) | cmgen (median s) | ours / cmgen (median of pairs) | peak ours | peak cmgen | our error |\n");
-    std::printf("|---|---|---|---|---|---|---|\n");
+    std::printf("| job | ours (median s) | cmgen (median s) | ours / cmgen (median of pairs) | peak ours | peak cmgen |%s our error |\n",
+                baseline.empty() ? "" : " before (median s) | peak before |");
+    std::printf("|---|---|---|---|---|---|%s---|\n", baseline.empty() ? "" : "---|---|");
     for (const Job& job : jobs) {
+      // The contenders: ours, cmgen (when there is one), the baseline build (when given); each
+      // iteration starts with a different one.
+      std::vector<std::vector<std::string>> commands = {job.ours};
       const bool pair = !cmgen.empty() && !job.theirs.empty();
-      Result r;
-      run(job.ours, dir, log);  // warm-up
-      if (pair) run(job.theirs, dir, log);
+      const size_t theirs = pair ? commands.size() : 0, before = baseline.empty() ? 0 : commands.size() + pair;
+      if (pair) commands.push_back(job.theirs);
+      if (!baseline.empty()) {  // the same command, its output beside ours ("before_NAME")
+        commands.push_back(job.ours);
+        commands.back()[0] = baseline;
+        for (size_t k = 1; k + 1 < commands.back().size(); ++k)
+          if (commands.back()[k] == "-o") {
+            const fs::path out = commands.back()[k + 1];
+            commands.back()[k + 1] = (out.parent_path() / ("before_" + out.filename().string())).string();
+          }
+      }
+      for (const auto& c : commands) run(c, dir, log);  // warm-up
+      std::vector<std::vector<Run>> runs_of(commands.size());
       std::vector<double> ratios;
       for (int i = 0; i < runs; ++i) {
-        Run a, b;
-        if (pair && i % 2 == 1) {
-          b = run(job.theirs, dir, log);
-          a = run(job.ours, dir, log);
-        } else {
-          a = run(job.ours, dir, log);
-          if (pair) b = run(job.theirs, dir, log);
+        for (size_t k = 0; k < commands.size(); ++k) {
+          const size_t which = (k + size_t(i)) % commands.size();
+          runs_of[which].push_back(run(commands[which], dir, log));
         }
-        r.ours.push_back(a);
-        if (pair) {
-          r.theirs.push_back(b);
-          ratios.push_back(a.seconds / b.seconds);
-        }
+        if (pair) ratios.push_back(runs_of[0].back().seconds / runs_of[theirs].back().seconds);
       }
-      if (job.name == "dfg") r.error = dfg_error(dir / "dfg.exr");
-      if (job.name == "sh") r.error = sh_error(dir / "sh.json", env);
-      if (job.name == "irradiance") r.error = irradiance_error(dir / "irradiance.ktx2", env);
-      if (job.name.rfind("ggx", 0) == 0) r.error = "not measured here (prefilter_bench: <= 1% RMS per level)";
-      if (job.name == "startup") r.error = "-";
+      std::string error;
+      if (job.name == "dfg") error = dfg_error(dir / "dfg.exr");
+      if (job.name == "sh") error = sh_error(dir / "sh.json", env);
+      if (job.name == "irradiance") error = irradiance_error(dir / "irradiance.ktx2", env);
+      if (job.name.rfind("ggx", 0) == 0) error = "not measured here (prefilter_bench: <= 1% RMS per level)";
+      if (job.name == "startup") error = "-";
       auto seconds = [](const std::vector<Run>& v) {
         std::vector<double> s;
         for (const Run& x : v) s.push_back(x.seconds);
@@ -379,14 +385,16 @@ int main(int argc, char** argv) {
         for (const Run& x : v) s.push_back(x.peak_mib);
         return median(s);
       };
-      char theirs_s[32] = "-", ratio[32] = "-", theirs_peak[32] = "-";
+      char theirs_s[32] = "-", ratio[32] = "-", theirs_peak[32] = "-", before_cols[64] = "";
       if (pair) {
-        std::snprintf(theirs_s, sizeof theirs_s, "%.3f", seconds(r.theirs));
+        std::snprintf(theirs_s, sizeof theirs_s, "%.3f", seconds(runs_of[theirs]));
         std::snprintf(ratio, sizeof ratio, "%.2f", median(ratios));
-        std::snprintf(theirs_peak, sizeof theirs_peak, "%.0f MiB", peak(r.theirs));
+        std::snprintf(theirs_peak, sizeof theirs_peak, "%.0f MiB", peak(runs_of[theirs]));
       }
-      std::printf("| %s | %.3f | %s | %s | %.0f MiB | %s | %s |\n", job.description.c_str(), seconds(r.ours), theirs_s,
-                  ratio, peak(r.ours), theirs_peak, r.error.c_str());
+      if (!baseline.empty())
+        std::snprintf(before_cols, sizeof before_cols, " %.3f | %.0f MiB |", seconds(runs_of[before]), peak(runs_of[before]));
+      std::printf("| %s | %.3f | %s | %s | %.0f MiB | %s |%s %s |\n", job.description.c_str(), seconds(runs_of[0]),
+                  theirs_s, ratio, peak(runs_of[0]), theirs_peak, before_cols, error.c_str());
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {

@@ -15,7 +15,7 @@ int cmd_irradiance(int argc, char** argv) {
       ("sh", "SH bands: 3 (9 coefficients) or 5 (25)", cxxopts::value<std::string>()->default_value("3"))
       ("sh-window", "none | hanning | lanczos (against ringing)", cxxopts::value<std::string>()->default_value("none"))
       ("cube", "face size of the irradiance cube", cxxopts::value<std::string>()->default_value("32"))
-      ("source-size", "face size the environment is converted to first", cxxopts::value<std::string>()->default_value("256"))
+      ("source-size", "face size the environment is converted to for the cube (the SH uses the input itself)", cxxopts::value<std::string>()->default_value("256"))
       ("sh-json", "also write the SH coefficients to this JSON file", cxxopts::value<std::string>())
       ("o,output", "FILE.json (SH only), or the cube: FILE.ktx2, FILE.ktx, FILE.dds or a folder", cxxopts::value<std::string>());
   add_cube_output_options(options);
@@ -57,12 +57,18 @@ int cmd_irradiance(int argc, char** argv) {
   if (device_name == "reference")
     throw UsageError("--device reference is not available for irradiance; choose an OpenCL device");
   const EnvImage env = load_environment_option(r, quiet);
-  Device device = Device::open(device_name);
   ProgressLine line(quiet);
   auto progress = [&](double fraction, const std::string& what) { line.update("irradiance, " + what, fraction); };
-  const IrradianceResult result = compute_irradiance(device, env, spec, progress);
+  IrradianceResult result;
+  if (json_only) {
+    result.sh = project_sh(env, spec.sh_order, spec.window);  // on the host: no OpenCL device to open
+  } else {
+    Device device = Device::open(device_name);
+    result = compute_irradiance(device, env, spec, progress);
+  }
   line.finish();
-  Metadata meta = {{"source", env.source}, {"source_size", std::to_string(spec.source_size)}};
+  Metadata meta = {{"source", env.source}};
+  if (!json_only) meta.emplace_back("source_size", std::to_string(spec.source_size));
   if (json_only) {
     write_sh_json(result.sh, meta, out);
   } else {
@@ -76,11 +82,14 @@ int cmd_irradiance(int argc, char** argv) {
       throw;
     }
   }
-  if (!quiet)
-    std::fprintf(stderr, "%s: SH order %d (%d coefficients, window %s)%s, device %.3f s\n", out.c_str(),
-                 result.sh.order, result.sh.order * result.sh.order, sh_window_name(result.sh.window),
-                 json_only ? "" : (", irradiance cube " + std::to_string(spec.cube_size) + "^2 (E / pi)").c_str(),
-                 result.device_seconds);
+  if (!quiet) {
+    char cube_part[96] = "";
+    if (!json_only)
+      std::snprintf(cube_part, sizeof cube_part, ", irradiance cube %d^2 (E / pi), device %.3f s", spec.cube_size,
+                    result.device_seconds);
+    std::fprintf(stderr, "%s: SH order %d (%d coefficients, window %s, on the host)%s\n", out.c_str(),
+                 result.sh.order, result.sh.order * result.sh.order, sh_window_name(result.sh.window), cube_part);
+  }
   return 0;
 }
 

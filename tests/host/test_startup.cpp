@@ -71,6 +71,19 @@ TEST(Startup, CommandsThatComputeNothingLoadNothing) {
   }
 }
 
+// 3-band SH alone is a host computation: no OpenCL implementation is loaded.
+TEST(Startup, ShAloneOpensNoOpenClPlatform) {
+  const fs::path dir = temp_dir("sh");
+  const fs::path hdr = dir / "env.hdr";
+  ASSERT_EQ(run_cli("lut --kind ggx --size 16 --height 8 --quiet -o " + hdr.string()).code, 0);
+  const CliRun r = run_cli("irradiance --env " + hdr.string() + " --sh 3 --quiet -o " + (dir / "sh.json").string(), "",
+                           "LD_DEBUG=files");
+  EXPECT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(contains(r.err, "needed by")) << "LD_DEBUG=files reported nothing";
+  EXPECT_EQ(dynamically_loaded(r.err), std::vector<std::string>{});
+  EXPECT_TRUE(fs::exists(dir / "sh.json"));
+}
+
 TEST(Startup, HotFormatsNeedNoOpenImageIoModule) {
   const fs::path dir = temp_dir("hot");
   for (const char* ext : {".exr", ".png", ".hdr"}) {
