@@ -34,8 +34,20 @@ namespace fs = std::filesystem;
 constexpr double kRgbeStepOfLargest = 1.0 / 128.0;
 constexpr uint64_t kMaxPixels = uint64_t(1) << 28;
 
+// The folder of this process's files, removed when the test program exits.
+const fs::path& temp_root() {
+  static const struct Root {
+    fs::path path = fs::temp_directory_path() / ("brdfbake-image-" + std::to_string(::getpid()));
+    ~Root() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  } root;
+  return root.path;
+}
+
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-image-" + std::to_string(::getpid())) / name;
+  const fs::path d = temp_root() / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

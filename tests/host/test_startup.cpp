@@ -23,8 +23,20 @@ using brdfbake::test::run_cli;
 
 constexpr const char* kNoModule = "BRDFBAKE_OIIO_MODULE=/nonexistent/brdfbake_oiio.so";
 
+// The folder of this process's files, removed when the test program exits.
+const fs::path& temp_root() {
+  static const struct Root {
+    fs::path path = fs::temp_directory_path() / ("brdfbake-startup-" + std::to_string(::getpid()));
+    ~Root() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  } root;
+  return root.path;
+}
+
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-startup-" + std::to_string(::getpid())) / name;
+  const fs::path d = temp_root() / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
