@@ -18,6 +18,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/reference/include/brdfbake DESTINAT
 if(TARGET brdfbake)
   install(TARGETS brdfbake RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
+# The lazily loaded OpenImageIO module (formats beyond EXR, PNG and HDR), where the library looks for
+# it: PREFIX/lib/brdfbake/ beside ../bin.
+install(TARGETS brdfbake_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/brdfbake)
 
 install(EXPORT brdfbakeTargets NAMESPACE brdfbake:: DESTINATION ${BRDFBAKE_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/brdfbakeConfig.cmake.in
@@ -30,6 +33,6 @@ install(FILES ${PROJECT_BINARY_DIR}/brdfbakeConfig.cmake ${PROJECT_BINARY_DIR}/b
 
 # pkg-config: the static library and what it needs at link time.
 set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference")
-set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenImageIO Imath")
+set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenEXR libpng")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/brdfbake.pc.in ${PROJECT_BINARY_DIR}/brdfbake.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/brdfbake.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

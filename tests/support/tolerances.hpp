@@ -114,9 +114,10 @@ inline constexpr double kEnvFp32VsFp64 = 1e-4;
 // per texel on 32^2 cubes: its mip blur is a bias that falls like 1/N (docs/BENCHMARKS.md).
 inline constexpr double kEnvSamplingRms = 0.02;
 inline constexpr double kEnvSamplingMax = 0.10;
-// Device SH projection against the reference's: fp32 sums over 6 x 32^2 texels and the reference's
-// sub-cells against the device's texel centres (O(1/S^2)).
-inline constexpr double kEnvShDevice = 2e-3;
+// The host SH projection is exact for an equirect's pixels and a cube's texel centres: against an
+// independent 16 x 16-node Gauss-Legendre quadrature per pixel (converged to ~1e-14) and the
+// reference's texel-centre sum, only double rounding remains (measured 6e-16 of the largest coefficient).
+inline constexpr double kShExactProjection = 1e-12;
 // Device irradiance cube against the reference's brute force on a 64^2 source: the device sums
 // texels as boxes, the reference interpolates them bilinearly (a tent twice as wide), which differs
 // by O(texel size) only where a sun of 5e4 sits on a normal's horizon (measured worst 0.87%, RMS

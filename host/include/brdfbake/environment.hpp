@@ -47,7 +47,8 @@ struct EnvLoadOptions {
 };
 
 // Loads an environment:
-//   FILE.hdr / FILE.exr (any OpenImageIO format): equirect if 2:1, horizontal cross if 4:3,
+//   FILE.hdr / FILE.exr (read directly; any other format OpenImageIO reads through the lazily
+//     loaded OpenImageIO module, brdfbake_oiio.so): equirect if 2:1, horizontal cross if 4:3,
 //     vertical cross if 3:4 (docs/CONVENTIONS.md); tiled and mip-mapped files read level 0;
 //   FILE.ktx2: a cubemap (faceCount 6, RGBA16F/32F, level 0);
 //   "PX,NX,PY,NY,PZ,NZ" (six files, comma separated) or a path holding "{face}" (replaced by px,
@@ -257,6 +258,7 @@ struct ShCoefficients {
   std::vector<double> irradiance_over_pi; // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
   ShWindow window = ShWindow::None;
   std::vector<double> window_weights;     // w_l per band
+  std::string projection;                 // how L_lm was computed (recorded in the JSON)
 };
 
 struct IrradianceResult {
@@ -265,8 +267,15 @@ struct IrradianceResult {
   double device_seconds = 0.0;
 };
 
+// The SH (project_sh, on the host) and, when spec.cube_size > 0, the irradiance cube (on the
+// device, from the environment converted to a cube of spec.source_size). With cube_size 0 the
+// device is not used at all.
 IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
                                     const EnvProgress& progress = {});
+// The SH projection of an environment on the host, in double precision, without a device: an
+// equirect exactly as its pixels define it (each constant over its cell, integrated against the
+// basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
+ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
 // The window weights w_l, l < order: hanning 0.5 (1 + cos(pi l / order)), lanczos sinc(l / order).
 std::vector<double> sh_window_weights(ShWindow w, int order);
 // JSON text of the coefficients with the basis and conventions, and `metadata`.

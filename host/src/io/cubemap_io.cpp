@@ -1,9 +1,7 @@
 // Writing cubemaps with all their levels: KTX2 (through io/ktx2), KTX1, DDS (DX10 or legacy
-// header), and folders of per-face, cross or equirect images (EXR / HDR through OpenImageIO).
+// header), and folders of per-face, cross or equirect images (EXR / HDR through io/image_file).
 // Every file goes through io::TempFile: it appears complete or not at all.
 #include "io/cubemap_io.hpp"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +15,9 @@
 #include "brdfbake/reference/envmap.hpp"
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
+#include "io/image_file.hpp"
 #include "io/ktx2.hpp"
+#include "io/rgbe.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -71,22 +71,21 @@ std::string_view as_view(const std::vector<uint8_t>& b) {
 
 // ---- Image folders ------------------------------------------------------------------------------
 
-void write_oiio(const std::string& path, const TempFile& temp, const char* format, int w, int h,
-                const std::vector<float>& rgb, const Metadata& metadata) {
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  if (std::string(format) == "openexr") {
-    spec.attribute("compression", "zip");
-    for (const auto& [k, v] : metadata) spec.attribute(kKeyPrefix + k, v);
+// One image of a folder: float RGB OpenEXR (ZIP, the metadata as "brdfbake:KEY" attributes) or
+// Radiance RGBE (no metadata: the folder's JSON has it; RGBE has no sign and no infinity, so a
+// negative or NaN value, which the filters do not produce, would be written as 0 and one beyond
+// kRgbeMax as kRgbeMax).
+void write_image(const TempFile& temp, CubeImageFormat format, int w, int h, const std::vector<float>& rgb,
+                 const Metadata& metadata) {
+  if (format == CubeImageFormat::Hdr) {
+    std::vector<float> clamped(rgb.size());
+    for (size_t k = 0; k < rgb.size(); ++k) clamped[k] = rgb[k] >= 0.0f ? std::min(rgb[k], kRgbeMax) : 0.0f;
+    write_rgbe(temp, w, h, clamped.data());
+    return;
   }
-  auto out = OIIO::ImageOutput::create(format);
-  if (!out) throw_write_error(path, std::string("OpenImageIO has no '") + format + "' writer");
-  if (!out->open(temp.path(), spec)) throw_write_error(path, out->geterror());
-  if (!out->write_image(OIIO::TypeDesc::FLOAT, rgb.data())) {
-    const std::string why = out->geterror();
-    out->close();
-    throw_write_error(path, why);
-  }
-  if (!out->close()) throw_write_error(path, out->geterror());
+  std::vector<std::pair<std::string, std::string>> attributes;
+  for (const auto& [k, v] : metadata) attributes.emplace_back(kKeyPrefix + k, v);
+  write_exr(temp, w, h, 3, rgb.data(), attributes);
 }
 
 // RGB of one face of a level, row 0 first.
@@ -166,12 +165,11 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
   try {
     std::vector<std::unique_ptr<TempFile>> temps;
     std::vector<std::string> names;
-    const char* format = o.image_format == CubeImageFormat::Exr ? "openexr" : "hdr";
     const char* ext = o.image_format == CubeImageFormat::Exr ? ".exr" : ".hdr";
     auto write_one = [&](const std::string& name, int w, int h, const std::vector<float>& rgb) {
       const std::string file = (fs::path(path) / name).string();
       temps.push_back(std::make_unique<TempFile>(file));
-      write_oiio(file, *temps.back(), format, w, h, rgb, cube.metadata);
+      write_image(*temps.back(), o.image_format, w, h, rgb, cube.metadata);
       names.push_back(name);
     };
     const std::string layout = o.layout == CubeImageLayout::Faces             ? "faces"
