@@ -13,15 +13,18 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
+#include "env_internal.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 constexpr int kGroups = 64;      // work-groups of the projection (a power of two for sh_reduce)
 constexpr int kGroupSize = 64;   // work-items per group
 constexpr int kMaxPointSource = 64;  // the rest is summed at this face size or below
@@ -63,7 +66,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   auto solid_angles = [&](int n) {
     omega.assign(size_t(n) * size_t(n), 0.0);
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = reference::cube_texel_solid_angle(n, i, j);
+      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = math::cube_texel_solid_angle(n, i, j);
   };
   solid_angles(s);
   while (s > kMaxPointSource && s % 2 == 0) {
@@ -91,7 +94,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i) {
-        const auto d = reference::cube_texel_direction(f, s, i, j);
+        const auto d = math::cube_texel_direction(f, s, i, j);
         const double w = omega[size_t(j) * size_t(s) + size_t(i)];
         const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
         arrays[0].push_back(d.x);
@@ -131,14 +134,54 @@ std::vector<double> sh_window_weights(ShWindow w, int order) {
   return out;
 }
 
-IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
-                                    const EnvProgress& progress) {
+void detail::check_irradiance_spec(const IrradianceSpec& spec) {
   if (spec.sh_order != 3 && spec.sh_order != 5)
     throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
   if (spec.cube_size < 0 || spec.cube_size > 1024)
     throw Error("irradiance cube size must be in 1..1024 (or 0 for none), not " + std::to_string(spec.cube_size));
   if (spec.source_size < 1 || spec.source_size > 2048)
     throw Error("irradiance source size must be in 1..2048, not " + std::to_string(spec.source_size));
+}
+
+ShCoefficients detail::sh_coefficients(const IrradianceSpec& spec, std::vector<double> radiance) {
+  ShCoefficients sh;
+  sh.order = spec.sh_order;
+  sh.window = spec.window;
+  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
+  sh.radiance = std::move(radiance);
+  sh.irradiance_over_pi.resize(sh.radiance.size());
+  for (int l = 0; l < spec.sh_order; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const size_t k = size_t(math::sh_index(l, m));
+      for (size_t c = 0; c < 3; ++c)
+        sh.irradiance_over_pi[3 * k + c] =
+            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
+    }
+  return sh;
+}
+
+void detail::irradiance_cube_metadata(CubeLevels& c, const EnvImage& env, const IrradianceSpec& spec,
+                                      const ShCoefficients& sh, const std::string& definition,
+                                      const std::string& precision, const std::string& device) {
+  c.set_meta("generator", std::string("brdfbake ") + kVersion);
+  c.set_meta("kind", "irradiance");
+  c.set_meta("definition", definition);
+  c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
+  c.set_meta("source", env.source);
+  c.set_meta("source_size", std::to_string(spec.source_size));
+  std::string coeffs;
+  for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
+  c.set_meta("sh_order", std::to_string(sh.order));
+  c.set_meta("sh_irradiance_over_pi", coeffs);
+  c.set_meta("sh_convention",
+             "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
+  c.set_meta("precision", precision);
+  c.set_meta("device", device);
+}
+
+IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress) {
+  detail::check_irradiance_spec(spec);
   auto& dev = device.impl();
   IrradianceResult result;
   if (progress) progress(0.0, "converting to a cube");
@@ -160,7 +203,7 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
     if (progress) progress(0.1, "spherical harmonics");
     std::vector<double> omega(size_t(s) * size_t(s));
     for (int j = 0; j < s; ++j)
-      for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+      for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
     cl::Buffer cube_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cube.levels[0].size() * sizeof(float),
                         const_cast<float*>(cube.levels[0].data()));
     cl::Buffer omega_buf = real_buffer(dev, spec.precision, omega);
@@ -213,44 +256,20 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
   });
 
   // SH: normalise by the solid angle sum (exactly 4 pi up to rounding), apply A_l / pi and the window.
-  ShCoefficients& sh = result.sh;
-  sh.order = spec.sh_order;
-  sh.window = spec.window;
-  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
   const double scale = 4.0 * kPi / totals[size_t(3 * n_sh)];
-  sh.radiance.resize(size_t(3 * n_sh));
-  sh.irradiance_over_pi.resize(size_t(3 * n_sh));
-  for (int l = 0; l < spec.sh_order; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const size_t k = size_t(l * (l + 1) + m);
-      for (size_t c = 0; c < 3; ++c) {
-        sh.radiance[3 * k + c] = totals[3 * k + c] * scale;
-        sh.irradiance_over_pi[3 * k + c] =
-            sh.radiance[3 * k + c] * reference::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
-      }
-    }
+  std::vector<double> radiance(size_t(3 * n_sh));
+  for (size_t k = 0; k < radiance.size(); ++k) radiance[k] = totals[k] * scale;
+  result.sh = detail::sh_coefficients(spec, std::move(radiance));
   result.device_seconds = seconds;
 
-  if (spec.cube_size > 0) {
-    CubeLevels& c = result.cube;
-    c.set_meta("generator", std::string("brdfbake ") + kVersion);
-    c.set_meta("kind", "irradiance");
-    c.set_meta("definition",
-               "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
-               "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse "
-               "albedo only");
-    c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
-    c.set_meta("source", env.source);
-    c.set_meta("source_size", std::to_string(spec.source_size));
-    std::string coeffs;
-    for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
-    c.set_meta("sh_order", std::to_string(sh.order));
-    c.set_meta("sh_irradiance_over_pi", coeffs);
-    c.set_meta("sh_convention",
-               "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
-    c.set_meta("precision", precision_name(spec.precision));
-    c.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
-  }
+  if (spec.cube_size > 0)
+    detail::irradiance_cube_metadata(
+        result.cube, env, spec, result.sh,
+        "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
+        "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse "
+        "albedo only",
+        precision_name(spec.precision),
+        dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (progress) progress(1.0, "done");
   return result;
 }

@@ -509,7 +509,7 @@ struct Baked {
   std::string device_name;
 };
 
-reference::Rgb rgb_of(const ParamValue& v) {
+Rgb rgb_of(const ParamValue& v) {
   if (auto d = std::get_if<double>(&v)) return {*d, *d, *d};
   const auto& a = std::get<std::vector<double>>(v);
   return {a[0], a[1], a[2]};

@@ -1,5 +1,5 @@
-// The thin-film interference Fresnel table (KHR_materials_iridescence), on an OpenCL device
-// (kernels/thin_film.cl) or by the scalar double reference (host/reference/src/thin_film.cpp).
+// The thin-film interference Fresnel table (KHR_materials_iridescence) on an OpenCL device
+// (kernels/thin_film.cl); the scalar double reference is reference_backend/thin_film.cpp.
 #include "thin_film.hpp"
 
 #include <algorithm>
@@ -8,7 +8,6 @@
 #include <cstdio>
 
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/thin_film.hpp"
 #include "brdfbake/version.hpp"
 #include "runtime/program.hpp"
 
@@ -22,12 +21,15 @@ std::string fmt(double v) {
   return buf;
 }
 
-reference::ThinFilm film_of(const ThinFilmRequest& r) {
-  reference::ThinFilm f;
+}  // namespace
+
+ThinFilmParams thin_film_params(const ThinFilmRequest& r) {
+  ThinFilmParams f;
   f.outside_ior = r.outside_ior;
   f.film_ior = r.film_ior;
   if (r.base_ior) {
-    const double f0 = reference::thin_film_ior_to_f0(*r.base_ior, 1.0);
+    // the base's normal-incidence reflectance from air, ((n - 1) / (n + 1))^2
+    const double q = (*r.base_ior - 1.0) / (*r.base_ior + 1.0), f0 = q * q;
     f.base_f0 = {f0, f0, f0};
   } else if (r.base_f0) {
     f.base_f0 = *r.base_f0;
@@ -35,7 +37,7 @@ reference::ThinFilm film_of(const ThinFilmRequest& r) {
   return f;
 }
 
-void check(const ThinFilmRequest& r) {
+void check_thin_film_request(const ThinFilmRequest& r) {
   auto finite = [](double v) { return std::isfinite(v); };
   if (r.width < 1 || r.height < 1) throw Error("thin-film: size and height must be at least 1");
   if (!finite(r.film_ior) || r.film_ior < 1.0) throw Error("thin-film: film_ior must be at least 1");
@@ -46,6 +48,8 @@ void check(const ThinFilmRequest& r) {
       r.thickness_max < r.thickness_min)
     throw Error("thin-film: thickness_min <= thickness_max, both >= 0");
 }
+
+namespace {
 
 std::vector<double> cos_grid(int n) {
   std::vector<double> x(static_cast<size_t>(n));
@@ -62,8 +66,10 @@ std::vector<double> thickness_grid(const ThinFilmRequest& r) {
   return y;
 }
 
-Table make_table(const ThinFilmRequest& r) {
-  const reference::ThinFilm f = film_of(r);
+}  // namespace
+
+Table make_thin_film_table(const ThinFilmRequest& r) {
+  const ThinFilmParams f = thin_film_params(r);
   Table t;
   t.width = r.width;
   t.height = r.height;
@@ -95,38 +101,22 @@ Table make_table(const ThinFilmRequest& r) {
   return t;
 }
 
-}  // namespace
-
 bool thin_film_available() { return true; }
 
 ThinFilmResult bake_thin_film_adapter(Device* device, const ThinFilmRequest& r) {
-  check(r);
-  const reference::ThinFilm film = film_of(r);
+  check_thin_film_request(r);
+  ThinFilmResult reference = bake_thin_film_reference(r);
+  if (!device) return reference;
+  const ThinFilmParams film = thin_film_params(r);
+  const Table& reference_table = reference.table;
   ThinFilmResult result;
-  Table reference_table = make_table(r);
-  for (int j = 0; j < r.height; ++j)
-    for (int i = 0; i < r.width; ++i) {
-      const reference::Rgb v = reference::thin_film_fresnel(reference_table.x[static_cast<size_t>(i)],
-                                                            reference_table.y[static_cast<size_t>(j)], film);
-      reference_table.at(i, j, 0) = static_cast<float>(v.r);
-      reference_table.at(i, j, 1) = static_cast<float>(v.g);
-      reference_table.at(i, j, 2) = static_cast<float>(v.b);
-    }
-  if (!device) {
-    reference_table.set_meta("device", "reference (scalar double)");
-    reference_table.set_meta("precision", "fp64");
-    result.table = std::move(reference_table);
-    result.error_bound = 0.0;
-    result.error_bound_definition = "the scalar double reference itself (stored as float32)";
-    return result;
-  }
 
   auto& dev = device->impl();
   ProgramSpec ps;
   ps.file = "thin_film.cl";
   ps.precision = r.precision;
   cl::Program program = build_program(dev, ps);
-  Table t = make_table(r);
+  Table t = make_thin_film_table(r);
   const std::vector<double> params = {film.outside_ior, film.film_ior, film.base_f0.r, film.base_f0.g, film.base_f0.b};
   cl_call("kernel thin_film_table on '" + dev.info.name + "'", [&] {
     auto real_buffer = [&](const std::vector<double>& v) {
