@@ -7,6 +7,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -81,10 +82,10 @@ TEST(Irradiance, AgreesWithTheReference) {
     for (size_t k = 0; k < want.size(); ++k)
       EXPECT_NEAR(r.sh.radiance[k], want[k], test::kEnvShDevice * l00) << name << " " << k / 3;
     // the cube: brute-force cosine convolution of the same source
-    std::vector<reference::Dir3> dirs;
+    std::vector<Vec3> dirs;
     for (int f = 0; f < 6; ++f)
       for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 8; ++i) dirs.push_back(reference::cube_texel_direction(f, 8, i, j));
+        for (int i = 0; i < 8; ++i) dirs.push_back(math::cube_texel_direction(f, 8, i, j));
     const auto e = reference::irradiance_directions(src, dirs);
     double sum = 0;
     for (size_t t = 0; t < dirs.size(); ++t)

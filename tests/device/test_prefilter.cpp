@@ -10,6 +10,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -321,7 +322,7 @@ TEST(Prefilter, EquirectOrientationChart) {
   auto darkest = [&](double x, double y, double z) {
     int face = 0;
     double a = 0, b = 0;
-    reference::cube_face_coords({x, y, z}, face, a, b);
+    math::cube_face_coords({x, y, z}, face, a, b);
     const int ci = std::clamp(int(std::floor(0.5 * (a + 1) * n)), 0, n - 1);
     const int cj = std::clamp(int(std::floor(0.5 * (b + 1) * n)), 0, n - 1);
     double lum = 1e9;
