@@ -51,10 +51,10 @@ using math::kPi;
 // the sum over its two halves to the panel's share of the tolerance (1e-10 of the whole) or to 1e-12
 // of itself (above the integrand's own rounding: the exponent 1 / (2 alpha), up to 5e6, turns a
 // relative error of 1e-16 in sin^2 into up to ~1e-13 of D where D is representable), else both
-// halves are refined. The outer panels break at the
-// features: ln mu (where g switches on and the mirror direction passes), ln sqrt(alpha) (the width of
-// the lobe's band in x), every 8 units of t or u from 8 below ln mu (resp. 8 below 0); the lower tail
-// below x = 1e-14 mu is dropped (the integrand is bounded there: less than 1e-14 of the whole).
+// halves are refined. The outer panels break at the features: ln mu (where g switches on and the
+// mirror direction passes), ln sqrt(alpha) (the width of the lobe's band in x), and every 8 units of
+// t or u from 8 below ln mu (resp. 8 below 0); the lower tail below x = 1e-14 mu is dropped (the
+// integrand is bounded there: less than 1e-14 of the whole).
 // Against the reference's charlie_albedo at order 12 and refinement 2: 2e-12 relative above 1 at the
 // series' nodes (measured at sheen roughness 0, 0.3, 1); 0.4 s per sheen roughness on one core.
 // ---------------------------------------------------------------------------------------------
