@@ -40,7 +40,9 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
 #include "brdfbake/lut.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "io/image_file.hpp"
 
 #ifndef BRDFBAKE_CLI
@@ -164,7 +166,7 @@ std::vector<double> equirect_sh(const EnvImage& env, int order) {
         for (double b : node) {
           const double u = (x + a) / env.width, v = (y + b) / env.height;
           const double dl = 2.0 * kPi * kPi * std::cos(kPi * (0.5 - v)) * 0.25 / (double(env.width) * env.height);
-          const auto basis = reference::sh_basis(order, reference::equirect_direction(u, v));
+          const auto basis = math::sh_basis(order, math::equirect_direction(u, v));
           for (size_t k = 0; k < basis.size(); ++k)
             for (size_t c = 0; c < 3; ++c) sum[3 * k + c] += double(l[c]) * basis[k] * dl;
         }
@@ -193,13 +195,13 @@ std::string irradiance_error(const fs::path& ktx2, const EnvImage& env) {
   for (int f = 0; f < 6; ++f)
     for (int j = step / 2; j < s; j += step)
       for (int i = step / 2; i < s; i += step) {
-        const auto nrm = reference::cube_texel_direction(f, s, i, j);
+        const auto nrm = math::cube_texel_direction(f, s, i, j);
         double e[3] = {0, 0, 0};
         for (int y = 0; y < env.height; ++y) {
           const double top = kPi * (0.5 - double(y) / env.height), bottom = kPi * (0.5 - double(y + 1) / env.height);
           const double omega = 2.0 * kPi / env.width * (std::sin(top) - std::sin(bottom));
           for (int x = 0; x < env.width; ++x) {
-            const auto d = reference::equirect_direction((x + 0.5) / env.width, (y + 0.5) / env.height);
+            const auto d = math::equirect_direction((x + 0.5) / env.width, (y + 0.5) / env.height);
             const double cosine = nrm.x * d.x + nrm.y * d.y + nrm.z * d.z;
             if (cosine <= 0) continue;
             const float* l = &env.rgb[3 * (size_t(y) * size_t(env.width) + size_t(x))];

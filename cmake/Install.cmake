@@ -4,8 +4,9 @@ include(CMakePackageConfigHelpers)
 
 set(BRDFBAKE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/brdfbake)
 
-# The library is static: the oracle it links privately is installed beside it.
-install(TARGETS brdfbake_lib brdfbake_reference
+# The library is static: the maths its headers use and the oracle it links privately are installed
+# beside it.
+install(TARGETS brdfbake_lib brdfbake_math brdfbake_reference
         EXPORT brdfbakeTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -13,7 +14,7 @@ install(TARGETS brdfbake_lib brdfbake_reference
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/include/brdfbake DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${PROJECT_BINARY_DIR}/include/brdfbake/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/brdfbake)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/reference/include/brdfbake DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/math/include/brdfbake DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp")
 if(TARGET brdfbake)
   install(TARGETS brdfbake RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
@@ -32,7 +33,7 @@ install(FILES ${PROJECT_BINARY_DIR}/brdfbakeConfig.cmake ${PROJECT_BINARY_DIR}/b
         DESTINATION ${BRDFBAKE_CMAKE_DIR})
 
 # pkg-config: the static library and what it needs at link time.
-set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference")
+set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference -lbrdfbake_math")
 set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenEXR libpng")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/brdfbake.pc.in ${PROJECT_BINARY_DIR}/brdfbake.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/brdfbake.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -90,11 +90,11 @@ class ReferenceBackend final : public Backend {
   Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut_reference(s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel_reference(s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
-  CubeLevels prefilter(const EnvImage&, const PrefilterSpec&, PrefilterTiming*, const EnvProgress&) override {
-    throw Error("the reference backend does not prefilter yet; choose an OpenCL device");
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
+    return prefilter_environment_reference(env, s, t, p);
   }
-  IrradianceResult irradiance(const EnvImage&, const IrradianceSpec&, const EnvProgress&) override {
-    throw Error("the reference backend does not compute irradiance yet; choose an OpenCL device");
+  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
+    return compute_irradiance_reference(env, s, p);
   }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions&) override {

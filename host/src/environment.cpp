@@ -11,7 +11,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/equirect.hpp"
 #include "io/image_file.hpp"
 
 namespace brdfbake {
@@ -167,7 +167,7 @@ EnvImage load_faces(const std::vector<std::string>& files, const std::string& sp
 struct V3 {
   double x, y, z;
 };
-V3 v3(const reference::Dir3& d) { return {d.x, d.y, d.z}; }
+V3 v3(const Vec3& d) { return {d.x, d.y, d.z}; }
 double dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 V3 cross(const V3& a, const V3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 V3 unit(const V3& a) {
@@ -271,7 +271,7 @@ EnvImage render_equirect(const std::string& name, int width, void (*radiance)(co
   const double pixel_angle = 2.0 * kPi / w;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const V3 centre = v3(reference::equirect_direction((x + 0.5) / w, (y + 0.5) / h));
+      const V3 centre = v3(math::equirect_direction((x + 0.5) / w, (y + 0.5) / h));
       int k = 2;
       if (sun && std::acos(std::clamp(dot(centre, sun_direction()), -1.0, 1.0)) <
                      kSunRadius + 4.0 * pixel_angle / std::max(0.05, std::sqrt(1.0 - centre.y * centre.y)))
@@ -280,7 +280,7 @@ EnvImage render_equirect(const std::string& name, int width, void (*radiance)(co
       for (int sy = 0; sy < k; ++sy)
         for (int sx = 0; sx < k; ++sx) {
           const double v = (y + (sy + 0.5) / k) / h;
-          const V3 d = v3(reference::equirect_direction((x + (sx + 0.5) / k) / w, v));
+          const V3 d = v3(math::equirect_direction((x + (sx + 0.5) / k) / w, v));
           const double weight = std::cos(kPi * (0.5 - v));  // solid angle of the sub-sample
           double l[3];
           radiance(d, l);

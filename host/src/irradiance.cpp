@@ -13,15 +13,18 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "io/atomic_file.hpp"
+#include "env_internal.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 constexpr int kMaxPointSource = 64;  // the rest is summed at this face size or below
 constexpr int kBrightSplit = 2;      // sub-cells per texel side of a bright texel's footprint
 
@@ -49,7 +52,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   auto solid_angles = [&](int n) {
     omega.assign(size_t(n) * size_t(n), 0.0);
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = reference::cube_texel_solid_angle(n, i, j);
+      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = math::cube_texel_solid_angle(n, i, j);
   };
   solid_angles(s);
   while (s > kMaxPointSource && s % 2 == 0) {
@@ -77,7 +80,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i) {
-        const auto d = reference::cube_texel_direction(f, s, i, j);
+        const auto d = math::cube_texel_direction(f, s, i, j);
         const double w = omega[size_t(j) * size_t(s) + size_t(i)];
         const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
         arrays[0].push_back(d.x);
@@ -117,14 +120,57 @@ std::vector<double> sh_window_weights(ShWindow w, int order) {
   return out;
 }
 
-IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
-                                    const EnvProgress& progress) {
+void detail::check_irradiance_spec(const IrradianceSpec& spec) {
   if (spec.sh_order != 3 && spec.sh_order != 5)
     throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
   if (spec.cube_size < 0 || spec.cube_size > kIrradianceMaxCube)
-    throw Error("irradiance cube size must be in 1.." + std::to_string(kIrradianceMaxCube) + " (or 0 for none), not " + std::to_string(spec.cube_size));
+    throw Error("irradiance cube size must be in 1.." + std::to_string(kIrradianceMaxCube) + " (or 0 for none), not " +
+                std::to_string(spec.cube_size));
   if (spec.source_size < 1 || spec.source_size > kIrradianceMaxSource)
-    throw Error("irradiance source size must be in 1.." + std::to_string(kIrradianceMaxSource) + ", not " + std::to_string(spec.source_size));
+    throw Error("irradiance source size must be in 1.." + std::to_string(kIrradianceMaxSource) + ", not " +
+                std::to_string(spec.source_size));
+}
+
+ShCoefficients detail::sh_coefficients(const IrradianceSpec& spec, std::vector<double> radiance) {
+  ShCoefficients sh;
+  sh.order = spec.sh_order;
+  sh.window = spec.window;
+  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
+  sh.radiance = std::move(radiance);
+  sh.irradiance_over_pi.resize(sh.radiance.size());
+  for (int l = 0; l < spec.sh_order; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const size_t k = size_t(math::sh_index(l, m));
+      for (size_t c = 0; c < 3; ++c)
+        sh.irradiance_over_pi[3 * k + c] =
+            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
+    }
+  return sh;
+}
+
+void detail::irradiance_cube_metadata(CubeLevels& c, const EnvImage& env, const IrradianceSpec& spec,
+                                      const ShCoefficients& sh, const std::string& definition,
+                                      const std::string& precision, const std::string& device) {
+  c.set_meta("generator", std::string("brdfbake ") + kVersion);
+  c.set_meta("kind", "irradiance");
+  c.set_meta("definition", definition);
+  c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
+  c.set_meta("source", env.source);
+  c.set_meta("source_size", std::to_string(spec.source_size));
+  std::string coeffs;
+  for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
+  c.set_meta("sh_order", std::to_string(sh.order));
+  c.set_meta("sh_irradiance_over_pi", coeffs);
+  if (!sh.projection.empty()) c.set_meta("sh_projection", sh.projection);
+  c.set_meta("sh_convention",
+             "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
+  c.set_meta("precision", precision);
+  c.set_meta("device", device);
+}
+
+IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress) {
+  detail::check_irradiance_spec(spec);
   IrradianceResult result;
   // The SH on the host (sh_projection.cpp): exact for the input, and no device for SH alone.
   if (progress) progress(0.0, "spherical harmonics");
@@ -182,27 +228,11 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
   });
   result.device_seconds = seconds;
 
-  {
-    CubeLevels& c = result.cube;
-    c.set_meta("generator", std::string("brdfbake ") + kVersion);
-    c.set_meta("kind", "irradiance");
-    c.set_meta("definition",
-               "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
-               "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse "
-               "albedo only");
-    c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
-    c.set_meta("source", env.source);
-    c.set_meta("source_size", std::to_string(spec.source_size));
-    std::string coeffs;
-    for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
-    c.set_meta("sh_order", std::to_string(sh.order));
-    c.set_meta("sh_irradiance_over_pi", coeffs);
-    c.set_meta("sh_projection", sh.projection);
-    c.set_meta("sh_convention",
-               "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
-    c.set_meta("precision", precision_name(spec.precision));
-    c.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
-  }
+  detail::irradiance_cube_metadata(
+      result.cube, env, spec, sh,
+      "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
+      "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse albedo only",
+      precision_name(spec.precision), dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (progress) progress(1.0, "done");
   return result;
 }

@@ -15,15 +15,18 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sampling.hpp"
 #include "brdfbake/version.hpp"
+#include "env_internal.hpp"
+#include "env_lobes.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
@@ -44,18 +47,6 @@ double luminance(const float* rgb) {
 
 size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
 
-reference::EnvLobe to_lobe(EnvDistribution d) {
-  return d == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
-}
-
-double van_der_corput(uint32_t i) {
-  i = (i << 16) | (i >> 16);
-  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
-  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
-  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
-  i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
-  return static_cast<double>(i) * 2.3283064365386963e-10;
-}
 
 // The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
 // (kernels/prefilter.cl): N Hammersley points, h from D(h) (n.h), l = 2 (n.h) h - n, kept when
@@ -65,7 +56,8 @@ std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int 
   std::vector<double> x, y, z, w, lod;
   const double omega_texel = (2.0 / source_size) * (2.0 / source_size);
   for (int k = 0; k < n; ++k) {
-    const double u1 = (k + 0.5) / n, u2 = van_der_corput(static_cast<uint32_t>(k));
+    const math::Point2 u = math::hammersley(static_cast<uint32_t>(k), static_cast<uint32_t>(n));
+    const double u1 = u.u, u2 = u.v;
     double cos_h, sin_h;
     if (dist == EnvDistribution::Ggx) {  // Walter et al. 2007, eq. 35: tan^2 = alpha^2 u / (1 - u)
       const double t2 = alpha * alpha * u1 / (1.0 - u1);
@@ -78,7 +70,7 @@ std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int 
     const double phi = 2.0 * kPi * u2;
     const double lz = 2.0 * cos_h * cos_h - 1.0;
     if (lz <= 0.0) continue;
-    const double d = dist == EnvDistribution::Ggx ? reference::D_GGX(cos_h, alpha) : reference::D_Charlie(cos_h, alpha);
+    const double d = detail::env_lobe_d(dist, cos_h, alpha);
     // p(l) = D / 4 (dl = 4 (n.h) dh with v = n); the sample covers 1 / (N p) = 4 / (N D)
     const double omega_sample = 4.0 / (n * d);
     x.push_back(2.0 * cos_h * sin_h * std::cos(phi));
@@ -242,12 +234,12 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
     std::vector<double> omega(size_t(s0) * size_t(s0));
     for (int j = 0; j < s0; ++j)
       for (int i = 0; i < s0; ++i)
-        omega[size_t(j) * size_t(s0) + size_t(i)] = reference::cube_texel_solid_angle(s0, i, j);
+        omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
     for (int f = 0; f < 6; ++f)
       for (int j = 0; j < s0; ++j)
         for (int i = 0; i < s0; ++i) {
           const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
-          const reference::Dir3 d = reference::cube_texel_direction(f, s0, i, j);
+          const Vec3 d = math::cube_texel_direction(f, s0, i, j);
           const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
           const double lum = luminance(&rgba[4 * t]) * w;
           const double dv[3] = {d.x, d.y, d.z};
@@ -331,7 +323,6 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
 // band holds (lo, hi) per level; (2, 2) is empty.
 void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s, double refinement,
                         std::vector<double>& cos_core, std::vector<double>& band) {
-  const reference::EnvLobe lobe = to_lobe(dist);
   cos_core.assign(size_t(p.levels), 2.0);
   band.assign(2 * size_t(p.levels), 2.0);
   auto finest_level = [&](double width) {
@@ -358,7 +349,7 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
   double k_max = 0.0;
   std::vector<double> profile(kSteps + 1);
   for (int t = 0; t <= kSteps; ++t) {
-    profile[size_t(t)] = reference::env_lobe_kernel(lobe, alpha, std::cos(0.5 * kPi * t / kSteps));
+    profile[size_t(t)] = detail::env_lobe_kernel(dist, alpha, std::cos(0.5 * kPi * t / kSteps));
     k_max = std::max(k_max, profile[size_t(t)]);
   }
   double theta_lo = 0.5 * kPi, theta_hi = 0.0, half_lo = 0.5 * kPi, half_hi = 0.0;
@@ -406,8 +397,10 @@ cl::Event launch_pyramid(Device::Impl& dev, cl::Program& prog, const cl::Buffer&
                n_bright, static_cast<Real>(alpha));
 }
 
+}  // namespace
+
 // Biased, opt-in: luminance above `limit` is compressed to limit (1 + log(lum / limit)).
-void clamp_luminance(std::vector<float>& rgba, double limit) {
+void detail::clamp_luminance(std::vector<float>& rgba, double limit) {
   for (size_t t = 0; t < rgba.size(); t += 4) {
     const double lum = luminance(&rgba[t]);
     if (lum <= limit) continue;
@@ -416,13 +409,13 @@ void clamp_luminance(std::vector<float>& rgba, double limit) {
   }
 }
 
-std::string join(const std::vector<std::string>& v) {
+std::string detail::comma_join(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& e : v) s += (s.empty() ? "" : ",") + e;
   return s;
 }
 
-void conventions_metadata(CubeLevels& cube) {
+void detail::cube_conventions_metadata(CubeLevels& cube) {
   cube.set_meta("generator", std::string("brdfbake ") + kVersion);
   cube.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order)");
   cube.set_meta("face_orientation",
@@ -437,7 +430,38 @@ void conventions_metadata(CubeLevels& cube) {
   cube.set_meta("texels", "linear radiance (RGB, alpha 1)");
 }
 
-}  // namespace
+void detail::prefilter_metadata(CubeLevels& out, const PrefilterSpec& s, const std::vector<double>& roughness) {
+  const int levels = static_cast<int>(roughness.size());
+  cube_conventions_metadata(out);
+  out.set_meta("kind", "prefiltered radiance");
+  out.set_meta("distribution", env_distribution_name(s.distribution));
+  out.set_meta("definition",
+               "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
+               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
+                                                                           : "Charlie (Estevez & Kulla 2017)") +
+                   ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
+                   "the source itself (roughness 0)");
+  out.set_meta("levels", std::to_string(levels));
+  out.set_meta("size", std::to_string(s.size));
+  out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
+  out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
+  out.set_meta("roughness_of_level", s.schedule == RoughnessSchedule::Linear ? "roughness = l / (levels - 1)"
+                                     : s.schedule == RoughnessSchedule::Filament
+                                         ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
+                                         : "roughness = (l / (levels - 1))^2");
+  out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
+  std::vector<std::string> r_text;
+  for (double r : roughness) r_text.push_back(fmt(r, "%.9g"));
+  out.set_meta("roughness_per_level", comma_join(r_text));
+}
+
+void detail::environment_source_metadata(CubeLevels& out, const EnvImage& env) {
+  out.set_meta("source", env.source);
+  if (!env.description.empty()) out.set_meta("source_description", env.description);
+  if (env.sanitize.replaced)
+    out.set_meta("sanitized", std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) +
+                                  " infinite, " + std::to_string(env.sanitize.negative) + " negative values replaced");
+}
 
 // ---- Names and schedules ---------------------------------------------------------------------
 
@@ -538,7 +562,7 @@ std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_coun
   const int s = cube.size;
   std::vector<double> omega(static_cast<size_t>(s) * static_cast<size_t>(s));
   for (int j = 0; j < s; ++j)
-    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
   const size_t n = face_texels(s);
   std::vector<double> lum(n);
   double mean = 0.0;
@@ -578,10 +602,10 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
         const double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
         // the tent's exact mean over the sub-cell (it is linear there: the cells do not straddle 0)
         const double tent = (1.0 - std::fabs(xm)) * (1.0 - std::fabs(ym));
-        const reference::Dir3 p = reference::cube_plane_point(t.face, ca + h * xm, cb + h * ym);
+        const Vec3 p = math::cube_plane_point(t.face, ca + h * xm, cb + h * ym);
         const double len = std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
         const double omega =
-            reference::cube_rect_solid_angle(ca + h * x0, cb + h * y0, ca + h * x1, cb + h * y1) * tent * scale;
+            math::cube_rect_solid_angle(ca + h * x0, cb + h * y0, ca + h * x1, cb + h * y1) * tent * scale;
         px.push_back(p.x / len);
         py.push_back(p.y / len);
         pz.push_back(p.z / len);
@@ -655,7 +679,7 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
     return sum_seconds(events);
   });
   if (device_seconds) *device_seconds = seconds;
-  conventions_metadata(cube);
+  detail::cube_conventions_metadata(cube);
   cube.set_meta("source", env.source);
   return cube;
 }
@@ -678,7 +702,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   out.metadata = source.metadata;
   out.levels.resize(size_t(levels));
   out.levels[0] = source.levels[0];
-  if (s.clamp_luminance > 0.0) clamp_luminance(out.levels[0], s.clamp_luminance);
+  if (s.clamp_luminance > 0.0) detail::clamp_luminance(out.levels[0], s.clamp_luminance);
 
   // Environment sampling: the bright texels leave the rest.
   const int max_bright = s.bright_texels < 0 ? kDefaultBrightTexels : s.bright_texels;
@@ -728,11 +752,11 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     // its device seconds.
     auto run_level = [&](int l, int n, double r, std::vector<float>& dst) {
       const int size = out.level_size(l);
-      const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], reference::kMinAlpha);
+      const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], math::kMinAlpha);
       int n_points = 0;
       // Bright points carry L Omega; the sampling estimator divides them by W = int K dl here,
       // the quadrature by its own sum of K Omega in the kernel.
-      const double scale = quadrature ? 1.0 : 1.0 / reference::env_lobe_normalization(to_lobe(s.distribution), alpha);
+      const double scale = quadrature ? 1.0 : 1.0 / detail::env_lobe_normalization(s.distribution, alpha);
       const std::vector<double> pts = bright_texel_points(bright, s0, bright_subdivision(s.distribution, alpha, s0, bright.size()), scale, &n_points);
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
@@ -825,34 +849,15 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   });
 
   // Metadata: what the levels hold, how they were made.
-  conventions_metadata(out);
-  out.set_meta("kind", "prefiltered radiance");
-  out.set_meta("distribution", env_distribution_name(s.distribution));
-  out.set_meta("definition",
-               "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
-               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
-                                                                           : "Charlie (Estevez & Kulla 2017)") +
-                   ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
-                   "the source itself (roughness 0)");
-  out.set_meta("levels", std::to_string(levels));
-  out.set_meta("size", std::to_string(s0));
-  out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
-  out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
-  out.set_meta("roughness_of_level", s.schedule == RoughnessSchedule::Linear ? "roughness = l / (levels - 1)"
-                                     : s.schedule == RoughnessSchedule::Filament
-                                         ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
-                                         : "roughness = (l / (levels - 1))^2");
-  out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
-  std::vector<std::string> r_text, n_text;
+  detail::prefilter_metadata(out, s, roughness);
+  std::vector<std::string> n_text;
   for (int l = 0; l < levels; ++l) {
-    r_text.push_back(fmt(roughness[size_t(l)], "%.9g"));
     n_text.push_back(quadrature ? (l == 0 ? std::string("0") : fmt(refinement[size_t(l)], "%g"))
                                 : std::to_string(samples[size_t(l)]));
   }
-  out.set_meta("roughness_per_level", join(r_text));
   out.set_meta("estimator", env_estimator_name(s.estimator));
   if (quadrature) {
-    out.set_meta("refinement_per_level", join(n_text));
+    out.set_meta("refinement_per_level", detail::comma_join(n_text));
     out.set_meta("estimator_description",
                  "deterministic hierarchical quadrature: a solid-angle pyramid of level 0 (per texel: solid angle, "
                  "L Omega, centroid and radiance centroid directions), texels refined within refinement x texel "
@@ -861,7 +866,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
                      " rad); K at the radiance centroid, normalised by the sum of K Omega; plus " +
                      std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
   } else {
-    out.set_meta("samples_per_level", join(n_text));
+    out.set_meta("samples_per_level", detail::comma_join(n_text));
     out.set_meta("estimator_description",
                  std::string("lobe importance sampling, N = V = R, Hammersley points, ") +
                      (s.filtered_importance_sampling
@@ -892,7 +897,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
                                   std::string(quadrature ? "refinements" : "sample counts (N, 4N)") + " <= " +
                                   fmt(s.max_error) + " (the finer result is kept)");
-    out.set_meta("measured_error_per_level", join(m_text));
+    out.set_meta("measured_error_per_level", detail::comma_join(m_text));
     out.set_meta("measured_error", fmt(worst, "%.3g"));
   }
   if (s.clamp_luminance > 0.0)
@@ -922,11 +927,7 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   CubeLevels out = prefilter_cube(device, source, s, &t, progress);
-  out.set_meta("source", env.source);
-  if (!env.description.empty()) out.set_meta("source_description", env.description);
-  if (env.sanitize.replaced)
-    out.set_meta("sanitized", std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) +
-                                  " infinite, " + std::to_string(env.sanitize.negative) + " negative values replaced");
+  detail::environment_source_metadata(out, env);
   if (timing) {
     *timing = t;
     if (!timing->level_device_seconds.empty()) timing->level_device_seconds[0] += convert_seconds;

@@ -27,7 +27,8 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sh.hpp"
 
 namespace brdfbake {
 namespace {
@@ -190,13 +191,13 @@ std::vector<double> project_cube(const EnvImage& env, int order) {
   const int s = env.width, n_basis = order * order;
   std::vector<double> omega(size_t(s) * size_t(s));
   for (int j = 0; j < s; ++j)
-    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
   std::vector<double> total(3 * size_t(n_basis), 0.0);
   double y[kMaxBasis];
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i) {
-        const auto d = reference::cube_texel_direction(f, s, i, j);
+        const auto d = math::cube_texel_direction(f, s, i, j);
         sh_basis(order, d.x, d.y, d.z, y);
         const double o = omega[size_t(j) * size_t(s) + size_t(i)];
         const float* l = &env.rgb[3 * ((size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i))];
@@ -227,7 +228,7 @@ ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window) {
       const size_t k = size_t(l * (l + 1) + m);
       for (size_t c = 0; c < 3; ++c)
         sh.irradiance_over_pi[3 * k + c] =
-            sh.radiance[3 * k + c] * reference::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
+            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
     }
   sh.projection = cube ? "the " + std::to_string(env.width) + "^2 cube's texels at their centres, each with its "
                                                               "exact solid angle, in double precision on the host"

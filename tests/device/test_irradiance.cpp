@@ -8,6 +8,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -77,10 +78,10 @@ TEST(Irradiance, AgreesWithTheReference) {
     EXPECT_EQ(r.sh.radiance, project_sh(env, 5).radiance) << name;
     EXPECT_EQ(r.cube.meta("sh_projection"), project_sh(env, 5).projection) << name;
     // the cube: brute-force cosine convolution of the same source
-    std::vector<reference::Dir3> dirs;
+    std::vector<Vec3> dirs;
     for (int f = 0; f < 6; ++f)
       for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 8; ++i) dirs.push_back(reference::cube_texel_direction(f, 8, i, j));
+        for (int i = 0; i < 8; ++i) dirs.push_back(math::cube_texel_direction(f, 8, i, j));
     const auto e = reference::irradiance_directions(src, dirs);
     double sum = 0;
     for (size_t t = 0; t < dirs.size(); ++t)

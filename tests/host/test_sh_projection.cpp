@@ -9,6 +9,9 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/tolerances.hpp"
 
@@ -50,7 +53,7 @@ void gauss_legendre16(double* x, double* w) {
 }
 
 // The definition, integrated independently: over each pixel's (u, v) square with 16 x 16
-// Gauss-Legendre nodes, the direction from reference::equirect_direction (the documented mapping)
+// Gauss-Legendre nodes, the direction from math::equirect_direction (the documented mapping)
 // and dl = 2 pi^2 cos(latitude) du dv, the basis from the reference.
 std::vector<double> brute_force(const EnvImage& e, int order) {
   double gx[16], gw[16];
@@ -63,7 +66,7 @@ std::vector<double> brute_force(const EnvImage& e, int order) {
         for (int b = 0; b < 16; ++b) {
           const double u = (x + 0.5 * (gx[a] + 1)) / e.width, v = (y + 0.5 * (gx[b] + 1)) / e.height;
           const double dl = 2.0 * kPi * kPi * std::cos(kPi * (0.5 - v)) * (0.25 * gw[a] * gw[b]) / (e.width * e.height);
-          const auto basis = reference::sh_basis(order, reference::equirect_direction(u, v));
+          const auto basis = math::sh_basis(order, math::equirect_direction(u, v));
           for (size_t k = 0; k < basis.size(); ++k)
             for (size_t c = 0; c < 3; ++c) out[3 * k + c] += double(l[c]) * basis[k] * dl;
         }

@@ -211,6 +211,22 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
 
+// The same chain by the scalar double reference (host/src/reference_backend/prefilter.cpp): the
+// environment converted to a cube by brute force (every texel the solid-angle-weighted mean of the
+// source's bilinear interpolation over q x q sub-cells), and every level l >= 1 the lobe integral
+// over every source texel split into sub-cells (brdfbake/reference/envmap.hpp, prefilter_cube), in
+// double, stored as float. The estimator and its settings (samples, refinement, max_error, bright
+// texels) do not apply; clamp_luminance does. The metadata has the keys of prefilter_environment's
+// with the reference's values (estimator "reference", device "reference (scalar double)").
+// Practical on small cubes only: the work, sum over levels of (output texels) x (source sub-cells),
+// grows like size^4; a request above kPrefilterReferenceMaxWork lobe evaluations (a few seconds on
+// two cores) throws Error naming the limit and suggesting an OpenCL device.
+inline constexpr double kPrefilterReferenceMaxWork = 6e8;
+CubeLevels prefilter_environment_reference(const EnvImage& env, const PrefilterSpec& spec,
+                                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
+// The lobe evaluations prefilter_environment_reference would make for a spec (resolved).
+double prefilter_reference_work(const PrefilterSpec& spec);
+
 // The default number of explicitly summed bright texels, and the luminance ratio to the mean
 // above which a texel counts as bright.
 inline constexpr int kDefaultBrightTexels = 256;
@@ -276,6 +292,19 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
 // equirect exactly as its pixels define it (each constant over its cell, integrated against the
 // basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
 ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
+
+// The same by the scalar double reference (host/src/reference_backend/irradiance.cpp): the source
+// cube converted by brute force (as prefilter_environment_reference), the SH coefficients projected
+// over every source sub-cell (brdfbake/reference/envmap.hpp, sh_project), the irradiance cube by
+// direct cosine convolution over every source sub-cell (irradiance_directions). Same result type and
+// cube metadata keys as compute_irradiance, device "reference (scalar double)". Practical on small
+// cubes only: above kIrradianceReferenceMaxSourceSize, or above kIrradianceReferenceMaxWork cosine
+// terms for the cube (cube texels x source sub-cells, a few seconds on two cores), it throws Error
+// naming the limit and suggesting an OpenCL device.
+inline constexpr int kIrradianceReferenceMaxSourceSize = 512;
+inline constexpr double kIrradianceReferenceMaxWork = 4e9;
+IrradianceResult compute_irradiance_reference(const EnvImage& env, const IrradianceSpec& spec,
+                                              const EnvProgress& progress = {});
 // The window weights w_l, l < order: hanning 0.5 (1 + cos(pi l / order)), lanczos sinc(l / order).
 std::vector<double> sh_window_weights(ShWindow w, int order);
 // JSON text of the coefficients with the basis and conventions, and `metadata`.

@@ -12,7 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
 #include "io/image_file.hpp"
@@ -125,20 +126,64 @@ std::vector<float> cross_rgb(const CubeLevels& cube, int level, bool horizontal,
   return rgb;
 }
 
+// The texel (i, j) of `face` of a level for i, j in [-1, s]: inside the face, the texel; one index
+// outside, the texel of the neighbouring face nearest to the extended texel centre; both outside
+// (a corner), the mean of the three texels around it (docs/CONVENTIONS.md, "Environment maps": the
+// seamless bilinear environment).
+void fetch_extended(const CubeLevels& cube, int level, int face, int i, int j, double out[3]) {
+  const int s = cube.level_size(level);
+  const bool in_i = i >= 0 && i < s, in_j = j >= 0 && j < s;
+  if (in_i && in_j) {
+    const float* t = cube.texel(level, face, i, j);
+    for (int c = 0; c < 3; ++c) out[c] = t[c];
+    return;
+  }
+  if (!in_i && !in_j) {
+    const int ci = std::clamp(i, 0, s - 1), cj = std::clamp(j, 0, s - 1);
+    double p[3], q[3], r[3];
+    fetch_extended(cube, level, face, ci, j, p);
+    fetch_extended(cube, level, face, i, cj, q);
+    fetch_extended(cube, level, face, ci, cj, r);
+    for (int c = 0; c < 3; ++c) out[c] = (p[c] + q[c] + r[c]) / 3.0;
+    return;
+  }
+  int f = 0;
+  double a = 0, b = 0;
+  math::cube_face_coords(math::cube_plane_point(face, 2.0 * (i + 0.5) / s - 1.0, 2.0 * (j + 0.5) / s - 1.0), f, a, b);
+  const int ni = std::clamp(static_cast<int>(std::floor(0.5 * (a + 1.0) * s)), 0, s - 1);
+  const int nj = std::clamp(static_cast<int>(std::floor(0.5 * (b + 1.0) * s)), 0, s - 1);
+  const float* t = cube.texel(level, f, ni, nj);
+  for (int c = 0; c < 3; ++c) out[c] = t[c];
+}
+
+// The seamless bilinear interpolation of a level's texels at direction d.
+void cube_bilinear(const CubeLevels& cube, int level, const Vec3& d, double out[3]) {
+  const int s = cube.level_size(level);
+  int face = 0;
+  double a = 0, b = 0;
+  math::cube_face_coords(d, face, a, b);
+  const double x = 0.5 * (a + 1.0) * s - 0.5, y = 0.5 * (b + 1.0) * s - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+  const int i0 = static_cast<int>(x0), j0 = static_cast<int>(y0);
+  double t00[3], t10[3], t01[3], t11[3];
+  fetch_extended(cube, level, face, i0, j0, t00);
+  fetch_extended(cube, level, face, i0 + 1, j0, t10);
+  fetch_extended(cube, level, face, i0, j0 + 1, t01);
+  fetch_extended(cube, level, face, i0 + 1, j0 + 1, t11);
+  for (int c = 0; c < 3; ++c)
+    out[c] = (1.0 - fy) * ((1.0 - fx) * t00[c] + fx * t10[c]) + fy * ((1.0 - fx) * t01[c] + fx * t11[c]);
+}
+
 // An equirect of one level (4 s x 2 s): each pixel the seamless bilinear value at its centre.
 std::vector<float> equirect_rgb(const CubeLevels& cube, int level, int* w, int* h) {
   const int s = cube.level_size(level);
   *w = std::max(4, 4 * s);
   *h = *w / 2;
-  reference::EnvCube ec;
-  ec.size = s;
-  ec.rgb.resize(18u * size_t(s) * size_t(s));
-  for (size_t t = 0; t < 6u * size_t(s) * size_t(s); ++t)
-    for (size_t c = 0; c < 3; ++c) ec.rgb[3 * t + c] = cube.levels[size_t(level)][4 * t + c];
   std::vector<float> rgb(3u * size_t(*w) * size_t(*h));
   for (int y = 0; y < *h; ++y)
     for (int x = 0; x < *w; ++x) {
-      const auto v = reference::cube_bilinear(ec, reference::equirect_direction((x + 0.5) / *w, (y + 0.5) / *h));
+      double v[3];
+      cube_bilinear(cube, level, math::equirect_direction((x + 0.5) / *w, (y + 0.5) / *h), v);
       for (size_t c = 0; c < 3; ++c) rgb[3 * (size_t(y) * size_t(*w) + size_t(x)) + c] = static_cast<float>(v[c]);
     }
   return rgb;

@@ -1,5 +1,7 @@
 // Named material presets: measured complex refractive indices at three representative wavelengths,
 // each with its dataset, beside the F0 colour that shaders commonly hard-code for the material.
+// Product data (host/src/material_presets.cpp), used by the Fresnel tables (brdfbake/fresnel.hpp);
+// tests/host/test_material_presets.cpp checks them against the exact Fresnel reference.
 //
 // Wavelengths: R = 630 nm, G = 532 nm, B = 465 nm (kPresetWavelengthsNm). Tabulated datasets are
 // interpolated linearly in wavelength between their two nearest samples; datasets published as a
@@ -8,16 +10,16 @@
 // extinction in the visible (water ~1e-9, N-BK7 ~1e-8) changes no reflectance digit.
 // An RGB triple of single-wavelength values is the usual real-time convention, not a spectral
 // integration against colour-matching functions: it will not reproduce a table of F0 colours that
-// was made that way (e.g. Real-Time Rendering's) to the last digit; materials.cpp lists both.
+// was made that way (e.g. Real-Time Rendering's) to the last digit; material_presets.cpp lists both.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "brdfbake/reference/fresnel.hpp"
+#include "brdfbake/math/types.hpp"
 
-namespace brdfbake::reference {
+namespace brdfbake {
 
 inline constexpr Rgb kPresetWavelengthsNm{630.0, 532.0, 465.0};
 
@@ -37,9 +39,10 @@ struct MaterialPreset {
 const std::vector<MaterialPreset>& material_presets();
 
 // The preset with exactly this name, or nullptr.
-const MaterialPreset* find_material(const std::string& name);
+const MaterialPreset* find_material_preset(const std::string& name);
 
-// The exact normal-incidence reflectance from the preset's n, k (from air/vacuum).
+// The exact normal-incidence reflectance from the preset's n, k (from air/vacuum), per channel
+// ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2) (Born & Wolf 14.2 at normal incidence).
 Rgb exact_f0(const MaterialPreset& preset);
 
-}  // namespace brdfbake::reference
+}  // namespace brdfbake

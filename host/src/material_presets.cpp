@@ -1,4 +1,4 @@
-// Material preset data. See materials.hpp for the wavelengths and the interpolation rule.
+// Material preset data. See brdfbake/material_presets.hpp for the wavelengths and the interpolation rule.
 //
 // Where the numbers were read: every n, k below was computed from the dataset file of the
 // refractiveindex.info database (github.com/polyanskiy/refractiveindex.info-database, public
@@ -18,9 +18,9 @@
 //   gold (1.00, 0.71, 0.29), silver (0.95, 0.93, 0.88), copper (0.95, 0.64, 0.54),
 //   iron (0.56, 0.57, 0.58), aluminium (0.91, 0.92, 0.92), water 0.02, diamond 0.17;
 // and e.g. gold (1.000, 0.766, 0.336) as in Unity Shader Graph's Metal Reflectance node.
-#include "brdfbake/reference/materials.hpp"
+#include "brdfbake/material_presets.hpp"
 
-namespace brdfbake::reference {
+namespace brdfbake {
 namespace {
 
 constexpr const char* kRtr4Metals =
@@ -124,12 +124,18 @@ const std::vector<MaterialPreset>& material_presets() {
   return presets;
 }
 
-const MaterialPreset* find_material(const std::string& name) {
+const MaterialPreset* find_material_preset(const std::string& name) {
   for (const MaterialPreset& p : material_presets())
     if (p.name == name) return &p;
   return nullptr;
 }
 
-Rgb exact_f0(const MaterialPreset& preset) { return schlick_f0_from_conductor(preset.n, preset.k); }
+Rgb exact_f0(const MaterialPreset& preset) {
+  const auto f0 = [](double n, double k) {
+    const double k2 = k * k;
+    return ((n - 1.0) * (n - 1.0) + k2) / ((n + 1.0) * (n + 1.0) + k2);
+  };
+  return {f0(preset.n.r, preset.k.r), f0(preset.n.g, preset.k.g), f0(preset.n.b, preset.k.b)};
+}
 
-}  // namespace brdfbake::reference
+}  // namespace brdfbake

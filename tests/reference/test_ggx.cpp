@@ -1,11 +1,11 @@
-// Identities of the scalar reference's microfacet terms (host/reference/src/microfacet.cpp), each
-// checked against a closed form or an integral computed here by its own route.
+// Identities of the reference's GGX terms (host/reference/src/ggx.cpp), each checked against a
+// closed form or an integral computed here by its own route.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/tolerances.hpp"
 
@@ -37,14 +37,6 @@ double ggx_projected_area(double alpha) {
   return 2.0 * kPi * integrate_graded(0.0, 0.5 * kPi, 0.01 * alpha, 0.0, 0.05, [&](double th) {
            return ref::D_GGX(std::cos(th), alpha) * std::cos(th) * std::sin(th);
          });
-}
-
-// Integral of D_Charlie(h) (n.h) over the hemisphere, in c = n.h (dh = dc dph): the band at
-// c ~ 0 has width sqrt(alpha), the power law (1 - c^2)^(1/2alpha) sits at c = 1.
-double charlie_projected_area(double alpha) {
-  return 2.0 * kPi *
-         integrate_graded(0.0, 1.0, 0.01 * std::sqrt(alpha), 1e-10, 0.5 * std::sqrt(alpha),
-                          [&](double c) { return ref::D_Charlie(c, alpha) * c; });
 }
 
 // Visible-normal normalisation (Heitz 2014): integral over h of G1(v) max(0, v.h) D(h) = n.v.
@@ -80,7 +72,7 @@ double visible_normals(double n_dot_v, double alpha) {
 
 }  // namespace
 
-TEST(MicrofacetGgx, DistributionPeakAndWhiteLimit) {
+TEST(GgxReference, DistributionPeakAndWhiteLimit) {
   // D(n.h = 1) = 1 / (pi alpha^2); at alpha = 1 GGX is uniform, D = 1/pi for every n.h > 0.
   for (double alpha : {1e-3, 0.1, 0.5, 1.0}) {
     EXPECT_NEAR(ref::D_GGX(1.0, alpha) * kPi * alpha * alpha, 1.0, test::kRounding) << alpha;
@@ -90,14 +82,14 @@ TEST(MicrofacetGgx, DistributionPeakAndWhiteLimit) {
   EXPECT_EQ(ref::D_GGX(-0.5, 0.5), 0.0);                           // below the horizon
 }
 
-TEST(MicrofacetGgx, DistributionIsNormalised) {
+TEST(GgxReference, DistributionIsNormalised) {
   // Integral of D (n.h) dh = 1 (Walter et al. 2007, eq. 4), down to alpha = 1e-3.
   for (double alpha : {1e-3, 0.02, 0.1, 0.3, 0.7, 1.0}) {
     EXPECT_NEAR(ggx_projected_area(alpha), 1.0, test::kIdentityQuadrature) << "alpha " << alpha;
   }
 }
 
-TEST(MicrofacetGgx, LambdaSpotValues) {
+TEST(GgxReference, LambdaSpotValues) {
   // Lambda = (sqrt(1 + alpha^2 tan^2) - 1) / 2: alpha = 1, 45 degrees gives (sqrt 2 - 1) / 2; normal
   // incidence gives 0; alpha = 0.5 at cos = 0.6 (tan = 4/3) gives (sqrt(1 + 4/9) - 1) / 2.
   EXPECT_NEAR(ref::Lambda_GGX(std::sqrt(0.5), 1.0), 0.5 * (std::sqrt(2.0) - 1.0), test::kRounding);
@@ -108,7 +100,7 @@ TEST(MicrofacetGgx, LambdaSpotValues) {
   EXPECT_NEAR(ref::G1_SmithGGX(0.6, 0.5), 1.0 / (1.0 + ref::Lambda_GGX(0.6, 0.5)), test::kRounding);
 }
 
-TEST(MicrofacetGgx, HeightCorrelatedG2LiesBetweenSeparableAndMin) {
+TEST(GgxReference, HeightCorrelatedG2LiesBetweenSeparableAndMin) {
   // G1(v) G1(l) <= G2 <= min(G1(v), G1(l)), with equality on the left only at normal incidence.
   for (double alpha : {0.05, 0.4, 1.0}) {
     for (double nv : {0.05, 0.5, 1.0}) {
@@ -123,7 +115,7 @@ TEST(MicrofacetGgx, HeightCorrelatedG2LiesBetweenSeparableAndMin) {
   }
 }
 
-TEST(MicrofacetGgx, VisibilityIsG2Over4NlNvAndSymmetric) {
+TEST(GgxReference, VisibilityIsG2Over4NlNvAndSymmetric) {
   for (double alpha : {1e-3, 0.2, 1.0}) {
     for (double nv : {1e-4, 0.3, 1.0}) {
       for (double nl : {1e-3, 0.6, 0.99}) {
@@ -136,7 +128,7 @@ TEST(MicrofacetGgx, VisibilityIsG2Over4NlNvAndSymmetric) {
   }
 }
 
-TEST(MicrofacetGgx, VisibleNormalsAreNormalised) {
+TEST(GgxReference, VisibleNormalsAreNormalised) {
   // Heitz 2014: the visible projected area of the microsurface equals the macrosurface's,
   // integral of G1(v) max(0, v.h) D(h) dh = n.v.
   for (double alpha : {0.1, 0.5, 1.0}) {
@@ -146,102 +138,15 @@ TEST(MicrofacetGgx, VisibleNormalsAreNormalised) {
   }
 }
 
-TEST(MicrofacetFresnel, SchlickEndsAndMidpoint) {
-  EXPECT_EQ(ref::F_Schlick(0.04, 1.0, 1.0), 0.04);
-  EXPECT_EQ(ref::F_Schlick(0.04, 1.0, 0.0), 1.0);
-  EXPECT_NEAR(ref::F_Schlick(0.04, 1.0, 0.5), 0.04 + 0.96 / 32.0, test::kRounding);
-  EXPECT_NEAR(ref::F_Schlick(0.5, 0.25, 0.5), 0.5 - 0.25 / 32.0, test::kRounding);
-}
-
-TEST(MicrofacetBurley, RetroReflectionSpotValues) {
-  // F_D90 = 1 is Lambert: 1/pi everywhere.
-  for (double c : {0.0, 0.3, 1.0}) EXPECT_NEAR(ref::Fd_BurleyF90(c, 0.7, 1.0), 1.0 / kPi, test::kRounding);
-  // Grazing light, normal view: f = F_D90 / pi with F_D90 = 0.5 + 2 r (l.h)^2; r = 0.5, l.h = 0.5.
-  EXPECT_NEAR(ref::Fd_Burley(1.0, 0.0, 0.5, 0.5), 0.75 / kPi, test::kRounding);
-  // Both grazing: F_D90^2 / pi; r = 1, l.h = 1 gives 2.5^2.
-  EXPECT_NEAR(ref::Fd_Burley(0.0, 0.0, 1.0, 1.0), 6.25 / kPi, test::kRounding);
-  // n.l = 0.5, n.v = 1, r = 0.25, l.h = sqrt(0.75): F_D90 = 0.875, f = (1 - 0.125 / 32) / pi.
-  EXPECT_NEAR(ref::Fd_Burley(1.0, 0.5, std::sqrt(0.75), 0.25), (1.0 - 0.125 / 32.0) / kPi, test::kRounding);
-}
-
-TEST(MicrofacetCharlie, DistributionSpotValues) {
-  // D(n.h = 0) = (2 + 1/alpha) / (2 pi); D(n.h = 1) = 0.
-  for (double alpha : {1e-6, 0.1, 1.0}) {
-    EXPECT_NEAR(ref::D_Charlie(0.0, alpha) * 2.0 * kPi / (2.0 + 1.0 / alpha), 1.0, test::kRounding);
-    EXPECT_EQ(ref::D_Charlie(1.0, alpha), 0.0);
-  }
-  // alpha = 1/2: D = 4 sin^2 / (2 pi) = 4 (1 - c^2) / (2 pi).
-  EXPECT_NEAR(ref::D_Charlie(0.6, 0.5), 4.0 * 0.64 / (2.0 * kPi), test::kRounding);
-}
-
-TEST(MicrofacetCharlie, DistributionIsNormalised) {
-  // Estevez & Kulla 2017: integral of D (n.h) dh = 1, including non-integer 1/alpha.
-  for (double alpha : {1e-4, 0.01, 0.1, 0.3, 0.5, 0.7, 1.0}) {
-    EXPECT_NEAR(charlie_projected_area(alpha), 1.0, test::kIdentityQuadrature) << "alpha " << alpha;
-  }
-}
-
-TEST(MicrofacetCharlie, FittedLambdaEndpointsUseThePaperParameters) {
-  // Lambda(0) = exp(L(0)) = exp(a + e): the r = 0 set (25.3245, -4.85967) at alpha = 0 and the
-  // r = 1 set (21.5473, -4.32054) at alpha = 1 (Estevez & Kulla 2017).
-  EXPECT_NEAR(ref::Lambda_CharlieEstevezKulla(0.0, 0.0) / std::exp(25.3245 - 4.85967), 1.0, test::kRounding);
-  EXPECT_NEAR(ref::Lambda_CharlieEstevezKulla(0.0, 1.0) / std::exp(21.5473 - 4.32054), 1.0, test::kRounding);
-  // Lambda(1) = exp(2 L(1/2) - L(0)) is tiny but positive; Lambda decreases with the cosine.
-  for (double alpha : {0.0, 0.3, 1.0}) {
-    double previous = ref::Lambda_CharlieEstevezKulla(0.0, alpha);
-    for (double c = 0.05; c <= 1.0 + 1e-12; c += 0.05) {
-      const double lambda = ref::Lambda_CharlieEstevezKulla(c, alpha);
-      EXPECT_LT(lambda, previous) << alpha << " " << c;
-      previous = lambda;
-    }
-    EXPECT_GT(previous, 0.0);
-    EXPECT_LT(previous, 1e-7);
-  }
-}
-
-TEST(MicrofacetCharlie, FittedLambdaIsContinuousAtOneHalf) {
-  // The two branches meet at cos = 1/2 in value and slope (the mirrored form is built for it).
-  for (double alpha : {1e-6, 0.25, 0.6, 1.0}) {
-    const double below = ref::Lambda_CharlieEstevezKulla(std::nextafter(0.5, 0.0), alpha);
-    const double at = ref::Lambda_CharlieEstevezKulla(0.5, alpha);
-    EXPECT_NEAR(below / at, 1.0, test::kRounding) << alpha;
-    const double h = 1e-6;
-    const double slope_below = (at - ref::Lambda_CharlieEstevezKulla(0.5 - h, alpha)) / h;
-    const double slope_above = (ref::Lambda_CharlieEstevezKulla(0.5 + h, alpha) - at) / h;
-    // One-sided differences differ by O(h |Lambda''|); Lambda'' jumps at 1/2 but is O(10).
-    EXPECT_NEAR(slope_below, slope_above, 1e-4 * std::fabs(slope_below)) << alpha;
-  }
-}
-
-TEST(MicrofacetCharlie, VisibilitiesAreSymmetricWithSpotValues) {
-  for (double nv : {1e-3, 0.3, 0.8}) {
-    for (double nl : {0.02, 0.5, 1.0}) {
-      EXPECT_EQ(ref::V_Neubelt(nv, nl), ref::V_Neubelt(nl, nv));
-      EXPECT_NEAR(ref::V_CharlieEstevezKulla(nv, nl, 0.3) / ref::V_CharlieEstevezKulla(nl, nv, 0.3), 1.0,
-                  test::kRounding);
-      const double lambdas =
-          1.0 + ref::Lambda_CharlieEstevezKulla(nv, 0.3) + ref::Lambda_CharlieEstevezKulla(nl, 0.3);
-      EXPECT_NEAR(ref::V_CharlieEstevezKulla(nv, nl, 0.3) * lambdas * 4.0 * nv * nl, 1.0, test::kRounding);
-    }
-  }
-  EXPECT_EQ(ref::V_Neubelt(1.0, 1.0), 0.25);
-  EXPECT_NEAR(ref::V_Neubelt(0.5, 0.5), 1.0 / 3.0, test::kRounding);
-}
-
-TEST(MicrofacetEdgeCases, EveryTermIsFiniteAtTheCorners) {
+TEST(GgxReference, EveryTermIsFiniteAtTheCorners) {
   for (double alpha : {0.0, 1e-6, 1.0}) {
     for (double a : {0.0, 1e-6, 1.0}) {
       EXPECT_TRUE(std::isfinite(ref::D_GGX(a, alpha)));
       EXPECT_TRUE(std::isfinite(ref::Lambda_GGX(a, alpha)));
       EXPECT_TRUE(std::isfinite(ref::G1_SmithGGX(a, alpha)));
-      EXPECT_TRUE(std::isfinite(ref::D_Charlie(a, alpha)));
-      EXPECT_TRUE(std::isfinite(ref::Lambda_CharlieEstevezKulla(a, alpha)));
       for (double b : {0.0, 1e-6, 1.0}) {
         EXPECT_TRUE(std::isfinite(ref::G2_SmithGGXCorrelated(a, b, alpha)));
         EXPECT_TRUE(std::isfinite(ref::V_SmithGGXCorrelated(a, b, alpha))) << a << " " << b << " " << alpha;
-        EXPECT_TRUE(std::isfinite(ref::V_CharlieEstevezKulla(a, b, alpha))) << a << " " << b << " " << alpha;
-        EXPECT_TRUE(std::isfinite(ref::V_Neubelt(a, b)));
-        EXPECT_TRUE(std::isfinite(ref::Fd_Burley(a, b, a, alpha)));
       }
     }
   }
