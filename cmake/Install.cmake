@@ -30,6 +30,6 @@ install(FILES ${PROJECT_BINARY_DIR}/brdfbakeConfig.cmake ${PROJECT_BINARY_DIR}/b
 
 # pkg-config: the static library and what it needs at link time.
 set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference")
-set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenImageIO Imath")
+set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenImageIO Imath OpenEXR libpng")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/brdfbake.pc.in ${PROJECT_BINARY_DIR}/brdfbake.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/brdfbake.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

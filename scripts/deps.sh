@@ -7,7 +7,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 BRDFBAKE_PACKAGES=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
-  libopenimageio-dev openimageio-tools
+  libopenimageio-dev openimageio-tools libopenexr-dev libpng-dev libstb-dev
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
   libgtest-dev libgmock-dev
   gnuplot-nox
