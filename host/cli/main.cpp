@@ -22,7 +22,8 @@ void usage(std::ostream& out) {
       << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
       << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
       << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n"
-      << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n";
+      << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
+      << "  report    measure accuracy against time on a device: an HTML page of plots and a JSON\n";
 }
 
 }  // namespace
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
     if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
     if (command == "view") return cli::cmd_view(argc - 1, argv + 1);
+    if (command == "report") return cli::cmd_report(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;

@@ -21,6 +21,7 @@
 #include "brdfbake/reference/envmap.hpp"
 #include "brdfbake/version.hpp"
 #include "brdfbake/view.hpp"
+#include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
 #include "view/canvas.hpp"
 #include "view/load.hpp"
@@ -760,7 +761,9 @@ void write_contact_sheet(const ContactSheet& sheet, const std::string& path) {
   std::string files;
   for (const auto& f : sheet.files) files += (files.empty() ? "" : "\n") + f;
   text.emplace_back("brdfbake:files", files);
+  io::ParentFolders folders(path);  // made if missing, as every output's
   io::write_png_rgb8(path, sheet.width, sheet.height, sheet.rgb, text);
+  folders.keep();
 }
 
 }  // namespace brdfbake
