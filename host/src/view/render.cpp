@@ -383,8 +383,10 @@ std::vector<Tile> table_tiles(const Table& t, const ViewOptions& o) {
     return tiles;
   }
   for (int c = 0; c < t.channel_count(); ++c) tiles.push_back(table_channel_tile(t, c, o));
+  // r, g, b reflectances (at most 1: Fresnel, thin film, albedo) are also shown as the colour they are.
   const int r = channel_index(t, "r", "R"), g = channel_index(t, "g", "G"), b = channel_index(t, "b", "B");
-  if (r >= 0 && g >= 0 && b >= 0 && t.channel_count() <= 4) tiles.push_back(table_rgb_tile(t, r, g, b, o));
+  const bool reflectance = std::all_of(t.data.begin(), t.data.end(), [](float v) { return !(v > 1.0f); });
+  if (r >= 0 && g >= 0 && b >= 0 && t.channel_count() <= 4 && reflectance) tiles.push_back(table_rgb_tile(t, r, g, b, o));
   return tiles;
 }
 
