@@ -141,11 +141,12 @@ TEST(View, TableColourScaleMapsMinimumAndMaximumToItsEnds) {
   t.y_name = "roughness";
   for (int i = 0; i < t.width; ++i) t.x.push_back((i + 0.5) / t.width);
   for (int j = 0; j < t.height; ++j) t.y.push_back((j + 0.5) / t.height);
-  // scale rises with i + j from 0.25 to 1.5; bias spans 1e-3 .. 1e4 (seven decades: log10).
+  // scale rises with i + j from 0.25 to 1.5; bias is 0.1 but for one texel of 10 and one of 0.01:
+  // the maximum is 100 times the rest, so the scale is log10, from 0.01 to 10.
   for (int j = 0; j < t.height; ++j)
     for (int i = 0; i < t.width; ++i) {
       t.data.push_back(0.25f + 1.25f * float(i + j) / float(t.width + t.height - 2));
-      t.data.push_back(i == t.width - 1 && j == t.height - 1 ? 1e4f : i == 0 && j == 0 ? 1e-3f : 0.1f);
+      t.data.push_back(i == t.width - 1 && j == t.height - 1 ? 10.0f : i == 0 && j == 0 ? 0.01f : 0.1f);
     }
   t.set_meta("x_axis", "n_dot_v = (i + 0.5) / width, the cell centre of column i");
   t.set_meta("y_axis", "roughness = (j + 0.5) / height");
@@ -174,10 +175,12 @@ TEST(View, TableColourScaleMapsMinimumAndMaximumToItsEnds) {
   const Rgb8 mid = pixel(s, bar.x + bar.width / 2, bar.y + 2);
   EXPECT_NE(mid, (Rgb8{0, 0, 0}));
   EXPECT_NE(mid, (Rgb8{255, 255, 255}));
-  // bias: positive over seven decades, so log10, ends at log10 of its extremes.
+  // bias: log10, its ends at log10 of its extremes; the extremes' texels at the scale's ends.
   EXPECT_TRUE(images[1].log_scale);
-  EXPECT_NEAR(images[1].lo, -3.0, 1e-6);
-  EXPECT_NEAR(images[1].hi, 4.0, 1e-6);
+  EXPECT_NEAR(images[1].lo, -2.0, 1e-6);
+  EXPECT_NEAR(images[1].hi, 1.0, 1e-6);
+  EXPECT_EQ(pixel(s, images[1].x + 1, images[1].y + images[1].height - 2), (Rgb8{0, 0, 0}));
+  EXPECT_EQ(pixel(s, images[1].x + images[1].width - 2, images[1].y + 1), (Rgb8{255, 255, 255}));
   // Labels: the axes' ends and the scale's ends are written below the image.
   EXPECT_TRUE(has_marks(s, im.x, im.y + im.height + 1, im.width, 12)) << "no x axis labels";
   EXPECT_TRUE(has_marks(s, bar.x, bar.y + bar.height + 1, bar.width, 10)) << "no scale labels";

@@ -182,29 +182,26 @@ struct Range {
   bool log_scale = false;
 };
 
+// The colour scale of a channel: linear from its minimum to its maximum, or log10 when the values
+// are not negative and a few texels dwarf the rest (the maximum above 5 times the 99th percentile,
+// or above 1000 times the median: a grazing peak, a specular spike), which a linear scale would
+// paint as one dark colour. A log scale spans at most four decades below the maximum; values at or
+// below its left end (zeros included) take the left end's colour.
 Range channel_range(const Table& t, int c) {
-  double lo = INFINITY, hi = -INFINITY;
-  std::vector<double> positive;
-  for (size_t k = static_cast<size_t>(c); k < t.data.size(); k += t.channels.size()) {
-    const double v = t.data[k];
-    if (!std::isfinite(v)) continue;
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-    if (v > 0) positive.push_back(v);
-  }
+  std::vector<double> v;
+  for (size_t k = static_cast<size_t>(c); k < t.data.size(); k += t.channels.size())
+    if (std::isfinite(t.data[k])) v.push_back(double(t.data[k]));
   Range r;
-  if (!(lo <= hi)) return r;
-  r.lo = lo;
-  r.hi = hi;
-  // Positive values over more than three decades of their median: log10, or the bulk is one colour.
-  if (lo > 0 && !positive.empty()) {
-    std::nth_element(positive.begin(), positive.begin() + static_cast<std::ptrdiff_t>(positive.size() / 2), positive.end());
-    const double median = positive[positive.size() / 2];
-    if (hi > 1e3 * median) {
-      r.log_scale = true;
-      r.lo = std::log10(lo);
-      r.hi = std::log10(hi);
-    }
+  if (v.empty()) return r;
+  std::sort(v.begin(), v.end());
+  r.lo = v.front();
+  r.hi = v.back();
+  const double p99 = v[(v.size() - 1) * 99 / 100], median = v[(v.size() - 1) / 2];
+  if (r.lo >= 0 && r.hi > 0 && (r.hi > 5 * p99 || r.hi > 1e3 * median)) {
+    const auto first_positive = std::upper_bound(v.begin(), v.end(), 0.0);
+    r.log_scale = true;
+    r.hi = std::log10(v.back());
+    r.lo = std::max(std::log10(*first_positive), r.hi - 4.0);
   }
   return r;
 }
