@@ -25,7 +25,8 @@ std::vector<int> int_list(const std::string& text, const std::string& option) {
   for (const auto& item : list(text, option)) {
     char* end = nullptr;
     const long v = std::strtol(item.c_str(), &end, 10);
-    if (*end != '\0' || v < 1 || v > (1 << 20)) throw UsageError("--" + option + ": '" + item + "' is not a count in 1..1048576");
+    if (*end != '\0' || v < 1 || v > (1 << 20))
+      throw UsageError("--" + option + ": '" + item + "' is not a count in 1..1048576");
     out.push_back(static_cast<int>(v));
   }
   return out;
@@ -34,9 +35,11 @@ std::vector<int> int_list(const std::string& text, const std::string& option) {
 }  // namespace
 
 int cmd_report(int argc, char** argv) {
-  cxxopts::Options options("brdfbake report",
-                           "Measure accuracy against time on a device and write a self-contained HTML page with the plots, "
-                           "and a JSON of the numbers beside it (docs/BENCHMARKS.md)");
+  cxxopts::Options options(
+      "brdfbake report",
+      "Measure accuracy against time on a device and write a self-contained HTML page with the plots, "
+      "and a JSON of the numbers beside it (docs/BENCHMARKS.md)");
+  // clang-format off
   options.add_options()
       ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
       ("size", "DFG tables: cells a side (default: 64)", cxxopts::value<std::string>())
@@ -51,6 +54,7 @@ int cmd_report(int argc, char** argv) {
       ("o,output", "the page (.html); the JSON goes beside it with .json (default: report.html)", cxxopts::value<std::string>())
       ("quiet", "no progress lines or summary")
       ("h,help", "this help");
+  // clang-format on
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
     std::cout << options.help()
@@ -65,10 +69,12 @@ int cmd_report(int argc, char** argv) {
   if (o.dfg.size < 1 || o.dfg.size > 4096) throw UsageError("--size must be 1 to 4096");
   if (r.count("counts")) o.dfg.counts = int_list(r["counts"].as<std::string>(), "counts");
   if (r.count("estimators"))
-    for (const auto& e : list(r["estimators"].as<std::string>(), "estimators")) o.dfg.estimators.push_back(estimator_from_name(e));
+    for (const auto& e : list(r["estimators"].as<std::string>(), "estimators"))
+      o.dfg.estimators.push_back(estimator_from_name(e));
   if (r.count("precisions")) {
     o.dfg.precisions.clear();
-    for (const auto& p : list(r["precisions"].as<std::string>(), "precisions")) o.dfg.precisions.push_back(precision_from_name(p));
+    for (const auto& p : list(r["precisions"].as<std::string>(), "precisions"))
+      o.dfg.precisions.push_back(precision_from_name(p));
   }
   if (r.count("max-seconds")) {
     o.dfg.max_seconds_per_bake = finite_number(r, "max-seconds");
@@ -80,7 +86,8 @@ int cmd_report(int argc, char** argv) {
   if (o.prefilter_size < 4 || o.prefilter_size > 256) throw UsageError("--cube-size must be 4 to 256");
   if (r.count("device")) o.device = r["device"].as<std::string>();
   const std::string out = r.count("output") ? r["output"].as<std::string>() : std::string("report.html");
-  if (out.size() < 6 || out.substr(out.size() - 5) != ".html") throw UsageError("-o must name an .html file (got '" + out + "')");
+  if (out.size() < 6 || out.substr(out.size() - 5) != ".html")
+    throw UsageError("-o must name an .html file (got '" + out + "')");
   const bool quiet = r.count("quiet") > 0;
   for (int k = 0; k < argc; ++k) o.command += (k ? " " : "brdfbake ") + std::string(argv[k]);
   check_output_path(out);
@@ -93,9 +100,11 @@ int cmd_report(int argc, char** argv) {
     for (const auto& s : report.dfg) n += s.points.size();
     for (const auto& f : report.fresnel) n += f.rows.size();
     for (const auto& p : report.prefilter) n += p.levels.size();
-    std::fprintf(stderr, "%s and %s: %zu measurements on %s in %.1f s (load average %.2f at the start, %.2f at the end, %d cores)\n",
-                 out.c_str(), report_json_path(out).c_str(), n, report.device.c_str(), report.seconds, report.load_before[0],
-                 report.load_after[0], report.cores);
+    std::fprintf(
+        stderr,
+        "%s and %s: %zu measurements on %s in %.1f s (load average %.2f at the start, %.2f at the end, %d cores)\n",
+        out.c_str(), report_json_path(out).c_str(), n, report.device.c_str(), report.seconds, report.load_before[0],
+        report.load_after[0], report.cores);
   }
   return 0;
 }

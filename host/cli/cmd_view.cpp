@@ -11,6 +11,7 @@ int cmd_view(int argc, char** argv) {
   cxxopts::Options options("brdfbake view",
                            "Draw any outputs of brdfbake (cubes, tables, SH, MERL, eval values, a bake's folder or "
                            "manifest.json) into one contact sheet, an 8-bit sRGB PNG (docs/VIEW.md)");
+  // clang-format off
   options.add_options()
       ("files", "files or folders to show", cxxopts::value<std::vector<std::string>>())
       ("o,output", "the contact sheet (.png)", cxxopts::value<std::string>())
@@ -22,20 +23,23 @@ int cmd_view(int argc, char** argv) {
       ("title", "the sheet's first line (default: brdfbake view)", cxxopts::value<std::string>())
       ("quiet", "no summary line")
       ("h,help", "this help");
+  // clang-format on
   options.parse_positional({"files"});
   options.positional_help("FILE...");
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
-    std::cout << options.help()
-              << "\nexamples:\n  brdfbake view out/ -o out/contact_sheet.png\n"
-                 "  brdfbake view prefilter_ggx_256.ktx2 dfg_ggx_multiscatter_128.exr irradiance_sh3.json -o sheet.png\n";
+    std::cout
+        << options.help()
+        << "\nexamples:\n  brdfbake view out/ -o out/contact_sheet.png\n"
+           "  brdfbake view prefilter_ggx_256.ktx2 dfg_ggx_multiscatter_128.exr irradiance_sh3.json -o sheet.png\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
   if (!r.count("files")) throw UsageError("missing the files to view (brdfbake view FILE... -o SHEET.png)");
   if (!r.count("output")) throw UsageError("missing -o SHEET.png");
   const std::string out = r["output"].as<std::string>();
-  if (out.size() < 5 || out.substr(out.size() - 4) != ".png") throw UsageError("-o must name a .png file (got '" + out + "')");
+  if (out.size() < 5 || out.substr(out.size() - 4) != ".png")
+    throw UsageError("-o must name a .png file (got '" + out + "')");
   ViewOptions o;
   if (r.count("exposure")) o.exposure = finite_number(r, "exposure");
   if (r.count("tonemap")) {

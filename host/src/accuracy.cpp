@@ -30,8 +30,9 @@ std::string fmt(double v, const char* f) {
 
 TableErrors table_errors(const Table& got, const Table& want) {
   if (got.width != want.width || got.height != want.height || got.data.size() != want.data.size())
-    throw Error("table_errors: tables of different shapes (" + std::to_string(got.width) + "x" + std::to_string(got.height) +
-                " and " + std::to_string(want.width) + "x" + std::to_string(want.height) + ")");
+    throw Error("table_errors: tables of different shapes (" + std::to_string(got.width) + "x" +
+                std::to_string(got.height) + " and " + std::to_string(want.width) + "x" + std::to_string(want.height) +
+                ")");
   TableErrors e;
   double sum = 0.0;
   for (size_t k = 0; k < got.data.size(); ++k) {
@@ -49,7 +50,8 @@ std::vector<Estimator> lut_estimators(LutKind kind) {
   return {Estimator::Quadrature, Estimator::Vndf, Estimator::Ndf};
 }
 
-double lut_device_time(Device& device, const LutSpec& spec, int runs, Table* table, int warm_up, double single_run_above) {
+double lut_device_time(Device& device, const LutSpec& spec, int runs, Table* table, int warm_up,
+                       double single_run_above) {
   LutTiming t;
   for (int k = 0; k < warm_up; ++k) *table = bake_lut(device, spec, &t);
   std::vector<double> times;
@@ -85,7 +87,8 @@ DfgSweep sweep_dfg(Device& device, LutKind kind, const DfgSweepOptions& o) {
   auto log = [&](const std::string& line) {
     if (o.log) o.log(line);
   };
-  log(std::string(lut_kind_name(kind)) + ": converged reference " + std::to_string(o.size) + "x" + std::to_string(o.size));
+  log(std::string(lut_kind_name(kind)) + ": converged reference " + std::to_string(o.size) + "x" +
+      std::to_string(o.size));
   Table computed;
   if (!o.reference) computed = lut_reference_table(kind, o.size, o.sheen_visibility, &sweep.reference_seconds);
   const Table& ref = o.reference ? *o.reference : computed;
@@ -106,14 +109,16 @@ DfgSweep sweep_dfg(Device& device, LutKind kind, const DfgSweepOptions& o) {
       }
       bool warmed = false, capped = false;
       for (int samples : counts) {
-        const std::string what = std::string(estimator_name(est)) + " " + precision_name(prec) + " " + std::to_string(samples);
+        const std::string what =
+            std::string(estimator_name(est)) + " " + precision_name(prec) + " " + std::to_string(samples);
         if (capped) {
-          sweep.skipped.push_back(what + ": a smaller count took more than " + fmt(o.max_seconds_per_bake, "%g") + " s");
+          sweep.skipped.push_back(what + ": a smaller count took more than " + fmt(o.max_seconds_per_bake, "%g") +
+                                  " s");
           continue;
         }
         if (est != Estimator::Quadrature && prec == Precision::Fp64 && samples > o.max_monte_carlo_fp64_samples) {
-          sweep.skipped.push_back(what + ": Monte Carlo in fp64 above " + std::to_string(o.max_monte_carlo_fp64_samples) +
-                                  " samples");
+          sweep.skipped.push_back(what + ": Monte Carlo in fp64 above " +
+                                  std::to_string(o.max_monte_carlo_fp64_samples) + " samples");
           continue;
         }
         LutSpec s;

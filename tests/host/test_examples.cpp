@@ -75,7 +75,8 @@ TEST(Examples, EveryCommandOfTheReadmeRuns) {
       out = job["output_dir"].get<std::string>();
       const json manifest = json::parse(read(dir / out / "manifest.json"));
       EXPECT_EQ(manifest["files"].size(), job["tables"].size());
-      for (const json& f : manifest["files"]) EXPECT_TRUE(fs::exists(dir / out / f["path"].get<std::string>())) << f["path"];
+      for (const json& f : manifest["files"])
+        EXPECT_TRUE(fs::exists(dir / out / f["path"].get<std::string>())) << f["path"];
     }
     ASSERT_FALSE(out.empty()) << "every command names its output";
     EXPECT_TRUE(fs::exists(dir / out)) << out;

@@ -45,8 +45,10 @@ std::string read(const fs::path& p) {
 TEST(CliReport, ReducedReportNumbersAgreeWithTheReference) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   const fs::path dir = temp_dir("reduced");
-  const CliRun r = run_cli("report --kinds ggx,charlie,fresnel,prefilter --size 8 --counts 16,64,256,1024 "
-                           "--estimators quadrature,ndf --materials gold --cube-size 8 -o " + (dir / "sub/r.html").string());
+  const CliRun r = run_cli(
+      "report --kinds ggx,charlie,fresnel,prefilter --size 8 --counts 16,64,256,1024 "
+      "--estimators quadrature,ndf --materials gold --cube-size 8 -o " +
+      (dir / "sub/r.html").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("measurements on"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("load average"), std::string::npos) << r.err;
@@ -129,7 +131,8 @@ TEST(CliReport, ReducedReportNumbersAgreeWithTheReference) {
 
 TEST(CliReport, BadUsageIsOneLineAndExitTwo) {
   const fs::path dir = temp_dir("bad");
-  for (const std::string args : {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium"}) {
+  for (const std::string args :
+       {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium"}) {
     const CliRun r = run_cli("report " + args + " --size 4 -o " + (dir / "r.html").string());
     EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     EXPECT_EQ(test::count_lines(r.err), 1) << args << ": " << r.err;

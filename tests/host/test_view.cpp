@@ -120,7 +120,8 @@ TEST(View, ConstantCubeIsAConstantCrossInEveryContainer) {
     }
     EXPECT_EQ(levels[0].label, "level 0");
     EXPECT_EQ(levels[2].label, "level 2");
-    EXPECT_NE(s.tone_map_text.find(exposure == 0 ? "exposure +0.0 EV, ACES" : "exposure +2.0 EV, ACES"), std::string::npos)
+    EXPECT_NE(s.tone_map_text.find(exposure == 0 ? "exposure +0.0 EV, ACES" : "exposure +2.0 EV, ACES"),
+              std::string::npos)
         << s.tone_map_text;
     // Each file has its title, with text in it.
     const auto titles = regions(s, "file title");
@@ -297,11 +298,16 @@ TEST(CliView, EveryOutputKindCanBeViewed) {
     {"kind": "prefilter", "size": 8, "min_size": 4, "output": "equirect", "layout": "equirect"},
     {"kind": "irradiance", "output": "sh.json"},
     {"kind": "irradiance", "cube_size": 8, "output": "irr.ktx2"},
-    {"kind": "eval", "material": ")" + m + R"(", "name": "gold", "input": ")" + pairs + R"(", "output": "f.csv"},
-    {"kind": "tabulate", "material": ")" + m + R"(", "name": "gold", "layout": "merl", "output": "gold.binary"},
-    {"kind": "tabulate", "material": ")" + m + R"(", "name": "gold", "layout": "grid", "res": 4, "output": "grid.exr"},
-    {"kind": "tabulate", "material": ")" + m + R"(", "layout": "albedo", "res": 8, "output": "albedo.exr"},
-    {"kind": "tabulate", "material": ")" + m + R"(", "name": "gold", "layout": "slice", "res": 8, "output": "slice.exr"}]})";
+    {"kind": "eval", "material": ")" +
+                          m + R"(", "name": "gold", "input": ")" + pairs + R"(", "output": "f.csv"},
+    {"kind": "tabulate", "material": ")" +
+                          m + R"(", "name": "gold", "layout": "merl", "output": "gold.binary"},
+    {"kind": "tabulate", "material": ")" +
+                          m + R"(", "name": "gold", "layout": "grid", "res": 4, "output": "grid.exr"},
+    {"kind": "tabulate", "material": ")" +
+                          m + R"(", "layout": "albedo", "res": 8, "output": "albedo.exr"},
+    {"kind": "tabulate", "material": ")" +
+                          m + R"(", "name": "gold", "layout": "slice", "res": 8, "output": "slice.exr"}]})";
   std::ofstream(dir / "job.json") << job;
   const CliRun baked = run_cli("run " + (dir / "job.json").string() + " --quiet");
   ASSERT_EQ(baked.code, 0) << baked.err;
@@ -313,7 +319,8 @@ TEST(CliView, EveryOutputKindCanBeViewed) {
   for (const auto& f : files) args += " " + f;
   const CliRun each = run_cli("view" + args + " -o " + (dir / "each.png").string());
   ASSERT_EQ(each.code, 0) << each.err;
-  const CliRun all = run_cli("view " + (dir / "out").string() + " -o " + (dir / "all.png").string() + " --face-size 16");
+  const CliRun all =
+      run_cli("view " + (dir / "out").string() + " -o " + (dir / "all.png").string() + " --face-size 16");
   ASSERT_EQ(all.code, 0) << all.err;
   EXPECT_NE(all.err.find("23 files"), std::string::npos) << all.err;
   const io::PngImage png = io::read_png((dir / "all.png").string());
@@ -322,9 +329,10 @@ TEST(CliView, EveryOutputKindCanBeViewed) {
   std::string listed;
   for (const auto& [k, v] : png.text)
     if (k == "brdfbake:files") listed = v;
-  for (const char* f : {"ggx.exr", "ggx.csv", "ggx.h", "ms.ktx2", "charlie.hdr", "gold.exr", "schlick.png", "film.exr",
-                        "p.ktx2", "p.ktx", "p.dds", "pl.dds", "faces", "cross", "vcross", "equirect", "sh.json", "irr.ktx2",
-                        "f.csv", "gold.binary", "grid.exr", "albedo.exr", "slice.exr"})
+  for (const char* f :
+       {"ggx.exr", "ggx.csv",  "ggx.h", "ms.ktx2",     "charlie.hdr", "gold.exr",   "schlick.png", "film.exr",
+        "p.ktx2",  "p.ktx",    "p.dds", "pl.dds",      "faces",       "cross",      "vcross",      "equirect",
+        "sh.json", "irr.ktx2", "f.csv", "gold.binary", "grid.exr",    "albedo.exr", "slice.exr"})
     EXPECT_NE(listed.find(std::string("/out/") + f), std::string::npos) << f;
   // The float32 eval output (streamed by the command, not by a job).
   std::string bin;
@@ -335,7 +343,9 @@ TEST(CliView, EveryOutputKindCanBeViewed) {
   }
   std::ofstream(dir / "pairs.f32", std::ios::binary) << bin;
   ASSERT_EQ(run_cli("eval --material " + m + " --name gold --binary -i " + (dir / "pairs.f32").string() + " -o " +
-                    (dir / "f.f32").string() + " --quiet").code, 0);
+                    (dir / "f.f32").string() + " --quiet")
+                .code,
+            0);
   const CliRun f32 = run_cli("view " + (dir / "f.f32").string() + " -o " + (dir / "f32.png").string());
   EXPECT_EQ(f32.code, 0) << f32.err;
   EXPECT_NE(f32.err.find("1 file;"), std::string::npos) << f32.err;

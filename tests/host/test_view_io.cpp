@@ -83,21 +83,26 @@ TEST(ViewIo, Ktx1MalformedFilesAreRefused) {
   const auto good = io::encode_ktx1_cube(cube, PixelType::F16, io::cube_key_values(cube));
   auto truncated = good;
   truncated.resize(good.size() - 10);
-  EXPECT_NE(error_of([&] { io::decode_ktx1(truncated.data(), truncated.size(), "t.ktx"); }).find("truncated"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_ktx1(truncated.data(), truncated.size(), "t.ktx"); }).find("truncated"),
+            std::string::npos);
   auto bad_id = good;
   bad_id[5] = '2';  // "KTX 21"
-  EXPECT_NE(error_of([&] { io::decode_ktx1(bad_id.data(), bad_id.size(), "t.ktx"); }).find("identifier"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_ktx1(bad_id.data(), bad_id.size(), "t.ktx"); }).find("identifier"),
+            std::string::npos);
   auto big_endian = good;
   std::swap(big_endian[12], big_endian[15]);
   std::swap(big_endian[13], big_endian[14]);
-  EXPECT_NE(error_of([&] { io::decode_ktx1(big_endian.data(), big_endian.size(), "t.ktx"); }).find("big-endian"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_ktx1(big_endian.data(), big_endian.size(), "t.ktx"); }).find("big-endian"),
+            std::string::npos);
   auto levels = good;
   levels[56] = 9;  // numberOfMipmapLevels beyond log2(4) + 1
-  EXPECT_NE(error_of([&] { io::decode_ktx1(levels.data(), levels.size(), "t.ktx"); }).find("too large"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_ktx1(levels.data(), levels.size(), "t.ktx"); }).find("too large"),
+            std::string::npos);
   auto image_size = good;
   const size_t first_level = 64 + (size_t(image_size[60]) | size_t(image_size[61]) << 8);
   image_size[first_level] ^= 0x10;
-  EXPECT_NE(error_of([&] { io::decode_ktx1(image_size.data(), image_size.size(), "t.ktx"); }).find("imageSize"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_ktx1(image_size.data(), image_size.size(), "t.ktx"); }).find("imageSize"),
+            std::string::npos);
 }
 
 TEST(ViewIo, DdsCubeReadsBackWithEitherHeader) {
@@ -121,13 +126,15 @@ TEST(ViewIo, DdsMalformedFilesAreRefused) {
   const auto good = io::encode_dds_cube(cube, PixelType::F32, true);
   auto truncated = good;
   truncated.resize(good.size() - 4);
-  EXPECT_NE(error_of([&] { io::decode_dds(truncated.data(), truncated.size(), "t.dds"); }).find("truncated"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_dds(truncated.data(), truncated.size(), "t.dds"); }).find("truncated"),
+            std::string::npos);
   auto magic = good;
   magic[0] = 'X';
   EXPECT_NE(error_of([&] { io::decode_dds(magic.data(), magic.size(), "t.dds"); }).find("magic"), std::string::npos);
   auto format = good;
   format[128] = 71;  // DXGI_FORMAT_BC1_UNORM
-  EXPECT_NE(error_of([&] { io::decode_dds(format.data(), format.size(), "t.dds"); }).find("DXGI format 71"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::decode_dds(format.data(), format.size(), "t.dds"); }).find("DXGI format 71"),
+            std::string::npos);
 }
 
 // A table whose values are exact in binary16 and in 16-bit UNORM steps of 1/64 (all in (0, 1)).
@@ -144,7 +151,8 @@ Table known_table(int width, int height, std::vector<std::string> channels) {
   }
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i)
-      for (int c = 0; c < t.channel_count(); ++c) t.data.push_back(float(i + width * j + 1) / 64.0f + float(c) / 256.0f);
+      for (int c = 0; c < t.channel_count(); ++c)
+        t.data.push_back(float(i + width * j + 1) / 64.0f + float(c) / 256.0f);
   t.set_meta("kind", "test");
   t.set_meta("x_axis", "n_dot_v = (i + 0.5) / width, the cell centre of column i");
   if (height > 1) t.set_meta("y_axis", "roughness = (j + 0.5) / height, perceptual, the cell centre of row j");
@@ -161,7 +169,8 @@ double format_tolerance(const std::string& ext) {
 
 TEST(ViewIo, TableReaderReadsWhatEveryWriterWrote) {
   const fs::path dir = temp_dir("tables");
-  for (const auto& channels : {std::vector<std::string>{"scale", "bias", "diffuse"}, std::vector<std::string>{"albedo"}}) {
+  for (const auto& channels :
+       {std::vector<std::string>{"scale", "bias", "diffuse"}, std::vector<std::string>{"albedo"}}) {
     const Table t = known_table(5, 4, channels);
     for (const std::string ext : {".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"})
       for (PixelType px : {PixelType::F16, PixelType::F32}) {
@@ -209,16 +218,19 @@ TEST(ViewIo, AxisRulesOfTheMetadata) {
   EXPECT_EQ(v, (std::vector<double>{0.125, 0.375, 0.625, 0.875}));
   ASSERT_TRUE(io::axis_from_rule("cos_theta = i / (width - 1): 0 and 1 are cells", 3, &name, &v));
   EXPECT_EQ(v, (std::vector<double>{0.0, 0.5, 1.0}));
-  ASSERT_TRUE(io::axis_from_rule("ior = lo + (hi - lo) (j + 0.5) / height, [lo, hi] = [1, 3], linear in the index", 2, &name, &v));
+  ASSERT_TRUE(io::axis_from_rule("ior = lo + (hi - lo) (j + 0.5) / height, [lo, hi] = [1, 3], linear in the index", 2,
+                                 &name, &v));
   EXPECT_EQ(name, "ior");
   EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
-  ASSERT_TRUE(io::axis_from_rule("thickness_nm = min + (max - min) (j + 0.5) / height, min 100, max 500", 2, &name, &v));
+  ASSERT_TRUE(
+      io::axis_from_rule("thickness_nm = min + (max - min) (j + 0.5) / height, min 100, max 500", 2, &name, &v));
   EXPECT_EQ(v, (std::vector<double>{200.0, 400.0}));
   ASSERT_TRUE(io::axis_from_rule("column j: theta_o = (j + 0.5) / 2 pi/2", 2, &name, &v));
   EXPECT_EQ(name, "theta_o");
   EXPECT_NEAR(v[1], 0.75 * 1.5707963267948966, 1e-15);
   EXPECT_FALSE(io::axis_from_rule("cos_theta at explicit points (the x column)", 2, &name, &v));
-  EXPECT_FALSE(io::axis_from_rule("row k * 16 + i: theta_i = (i + 0.5) / 16 pi/2, phi_d = ...", 2, &name, &v) && name != "theta_i");
+  EXPECT_FALSE(io::axis_from_rule("row k * 16 + i: theta_i = (i + 0.5) / 16 pi/2, phi_d = ...", 2, &name, &v) &&
+               name != "theta_i");
 }
 
 TEST(ViewIo, PngRgb8RoundTripWithText) {
@@ -234,7 +246,8 @@ TEST(ViewIo, PngRgb8RoundTripWithText) {
   for (size_t k = 0; k < rgb.size(); ++k) EXPECT_EQ(im.samples[k], rgb[k]);
   ASSERT_EQ(im.text.size(), 2u);
   EXPECT_EQ(im.text[1].second, "a\nb");
-  EXPECT_NE(error_of([&] { io::write_png_rgb8(p.string(), 7, 4, rgb, {}); }).find("bytes for a 7x4"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::write_png_rgb8(p.string(), 7, 4, rgb, {}); }).find("bytes for a 7x4"),
+            std::string::npos);
   io::write_file_atomically(p.string(), "\x89PNG\r\n\x1a\n" + std::string("broken"));
   EXPECT_NE(error_of([&] { io::read_png(p.string()); }).find("cannot read"), std::string::npos);
 }

@@ -33,8 +33,8 @@ double lut_device_time(Device& device, const LutSpec& spec, int runs, Table* tab
                        double single_run_above = 1e30);
 
 struct DfgSweepOptions {
-  int size = 64;                      // the table is size x size
-  std::vector<int> counts;            // sample counts; empty: kDfgSweepCounts
+  int size = 64;            // the table is size x size
+  std::vector<int> counts;  // sample counts; empty: kDfgSweepCounts
   std::vector<Precision> precisions = {Precision::Fp32};
   std::vector<Estimator> estimators;  // empty: every estimator of the kind
   int runs = 3;                       // timed runs of a bake (median), 1 above single_run_above
@@ -59,18 +59,18 @@ struct DfgSweepPoint {
   int samples = 0;
   int evaluations_per_texel = 0;  // what the kernel made (the quadrature rounds to its rule)
   double device_seconds = 0.0;
-  TableErrors error;              // against the reference
+  TableErrors error;  // against the reference
 };
 
 struct DfgSweep {
   LutKind kind = LutKind::Ggx;
   int size = 0;
-  std::string device;                 // the device's name
-  double reference_seconds = 0.0;     // wall time of the converged reference table
-  int reference_threads = 0;         // 0: the caller gave the reference (not timed here)
-  TableErrors reference_error;        // the reference against itself: 0 (the measure's own check)
+  std::string device;              // the device's name
+  double reference_seconds = 0.0;  // wall time of the converged reference table
+  int reference_threads = 0;       // 0: the caller gave the reference (not timed here)
+  TableErrors reference_error;     // the reference against itself: 0 (the measure's own check)
   std::vector<DfgSweepPoint> points;
-  std::vector<std::string> skipped;   // what was not measured, and why
+  std::vector<std::string> skipped;  // what was not measured, and why
 };
 
 // The converged reference table of `kind` at size x size (bake_lut_reference, every core).

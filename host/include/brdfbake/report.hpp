@@ -48,8 +48,8 @@ struct PrefilterLevelReport {
   double device_seconds = 0.0;
   double rms_error = 0.0;  // per channel |P - P_ref| / max(P_ref, 1e-3 mean(P_ref)), at probe texels
   double max_error = 0.0;
-  int samples = 0;         // sampling estimator: lobe samples per texel
-  int probes = 0;          // texels compared
+  int samples = 0;  // sampling estimator: lobe samples per texel
+  int probes = 0;   // texels compared
 };
 struct PrefilterReport {
   std::string environment;
@@ -63,13 +63,13 @@ struct PrefilterReport {
 
 struct Report {
   std::string generator;
-  std::string date;             // UTC, ISO 8601
-  std::string device;           // name
-  std::string device_details;   // platform, driver, compute units
+  std::string date;            // UTC, ISO 8601
+  std::string device;          // name
+  std::string device_details;  // platform, driver, compute units
   int cores = 0;
   double load_before[3] = {0, 0, 0};  // /proc/loadavg at the start and the end (-1: unknown)
   double load_after[3] = {0, 0, 0};
-  double seconds = 0.0;         // wall time of the whole report
+  double seconds = 0.0;  // wall time of the whole report
   ReportOptions options;
   std::vector<DfgSweep> dfg;
   std::vector<FresnelComparison> fresnel;

@@ -27,20 +27,20 @@ ToneMap tone_map_from_name(const std::string& name);  // "aces" | "reinhard" | "
 const char* tone_map_name(ToneMap map);
 
 struct ViewOptions {
-  double exposure = 0.0;            // EV: radiance is multiplied by 2^exposure before the tone map
+  double exposure = 0.0;  // EV: radiance is multiplied by 2^exposure before the tone map
   ToneMap tone_map = ToneMap::Aces;
-  int face_size = 64;               // pixels a cube face is shown at, every level alike
-  int table_size = 160;             // pixels of a table image's longer side
-  int max_width = 1400;             // the sheet's width (a file's pictures wrap to the next row)
-  std::string title;                // the sheet's first line; empty: "brdfbake view"
+  int face_size = 64;    // pixels a cube face is shown at, every level alike
+  int table_size = 160;  // pixels of a table image's longer side
+  int max_width = 1400;  // the sheet's width (a file's pictures wrap to the next row)
+  std::string title;     // the sheet's first line; empty: "brdfbake view"
 };
 
 // A rectangle of the sheet and what it shows: tests check pixels against it, tools crop by it.
 struct SheetRegion {
-  std::string file;    // the file it shows
-  std::string role;    // "cube level", "table channel", "table rgb", "colour scale", "plot",
-                       // "sphere", "band plot", "merl slice", "file title", "sheet title"
-  std::string label;   // e.g. "level 2", the channel's name, the slice's phi_d
+  std::string file;   // the file it shows
+  std::string role;   // "cube level", "table channel", "table rgb", "colour scale", "plot",
+                      // "sphere", "band plot", "merl slice", "file title", "sheet title"
+  std::string label;  // e.g. "level 2", the channel's name, the slice's phi_d
   int x = 0, y = 0, width = 0, height = 0;
   double lo = 0.0, hi = 0.0;  // "colour scale" and "table channel": the values mapped to its ends
   bool log_scale = false;     // the scale is over log10 of the values
@@ -48,11 +48,11 @@ struct SheetRegion {
 
 struct ContactSheet {
   int width = 0, height = 0;
-  std::vector<uint8_t> rgb;          // 8-bit sRGB, row 0 (the top) first
+  std::vector<uint8_t> rgb;  // 8-bit sRGB, row 0 (the top) first
   std::vector<SheetRegion> regions;
-  std::vector<std::string> files;    // every file shown, in order (a manifest expands to its files)
-  std::string tone_map_text;         // the HDR transfer, as printed on the sheet
-  std::string colour_scale_text;     // the table colour scale, as printed on the sheet
+  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files)
+  std::string tone_map_text;       // the HDR transfer, as printed on the sheet
+  std::string colour_scale_text;   // the table colour scale, as printed on the sheet
 };
 
 // What `view` makes of a file (e.g. "cube (KTX2)", "table (OpenEXR)", "manifest"); throws Error

@@ -16,7 +16,8 @@ namespace brdfbake::io {
 DdsImage decode_dds(const uint8_t* data, size_t size, const std::string& origin) {
   auto fail = [&](const std::string& why) -> Error { return Error("invalid DDS file '" + origin + "': " + why); };
   auto u32 = [&](size_t at) {
-    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 | uint32_t(data[at + 3]) << 24;
+    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 |
+           uint32_t(data[at + 3]) << 24;
   };
   if (size < 128 || u32(0) != kDdsMagic) throw fail("not a DDS file (bad magic)");
   if (u32(4) != 124 || u32(76) != 32) throw fail("bad header size");
@@ -34,9 +35,13 @@ DdsImage decode_dds(const uint8_t* data, size_t size, const std::string& origin)
     if (size < 148) throw fail("the DX10 header is truncated");
     d.dx10_header = true;
     const uint32_t dxgi = u32(128), dimension = u32(132), misc = u32(136), array = u32(140);
-    if (dxgi == kDxgiR16G16B16A16Float) d.component_bytes = 2;
-    else if (dxgi == kDxgiR32G32B32A32Float) d.component_bytes = 4;
-    else throw fail("DXGI format " + std::to_string(dxgi) + " is not supported (expected R16G16B16A16_FLOAT or R32G32B32A32_FLOAT)");
+    if (dxgi == kDxgiR16G16B16A16Float)
+      d.component_bytes = 2;
+    else if (dxgi == kDxgiR32G32B32A32Float)
+      d.component_bytes = 4;
+    else
+      throw fail("DXGI format " + std::to_string(dxgi) +
+                 " is not supported (expected R16G16B16A16_FLOAT or R32G32B32A32_FLOAT)");
     if (dimension != kD3d10ResourceDimensionTexture2d) throw fail("only 2-D textures and cubemaps are supported");
     if (array > 1) throw fail("texture arrays are not supported");
     cube = cube || (misc & kDdsResourceMiscTextureCube);

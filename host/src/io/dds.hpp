@@ -16,7 +16,7 @@ struct DdsImage {
   uint32_t width = 0, height = 0;  // of level 0
   uint32_t faces = 1;              // 1 or 6
   uint32_t levels = 1;
-  uint32_t component_bytes = 2;    // 2 (half) or 4 (float); always four components (RGBA)
+  uint32_t component_bytes = 2;  // 2 (half) or 4 (float); always four components (RGBA)
   bool dx10_header = false;
   // level_data[l]: every face of level l in KTX order (+X, -X, +Y, -Y, +Z, -Z; DDS stores each face
   // with all its levels, this is reordered), row 0 first, little-endian components.

@@ -45,18 +45,19 @@ FloatImage read_exr(const std::string& path) {
     FloatImage im;
     im.width = static_cast<int>(w);
     im.height = static_cast<int>(h);
-    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) im.channel_names.push_back(it.name());
-    std::stable_sort(im.channel_names.begin(), im.channel_names.end(), [](const std::string& a, const std::string& b) {
-      return channel_rank(a) < channel_rank(b);
-    });
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+      im.channel_names.push_back(it.name());
+    std::stable_sort(im.channel_names.begin(), im.channel_names.end(),
+                     [](const std::string& a, const std::string& b) { return channel_rank(a) < channel_rank(b); });
     if (im.channel_names.empty()) throw Error("cannot read '" + path + "': the file has no channels");
     const size_t nc = im.channel_names.size();
     im.pixels.assign(static_cast<size_t>(w * h) * nc, 0.0f);
     Imf::FrameBuffer fb;
     // The slices address pixel (x, y) of the data window at base + x xStride + y yStride.
-    char* base = reinterpret_cast<char*>(im.pixels.data()) -
-                 (static_cast<ptrdiff_t>(window.min.x) + static_cast<ptrdiff_t>(window.min.y) * static_cast<ptrdiff_t>(w)) *
-                     static_cast<ptrdiff_t>(nc * sizeof(float));
+    char* base =
+        reinterpret_cast<char*>(im.pixels.data()) -
+        (static_cast<ptrdiff_t>(window.min.x) + static_cast<ptrdiff_t>(window.min.y) * static_cast<ptrdiff_t>(w)) *
+            static_cast<ptrdiff_t>(nc * sizeof(float));
     for (size_t c = 0; c < nc; ++c)
       fb.insert(im.channel_names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), nc * sizeof(float),
                                                 nc * sizeof(float) * static_cast<size_t>(w)));

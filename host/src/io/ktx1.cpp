@@ -34,7 +34,8 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
   auto fail = [&](const std::string& why) -> Error { return Error("invalid KTX file '" + origin + "': " + why); };
   if (size < kHeaderBytes || std::memcmp(data, kIdentifier, 12) != 0) throw fail("not a KTX 1.1 file (bad identifier)");
   auto u32 = [&](size_t at) {
-    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 | uint32_t(data[at + 3]) << 24;
+    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 |
+           uint32_t(data[at + 3]) << 24;
   };
   if (u32(12) != 0x04030201) throw fail("big-endian files are not supported");
   Ktx1Image k;
@@ -51,7 +52,8 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
   if (k.gl_type != kGlHalfFloat && k.gl_type != kGlFloat)
     throw fail("glType " + std::to_string(k.gl_type) + " is not supported (expected GL_HALF_FLOAT or GL_FLOAT)");
   if (k.gl_format != kGlRgb && k.gl_format != kGlRgba) throw fail("glFormat is not GL_RGB or GL_RGBA");
-  if (type_size != k.component_bytes()) throw fail("glTypeSize " + std::to_string(type_size) + " does not match glType");
+  if (type_size != k.component_bytes())
+    throw fail("glTypeSize " + std::to_string(type_size) + " does not match glType");
   if (depth > 1 || array_elements != 0) throw fail("3-D textures and arrays are not supported");
   if (k.faces != 1 && k.faces != 6) throw fail("numberOfFaces " + std::to_string(k.faces) + " (expected 1 or 6)");
   if (k.width == 0 || k.width > 65536 || k.height > 65536) throw fail("unsupported size");
@@ -59,8 +61,8 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
   uint32_t max_levels = 1;
   while ((std::max(k.width, k.height) >> max_levels) > 0) ++max_levels;
   if (k.levels > max_levels)
-    throw fail("numberOfMipmapLevels " + std::to_string(k.levels) + " is too large for " + std::to_string(k.width) + "x" +
-               std::to_string(k.height));
+    throw fail("numberOfMipmapLevels " + std::to_string(k.levels) + " is too large for " + std::to_string(k.width) +
+               "x" + std::to_string(k.height));
   if (kvd_bytes > size - kHeaderBytes) throw fail("the key/value data runs past the end of the file");
 
   size_t at = kHeaderBytes;
@@ -95,7 +97,8 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
     level.reserve(k.faces * row * h);
     for (uint32_t f = 0; f < k.faces; ++f) {
       if (size - at < face_bytes) throw fail("level " + std::to_string(l) + " is truncated");
-      for (size_t y = 0; y < h; ++y) level.insert(level.end(), data + at + y * padded_row, data + at + y * padded_row + row);
+      for (size_t y = 0; y < h; ++y)
+        level.insert(level.end(), data + at + y * padded_row, data + at + y * padded_row + row);
       at += pad4(face_bytes);  // cubePadding
     }
     at = pad4(at);  // mipPadding

@@ -13,11 +13,11 @@
 namespace brdfbake::io {
 
 struct Ktx1Image {
-  uint32_t gl_type = 0;             // GL_HALF_FLOAT or GL_FLOAT
-  uint32_t gl_format = 0;           // GL_RGB or GL_RGBA
+  uint32_t gl_type = 0;    // GL_HALF_FLOAT or GL_FLOAT
+  uint32_t gl_format = 0;  // GL_RGB or GL_RGBA
   uint32_t gl_internal_format = 0;
-  uint32_t width = 0, height = 0;   // of level 0
-  uint32_t faces = 1;               // 1 or 6
+  uint32_t width = 0, height = 0;  // of level 0
+  uint32_t faces = 1;              // 1 or 6
   uint32_t levels = 1;
   // level_data[l]: every face of level l (+X, -X, +Y, -Y, +Z, -Z), row 0 first, rows tightly packed
   // (the file's 4-byte row alignment removed), little-endian components.

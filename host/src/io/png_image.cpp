@@ -83,10 +83,10 @@ bool decode(ReadState* s, ErrorState* err) {
   int n_text = 0;
   png_get_text(png, info, &text, &n_text);
   for (int k = 0; k < n_text; ++k)
-    s->image.text.emplace_back(text[k].key ? text[k].key : "",
-                               text[k].text ? std::string(text[k].text, text[k].text_length ? text[k].text_length
-                                                                                            : std::strlen(text[k].text))
-                                            : std::string());
+    s->image.text.emplace_back(
+        text[k].key ? text[k].key : "",
+        text[k].text ? std::string(text[k].text, text[k].text_length ? text[k].text_length : std::strlen(text[k].text))
+                     : std::string());
   s->image.width = static_cast<int>(width);
   s->image.height = static_cast<int>(height);
   s->image.channels = channels;

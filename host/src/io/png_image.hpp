@@ -22,7 +22,8 @@ struct PngImage {
   int max_sample() const { return bit_depth == 16 ? 65535 : 255; }
   uint16_t at(int x, int y, int c) const {
     return samples[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
-                       static_cast<size_t>(channels) + static_cast<size_t>(c)];
+                       static_cast<size_t>(channels) +
+                   static_cast<size_t>(c)];
   }
 };
 

@@ -71,8 +71,10 @@ void take_metadata(Table& t, const std::vector<std::pair<std::string, std::strin
   for (const auto& [key, value] : entries) {
     if (key.rfind(kKeyPrefix, 0) != 0) continue;
     const std::string k = key.substr(std::strlen(kKeyPrefix));
-    if (k == "channels") t.channels = split(value, ',');
-    else t.metadata.emplace_back(k, value);
+    if (k == "channels")
+      t.channels = split(value, ',');
+    else
+      t.metadata.emplace_back(k, value);
   }
 }
 
@@ -148,7 +150,8 @@ Table read_png_table(const std::string& path) {
   if (!s.empty()) {
     const std::vector<std::string> parts = split(s, ',');
     const size_t nc = t.channels.size();
-    if (parts.size() != nc) fail(path, "png_scale has " + std::to_string(parts.size()) + " values for " + std::to_string(nc) + " channels");
+    if (parts.size() != nc)
+      fail(path, "png_scale has " + std::to_string(parts.size()) + " values for " + std::to_string(nc) + " channels");
     for (size_t c = 0; c < nc; ++c) {
       double k = 0;
       if (!parse_double(parts[c], &k)) fail(path, "png_scale is not a list of numbers");
@@ -198,11 +201,24 @@ Table read_ktx2_table(const std::string& path) {
   if (k.faces != 1) fail(path, "a cubemap, not a table");
   uint32_t components = 0, bytes = 0;
   switch (k.vk_format) {
-    case 90: components = 3; bytes = 2; break;   // R16G16B16_SFLOAT
-    case 97: components = 4; bytes = 2; break;   // R16G16B16A16_SFLOAT
-    case 106: components = 3; bytes = 4; break;  // R32G32B32_SFLOAT
-    case 109: components = 4; bytes = 4; break;  // R32G32B32A32_SFLOAT
-    default: fail(path, "vkFormat " + std::to_string(k.vk_format) + " is not an RGB or RGBA float format");
+    case 90:
+      components = 3;
+      bytes = 2;
+      break;  // R16G16B16_SFLOAT
+    case 97:
+      components = 4;
+      bytes = 2;
+      break;  // R16G16B16A16_SFLOAT
+    case 106:
+      components = 3;
+      bytes = 4;
+      break;  // R32G32B32_SFLOAT
+    case 109:
+      components = 4;
+      bytes = 4;
+      break;  // R32G32B32A32_SFLOAT
+    default:
+      fail(path, "vkFormat " + std::to_string(k.vk_format) + " is not an RGB or RGBA float format");
   }
   Table t;
   t.width = static_cast<int>(k.width);
@@ -255,11 +271,12 @@ Table read_csv_table(const std::string& path) {
       continue;
     }
     if (fields.size() != header.size())
-      fail(path, "row " + std::to_string(rows.size() + 1) + " has " + std::to_string(fields.size()) + " fields, the header " +
-                     std::to_string(header.size()));
+      fail(path, "row " + std::to_string(rows.size() + 1) + " has " + std::to_string(fields.size()) +
+                     " fields, the header " + std::to_string(header.size()));
     std::vector<double> r(fields.size());
     for (size_t c = 0; c < fields.size(); ++c)
-      if (!parse_double(fields[c], &r[c])) fail(path, "row " + std::to_string(rows.size() + 1) + ": '" + fields[c] + "' is not a number");
+      if (!parse_double(fields[c], &r[c]))
+        fail(path, "row " + std::to_string(rows.size() + 1) + ": '" + fields[c] + "' is not a number");
     rows.push_back(std::move(r));
   }
   if (header.empty() || rows.empty()) fail(path, "no header or no rows");
@@ -285,10 +302,12 @@ Table read_csv_table(const std::string& path) {
       break;
     }
   const std::string axes = t.meta("axes");
-  const bool has_y = header.size() >= 3 && (!t.meta("y_axis").empty() || axes.find("row ") != std::string::npos || width < n);
+  const bool has_y =
+      header.size() >= 3 && (!t.meta("y_axis").empty() || axes.find("row ") != std::string::npos || width < n);
   const size_t first_channel = has_y ? 2 : 1;
   if (header.size() <= first_channel) fail(path, "no channel columns");
-  if (n % width != 0) fail(path, std::to_string(n) + " rows do not make whole rows of " + std::to_string(width) + " cells");
+  if (n % width != 0)
+    fail(path, std::to_string(n) + " rows do not make whole rows of " + std::to_string(width) + " cells");
   t.width = static_cast<int>(width);
   t.height = static_cast<int>(n / width);
   t.x_name = header[0];
@@ -316,8 +335,10 @@ Table read_header_table(const std::string& path) {
     std::smatch m;
     if (std::regex_search(line, m, define)) {
       const int v = std::atoi(m[2].str().c_str());
-      if (m[1] == "WIDTH") t.width = v;
-      else if (m[1] == "HEIGHT") t.height = v;
+      if (m[1] == "WIDTH")
+        t.width = v;
+      else if (m[1] == "HEIGHT")
+        t.height = v;
       continue;
     }
     if (std::regex_search(line, m, axes)) {
@@ -343,7 +364,8 @@ Table read_header_table(const std::string& path) {
     if (line.rfind("//", 0) != 0) in_meta = false;
   }
   const size_t open = text.find('{'), close = text.rfind('}');
-  if (t.width <= 0 || t.height <= 0 || t.channels.empty() || open == std::string::npos || close == std::string::npos || close < open)
+  if (t.width <= 0 || t.height <= 0 || t.channels.empty() || open == std::string::npos || close == std::string::npos ||
+      close < open)
     fail(path, "not a table header written by brdfbake (no size, channels or array)");
   for (std::string v : split(text.substr(open + 1, close - open - 1), ',')) {
     v = trim(v);
@@ -358,8 +380,8 @@ Table read_header_table(const std::string& path) {
     }
   }
   if (t.data.size() != size_t(t.width) * size_t(t.height) * t.channels.size())
-    fail(path, std::to_string(t.data.size()) + " values for " + std::to_string(t.width) + "x" + std::to_string(t.height) + "x" +
-                   std::to_string(t.channels.size()));
+    fail(path, std::to_string(t.data.size()) + " values for " + std::to_string(t.width) + "x" +
+                   std::to_string(t.height) + "x" + std::to_string(t.channels.size()));
   const std::string x_name = t.x_name, y_name = t.y_name;
   fill_axes(t);
   if (t.x_name == "column" && !x_name.empty()) t.x_name = x_name;

@@ -59,8 +59,8 @@ std::vector<Probe> probes(int size) {
   return p;
 }
 
-PrefilterReport prefilter_report(Device& dev, const EnvImage& env, const std::string& name, EnvEstimator estimator, int size,
-                                 const std::function<void(const std::string&)>& log) {
+PrefilterReport prefilter_report(Device& dev, const EnvImage& env, const std::string& name, EnvEstimator estimator,
+                                 int size, const std::function<void(const std::string&)>& log) {
   PrefilterSpec spec;
   spec.size = size;
   spec.min_size = std::max(1, size / 8);
@@ -138,8 +138,8 @@ PrefilterReport prefilter_report(Device& dev, const EnvImage& env, const std::st
     r.levels.push_back(lr);
     if (log) {
       char b[160];
-      std::snprintf(b, sizeof b, "  prefilter %s level %d (roughness %.3f): rms %.2e, max %.2e, %.1f ms", r.estimator.c_str(), l,
-                    lr.roughness, lr.rms_error, lr.max_error, lr.device_seconds * 1e3);
+      std::snprintf(b, sizeof b, "  prefilter %s level %d (roughness %.3f): rms %.2e, max %.2e, %.1f ms",
+                    r.estimator.c_str(), l, lr.roughness, lr.rms_error, lr.max_error, lr.device_seconds * 1e3);
       log(b);
     }
   }
@@ -169,8 +169,9 @@ Report run_report(const ReportOptions& o) {
       throw Error("unknown report kind '" + k + "' (expected ggx, ggx-multiscatter, charlie, fresnel or prefilter)");
   if (o.kinds.empty()) throw Error("the report needs at least one kind");
   if (o.device == "reference")
-    throw Error("the report measures a device's estimators against the scalar reference, which is its baseline: "
-                "choose an OpenCL device");
+    throw Error(
+        "the report measures a device's estimators against the scalar reference, which is its baseline: "
+        "choose an OpenCL device");
   for (const auto& m : o.materials)
     if (!reference::find_material(m)) throw Error("unknown material '" + m + "' (brdfbake fresnel --list-materials)");
   const auto t0 = std::chrono::steady_clock::now();
@@ -183,8 +184,9 @@ Report run_report(const ReportOptions& o) {
   Device dev = Device::open(o.device);
   const DeviceInfo& info = dev.info();
   r.device = info.name;
-  r.device_details = info.platform_name + ", driver " + info.driver_version + ", " + std::to_string(info.compute_units) +
-                     " compute units, " + info.type + (info.fp64 ? ", fp64" : ", no fp64");
+  r.device_details = info.platform_name + ", driver " + info.driver_version + ", " +
+                     std::to_string(info.compute_units) + " compute units, " + info.type +
+                     (info.fp64 ? ", fp64" : ", no fp64");
   auto log = [&](const std::string& s) {
     if (o.log) o.log(s);
   };
@@ -238,7 +240,8 @@ std::string report_json(const Report& r) {
     k["kind"] = lut_kind_name(s.kind);
     k["size"] = s.size;
     k["device"] = s.device;
-    k["reference"] = {{"seconds", s.reference_seconds}, {"threads", s.reference_threads}, {"error", errors_json(s.reference_error)}};
+    k["reference"] = {
+        {"seconds", s.reference_seconds}, {"threads", s.reference_threads}, {"error", errors_json(s.reference_error)}};
     json pts = json::array();
     for (const auto& p : s.points)
       pts.push_back({{"estimator", estimator_name(p.estimator)},

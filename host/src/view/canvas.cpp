@@ -72,8 +72,8 @@ int Canvas::text(int x, int y, const std::string& s, Rgb8 c, int scale) {
   std::vector<char> quads(t.size() * 12 * 64 + 64);
   const int n = stb_easy_font_print(0.0f, 0.0f, t.data(), nullptr, quads.data(), static_cast<int>(quads.size()));
   for (int q = 0; q < n; ++q) {
-    const float* v0 = reinterpret_cast<const float*>(quads.data() + 64 * q);        // top-left vertex
-    const float* v2 = reinterpret_cast<const float*>(quads.data() + 64 * q + 32);   // bottom-right vertex
+    const float* v0 = reinterpret_cast<const float*>(quads.data() + 64 * q);       // top-left vertex
+    const float* v2 = reinterpret_cast<const float*>(quads.data() + 64 * q + 32);  // bottom-right vertex
     const int qx0 = static_cast<int>(std::lround(v0[0])), qy0 = static_cast<int>(std::lround(v0[1]));
     const int qx1 = static_cast<int>(std::lround(v2[0])), qy1 = static_cast<int>(std::lround(v2[1]));
     fill_rect(x + scale * qx0, y + scale * qy0, scale * (qx1 - qx0), scale * (qy1 - qy0), c);
@@ -130,8 +130,8 @@ Rgb8 series_colour(const std::string& channel, int index) {
   if (channel == "r" || channel == "R" || channel == "red") return {235, 80, 70};
   if (channel == "g" || channel == "G" || channel == "green") return {90, 200, 90};
   if (channel == "b" || channel == "B" || channel == "blue") return {90, 140, 255};
-  static const Rgb8 kSeries[] = {{240, 200, 80}, {80, 200, 220}, {230, 120, 220}, {200, 200, 200},
-                                 {250, 140, 60}, {140, 230, 140}};
+  static const Rgb8 kSeries[] = {{240, 200, 80},  {80, 200, 220}, {230, 120, 220},
+                                 {200, 200, 200}, {250, 140, 60}, {140, 230, 140}};
   return kSeries[static_cast<size_t>(index) % std::size(kSeries)];
 }
 

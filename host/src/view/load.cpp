@@ -93,11 +93,25 @@ Item read_ktx2_file(const std::string& path) {
   }
   uint32_t components = 0, bytes = 0;
   switch (k.vk_format) {
-    case 90: components = 3; bytes = 2; break;
-    case 97: components = 4; bytes = 2; break;
-    case 106: components = 3; bytes = 4; break;
-    case 109: components = 4; bytes = 4; break;
-    default: throw Error("cannot view '" + path + "': vkFormat " + std::to_string(k.vk_format) + " is not a float RGB(A) format");
+    case 90:
+      components = 3;
+      bytes = 2;
+      break;
+    case 97:
+      components = 4;
+      bytes = 2;
+      break;
+    case 106:
+      components = 3;
+      bytes = 4;
+      break;
+    case 109:
+      components = 4;
+      bytes = 4;
+      break;
+    default:
+      throw Error("cannot view '" + path + "': vkFormat " + std::to_string(k.vk_format) +
+                  " is not a float RGB(A) format");
   }
   it.kind = "cube (KTX2)";
   it.content = cube_from_levels(k.width, k.level_data, components, bytes, our_metadata(k.key_values), path);
@@ -109,18 +123,38 @@ Item read_ktx1_file(const std::string& path) {
   Item it;
   if (k.faces == 6) {
     it.kind = "cube (KTX1)";
-    it.content = cube_from_levels(k.width, k.level_data, k.components(), k.component_bytes(), our_metadata(k.key_values), path);
+    it.content =
+        cube_from_levels(k.width, k.level_data, k.components(), k.component_bytes(), our_metadata(k.key_values), path);
     return it;
   }
   // A 2-D texture: a table of its channels (level 0).
   Table t;
   t.width = static_cast<int>(k.width);
   t.height = static_cast<int>(k.height);
-  t.channels = k.components() == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"R", "G", "B", "A"};
+  t.channels =
+      k.components() == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"R", "G", "B", "A"};
   t.metadata = our_metadata(k.key_values);
-  const std::string names = t.meta("channels");
-  const size_t n = size_t(t.width) * size_t(t.height) * k.components();
-  for (size_t i = 0; i < n; ++i) t.data.push_back(component(k.level_data[0].data() + i * k.component_bytes(), k.component_bytes()));
+  const size_t texels = size_t(t.width) * size_t(t.height);
+  for (size_t i = 0; i < texels * k.components(); ++i)
+    t.data.push_back(component(k.level_data[0].data() + i * k.component_bytes(), k.component_bytes()));
+  // Our channel names when the file records them (the first channels of each texel).
+  std::vector<std::string> names;
+  std::string cur;
+  for (char c : t.meta("channels") + ",") {
+    if (c != ',') {
+      cur += c;
+    } else if (!cur.empty()) {
+      names.push_back(cur);
+      cur.clear();
+    }
+  }
+  if (!names.empty() && names.size() <= k.components()) {
+    std::vector<float> kept;
+    for (size_t i = 0; i < texels; ++i)
+      for (size_t c = 0; c < names.size(); ++c) kept.push_back(t.data[i * k.components() + c]);
+    t.data = std::move(kept);
+    t.channels = names;
+  }
   t.x_name = "column";
   t.y_name = "row";
   for (int i = 0; i < t.width; ++i) t.x.push_back(i);
@@ -169,25 +203,32 @@ CubeLevels cube_from_folder(const std::string& description) {
   cube.metadata = metadata_object(j.value("metadata", json::object()));
   const size_t per_level = layout == "faces" ? 6 : 1;
   if (files.empty() || files.size() % per_level != 0)
-    throw Error("cannot view '" + description + "': " + std::to_string(files.size()) + " files for the " + layout + " layout");
+    throw Error("cannot view '" + description + "': " + std::to_string(files.size()) + " files for the " + layout +
+                " layout");
   struct Cell {
     int col, row;
     bool rotate;
   };
-  static const Cell kHorizontal[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {3, 1, false}};
-  static const Cell kVertical[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {1, 3, true}};
+  static const Cell kHorizontal[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                      {1, 2, false}, {1, 1, false}, {3, 1, false}};
+  static const Cell kVertical[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                    {1, 2, false}, {1, 1, false}, {1, 3, true}};
   for (size_t l = 0; l < files.size() / per_level; ++l) {
     std::vector<io::FloatImage> images;
     for (size_t k = 0; k < per_level; ++k) images.push_back(read_image((dir / files[l * per_level + k]).string()));
     int s = 0;
-    if (layout == "faces") s = images[0].width;
-    else if (layout == "horizontal-cross") s = images[0].width / 4;
-    else if (layout == "vertical-cross") s = images[0].width / 3;
-    else s = std::max(1, images[0].width / 4);
+    if (layout == "faces")
+      s = images[0].width;
+    else if (layout == "horizontal-cross")
+      s = images[0].width / 4;
+    else if (layout == "vertical-cross")
+      s = images[0].width / 3;
+    else
+      s = std::max(1, images[0].width / 4);
     if (l == 0) cube.size = s;
     if (s != cube.level_size(static_cast<int>(l)))
-      throw Error("cannot view '" + description + "': level " + std::to_string(l) + " is " + std::to_string(s) + " a side, expected " +
-                  std::to_string(cube.level_size(static_cast<int>(l))));
+      throw Error("cannot view '" + description + "': level " + std::to_string(l) + " is " + std::to_string(s) +
+                  " a side, expected " + std::to_string(cube.level_size(static_cast<int>(l))));
     std::vector<float> rgba(24u * size_t(s) * size_t(s), 1.0f);
     for (int f = 0; f < 6; ++f)
       for (int jj = 0; jj < s; ++jj)
@@ -258,8 +299,8 @@ Item read_sh(const json& j, const std::string& path) {
     throw Error("cannot view '" + path + "': malformed SH coefficients (" + e.what() + ")");
   }
   if (sh.order < 1 || sh.order > 8 || sh.irradiance_over_pi.size() != 3u * size_t(sh.order) * size_t(sh.order))
-    throw Error("cannot view '" + path + "': " + std::to_string(sh.irradiance_over_pi.size() / 3) + " coefficients for order " +
-                std::to_string(sh.order));
+    throw Error("cannot view '" + path + "': " + std::to_string(sh.irradiance_over_pi.size() / 3) +
+                " coefficients for order " + std::to_string(sh.order));
   if (!sh.radiance.empty() && sh.radiance.size() != sh.irradiance_over_pi.size()) sh.radiance.clear();
   Item it;
   it.kind = "SH coefficients (JSON)";
@@ -276,7 +317,8 @@ Item read_manifest(const json& j, const std::string& path) {
     list.paths.push_back((dir / f["path"].get<std::string>()).string());
     Metadata notes;
     for (const char* key : {"kind", "error_bound", "runtime", "channels", "device"})
-      if (f.contains(key) && !f[key].is_null()) notes.emplace_back(key, f[key].is_string() ? f[key].get<std::string>() : f[key].dump());
+      if (f.contains(key) && !f[key].is_null())
+        notes.emplace_back(key, f[key].is_string() ? f[key].get<std::string>() : f[key].dump());
     list.notes.push_back(std::move(notes));
   }
   Item it;
@@ -298,21 +340,27 @@ Item read_json_file(const std::string& path) {
     it.content = cube_from_folder(path);
     return it;
   }
-  if (j.is_object() && j.contains("layout") && j["layout"].is_string() && j["layout"].get<std::string>().rfind("dds", 0) == 0 &&
-      j.contains("files") && j["files"].is_array() && !j["files"].empty())
+  if (j.is_object() && j.contains("layout") && j["layout"].is_string() &&
+      j["layout"].get<std::string>().rfind("dds", 0) == 0 && j.contains("files") && j["files"].is_array() &&
+      !j["files"].empty())
     return read_dds_file((fs::path(path).parent_path() / j["files"][0].get<std::string>()).string());
   const std::string main = path.size() > 5 ? path.substr(0, path.size() - 5) : "";
   std::error_code ec;
   if (!main.empty() && fs::exists(main, ec) && j.is_object() && (j.contains("image") || j.contains("format")))
     return load(main);
-  throw Error("cannot view '" + path + "': not a JSON file brdfbake writes (a manifest, SH coefficients, a cube folder's "
+  throw Error("cannot view '" + path +
+              "': not a JSON file brdfbake writes (a manifest, SH coefficients, a cube folder's "
               "description or a sidecar)");
 }
 
 Item read_table_file(const std::string& path) {
   Item it;
   const std::string ext = lower_ext(path);
-  const char* container = ext == ".exr" ? "OpenEXR" : ext == ".png" ? "PNG" : ext == ".hdr" ? "RGBE" : ext == ".csv" ? "CSV" : "C header";
+  const char* container = ext == ".exr"   ? "OpenEXR"
+                          : ext == ".png" ? "PNG"
+                          : ext == ".hdr" ? "RGBE"
+                          : ext == ".csv" ? "CSV"
+                                          : "C header";
   // An RGB(E) image with no table description is an environment (or any HDR picture).
   std::error_code ec;
   if (ext == ".hdr" && !fs::exists(path + ".json", ec)) {
@@ -327,7 +375,9 @@ Item read_table_file(const std::string& path) {
     const bool table = std::any_of(im.attributes.begin(), im.attributes.end(),
                                    [](const auto& a) { return a.first == std::string(kKeyPrefix) + "channels"; });
     if (!table) {
-      if (im.channels() < 3) throw Error("cannot view '" + path + "': an OpenEXR image of " + std::to_string(im.channels()) + " channels without a table description");
+      if (im.channels() < 3)
+        throw Error("cannot view '" + path + "': an OpenEXR image of " + std::to_string(im.channels()) +
+                    " channels without a table description");
       HdrImage h;
       h.width = im.width;
       h.height = im.height;
@@ -340,7 +390,8 @@ Item read_table_file(const std::string& path) {
     }
   }
   Table t = io::read_table(path);
-  it.kind = ext == ".csv" && t.x_name == "pair" && t.meta("kind").empty() ? "BRDF values (eval CSV)" : std::string("table (") + container + ")";
+  it.kind = ext == ".csv" && t.x_name == "pair" && t.meta("kind").empty() ? "BRDF values (eval CSV)"
+                                                                          : std::string("table (") + container + ")";
   it.content = std::move(t);
   return it;
 }
@@ -348,7 +399,8 @@ Item read_table_file(const std::string& path) {
 Item read_eval_binary(const std::string& path) {
   const std::vector<uint8_t> bytes = io::read_binary_file(path, "float32 file");
   if (bytes.empty() || bytes.size() % 12 != 0)
-    throw Error("cannot view '" + path + "': " + std::to_string(bytes.size()) + " bytes is not a whole number of float32 r, g, b triples");
+    throw Error("cannot view '" + path + "': " + std::to_string(bytes.size()) +
+                " bytes is not a whole number of float32 r, g, b triples");
   Table t;
   t.channels = {"r", "g", "b"};
   t.width = static_cast<int>(bytes.size() / 12);
@@ -418,10 +470,13 @@ const Reader kReaders[] = {
     {"DDS", [](const std::string&, const std::string& e, bool) { return e == ".dds"; }, read_dds_file},
     {"JSON", [](const std::string&, const std::string& e, bool) { return e == ".json"; }, read_json_file},
     {"MERL", [](const std::string&, const std::string& e, bool) { return e == ".binary"; }, read_merl_file},
-    {"table", [](const std::string&, const std::string& e, bool) {
+    {"table",
+     [](const std::string&, const std::string& e, bool) {
        return e == ".exr" || e == ".png" || e == ".hdr" || e == ".csv" || e == ".h";
-     }, read_table_file},
-    {"float32", [](const std::string&, const std::string& e, bool) { return e == ".f32" || e == ".bin" || e == ".raw"; },
+     },
+     read_table_file},
+    {"float32",
+     [](const std::string&, const std::string& e, bool) { return e == ".f32" || e == ".bin" || e == ".raw"; },
      read_eval_binary},
 };
 
@@ -432,7 +487,8 @@ const Reader* reader_for(const std::string& path) {
   const std::string ext = lower_ext(path);
   for (const Reader& r : kReaders)
     if (r.claims(path, ext, dir)) return &r;
-  throw Error("cannot view '" + path + "': unknown kind of file (view shows .ktx2 .ktx .dds .exr .png .hdr .csv .h .json "
+  throw Error("cannot view '" + path +
+              "': unknown kind of file (view shows .ktx2 .ktx .dds .exr .png .hdr .csv .h .json "
               ".binary .f32 and output folders)");
 }
 

@@ -38,7 +38,7 @@ struct Item {
   std::string path;
   std::string kind;  // "cube (KTX2)", "table (OpenEXR)", ... as view_kind says
   std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList> content;
-  Metadata notes;    // from a manifest: what it records about this file
+  Metadata notes;  // from a manifest: what it records about this file
 };
 
 // The reader that claims `path`: its kind text (view_kind); throws Error for no reader.

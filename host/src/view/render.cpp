@@ -165,8 +165,10 @@ std::vector<Tile> cube_tiles(const CubeLevels& cube, const ViewOptions& o) {
     }
     std::string label = "level " + std::to_string(l) + ": " + std::to_string(s) + "^2";
     std::string second;
-    if (!roughness.empty()) second = "roughness " + fmt(roughness[size_t(l)], "%.3f");
-    else if (cube.meta("kind") == "irradiance") second = "E / pi";
+    if (!roughness.empty())
+      second = "roughness " + fmt(roughness[size_t(l)], "%.3f");
+    else if (cube.meta("kind") == "irradiance")
+      second = "E / pi";
     t.canvas.text(2, 3 * f + 2, label);
     if (!second.empty()) t.canvas.text(2, 3 * f + 2 + 12, second, kDim);
     add_region(t, "cube level", "level " + std::to_string(l), 0, 0, 4 * f, 3 * f);
@@ -261,9 +263,9 @@ Tile table_channel_tile(const Table& t, int c, const ViewOptions& o) {
   tile.canvas.text(2, kCaption, "^ " + (t.y_name.empty() ? std::string("y") : t.y_name), kDim);
   // The image, row 0 at the bottom.
   resample(
-      t.width, t.height, dw, dh,
-      [&](int i, int j, double* acc) { acc[0] += double(t.at(i, t.height - 1 - j, c)); },
-      [&](int x, int y, const double* v) { tile.canvas.set(left + x, top + y, cubehelix(scale_position(v[0], r))); }, 1);
+      t.width, t.height, dw, dh, [&](int i, int j, double* acc) { acc[0] += double(t.at(i, t.height - 1 - j, c)); },
+      [&](int x, int y, const double* v) { tile.canvas.set(left + x, top + y, cubehelix(scale_position(v[0], r))); },
+      1);
   add_region(tile, "table channel", t.channels[size_t(c)], left, top, dw, dh, r.lo, r.hi, r.log_scale);
   tile.canvas.text(1, top, y_hi, kAxis);
   tile.canvas.text(1, top + dh - 9, y_lo, kAxis);
@@ -295,7 +297,8 @@ Tile table_rgb_tile(const Table& t, int cr, int cg, int cb, const ViewOptions& o
   display_size(t.width, t.height, o.table_size, &dw, &dh);
   Tile tile;
   const int top = kCaption + 12;
-  tile.canvas = Canvas(std::max(dw + 8, text_width("linear, clamped to [0, 1]") + 8), top + dh + 2 + 2 * kCaption, kBackground);
+  tile.canvas =
+      Canvas(std::max(dw + 8, text_width("linear, clamped to [0, 1]") + 8), top + dh + 2 + 2 * kCaption, kBackground);
   tile.canvas.text(4, 1, "r, g, b as colour", kText);
   resample(
       t.width, t.height, dw, dh,
@@ -345,7 +348,8 @@ Tile plot_tile(const Table& t, const std::string& title) {
       if (n == 1) tile.canvas.set(left, static_cast<int>(py(t.at(0, 0, c))), col);
     } else {  // more points than pixels: the range of each pixel column
       for (int x = 0; x < pw; ++x) {
-        const int i0 = static_cast<int>(double(x) * n / pw), i1 = std::max(i0 + 1, static_cast<int>(double(x + 1) * n / pw));
+        const int i0 = static_cast<int>(double(x) * n / pw),
+                  i1 = std::max(i0 + 1, static_cast<int>(double(x + 1) * n / pw));
         double a = INFINITY, b = -INFINITY;
         for (int i = i0; i < i1 && i < n; ++i) {
           a = std::min(a, double(t.at(i, 0, c)));
@@ -383,7 +387,8 @@ std::vector<Tile> table_tiles(const Table& t, const ViewOptions& o) {
   // r, g, b reflectances (at most 1: Fresnel, thin film, albedo) are also shown as the colour they are.
   const int r = channel_index(t, "r", "R"), g = channel_index(t, "g", "G"), b = channel_index(t, "b", "B");
   const bool reflectance = std::all_of(t.data.begin(), t.data.end(), [](float v) { return !(v > 1.0f); });
-  if (r >= 0 && g >= 0 && b >= 0 && t.channel_count() <= 4 && reflectance) tiles.push_back(table_rgb_tile(t, r, g, b, o));
+  if (r >= 0 && g >= 0 && b >= 0 && t.channel_count() <= 4 && reflectance)
+    tiles.push_back(table_rgb_tile(t, r, g, b, o));
   return tiles;
 }
 
@@ -505,7 +510,8 @@ std::vector<Tile> merl_tiles(const MerlTable& m) {
     const std::vector<double> th = {0.0, 90.0};
     x_axis_labels(t, left, top + z * kMerlThetaD + 3, z * kMerlThetaH, "theta_h (sqrt bins)", th);
     const int by = top + z * kMerlThetaD + 4 + 12 + 4;
-    for (int x = 0; x < z * kMerlThetaH; ++x) t.canvas.fill_rect(left + x, by, 1, 8, cubehelix(double(x) / (z * kMerlThetaH - 1)));
+    for (int x = 0; x < z * kMerlThetaH; ++x)
+      t.canvas.fill_rect(left + x, by, 1, 8, cubehelix(double(x) / (z * kMerlThetaH - 1)));
     add_region(t, "colour scale", label, left, by, z * kMerlThetaH, 8, r.lo, r.hi, true);
     const std::string a = "1e" + fmt(r.lo, "%.2g"), b = "1e" + fmt(r.hi, "%.2g");
     t.canvas.text(left, by + 10, a, kAxis);
@@ -545,7 +551,7 @@ Tile hdr_tile(const HdrImage& im, const ViewOptions& o) {
 std::string facts(const Item& it) {
   std::vector<std::string> f;
   auto add = [&](const std::string& key, const std::string& value) {
-    if (!value.empty()) f.push_back(key + " " + value);
+    if (!value.empty()) f.push_back(key.empty() ? value : key + " " + value);
   };
   const Metadata* meta = nullptr;
   if (const auto* t = std::get_if<Table>(&it.content)) {
@@ -553,7 +559,8 @@ std::string facts(const Item& it) {
     f.push_back(std::to_string(t->width) + "x" + std::to_string(t->height));
   } else if (const auto* c = std::get_if<CubeLevels>(&it.content)) {
     meta = &c->metadata;
-    f.push_back(std::to_string(c->size) + "^2, " + std::to_string(c->level_count()) + (c->level_count() == 1 ? " level" : " levels"));
+    f.push_back(std::to_string(c->size) + "^2, " + std::to_string(c->level_count()) +
+                (c->level_count() == 1 ? " level" : " levels"));
     add("schedule", c->meta("roughness_schedule"));
     add("", c->meta("lod_from_roughness"));
   } else if (const auto* s = std::get_if<ShView>(&it.content)) {
@@ -573,7 +580,7 @@ std::string facts(const Item& it) {
   for (const auto& [k, v] : it.notes)
     if (k == "runtime") add("runtime:", v);
   std::string s;
-  for (const auto& x : f) s += (s.empty() ? "" : ", ") + (x.size() > 1 && x[0] == ' ' ? x.substr(1) : x);
+  for (const auto& x : f) s += (s.empty() ? "" : ", ") + x;
   return s;
 }
 
@@ -644,11 +651,13 @@ Block item_block(const Item& it, const ViewOptions& o, int width) {
 }
 
 // Every file to show, in order: manifests and folders expand to what they list.
-void collect(const std::string& given, std::vector<Item>& items, std::set<std::string>& seen, const Metadata& notes, int depth) {
+void collect(const std::string& given, std::vector<Item>& items, std::set<std::string>& seen, const Metadata& notes,
+             int depth) {
   std::error_code ec;
   // A sidecar (FILE.json beside FILE) stands for its file.
   std::string path = given;
-  if (path.size() > 5 && path.compare(path.size() - 5, 5, ".json") == 0 && fs::is_regular_file(path.substr(0, path.size() - 5), ec))
+  if (path.size() > 5 && path.compare(path.size() - 5, 5, ".json") == 0 &&
+      fs::is_regular_file(path.substr(0, path.size() - 5), ec))
     path = path.substr(0, path.size() - 5);
   const std::string key = fs::weakly_canonical(path, ec).string();
   if (seen.count(key)) return;
@@ -675,9 +684,12 @@ ToneMap tone_map_from_name(const std::string& name) {
 
 const char* tone_map_name(ToneMap m) {
   switch (m) {
-    case ToneMap::Aces: return "aces";
-    case ToneMap::Reinhard: return "reinhard";
-    case ToneMap::Clamp: return "clamp";
+    case ToneMap::Aces:
+      return "aces";
+    case ToneMap::Reinhard:
+      return "reinhard";
+    case ToneMap::Clamp:
+      return "clamp";
   }
   return "?";
 }
@@ -687,7 +699,8 @@ std::string view_kind(const std::string& path) { return view::load(path).kind; }
 ContactSheet render_contact_sheet(const std::vector<std::string>& paths, const ViewOptions& o) {
   using namespace view;
   if (paths.empty()) throw Error("nothing to view: give one or more files or folders");
-  if (!std::isfinite(o.exposure) || std::fabs(o.exposure) > 64) throw Error("exposure must be a number of EV in [-64, 64]");
+  if (!std::isfinite(o.exposure) || std::fabs(o.exposure) > 64)
+    throw Error("exposure must be a number of EV in [-64, 64]");
   if (o.face_size < 4 || o.face_size > 1024) throw Error("face size must be 4 to 1024 pixels");
   if (o.table_size < 32 || o.table_size > 2048) throw Error("table size must be 32 to 2048 pixels");
   if (o.max_width < 320 || o.max_width > 16384) throw Error("sheet width must be 320 to 16384 pixels");
@@ -711,8 +724,10 @@ ContactSheet render_contact_sheet(const std::vector<std::string>& paths, const V
     sheet.files.push_back(it.path);
   }
   const std::string title = o.title.empty() ? "brdfbake view" : o.title;
-  const std::string count = std::to_string(items.size()) + (items.size() == 1 ? " file" : " files") + ", brdfbake " + kVersion;
-  int width = std::max({text_width(title, 2), text_width(sheet.tone_map_text), text_width(sheet.colour_scale_text), text_width(count)});
+  const std::string count =
+      std::to_string(items.size()) + (items.size() == 1 ? " file" : " files") + ", brdfbake " + kVersion;
+  int width = std::max(
+      {text_width(title, 2), text_width(sheet.tone_map_text), text_width(sheet.colour_scale_text), text_width(count)});
   int height = 2 * kLineHeight + 3 * kCaption + kGap;
   for (const Block& b : blocks) {
     width = std::max(width, b.canvas.width());
