@@ -7,7 +7,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 BRDFBAKE_PACKAGES=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
-  libopenexr-dev libpng-dev zlib1g-dev
+  libopenexr-dev libpng-dev zlib1g-dev libstb-dev
   libopenimageio-dev openimageio-tools
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
   libgtest-dev libgmock-dev

@@ -130,7 +130,15 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     options.add_options()("kind", "the table: " + names + " (default: " + table_kind_name(kinds.front()) + ")",
                           cxxopts::value<std::string>());
   }
-  add_schema_options(options, schema);
+  // eval streams: on the command line its input defaults to standard input.
+  std::vector<ParamDef> shown = schema;
+  if (eval)
+    for (auto& d : shown)
+      if (d.name == "input") {
+        d.required = false;
+        d.default_text = "-";
+      }
+  add_schema_options(options, shown);
   if (env)
     options.add_options()("env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
                                              "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +

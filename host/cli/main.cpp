@@ -21,7 +21,9 @@ void usage(std::ostream& out) {
       << "  prefilter prefilter an environment into a GGX or Charlie radiance mip chain\n"
       << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
       << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
-      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n";
+      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n"
+      << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
+      << "  report    measure accuracy against time on a device: an HTML page of plots and a JSON\n";
 }
 
 }  // namespace
@@ -40,6 +42,8 @@ int main(int argc, char** argv) {
     if (const cli::TableCommand* c = cli::table_command(command)) return cli::run_table_command(*c, argc - 1, argv + 1);
     if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
+    if (command == "view") return cli::cmd_view(argc - 1, argv + 1);
+    if (command == "report") return cli::cmd_report(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;

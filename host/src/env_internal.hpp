@@ -35,4 +35,10 @@ void irradiance_cube_metadata(CubeLevels& cube, const EnvImage& env, const Irrad
                               const ShCoefficients& sh, const std::string& definition, const std::string& precision,
                               const std::string& device);
 
+// The reference's prefiltered radiance (RGB per direction) of a source cube (level 0 of `source`,
+// RGBA) at unit directions, one lobe of `roughness` (reference_backend/prefilter.cpp): for
+// measurements at probe directions (brdfbake report).
+std::vector<double> prefilter_reference_directions(const CubeLevels& source, EnvDistribution distribution,
+                                                   double roughness, const std::vector<Vec3>& directions);
+
 }  // namespace brdfbake::detail

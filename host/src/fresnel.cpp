@@ -484,9 +484,24 @@ Table detail::make_fresnel_table(const Resolved& r) {
   } else {
     t.set_meta("layout", "one row; sample at u = cos_theta with the same cell rule");
   }
-  t.set_meta("conventions",
-             "unpolarised reflectance (mean of s and p); eta = n_t / n_i; cos_theta outside [0, 1] "
-             "is clamped (docs/CONVENTIONS.md, Fresnel tables)");
+  // The conventions of what the model computes: eta only where an index of refraction enters.
+  const char* what = "";
+  switch (s.model) {
+    case FresnelModel::Dielectric:
+    case FresnelModel::Conductor:
+    case FresnelModel::SchlickIor:
+      what = "unpolarised reflectance (mean of s and p); eta = n_t / n_i; ";
+      break;
+    case FresnelModel::Schlick:
+    case FresnelModel::SchlickMetallic:
+    case FresnelModel::F82Tint:
+      what = "an approximation of unpolarised reflectance from its value at normal incidence; ";
+      break;
+    case FresnelModel::Empirical:
+      what = "an empirical rim term, not a solution of the Fresnel equations; ";
+      break;
+  }
+  t.set_meta("conventions", std::string(what) + "cos_theta outside [0, 1] is clamped (docs/CONVENTIONS.md, Fresnel tables)");
   return t;
 }
 

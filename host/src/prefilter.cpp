@@ -185,12 +185,13 @@ double sum_seconds(const std::vector<cl::Event>& events) {
 
 // One filtered level: a launch of prefilter_level, with the real-typed alpha argument.
 template <class Real>
-cl::Event launch_level(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
-                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha) {
+cl::Event launch_level(cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
+                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha,
+                       const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_level");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, chain.buffer, chain.info_buffer, chain.levels,
-               samples, n_samples, bright, n_bright, static_cast<Real>(alpha));
+  return level(rows, out, size, chain.buffer, chain.info_buffer, chain.levels, samples, n_samples, bright, n_bright,
+               static_cast<Real>(alpha));
 }
 
 // ---- The quadrature's pyramid (kernels/common/env_sampling.clh, env_pyramid_sum) ----------------
@@ -388,13 +389,12 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
 }
 
 template <class Real>
-cl::Event launch_pyramid(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
-                         const cl::Buffer& bright, int n_bright, double alpha) {
+                         const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_pyramid");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, pyramid, info, levels, cos_core, band, bright,
-               n_bright, static_cast<Real>(alpha));
+  return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }
 
 }  // namespace
@@ -750,7 +750,9 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
 
     // One level into `dst` with n samples (sampling) or refinement r (quadrature); waits, returns
     // its device seconds.
-    auto run_level = [&](int l, int n, double r, std::vector<float>& dst) {
+    // Rows of a level are launched in chunks (global id offsets) so that progress can follow
+    // within a level: the first levels hold most of the texels and take most of the time.
+    auto run_level = [&](int l, int n, double r, std::vector<float>& dst, const std::function<void(double)>& step) {
       const int size = out.level_size(l);
       const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], math::kMinAlpha);
       int n_points = 0;
@@ -761,28 +763,47 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
       cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
-      cl::Event e;
       const bool fp64 = s.precision == Precision::Fp64;
+      const int rows = 6 * size;
+      const int chunks = step ? std::clamp(rows / 16, 1, 24) : 1;
+      std::vector<cl::Event> events;
+      std::vector<double> cos_core, band, table;
+      cl::Buffer core_buf, band_buf, table_buf;
+      int n_padded = 0;
       if (quadrature) {
-        std::vector<double> cos_core, band;
         pyramid_thresholds(pyramid, s.distribution, alpha, s, r, cos_core, band);
-        cl::Buffer core_buf = real_buffer(dev, s.precision, cos_core), band_buf = real_buffer(dev, s.precision, band);
-        e = fp64 ? launch_pyramid<cl_double>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                             core_buf, band_buf, pts_buf, n_pts, alpha)
-                 : launch_pyramid<cl_float>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                            core_buf, band_buf, pts_buf, n_pts, alpha);
+        core_buf = real_buffer(dev, s.precision, cos_core);
+        band_buf = real_buffer(dev, s.precision, band);
       } else {
         int n_kept = 0;
-        const std::vector<double> table =
-            lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
-        cl::Buffer table_buf = real_buffer(dev, s.precision, table);
-        const int n_padded = static_cast<int>(table.size() / 5);
-        e = fp64 ? launch_level<cl_double>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha)
-                 : launch_level<cl_float>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha);
+        table = lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
+        table_buf = real_buffer(dev, s.precision, table);
+        n_padded = static_cast<int>(table.size() / 5);
+      }
+      for (int c = 0; c < chunks; ++c) {
+        const int row0 = rows * c / chunks, row1 = rows * (c + 1) / chunks;
+        const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
+                                    cl::NullRange);
+        if (quadrature)
+          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+        else
+          events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                          pts_buf, n_pts, alpha, range)
+                                : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                         pts_buf, n_pts, alpha, range));
+      }
+      double level_seconds = 0.0;
+      for (size_t c = 0; c < events.size(); ++c) {
+        events[c].wait();
+        level_seconds += detail::event_seconds(events[c]);
+        if (step) step(double(c + 1) / double(events.size()));
       }
       dst.resize(4 * face_texels(size));
       dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
-      return detail::event_seconds(e);
+      return level_seconds;
     };
 
     // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
@@ -804,6 +825,25 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     for (int l = 1; l < levels; ++l) {
       const std::string label = "level " + std::to_string(l) + "/" + std::to_string(levels - 1);
       if (progress) progress(total_work > 0 ? done_work / total_work : 0.0, label);
+      // Within the level's share of the work: run k of a search (refinement or sample count, each
+      // dearer than the last) fills [1 - 2^-k, 1 - 2^-(k+1)) of it, so the line moves on and never back.
+      const double share = total_work > 0 ? double(face_texels(out.level_size(l))) / total_work : 0.0;
+      const double start = total_work > 0 ? done_work / total_work : 0.0;
+      int run = 0;
+      std::string step_label = label;
+      auto step = [&](double f) {
+        if (!progress) return;
+        const double a = 1.0 - std::ldexp(1.0, -run), b = 1.0 - std::ldexp(1.0, -(run + 1));
+        progress(start + share * (s.max_error > 0.0 ? a + (b - a) * f : f), step_label);
+      };
+      std::function<void(double)> stepper;
+      if (progress) stepper = step;
+      auto search_run = [&](int n, double r, std::vector<float>& dst) {
+        step_label = label + (quadrature ? ", refinement " + fmt(r) : ", " + std::to_string(n) + " samples");
+        const double t = run_level(l, n, r, dst, stepper);
+        ++run;
+        return t;
+      };
       double& sec = seconds[size_t(l)];
       if (s.max_error > 0.0 && quadrature) {
         // Refinement 2, 3, 4, 6, 8, 12, 16: each result is compared with the next; the first
@@ -811,9 +851,9 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         // difference).
         static const double kSteps[] = {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0};
         std::vector<float> a, b;
-        sec += run_level(l, 0, kSteps[0], a);
+        sec += search_run(0, kSteps[0], a);
         for (size_t k = 1; k < std::size(kSteps); ++k) {
-          sec += run_level(l, 0, kSteps[k], b);
+          sec += search_run(0, kSteps[k], b);
           refinement[size_t(l)] = kSteps[k];
           measured[size_t(l)] = rms_difference(a, b);
           const bool done = measured[size_t(l)] <= s.max_error;
@@ -826,9 +866,9 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         // kSearchStart until it is below max_error, and the 4n result is kept.
         std::vector<float> a, b;
         int n = kSearchStart;
-        sec += run_level(l, n, 0.0, a);
+        sec += search_run(n, 0.0, a);
         for (;;) {
-          sec += run_level(l, 4 * n, 0.0, b);
+          sec += search_run(4 * n, 0.0, b);
           measured[size_t(l)] = rms_difference(a, b);
           if (measured[size_t(l)] <= s.max_error || 4 * n >= kSearchMax) {
             samples[size_t(l)] = 4 * n;
@@ -836,10 +876,10 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
             break;
           }
           n *= 2;
-          sec += run_level(l, n, 0.0, a);
+          sec += search_run(n, 0.0, a);
         }
       } else {
-        sec = run_level(l, samples[size_t(l)], refinement[size_t(l)], out.levels[size_t(l)]);
+        sec = run_level(l, samples[size_t(l)], refinement[size_t(l)], out.levels[size_t(l)], stepper);
       }
       device_seconds += sec;
       done_work += double(face_texels(out.level_size(l)));

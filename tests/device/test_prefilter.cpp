@@ -325,6 +325,35 @@ TEST(Prefilter, MaxErrorChoosesPerLevel) {
   EXPECT_NE(m.meta("samples_per_level"), "");
 }
 
+// Progress follows the rows of each level (the first levels hold most of the work: a progress line
+// that moved only between levels sat at 0% through most of a bake), goes only forward, and names
+// the refinement a --max-error search is at.
+TEST(Prefilter, ProgressMovesWithinEveryLevel) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), 64);
+  for (double max_error : {0.0, 0.01}) {
+    PrefilterSpec s;
+    s.size = 64;
+    s.min_size = 16;  // levels 64, 32, 16: level 1 holds 4/5 of the filtered texels
+    s.max_error = max_error;
+    std::vector<double> f;
+    std::vector<std::string> labels;
+    prefilter_cube(*dev, source, s, nullptr, [&](double x, const std::string& label) {
+      f.push_back(x);
+      labels.push_back(label);
+    });
+    ASSERT_FALSE(f.empty());
+    for (size_t k = 1; k < f.size(); ++k) EXPECT_GE(f[k], f[k - 1]) << labels[k];
+    EXPECT_EQ(f.back(), 1.0);
+    int inside_level_one = 0;
+    for (size_t k = 0; k < f.size(); ++k) inside_level_one += f[k] > 0.0 && f[k] < 0.8 && labels[k].rfind("level 1/2", 0) == 0;
+    EXPECT_GE(inside_level_one, 5) << "max_error " << max_error;
+    bool refinement = false;
+    for (const auto& l : labels) refinement |= l.find("refinement") != std::string::npos;
+    EXPECT_EQ(refinement, max_error > 0.0);
+  }
+}
+
 // OrientationLatLong.exr (OpenEXR's chart) draws, at the four horizon views, short black lines
 // towards the positive axes: from +X towards +Z, from +Z towards +X, from -X towards +Z, from -Z
 // towards +X, and from each view up towards +Y. The cube converted on the device must be black

@@ -97,12 +97,17 @@ TEST(CliBake, DryRunJsonIsThePlan) {
 TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   const fs::path out = temp_dir() / "default";
   fs::remove_all(out);
-  const CliRun r = run("bake -o " + out.string() + kSizes);
+  const CliRun r = run("bake -o " + out.string() + kSizes + " --contact-sheet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json"})
+  for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json",
+                        "contact_sheet.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
+  // The DFG kind's runtime formula: ggx-multiscatter needs a different shader from ggx.
+  EXPECT_NE(r.out.find("runtime: specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("contact sheet: " + out.string() + "/contact_sheet.png"), std::string::npos) << r.out;
+  EXPECT_NE(run("bake --dry-run --contact-sheet").err.find("not with --dry-run"), std::string::npos);
   std::ifstream m(out / "manifest.json");
   const json manifest = json::parse(m);
   ASSERT_EQ(manifest["files"].size(), 3u);

@@ -234,6 +234,18 @@ TEST(CliEval, CsvMatchesTheReference) {
   }
 }
 
+// The summary names the device and counts in words that agree with the number ("1 pair").
+TEST(CliEval, SummaryNamesTheDeviceAndCountsPairs) {
+  const fs::path dir = temp_dir(), mats = materials_file();
+  std::vector<double> pairs;
+  write_text(dir / "one.csv", pairs_csv(1, 7u, pairs));
+  const CliRun r = run("eval --material " + mats.string() + " --name gold -i " + (dir / "one.csv").string() + " -o " +
+                       (dir / "one_f.csv").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("1 pair, ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(" on "), std::string::npos) << "the device: " << r.err;
+}
+
 // More pairs than one chunk (1 << 16), through standard input and output, in order; the reference
 // device gives the same rows.
 TEST(CliEval, StreamsSeveralChunksThroughPipes) {

@@ -228,7 +228,7 @@ EvalOptions eval_options(const TableRequest& t) {
 }
 
 std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t, const Backend& b, double device_seconds) {
-  return std::to_string(pairs) + " pairs, " + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
+  return std::to_string(pairs) + (pairs == 1 ? " pair, " : " pairs, ") + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
          (b.is_reference() ? std::string("reference (fp64)") : std::string(precision_name(t.precision))) + " on " +
          b.name() + " (device " + fmt_number(device_seconds, "%.3f") + " s)";
 }

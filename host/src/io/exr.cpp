@@ -116,6 +116,9 @@ bool read_level0(File& file, uint64_t max_pixels, FloatImage& out, Read read) {
     if (tiles.mode == Imf::RIPMAP_LEVELS) d << ", rip-mapped (level 0 read)";
   }
   out.description = d.str();
+  for (auto it = header.begin(); it != header.end(); ++it)
+    if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+      out.attributes.emplace_back(it.name(), a->value());
   return true;
 }
 

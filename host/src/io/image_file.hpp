@@ -29,6 +29,8 @@ struct FloatImage {
   std::vector<float> pixels;  // width x height x channels, row 0 (the top row) first
   // e.g. "OpenEXR 1024x512, 3 channel(s), half, tiled, 11 mip levels (level 0 read)"
   std::string description;
+  // The file's string attributes (OpenEXR; empty for the other formats), in the file's order.
+  std::vector<std::pair<std::string, std::string>> attributes;
 };
 
 // Reads an image, choosing the reader by the file's signature (its first bytes): OpenEXR

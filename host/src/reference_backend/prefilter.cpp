@@ -110,4 +110,10 @@ CubeLevels prefilter_environment_reference(const EnvImage& env, const PrefilterS
   return out;
 }
 
+std::vector<double> detail::prefilter_reference_directions(const CubeLevels& source, EnvDistribution distribution,
+                                                           double roughness, const std::vector<Vec3>& directions) {
+  const reference::EnvCube src = detail::to_reference_cube(source.levels.at(0), source.size);
+  return reference::prefilter_directions(src, to_lobe(distribution), roughness, directions);
+}
+
 }  // namespace brdfbake
