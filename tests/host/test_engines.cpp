@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -465,7 +466,10 @@ TEST(BabylonEnv, NeedsTheFullChain) {
 // ---- glTF EXT_lights_image_based --------------------------------------------------------------
 
 TEST(GltfIbl, DocumentImagesAndCoefficients) {
-  const fs::path dir = temp_dir("gltf");
+  // BRDFBAKE_GLTF_OUT: write into that folder and keep it (tests/engines/validate_gltf_ibl.py
+  // validates the document against the extension's schema)
+  const char* keep = std::getenv("BRDFBAKE_GLTF_OUT");
+  const fs::path dir = keep ? fs::path(keep) : temp_dir("gltf");
   const CubeLevels chain = synthetic_chain(32, 16, RoughnessSchedule::Linear);
   const ShCoefficients sh = sh_one_plus_x();
   EngineBake bake{&chain, &sh};
