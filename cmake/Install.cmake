@@ -33,7 +33,7 @@ install(FILES ${PROJECT_BINARY_DIR}/brdfbakeConfig.cmake ${PROJECT_BINARY_DIR}/b
         DESTINATION ${BRDFBAKE_CMAKE_DIR})
 
 # pkg-config: the static library and what it needs at link time.
-set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference -lbrdfbake_math")
+set(BRDFBAKE_PC_LIBS_PRIVATE "-lbrdfbake_reference -lbrdfbake_math -lastcenc")
 set(BRDFBAKE_PC_REQUIRES_PRIVATE "OpenCL OpenEXR libpng")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/brdfbake.pc.in ${PROJECT_BINARY_DIR}/brdfbake.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/brdfbake.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -10,12 +10,19 @@ BRDFBAKE_PACKAGES=(
   libopenexr-dev libpng-dev zlib1g-dev libstb-dev
   libopenimageio-dev openimageio-tools
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
+  libpng-dev libastcenc-dev
   libgtest-dev libgmock-dev
   gnuplot-nox
 )
+# Used only by the test suite: Filament's own KtxBundle and cmgen check the Filament target
+# (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output
+# (tests/engines/validate_gltf_ibl.py). The tests skip with a message where these are missing.
+BRDFBAKE_TEST_PACKAGES=(
+  libfilament-dev libfilament-tools python3-jsonschema
+)
 
 missing=()
-for p in "${BRDFBAKE_PACKAGES[@]}"; do
+for p in "${BRDFBAKE_PACKAGES[@]}" "${BRDFBAKE_TEST_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then

@@ -445,10 +445,12 @@ void detail::prefilter_metadata(CubeLevels& out, const PrefilterSpec& s, const s
   out.set_meta("size", std::to_string(s.size));
   out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
   out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
-  out.set_meta("roughness_of_level", s.schedule == RoughnessSchedule::Linear ? "roughness = l / (levels - 1)"
-                                     : s.schedule == RoughnessSchedule::Filament
-                                         ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
-                                         : "roughness = (l / (levels - 1))^2");
+  out.set_meta("roughness_of_level",
+               s.schedule == RoughnessSchedule::Linear     ? "roughness = l / (levels - 1)"
+               : s.schedule == RoughnessSchedule::Filament ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
+               : s.schedule == RoughnessSchedule::Sqrt
+                   ? "roughness = (l / (levels - 1))^2"
+                   : "roughness = min(1, sqrt(2^(l / 0.8) / size)), 0 at level 0 (Babylon.js HDRFiltering)");
   out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
   std::vector<std::string> r_text;
   for (double r : roughness) r_text.push_back(fmt(r, "%.9g"));
@@ -483,10 +485,17 @@ RoughnessSchedule roughness_schedule_from_name(const std::string& n) {
   if (n == "linear") return RoughnessSchedule::Linear;
   if (n == "filament") return RoughnessSchedule::Filament;
   if (n == "sqrt") return RoughnessSchedule::Sqrt;
-  throw Error("unknown schedule '" + n + "' (expected linear, filament or sqrt)");
+  if (n == "babylon") return RoughnessSchedule::Babylon;
+  throw Error("unknown schedule '" + n + "' (expected linear, filament, sqrt or babylon)");
 }
 const char* roughness_schedule_name(RoughnessSchedule s) {
-  return s == RoughnessSchedule::Filament ? "filament" : s == RoughnessSchedule::Sqrt ? "sqrt" : "linear";
+  switch (s) {
+    case RoughnessSchedule::Filament: return "filament";
+    case RoughnessSchedule::Sqrt: return "sqrt";
+    case RoughnessSchedule::Babylon: return "babylon";
+    case RoughnessSchedule::Linear: break;
+  }
+  return "linear";
 }
 
 double schedule_roughness(RoughnessSchedule s, int level, int levels) {
@@ -496,6 +505,12 @@ double schedule_roughness(RoughnessSchedule s, int level, int levels) {
     case RoughnessSchedule::Linear: return t;
     case RoughnessSchedule::Filament: return 1.0 - std::sqrt(1.0 - t);
     case RoughnessSchedule::Sqrt: return t * t;
+    case RoughnessSchedule::Babylon: {
+      // Babylon.js HDRFiltering: alphaG = 2^((lod - offset) / scale) / width, 0 at lod 0.
+      if (level == 0) return 0.0;
+      const double alpha = std::pow(2.0, level / kBabylonLodGenerationScale) / std::ldexp(1.0, levels - 1);
+      return std::min(1.0, std::sqrt(alpha));
+    }
   }
   return t;
 }
@@ -506,6 +521,13 @@ double schedule_lod(RoughnessSchedule s, double r, int levels) {
     case RoughnessSchedule::Linear: return m * r;
     case RoughnessSchedule::Filament: return m * r * (2.0 - r);
     case RoughnessSchedule::Sqrt: return m * std::sqrt(r);
+    case RoughnessSchedule::Babylon: {
+      // Babylon.js pbrBlockReflection: getLodFromAlphaG(size, alphaG) * lodGenerationScale, with
+      // alphaG = roughness^2 + MINIMUMVARIANCE; textureLod clamps to the chain.
+      const double lod = kBabylonLodGenerationScale *
+                         std::log2(std::ldexp(1.0, levels - 1) * (r * r + kBabylonMinimumVariance));
+      return std::clamp(lod, 0.0, m);
+    }
   }
   return m * r;
 }
@@ -515,6 +537,8 @@ std::string schedule_lod_formula(RoughnessSchedule s) {
     case RoughnessSchedule::Linear: return "lod = (levels - 1) * roughness";
     case RoughnessSchedule::Filament: return "lod = (levels - 1) * roughness * (2 - roughness)";
     case RoughnessSchedule::Sqrt: return "lod = (levels - 1) * sqrt(roughness)";
+    case RoughnessSchedule::Babylon:
+      return "lod = clamp(0.8 * log2(size * (roughness^2 + 0.0005)), 0, levels - 1), size = 2^(levels - 1)";
   }
   return "";
 }

@@ -63,7 +63,7 @@ std::string error_of(Fn&& fn) {
 TEST(ViewIo, Ktx1CubeReadsBackEveryLevelAndKey) {
   const CubeLevels cube = labelled_cube(8, 3);
   for (PixelType px : {PixelType::F16, PixelType::F32}) {
-    const auto bytes = io::encode_ktx1_cube(cube, px, io::cube_key_values(cube));
+    const auto bytes = io::encode_ktx1_cube(cube, px, io::cube_key_values(cube, 1));
     const io::Ktx1Image k = io::decode_ktx1(bytes.data(), bytes.size(), "cube.ktx");
     EXPECT_EQ(k.width, 8u);
     EXPECT_EQ(k.height, 8u);
@@ -80,7 +80,7 @@ TEST(ViewIo, Ktx1CubeReadsBackEveryLevelAndKey) {
 
 TEST(ViewIo, Ktx1MalformedFilesAreRefused) {
   const CubeLevels cube = labelled_cube(4, 2);
-  const auto good = io::encode_ktx1_cube(cube, PixelType::F16, io::cube_key_values(cube));
+  const auto good = io::encode_ktx1_cube(cube, PixelType::F16, io::cube_key_values(cube, 1));
   auto truncated = good;
   truncated.resize(good.size() - 10);
   EXPECT_NE(error_of([&] { io::decode_ktx1(truncated.data(), truncated.size(), "t.ktx"); }).find("truncated"),

@@ -108,7 +108,7 @@ enum class CubeImageLayout { Faces, HorizontalCross, VerticalCross, Equirect };
 enum class CubeImageFormat { Exr, Hdr };
 
 struct CubeWriteOptions {
-  PixelType pixel = PixelType::F16;                  // containers: RGBA16F or RGBA32F
+  PixelType pixel = PixelType::F16;                  // containers: RGBA16F or RGBA32F; R11G11B10: .ktx, .dds only
   CubeImageLayout layout = CubeImageLayout::Faces;   // Directory only
   CubeImageFormat image_format = CubeImageFormat::Exr;  // Directory only (.exr float, .hdr RGBE)
   std::string stem = "level";                        // Directory only: file name prefix
@@ -133,11 +133,21 @@ const char* env_distribution_name(EnvDistribution d);
 //   linear:   roughness = t              lod = (L - 1) roughness            (Khronos; the default)
 //   filament: roughness = 1 - sqrt(1 - t)  lod = (L - 1) roughness (2 - roughness)   (Filament)
 //   sqrt:     roughness = t^2            lod = (L - 1) sqrt(roughness)
-enum class RoughnessSchedule { Linear, Filament, Sqrt };
+//   babylon:  Babylon.js's .env chain (HDRFiltering), a full chain down to 1x1 so that the face
+//             size is S = 2^(L - 1): level 0 the mirror, level l >= 1 has GGX alpha
+//             2^(l / 0.8) / S (roughness = sqrt(alpha), capped at 1); the shader's lookup is
+//             lod = 0.8 log2(S (roughness^2 + 0.0005)) (getLodFromAlphaG with Babylon's
+//             MINIMUMVARIANCE 0.0005, lodGenerationScale 0.8), clamped to [0, L - 1]. It is the
+//             inverse of the schedule up to that 0.0005 and the cap, as in Babylon itself.
+enum class RoughnessSchedule { Linear, Filament, Sqrt, Babylon };
 RoughnessSchedule roughness_schedule_from_name(const std::string& name);
 const char* roughness_schedule_name(RoughnessSchedule s);
 double schedule_roughness(RoughnessSchedule s, int level, int levels);
-double schedule_lod(RoughnessSchedule s, double roughness, int levels);  // the exact inverse
+double schedule_lod(RoughnessSchedule s, double roughness, int levels);  // the inverse (see babylon)
+// Babylon.js's lodGenerationScale of .env files and of its own prefiltering (HDRFiltering), and
+// its shader's MINIMUMVARIANCE added to roughness^2 before the lookup.
+inline constexpr double kBabylonLodGenerationScale = 0.8;
+inline constexpr double kBabylonMinimumVariance = 0.0005;
 // The shader formula of the inverse, e.g. "lod = (levels - 1) * roughness".
 std::string schedule_lod_formula(RoughnessSchedule s);
 

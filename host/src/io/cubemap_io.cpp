@@ -19,6 +19,7 @@
 #include "io/image_file.hpp"
 #include "io/ktx2.hpp"
 #include "io/rgbe.hpp"
+#include "io/packed_float.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -248,10 +249,19 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
 
 }  // namespace
 
-std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel) {
+std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated) {
   check_cube(cube);
   std::vector<std::vector<uint8_t>> out;
   for (const auto& level : cube.levels) {
+    if (pixel == PixelType::R11G11B10) {  // RGB packed into one UInt32, alpha dropped
+      std::vector<uint8_t> bytes(level.size());
+      for (size_t t = 0; t < level.size() / 4; ++t) {
+        const uint32_t p = pack_r11g11b10(level[4 * t], level[4 * t + 1], level[4 * t + 2], saturated);
+        for (size_t i = 0; i < 4; ++i) bytes[4 * t + i] = static_cast<uint8_t>(p >> (8 * i));
+      }
+      out.push_back(std::move(bytes));
+      continue;
+    }
     std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
     for (size_t k = 0; k < level.size(); ++k) {
       if (pixel == PixelType::F16) {
@@ -269,27 +279,46 @@ std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, Pixel
   return out;
 }
 
-std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube) {
+std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version) {
   std::vector<std::pair<std::string, std::string>> kv;
   for (const auto& [k, v] : cube.metadata) kv.emplace_back(kKeyPrefix + k, v);
-  kv.emplace_back("KTXwriter", kGenerator);
+  if (ktx_version == 2) {
+    // KTX 2.0 "KTXwriter" and "KTXorientation": cubemap faces must be "rd" (row 0 at the top).
+    kv.emplace_back("KTXwriter", kGenerator);
+    kv.emplace_back("KTXorientation", "rd");
+  } else {
+    // KTX 1.1 defines KTXorientation (as "S=r,T=d") but no writer key: the writer goes under our
+    // own prefix, so that KTX-Software's ktx2ktx2, which adds its own KTXwriter, makes no duplicate.
+    kv.emplace_back("KTXorientation", "S=r,T=d");
+    kv.emplace_back(std::string(kKeyPrefix) + "writer", kGenerator);
+  }
   return kv;
 }
 
-// KTX 1.1 "File Structure". Every face row of RGBA16F/32F is a multiple of 4 bytes, so rows need
-// no GL_UNPACK_ALIGNMENT padding, and cubePadding and mipPadding are always empty.
+// KTX 1.1 "File Structure". Every face row of RGBA16F/32F and of packed R11F_G11F_B10F is a
+// multiple of 4 bytes, so rows need no GL_UNPACK_ALIGNMENT padding, and cubePadding and mipPadding
+// are always empty.
 std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
-                                      const std::vector<std::pair<std::string, std::string>>& key_values) {
-  const auto levels = cube_level_bytes(cube, pixel);
+                                      const std::vector<std::pair<std::string, std::string>>& key_values,
+                                      const Ktx1Options& options) {
+  const auto levels = cube_level_bytes(cube, pixel, options.saturated);
   static const uint8_t kId[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
   std::vector<uint8_t> out(kId, kId + 12);
   const bool half = pixel == PixelType::F16;
-  append_u32(out, 0x04030201);                      // endianness
-  append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
-  append_u32(out, half ? 2 : 4);                    // glTypeSize
-  append_u32(out, kGlRgba);                         // glFormat
-  append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
-  append_u32(out, kGlRgba);                         // glBaseInternalFormat
+  append_u32(out, 0x04030201);  // endianness
+  if (pixel == PixelType::R11G11B10) {
+    append_u32(out, options.filament_r11_gltype ? kGlR11fG11fB10f : kGlUnsignedInt10f11f11fRev);  // glType
+    append_u32(out, 4);                       // glTypeSize: the packed UInt32
+    append_u32(out, kGlRgb);                  // glFormat
+    append_u32(out, kGlR11fG11fB10f);         // glInternalFormat
+    append_u32(out, kGlRgb);                  // glBaseInternalFormat
+  } else {
+    append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
+    append_u32(out, half ? 2 : 4);                    // glTypeSize
+    append_u32(out, kGlRgba);                         // glFormat
+    append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
+    append_u32(out, kGlRgba);                         // glBaseInternalFormat
+  }
   append_u32(out, static_cast<uint32_t>(cube.size));  // pixelWidth
   append_u32(out, static_cast<uint32_t>(cube.size));  // pixelHeight
   append_u32(out, 0);                               // pixelDepth
@@ -323,9 +352,12 @@ std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
 // DDS: magic, DDS_HEADER, [DDS_HEADER_DXT10], then faces in order, each with all its mip levels
 // (the opposite nesting of KTX).
 std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bool dx10_header) {
+  if (pixel == PixelType::R11G11B10 && !dx10_header)
+    throw Error("DDS: R11F_G11F_B10F needs the DX10 header (the legacy header has no such format)");
   const auto levels = cube_level_bytes(cube, pixel);
   const bool half = pixel == PixelType::F16;
-  const uint32_t texel_bytes = half ? 8 : 16;
+  const bool packed = pixel == PixelType::R11G11B10;
+  const uint32_t texel_bytes = packed ? 4 : half ? 8 : 16;
   std::vector<uint8_t> out;
   append_u32(out, kDdsMagic);
   append_u32(out, 124);  // dwSize
@@ -347,7 +379,7 @@ std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bo
   append_u32(out, 0);  // dwCaps4
   append_u32(out, 0);  // dwReserved2
   if (dx10_header) {
-    append_u32(out, half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);
+    append_u32(out, packed ? kDxgiR11G11B10Float : half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);
     append_u32(out, kD3d10ResourceDimensionTexture2d);
     append_u32(out, kDdsResourceMiscTextureCube);
     append_u32(out, 1);  // arraySize: one cube
@@ -381,6 +413,9 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
   io::check_cube(cube);
   switch (format) {
     case CubeFormat::Ktx2: {
+      if (o.pixel == PixelType::R11G11B10)
+        io::throw_write_error(path, "R11F_G11F_B10F is written to .ktx (KTX1) and .dds only; use f16 or f32 for "
+                                    ".ktx2, or an ASTC HDR KTX2 (write_astc_ktx2_cube) for a compressed one");
       io::Ktx2Image image;
       const bool half = o.pixel == PixelType::F16;
       image.vk_format = half ? io::kVkFormatR16G16B16A16Sfloat : io::kVkFormatR32G32B32A32Sfloat;
@@ -388,7 +423,7 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       image.faces = 6;
       image.levels = static_cast<uint32_t>(cube.level_count());
       image.level_data = io::cube_level_bytes(cube, o.pixel);
-      image.key_values = io::cube_key_values(cube);
+      image.key_values = io::cube_key_values(cube, 2);
       std::vector<uint8_t> bytes;
       try {
         bytes = io::encode_ktx2(image);
@@ -399,13 +434,19 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       return;
     }
     case CubeFormat::Ktx1:
-      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube))));
+      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube, 1))));
       return;
     case CubeFormat::Dds:
     case CubeFormat::DdsLegacy: {
       // DDS has no metadata: it goes to a sidecar FILE.json, committed with the image.
+      std::vector<uint8_t> dds;
+      try {
+        dds = io::encode_dds_cube(cube, o.pixel, format == CubeFormat::Dds);
+      } catch (const Error& e) {
+        io::throw_write_error(path, e.what());
+      }
       io::TempFile image(path), json(path + ".json");
-      io::write_bytes(image, io::as_view(io::encode_dds_cube(cube, o.pixel, format == CubeFormat::Dds)));
+      io::write_bytes(image, io::as_view(dds));
       io::write_bytes(json, io::metadata_json(cube, {std::filesystem::path(path).filename().string()},
                                               format == CubeFormat::Dds ? "dds-dx10" : "dds-legacy"));
       image.commit();

@@ -20,7 +20,6 @@ namespace brdfbake::io {
 namespace {
 
 constexpr uint8_t kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint32_t kGlRgb = 0x1907;
 constexpr size_t kHeaderBytes = 64;
 
 size_t pad4(size_t n) { return (n + 3) & ~size_t(3); }

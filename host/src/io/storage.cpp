@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "io/codecs.hpp"
+#include "io/rgbe.hpp"
 
 namespace brdfbake::io {
 
@@ -63,7 +64,12 @@ StorageReport measure_storage(const Table& table, TableFormat format, PixelType 
           in[c] = table.data[t * channels + c];
           if (!(in[c] >= 0.0f && in[c] <= kRgbeMax)) out_of_range(in[c]);
         }
-        rgbe_decode(rgbe_encode(in[0], in[1], in[2]), out);
+        // as the writer: negatives and NaN to 0, beyond kRgbeMax to kRgbeMax, then the codec
+        float clean[3];
+        for (int c = 0; c < 3; ++c) clean[c] = in[c] >= 0.0f ? std::min(in[c], kRgbeMax) : 0.0f;
+        uint8_t bytes[4];
+        float_to_rgbe(clean, bytes);
+        rgbe_to_float(bytes, out);
         for (std::size_t c = 0; c < channels && c < 3; ++c) r.max_error = std::max(r.max_error, metric(out[c], in[c]));
       }
       return r;

@@ -466,6 +466,9 @@ TableFormat table_format_from_name(const std::string& name) {
 void write_table(const Table& table, const std::string& path, TableFormat format,
                  const TableWriteOptions& options) {
   check_table(table, path);
+  if (options.pixel == PixelType::R11G11B10)
+    throw Error("cannot write '" + path + "': the R11F_G11F_B10F pixel format is for KTX1 cubemaps only "
+                "(no sign, 6-bit mantissas); use f16 or f32 for tables");
   switch (format) {
     case TableFormat::Exr:
       write_exr(table, path);
