@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "brdfbake/plan.hpp"
+#include "cli_remote.hpp"
 #include "cli_table.hpp"
 
 namespace brdfbake::cli {
@@ -117,6 +118,7 @@ int cmd_bake(int argc, char** argv) {
       ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>());
   add_schema_options(options, plan_schema());
   add_common_options(options);
+  add_remote_options(options);
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
     std::cout << options.help() << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
@@ -155,6 +157,11 @@ int cmd_bake(int argc, char** argv) {
     if (as_json) std::cout << plan_to_json(plan);
     else print_plan(plan, std::cout);
     return 0;
+  }
+  if (remote_requested(r)) {  // the server reads the environment under its input root
+    if (!quiet) print_plan(plan, std::cout);
+    std::cout.flush();
+    return run_remote("bake", r, "bake plan", job_to_json(plan.job), plan.job.output_dir, false, quiet);
   }
   // The inputs are checked before the plan is shown: a missing environment fails first.
   bool needs_environment = false;
