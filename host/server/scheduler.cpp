@@ -199,7 +199,10 @@ void Scheduler::warm_up(Slot& s) {
       TableRequest t;
       t.kind = table_kind_from_name(kind);
       t.params = {{"size", 4.0}};
-      if (t.kind == TableKind::Fresnel) t.params.push_back({"model", std::string("schlick")});
+      if (t.kind == TableKind::Fresnel) {
+        t.params.push_back({"model", std::string("schlick")});
+        t.params.push_back({"f0", 0.04});
+      }
       validate_table(t);
       (void)bake_table(t, *s.backend);
     }

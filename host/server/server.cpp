@@ -107,14 +107,15 @@ void reply_error(httplib::Response& res, int status, const std::string& message)
   reply_json(res, status, o);
 }
 
-// "job.json" from a client's ?source=: a short printable name, no path.
+// What a client calls its job in messages (?source=job.json; `run --server` sends the file's path as
+// the user typed it, so that messages read as a local run's): printable characters, at most 200.
+// Only a label: the server opens nothing by it.
 std::string source_name(const httplib::Request& req, const std::string& fallback) {
   if (!req.has_param("source")) return fallback;
-  std::string s = fs::path(req.get_param_value("source")).filename().string();
   std::string out;
-  for (char c : s)
-    if (c > 0x20 && c < 0x7f) out += c;
-  out = out.substr(0, 80);
+  for (char c : req.get_param_value("source"))
+    if (c >= 0x20 && c < 0x7f) out += c;
+  out = out.substr(0, 200);
   return out.empty() ? fallback : out;
 }
 
