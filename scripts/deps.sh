@@ -9,6 +9,7 @@ BRDFBAKE_PACKAGES=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   libopenimageio-dev openimageio-tools
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
+  libcpp-httplib-dev libsqlite3-dev curl jq
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
 )

@@ -613,7 +613,24 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   } catch (const Error& e) {
     return reply_error(res, 400, local(e.what()));
   }
-  const std::string cache_key = table_bake_key(t) + "|format=" + t.format + "|pixel=" + t.pixel + "|output=" +
+  // The files the table reads are part of its key: their size and modification time.
+  std::string inputs_key;
+  {
+    std::vector<std::string> files;
+    for (const auto& d : table_schema(t.kind))
+      if (d.type == ParamType::Path && !d.output_only && t.find(d.name)) files.push_back(t.text(d.name));
+    if (!environment.empty() && environment.rfind("builtin:", 0) != 0) {
+      std::stringstream parts(environment);
+      for (std::string p; std::getline(parts, p, ',');) files.push_back(p);
+    }
+    for (const auto& f : files) {
+      struct stat st {};
+      if (::stat(f.c_str(), &st) == 0)
+        inputs_key += "|" + f + "@" + std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) + "." +
+                      std::to_string(st.st_mtim.tv_nsec);
+    }
+  }
+  const std::string cache_key = table_bake_key(t) + inputs_key + "|format=" + t.format + "|pixel=" + t.pixel + "|output=" +
                                 fs::path(t.output).filename().string() + "|symbol=" + t.text("symbol") +
                                 "|sanitize=" + (sanitize ? "1" : "0");
   auto send = [&](const TableReply& r, bool hit) {
