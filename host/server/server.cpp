@@ -846,7 +846,7 @@ void Server::Impl::routes() {
         state = job_state_from_name(req.get_param_value("state"));
         if (!state) throw Error("?state: must be queued, running, done, failed or cancelled");
       }
-      limit = static_cast<int>(number_param(req, "limit", 100, 1, 10000));
+      limit = static_cast<int>(number_param(req, "limit", 100, 1, 1000000));
     } catch (const Error& e) {
       return reply_error(res, 400, e.what());
     }
