@@ -353,7 +353,7 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
                                 "): not available in this build: " + why);
     }
     check_memory(job, origin);
-    r.timeout = number_param(req, "timeout", opt.job_timeout, 1, opt.job_timeout);
+    r.timeout = number_param(req, "timeout", opt.job_timeout, 0.01, opt.job_timeout);
   } catch (const NotAvailableError& e) {
     reply_error(res, 501, e.what());
     return;

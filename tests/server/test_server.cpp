@@ -444,6 +444,16 @@ TEST(ServerLimits, QueueFullGets503AndCancelWorks) {
   del = c.Delete(("/v1/jobs/" + running + "?purge=1").c_str());
   EXPECT_EQ(del->status, 200);
   EXPECT_EQ(c.Get(("/v1/jobs/" + running).c_str())->status, 404);
+  // A job past its own timeout fails before its next table, leaving nothing.
+  auto timed = c.Post("/v1/jobs?timeout=0.05", slow_job(2).dump(), "application/json");
+  ASSERT_TRUE(timed);
+  ASSERT_EQ(timed->status, 202);
+  const std::string timed_id = body_json(timed)["id"];
+  const json t = wait_job(c, timed_id);
+  EXPECT_EQ(t["state"], "failed") << t.dump();
+  EXPECT_NE(t.value("error", "").find("timed out"), std::string::npos) << t.dump();
+  EXPECT_FALSE(fs::exists(dir.path / "data" / "jobs" / timed_id));
+  EXPECT_EQ(c.Post("/v1/jobs?timeout=-1", small_job().dump(), "application/json")->status, 400);
 }
 
 TEST(ServerSecurity, TokenRequiredAndNoOpenListenWithoutIt) {
