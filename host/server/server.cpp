@@ -335,6 +335,7 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     } catch (const Error& e) {
       throw Error(origin + ": device: " + e.what());
     }
+    // The job runs on its first table's device (and holds the others its tables name).
     for (size_t i = 0; i < job.tables.size(); ++i) {
       const std::string& sel = job.tables[i].device;
       if (sel.empty()) continue;
@@ -345,7 +346,6 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
         throw Error(origin + ": tables[" + std::to_string(i) + "].device: " + e.what());
       }
     }
-    if (!job.tables.empty() && job.tables[0].device.empty()) r.device = scheduler->device_key(job.device);
     for (size_t i = 0; i < job.tables.size(); ++i) {
       std::string why;
       if (!table_kind_available(job.tables[i].kind, &why))
@@ -479,7 +479,9 @@ void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res)
     return reply_error(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
                        "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
   const fs::path given(name);
-  if (given.is_absolute() || name.find("..") != std::string::npos)
+  bool up = false;
+  for (const auto& part : given) up |= part == "..";
+  if (given.is_absolute() || up)
     return reply_error(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
   const std::string path = roots->data_file(jobs_dir() / id, name);
   if (path.empty()) return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");

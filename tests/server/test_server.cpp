@@ -378,6 +378,21 @@ TEST_F(ServerApi, JobFailingOnTheDeviceIsAFailedJob) {
   EXPECT_EQ(wait_job(c, submit(c, small_job()))["state"], "done");
 }
 
+TEST_F(ServerApi, DevicesRunConcurrently) {
+  auto c = server_->client();
+  // A converged reference DFG table keeps the reference busy for a while; a job on the OpenCL
+  // device submitted meanwhile starts and finishes while it runs (one queue per device).
+  const std::string slow = submit(c, json::parse(R"({"device": "reference", "tables": [{"kind": "ggx", "size": 64}]})"));
+  ASSERT_TRUE(wait_running(c, slow));
+  const std::string quick = submit(c, small_job());
+  const json q = wait_job(c, quick), r = wait_job(c, slow);
+  ASSERT_EQ(q["state"], "done") << q.dump();
+  ASSERT_EQ(r["state"], "done") << r.dump();
+  EXPECT_EQ(r["device"], "reference");
+  EXPECT_NE(q["device"], "reference");
+  EXPECT_LT(q["started"].get<double>(), r["finished"].get<double>()) << "the device job waited for the reference";
+}
+
 TEST_F(ServerApi, CommandLineRunAndBakeThroughTheServer) {
   write_file(dir_->path / "cli.json", small_job().dump());
   const std::string out = (dir_->path / "cli-remote").string(), local = (dir_->path / "cli-local").string();
