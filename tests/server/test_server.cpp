@@ -563,7 +563,9 @@ TEST(ServerFaults, FullDiskFailsTheJobNotTheDatabase) {
   TempDir dir("fulldisk");
   const fs::path data = dir.path / "data";
   fs::create_directories(data);
-  const bool mounted = ::mount("tmpfs", data.c_str(), "tmpfs", 0, "size=3m") == 0;
+  // BRDFBAKE_TEST_NO_MOUNT=1 takes the second way where mounting works too (to test it).
+  const bool try_mount = !std::getenv("BRDFBAKE_TEST_NO_MOUNT");
+  const bool mounted = try_mount && ::mount("tmpfs", data.c_str(), "tmpfs", 0, "size=3m") == 0;
   std::function<void()> limit;
   if (!mounted)
     limit = [] {
