@@ -10,6 +10,7 @@ BRDFBAKE_PACKAGES=(
   libopenexr-dev libpng-dev zlib1g-dev libstb-dev
   libopenimageio-dev openimageio-tools
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
+  libcpp-httplib-dev libsqlite3-dev curl jq
   libpng-dev libastcenc-dev
   libgtest-dev libgmock-dev
   gnuplot-nox

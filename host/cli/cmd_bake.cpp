@@ -6,6 +6,7 @@
 
 #include "brdfbake/plan.hpp"
 #include "brdfbake/view.hpp"
+#include "cli_remote.hpp"
 #include "cli_table.hpp"
 
 namespace brdfbake::cli {
@@ -122,6 +123,7 @@ int cmd_bake(int argc, char** argv) {
       ("contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)");
   add_schema_options(options, plan_schema());
   add_common_options(options);
+  add_remote_options(options);
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
     std::cout << options.help() << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
@@ -161,6 +163,11 @@ int cmd_bake(int argc, char** argv) {
     if (as_json) std::cout << plan_to_json(plan);
     else print_plan(plan, std::cout);
     return 0;
+  }
+  if (remote_requested(r)) {  // the server reads the environment under its input root
+    if (!quiet) print_plan(plan, std::cout);
+    std::cout.flush();
+    return run_remote("bake", r, "bake plan", job_to_json(plan.job), plan.job.output_dir, false, quiet);
   }
   // The inputs are checked before the plan is shown: a missing environment fails first.
   bool needs_environment = false;

@@ -13,6 +13,7 @@ void usage(std::ostream& out) {
       << "commands:\n"
       << "  bake      read a glTF scene and bake the tables its materials call for (the main job)\n"
       << "  run       run a job file (JSON: the tables to bake, with every parameter)\n"
+      << "  serve     serve the job API over HTTP: warm devices, a persistent queue (docs/SERVICE.md)\n"
       << "  devices   list OpenCL platforms and devices\n"
       << "  kinds     every table kind with its parameters (the job format's reference)\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
     if (command == "view") return cli::cmd_view(argc - 1, argv + 1);
     if (command == "report") return cli::cmd_report(argc - 1, argv + 1);
+    if (command == "serve") return cli::cmd_serve(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;

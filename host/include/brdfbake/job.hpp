@@ -55,4 +55,14 @@ using JobProgress = std::function<void(const JobEvent&)>;
 // NotAvailableError before any work when a kind cannot be baked by this build.
 Manifest run_job(const Job& job, const JobProgress& progress = {});
 
+// What a caller that runs many jobs (the server, host/server/) passes in: where backends come from
+// (kept warm across jobs, instead of one opened per run) and a checkpoint called on the calling
+// thread before each bake and before the files are moved in, which may throw to stop the job
+// (cancelled, timed out); the folder is then left as it was.
+struct RunHooks {
+  std::function<std::shared_ptr<Backend>(const std::string& selector)> backend;
+  std::function<void()> checkpoint;
+};
+Manifest run_job(const Job& job, const JobProgress& progress, const RunHooks& hooks);
+
 }  // namespace brdfbake

@@ -114,6 +114,10 @@ void validate_table(TableRequest& request, const FieldNaming& naming = {});
 std::string default_table_output(const TableRequest& request);
 // A key equal for requests that bake the same data (output fields aside).
 std::string table_bake_key(const TableRequest& request);
+// About how many bytes baking a validated request holds at its peak, host and device together (the
+// result, its device buffers and the writer's copy; the environment image excluded), computed from
+// the parameters before anything is allocated. The server refuses requests that would not fit.
+std::uint64_t estimate_table_bytes(const TableRequest& request);
 
 // ---- Baking and writing --------------------------------------------------------------------------
 

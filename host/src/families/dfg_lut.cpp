@@ -55,6 +55,9 @@ std::string storage_name(const TableRequest& t) {
 class DfgLutFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
+  }
   std::string command() const override { return "lut"; }
   std::string summary(TableKind k) const override {
     switch (k) {

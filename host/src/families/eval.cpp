@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 #include "families/family.hpp"
@@ -236,6 +237,16 @@ std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t
 class EvalFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Eval}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // A job's eval reads every pair first: 6 doubles in, 3 out and the writer's copy (96 bytes a
+    // pair), plus the input's bytes. The pairs are counted from the input's size: a float32 pair is
+    // 24 bytes, the shortest CSV line ("0,0,1,0,0,1") 12.
+    std::error_code ec;
+    const std::string input = t.text("input");
+    const double bytes = input.empty() || input == "-" ? 0.0 : static_cast<double>(std::filesystem::file_size(input, ec));
+    const double pairs = ec ? 0.0 : bytes / (t.flag("binary") ? 24.0 : 12.0);
+    return static_cast<std::uint64_t>((ec ? 0.0 : bytes) + 96 * pairs) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "eval"; }
   bool streams() const override { return true; }
   std::string summary(TableKind) const override {

@@ -5,6 +5,7 @@
 // family only through its descriptor (docs/ARCHITECTURE.md, "How to add a table family").
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -61,6 +62,12 @@ class Family {
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;
   virtual WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+
+  // About how many bytes a bake of the validated request holds at its peak, host and device
+  // together: the result, its device buffers and the copy the writer encodes (the environment image
+  // excluded: environment_bytes). Computed from the parameters alone, before anything is allocated,
+  // so that the server can refuse what would not fit (estimate_table_bytes).
+  virtual std::uint64_t estimated_bytes(const TableRequest& t) const = 0;
 };
 
 // The family that bakes `kind`.
@@ -111,5 +118,8 @@ void add_table_output_params(std::vector<ParamDef>& schema);
 // request's max_error) is refused before anything is written.
 WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
                                std::optional<double> bound, std::optional<double> limit = std::nullopt);
+// The peak bytes of a float grid of `cells` cells and `channels` channels: the host table, its
+// device buffer and the writer's copy (4 bytes a value each), and the cells' coordinates.
+std::uint64_t grid_bytes(double cells, double channels);
 
 }  // namespace brdfbake::detail

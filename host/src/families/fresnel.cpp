@@ -20,6 +20,11 @@ std::vector<std::string> model_names() {
 class FresnelFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Fresnel}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // 1d: r, g, b (and three error columns with vs_exact); 2d: one channel over size x height.
+    if (t.text("table") == "2d") return grid_bytes(t.number("size") * t.number("height", t.number("size")), 1);
+    return grid_bytes(t.number("size"), t.flag("vs_exact") ? 6 : 3);
+  }
   std::string command() const override { return "fresnel"; }
   std::string summary(TableKind) const override {
     return "a Fresnel reflectance table: exact dielectric and conductor, Schlick and its variants, F82 tint";

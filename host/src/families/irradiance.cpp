@@ -3,6 +3,7 @@
 // Engine: host/src/irradiance.cpp and kernels/irradiance.cl; reference: host/reference/src/envmap.cpp
 // (sh_project); tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
 #include <algorithm>
+#include <cmath>
 
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
@@ -33,6 +34,12 @@ Metadata sh_metadata(const BakeResult& r) {
 class IrradianceFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Irradiance}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // RGBA float texels (16 bytes): the source cube on the host and the device; the irradiance cube
+    // on the device, the host and in the writer's encoding.
+    const double source = t.number("source_size"), cube = t.number("cube_size", 0);
+    return static_cast<std::uint64_t>(16 * (2 * 6 * source * source + 3 * 6 * cube * cube)) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "irradiance"; }
   std::string summary(TableKind) const override {
     return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";

@@ -3,6 +3,7 @@
 // Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
 // tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "brdfbake/environment.hpp"
@@ -91,6 +92,18 @@ namespace {
 class PrefilterFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Prefilter}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // RGBA float texels (16 bytes): the source cube and its mips on the host and on the device, the
+    // chain on the device, on the host and in the writer's encoding.
+    const double size = t.number("size"), min_size = std::max(1.0, t.number("min_size", 1));
+    double chain = 0;
+    for (double s = size; s >= min_size; s = std::floor(s / 2)) {
+      chain += 6 * s * s;
+      if (s <= 1) break;
+    }
+    const double source = 6 * size * size * 4.0 / 3.0;
+    return static_cast<std::uint64_t>(16 * (2 * source + 3 * chain)) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "prefilter"; }
   std::string summary(TableKind) const override {
     return "a prefiltered radiance mip chain of an environment (GGX or Charlie lobe per level)";

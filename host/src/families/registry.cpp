@@ -122,6 +122,10 @@ LookupError bilinear_lookup_error(const Table& t, const std::vector<double>& us,
   return e;
 }
 
+std::uint64_t grid_bytes(double cells, double channels) {
+  return static_cast<std::uint64_t>(cells * channels * 4 * 3 + cells * 16) + (std::uint64_t(1) << 20);
+}
+
 OutputFormats table_formats() {
   return {{".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"}, "a table format (.exr .png .hdr .ktx2 .csv .h)"};
 }
@@ -437,6 +441,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
 }
 
 std::string default_table_output(const TableRequest& t) { return family_of(t.kind).default_output(t); }
+
+std::uint64_t estimate_table_bytes(const TableRequest& t) { return family_of(t.kind).estimated_bytes(t); }
 
 std::string table_bake_key(const TableRequest& t) {
   std::string k = table_kind_name(t.kind);

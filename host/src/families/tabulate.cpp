@@ -18,6 +18,18 @@ bool is_merl(const TableRequest& t) { return t.text("layout") == "merl"; }
 class TabulateFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Tabulate}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // Every cell is evaluated at a direction pair (6 doubles) to 3 doubles, then stored as floats;
+    // the albedo layout integrates each cell over a hemisphere of pairs, in batches.
+    const std::string layout = t.text("layout");
+    const std::vector<double> res = t.numbers("res");
+    double cells = 0;
+    if (layout == "merl") cells = 90.0 * 90.0 * 180.0;
+    else if (layout == "grid") cells = res.empty() ? 32.0 * 32 * 32 : res.size() == 1 ? res[0] * res[0] * res[0] : res[0] * res[1] * res[2];
+    else if (layout == "albedo") cells = (res.empty() ? 90.0 : res[0]) * 4096.0;
+    else cells = res.empty() ? 256.0 * 256 : res.size() == 1 ? res[0] * res[0] : res[0] * res[1];
+    return static_cast<std::uint64_t>(cells * (6 + 3) * 8) + grid_bytes(cells, 3);
+  }
   std::string command() const override { return "tabulate"; }
   std::string summary(TableKind) const override {
     return "a BRDF tabulated: MERL binary, grid, directional albedo or a slice image";

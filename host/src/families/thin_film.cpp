@@ -16,6 +16,9 @@ std::string name_number(double v) { return fmt_number(v, "%.6g"); }
 class ThinFilmFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::ThinFilm}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
+  }
   std::string command() const override { return "thin-film"; }
   std::string summary(TableKind) const override {
     return "thin-film interference Fresnel over (cos_theta, thickness) for KHR_materials_iridescence";

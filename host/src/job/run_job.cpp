@@ -55,7 +55,9 @@ std::uint64_t bytes_of(const fs::path& p) {
 
 }  // namespace
 
-Manifest run_job(const Job& in, const JobProgress& progress) {
+Manifest run_job(const Job& in, const JobProgress& progress) { return run_job(in, progress, RunHooks{}); }
+
+Manifest run_job(const Job& in, const JobProgress& progress, const RunHooks& hooks) {
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   validate_job(job);
@@ -111,7 +113,8 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
   std::map<std::string, std::shared_ptr<Backend>> backends;
   auto backend_for = [&](const std::string& selector) -> Backend& {
     auto it = backends.find(selector);
-    if (it == backends.end()) it = backends.emplace(selector, Backend::open(selector)).first;
+    if (it == backends.end())
+      it = backends.emplace(selector, hooks.backend ? hooks.backend(selector) : Backend::open(selector)).first;
     return *it->second;
   };
 
@@ -134,6 +137,7 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
     auto report = [&](double fraction, const std::string& step) {
       if (progress) progress({int(g), int(groups.size()), step.empty() ? what : what + ": " + step, fraction});
     };
+    if (hooks.checkpoint) hooks.checkpoint();
     report(0.0, "");
     Backend& backend = backend_for(t.device);
     BakeInputs inputs;
@@ -180,6 +184,7 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
     }
   }
 
+  if (hooks.checkpoint) hooks.checkpoint();
   manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   io::write_file_atomically((staging.path() / "manifest.json").string(), manifest_to_json(manifest));
   staging.commit("manifest.json");
