@@ -455,7 +455,9 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
         const real cp = qp[j], sp = qp[n_p + j];
         const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
         const brdfv vh = sin_v * hx + n_dot_v * hz;
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        // l above the horizon by construction; rounding next to t1 (or p_e) can give n.l = -1e-8,
+        // where the lobes' square roots and the sheen's Lambda are not defined: clamp to 0
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(R(2.0) * vh * hz - n_dot_v, R(0.0));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
         const brdfv w = wt * R(4.0) * vh * fmax(lz, R(0.0));
         acc_r += w * f.r;
@@ -478,7 +480,9 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
         const brdfv sp = sincos(p_e * qp[2 * n_p + j], &cp);
         const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
         const brdfv vh = sin_v * hx + n_dot_v * hz;
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        // l above the horizon by construction; rounding next to t1 (or p_e) can give n.l = -1e-8,
+        // where the lobes' square roots and the sheen's Lambda are not defined: clamp to 0
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(R(2.0) * vh * hz - n_dot_v, R(0.0));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
         const brdfv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz, R(0.0));
         acc_r += w * f.r;

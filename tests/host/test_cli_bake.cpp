@@ -14,6 +14,8 @@
 #include <sstream>
 #include <string>
 
+#include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
 #include "support/cli_runner.hpp"
 
 namespace {
@@ -204,6 +206,57 @@ TEST(CliBake, EveryRealSceneHasAPlan) {
     EXPECT_TRUE(json::accept(r.out)) << e.path();
   }
   EXPECT_EQ(n, 18);
+}
+
+}  // namespace
+
+namespace {
+
+// `bake --target T` writes the engine's file set (brdfbake/engines.hpp) beside the tables, in the
+// engine's conventions, and lists it in the manifest; a job that lacks what the set needs is refused
+// with nothing written.
+TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
+  const fs::path dir = temp_dir() / "targets";
+  fs::create_directories(dir);
+  for (const std::string& target : brdfbake::engine_target_names()) {
+    if (target == "generic") continue;
+    const fs::path out = dir / ("set_" + target);
+    const std::string name = out.filename().string();
+    const CliRun r = run("bake --target " + target + " --cube-size 16 --min-size 4 --lut-size 8 --quiet -o " + out.string());
+    if (target == "filament" || target == "babylon") {
+      // these engines fix their sizes (power-of-two chains down to their own smallest level)
+      const CliRun own = run("bake --target " + target + " --quiet -o " + out.string());
+      ASSERT_EQ(own.code, 0) << target << ": " << own.err;
+    } else {
+      ASSERT_EQ(r.code, 0) << target << ": " << r.err;
+    }
+    const brdfbake::EngineSettings e = brdfbake::engine_settings(brdfbake::engine_target_from_name(target));
+    const json m = json::parse(std::ifstream(out / "manifest.json"));
+    ASSERT_TRUE(m.contains("engine")) << target;
+    EXPECT_EQ(m["engine"]["target"], target);
+    for (std::string f : e.files) {
+      // patterns (per-level images) and optional files (a Charlie chain) are checked through the manifest
+      if (f.find('<') != std::string::npos || f.find('(') != std::string::npos) continue;
+      const auto at = f.find("NAME");
+      if (at != std::string::npos) f.replace(at, 4, name);
+      EXPECT_TRUE(fs::exists(out / f)) << target << ": " << f;
+    }
+    for (const auto& f : m["engine"]["files"])
+      EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
+    // the chain the set was made from has the engine's schedule
+    for (const auto& f : m["files"]) {
+      if (f["kind"] == "prefilter") {
+        EXPECT_EQ(f["parameters"]["schedule"], std::string(brdfbake::roughness_schedule_name(e.schedule))) << target;
+      }
+    }
+  }
+  // a job with a target but no irradiance table: refused, nothing written
+  std::ofstream(dir / "job.json") << R"({"target": "filament", "tables": [{"kind": "prefilter", "size": 16, "min_size": 4}]})";
+  const CliRun bad = run("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "bad").string());
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("needs a GGX prefiltered chain and an irradiance table"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+  fs::remove_all(dir);
 }
 
 }  // namespace

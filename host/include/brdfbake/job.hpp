@@ -22,6 +22,10 @@ struct Job {
   std::string output_dir;       // the folder the files and manifest.json go to
   std::string environment = kDefaultEnvironment;
   bool sanitize = false;        // replace NaN, infinite and negative environment pixels (recorded)
+  // An engine's file set (brdfbake/engines.hpp, docs/ENGINES.md) written beside the tables from the
+  // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
+  // "khronos-viewer".
+  std::string target = "generic";
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;

@@ -79,8 +79,11 @@ struct TableRequest {
   std::string format;        // "" = from the output's extension
   std::string pixel;         // f16 | f32 (.ktx2, .h and cube containers); "" = the kind's default
   std::vector<Request> requested_by;
+  // The parameters the request named itself (validate_table records them before filling defaults).
+  std::vector<std::string> given;
 
   const ParamValue* find(const std::string& name) const;
+  bool was_given(const std::string& name) const;
   double number(const std::string& name, double fallback = 0.0) const;
   std::string text(const std::string& name, const std::string& fallback = {}) const;
   bool flag(const std::string& name, bool fallback = false) const;

@@ -69,7 +69,7 @@ class IrradianceFamily final : public Family {
   void check(TableRequest& t, const FieldName& name) const override {
     if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
       throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
-    const bool json = t.output.empty() ? !t.find("cube_size") : is_json(t);
+    const bool json = !t.output.empty() ? is_json(t) : !t.format.empty() ? t.format == "json" : !t.find("cube_size");
     if (json && t.find("cube_size"))
       throw FieldError("cube_size", "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
     if (json && t.find("sh_json"))
@@ -80,7 +80,7 @@ class IrradianceFamily final : public Family {
 
   std::string default_output(const TableRequest& t) const override {
     std::string stem = "irradiance_sh" + fmt_number(t.number("sh_order"), "%.0f");
-    if (!t.find("cube_size")) return stem + ".json";
+    if (!t.find("cube_size") || t.format == "json") return stem + ".json";
     return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") + (t.format.empty() ? ".ktx2" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
 #include "io/storage.hpp"
@@ -119,8 +120,8 @@ class PrefilterFamily final : public Family {
               .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
           ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)),
           ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)),
-          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos) | filament | sqrt")
-              .one_of({"linear", "filament", "sqrt"}).def(std::string(roughness_schedule_name(d.schedule))),
+          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
+              .one_of({"linear", "filament", "sqrt", "babylon"}).def(std::string(roughness_schedule_name(d.schedule))),
           ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
               .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
           ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"),
@@ -134,6 +135,10 @@ class PrefilterFamily final : public Family {
           ParamDef("fis", T::Flag, "sampling: filtered importance sampling (off: every sample reads level 0)")
               .def(d.filtered_importance_sampling),
           ParamDef("clamp", T::Number, "BIASED, opt-in: compress source luminance above this value").above(0),
+          ParamDef("target", T::Name,
+                   "an engine's conventions (docs/ENGINES.md): its schedule and sizes unless given; "
+                   "bake --target writes its whole file set")
+              .one_of(engine_target_names()).def(std::string("generic")),
       };
       add_cube_output_params(v);
       return v;
@@ -142,6 +147,13 @@ class PrefilterFamily final : public Family {
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
+    if (t.text("target") != "generic") {
+      // The engine's conventions where the request does not name its own.
+      const EngineSettings e = engine_settings(engine_target_from_name(t.text("target")));
+      if (!t.was_given("schedule")) t.set("schedule", std::string(roughness_schedule_name(e.schedule)));
+      if (!t.was_given("size")) t.set("size", double(e.size));
+      if (!t.was_given("min_size")) t.set("min_size", double(e.min_size));
+    }
     if (t.find("samples") && t.text("estimator") != "sampling")
       throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " + name("refinement") +
                                       " or " + name("max_error") + ")");

@@ -331,6 +331,10 @@ const ParamValue* TableRequest::find(const std::string& name) const {
   return nullptr;
 }
 
+bool TableRequest::was_given(const std::string& name) const {
+  return std::find(given.begin(), given.end(), name) != given.end();
+}
+
 double TableRequest::number(const std::string& name, double fallback) const {
   const ParamValue* v = find(name);
   if (!v) return fallback;
@@ -413,6 +417,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
                   join(names) + ")");
     }
   // Types and ranges, then defaults, in the schema's order.
+  if (t.given.empty())
+    for (const auto& p : t.params) t.given.push_back(p.name);
   Params ordered;
   for (const auto& d : schema) {
     if (Param* given = find_param(t.params, d.name)) {

@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
@@ -131,6 +133,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunHooks& hoo
                                   " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
                                   std::to_string(env.sanitize.negative) + " negative values");
 
+  const EngineTarget engine = engine_target_from_name(job.target);
+  std::optional<BakeResult> ggx_chain, irradiance;
   for (size_t g = 0; g < groups.size(); ++g) {
     const TableRequest& t = job.tables[groups[g].front()];
     const std::string what = bake_label(t);
@@ -144,6 +148,11 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunHooks& hoo
     if (table_kind_uses_environment(t.kind)) inputs.environment = &environments.at(t.environment);
     const BakeResult r = bake_table(t, backend, inputs, report);
     report(1.0, "");
+    // What an engine's file set is made of: the first GGX chain and the first SH.
+    if (engine != EngineTarget::Generic) {
+      if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
+      if (!irradiance && r.irradiance()) irradiance = r;
+    }
     for (size_t k = 0; k < groups[g].size(); ++k) {
       const TableRequest& o = job.tables[groups[g][k]];
       const TableRequest s = staged(o, staging.path());
@@ -182,6 +191,23 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunHooks& hoo
       f.bake = static_cast<int>(g);
       manifest.files.push_back(std::move(f));
     }
+  }
+
+  if (engine != EngineTarget::Generic) {
+    // The engine's files beside the tables, named after the folder (as cmgen -x names them).
+    if (!ggx_chain || !irradiance)
+      throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
+                  "job (the plan of brdfbake bake --target " + job.target + " has both)");
+    EngineBake eb;
+    eb.prefiltered = ggx_chain->cube();
+    eb.sh = &irradiance->irradiance()->sh;
+    if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
+    EngineWriteOptions wo;
+    wo.name = fs::path(target).filename().string();
+    const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
+    manifest.target = job.target;
+    for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
+    manifest.engine_delivered = w.delivered;
   }
 
   if (hooks.checkpoint) hooks.checkpoint();
