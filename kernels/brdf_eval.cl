@@ -455,11 +455,13 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
         const real cp = qp[j], sp = qp[n_p + j];
         const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
         const brdfv vh = sin_v * hx + n_dot_v * hz;
-        // l above the horizon by construction; rounding next to t1 (or p_e) can give n.l = -1e-8,
-        // where the lobes' square roots and the sheen's Lambda are not defined: clamp to 0
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(R(2.0) * vh * hz - n_dot_v, R(0.0));
+        // l lies above the horizon by construction, but rounding next to t1 (or p_e) gives n.l of
+        // 0 or -1e-8, where the sheen's fitted Lambda has no limit (docs/CONVENTIONS.md): the BRDF is
+        // evaluated at n.l >= 1e-7 (the DFG kernel's floor), the weight keeps the true (n.l)+.
+        const brdfv lz_true = R(2.0) * vh * hz - n_dot_v;
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(lz_true, R(1e-7));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
-        const brdfv w = wt * R(4.0) * vh * fmax(lz, R(0.0));
+        const brdfv w = wt * R(4.0) * vh * fmax(lz_true, R(0.0));
         acc_r += w * f.r;
         acc_g += w * f.g;
         acc_b += w * f.b;
@@ -480,11 +482,13 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
         const brdfv sp = sincos(p_e * qp[2 * n_p + j], &cp);
         const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
         const brdfv vh = sin_v * hx + n_dot_v * hz;
-        // l above the horizon by construction; rounding next to t1 (or p_e) can give n.l = -1e-8,
-        // where the lobes' square roots and the sheen's Lambda are not defined: clamp to 0
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(R(2.0) * vh * hz - n_dot_v, R(0.0));
+        // l lies above the horizon by construction, but rounding next to t1 (or p_e) gives n.l of
+        // 0 or -1e-8, where the sheen's fitted Lambda has no limit (docs/CONVENTIONS.md): the BRDF is
+        // evaluated at n.l >= 1e-7 (the DFG kernel's floor), the weight keeps the true (n.l)+.
+        const brdfv lz_true = R(2.0) * vh * hz - n_dot_v;
+        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(lz_true, R(1e-7));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
-        const brdfv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz, R(0.0));
+        const brdfv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz_true, R(0.0));
         acc_r += w * f.r;
         acc_g += w * f.g;
         acc_b += w * f.b;
