@@ -26,7 +26,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSize = 2048;
 constexpr int kMaxSamples = 1 << 16;
-constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
+constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
