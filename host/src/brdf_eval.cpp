@@ -175,12 +175,12 @@ Block pack_material(BrdfModel model, const Material& m, double sheen_table_offse
     }
     case BrdfModel::CookTorrance: {
       put(b, BRDF_CLASSIC_KD, scale(classic_kd(m), 1.0 / kPi));
-      // eta = (1 + sqrt F0) / (1 - sqrt F0): eta^2 - 1 = 4 sqrt(F0) / (1 - sqrt F0)^2; F0 = 1 -> -1.
+      // eta = (1 + sqrt F0) / (1 - sqrt F0); F0 = 1 (eta infinite) -> -1.
       const Rgb f0 = classic_ks(m);
       for (int c = 0; c < 3; ++c) {
         const double v = c == 0 ? f0.r : c == 1 ? f0.g : f0.b;
         const double s = std::sqrt(v);
-        put(b, BRDF_CLASSIC_KS + c, v >= 1.0 ? -1.0 : 4.0 * s / ((1.0 - s) * (1.0 - s)));
+        put(b, BRDF_CLASSIC_KS + c, v >= 1.0 ? -1.0 : (1.0 + s) / (1.0 - s));
       }
       const double alpha = std::max(r2, kMinAlpha);
       put(b, BRDF_CLASSIC_A2, alpha * alpha);
@@ -237,7 +237,7 @@ detail::ProgramSpec program_spec(BrdfModel model, const Lobes& lobes, const Eval
   ps.file = "brdf_eval.cl";
   ps.precision = options.precision;
   ps.defines.push_back({model_entry(model).define, "1"});
-  ps.defines.push_back({"BRDFBAKE_BRDF_LANES", std::to_string(lanes)});
+  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes)});
   const std::pair<bool, const char*> flags[] = {
       {lobes.diffuse, "BRDFBAKE_LOBE_DIFFUSE"},     {lobes.subsurface, "BRDFBAKE_LOBE_SUBSURFACE"},
       {lobes.sheen, "BRDFBAKE_LOBE_SHEEN"},         {lobes.clearcoat, "BRDFBAKE_LOBE_CLEARCOAT"},

@@ -81,7 +81,7 @@ int default_samples(LutKind kind, Estimator estimator, Precision precision) {
 // much faster than the polar angle (docs/BENCHMARKS.md), so n_phi stays small until the polar rule
 // is long. The kernel runs 8 polar nodes at once: n_xi is rounded up to a multiple of 8.
 void quadrature_shape(LutKind kind, int samples, int& n_xi, int& n_phi) {
-  constexpr int kWidth = 8;  // BRDFBAKE_VW: n_xi is a multiple of it
+  constexpr int kWidth = 8;  // BRDFBAKE_LANES: n_xi is a multiple of it
   // GGX's azimuth rule limits it to ~1e-5 with 8 nodes (grazing, low roughness), so it doubles
   // them early; Charlie's band needs polar nodes first (measured: docs/BENCHMARKS.md).
   const int to16 = kind == LutKind::Charlie ? 2048 : 768;

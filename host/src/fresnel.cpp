@@ -610,7 +610,7 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
   ps.precision = spec.precision;
   ps.defines.push_back({info(spec.model).define, "1"});
   ps.defines.push_back({"BRDFBAKE_FRESNEL_CHUNKS", std::to_string(kChunks)});
-  ps.defines.push_back({"BRDFBAKE_FRESNEL_LANES", std::to_string(lanes(spec.precision))});
+  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes(spec.precision))});
   if (r.two_d) ps.defines.push_back({"BRDFBAKE_FRESNEL_2D", "1"});
   cl::Program program = detail::build_program(dev, ps);
 

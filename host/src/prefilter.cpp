@@ -29,7 +29,7 @@ namespace {
 using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
-constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
+constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
