@@ -17,9 +17,10 @@ BRDFBAKE_PACKAGES=(
 )
 # Used only by the test suite: Filament's own KtxBundle and cmgen check the Filament target
 # (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output
-# (tests/engines/validate_gltf_ibl.py). The tests skip with a message where these are missing.
+# (tests/engines/validate_gltf_ibl.py), oclgrind a second OpenCL implementation for the kernel
+# build test. The tests skip with a message where these are missing.
 BRDFBAKE_TEST_PACKAGES=(
-  libfilament-dev libfilament-tools python3-jsonschema
+  libfilament-dev libfilament-tools python3-jsonschema oclgrind
 )
 
 missing=()
