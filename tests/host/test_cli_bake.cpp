@@ -1,6 +1,8 @@
 // `brdfbake bake` and `brdfbake run`, run as a user runs them: the plan, what is written, exit
 // codes, one-line errors, nothing half written.
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -215,6 +217,38 @@ namespace {
 // `bake --target T` writes the engine's file set (brdfbake/engines.hpp) beside the tables, in the
 // engine's conventions, and lists it in the manifest; a job that lacks what the set needs is refused
 // with nothing written.
+// irradiance --target: the engine's SH window unless given, and its coefficients beside ours. For
+// glTF (EXT_lights_image_based), E_lm = s_k pi (E/pi)_lm with s_k the Condon-Shortley sign (-1 at
+// m = +-1), from the JSON's own irradiance_over_pi.
+TEST(CliBake, IrradianceTargetAddsTheEnginesCoefficients) {
+  const fs::path dir = temp_dir() / "irr_target";
+  fs::create_directories(dir);
+  for (const std::string& target : {std::string("gltf"), std::string("filament")}) {
+    const fs::path out = dir / (target + ".json");
+    const CliRun r = run("irradiance --env builtin:studio --target " + target + " --quiet -o " + out.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const json j = json::parse(std::ifstream(out));
+    const brdfbake::EngineSettings e = brdfbake::engine_settings(brdfbake::engine_target_from_name(target));
+    EXPECT_EQ(j["window"], brdfbake::sh_window_name(e.sh_window)) << target;
+    ASSERT_EQ(j["engine"]["target"], target);
+    ASSERT_EQ(j["engine"]["coefficients"].size(), 9u);
+    if (target != "gltf") continue;
+    for (size_t k = 0; k < 9; ++k) {
+      const double sign = (k == 1 || k == 3 || k == 5 || k == 7) ? -1.0 : 1.0;
+      for (size_t c = 0; c < 3; ++c) {
+        const double want = sign * 3.14159265358979323846 * j["irradiance_over_pi"][k][c].get<double>();
+        EXPECT_NEAR(j["engine"]["coefficients"][k][c].get<double>(), want, 1e-12 * (1.0 + std::fabs(want))) << k;
+      }
+    }
+  }
+  // an explicit window wins over the engine's
+  const CliRun w = run("irradiance --env builtin:studio --target filament --sh-window lanczos --quiet -o " +
+                       (dir / "w.json").string());
+  ASSERT_EQ(w.code, 0) << w.err;
+  EXPECT_EQ(json::parse(std::ifstream(dir / "w.json"))["window"], "lanczos");
+  fs::remove_all(dir);
+}
+
 TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
   const fs::path dir = temp_dir() / "targets";
   fs::create_directories(dir);

@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace brdfbake::detail {
 
@@ -23,6 +26,37 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
 namespace {
 
 bool is_json(const TableRequest& t) { return output_extension(t) == ".json"; }
+
+// The SH JSON, with the coefficients in the target engine's own convention added where one is named
+// (the same numbers bake --target writes into the engine's files).
+std::string sh_json_for(const ShCoefficients& sh, const Metadata& meta, const std::string& target_name) {
+  const std::string text = sh_to_json(sh, meta);
+  const EngineTarget target = engine_target_from_name(target_name);
+  if (target == EngineTarget::Generic) return text;
+  const EngineSettings e = engine_settings(target);
+  std::array<Rgb3, 9> c{};
+  const char* layout = "";
+  switch (target) {
+    case EngineTarget::Filament:
+      c = filament_sh(sh);
+      layout = "9 RGB, Filament's pre-scaled order (the KTX1 sh key, IndirectLight::irradiance)";
+      break;
+    case EngineTarget::Babylon:
+      c = babylon_polynomial(sh);
+      layout = "9 RGB, Babylon's spherical polynomial x, y, z, xx, yy, zz, yz, zx, xy";
+      break;
+    default:
+      c = gltf_irradiance_coefficients(sh);
+      layout = "9 RGB, EXT_lights_image_based irradianceCoefficients (l00, l1-1, l10, l11, l2-2, l2-1, l20, l21, l22)";
+      break;
+  }
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const Rgb3& v : c) a.push_back({v[0], v[1], v[2]});
+  j["engine"] = {{"target", target_name}, {"engine", e.engine}, {"convention", e.sh_description},
+                 {"layout", layout}, {"coefficients", a}};
+  return j.dump(2) + "\n";
+}
 
 Metadata sh_metadata(const BakeResult& r) {
   Metadata m;
@@ -59,6 +93,10 @@ class IrradianceFamily final : public Family {
           ParamDef("source_size", T::Int, "face size the environment is converted to first")
               .range(1, kIrradianceMaxSource).def(double(d.source_size)),
           ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output(),
+          ParamDef("target", T::Name,
+                   "an engine's SH conventions (docs/ENGINES.md): its window unless given, and its coefficients "
+                   "added to the JSON")
+              .one_of(engine_target_names()).def(std::string("generic")),
       };
       add_cube_output_params(v);
       return v;
@@ -67,6 +105,8 @@ class IrradianceFamily final : public Family {
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
+    if (t.text("target") != "generic" && !t.was_given("sh_window"))
+      t.set("sh_window", std::string(sh_window_name(engine_settings(engine_target_from_name(t.text("target"))).sh_window)));
     if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
       throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
     const bool json = !t.output.empty() ? is_json(t) : !t.format.empty() ? t.format == "json" : !t.find("cube_size");
@@ -122,7 +162,7 @@ class IrradianceFamily final : public Family {
     const IrradianceResult& res = *r.irradiance();
     WriteReport w;
     if (is_json(t)) {
-      write_sh_json(res.sh, sh_metadata(r), path);
+      io::write_file_atomically(path, sh_json_for(res.sh, sh_metadata(r), t.text("target")));
       w.encoding = "decimal text (JSON)";
       return w;
     }
@@ -131,7 +171,7 @@ class IrradianceFamily final : public Family {
     std::optional<io::TempFile> json;
     if (t.find("sh_json")) {
       json.emplace(t.text("sh_json"));
-      io::write_bytes(*json, sh_to_json(res.sh, sh_metadata(r)));
+      io::write_bytes(*json, sh_json_for(res.sh, sh_metadata(r), t.text("target")));
     }
     w = write_cube_result(res.cube, t, path, "irradiance", std::nullopt);
     if (json) json->commit();
