@@ -52,6 +52,9 @@ int cmd_fresnel(int argc, char** argv);
 int cmd_kinds(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_bake(int argc, char** argv);
+int cmd_view(int argc, char** argv);
+int cmd_report(int argc, char** argv);
+int cmd_serve(int argc, char** argv);
 
 // How bake and run share their output folder: --wait, and a note on stderr when waiting.
 RunOptions run_options(bool wait, bool quiet);

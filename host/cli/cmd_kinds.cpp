@@ -31,6 +31,13 @@ nlohmann::ordered_json value_json(const ParamValue& v) {
   return std::get<std::vector<double>>(v);
 }
 
+// A Markdown table cell: '|' would end it.
+std::string cell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
 std::string default_of(const ParamDef& d) {
   if (!d.default_text.empty()) return d.default_text;
   if (!d.fallback) return d.required ? "required" : "";
@@ -83,7 +90,7 @@ int cmd_kinds(int argc, char** argv) {
     for (TableKind k : table_kinds())
       for (const ParamDef& d : table_schema(k))
         std::cout << "| `" << table_kind_name(k) << "` | " << table_kind_command(k) << " | `" << d.name << "` | "
-                  << param_expectation(d) << " | " << default_of(d) << " | " << d.help << " |\n";
+                  << cell(param_expectation(d)) << " | " << cell(default_of(d)) << " | " << cell(d.help) << " |\n";
     return 0;
   }
   for (TableKind k : table_kinds()) {

@@ -22,6 +22,10 @@ struct Job {
   std::string output_dir;       // the folder the files and manifest.json go to
   std::string environment = kDefaultEnvironment;
   bool sanitize = false;        // replace NaN, infinite and negative environment pixels (recorded)
+  // An engine's file set (brdfbake/engines.hpp, docs/ENGINES.md) written beside the tables from the
+  // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
+  // "khronos-viewer".
+  std::string target = "generic";
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
@@ -49,21 +53,30 @@ struct JobEvent {
 };
 using JobProgress = std::function<void(const JobEvent&)>;
 
-// How a run shares its output folder with other runs (docs/RELIABILITY.md, "Outputs").
+// How a run shares its output folder with other runs (docs/RELIABILITY.md, "Outputs"), and what a
+// caller that runs many jobs (the server, host/server/) passes in.
 struct RunOptions {
   // Another run writing the same folder: false fails at once (LockedError naming its pid), true
   // waits for it.
   bool wait_for_lock = false;
   // Called once when the run starts waiting, with the holder's pid (0 when unknown).
   std::function<void(long pid)> on_wait;
+  // Where backends come from (kept warm across jobs, instead of one opened per run); empty: one
+  // opened per run.
+  std::function<std::shared_ptr<Backend>(const std::string& selector)> backend;
+  // Called on the calling thread before each bake and before the files are moved in; may throw to
+  // stop the job (cancelled, timed out); the folder is then left as it was.
+  std::function<void()> checkpoint;
 };
+using RunHooks = RunOptions;
 
 // Bakes every distinct table once and writes the files and manifest.json into job.output_dir.
 // The folder is locked for the run (a second run into it fails or waits, RunOptions), the
 // temporaries that killed runs left beside it are removed, and everything is written into a
 // temporary folder beside it first and moved in at the end, so a failure (bad input, a kind not
-// available, a device error, SIGINT/SIGTERM through brdfbake/cancel.hpp) leaves the folder as it
-// was. Throws NotAvailableError before any work when a kind cannot be baked by this build.
+// available, a device error, SIGINT/SIGTERM through brdfbake/cancel.hpp, a checkpoint that throws)
+// leaves the folder as it was. Throws NotAvailableError before any work when a kind cannot be baked
+// by this build.
 Manifest run_job(const Job& job, const JobProgress& progress = {}, const RunOptions& options = {});
 
 }  // namespace brdfbake

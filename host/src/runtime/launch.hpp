@@ -71,17 +71,21 @@ double launch_in_parts(size_t items, double cost, Enqueue&& enqueue, const std::
 }
 
 // The same over a width x rows range of work-items: each launch is a block of whole rows, or, when
-// one row is more than a launch should hold, a piece of one row. enqueue(x0, nx, y0, ny).
+// one row is more than a launch should hold, a piece of one row. enqueue(x0, nx, y0, ny). With
+// `min_parts` above 1, no launch holds more than 1 / min_parts of the rows (whole rows at least),
+// so that a progress line moves even where the device is fast.
 template <class Enqueue>
 double launch_in_tiles(size_t width, size_t rows, double cost, Enqueue&& enqueue,
-                       const std::function<void(double)>& progress = {}) {
+                       const std::function<void(double)>& progress = {}, size_t min_parts = 1) {
   LaunchSizer sizer(double(width) * double(rows), cost);
   const double total = double(width) * double(rows);
+  const size_t part_rows = (rows + std::max<size_t>(min_parts, 1) - 1) / std::max<size_t>(min_parts, 1);
+  const size_t most = std::max<size_t>(part_rows, 1) * width;
   double seconds = 0.0, done = 0.0;
   size_t x = 0, y = 0;
   while (y < rows) {
     throw_if_cancelled();
-    const size_t want = sizer.next();
+    const size_t want = std::min(sizer.next(), most);
     size_t x0 = x, nx = 0, y0 = y, ny = 1;
     if (x == 0 && want >= width) {
       nx = width;
