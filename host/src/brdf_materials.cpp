@@ -6,6 +6,7 @@
 // tooling does not have (shared/scenes holds the JSON alone).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -279,6 +280,15 @@ std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const s
 }
 
 std::vector<NamedMaterial> read_materials(const std::string& path) {
+  if (const size_t first = path.find_first_not_of(" \t\r\n"); first != std::string::npos && path[first] == '{') {
+    std::error_code ec;  // a name too long for a path is no file either
+    if (!std::filesystem::exists(path, ec)) {
+      const json doc = parse_json(path, "material JSON");
+      if (doc.is_object() && doc.contains("asset") && doc["asset"].is_object())
+        return parse_gltf_materials(path, "material JSON");
+      return parse_materials_json(path, "material JSON");
+    }
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read material file '" + path + "'");
   std::ostringstream s;

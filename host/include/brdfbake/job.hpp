@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ using JobProgress = std::function<void(const JobEvent&)>;
 // Everything is written into a temporary folder beside it first and moved in at the end, so a
 // failure (bad input, a kind not available, a device error) leaves the folder as it was. Throws
 // NotAvailableError before any work when a kind cannot be baked by this build.
-Manifest run_job(const Job& job, const JobProgress& progress = {});
+// `backends` opens the backend of a selector (default: Backend::open, once per selector per run); a
+// long-lived caller (the Python package) passes its own to reuse devices it already opened.
+using BackendProvider = std::function<std::shared_ptr<Backend>(const std::string& selector)>;
+Manifest run_job(const Job& job, const JobProgress& progress = {}, const BackendProvider& backends = {});
 
 }  // namespace brdfbake

@@ -54,7 +54,7 @@ std::uint64_t bytes_of(const fs::path& p) {
 
 }  // namespace
 
-Manifest run_job(const Job& in, const JobProgress& progress) {
+Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvider& open_backend) {
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   validate_job(job);
@@ -110,7 +110,8 @@ Manifest run_job(const Job& in, const JobProgress& progress) {
   std::map<std::string, std::shared_ptr<Backend>> backends;
   auto backend_for = [&](const std::string& selector) -> Backend& {
     auto it = backends.find(selector);
-    if (it == backends.end()) it = backends.emplace(selector, Backend::open(selector)).first;
+    if (it == backends.end())
+      it = backends.emplace(selector, open_backend ? open_backend(selector) : Backend::open(selector)).first;
     return *it->second;
   };
 
