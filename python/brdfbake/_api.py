@@ -215,15 +215,14 @@ def load_environment(env: Any, *, sanitize: bool = False) -> Environment:
 def _environment(env: Any, sanitize: bool, where: str) -> Environment:
     if isinstance(env, Environment):
         return env
-    if isinstance(env, np.ndarray):
-        return Environment(_core.Environment.from_array(_equirect_array(env, where), sanitize,
-                                                        f"array {env.shape[1]}x{env.shape[0]}"))
-    if isinstance(env, (str, os.PathLike)):
-        spec = os.fspath(env)
-        try:
-            return Environment(_core.Environment.load(spec, sanitize))
-        except InputError as e:
-            raise InputError(str(e).replace("pass --sanitize", "pass sanitize=True")) from None
+    try:
+        if isinstance(env, np.ndarray):
+            return Environment(_core.Environment.from_array(_equirect_array(env, where), sanitize,
+                                                            f"array {env.shape[1]}x{env.shape[0]}"))
+        if isinstance(env, (str, os.PathLike)):
+            return Environment(_core.Environment.load(os.fspath(env), sanitize))
+    except InputError as e:  # the library's message names the CLI's option
+        raise InputError(str(e).replace("pass --sanitize", "pass sanitize=True")) from None
     raise InputError(f"{where}.env: expected a path, 'builtin:studio', a brdfbake.Environment or a NumPy array "
                      f"of shape (height, 2 height, 3) (got {type(env).__name__})")
 

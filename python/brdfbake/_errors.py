@@ -29,3 +29,8 @@ class DeviceError(Error, RuntimeError):
 
 class NotAvailableError(Error, RuntimeError):
     """A table kind this build cannot bake."""
+
+
+for _cls in (Error, InputError, ArgumentError, DeviceError, NotAvailableError):
+    _cls.__module__ = "brdfbake"  # shown as brdfbake.InputError in tracebacks; pickled by that name
+del _cls

@@ -90,7 +90,9 @@ void save(PyResult& r, const std::string& path, const std::string& format, const
     t.set("binary", ext == ".f32" || ext == ".bin" || ext == ".raw");
   }
   validate_table(t, naming);
-  if (table_bake_key(t) != table_bake_key(r.request)) {
+  TableRequest baked = r.request;
+  if (t.kind == TableKind::Eval) baked.set("binary", t.flag("binary"));  // how it is written, not what
+  if (table_bake_key(t) != table_bake_key(baked)) {
     // The output asks for a different table (an irradiance cube from a result baked as SH only, ...).
     std::string what;
     for (const Param& p : t.params) {
