@@ -11,6 +11,7 @@ BRDFBAKE_PACKAGES=(
   libcxxopts-dev nlohmann-json3-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
+  python3-venv python3-dev python3-pip
 )
 
 missing=()

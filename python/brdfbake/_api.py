@@ -345,8 +345,9 @@ _EXAMPLES = {
     >>> f.array.shape                 # (1, cos_theta, rgb)
     (1, 64, 3)
     >>> glass = brdfbake.fresnel("dielectric", ior=1.5, table="2d", size=32)""",
-    "thin_film": """    >>> film = brdfbake.thin_film(size=64)
-    >>> film.array.shape""",
+    "thin_film": """    >>> film = brdfbake.thin_film(base_ior=1.5, film_ior=1.3, size=64)
+    >>> film.array.shape              # (thickness, cos_theta, rgb)
+    (64, 64, 3)""",
     "prefilter": """    >>> chain = brdfbake.prefilter("builtin:studio", size=64, min_size=8)
     >>> [level.shape for level in chain.array]      # levels -> (face, y, x, rgb)
     [(6, 64, 64, 3), (6, 32, 32, 3), (6, 16, 16, 3), (6, 8, 8, 3)]

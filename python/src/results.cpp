@@ -109,8 +109,8 @@ void save(PyResult& r, const std::string& path, const std::string& format, const
 
 }  // namespace
 
-void bind_results(py::module_& m) {
-  py::class_<PyResult, std::shared_ptr<PyResult>>(m, "Result", "A baked table (see brdfbake.Result)")
+void bind_results(py::module_& module) {
+  py::class_<PyResult, std::shared_ptr<PyResult>>(module, "Result", "A baked table (see brdfbake.Result)")
       .def_property_readonly("kind", [](const PyResult& r) { return std::string(table_kind_name(r.result.kind)); })
       .def_property_readonly("artifact", [](const PyResult& r) { return std::string(artifact_name(r.result)); })
       .def_property_readonly("summary", [](const PyResult& r) { return r.result.summary; })
