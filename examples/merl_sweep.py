@@ -14,7 +14,7 @@ the same N gives the same materials), each tabulated in MERL's 90 x 90 x 180 lay
     # on an existing cluster (dask-jobqueue, dask-kubernetes, `dask scheduler` + `dask worker`)
     python examples/merl_sweep.py --count 1000 --output /shared/merl --scheduler tcp://head:8786
 
-    # the single-process baseline: the same tables in a loop, no Dask
+    # the single-process baseline: the same tasks one after the other in this process, no Dask
     python examples/merl_sweep.py --count 1000 --output out/merl --single-process
 
 It prints the throughput in tables per second (and, with --json, a line of JSON for
@@ -33,9 +33,8 @@ import sys
 import time
 from typing import Dict, List
 
-import numpy as np
-
 import brdfbake
+import brdfbake.dask as bdask
 
 
 def halton(index: int, base: int) -> float:
@@ -67,42 +66,6 @@ def sweep(count: int) -> List[Dict]:
     return materials
 
 
-def bake_single_process(materials: List[Dict], output: str, shard: int, device: str | None) -> int:
-    """The baseline: one process, one device, a loop; the same files as the Dask run."""
-    os.makedirs(output, exist_ok=True)
-    failed = 0
-    stack, index, shard_no = [], [], 0
-
-    def flush():
-        nonlocal stack, index, shard_no
-        if not stack:
-            return
-        name = os.path.join(output, f"shard-{shard_no:05d}")
-        tmp = name + ".npy.tmp"
-        with open(tmp, "wb") as f:
-            np.save(f, np.stack(stack))
-        os.replace(tmp, name + ".npy")
-        with open(name + ".json.tmp", "w") as f:
-            json.dump({"items": index}, f, indent=2)
-        os.replace(name + ".json.tmp", name + ".json")
-        stack, index, shard_no = [], [], shard_no + 1
-
-    for i, m in enumerate(materials):
-        try:
-            r = brdfbake.tabulate(m, layout="merl", device=device)
-            if shard:
-                stack.append(np.asarray(r.array))
-                index.append({"name": m["name"], "index": len(stack) - 1, "meta": r.meta})
-            else:
-                r.save(os.path.join(output, m["name"] + ".binary"))
-        except brdfbake.Error as e:
-            print(f"{m['name']}: {e}", file=sys.stderr)
-            failed += 1
-        if shard and (len(stack) == shard or i == len(materials) - 1):
-            flush()
-    return failed
-
-
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--count", type=int, default=1000, help="how many materials (default 1000)")
@@ -124,16 +87,19 @@ def main() -> int:
     mode = "single process" if args.single_process else (args.scheduler or f"LocalCluster({args.workers})")
     started = time.perf_counter()
     setup = 0.0
+    output = dict(output_root=args.output, output_format="npy" if args.npy_shards else None,
+                  shard_size=args.npy_shards or None, device=args.device)
     if args.single_process:
-        brdfbake.lut(size=1)  # open the device first, as the Dask workers do before their first task
+        # The same tasks as the workers run, one after the other in this process.
+        brdfbake.lut(size=1, device=args.device)  # open the device first, as DevicePlugin does on workers
         setup = time.perf_counter() - started
-        t0 = time.perf_counter()
-        failed = bake_single_process(materials, args.output, args.npy_shards, args.device)
-        seconds = time.perf_counter() - t0
+        batch = bdask.bake(None, materials, kind="tabulate", layout="merl", **output)
+        seconds = batch.seconds
+        failed = len(batch.failed)
+        for o in batch.failed:
+            print(f"{o.name}: {o.error_type}: {o.error}", file=sys.stderr)
     else:
         from distributed import Client, LocalCluster
-
-        import brdfbake.dask as bdask
 
         cluster = None
         if args.scheduler:
@@ -149,10 +115,8 @@ def main() -> int:
             if args.resources:
                 key, _, value = args.resources.partition("=")
                 resources = {key: float(value or 1)}
-            batch = bdask.bake(client, materials, kind="tabulate", layout="merl", output_root=args.output,
-                               output_format="npy" if args.npy_shards else None,
-                               shard_size=args.npy_shards or None, resources=resources, device=args.device,
-                               progress=args.progress)
+            batch = bdask.bake(client, materials, kind="tabulate", layout="merl", resources=resources,
+                               progress=args.progress, **output)
             seconds = batch.seconds
             for o in batch.failed:
                 print(f"{o.name}: {o.error_type}: {o.error}", file=sys.stderr)

@@ -12,7 +12,7 @@ python_start=$SECONDS
 VENV="$BUILD_DIR/python-venv"
 rm -rf "$VENV"
 "${PYTHON:-python3}" -m venv "$VENV"
-export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/requirements-test.txt"
+export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.txt"
 "$VENV/bin/pip" install -q -r python/requirements-test.txt
 if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
 CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python"

@@ -70,7 +70,7 @@ class Outcome:
 class Batch(list):
     """The outcomes of a batch, in the order of its items."""
 
-    seconds: float = 0.0  # wall time of the whole batch, submission to the last result
+    seconds: float = 0.0  # wall time of the whole batch: from submission (bake) or waiting (collect) to the last result
 
     @property
     def succeeded(self) -> List[Outcome]:
@@ -234,7 +234,8 @@ def submit(client, items: Iterable[Any], *, kind: Optional[str] = None, output_r
            resources: Optional[Dict[str, float]] = None, device: Optional[str] = None, retries: int = 0,
            **params: Any):
     """Submits a batch without waiting: returns ``(names, futures, groups)`` for :func:`collect`.
-    The arguments are those of :func:`bake`."""
+    The arguments are those of :func:`bake` (with ``client=None`` the batch is baked at once, in
+    this process, and its :class:`Batch` stands in place of the futures)."""
     items = list(items)
     if kind is not None and kind not in _FAMILY_OF_KIND:
         raise InputError(f"brdfbake.dask: unknown table kind {kind!r} (known: {', '.join(_FAMILY_OF_KIND)})")
@@ -273,6 +274,18 @@ def submit(client, items: Iterable[Any], *, kind: Optional[str] = None, output_r
         os.makedirs(output_root, exist_ok=True)
     label = "job" if kind is None else kind
     groups = [list(zip(names[i:i + batch_size], items[i:i + batch_size])) for i in range(0, len(items), batch_size)]
+    if client is None:
+        # No cluster: the same tasks, one after the other in this process (the baseline, or a laptop).
+        t0 = time.perf_counter()
+        outcomes = []
+        for g, group in enumerate(groups):
+            shard = f"shard-{g:05d}" if shard_size is not None else None
+            for o in _run_group(kind, group, params, device, output_root, output_format, suffix or "", shard):
+                outcomes.append(Outcome(o["name"], o["ok"], o.get("value"), o.get("error"), o.get("error_type"),
+                                        o.get("worker"), o.get("seconds", 0.0)))
+        batch = Batch(outcomes)
+        batch.seconds = time.perf_counter() - t0
+        return names, batch, groups
     futures = []
     for g, group in enumerate(groups):
         shard = f"shard-{g:05d}" if shard_size is not None else None
@@ -311,6 +324,8 @@ def bake(client, items: Iterable[Any], *, kind: Optional[str] = None, output_roo
          batch_size: int = 1, shard_size: Optional[int] = None, resources: Optional[Dict[str, float]] = None,
          device: Optional[str] = None, retries: int = 0, progress: bool = False, **params: Any) -> Batch:
     """Bakes every item on the cluster of ``client`` and returns their outcomes (a :class:`Batch`).
+    With ``client=None`` the same tasks run one after the other in this process (same files, same
+    outcomes: the single-process baseline, or a machine without a cluster).
 
     ``items`` are, with ``kind=None``, jobs (dicts, job files or JSON text; docs/SCENES.md), each run
     into ``output_root/<name>`` as ``brdfbake.run`` does (all or nothing, manifest.json last). With
@@ -335,11 +350,14 @@ def bake(client, items: Iterable[Any], *, kind: Optional[str] = None, output_roo
     A failed item is reported in its :class:`Outcome` (``batch.failed``) and the others go on;
     ``batch.raise_for_failures()`` turns failures into an exception.
     """
+    t0 = time.perf_counter()
     names_, futures, groups = submit(client, items, kind=kind, output_root=output_root, names=names,
                                      output_format=output_format, suffix=suffix, batch_size=batch_size,
                                      shard_size=shard_size, resources=resources, device=device,
                                      retries=retries, **params)
-    return collect(names_, futures, groups, progress=progress)
+    batch = futures if client is None else collect(names_, futures, groups, progress=progress)
+    batch.seconds = time.perf_counter() - t0  # submission included
+    return batch
 
 
 # ---- Workers -------------------------------------------------------------------------------------

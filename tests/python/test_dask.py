@@ -100,3 +100,11 @@ def test_bad_batches_fail_before_submission(client, tmp_path):
         bdask.bake(client, [{"name": "a"}], kind="tabulate", layout="nonesuch")
     with pytest.raises(brdfbake.InputError, match="unknown table kind"):
         bdask.bake(client, [{}], kind="nonesuch")
+
+
+def test_without_a_client_the_same_tasks_run_in_this_process(tmp_path):
+    mats = [{"name": "a", "model": "lambert"}, {"name": "b", "model": "lambert", "baseColor": [2, 0, 0]}]
+    batch = bdask.bake(None, mats, kind="tabulate", layout="albedo", res=8, output_root=tmp_path, suffix=".csv")
+    assert [o.name for o in batch.succeeded] == ["a"] and "baseColor" in batch.failed[0].error
+    assert batch[0].value["path"] == str(tmp_path / "a.csv") and sorted(os.listdir(tmp_path)) == ["a.csv"]
+    assert batch[0].worker.endswith(":" + str(os.getpid()))
