@@ -14,9 +14,11 @@ rm -rf "$VENV"
 "${PYTHON:-python3}" -m venv "$VENV"
 export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.txt"
 "$VENV/bin/pip" install -q -r python/requirements-test.txt
+python_deps=$SECONDS
 if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
 CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python"
-echo "brdfbake python: installed in $((SECONDS - python_start)) s" >&2
+echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
+     "pip install . in $((SECONDS - python_deps)) s" >&2
 status=0
 BRDFBAKE_CLI="$PWD/$BUILD_DIR/host/cli/brdfbake" "$VENV/bin/python" -m pytest tests/python -q -p no:cacheprovider \
   || status=$?
