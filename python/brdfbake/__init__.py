@@ -41,8 +41,9 @@ __version__ = _brdfbake.version
 # lut, fresnel, thin_film, prefilter, irradiance, eval, tabulate: generated from the schemas.
 globals().update(_FUNCTIONS)
 
+# `eval` stays out of the star-import, which would shadow the builtin: use brdfbake.eval.
 __all__ = [
     "ArgumentError", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
     "bake", "devices", "function_of", "kinds", "load_environment", "run", "schema", "validate",
-    *sorted(_FUNCTIONS),
+    *sorted(name for name in _FUNCTIONS if name != "eval"),
 ]

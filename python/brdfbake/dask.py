@@ -266,9 +266,9 @@ def submit(client, items: Iterable[Any], *, kind: Optional[str] = None, output_r
             probe.update(items[0])
         if family.takes_material and items:
             probe["material"] = items[0]
-        brdfbake.validate(kind, **probe)
+        resolved = brdfbake.validate(kind, **probe)
         if suffix is None:
-            suffix = os.path.splitext(brdfbake.validate(kind, **probe)["output"])[1]
+            suffix = os.path.splitext(resolved["output"])[1]
     if output_root is not None:
         output_root = os.path.abspath(os.fspath(output_root))
         os.makedirs(output_root, exist_ok=True)
