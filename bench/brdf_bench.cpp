@@ -71,7 +71,7 @@ Material full_material(BrdfModel model) {
       break;
     case BrdfModel::Phong:
     case BrdfModel::BlinnPhong: m.shininess = 64.0; break;
-    case BrdfModel::CookTorrance: m.distribution = reference::MicrofacetDistribution::Beckmann; break;
+    case BrdfModel::CookTorrance: m.distribution = MicrofacetDistribution::Beckmann; break;
     default: break;
   }
   return m;

@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
        << "|---|---|---|---|---|---|---|\n";
     FresnelCompareOptions o;
     o.rate_cells = 0;
-    for (const reference::MaterialPreset& preset : reference::material_presets()) {
+    for (const MaterialPreset& preset : material_presets()) {
       const FresnelComparison c = compare_fresnel_models(preset.name, nullptr, o);
       md << "| " << preset.name;
       for (FresnelModel m : {FresnelModel::Schlick, FresnelModel::SchlickMetallic, FresnelModel::SchlickIor,

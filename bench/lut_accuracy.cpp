@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/accuracy.hpp"
 #include "brdfbake/lut.hpp"
 #include "brdfbake/reference/dfg.hpp"
 
@@ -25,41 +26,10 @@ using namespace brdfbake;
 
 namespace {
 
-struct Errors {
-  double max = 0, rms = 0;
-};
-
-// Absolute below 1, relative above (the same measure as the tests and the calibration).
-Errors errors(const Table& got, const Table& want) {
-  Errors e;
-  double sum = 0;
-  size_t n = 0;
-  for (size_t k = 0; k < got.data.size(); ++k) {
-    const double w = want.data[k];
-    const double d = std::fabs(double(got.data[k]) - w) / std::max(1.0, std::fabs(w));
-    e.max = std::max(e.max, d);
-    sum += d * d;
-    ++n;
-  }
-  e.rms = std::sqrt(sum / double(n));
-  return e;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-// Device time of a bake: one warm-up (program build, caches), then the median of `runs`.
+// The measure, the timing and the sweep live in the library (brdfbake/accuracy.hpp), shared with
+// `brdfbake report`.
 double device_time(Device& dev, const LutSpec& spec, int runs, Table* out) {
-  LutTiming t;
-  *out = bake_lut(dev, spec, &t);
-  std::vector<double> times;
-  for (int r = 0; r < runs; ++r) {
-    bake_lut(dev, spec, &t);
-    times.push_back(t.device_seconds);
-  }
-  return median(times);
+  return lut_device_time(dev, spec, runs, out, 1);
 }
 
 const char* kind_enum(LutKind k) {
@@ -147,38 +117,32 @@ int main(int argc, char** argv) {
        << "|---|---|---:|---:|---:|---:|---:|\n";
     std::printf("%s: reference %.2f s (one thread), %.0f evaluations/texel; %s\n", lut_kind_name(kind), ref_seconds, ref_evals_per_texel, equal.c_str());
 
-    std::vector<Estimator> ests = kind == LutKind::Charlie
-                                      ? std::vector<Estimator>{Estimator::Quadrature, Estimator::Ndf, Estimator::Uniform}
-                                      : std::vector<Estimator>{Estimator::Quadrature, Estimator::Vndf, Estimator::Ndf};
-    if (only_quadrature) ests = {Estimator::Quadrature};
-    for (Estimator est : ests)
-      for (Precision prec : {Precision::Fp32, Precision::Fp64}) {
-        if (prec == Precision::Fp64 && !dev.info().fp64) continue;
-        for (int samples : counts) {
-          // Monte Carlo in fp64 costs the most and tells the least beyond fp32's figures.
-          if (est != Estimator::Quadrature && prec == Precision::Fp64 && samples > 4096) continue;
-          LutSpec s = base;
-          s.estimator = est;
-          s.precision = prec;
-          s.samples = samples;
-          Table got;
-          const int runs = samples >= 4096 ? 1 : 3;
-          const double t = device_time(dev, s, runs, &got);
-          const Errors e = errors(got, ref);
-          const std::string evals = got.meta("evaluations_per_texel");
-          md << "| " << estimator_name(est) << " | " << precision_name(prec) << " | " << samples << " | "
-             << evals << " | " << t * 1e3 << " | " << e.max << " | " << e.rms << " |\n";
-          csv << lut_kind_name(kind) << "," << estimator_name(est) << "," << precision_name(prec) << ","
-              << samples << "," << evals << "," << t << "," << e.max << "," << e.rms << "\n";
-          char bound[32];
-          std::snprintf(bound, sizeof bound, "%.2g", e.max * 1.25);  // 25% margin over the measurement
-          inc << "{" << kind_enum(kind) << ", " << est_enum(est) << ", Precision::"
-              << (prec == Precision::Fp64 ? "Fp64" : "Fp32") << ", " << samples << ", " << bound << "},\n";
-          std::printf("  %-10s %s %6d samples: %9.3f ms  max %.2e  rms %.2e\n", estimator_name(est),
-                      precision_name(prec), samples, t * 1e3, e.max, e.rms);
-          std::fflush(stdout);
-        }
-      }
+    // The sweep (brdfbake/accuracy.hpp), against the reference computed above.
+    DfgSweepOptions o;
+    o.size = size;
+    o.counts = counts;
+    o.precisions = {Precision::Fp32, Precision::Fp64};
+    if (only_quadrature) o.estimators = {Estimator::Quadrature};
+    o.runs = 3;
+    o.single_run_above = 1.0;
+    o.reference = &ref;
+    const DfgSweep sweep = sweep_dfg(dev, kind, o);
+    for (const DfgSweepPoint& p : sweep.points) {
+      const Estimator est = p.estimator;
+      const Precision prec = p.precision;
+      const double t = p.device_seconds;
+      md << "| " << estimator_name(est) << " | " << precision_name(prec) << " | " << p.samples << " | "
+         << p.evaluations_per_texel << " | " << t * 1e3 << " | " << p.error.max << " | " << p.error.rms << " |\n";
+      csv << lut_kind_name(kind) << "," << estimator_name(est) << "," << precision_name(prec) << "," << p.samples << ","
+          << p.evaluations_per_texel << "," << t << "," << p.error.max << "," << p.error.rms << "\n";
+      char bound[32];
+      std::snprintf(bound, sizeof bound, "%.2g", p.error.max * 1.25);  // 25% margin over the measurement
+      inc << "{" << kind_enum(kind) << ", " << est_enum(est) << ", Precision::"
+          << (prec == Precision::Fp64 ? "Fp64" : "Fp32") << ", " << p.samples << ", " << bound << "},\n";
+      std::printf("  %-10s %s %6d samples: %9.3f ms  max %.2e  rms %.2e\n", estimator_name(est), precision_name(prec),
+                  p.samples, t * 1e3, p.error.max, p.error.rms);
+      std::fflush(stdout);
+    }
   }
 
   if (only_quadrature) return 0;

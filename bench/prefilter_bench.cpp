@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "brdfbake/environment.hpp"
+#include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 
 using namespace brdfbake;
@@ -86,8 +87,8 @@ struct RefLevel {
 RefLevel reference_level(const reference::EnvCube& src, EnvDistribution d, double roughness, int size) {
   RefLevel r;
   r.probes = probes(size);
-  std::vector<reference::Dir3> dirs;
-  for (const auto& p : r.probes) dirs.push_back(reference::cube_texel_direction(p.face, size, p.i, p.j));
+  std::vector<Vec3> dirs;
+  for (const auto& p : r.probes) dirs.push_back(math::cube_texel_direction(p.face, size, p.i, p.j));
   const auto t0 = std::chrono::steady_clock::now();
   r.values = reference::prefilter_directions(
       src, d == EnvDistribution::Ggx ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie, roughness, dirs);

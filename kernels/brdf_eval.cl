@@ -14,17 +14,23 @@
 //          BRDFBAKE_LOBE_SPECULAR_COLOR gltf: an RGB dielectric F0 or specularFactor < 1
 //                                     (KHR_materials_specular's max3(F) weighting)
 //          BRDFBAKE_CT_BECKMANN, BRDFBAKE_CT_GGX   cook-torrance: the distributions in use
-//   BRDFBAKE_BRDF_LANES (8 or 16): directions per work-item, one per vector lane.
+//   BRDFBAKE_LANES (8 or 16, common/real.clh): directions per work-item, one per vector lane.
 //
 // Frame and conventions (docs/CONVENTIONS.md, "BRDF evaluation"): tangent space, n = +z, the
 // anisotropy's alpha_x along +x. f is the BRDF without the cosine; f = 0 when l or v is at or
-// below the horizon; above it n.l and n.v are floored at BRDF_MIN_COSINE. The per-material
+// below the horizon; above it n.l and n.v are floored at BRDFBAKE_MIN_COSINE. The per-material
 // parameter block is laid out in common/brdf_params.clh.
 #include "common/real.clh"
-#include "common/brdf.clh"
+#include "common/brdf_params.clh"
+#include "common/fresnel.clh"
+#include "common/ggx.clh"
+#include "common/charlie.clh"
+#include "common/beckmann.clh"
+#include "common/diffuse.clh"
+#include "common/classic.clh"
 
 typedef struct {
-  brdfv r, g, b;
+  realv r, g, b;
 } rgbv;
 
 #define P(slot) p[(slot)]
@@ -38,27 +44,25 @@ typedef struct {
 // Burley 2012, "Physically-Based Shading at Disney", in disney.brdf's formulation:
 // f = ((1/pi) mix(F_d, f_ss, subsurface) C + F_H sheen C_sheen)(1 - metallic)
 //     + G_s F_s D_s + 0.25 clearcoat G_r F_r D_r.
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
-  const brdfv fh = schlick5_v(lh);
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
+  const realv fh = schlick_weight_v(lh);
   const real ax = P(BRDF_DISNEY_AX), ay = P(BRDF_DISNEY_AY);
 #ifdef BRDFBAKE_LOBE_ANISOTROPIC
-  const brdfv ds = D_GGXAniso_v(hx, hy, c2, R(1.0) / ax, R(1.0) / ay, P(BRDF_DISNEY_D_NORM));
+  const realv ds = D_GGXAniso_v(hx, hy, c2, R(1.0) / ax, R(1.0) / ay, P(BRDF_DISNEY_D_NORM));
 #else
-  const brdfv ds = D_GGX_v(s2, c2, ax * ax);
+  const realv ds = D_GGX_v(s2, c2, ax * ax);
 #endif
-  const brdfv spec = ds * smith_g_aniso_v(nl, lx, ly, ax, ay) * smith_g_aniso_v(nv, vx, vy, ax, ay);
-  const brdfv sf = spec * fh;
+  const realv spec = ds * V1_SmithGGXAniso_v(nl, lx, ly, ax, ay) * V1_SmithGGXAniso_v(nv, vx, vy, ax, ay);
   rgbv f;
-  f.r = spec * P(BRDF_DISNEY_SPEC0 + 0) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 0));
-  f.g = spec * P(BRDF_DISNEY_SPEC0 + 1) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 1));
-  f.b = spec * P(BRDF_DISNEY_SPEC0 + 2) + (sf - sf * P(BRDF_DISNEY_SPEC0 + 2));
+  f.r = spec * fresnel_schlick_v(lh, P(BRDF_DISNEY_SPEC0 + 0), R(1.0));
+  f.g = spec * fresnel_schlick_v(lh, P(BRDF_DISNEY_SPEC0 + 1), R(1.0));
+  f.b = spec * fresnel_schlick_v(lh, P(BRDF_DISNEY_SPEC0 + 2), R(1.0));
 #ifdef BRDFBAKE_LOBE_DIFFUSE
-  const brdfv fl = schlick5_v(nl), fv = schlick5_v(nv);
-  const brdfv lh2_rough = lh * lh * P(BRDF_DISNEY_ROUGHNESS);
-  brdfv diffuse = Fd_Burley_v(fl, fv, lh2_rough);
+  const real roughness = P(BRDF_DISNEY_ROUGHNESS);
+  realv diffuse = Fd_Burley_times_pi_v(nv, nl, lh, roughness);
 #ifdef BRDFBAKE_LOBE_SUBSURFACE
-  diffuse = mix(diffuse, Fd_DisneySubsurface_v(fl, fv, lh2_rough, nl, nv), P(BRDF_DISNEY_SUBSURFACE));
+  diffuse = mix(diffuse, Fd_DisneySubsurface_times_pi_v(nv, nl, lh, roughness), P(BRDF_DISNEY_SUBSURFACE));
 #endif
   f.r += P(BRDF_DISNEY_KD + 0) * diffuse;
   f.g += P(BRDF_DISNEY_KD + 1) * diffuse;
@@ -71,10 +75,8 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 #endif
 #ifdef BRDFBAKE_LOBE_CLEARCOAT
   // GTR1 at a = mix(0.1, 0.001, gloss), F0 = 0.04, separable Smith GGX at alpha_g = 0.25.
-  const brdfv dr = D_GTR1_v(s2, c2, P(BRDF_DISNEY_COAT_A2), P(BRDF_DISNEY_COAT_NORM));
-  const brdfv g_l = R(1.0) / (nl + sqrt(R(0.0625) + R(0.9375) * nl * nl));
-  const brdfv g_v = R(1.0) / (nv + sqrt(R(0.0625) + R(0.9375) * nv * nv));
-  const brdfv coat = P(BRDF_DISNEY_COAT) * dr * (R(0.04) + R(0.96) * fh) * g_l * g_v;
+  const realv dr = D_GTR1_v(s2, c2, P(BRDF_DISNEY_COAT_A2), P(BRDF_DISNEY_COAT_NORM));
+  const realv coat = P(BRDF_DISNEY_COAT) * dr * fresnel_schlick_v(lh, R(0.04), R(1.0)) * V_SmithGGXSeparable_v(nv, nl, R(0.0625));
   f.r += coat;
   f.g += coat;
   f.b += coat;
@@ -93,43 +95,41 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 // dielectric_brdf = fresnel_mix = (1 - w max3(F)) diffuse_brdf + w F specular_brdf (KHR_materials_
 // specular's form; w = 1 and a grey F without it). Then KHR_materials_sheen's albedo-scaled sheen
 // layer and KHR_materials_clearcoat's coat (its Fresnel at n.v) on top.
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
   const real a2 = P(BRDF_GLTF_A2);
-  const brdfv spec = D_GGX_v(s2, c2, a2) * GLTF_V(nl, nv, a2);
-  const brdfv c5 = schlick5_v(lh);
+  const realv spec = D_GGX_v(s2, c2, a2) * GLTF_V(nv, nl, a2);
   rgbv f;
-  f.r = (brdfv)R(0.0);
-  f.g = (brdfv)R(0.0);
-  f.b = (brdfv)R(0.0);
+  f.r = (realv)R(0.0);
+  f.g = (realv)R(0.0);
+  f.b = (realv)R(0.0);
 #ifdef BRDFBAKE_LOBE_DIFFUSE
   // 1 - w max3(F) = (1 - w) + w (1 - f0max)(1 - (1 - v.h)^5), cancellation-free at grazing
   const real wd = P(BRDF_GLTF_DIELECTRIC);
-  const brdfv c5c = schlick5_complement_v(lh);
+  const realv c5c = schlick_weight_complement_v(lh);
 #ifdef BRDFBAKE_LOBE_SPECULAR_COLOR
   const real w = P(BRDF_GLTF_WEIGHT);
-  const brdfv fr_r = P(BRDF_GLTF_F0 + 0) + (R(1.0) - P(BRDF_GLTF_F0 + 0)) * c5;
-  const brdfv fr_g = P(BRDF_GLTF_F0 + 1) + (R(1.0) - P(BRDF_GLTF_F0 + 1)) * c5;
-  const brdfv fr_b = P(BRDF_GLTF_F0 + 2) + (R(1.0) - P(BRDF_GLTF_F0 + 2)) * c5;
-  const brdfv base = (R(1.0) - w) + w * (R(1.0) - P(BRDF_GLTF_F0_MAX)) * c5c;
+  const realv fr_r = fresnel_schlick_v(lh, P(BRDF_GLTF_F0 + 0), R(1.0));
+  const realv fr_g = fresnel_schlick_v(lh, P(BRDF_GLTF_F0 + 1), R(1.0));
+  const realv fr_b = fresnel_schlick_v(lh, P(BRDF_GLTF_F0 + 2), R(1.0));
+  const realv base = (R(1.0) - w) + w * (R(1.0) - P(BRDF_GLTF_F0_MAX)) * c5c;
   f.r = P(BRDF_GLTF_KD + 0) * base + wd * fr_r * spec;
   f.g = P(BRDF_GLTF_KD + 1) * base + wd * fr_g * spec;
   f.b = P(BRDF_GLTF_KD + 2) * base + wd * fr_b * spec;
 #else
-  const brdfv fr = P(BRDF_GLTF_F0) + (R(1.0) - P(BRDF_GLTF_F0)) * c5;
-  const brdfv base = (R(1.0) - P(BRDF_GLTF_F0)) * c5c;
-  const brdfv layer = wd * fr * spec;
+  const realv fr = fresnel_schlick_v(lh, P(BRDF_GLTF_F0), R(1.0));
+  const realv base = (R(1.0) - P(BRDF_GLTF_F0)) * c5c;
+  const realv layer = wd * fr * spec;
   f.r = P(BRDF_GLTF_KD + 0) * base + layer;
   f.g = P(BRDF_GLTF_KD + 1) * base + layer;
   f.b = P(BRDF_GLTF_KD + 2) * base + layer;
 #endif
 #endif
 #ifdef BRDFBAKE_LOBE_METAL
-  const brdfv ms = P(BRDF_GLTF_METALLIC) * spec;
-  const brdfv msc = ms * c5;
-  f.r += ms * P(BRDF_GLTF_METAL_F0 + 0) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 0));
-  f.g += ms * P(BRDF_GLTF_METAL_F0 + 1) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 1));
-  f.b += ms * P(BRDF_GLTF_METAL_F0 + 2) + (msc - msc * P(BRDF_GLTF_METAL_F0 + 2));
+  const realv ms = P(BRDF_GLTF_METALLIC) * spec;
+  f.r += ms * fresnel_schlick_v(lh, P(BRDF_GLTF_METAL_F0 + 0), R(1.0));
+  f.g += ms * fresnel_schlick_v(lh, P(BRDF_GLTF_METAL_F0 + 1), R(1.0));
+  f.b += ms * fresnel_schlick_v(lh, P(BRDF_GLTF_METAL_F0 + 2), R(1.0));
 #endif
 #ifdef BRDFBAKE_LOBE_SHEEN
   // f = sheenColor D_charlie V_charlie + f min(1 - max3(sheenColor) E(n.v), 1 - max3(sheenColor) E(n.l)),
@@ -138,16 +138,17 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
   if (smax > R(0.0)) {
     const real fa = P(BRDF_GLTF_SHEEN_FIT + 0), fb = P(BRDF_GLTF_SHEEN_FIT + 1), fc = P(BRDF_GLTF_SHEEN_FIT + 2),
                fd = P(BRDF_GLTF_SHEEN_FIT + 3), fe = P(BRDF_GLTF_SHEEN_FIT + 4), l_half = P(BRDF_GLTF_SHEEN_L_HALF);
-    const brdfv ds = D_Charlie_v(s2, c2, P(BRDF_GLTF_SHEEN_INV_A), P(BRDF_GLTF_SHEEN_NORM));
-    brdfv ev_l, ev_v;
-    const brdfv lambda_l = Lambda_Charlie_v(nl, fa, fb, fc, fd, fe, l_half, &ev_l);
-    const brdfv lambda_v = Lambda_Charlie_v(nv, fa, fb, fc, fd, fe, l_half, &ev_v);
-    const brdfv vs = V_Charlie_v(lambda_l, lambda_v, nl, nv);
+    const realv ds = D_Charlie_v(s2, c2, P(BRDF_GLTF_SHEEN_INV_A), P(BRDF_GLTF_SHEEN_NORM));
+    const CharlieFit fit = {fa, fb, fc, fd, fe, l_half};
+    realv ev_l, ev_v;
+    const realv lambda_l = Lambda_CharlieEstevezKulla_v(nl, fit, &ev_l);
+    const realv lambda_v = Lambda_CharlieEstevezKulla_v(nv, fit, &ev_v);
+    const realv vs = V_SmithCorrelated_v(nv, nl, lambda_v, lambda_l);
     global const real* table = sheen_table + (int)P(BRDF_GLTF_SHEEN_TABLE);
     const real s_seam = P(BRDF_GLTF_SHEEN_S_SEAM);
-    const brdfv e_l = sheen_albedo_v(nl, ev_l, table, s_seam), e_v = sheen_albedo_v(nv, ev_v, table, s_seam);
-    const brdfv scaling = fmax((brdfv)R(0.0), R(1.0) - smax * fmax(e_l, e_v));
-    const brdfv sheen = ds * vs;
+    const realv e_l = sheen_albedo_v(nl, ev_l, table, s_seam), e_v = sheen_albedo_v(nv, ev_v, table, s_seam);
+    const realv scaling = fmax((realv)R(0.0), R(1.0) - smax * fmax(e_l, e_v));
+    const realv sheen = ds * vs;
     f.r = P(BRDF_GLTF_SHEEN + 0) * sheen + f.r * scaling;
     f.g = P(BRDF_GLTF_SHEEN + 1) * sheen + f.g * scaling;
     f.b = P(BRDF_GLTF_SHEEN + 2) * sheen + f.b * scaling;
@@ -158,9 +159,9 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
   const real cc = P(BRDF_GLTF_COAT);
   if (cc > R(0.0)) {
     const real ac2 = P(BRDF_GLTF_COAT_A2);
-    const brdfv w = cc * (R(0.04) + R(0.96) * schlick5_v(nv));
-    const brdfv keep = (R(1.0) - cc) + cc * R(0.96) * schlick5_complement_v(nv);  // 1 - w
-    const brdfv coat = w * D_GGX_v(s2, c2, ac2) * GLTF_V(nl, nv, ac2);
+    const realv w = cc * fresnel_schlick_v(nv, R(0.04), R(1.0));
+    const realv keep = (R(1.0) - cc) + cc * R(0.96) * schlick_weight_complement_v(nv);  // 1 - w
+    const realv coat = w * D_GGX_v(s2, c2, ac2) * GLTF_V(nv, nl, ac2);
     f.r = f.r * keep + coat;
     f.g = f.g * keep + coat;
     f.b = f.b * keep + coat;
@@ -171,12 +172,12 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 
 #elif defined(BRDFBAKE_MODEL_LAMBERT)
 // Lambert 1760: f = kd / pi.
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
   rgbv f;
-  f.r = (brdfv)P(BRDF_CLASSIC_KD + 0);
-  f.g = (brdfv)P(BRDF_CLASSIC_KD + 1);
-  f.b = (brdfv)P(BRDF_CLASSIC_KD + 2);
+  f.r = (realv)P(BRDF_CLASSIC_KD + 0);
+  f.g = (realv)P(BRDF_CLASSIC_KD + 1);
+  f.b = (realv)P(BRDF_CLASSIC_KD + 2);
   return f;
 }
 
@@ -185,20 +186,20 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 // Blinn 1977: f = kd / pi + ks N (n.h)^n. N (normalised or 1) is folded into ks by the host.
 // cos^n goes through sin^2 (pow_cos_v): for Phong, sin^2(r, v) = |r x v|^2 / (|r|^2 |v|^2), which
 // does not care whether fp32 inputs are unit to the last bit (at n = 2048, 1 - r.v would).
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
   const real n = P(BRDF_CLASSIC_N);
 #ifdef BRDFBAKE_MODEL_PHONG
   // r = (-l.x, -l.y, l.z); nl, nv here are the raw cosines (see the caller).
-  const brdfv rz = nl;
-  const brdfv cx = -ly * nv - rz * vy, cy = rz * vx + lx * nv, cz = -lx * vy + ly * vx;
-  const brdfv rv = -lx * vx - ly * vy + rz * nv;
-  const brdfv rr = lx * lx + ly * ly + rz * rz, vv = vx * vx + vy * vy + nv * nv;
-  const brdfv inv_rv2 = R(1.0) / (rr * vv);
-  const brdfv sin2 = (cx * cx + cy * cy + cz * cz) * inv_rv2, cos2 = rv * rv * inv_rv2;
-  const brdfv lobe = rv > R(0.0) ? pow_cos_v(sin2, cos2, n) : (brdfv)R(0.0);
+  const realv rz = nl;
+  const realv cx = -ly * nv - rz * vy, cy = rz * vx + lx * nv, cz = -lx * vy + ly * vx;
+  const realv rv = -lx * vx - ly * vy + rz * nv;
+  const realv rr = lx * lx + ly * ly + rz * rz, vv = vx * vx + vy * vy + nv * nv;
+  const realv inv_rv2 = R(1.0) / (rr * vv);
+  const realv sin2 = (cx * cx + cy * cy + cz * cz) * inv_rv2, cos2 = rv * rv * inv_rv2;
+  const realv lobe = rv > R(0.0) ? pow_cos_v(sin2, cos2, n) : (realv)R(0.0);
 #else
-  const brdfv lobe = pow_cos_v(s2, c2, n);
+  const realv lobe = pow_cos_v(s2, c2, n);
 #endif
   rgbv f;
   f.r = P(BRDF_CLASSIC_KD + 0) + P(BRDF_CLASSIC_KS + 0) * lobe;
@@ -210,35 +211,40 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 #elif defined(BRDFBAKE_MODEL_COOK_TORRANCE)
 // Cook & Torrance 1982: f = kd / pi + F D G / (4 n.l n.v), F the exact unpolarised dielectric
 // Fresnel of the index matching F0, at v.h.
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
+// The reference's cook_torrance_fresnel: eta = (1 + sqrt F0) / (1 - sqrt F0) from the host; a
+// negative eta marks F0 = 1 (eta infinite), a perfect mirror.
+inline realv cook_torrance_fresnel_v(realv v_dot_h, real eta) {
+  return eta < R(0.0) ? (realv)R(1.0) : fresnel_dielectric_v(v_dot_h, eta);
+}
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
   const real a2 = P(BRDF_CLASSIC_A2);
 #if defined(BRDFBAKE_CT_BECKMANN) && defined(BRDFBAKE_CT_GGX)
-  const brdfv d = P(BRDF_CLASSIC_BECKMANN) > R(0.5) ? D_Beckmann_v(s2, c2, a2) : D_GGX_v(s2, c2, a2);
+  const realv d = P(BRDF_CLASSIC_BECKMANN) > R(0.5) ? D_Beckmann_v(s2, c2, a2) : D_GGX_v(s2, c2, a2);
 #elif defined(BRDFBAKE_CT_BECKMANN)
-  const brdfv d = D_Beckmann_v(s2, c2, a2);
+  const realv d = D_Beckmann_v(s2, c2, a2);
 #else
-  const brdfv d = D_GGX_v(s2, c2, a2);
+  const realv d = D_GGX_v(s2, c2, a2);
 #endif
-  const brdfv vh = fmax(lh, BRDF_MIN_COSINE);
-  const brdfv dg = d * G_CookTorrance_v(sqrt(c2), nv, nl, vh) / (R(4.0) * nl * nv);
+  const realv vh = fmax(lh, BRDFBAKE_MIN_COSINE);
+  const realv dg = d * G_CookTorrance_v(sqrt(c2), nv, nl, vh) / (R(4.0) * nl * nv);
   rgbv f;
-  f.r = P(BRDF_CLASSIC_KD + 0) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 0)) * dg;
-  f.g = P(BRDF_CLASSIC_KD + 1) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 1)) * dg;
-  f.b = P(BRDF_CLASSIC_KD + 2) + F_CookTorrance_v(vh, P(BRDF_CLASSIC_KS + 2)) * dg;
+  f.r = P(BRDF_CLASSIC_KD + 0) + cook_torrance_fresnel_v(vh, P(BRDF_CLASSIC_KS + 0)) * dg;
+  f.g = P(BRDF_CLASSIC_KD + 1) + cook_torrance_fresnel_v(vh, P(BRDF_CLASSIC_KS + 1)) * dg;
+  f.b = P(BRDF_CLASSIC_KD + 2) + cook_torrance_fresnel_v(vh, P(BRDF_CLASSIC_KS + 2)) * dg;
   return f;
 }
 
 #elif defined(BRDFBAKE_MODEL_BLINN_PHONG_FROM_PBR)
 // Metallic-roughness imitated by Blinn-Phong: n = 2048^(1 - roughness), lobe (n + 8)/(8 pi) (n.h)^n,
 // F = F0 + (1 - F0)(1 - v.h)^5, f = (1 - F) c_diff / pi + F lobe.
-inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv hy, brdfv nl, brdfv nv,
-                        brdfv s2, brdfv c2, brdfv lh, global const real* p, global const real* sheen_table) {
-  const brdfv lobe = P(BRDF_CLASSIC_NORM) * pow_cos_v(s2, c2, P(BRDF_CLASSIC_N));
-  const brdfv c5 = schlick5_v(lh), c5c = schlick5_complement_v(lh);
-  const brdfv f_r = P(BRDF_CLASSIC_KS + 0) + (R(1.0) - P(BRDF_CLASSIC_KS + 0)) * c5;
-  const brdfv f_g = P(BRDF_CLASSIC_KS + 1) + (R(1.0) - P(BRDF_CLASSIC_KS + 1)) * c5;
-  const brdfv f_b = P(BRDF_CLASSIC_KS + 2) + (R(1.0) - P(BRDF_CLASSIC_KS + 2)) * c5;
+inline rgbv model_lanes(realv lx, realv ly, realv vx, realv vy, realv hx, realv hy, realv nl, realv nv,
+                        realv s2, realv c2, realv lh, global const real* p, global const real* sheen_table) {
+  const realv lobe = P(BRDF_CLASSIC_NORM) * pow_cos_v(s2, c2, P(BRDF_CLASSIC_N));
+  const realv c5c = schlick_weight_complement_v(lh);
+  const realv f_r = fresnel_schlick_v(lh, P(BRDF_CLASSIC_KS + 0), R(1.0));
+  const realv f_g = fresnel_schlick_v(lh, P(BRDF_CLASSIC_KS + 1), R(1.0));
+  const realv f_b = fresnel_schlick_v(lh, P(BRDF_CLASSIC_KS + 2), R(1.0));
   rgbv f;  // 1 - F = (1 - F0)(1 - (1 - v.h)^5)
   f.r = P(BRDF_CLASSIC_KD + 0) * (R(1.0) - P(BRDF_CLASSIC_KS + 0)) * c5c + f_r * lobe;
   f.g = P(BRDF_CLASSIC_KD + 1) * (R(1.0) - P(BRDF_CLASSIC_KS + 1)) * c5c + f_g * lobe;
@@ -251,19 +257,19 @@ inline rgbv model_lanes(brdfv lx, brdfv ly, brdfv vx, brdfv vy, brdfv hx, brdfv 
 #endif
 
 // f at unit l, v, h, zero where l or v is at or below the horizon.
-inline rgbv brdf_lanes(brdfv lx, brdfv ly, brdfv lz, brdfv vx, brdfv vy, brdfv vz, brdfv hx, brdfv hy,
-                       brdfv hz, global const real* p, global const real* sheen_table) {
-  const brdfi valid = lz > R(0.0) && vz > R(0.0);
+inline rgbv brdf_lanes(realv lx, realv ly, realv lz, realv vx, realv vy, realv vz, realv hx, realv hy,
+                       realv hz, global const real* p, global const real* sheen_table) {
+  const maskv valid = lz > R(0.0) && vz > R(0.0);
 #if defined(BRDFBAKE_MODEL_PHONG)
   // Phong needs the raw cosines (its lobe is built from the vectors).
-  const brdfv nl = lz, nv = vz;
+  const realv nl = lz, nv = vz;
 #else
-  const brdfv nl = fmax(lz, BRDF_MIN_COSINE), nv = fmax(vz, BRDF_MIN_COSINE);
+  const realv nl = fmax(lz, BRDFBAKE_MIN_COSINE), nv = fmax(vz, BRDFBAKE_MIN_COSINE);
 #endif
-  const brdfv s2 = hx * hx + hy * hy, c2 = hz * hz;
-  const brdfv lh = clamp(lx * hx + ly * hy + lz * hz, R(0.0), R(1.0));
+  const realv s2 = hx * hx + hy * hy, c2 = hz * hz;
+  const realv lh = clamp(lx * hx + ly * hy + lz * hz, R(0.0), R(1.0));
   rgbv f = model_lanes(lx, ly, vx, vy, hx, hy, nl, nv, s2, c2, lh, p, sheen_table);
-  const brdfv zero = (brdfv)R(0.0);
+  const realv zero = (realv)R(0.0);
   f.r = select(zero, f.r, valid);
   f.g = select(zero, f.g, valid);
   f.b = select(zero, f.b, valid);
@@ -273,23 +279,23 @@ inline rgbv brdf_lanes(brdfv lx, brdfv ly, brdfv lz, brdfv vx, brdfv vy, brdfv v
 // The unit half vector of l and v. l + v has h.z > 0 wherever both are above the horizon (the only
 // lanes whose result is kept), but can be as short as 1e-38 when l ~ -v near the horizon: its
 // largest component is divided out before normalising, so |h|^2 cannot underflow.
-inline void half_vector(brdfv lx, brdfv ly, brdfv lz, brdfv vx, brdfv vy, brdfv vz, brdfv* hx, brdfv* hy,
-                        brdfv* hz) {
-  brdfv x = lx + vx, y = ly + vy, z = lz + vz;
-  const brdfv inv_m = R(1.0) / fmax(fmax(fabs(x), fabs(y)), fmax(z, (brdfv)R(1e-30)));
+inline void half_vector(realv lx, realv ly, realv lz, realv vx, realv vy, realv vz, realv* hx, realv* hy,
+                        realv* hz) {
+  realv x = lx + vx, y = ly + vy, z = lz + vz;
+  const realv inv_m = R(1.0) / fmax(fmax(fabs(x), fabs(y)), fmax(z, (realv)R(1e-30)));
   x *= inv_m;
   y *= inv_m;
   z *= inv_m;
-  const brdfv inv_len = rsqrt(x * x + y * y + z * z);
+  const realv inv_len = rsqrt(x * x + y * y + z * z);
   *hx = x * inv_len;
   *hy = y * inv_len;
   *hz = z * inv_len;
 }
 
 inline void store_rgb(rgbv f, global real* out, size_t plane, size_t at) {
-  BRDF_STORE(f.r, out + at);
-  BRDF_STORE(f.g, out + plane + at);
-  BRDF_STORE(f.b, out + 2 * plane + at);
+  vstore_lanes(f.r, 0, out + at);
+  vstore_lanes(f.g, 0, out + plane + at);
+  vstore_lanes(f.b, 0, out + 2 * plane + at);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -297,21 +303,21 @@ inline void store_rgb(rgbv f, global real* out, size_t plane, size_t at) {
 // unit vectors normalised by the host in double, with the half vector h = (wi + wo) / |wi + wo|
 // formed there too. (From float inputs, wi + wo of nearly opposite directions would carry the
 // inputs' 6e-8 rounding of their norms into h's direction, amplified by 1 / |wi + wo|.) stride is a
-// multiple of BRDFBAKE_BRDF_LANES; padding lanes hold zeros and give f = 0. Work-item (i, m)
+// multiple of BRDFBAKE_LANES; padding lanes hold zeros and give f = 0. Work-item (i, m)
 // evaluates directions i * LANES ... for material m; out holds 3 planes (r, g, b) of `stride` per
 // material.
 // ---------------------------------------------------------------------------------------------
 kernel void brdf_pairs(global const real* dirs, const int stride, global const real* params,
                        global const real* sheen_table, global real* out) {
-  const size_t at = get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  const size_t at = get_global_id(0) * BRDFBAKE_LANES;
   const size_t m = get_global_id(1);
   if (at >= (size_t)stride) return;
   const size_t s = (size_t)stride;
-  const brdfv lx = BRDF_LOAD(dirs + at), ly = BRDF_LOAD(dirs + s + at), lz = BRDF_LOAD(dirs + 2 * s + at);
-  const brdfv vx = BRDF_LOAD(dirs + 3 * s + at), vy = BRDF_LOAD(dirs + 4 * s + at),
-              vz = BRDF_LOAD(dirs + 5 * s + at);
-  const brdfv hx = BRDF_LOAD(dirs + 6 * s + at), hy = BRDF_LOAD(dirs + 7 * s + at),
-              hz = BRDF_LOAD(dirs + 8 * s + at);
+  const realv lx = vload_lanes(0, dirs + at), ly = vload_lanes(0, dirs + s + at), lz = vload_lanes(0, dirs + 2 * s + at);
+  const realv vx = vload_lanes(0, dirs + 3 * s + at), vy = vload_lanes(0, dirs + 4 * s + at),
+              vz = vload_lanes(0, dirs + 5 * s + at);
+  const realv hx = vload_lanes(0, dirs + 6 * s + at), hy = vload_lanes(0, dirs + 7 * s + at),
+              hz = vload_lanes(0, dirs + 8 * s + at);
   const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, params + m * BRDF_PARAM_STRIDE, sheen_table);
   store_rgb(f, out + m * 3 * s, s, at);
 }
@@ -322,22 +328,16 @@ kernel void brdf_pairs(global const real* dirs, const int stride, global const r
 // half_diff_coords_to_std_coords with phi_h = 0), wo = 2 (wi.h) h - wi with wi.h = cos td.
 // ---------------------------------------------------------------------------------------------
 // *below marks the lanes whose wi or wo is at or below the horizon.
-inline rgbv half_diff_lanes(brdfv th, brdfv td, brdfv pd, global const real* p, global const real* sheen_table,
-                            brdfi* below) {
-  brdfv ct, cd, cp;
-  const brdfv st = sincos(th, &ct), sd = sincos(td, &cd), sp = sincos(pd, &cp);
-  const brdfv dx = sd * cp, dy = sd * sp;
-  const brdfv lx = dx * ct + cd * st, ly = dy, lz = cd * ct - dx * st;
-  const brdfv vx = R(2.0) * cd * st - lx, vy = -ly, vz = R(2.0) * cd * ct - lz;
+inline rgbv half_diff_lanes(realv th, realv td, realv pd, global const real* p, global const real* sheen_table,
+                            maskv* below) {
+  realv ct, cd, cp;
+  const realv st = sincos(th, &ct), sd = sincos(td, &cd), sp = sincos(pd, &cp);
+  const realv dx = sd * cp, dy = sd * sp;
+  const realv lx = dx * ct + cd * st, ly = dy, lz = cd * ct - dx * st;
+  const realv vx = R(2.0) * cd * st - lx, vy = -ly, vz = R(2.0) * cd * ct - lz;
   *below = lz <= R(0.0) || vz <= R(0.0);
-  return brdf_lanes(lx, ly, lz, vx, vy, vz, st, (brdfv)R(0.0), ct, p, sheen_table);
+  return brdf_lanes(lx, ly, lz, vx, vy, vz, st, (realv)R(0.0), ct, p, sheen_table);
 }
-
-#if BRDFBAKE_BRDF_LANES == 16
-#define BRDF_IOTA ((brdfi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
-#else
-#define BRDF_IOTA ((brdfi)(0, 1, 2, 3, 4, 5, 6, 7))
-#endif
 
 // The MERL table (Matusik et al. 2003, as its BRDFRead / lookup_brdf_val index it): bin
 // (i, j, k) = (theta_h, theta_d, phi_d), at index (i * 90 + j) * 180 + k, holds f at the bin centre
@@ -347,19 +347,19 @@ inline rgbv half_diff_lanes(brdfv th, brdfv td, brdfv pd, global const real* p, 
 kernel void brdf_merl(global const real* params, global const real* sheen_table, const int material,
                       global real* out) {
   const int n = BRDF_MERL_THETA_H * BRDF_MERL_THETA_D * BRDF_MERL_PHI_D;
-  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  const int at = (int)get_global_id(0) * BRDFBAKE_LANES;
   if (at >= n) return;
-  const brdfi b = (brdfi)at + BRDF_IOTA;
-  const brdfi i = b / (BRDF_MERL_THETA_D * BRDF_MERL_PHI_D);
-  const brdfi j = (b / BRDF_MERL_PHI_D) % BRDF_MERL_THETA_D;
-  const brdfi k = b % BRDF_MERL_PHI_D;
-  const brdfv u = (BRDF_TO_REAL(i) + R(0.5)) / (real)BRDF_MERL_THETA_H;
-  const brdfv th = u * u * (R(0.5) * BRDFBAKE_PI);
-  const brdfv td = (BRDF_TO_REAL(j) + R(0.5)) / (real)BRDF_MERL_THETA_D * (R(0.5) * BRDFBAKE_PI);
-  const brdfv pd = (BRDF_TO_REAL(k) + R(0.5)) / (real)BRDF_MERL_PHI_D * BRDFBAKE_PI;
-  brdfi below;
+  const maskv b = (maskv)at + LANE_INDEX;
+  const maskv i = b / (BRDF_MERL_THETA_D * BRDF_MERL_PHI_D);
+  const maskv j = (b / BRDF_MERL_PHI_D) % BRDF_MERL_THETA_D;
+  const maskv k = b % BRDF_MERL_PHI_D;
+  const realv u = (convert_realv(i) + R(0.5)) / (real)BRDF_MERL_THETA_H;
+  const realv th = u * u * (R(0.5) * BRDFBAKE_PI);
+  const realv td = (convert_realv(j) + R(0.5)) / (real)BRDF_MERL_THETA_D * (R(0.5) * BRDFBAKE_PI);
+  const realv pd = (convert_realv(k) + R(0.5)) / (real)BRDF_MERL_PHI_D * BRDFBAKE_PI;
+  maskv below;
   rgbv f = half_diff_lanes(th, td, pd, params + material * BRDF_PARAM_STRIDE, sheen_table, &below);
-  const brdfv marker = (brdfv)R(-1.0);
+  const realv marker = (realv)R(-1.0);
   f.r = select(f.r, marker, below);
   f.g = select(f.g, marker, below);
   f.b = select(f.b, marker, below);
@@ -372,14 +372,14 @@ kernel void brdf_merl(global const real* params, global const real* sheen_table,
 kernel void brdf_slice(global const real* params, global const real* sheen_table, const int material,
                        const int width, const int height, const real phi_d, global real* out) {
   const int n = width * height;
-  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  const int at = (int)get_global_id(0) * BRDFBAKE_LANES;
   if (at >= n) return;
-  const brdfi b = (brdfi)at + BRDF_IOTA;
-  const brdfv th = (BRDF_TO_REAL(b % width) + R(0.5)) / (real)width * (R(0.5) * BRDFBAKE_PI);
-  const brdfv td = (BRDF_TO_REAL(b / width) + R(0.5)) / (real)height * (R(0.5) * BRDFBAKE_PI);
-  brdfi below;
-  const rgbv f = half_diff_lanes(th, td, (brdfv)phi_d, params + material * BRDF_PARAM_STRIDE, sheen_table, &below);
-  store_rgb(f, out, (size_t)((n + BRDFBAKE_BRDF_LANES - 1) / BRDFBAKE_BRDF_LANES * BRDFBAKE_BRDF_LANES),
+  const maskv b = (maskv)at + LANE_INDEX;
+  const realv th = (convert_realv(b % width) + R(0.5)) / (real)width * (R(0.5) * BRDFBAKE_PI);
+  const realv td = (convert_realv(b / width) + R(0.5)) / (real)height * (R(0.5) * BRDFBAKE_PI);
+  maskv below;
+  const rgbv f = half_diff_lanes(th, td, (realv)phi_d, params + material * BRDF_PARAM_STRIDE, sheen_table, &below);
+  store_rgb(f, out, (size_t)((n + BRDFBAKE_LANES - 1) / BRDFBAKE_LANES * BRDFBAKE_LANES),
             (size_t)at);
 }
 
@@ -389,21 +389,21 @@ kernel void brdf_slice(global const real* params, global const real* sheen_table
 kernel void brdf_grid(global const real* params, global const real* sheen_table, const int material,
                       const int n_ti, const int n_to, const int n_pd, global real* out) {
   const int n = n_ti * n_to * n_pd;
-  const int at = (int)get_global_id(0) * BRDFBAKE_BRDF_LANES;
+  const int at = (int)get_global_id(0) * BRDFBAKE_LANES;
   if (at >= n) return;
-  const brdfi b = (brdfi)at + BRDF_IOTA;
-  const brdfi j = b % n_to, i = (b / n_to) % n_ti, k = b / (n_to * n_ti);
-  const brdfv ti = (BRDF_TO_REAL(i) + R(0.5)) / (real)n_ti * (R(0.5) * BRDFBAKE_PI);
-  const brdfv to = (BRDF_TO_REAL(j) + R(0.5)) / (real)n_to * (R(0.5) * BRDFBAKE_PI);
-  const brdfv pd = (BRDF_TO_REAL(k) + R(0.5)) / (real)n_pd * BRDFBAKE_PI;
-  brdfv cti, cto, cpd;
-  const brdfv sti = sincos(ti, &cti), sto = sincos(to, &cto), spd = sincos(pd, &cpd);
-  const brdfv lx = sti, ly = (brdfv)R(0.0), lz = cti;
-  const brdfv vx = sto * cpd, vy = sto * spd, vz = cto;
-  brdfv hx, hy, hz;
+  const maskv b = (maskv)at + LANE_INDEX;
+  const maskv j = b % n_to, i = (b / n_to) % n_ti, k = b / (n_to * n_ti);
+  const realv ti = (convert_realv(i) + R(0.5)) / (real)n_ti * (R(0.5) * BRDFBAKE_PI);
+  const realv to = (convert_realv(j) + R(0.5)) / (real)n_to * (R(0.5) * BRDFBAKE_PI);
+  const realv pd = (convert_realv(k) + R(0.5)) / (real)n_pd * BRDFBAKE_PI;
+  realv cti, cto, cpd;
+  const realv sti = sincos(ti, &cti), sto = sincos(to, &cto), spd = sincos(pd, &cpd);
+  const realv lx = sti, ly = (realv)R(0.0), lz = cti;
+  const realv vx = sto * cpd, vy = sto * spd, vz = cto;
+  realv hx, hy, hz;
   half_vector(lx, ly, lz, vx, vy, vz, &hx, &hy, &hz);
   const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, params + material * BRDF_PARAM_STRIDE, sheen_table);
-  store_rgb(f, out, (size_t)((n + BRDFBAKE_BRDF_LANES - 1) / BRDFBAKE_BRDF_LANES * BRDFBAKE_BRDF_LANES),
+  store_rgb(f, out, (size_t)((n + BRDFBAKE_LANES - 1) / BRDFBAKE_LANES * BRDFBAKE_LANES),
             (size_t)at);
 }
 
@@ -421,7 +421,7 @@ kernel void brdf_grid(global const real* params, global const real* sheen_table,
 //   Panel B (t1 < t < t2): y from ln tan t1 to ln tan t2 through u = (1 - cos(pi x)) / 2, whose
 //   vanishing slope at both ends absorbs the sqrt(t - t1) and sqrt(t2 - t) of p_e (n_b nodes);
 //   p: Gauss-Legendre on [0, p_e] (n_p nodes).
-// The polar nodes go BRDFBAKE_BRDF_LANES at a time, one per lane (n_a, n_b are multiples of it,
+// The polar nodes go BRDFBAKE_LANES at a time, one per lane (n_a, n_b are multiples of it,
 // padded with zero-weight nodes). Node buffer q: n_a nodes, n_a weights, n_b values u(x),
 // n_b weights u'(x) w, n_p midpoint cosines, n_p midpoint sines, n_p Gauss nodes, n_p Gauss weights.
 // out: 3 planes of `n` per material.
@@ -435,29 +435,33 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
   const real to = ((real)i + R(0.5)) / (real)n * (R(0.5) * BRDFBAKE_PI);
   real n_dot_v;
   const real sin_v = sincos(to, &n_dot_v);
-  const brdfv vx = (brdfv)sin_v, vy = (brdfv)R(0.0), vz = (brdfv)n_dot_v;
+  const realv vx = (realv)sin_v, vy = (realv)R(0.0), vz = (realv)n_dot_v;
   const real t1 = R(0.25) * BRDFBAKE_PI - R(0.5) * to;
   const real ya = log(tan(t1)), y0 = y_min[m];
   global const real* qa = q;
   global const real* qb = q + 2 * n_a;
   global const real* qp = q + 2 * n_a + 2 * n_b;
-  brdfv acc_r = (brdfv)R(0.0), acc_g = (brdfv)R(0.0), acc_b = (brdfv)R(0.0);
+  realv acc_r = (realv)R(0.0), acc_g = (realv)R(0.0), acc_b = (realv)R(0.0);
 
   // Panel A.
   if (ya > y0) {
     const real span = ya - y0;
-    for (int k = 0; k < n_a; k += BRDFBAKE_BRDF_LANES) {
-      const brdfv e = exp(y0 + span * BRDF_LOAD(qa + k));  // tan t
-      const brdfv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
+    for (int k = 0; k < n_a; k += BRDFBAKE_LANES) {
+      const realv e = exp(y0 + span * vload_lanes(0, qa + k));  // tan t
+      const realv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
       // weight of a node: span w_k (dt/dy = sin t cos t) sin t (pi / n_p) 2
-      const brdfv wt = span * BRDF_LOAD(qa + n_a + k) * sin_t * sin_t * cos_t * (R(2.0) * BRDFBAKE_PI / (real)n_p);
+      const realv wt = span * vload_lanes(0, qa + n_a + k) * sin_t * sin_t * cos_t * (R(2.0) * BRDFBAKE_PI / (real)n_p);
       for (int j = 0; j < n_p; ++j) {
         const real cp = qp[j], sp = qp[n_p + j];
-        const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
-        const brdfv vh = sin_v * hx + n_dot_v * hz;
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        const realv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
+        const realv vh = sin_v * hx + n_dot_v * hz;
+        // l lies above the horizon by construction, but rounding next to t1 (or p_e) gives n.l of
+        // 0 or -1e-8, where the sheen's fitted Lambda has no limit (docs/CONVENTIONS.md): the BRDF is
+        // evaluated at n.l >= 1e-7 (the DFG kernel's floor), the weight keeps the true (n.l)+.
+        const realv lz_true = R(2.0) * vh * hz - n_dot_v;
+        const realv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(lz_true, R(1e-7));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
-        const brdfv w = wt * R(4.0) * vh * fmax(lz, R(0.0));
+        const realv w = wt * R(4.0) * vh * fmax(lz_true, R(0.0));
         acc_r += w * f.r;
         acc_g += w * f.g;
         acc_b += w * f.b;
@@ -467,34 +471,30 @@ kernel void brdf_albedo(global const real* params, global const real* sheen_tabl
   // Panel B.
   if (sin_v > R(0.0)) {
     const real y_lo = ya, span = -R(2.0) * ya;
-    for (int k = 0; k < n_b; k += BRDFBAKE_BRDF_LANES) {
-      const brdfv e = exp(y_lo + span * BRDF_LOAD(qb + k));
-      const brdfv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
-      const brdfv a = n_dot_v * (cos_t - sin_t) * (cos_t + sin_t), bb = sin_v * R(2.0) * sin_t * cos_t;
-      const brdfv p_e = acos(clamp(-a / bb, R(-1.0), R(1.0)));
-      const brdfv wt = span * BRDF_LOAD(qb + n_b + k) * sin_t * sin_t * cos_t * R(2.0) * p_e;
+    for (int k = 0; k < n_b; k += BRDFBAKE_LANES) {
+      const realv e = exp(y_lo + span * vload_lanes(0, qb + k));
+      const realv cos_t = rsqrt(R(1.0) + e * e), sin_t = e * cos_t;
+      const realv a = n_dot_v * (cos_t - sin_t) * (cos_t + sin_t), bb = sin_v * R(2.0) * sin_t * cos_t;
+      const realv p_e = acos(clamp(-a / bb, R(-1.0), R(1.0)));
+      const realv wt = span * vload_lanes(0, qb + n_b + k) * sin_t * sin_t * cos_t * R(2.0) * p_e;
       for (int j = 0; j < n_p; ++j) {
-        brdfv cp;
-        const brdfv sp = sincos(p_e * qp[2 * n_p + j], &cp);
-        const brdfv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
-        const brdfv vh = sin_v * hx + n_dot_v * hz;
-        const brdfv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = R(2.0) * vh * hz - n_dot_v;
+        realv cp;
+        const realv sp = sincos(p_e * qp[2 * n_p + j], &cp);
+        const realv hx = sin_t * cp, hy = sin_t * sp, hz = cos_t;
+        const realv vh = sin_v * hx + n_dot_v * hz;
+        // l lies above the horizon by construction, but rounding next to t1 (or p_e) gives n.l of
+        // 0 or -1e-8, where the sheen's fitted Lambda has no limit (docs/CONVENTIONS.md): the BRDF is
+        // evaluated at n.l >= 1e-7 (the DFG kernel's floor), the weight keeps the true (n.l)+.
+        const realv lz_true = R(2.0) * vh * hz - n_dot_v;
+        const realv lx = R(2.0) * vh * hx - sin_v, ly = R(2.0) * vh * hy, lz = fmax(lz_true, R(1e-7));
         const rgbv f = brdf_lanes(lx, ly, lz, vx, vy, vz, hx, hy, hz, p, sheen_table);
-        const brdfv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz, R(0.0));
+        const realv w = wt * qp[3 * n_p + j] * R(4.0) * vh * fmax(lz_true, R(0.0));
         acc_r += w * f.r;
         acc_g += w * f.g;
         acc_b += w * f.b;
       }
     }
   }
-  real sums[3];
-  real lanes[BRDFBAKE_BRDF_LANES];
-  const brdfv accs[3] = {acc_r, acc_g, acc_b};
-  for (int c = 0; c < 3; ++c) {
-    BRDF_STORE(accs[c], lanes);
-    real s = R(0.0);
-    for (int k = 0; k < BRDFBAKE_BRDF_LANES; ++k) s += lanes[k];
-    sums[c] = s;
-  }
+  const real sums[3] = {lanes_sum(acc_r), lanes_sum(acc_g), lanes_sum(acc_b)};
   for (int c = 0; c < 3; ++c) out[((size_t)m * 3 + (size_t)c) * (size_t)n + (size_t)i] = sums[c];
 }

@@ -32,14 +32,14 @@ inline real4 equirect_bilinear(global const float4* src, int width, int height, 
 // Eight texels of a row of the cube, global id (chunk, face * size + j), texels i = 8 chunk + lane:
 // each the mean of k x k bilinear samples of the equirect spread evenly over the texel in face
 // coordinates, weighted by their solid angle (the area element), so that the texel holds the
-// equirect's average over its own footprint. The direction maths runs BRDFBAKE_VW texels at a
+// equirect's average over its own footprint. The direction maths runs BRDFBAKE_LANES texels at a
 // time (PoCL vectorises only explicit vectors); the fetches are per lane.
 kernel void equirect_to_cube(global const float4* src, int width, int height, global float4* dst,
                              int size, int k) {
-  const int i0 = (int)get_global_id(0) * BRDFBAKE_VW, gj = (int)get_global_id(1);
+  const int i0 = (int)get_global_id(0) * BRDFBAKE_LANES, gj = (int)get_global_id(1);
   if (i0 >= size || gj >= 6 * size) return;
   const int face = gj / size, j = gj % size;
-  const realv lane = (realv)(R(0.0), R(1.0), R(2.0), R(3.0), R(4.0), R(5.0), R(6.0), R(7.0));
+  const realv lane = convert_realv(LANE_INDEX);
   realv sr = (realv)(R(0.0)), sg = (realv)(R(0.0)), sb = (realv)(R(0.0)), wsum = (realv)(R(0.0));
   for (int sy = 0; sy < k; ++sy)
     for (int sx = 0; sx < k; ++sx) {
@@ -60,26 +60,26 @@ kernel void equirect_to_cube(global const float4* src, int width, int height, gl
       }
       const realv u = R(0.5) - atan2(x, z) * (R(0.5) * BRDFBAKE_INV_PI);
       const realv v = R(0.5) - asin(clamp(y * inv, R(-1.0), R(1.0))) * BRDFBAKE_INV_PI;
-      real lu[BRDFBAKE_VW], lv[BRDFBAKE_VW];
-      vstore8(u, 0, lu);
-      vstore8(v, 0, lv);
-      real cr[BRDFBAKE_VW], cg[BRDFBAKE_VW], cb[BRDFBAKE_VW];
-      for (int q = 0; q < BRDFBAKE_VW; ++q) {
+      real lu[BRDFBAKE_LANES], lv[BRDFBAKE_LANES];
+      vstore_lanes(u, 0, lu);
+      vstore_lanes(v, 0, lv);
+      real cr[BRDFBAKE_LANES], cg[BRDFBAKE_LANES], cb[BRDFBAKE_LANES];
+      for (int q = 0; q < BRDFBAKE_LANES; ++q) {
         const real4 t = equirect_bilinear(src, width, height, lu[q], lv[q]);
         cr[q] = t.x;
         cg[q] = t.y;
         cb[q] = t.z;
       }
-      sr += w * vload8(0, cr);
-      sg += w * vload8(0, cg);
-      sb += w * vload8(0, cb);
+      sr += w * vload_lanes(0, cr);
+      sg += w * vload_lanes(0, cg);
+      sb += w * vload_lanes(0, cb);
       wsum += w;
     }
-  real out_r[BRDFBAKE_VW], out_g[BRDFBAKE_VW], out_b[BRDFBAKE_VW];
-  vstore8(sr / wsum, 0, out_r);
-  vstore8(sg / wsum, 0, out_g);
-  vstore8(sb / wsum, 0, out_b);
-  const int n = min(BRDFBAKE_VW, size - i0);
+  real out_r[BRDFBAKE_LANES], out_g[BRDFBAKE_LANES], out_b[BRDFBAKE_LANES];
+  vstore_lanes(sr / wsum, 0, out_r);
+  vstore_lanes(sg / wsum, 0, out_g);
+  vstore_lanes(sb / wsum, 0, out_b);
+  const int n = min(BRDFBAKE_LANES, size - i0);
   for (int q = 0; q < n; ++q)
     dst[((size_t)face * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q)] =
         (float4)((float)out_r[q], (float)out_g[q], (float)out_b[q], 1.0f);

@@ -10,8 +10,15 @@
 // Frame: n = +z, v = (sin_v, 0, n_dot_v). A microfacet normal h at polar angle theta_h and azimuth
 // phi reflects v into l = 2 (v.h) h - v, with n.l = 2 (v.h)(n.h) - n.v.
 #include "common/real.clh"
-#include "common/microfacet.clh"
+#include "common/fresnel.clh"
+#include "common/ggx.clh"
+#include "common/charlie.clh"
+#include "common/diffuse.clh"
 #include "common/sampling.clh"
+
+#if BRDFBAKE_LANES != 8
+#error "the host pads the quadrature nodes to multiples of 8 lanes"
+#endif
 
 // ---------------------------------------------------------------------------------------------
 // Integrands in half-vector space.
@@ -44,9 +51,9 @@ inline real charlie_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, rea
   const real2 c = reflect_cosines(n_dot_v, sin_v, sin_h, cos_h, cos_phi);
   if (c.x <= R(0.0) || cos_h <= R(0.0)) return R(0.0);
 #ifdef BRDFBAKE_SHEEN_NEUBELT
-  const real vnl = V_times_nl_Neubelt(n_dot_v, c.x);
+  const real vnl = V_Neubelt_times_nl(n_dot_v, c.x);
 #else
-  const real vnl = V_times_nl_Charlie(n_dot_v, c.x, alpha);
+  const real vnl = V_CharlieEstevezKulla_times_nl(n_dot_v, c.x, alpha);
 #endif
   return vnl * R(4.0) * c.y / cos_h;
 }
@@ -77,7 +84,7 @@ inline real charlie_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, rea
 // Node buffer q (built on the host, in `real`): n_xi Gauss-Legendre nodes then weights on [0,1];
 // n_xi panel-B nodes u(x) then weights (pi/2) sin(pi x) w; n_phi Gauss-Legendre nodes then weights
 // on [0,1]; n_phi midpoint cosines cos((m + 0.5) pi / n_phi); 8 Gauss-Legendre nodes then weights
-// for the diffuse integral. n_xi is a multiple of BRDFBAKE_VW.
+// for the diffuse integral. n_xi is a multiple of BRDFBAKE_LANES.
 // ---------------------------------------------------------------------------------------------
 #define Q_PHI_OFFSET (4 * n_xi)
 #define Q_PHI_W_OFFSET (4 * n_xi + n_phi)
@@ -85,7 +92,7 @@ inline real charlie_weight(real n_dot_v, real sin_v, real sin_h, real cos_h, rea
 #define Q_D_X(k) q[4 * n_xi + 3 * n_phi + (k)]
 #define Q_D_W(k) q[4 * n_xi + 3 * n_phi + 8 + (k)]
 
-// The inner loops run BRDFBAKE_VW polar nodes at once (one per lane), so the per-node set-up
+// The inner loops run BRDFBAKE_LANES polar nodes at once (one per lane), so the per-node set-up
 // (exp, square roots, acos) is vectorised too; n_xi is padded to a multiple of the width with
 // zero-weight nodes.
 #if defined(BRDFBAKE_LUT_CHARLIE)
@@ -100,10 +107,9 @@ inline acc_t lobe_lanes(real n_dot_v, real sin_v, realv sin_h, realv cos_h, real
   const realv n_dot_l = R(2.0) * v_dot_h * cos_h - n_dot_v;
   const realv nl = fmax(n_dot_l, (realv)R(1e-30));
 #ifdef BRDFBAKE_SHEEN_NEUBELT
-  const realv vnl = nl / (R(4.0) * (nl + n_dot_v - nl * n_dot_v));
+  const realv vnl = V_Neubelt_times_nl_v(n_dot_v, nl);
 #else
-  const realv vnl = R(1.0) / ((R(1.0) + Lambda_Charlie(n_dot_v, alpha) + Lambda_Charlie_v(nl, alpha)) *
-                              R(4.0) * n_dot_v);
+  const realv vnl = V_CharlieEstevezKulla_times_nl_v(n_dot_v, nl, alpha);
 #endif
   return n_dot_l > R(0.0) ? pw * vnl * R(4.0) * v_dot_h / cos_h : (realv)R(0.0);
 }
@@ -112,18 +118,14 @@ inline real2 acc_total(acc_t a) { return (real2)(lanes_sum(a), R(0.0)); }
 typedef struct {
   realv scale, bias;
 } acc_t;
-// GGX's (1 - Fc) w and Fc w, w = G2 (v.h) / ((n.v)(n.h)), times the node weights pw.
-// G2 = 1 / (1 + Lambda(v) + Lambda(l)) with Lambda(l) = (sqrt(nl^2 + a^2 (1 - nl^2)) / nl - 1) / 2
-// (Heitz 2014, eq. 72) is computed as nl / (nl (1/2 + Lambda(v)) + sqrt(...) / 2): one division
-// and one square root a lane.
+// GGX's (1 - Fc) w and Fc w, w = G2 (v.h) / ((n.v)(n.h)), times the node weights pw (G2 in its
+// one-division lane form, G2_SmithGGXCorrelated_v).
 inline acc_t lobe_lanes(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv cos_phi, realv pw,
                         real alpha) {
   const realv v_dot_h = sin_v * sin_h * cos_phi + n_dot_v * cos_h;
   const realv n_dot_l = R(2.0) * v_dot_h * cos_h - n_dot_v;
   const realv nl = fmax(n_dot_l, (realv)R(0.0));
-  const real a2 = alpha * alpha;
-  const real half_plus_lambda_v = R(0.5) + Lambda_GGX(n_dot_v, alpha);
-  const realv g2 = nl / (nl * half_plus_lambda_v + R(0.5) * sqrt(nl * nl * (R(1.0) - a2) + a2));
+  const realv g2 = G2_SmithGGXCorrelated_v(n_dot_v, nl, alpha);
   const realv w = pw * g2 * v_dot_h / (n_dot_v * cos_h);
   const realv fc = schlick_weight_v(v_dot_h);
   acc_t r;
@@ -137,14 +139,6 @@ inline void acc_add(acc_t* a, acc_t b) {
 }
 inline real2 acc_total(acc_t a) { return (real2)(lanes_sum(a.scale), lanes_sum(a.bias)); }
 
-// GGX: the polar angle of eta = 1 - xi, tan^2(theta_h) = alpha^2 (1 - eta) / eta (Walter et al.
-// 2007, eq. 35), as sin and cos.
-inline void ggx_angle(realv eta, real alpha, realv* sin_h, realv* cos_h) {
-  const realv a2t = alpha * alpha * (R(1.0) - eta);
-  const realv inv = R(1.0) / sqrt(eta + a2t);
-  *sin_h = sqrt(a2t) * inv;
-  *cos_h = sqrt(eta) * inv;
-}
 #endif
 
 #if defined(BRDFBAKE_LUT_CHARLIE)
@@ -190,7 +184,7 @@ inline real tan_theta1(real n_dot_v, real sin_v) {
   return (R(1.0) - tau) / (R(1.0) + tau);
 }
 
-// Panel A over BRDFBAKE_VW polar nodes: the midpoint rule over the half circle.
+// Panel A over BRDFBAKE_LANES polar nodes: the midpoint rule over the half circle.
 inline acc_t panel_full(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv w, real alpha,
                         constant real* q, int n_xi, int n_phi) {
   acc_t acc = ACC_ZERO;
@@ -200,7 +194,7 @@ inline acc_t panel_full(real n_dot_v, real sin_v, realv sin_h, realv cos_h, real
   return acc;
 }
 
-// Panel B over BRDFBAKE_VW polar nodes: Gauss-Legendre over [0, phi_max].
+// Panel B over BRDFBAKE_LANES polar nodes: Gauss-Legendre over [0, phi_max].
 inline acc_t panel_cut(real n_dot_v, real sin_v, realv sin_h, realv cos_h, realv w, real alpha,
                        constant real* q, int n_xi, int n_phi) {
   const realv phi_max = horizon_phi(n_dot_v, sin_v, sin_h, cos_h);
@@ -223,11 +217,11 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   // expm1: sin^(1/alpha) with 1/alpha up to 1e7 would amplify a rounding of sin a million-fold.
   const real log_xi1 = e * log(sin1);
   if (log_xi1 > R(-700.0)) {
-    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
-      const realv log_s = (log_xi1 + log(vload8(0, q + k))) * (alpha / (R(2.0) * alpha + R(1.0)));
+    for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+      const realv log_s = (log_xi1 + log(vload_lanes(0, q + k))) * (alpha / (R(2.0) * alpha + R(1.0)));
       const realv s = exp(log_s);
       const realv c = sqrt(-expm1(R(2.0) * log_s));
-      ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, exp(log_xi1) * vload8(0, q + n_xi + k), alpha, q,
+      ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, exp(log_xi1) * vload_lanes(0, q + n_xi + k), alpha, q,
                               n_xi, n_phi));
     }
   }
@@ -243,11 +237,11 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
     const real h = (y1 - y2) / (real)n_sub;
     for (int p = 0; p < n_sub; ++p) {
       const real y0 = y2 + h * (real)p;
-      for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
-        const realv c = exp(y0 + h * vload8(0, q + 2 * n_xi + k));
+      for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+        const realv c = exp(y0 + h * vload_lanes(0, q + 2 * n_xi + k));
         const realv s = sqrt(fmax((R(1.0) - c) * (R(1.0) + c), R(0.0)));
         const realv density = e * exp(log1p(-c * c) * (R(0.5) / alpha)) * c * c;
-        ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, h * density * vload8(0, q + 3 * n_xi + k), alpha, q,
+        ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, h * density * vload_lanes(0, q + 3 * n_xi + k), alpha, q,
                                n_xi, n_phi));
       }
     }
@@ -257,20 +251,20 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   const real eta1 = a2 / (a2 + t1 * t1), eta2 = a2 / (a2 + R(1.0) / (t1 * t1));
   // Panel A: y = log(eta) from log(eta_1) up to 0; d xi = eta dy.
   const real ya = log(eta1);
-  for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
-    const realv eta = exp(ya * (R(1.0) - vload8(0, q + k)));
+  for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+    const realv eta = exp(ya * (R(1.0) - vload_lanes(0, q + k)));
     realv s, c;
-    ggx_angle(eta, alpha, &s, &c);
-    ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, -ya * eta * vload8(0, q + n_xi + k), alpha, q, n_xi, n_phi));
+    sample_ggx_ndf_polar_v(eta, alpha, &s, &c);
+    ACC_ADD(acc, panel_full(n_dot_v, sin_v, s, c, -ya * eta * vload_lanes(0, q + n_xi + k), alpha, q, n_xi, n_phi));
   }
   // Panel B: y = log(eta) from log(eta_2) up to log(eta_1).
   const real yb = log(eta2);
   if (sin_v > R(0.0) && ya > yb) {
-    for (int k = 0; k < n_xi; k += BRDFBAKE_VW) {
-      const realv eta = exp(yb + (ya - yb) * vload8(0, q + 2 * n_xi + k));
+    for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+      const realv eta = exp(yb + (ya - yb) * vload_lanes(0, q + 2 * n_xi + k));
       realv s, c;
-      ggx_angle(eta, alpha, &s, &c);
-      ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, (ya - yb) * eta * vload8(0, q + 3 * n_xi + k), alpha,
+      sample_ggx_ndf_polar_v(eta, alpha, &s, &c);
+      ACC_ADD(acc, panel_cut(n_dot_v, sin_v, s, c, (ya - yb) * eta * vload_lanes(0, q + 3 * n_xi + k), alpha,
                              q, n_xi, n_phi));
     }
   }
@@ -289,18 +283,15 @@ inline real2 lobe_monte_carlo(real n_dot_v, real sin_v, real alpha, uint samples
     const real2 u = hammersley(i, samples);
 #if defined(BRDFBAKE_LUT_CHARLIE)
 #if defined(BRDFBAKE_EST_UNIFORM)
-    // l uniform on the hemisphere, pdf 1 / (2 pi): weight 2 pi D V n.l.
-    const real cos_l = u.x, sin_l = sqrt(max(R(0.0), R(1.0) - cos_l * cos_l));
-    const real phi = R(2.0) * BRDFBAKE_PI * u.y;
-    const real3 l = (real3)(sin_l * cos(phi), sin_l * sin(phi), cos_l);
+    // l uniform on the hemisphere, pdf 1 / (2 pi): weight D V n.l / pdf.
+    const real3 l = sample_uniform_hemisphere(u);
     const real3 h = normalize(v + l);
-    const real sin_h = sqrt(max(R(0.0), R(1.0) - h.z * h.z));
 #ifdef BRDFBAKE_SHEEN_NEUBELT
-    const real vnl = V_times_nl_Neubelt(n_dot_v, cos_l);
+    const real vnl = V_Neubelt_times_nl(n_dot_v, l.z);
 #else
-    const real vnl = V_times_nl_Charlie(n_dot_v, cos_l, alpha);
+    const real vnl = V_CharlieEstevezKulla_times_nl(n_dot_v, l.z, alpha);
 #endif
-    acc.x += R(2.0) * BRDFBAKE_PI * D_Charlie(sin_h, alpha) * vnl;
+    acc.x += D_Charlie(h.z, alpha) * vnl / pdf_uniform_hemisphere(l);
 #else   // BRDFBAKE_EST_NDF: h with density D (n.h), weight V n.l 4 (v.h) / (n.h)
     const real3 h = sample_charlie_ndf(alpha, u);
     acc.x += charlie_weight(n_dot_v, sin_v, length(h.xy), h.z, h.x / max(length(h.xy), R(1e-30)), alpha);
@@ -312,7 +303,7 @@ inline real2 lobe_monte_carlo(real n_dot_v, real sin_v, real alpha, uint samples
     const real v_dot_h = dot(v, h);
     const real n_dot_l = R(2.0) * v_dot_h * h.z - n_dot_v;
     if (n_dot_l > R(0.0) && v_dot_h > R(0.0)) {
-      const real w = G2_SmithGGXCorrelated(n_dot_v, n_dot_l, alpha) / G1_GGX(n_dot_v, alpha);
+      const real w = G2_SmithGGXCorrelated(n_dot_v, n_dot_l, alpha) / G1_SmithGGX(n_dot_v, alpha);
       const real fc = schlick_weight(v_dot_h);
       acc += (real2)((R(1.0) - fc) * w, fc * w);
     }
@@ -354,7 +345,7 @@ kernel void dfg_lut(global float* out, global const real* n_dot_vs, global const
   if (i >= width || j >= height) return;
   // Inputs a hair outside [0,1] from upstream rounding are clamped; n.v = 0 exactly has no
   // defined reflection and stands for its limit (the smallest positive cosine kept).
-  const real n_dot_v = clamp(n_dot_vs[i], R(1e-7), R(1.0));
+  const real n_dot_v = clamp(n_dot_vs[i], BRDFBAKE_MIN_COSINE, R(1.0));
   const real sin_v = sqrt(max(R(0.0), (R(1.0) - n_dot_v) * (R(1.0) + n_dot_v)));
   const real roughness = clamp(roughnesses[j], R(0.0), R(1.0));
   const real alpha = max(roughness * roughness, BRDFBAKE_MIN_ALPHA);

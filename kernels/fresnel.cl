@@ -13,72 +13,61 @@
 // `params` holds them channel after channel (3 x FRESNEL_NPARAMS for 1-D tables; 1 x for 2-D,
 // where ys[j] replaces parameter FRESNEL_Y_PARAM of row j: F0 or IOR).
 //
-// Work decomposition: work-item (g, j) computes BRDFBAKE_FRESNEL_CHUNKS x BRDFBAKE_FRESNEL_LANES
+// Work decomposition: work-item (g, j) computes BRDFBAKE_FRESNEL_CHUNKS x BRDFBAKE_LANES
 // consecutive cells of row j, one vector of lanes at a time: PoCL's CPU device reaches its peak
-// only with explicit vector types (16 lanes in fp32, 8 in fp64: see common/fresnel.clh). The host
+// only with explicit vector types (BRDFBAKE_LANES: 16 in fp32, 8 in fp64, common/real.clh). The host
 // pads xs to a whole number of work-items (so every vload is in bounds); the stores stop at `width`.
 // Output: floats, row-major, channels interleaved: out[(j * width + i) * channels + c].
 #include "common/real.clh"
 #include "common/fresnel.clh"
 
-#if !defined(BRDFBAKE_FRESNEL_CHUNKS) || !defined(BRDFBAKE_FRESNEL_LANES)
-#error "the host defines BRDFBAKE_FRESNEL_CHUNKS and BRDFBAKE_FRESNEL_LANES (cells per work-item)"
+#if !defined(BRDFBAKE_FRESNEL_CHUNKS)
+#error "the host defines BRDFBAKE_FRESNEL_CHUNKS (vectors of cells per work-item)"
 #endif
 
 #if defined(BRDFBAKE_FRESNEL_SCHLICK)
 #define FRESNEL_NPARAMS 2
 #define FRESNEL_Y_PARAM 0
-inline fresnelv fresnel_model(fresnelv c, const real* p) { return F_Schlick_v(c, p[0], p[1]); }
+inline realv fresnel_model(realv c, const real* p) { return fresnel_schlick_v(c, p[0], p[1]); }
 #elif defined(BRDFBAKE_FRESNEL_SCHLICK_METALLIC)
 #define FRESNEL_NPARAMS 3
 #define FRESNEL_Y_PARAM 0
-inline fresnelv fresnel_model(fresnelv c, const real* p) {
-  return F_Schlick_v(c, F0_metallic(p[0], p[1], p[2]), R(1.0));
+inline realv fresnel_model(realv c, const real* p) {
+  return fresnel_schlick_v(c, schlick_metallic_f0(p[0], p[1], p[2]), R(1.0));
 }
 #elif defined(BRDFBAKE_FRESNEL_SCHLICK_IOR)
 #define FRESNEL_NPARAMS 2
 #define FRESNEL_Y_PARAM 1
-inline fresnelv fresnel_model(fresnelv c, const real* p) {
-  return F_Schlick_v(c, F0_from_ior(p[0], p[1]), R(1.0));
+inline realv fresnel_model(realv c, const real* p) {
+  return fresnel_schlick_v(c, f0_from_ior(p[0], p[1]), R(1.0));
 }
 #elif defined(BRDFBAKE_FRESNEL_DIELECTRIC)
 #define FRESNEL_NPARAMS 2
 #define FRESNEL_Y_PARAM 1
-inline fresnelv fresnel_model(fresnelv c, const real* p) { return F_Dielectric_v(c, p[1] / p[0]); }
+inline realv fresnel_model(realv c, const real* p) { return fresnel_dielectric_v(c, p[1] / p[0]); }
 #elif defined(BRDFBAKE_FRESNEL_CONDUCTOR)
 #define FRESNEL_NPARAMS 2
 #define FRESNEL_Y_PARAM 0
-inline fresnelv fresnel_model(fresnelv c, const real* p) { return F_Conductor_v(c, p[0], p[1]); }
+inline realv fresnel_model(realv c, const real* p) { return fresnel_conductor_v(c, p[0], p[1]); }
 #elif defined(BRDFBAKE_FRESNEL_F82_TINT)
 #define FRESNEL_NPARAMS 2
 #define FRESNEL_Y_PARAM 0
-inline fresnelv fresnel_model(fresnelv c, const real* p) { return F_F82Tint_v(c, p[0], p[1]); }
+inline realv fresnel_model(realv c, const real* p) { return fresnel_f82_tint_v(c, p[0], p[1]); }
 #elif defined(BRDFBAKE_FRESNEL_EMPIRICAL)
 #define FRESNEL_NPARAMS 3
 #define FRESNEL_Y_PARAM 0
-inline fresnelv fresnel_model(fresnelv c, const real* p) { return F_Empirical_v(c, p[0], p[1], p[2]); }
+inline realv fresnel_model(realv c, const real* p) { return fresnel_empirical_v(c, p[0], p[1], p[2]); }
 #else
 #error "the host defines one BRDFBAKE_FRESNEL_<MODEL>"
 #endif
 
-#if BRDFBAKE_VW != 8
-#error "lanes8 and the stores below take realv as 8 lanes"
-#endif
-
-#if BRDFBAKE_FRESNEL_LANES == 16
-#define FRESNEL_VLOAD(p) vload16(0, p)
-#elif BRDFBAKE_FRESNEL_LANES == 8
-#define FRESNEL_VLOAD(p) vload8(0, p)
-#else
-#error "BRDFBAKE_FRESNEL_LANES is 8 or 16"
-#endif
 
 // Lanes [8 * g, 8 * g + 8) of a result, as floats.
-inline float8 lanes8(fresnelv v, int g) {
-#if BRDFBAKE_FRESNEL_LANES == 16
-  const realv h = g == 0 ? v.lo : v.hi;
+inline float8 lanes8(realv v, int g) {
+#if BRDFBAKE_LANES == 16
+  const real8 h = g == 0 ? v.lo : v.hi;
 #else
-  const realv h = v;
+  const real8 h = v;
   (void)g;
 #endif
 #ifdef BRDFBAKE_FP64
@@ -122,12 +111,12 @@ kernel void fresnel_table(global float* out, global const real* xs, global const
   for (int k = 0; k < FRESNEL_NPARAMS; ++k) p[k] = params[k];
   p[FRESNEL_Y_PARAM] = ys[j];
   global float* row = out + (size_t)j * (size_t)width;
-  const int first = (int)get_global_id(0) * BRDFBAKE_FRESNEL_CHUNKS * BRDFBAKE_FRESNEL_LANES;
+  const int first = (int)get_global_id(0) * BRDFBAKE_FRESNEL_CHUNKS * BRDFBAKE_LANES;
   for (int chunk = 0; chunk < BRDFBAKE_FRESNEL_CHUNKS; ++chunk) {
-    const int i0 = first + chunk * BRDFBAKE_FRESNEL_LANES;
+    const int i0 = first + chunk * BRDFBAKE_LANES;
     if (i0 >= width) return;
-    const fresnelv f = fresnel_model(FRESNEL_VLOAD(xs + i0), p);
-    for (int g = 0; g < BRDFBAKE_FRESNEL_LANES / 8 && i0 + 8 * g < width; ++g)
+    const realv f = fresnel_model(vload_lanes(0, xs + i0), p);
+    for (int g = 0; g < BRDFBAKE_LANES / 8 && i0 + 8 * g < width; ++g)
       store_f8(row, i0 + 8 * g, lanes8(f, g), min(8, width - i0 - 8 * g));
   }
 }
@@ -144,15 +133,15 @@ kernel void fresnel_table(global float* out, global const real* xs, global const
     pg[k] = params[FRESNEL_NPARAMS + k];
     pb[k] = params[2 * FRESNEL_NPARAMS + k];
   }
-  const int first = (int)get_global_id(0) * BRDFBAKE_FRESNEL_CHUNKS * BRDFBAKE_FRESNEL_LANES;
+  const int first = (int)get_global_id(0) * BRDFBAKE_FRESNEL_CHUNKS * BRDFBAKE_LANES;
   for (int chunk = 0; chunk < BRDFBAKE_FRESNEL_CHUNKS; ++chunk) {
-    const int i0 = first + chunk * BRDFBAKE_FRESNEL_LANES;
+    const int i0 = first + chunk * BRDFBAKE_LANES;
     if (i0 >= width) return;
-    const fresnelv c = FRESNEL_VLOAD(xs + i0);
-    const fresnelv r = fresnel_model(c, pr);
-    const fresnelv g = fresnel_model(c, pg);
-    const fresnelv b = fresnel_model(c, pb);
-    for (int h = 0; h < BRDFBAKE_FRESNEL_LANES / 8 && i0 + 8 * h < width; ++h)
+    const realv c = vload_lanes(0, xs + i0);
+    const realv r = fresnel_model(c, pr);
+    const realv g = fresnel_model(c, pg);
+    const realv b = fresnel_model(c, pb);
+    for (int h = 0; h < BRDFBAKE_LANES / 8 && i0 + 8 * h < width; ++h)
       store_rgb8(out + 3 * (size_t)(i0 + 8 * h), lanes8(r, h), lanes8(g, h), lanes8(b, h),
                  min(8, width - i0 - 8 * h));
   }

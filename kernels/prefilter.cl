@@ -66,7 +66,7 @@ inline real4 chain_bilinear(global const float4* chain, constant int* chain_info
 }
 
 // One texel of an output level of face size `size`: global id (i, face * size + j).
-//   samples: n_samples (a multiple of BRDFBAKE_VW) as arrays x, y, z (local frame, z along R),
+//   samples: n_samples (a multiple of BRDFBAKE_LANES) as arrays x, y, z (local frame, z along R),
 //            weight (n.l)+ (0 for padding), lod_k
 //   bright:  n_bright points as for env_point_sum (values L Omega / W)
 kernel void prefilter_level(global float4* out, int size, global const float4* chain, constant int* chain_info,
@@ -82,31 +82,27 @@ kernel void prefilter_level(global float4* out, int size, global const float4* c
 
   real4 acc = (real4)(R(0.0));
   realv wsum = (realv)(R(0.0));
-  for (int k = 0; k < n_samples; k += BRDFBAKE_VW) {
-    const realv lx = vload8(0, samples + k), ly = vload8(0, samples + n_samples + k);
-    const realv lz = vload8(0, samples + 2 * n_samples + k);
-    const realv w = vload8(0, samples + 3 * n_samples + k);
-    const realv lod_k = vload8(0, samples + 4 * n_samples + k);
+  for (int k = 0; k < n_samples; k += BRDFBAKE_LANES) {
+    const realv lx = vload_lanes(0, samples + k), ly = vload_lanes(0, samples + n_samples + k);
+    const realv lz = vload_lanes(0, samples + 2 * n_samples + k);
+    const realv w = vload_lanes(0, samples + 3 * n_samples + k);
+    const realv lod_k = vload_lanes(0, samples + 4 * n_samples + k);
     const realv dx = lx * t.x + ly * b.x + lz * n.x;
     const realv dy = lx * t.y + ly * b.y + lz * n.y;
     const realv dz = lx * t.z + ly * b.z + lz * n.z;
     realv fa, fb, ma;
-    const idxv fv = cube_face_coords_v(dx, dy, dz, &fa, &fb, &ma);
+    const maskv fv = cube_face_coords_v(dx, dy, dz, &fa, &fb, &ma);
     const realv lod = clamp(lod_k - R(1.5) * log2(ma), R(0.0), max_lod);
     const realv lf = floor(lod);
-    real la[BRDFBAKE_VW], lb[BRDFBAKE_VW], lw[BRDFBAKE_VW], lt[BRDFBAKE_VW], lm[BRDFBAKE_VW];
-#ifdef BRDFBAKE_FP64
-    long lface[BRDFBAKE_VW];
-#else
-    int lface[BRDFBAKE_VW];
-#endif
-    vstore8(fa, 0, la);
-    vstore8(fb, 0, lb);
-    vstore8(w, 0, lw);
-    vstore8(lod - lf, 0, lt);
-    vstore8(lf, 0, lm);
-    vstore8(fv, 0, lface);
-    for (int q = 0; q < BRDFBAKE_VW; ++q) {
+    real la[BRDFBAKE_LANES], lb[BRDFBAKE_LANES], lw[BRDFBAKE_LANES], lt[BRDFBAKE_LANES], lm[BRDFBAKE_LANES];
+    int lface[BRDFBAKE_LANES];
+    vstore_lanes(fa, 0, la);
+    vstore_lanes(fb, 0, lb);
+    vstore_lanes(w, 0, lw);
+    vstore_lanes(lod - lf, 0, lt);
+    vstore_lanes(lf, 0, lm);
+    vstore_lanes(convert_intv(fv), 0, lface);
+    for (int q = 0; q < BRDFBAKE_LANES; ++q) {
       const int m0 = (int)lm[q];
       real4 v = chain_bilinear(chain, chain_info, m0, (int)lface[q], la[q], lb[q]);
       if (lt[q] > R(0.0))

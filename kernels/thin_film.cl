@@ -10,27 +10,18 @@
 // Work-item (i, j) computes cell (xs[i], ys[j]): cos_theta, thickness in nm.
 // Output: floats, row-major, channels r, g, b interleaved: out[(j * width + i) * 3 + c].
 #include "common/real.clh"
+#include "common/fresnel.clh"
 
-// Schlick 1994 with F90 = 1, per interface.
-inline real tf_schlick(real f0, real cos_theta) {
-  const real m = R(1.0) - cos_theta;
-  const real m2 = m * m;
-  return f0 + (R(1.0) - f0) * m2 * m2 * m;
-}
-
-inline real tf_ior_to_f0(real n_t, real n_i) {
-  const real r = (n_t - n_i) / (n_t + n_i);
-  return r * r;
-}
-
-inline real tf_f0_to_ior(real f0) {
+// The index whose normal-incidence reflectance against 1 is f0 (the inverse of f0_from_ior),
+// f0 capped below 1.
+inline real thin_film_f0_to_ior(real f0) {
   const real s = sqrt(clamp(f0, R(0.0), R(0.9999)));
   return (R(1.0) + s) / (R(1.0) - s);
 }
 
 // The XYZ matching functions' Gaussian fits, Fourier transformed at the optical path difference,
 // normalised to Y(0, 0) = 1, to linear Rec. 709.
-inline real3 tf_sensitivity(real opd_nm, real3 shift) {
+inline real3 thin_film_sensitivity(real opd_nm, real3 shift) {
   const real phase = R(2.0) * BRDFBAKE_PI * opd_nm * R(1.0e-9);
   const real3 val = (real3)(R(5.4856e-13), R(4.4201e-13), R(5.2481e-13));
   const real3 pos = (real3)(R(1.6810e+06), R(1.7953e+06), R(2.2084e+06));
@@ -53,14 +44,14 @@ inline real3 thin_film_fresnel(real cos1, real thickness, real outside_ior, real
   if (cos2_sq < R(0.0)) return (real3)(R(1.0), R(1.0), R(1.0));  // total internal reflection
   const real cos2 = sqrt(cos2_sq);
 
-  const real r12 = tf_schlick(tf_ior_to_f0(film_ior, outside_ior), cos1);
+  const real r12 = fresnel_schlick(cos1, f0_from_ior(film_ior, outside_ior), R(1.0));
   const real t121 = R(1.0) - r12;
   const real phi21 = film_ior < outside_ior ? R(0.0) : BRDFBAKE_PI;  // pi - phi12
 
-  const real3 base_ior = (real3)(tf_f0_to_ior(base_f0.x), tf_f0_to_ior(base_f0.y), tf_f0_to_ior(base_f0.z));
-  const real3 r23 = (real3)(tf_schlick(tf_ior_to_f0(base_ior.x, film_ior), cos2),
-                            tf_schlick(tf_ior_to_f0(base_ior.y, film_ior), cos2),
-                            tf_schlick(tf_ior_to_f0(base_ior.z, film_ior), cos2));
+  const real3 base_ior = (real3)(thin_film_f0_to_ior(base_f0.x), thin_film_f0_to_ior(base_f0.y), thin_film_f0_to_ior(base_f0.z));
+  const real3 r23 = (real3)(fresnel_schlick(cos2, f0_from_ior(base_ior.x, film_ior), R(1.0)),
+                            fresnel_schlick(cos2, f0_from_ior(base_ior.y, film_ior), R(1.0)),
+                            fresnel_schlick(cos2, f0_from_ior(base_ior.z, film_ior), R(1.0)));
   const real3 phi23 = (real3)(base_ior.x < film_ior ? BRDFBAKE_PI : R(0.0),
                               base_ior.y < film_ior ? BRDFBAKE_PI : R(0.0),
                               base_ior.z < film_ior ? BRDFBAKE_PI : R(0.0));
@@ -74,7 +65,7 @@ inline real3 thin_film_fresnel(real cos1, real thickness, real outside_ior, real
   real3 cm = rs - t121;
   for (int m = 1; m <= 2; ++m) {
     cm *= amplitude;
-    intensity += cm * R(2.0) * tf_sensitivity((real)m * opd, (real)m * phi);
+    intensity += cm * R(2.0) * thin_film_sensitivity((real)m * opd, (real)m * phi);
   }
   return fmax(intensity, (real3)(R(0.0), R(0.0), R(0.0)));
 }

@@ -3,7 +3,16 @@
 # (ctest), then the Python package in a fresh virtual environment (pip install ., pytest tests/python).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+export BRDFBAKE_WARNINGS_AS_ERRORS=ON
 source scripts/deps.sh
+# What a fresh machine sees (issue 18): private, empty kernel caches, PoCL's and ours, removed
+# afterwards. BRDFBAKE_TEST_WARM_CACHE=1 keeps the user's caches (faster, but not a first run).
+if [[ ${BRDFBAKE_TEST_WARM_CACHE:-0} != 1 ]]; then
+  BRDFBAKE_TEST_CACHE=$(mktemp -d -t brdfbake-test-cache.XXXXXX)
+  trap 'rm -rf "$BRDFBAKE_TEST_CACHE"' EXIT
+  export POCL_CACHE_DIR=$BRDFBAKE_TEST_CACHE/pocl BRDFBAKE_CACHE_DIR=$BRDFBAKE_TEST_CACHE/brdfbake
+  mkdir -p "$POCL_CACHE_DIR" "$BRDFBAKE_CACHE_DIR"
+fi
 (cd "$BUILD_DIR" && ctest --output-on-failure -j "$(nproc)" --timeout 600)
 
 # The Python package: a fresh virtual environment each run; the extension's build folder is kept in
@@ -16,7 +25,8 @@ export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.t
 "$VENV/bin/pip" install -q -r python/requirements-test.txt
 python_deps=$SECONDS
 if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
-CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python"
+CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python" \
+  -C cmake.define.BRDFBAKE_WARNINGS_AS_ERRORS=ON
 echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
      "pip install . in $((SECONDS - python_deps)) s" >&2
 status=0

@@ -39,7 +39,8 @@ int integer(const cxxopts::ParseResult& r, const std::string& name) {
 void add_common_options(cxxopts::Options& options) {
   options.add_options()
       ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("device", "P:D, cpu, gpu, a name substring, or reference", cxxopts::value<std::string>()->default_value(""))
+      ("device", "P:D, cpu, gpu, a name substring, or reference (default: BRDFBAKE_DEVICE, else the first GPU, "
+                 "else the first CPU)", cxxopts::value<std::string>())
       ("quiet", "no progress or summary lines")
       ("h,help", "this help");
 }
@@ -56,7 +57,9 @@ bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& 
 Precision precision_option(const cxxopts::ParseResult& r) {
   return precision_from_name(r["precision"].as<std::string>());
 }
-std::string device_option(const cxxopts::ParseResult& r) { return r["device"].as<std::string>(); }
+std::string device_option(const cxxopts::ParseResult& r) {
+  return r.count("device") ? r["device"].as<std::string>() : std::string();
+}
 bool quiet_option(const cxxopts::ParseResult& r) { return r.count("quiet") > 0; }
 
 namespace {

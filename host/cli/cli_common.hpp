@@ -48,8 +48,12 @@ class ProgressLine {
 
 int cmd_devices(int argc, char** argv);
 int cmd_fresnel(int argc, char** argv);
+int cmd_kinds(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_bake(int argc, char** argv);
+int cmd_view(int argc, char** argv);
+int cmd_report(int argc, char** argv);
+int cmd_serve(int argc, char** argv);
 
 // Parses, turning cxxopts' exceptions into UsageError with the command's name.
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);

@@ -121,7 +121,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   const std::vector<TableKind> kinds = kinds_of(command.name);
   const std::vector<ParamDef> schema = union_schema(kinds);
   const bool env = table_kind_uses_environment(kinds.front());
-  const bool eval = kinds.front() == TableKind::Eval;
+  const bool eval = table_kind_streams(kinds.front());
 
   cxxopts::Options options("brdfbake " + command.name, command.description);
   if (kinds.size() > 1) {
@@ -130,7 +130,15 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     options.add_options()("kind", "the table: " + names + " (default: " + table_kind_name(kinds.front()) + ")",
                           cxxopts::value<std::string>());
   }
-  add_schema_options(options, schema);
+  // eval streams: on the command line its input defaults to standard input.
+  std::vector<ParamDef> shown = schema;
+  if (eval)
+    for (auto& d : shown)
+      if (d.name == "input") {
+        d.required = false;
+        d.default_text = "-";
+      }
+  add_schema_options(options, shown);
   if (env)
     options.add_options()("env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
                                              "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
@@ -222,14 +230,16 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     line.update(step.empty() ? title : title + ", " + step, fraction);
   });
   line.finish();
-  if (t.output == "-") {
-    const Table* table = result.table();
-    if (!table) throw UsageError("only a table can go to standard output");
-    write_table_csv(*table, std::cout);
-  } else {
-    write_result(result, t, t.output);
+  const WriteReport written = write_result(result, t, t.output);
+  std::string stored;
+  if (written.error_bound) {
+    char b[160];
+    std::snprintf(b, sizeof b, "; stored values within %.2g of converged (%s adds %.2g)", *written.error_bound,
+                  written.encoding.c_str(), written.storage_error);
+    stored = b;
   }
-  if (!quiet) std::fprintf(stderr, "%s: %s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str());
+  if (!quiet)
+    std::fprintf(stderr, "%s: %s%s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str(), stored.c_str());
   return 0;
 }
 

@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "brdfbake/plan.hpp"
+#include "brdfbake/view.hpp"
+#include "cli_remote.hpp"
 #include "cli_table.hpp"
 
 namespace brdfbake::cli {
@@ -100,6 +102,9 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
     std::snprintf(line, sizeof line, "  %-*s  %-16s %9s  %s\n", int(width), f.path.c_str(), table_kind_name(f.kind),
                   human_bytes(f.bytes).c_str(), bound.c_str());
     out << line;
+    // What a shader does with a DFG table: its kinds need different formulas.
+    for (const auto& [key, value] : f.details)
+      if (key == "runtime") out << "    " << std::string(width, ' ') << "runtime: " << value << "\n";
   }
   out << "  manifest.json\n";
 }
@@ -111,12 +116,14 @@ int cmd_bake(int argc, char** argv) {
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
       ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
-      ("o,output", "output folder (default: out)", cxxopts::value<std::string>()->default_value("out"))
+      ("o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))
       ("dry-run", "print the plan and bake nothing")
       ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
-      ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>());
+      ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>())
+      ("contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)");
   add_schema_options(options, plan_schema());
   add_common_options(options);
+  add_remote_options(options);
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
     std::cout << options.help() << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
@@ -126,6 +133,7 @@ int cmd_bake(int argc, char** argv) {
   const bool dry_run = r.count("dry-run") > 0;
   const bool as_json = r.count("json") > 0;
   if (as_json && !dry_run) throw UsageError("--json prints the plan: it goes with --dry-run");
+  if (dry_run && r.count("contact-sheet")) throw UsageError("--contact-sheet draws what a bake wrote: not with --dry-run");
   const bool quiet = quiet_option(r);
 
   PlanOptions o = plan_options_from_params(schema_params(r, plan_schema()), true);
@@ -156,6 +164,11 @@ int cmd_bake(int argc, char** argv) {
     else print_plan(plan, std::cout);
     return 0;
   }
+  if (remote_requested(r)) {  // the server reads the environment under its input root
+    if (!quiet) print_plan(plan, std::cout);
+    std::cout.flush();
+    return run_remote("bake", r, "bake plan", job_to_json(plan.job), plan.job.output_dir, false, quiet);
+  }
   // The inputs are checked before the plan is shown: a missing environment fails first.
   bool needs_environment = false;
   for (const auto& t : plan.job.tables) needs_environment |= table_kind_uses_environment(t.kind);
@@ -179,6 +192,13 @@ int cmd_bake(int argc, char** argv) {
   }
   line.finish();
   if (!quiet) print_manifest_summary(manifest, std::cout);
+  if (r.count("contact-sheet")) {
+    const std::string sheet = plan.job.output_dir + "/contact_sheet.png";
+    ViewOptions view;
+    view.title = "brdfbake bake: " + plan.job.output_dir;
+    write_contact_sheet(render_contact_sheet({plan.job.output_dir}, view), sheet);
+    if (!quiet) std::cout << "contact sheet: " << sheet << "\n";
+  }
   return 0;
 }
 

@@ -16,8 +16,6 @@
 namespace brdfbake::cli {
 namespace {
 
-using reference::Rgb;
-
 // "v" (grey) or "r,g,b": every field a finite number, nothing else.
 Rgb rgb_option(const cxxopts::ParseResult& r, const std::string& name) {
   const std::string text = r[name].as<std::string>();
@@ -67,17 +65,17 @@ void reject_others(const cxxopts::ParseResult& r, const std::vector<std::string>
 }
 
 int list_materials() {
-  const Rgb& wl = reference::kPresetWavelengthsNm;
+  const Rgb& wl = kPresetWavelengthsNm;
   std::cout << "Material presets: complex index n + ik at R " << wl.r << " nm, G " << wl.g << " nm, B "
             << wl.b << " nm; F0 = reflectance at normal incidence from air, linear.\n"
             << "'hard-coded' are F0 colours that shaders commonly use for the material, with the\n"
             << "difference hard-coded - exact per channel.\n\n";
   std::cout << pad("name", 14) << pad("kind", 11) << pad("exact F0 (r g b)", 20) << pad("hard-coded F0", 20)
             << pad("difference", 23) << "source of the hard-coded F0\n";
-  for (const reference::MaterialPreset& p : reference::material_presets()) {
-    const Rgb f0 = reference::exact_f0(p);
+  for (const MaterialPreset& p : material_presets()) {
+    const Rgb f0 = exact_f0(p);
     const std::string head = pad(p.name, 14) +
-                             pad(p.kind == reference::MaterialKind::Conductor ? "conductor" : "dielectric", 11) +
+                             pad(p.kind == MaterialKind::Conductor ? "conductor" : "dielectric", 11) +
                              pad(triple(f0), 20);
     const std::vector<HardCodedF0> hard = hard_coded_f0(p);
     if (hard.empty()) std::cout << head << "(none published)\n";
@@ -88,7 +86,7 @@ int list_materials() {
     }
   }
   std::cout << "\nSources of n and k:\n";
-  for (const reference::MaterialPreset& p : reference::material_presets())
+  for (const MaterialPreset& p : material_presets())
     std::cout << "  " << pad(p.name + ":", 15) << "n = " << triple(p.n) << ", k = " << triple(p.k) << "; "
               << p.nk_source << "\n";
   return 0;
@@ -160,7 +158,7 @@ int fit(const cxxopts::ParseResult& r) {
     s.model = FresnelModel::Conductor;
     s.material = r["material"].as<std::string>();
     validate_fresnel_spec(s);  // the unknown-material message, naming the presets
-    const reference::MaterialPreset* p = reference::find_material(s.material);
+    const MaterialPreset* p = find_material_preset(s.material);
     if (!p) throw Error("unknown material '" + s.material + "'");
     n = p->n;
     k = p->k;
@@ -186,7 +184,7 @@ int fit(const cxxopts::ParseResult& r) {
             << triple(f.schlick_max_error) << "\n"
             << "  F82 tint with that F0 (exact at cos 1/7): " << triple(f.f82_tint) << "   max error left "
             << triple(f.f82_max_error) << "\n"
-            << "  (max |approximation - exact| over " << reference::kFitErrorSamples
+            << "  (max |approximation - exact| over " << kFresnelErrorGrid
             << " cosines in [0, 1])\n";
   return 0;
 }

@@ -3,6 +3,7 @@
 
 #include "brdfbake/job.hpp"
 #include "cli_common.hpp"
+#include "cli_remote.hpp"
 
 namespace brdfbake::cli {
 
@@ -18,6 +19,7 @@ int cmd_run(int argc, char** argv) {
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
       ("quiet", "no progress or summary")
       ("h,help", "this help");
+  add_remote_options(options);
   options.parse_positional({"job"});
   options.positional_help("JOB.json");
   const auto r = parse(options, argc, argv);
@@ -28,6 +30,9 @@ int cmd_run(int argc, char** argv) {
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
   if (!r.count("job")) throw UsageError("missing the job file (brdfbake run JOB.json)");
   const bool quiet = r.count("quiet") > 0;
+  if (remote_requested(r) && !r.count("dry-run"))
+    return run_remote("run", r, r["job"].as<std::string>(), "", r.count("output") ? r["output"].as<std::string>() : "",
+                      r.count("sanitize") > 0, quiet);
 
   Job job = read_job(r["job"].as<std::string>());
   if (r.count("output")) job.output_dir = r["output"].as<std::string>();

@@ -16,7 +16,7 @@ const TableCommand kCommands[] = {
     {"irradiance", "Diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube",
      "brdfbake irradiance --env studio.hdr --sh 3 -o studio_sh.json", {}, {}, {}},
     {"eval", "Evaluate a BRDF at (wi, wo) pairs, streaming CSV or float32",
-     "brdfbake eval --material examples/materials.json --name gold -i pairs.csv -o f.csv", {}, {}, {}},
+     "brdfbake eval --material examples/materials.json --name gold -i examples/pairs.csv -o gold_f.csv", {}, {}, {}},
     {"tabulate", "Tabulate a BRDF: MERL binary, grid, directional albedo or a slice image",
      "brdfbake tabulate --material examples/materials.json --name gold --layout merl -o gold.binary", {}, {}, {}},
 };

@@ -1,7 +1,13 @@
 // brdfbake: the command-line tool. The only place that prints errors and chooses exit codes.
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <string>
+#include <vector>
 
+#include "brdfbake/diagnostics.hpp"
 #include "brdfbake/version.hpp"
 #include "cli_table.hpp"
 
@@ -13,14 +19,46 @@ void usage(std::ostream& out) {
       << "commands:\n"
       << "  bake      read a glTF scene and bake the tables its materials call for (the main job)\n"
       << "  run       run a job file (JSON: the tables to bake, with every parameter)\n"
+      << "  serve     serve the job API over HTTP: warm devices, a persistent queue (docs/SERVICE.md)\n"
       << "  devices   list OpenCL platforms and devices\n"
+      << "  kinds     every table kind with its parameters (the job format's reference)\n"
       << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
       << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
       << "  thin-film bake a thin-film interference Fresnel table (KHR_materials_iridescence)\n"
       << "  prefilter prefilter an environment into a GGX or Charlie radiance mip chain\n"
       << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
       << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
-      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n";
+      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n"
+      << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
+      << "  report    measure accuracy against time on a device: an HTML page of plots and a JSON\n\n"
+      << "Every command also takes --verbose: one line per OpenCL program built or loaded from the cache,\n"
+      << "with the compiler's build log (which is otherwise never shown unless a build fails).\n";
+}
+
+// The OpenCL compiler's output stays off stderr (brdfbake/diagnostics.hpp). --verbose shows every
+// build with its log; otherwise a first run on a terminal says once that it is compiling, since a
+// cold cache costs about a second a program.
+void observe_program_builds(bool verbose, bool quiet) {
+  using namespace brdfbake;
+  if (verbose) {
+    set_program_build_observers({}, [](const ProgramBuild& b) {
+      std::fprintf(stderr, "brdfbake: %s %s for %s in %.2f s%s%s\n", b.from_cache ? "loaded" : "built",
+                   b.program.c_str(), b.device.c_str(), b.seconds, b.log.empty() ? "" : ":\n",
+                   b.log.c_str());
+    });
+  } else if (!quiet && ::isatty(2)) {
+    set_program_build_observers(
+        [](const std::string&, const std::string& device) {
+          static bool said = false;
+          if (said) return;
+          said = true;
+          std::fprintf(stderr,
+                       "brdfbake: compiling OpenCL kernels for %s (first run: about a second a program; "
+                       "cached afterwards)\n",
+                       device.c_str());
+        },
+        {});
+  }
 }
 
 }  // namespace
@@ -32,12 +70,31 @@ int main(int argc, char** argv) {
     return cli::kExitUsage;
   }
   const std::string command = argv[1];
+  // --verbose is taken by every command: it is removed here before the command parses its options.
+  std::vector<char*> args;
+  bool verbose = false, quiet = false;
+  for (int i = 0; i < argc; ++i) {
+    if (i > 1 && std::strcmp(argv[i], "--verbose") == 0) {
+      verbose = true;
+      continue;
+    }
+    if (i > 1 && std::strcmp(argv[i], "--quiet") == 0) quiet = true;
+    args.push_back(argv[i]);
+  }
+  args.push_back(nullptr);
+  argc = static_cast<int>(args.size()) - 1;
+  argv = args.data();
+  observe_program_builds(verbose, quiet);
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
+    if (command == "kinds") return cli::cmd_kinds(argc - 1, argv + 1);
     if (const cli::TableCommand* c = cli::table_command(command)) return cli::run_table_command(*c, argc - 1, argv + 1);
     if (command == "bake") return cli::cmd_bake(argc - 1, argv + 1);
     if (command == "run") return cli::cmd_run(argc - 1, argv + 1);
+    if (command == "view") return cli::cmd_view(argc - 1, argv + 1);
+    if (command == "report") return cli::cmd_report(argc - 1, argv + 1);
+    if (command == "serve") return cli::cmd_serve(argc - 1, argv + 1);
     if (command == "--help" || command == "-h" || command == "help") {
       usage(std::cout);
       return 0;

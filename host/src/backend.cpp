@@ -4,6 +4,7 @@
 #include "brdfbake/backend.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "brdfbake/error.hpp"
 
@@ -36,32 +37,47 @@ class ReferenceEvaluator final : public PairEvaluator {
   std::vector<Material> materials_;
 };
 
+// The device is opened on first use: work that needs none (SH of an environment, which is computed
+// on the host) opens no OpenCL platform at all.
 class OpenClBackend final : public Backend {
  public:
+  explicit OpenClBackend(std::string selector) : selector_(std::move(selector)) {}
   explicit OpenClBackend(Device device) : device_(std::move(device)) {}
   bool is_reference() const override { return false; }
-  std::string name() const override { return device_.info().name; }
-  Device* device() override { return &device_; }
+  // The device's name once it was used; work that needed none ran on the host.
+  std::string name() const override { return device_ ? device_->info().name : std::string("host (no device used)"); }
+  Device* device() override { return &opened(); }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut(device_, s, t, p); }
-  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel(device_, s, t); }
-  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(device_, s, t); }
+  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut(opened(), s, t, p); }
+  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel(opened(), s, t); }
+  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(opened(), s, t); }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
-    return prefilter_environment(device_, env, s, t, p);
+    return prefilter_environment(opened(), env, s, t, p);
   }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    return compute_irradiance(device_, env, s, p);
+    if (s.cube_size == 0) {  // SH alone: on the host, exact for the input (docs/CONVENTIONS.md)
+      IrradianceResult r;
+      r.sh = project_sh(env, s.sh_order, s.window);
+      if (p) p(1.0, "done");
+      return r;
+    }
+    return compute_irradiance(opened(), env, s, p);
   }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions& options) override {
-    return std::make_unique<OpenClEvaluator>(device_, model, materials, options);
+    return std::make_unique<OpenClEvaluator>(opened(), model, materials, options);
   }
-  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate_merl(device_, s, t); }
-  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate(device_, s, t); }
+  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate_merl(opened(), s, t); }
+  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate(opened(), s, t); }
 
  private:
-  Device device_;
+  Device& opened() {
+    if (!device_) device_ = Device::open(selector_);
+    return *device_;
+  }
+  std::string selector_;
+  std::optional<Device> device_;
 };
 
 class ReferenceBackend final : public Backend {
@@ -74,11 +90,11 @@ class ReferenceBackend final : public Backend {
   Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut_reference(s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel_reference(s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
-  CubeLevels prefilter(const EnvImage&, const PrefilterSpec&, PrefilterTiming*, const EnvProgress&) override {
-    throw Error("the reference backend does not prefilter yet; choose an OpenCL device");
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
+    return prefilter_environment_reference(env, s, t, p);
   }
-  IrradianceResult irradiance(const EnvImage&, const IrradianceSpec&, const EnvProgress&) override {
-    throw Error("the reference backend does not compute irradiance yet; choose an OpenCL device");
+  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
+    return compute_irradiance_reference(env, s, p);
   }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions&) override {
@@ -92,7 +108,7 @@ class ReferenceBackend final : public Backend {
 
 std::shared_ptr<Backend> Backend::open(const std::string& selector) {
   if (selector == "reference") return std::make_shared<ReferenceBackend>();
-  return std::make_shared<OpenClBackend>(Device::open(selector));
+  return std::make_shared<OpenClBackend>(selector);
 }
 
 std::shared_ptr<Backend> Backend::open(const Device& device) { return std::make_shared<OpenClBackend>(device); }

@@ -1,4 +1,7 @@
-// Bulk BRDF evaluation and tabulation on the device (kernels/brdf_eval.cl) and by the reference.
+// Bulk BRDF evaluation and tabulation on the device (kernels/brdf_eval.cl): names, lobes, the
+// materials' parameter blocks (derived here, by the engine's own code), programs, evaluation and
+// tables. The reference backend (eval_reference, tabulate_reference, tabulate_merl_reference) is
+// host/src/reference_backend/brdf.cpp.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -11,13 +14,14 @@
 #include <optional>
 #include <thread>
 
+#include "brdf_eval_internal.hpp"
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/microfacet.hpp"
-#include "brdfbake/reference/quadrature.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/gauss_legendre.hpp"
 #include "brdfbake/version.hpp"
-#include "io/merl.hpp"
 #include "runtime/program.hpp"
+#include "sheen_albedo.hpp"
 
 // The parameter block layout, shared with the kernels.
 #include "../../kernels/common/brdf_params.clh"
@@ -25,7 +29,9 @@
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kDisneyMinAlpha;
+using math::kMinAlpha;
+using math::kPi;
 constexpr double kHalfPi = 0.5 * kPi;
 using Clock = std::chrono::steady_clock;
 
@@ -75,16 +81,16 @@ void put(Block& b, int slot, const Rgb& c) {
 void put(Block& b, int slot, double v) { b[static_cast<size_t>(slot)] = v; }
 Rgb scale(const Rgb& c, double s) { return {c.r * s, c.g * s, c.b * s}; }
 
-// Estevez & Kulla 2017, table 1: the fitted L(x) coefficients at r = 0 and r = 1, interpolated with
-// weight (1 - r)^2 on the r = 0 set (KHR_materials_sheen, r = alpha).
-struct SheenFit {
-  double a, b, c, d, e;
-};
-SheenFit sheen_fit(double alpha) {
-  const double t = (1.0 - alpha) * (1.0 - alpha);
-  return {mix(21.5473, 25.3245, t), mix(3.82987, 3.32435, t), mix(0.19823, 0.16801, t), mix(-1.97760, -1.27393, t),
-          mix(-4.32054, -4.85967, t)};
+// The classic models' parameter conventions (docs/CONVENTIONS.md): kd = diffuse_color, else
+// base_color (1 - metallic); ks = specular_color, else mix(0.04, base_color, metallic) (the
+// metallic-roughness F0); n = shininess, else 2048^(1 - roughness) (blinn-phong-from-pbr's mapping).
+Rgb classic_kd(const Material& m) { return m.diffuse_color ? *m.diffuse_color : scale(m.base_color, 1.0 - m.metallic); }
+Rgb classic_ks(const Material& m) {
+  if (m.specular_color) return *m.specular_color;
+  const Rgb& c = m.base_color;
+  return {mix(0.04, c.r, m.metallic), mix(0.04, c.g, m.metallic), mix(0.04, c.b, m.metallic)};
 }
+double classic_exponent(const Material& m) { return m.shininess ? *m.shininess : std::pow(2048.0, 1.0 - m.roughness); }
 
 Block pack_material(BrdfModel model, const Material& m, double sheen_table_offset) {
   Block b{};
@@ -106,8 +112,8 @@ Block pack_material(BrdfModel model, const Material& m, double sheen_table_offse
       put(b, BRDF_DISNEY_ROUGHNESS, m.roughness);
       put(b, BRDF_DISNEY_SUBSURFACE, m.subsurface);
       const double aspect = std::sqrt(1.0 - 0.9 * m.anisotropic);
-      const double ax = std::max(reference::kDisneyMinAlpha, r2 / aspect);
-      const double ay = std::max(reference::kDisneyMinAlpha, r2 * aspect);
+      const double ax = std::max(kDisneyMinAlpha, r2 / aspect);
+      const double ay = std::max(kDisneyMinAlpha, r2 * aspect);
       put(b, BRDF_DISNEY_AX, ax);
       put(b, BRDF_DISNEY_AY, ay);
       put(b, BRDF_DISNEY_D_NORM, 1.0 / (kPi * ax * ay));
@@ -131,15 +137,15 @@ Block pack_material(BrdfModel model, const Material& m, double sheen_table_offse
       put(b, BRDF_GLTF_WEIGHT, m.specular_factor);
       put(b, BRDF_GLTF_DIELECTRIC, (1.0 - m.metallic) * m.specular_factor);
       put(b, BRDF_GLTF_METALLIC, m.metallic);
-      const double alpha = std::max(r2, reference::kMinAlpha);
+      const double alpha = std::max(r2, kMinAlpha);
       put(b, BRDF_GLTF_A2, alpha * alpha);
       const double alpha_s = m.sheen_roughness * m.sheen_roughness;
-      const double inv_a = 1.0 / std::max(alpha_s, reference::kMinAlpha);
+      const double inv_a = 1.0 / std::max(alpha_s, kMinAlpha);
       put(b, BRDF_GLTF_SHEEN, m.sheen_color);
       put(b, BRDF_GLTF_SHEEN_MAX, max3(m.sheen_color));
       put(b, BRDF_GLTF_SHEEN_INV_A, inv_a);
       put(b, BRDF_GLTF_SHEEN_NORM, (2.0 + inv_a) / (2.0 * kPi));
-      const SheenFit fit = sheen_fit(alpha_s);
+      const detail::EstevezKullaFit fit = detail::estevez_kulla_fit(alpha_s);
       put(b, BRDF_GLTF_SHEEN_FIT + 0, fit.a);
       put(b, BRDF_GLTF_SHEEN_FIT + 1, fit.b);
       put(b, BRDF_GLTF_SHEEN_FIT + 2, fit.c);
@@ -149,36 +155,36 @@ Block pack_material(BrdfModel model, const Material& m, double sheen_table_offse
       put(b, BRDF_GLTF_SHEEN_TABLE, sheen_table_offset);
       put(b, BRDF_GLTF_SHEEN_S_SEAM, std::pow(0.5, fit.c));
       put(b, BRDF_GLTF_F0_MAX, max3(f0));
-      const double alpha_c = std::max(m.clearcoat_roughness * m.clearcoat_roughness, reference::kMinAlpha);
+      const double alpha_c = std::max(m.clearcoat_roughness * m.clearcoat_roughness, kMinAlpha);
       put(b, BRDF_GLTF_COAT, m.clearcoat);
       put(b, BRDF_GLTF_COAT_A2, alpha_c * alpha_c);
       break;
     }
     case BrdfModel::Lambert:
-      put(b, BRDF_CLASSIC_KD, scale(reference::classic_diffuse(m), 1.0 / kPi));
+      put(b, BRDF_CLASSIC_KD, scale(classic_kd(m), 1.0 / kPi));
       break;
     case BrdfModel::Phong:
     case BrdfModel::BlinnPhong: {
-      const double n = reference::classic_shininess(m);
+      const double n = classic_exponent(m);
       // Lewis 1994: (n + 2) / (2 pi); RTR3 eq. 7.49: (n + 8) / (8 pi)
       const double norm = !m.normalized ? 1.0 : model == BrdfModel::Phong ? (n + 2.0) / (2.0 * kPi) : (n + 8.0) / (8.0 * kPi);
-      put(b, BRDF_CLASSIC_KD, scale(reference::classic_diffuse(m), 1.0 / kPi));
-      put(b, BRDF_CLASSIC_KS, scale(reference::classic_specular(m), norm));
+      put(b, BRDF_CLASSIC_KD, scale(classic_kd(m), 1.0 / kPi));
+      put(b, BRDF_CLASSIC_KS, scale(classic_ks(m), norm));
       put(b, BRDF_CLASSIC_N, n);
       break;
     }
     case BrdfModel::CookTorrance: {
-      put(b, BRDF_CLASSIC_KD, scale(reference::classic_diffuse(m), 1.0 / kPi));
-      // eta = (1 + sqrt F0) / (1 - sqrt F0): eta^2 - 1 = 4 sqrt(F0) / (1 - sqrt F0)^2; F0 = 1 -> -1.
-      const Rgb f0 = reference::classic_specular(m);
+      put(b, BRDF_CLASSIC_KD, scale(classic_kd(m), 1.0 / kPi));
+      // eta = (1 + sqrt F0) / (1 - sqrt F0); F0 = 1 (eta infinite) -> -1.
+      const Rgb f0 = classic_ks(m);
       for (int c = 0; c < 3; ++c) {
         const double v = c == 0 ? f0.r : c == 1 ? f0.g : f0.b;
         const double s = std::sqrt(v);
-        put(b, BRDF_CLASSIC_KS + c, v >= 1.0 ? -1.0 : 4.0 * s / ((1.0 - s) * (1.0 - s)));
+        put(b, BRDF_CLASSIC_KS + c, v >= 1.0 ? -1.0 : (1.0 + s) / (1.0 - s));
       }
-      const double alpha = std::max(r2, reference::kMinAlpha);
+      const double alpha = std::max(r2, kMinAlpha);
       put(b, BRDF_CLASSIC_A2, alpha * alpha);
-      put(b, BRDF_CLASSIC_BECKMANN, m.distribution == reference::MicrofacetDistribution::Beckmann ? 1.0 : 0.0);
+      put(b, BRDF_CLASSIC_BECKMANN, m.distribution == MicrofacetDistribution::Beckmann ? 1.0 : 0.0);
       break;
     }
     case BrdfModel::BlinnPhongFromPbr: {
@@ -194,86 +200,26 @@ Block pack_material(BrdfModel model, const Material& m, double sheen_table_offse
   return b;
 }
 
-// KHR_materials_sheen's E(mu): the reference's Chebyshev series of the converged Charlie albedo
-// (brdfbake/reference/brdf.hpp), cut into the kernels' cubic pieces (common/brdf_params.clh): on
-// each piece, the cubic in u in [0, 1] through the series at the piece's four Chebyshev points,
-// converted to monomial coefficients. Cached per sheen roughness for the process.
-static_assert(reference::kSheenLowerPanels == BRDF_SHEEN_LOWER && reference::kSheenUpperPanels == BRDF_SHEEN_UPPER,
-              "the sheen albedo panels of the reference and the kernels must agree");
-
-double chebyshev_sum(const double* c, int n, double x) {  // Clenshaw, c[0] already halved
-  double b1 = 0.0, b2 = 0.0;
-  for (int k = n - 1; k >= 1; --k) {
-    const double b0 = c[k] + 2.0 * x * b1 - b2;
-    b2 = b1;
-    b1 = b0;
-  }
-  return c[0] + x * b1 - b2;
-}
-
-const std::vector<double>& sheen_pieces(double sheen_roughness) {
-  static std::mutex mutex;
-  static std::map<double, std::vector<double>> cache;
-  const reference::SheenAlbedoSeries& series = reference::sheen_albedo_series(sheen_roughness);
-  if (std::fabs(series.w_low - BRDF_SHEEN_W_LOW) > 1e-12 || std::fabs(series.w_seam - BRDF_SHEEN_W_SEAM) > 1e-12)
-    throw Error("internal: the sheen albedo series does not match kernels/common/brdf_params.clh");
-  const std::lock_guard<std::mutex> lock(mutex);
-  std::vector<double>& t = cache[sheen_roughness];
-  if (!t.empty()) return t;
-  const int order = reference::kSheenSeriesOrder;
-  const int panels = BRDF_SHEEN_LOWER + BRDF_SHEEN_UPPER;
-  for (int p = 0; p < panels; ++p) {
-    const double* c = series.coefficients.data() + static_cast<size_t>(p) * static_cast<size_t>(order);
-    for (int k = 0; k < BRDF_SHEEN_PIECES; ++k) {
-      // values at the Chebyshev points u_i of the piece, then Newton's divided differences and the
-      // expansion of the Newton form into monomials
-      double u[4], y[4];
-      for (int i = 0; i < 4; ++i) {
-        u[i] = 0.5 * (1.0 - std::cos((2.0 * i + 1.0) * kPi / 8.0));
-        const double local = (k + u[i]) / BRDF_SHEEN_PIECES;  // in [0, 1] across the panel
-        y[i] = chebyshev_sum(c, order, 2.0 * local - 1.0);
-      }
-      double d[4] = {y[0], y[1], y[2], y[3]};
-      for (int j = 1; j < 4; ++j)
-        for (int i = 3; i >= j; --i) d[i] = (d[i] - d[i - 1]) / (u[i] - u[i - j]);
-      // p(u) = d0 + d1 (u - u0) + d2 (u - u0)(u - u1) + d3 (u - u0)(u - u1)(u - u2)
-      double a[4] = {d[3], 0.0, 0.0, 0.0};  // Horner on the Newton form, in monomials
-      for (int i = 2; i >= 0; --i) {
-        // a(u) <- a(u) (u - u_i) + d_i
-        double next[4] = {0.0, 0.0, 0.0, 0.0};
-        for (int m = 0; m < 3; ++m) {
-          next[m + 1] += a[m];
-          next[m] -= a[m] * u[i];
-        }
-        next[0] += d[i];
-        for (int m = 0; m < 4; ++m) a[m] = next[m];
-      }
-      t.insert(t.end(), a, a + 4);
-    }
-  }
-  return t;
-}
-
 bool has_sheen(BrdfModel model, const Material& m) { return is_gltf(model) && max3(m.sheen_color) > 0.0; }
 
 // The narrowest lobe of a material, in radians of the half vector's polar angle: the albedo
 // quadrature starts its log-spaced polar nodes 1e-4 of it below it.
 double narrowest_lobe(BrdfModel model, const Material& m) {
-  const double r2 = std::max(m.roughness * m.roughness, reference::kMinAlpha);
+  const double r2 = std::max(m.roughness * m.roughness, kMinAlpha);
   switch (model) {
     case BrdfModel::Disney: {
       const double aspect = std::sqrt(1.0 - 0.9 * m.anisotropic);
-      double w = std::max(reference::kDisneyMinAlpha, r2 * aspect);
+      double w = std::max(kDisneyMinAlpha, r2 * aspect);
       if (m.clearcoat > 0.0) w = std::min(w, mix(0.1, 0.001, m.clearcoat_gloss));
       return w;
     }
     case BrdfModel::Gltf:
     case BrdfModel::GltfCorrelated:
-      return m.clearcoat > 0.0 ? std::min(r2, std::max(m.clearcoat_roughness * m.clearcoat_roughness, reference::kMinAlpha))
+      return m.clearcoat > 0.0 ? std::min(r2, std::max(m.clearcoat_roughness * m.clearcoat_roughness, kMinAlpha))
                                : r2;
     case BrdfModel::CookTorrance: return r2;
     case BrdfModel::Phong:
-    case BrdfModel::BlinnPhong: return 1.0 / std::sqrt(reference::classic_shininess(m) + 1.0);
+    case BrdfModel::BlinnPhong: return 1.0 / std::sqrt(classic_exponent(m) + 1.0);
     case BrdfModel::BlinnPhongFromPbr: return 1.0 / std::sqrt(std::pow(2048.0, 1.0 - m.roughness) + 1.0);
     case BrdfModel::Lambert: break;
   }
@@ -291,7 +237,7 @@ detail::ProgramSpec program_spec(BrdfModel model, const Lobes& lobes, const Eval
   ps.file = "brdf_eval.cl";
   ps.precision = options.precision;
   ps.defines.push_back({model_entry(model).define, "1"});
-  ps.defines.push_back({"BRDFBAKE_BRDF_LANES", std::to_string(lanes)});
+  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes)});
   const std::pair<bool, const char*> flags[] = {
       {lobes.diffuse, "BRDFBAKE_LOBE_DIFFUSE"},     {lobes.subsurface, "BRDFBAKE_LOBE_SUBSURFACE"},
       {lobes.sheen, "BRDFBAKE_LOBE_SHEEN"},         {lobes.clearcoat, "BRDFBAKE_LOBE_CLEARCOAT"},
@@ -346,7 +292,7 @@ Packed pack(BrdfModel model, const std::vector<Material>& materials) {
       auto it = sheen_offsets.find(m.sheen_roughness);
       if (it == sheen_offsets.end()) {
         it = sheen_offsets.emplace(m.sheen_roughness, out.sheen.size()).first;
-        const auto& t = sheen_pieces(m.sheen_roughness);
+        const auto& t = detail::sheen_albedo_pieces(m.sheen_roughness);
         out.sheen.insert(out.sheen.end(), t.begin(), t.end());
       }
       offset = static_cast<double>(it->second);
@@ -355,23 +301,6 @@ Packed pack(BrdfModel model, const std::vector<Material>& materials) {
     out.params.insert(out.params.end(), b.begin(), b.end());
   }
   return out;
-}
-
-std::string pair_error(size_t i, const char* which) {
-  return "direction pair " + std::to_string(i) + ": " + which + " is zero or not finite";
-}
-
-// Normalises a direction in double (largest component divided out first); false when it is zero or
-// not finite.
-bool unit(const double* v, double* out) {
-  const double m = std::max(std::fabs(v[0]), std::max(std::fabs(v[1]), std::fabs(v[2])));
-  if (!(m > 0.0) || !std::isfinite(m) || !std::isfinite(v[0] + v[1] + v[2])) return false;
-  const double x = v[0] / m, y = v[1] / m, z = v[2] / m;
-  const double len = std::sqrt(x * x + y * y + z * z);
-  out[0] = x / len;
-  out[1] = y / len;
-  out[2] = z / len;
-  return true;
 }
 
 std::string fmt(double v) {
@@ -387,6 +316,21 @@ const char* kConventions =
     "roughness^2 (docs/CONVENTIONS.md, BRDF evaluation)";
 
 }  // namespace
+
+std::string detail::pair_error(size_t i, const char* which) {
+  return "direction pair " + std::to_string(i) + ": " + which + " is zero or not finite";
+}
+
+bool detail::unit_direction(const double* v, double* out) {
+  const double m = std::max(std::fabs(v[0]), std::max(std::fabs(v[1]), std::fabs(v[2])));
+  if (!(m > 0.0) || !std::isfinite(m) || !std::isfinite(v[0] + v[1] + v[2])) return false;
+  const double x = v[0] / m, y = v[1] / m, z = v[2] / m;
+  const double len = std::sqrt(x * x + y * y + z * z);
+  out[0] = x / len;
+  out[1] = y / len;
+  out[2] = z / len;
+  return true;
+}
 
 // ---- Names ----------------------------------------------------------------------------------------
 
@@ -444,8 +388,8 @@ Lobes lobes_used(BrdfModel model, const std::vector<Material>& materials) {
         break;
       }
       case BrdfModel::CookTorrance:
-        l.beckmann |= m.distribution == reference::MicrofacetDistribution::Beckmann;
-        l.ggx |= m.distribution == reference::MicrofacetDistribution::Ggx;
+        l.beckmann |= m.distribution == MicrofacetDistribution::Beckmann;
+        l.ggx |= m.distribution == MicrofacetDistribution::Ggx;
         break;
       default: break;
     }
@@ -545,10 +489,10 @@ void BrdfEvaluator::eval(const double* pairs, size_t count, double* out, EvalTim
   s.staging.assign(kPairPlanes * stride, 0.0);
   for (size_t i = 0; i < count; ++i) {
     double wi[3], wo[3], h[3];
-    if (!unit(pairs + 6 * i, wi)) throw Error(pair_error(i, "wi"));
-    if (!unit(pairs + 6 * i + 3, wo)) throw Error(pair_error(i, "wo"));
+    if (!detail::unit_direction(pairs + 6 * i, wi)) throw Error(detail::pair_error(i, "wi"));
+    if (!detail::unit_direction(pairs + 6 * i + 3, wo)) throw Error(detail::pair_error(i, "wo"));
     const double sum[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
-    if (!unit(sum, h)) h[0] = h[1] = 0.0, h[2] = 1.0;  // wi = -wo: no half vector (and f = 0)
+    if (!detail::unit_direction(sum, h)) h[0] = h[1] = 0.0, h[2] = 1.0;  // wi = -wo: no half vector (and f = 0)
     for (size_t c = 0; c < 3; ++c) {
       s.staging[c * stride + i] = wi[c];
       s.staging[(3 + c) * stride + i] = wo[c];
@@ -593,20 +537,6 @@ void BrdfEvaluator::eval(const double* pairs, size_t count, double* out, EvalTim
   }
 }
 
-void eval_reference(BrdfModel model, const Material& material, const double* pairs, size_t count, double* out) {
-  validate_material(material, "material");
-  for (size_t i = 0; i < count; ++i) {
-    const double* d = pairs + 6 * i;
-    double wi[3], wo[3];
-    if (!unit(d, wi)) throw Error(pair_error(i, "wi"));
-    if (!unit(d + 3, wo)) throw Error(pair_error(i, "wo"));
-    const Rgb f = reference::brdf(model, material, {d[0], d[1], d[2]}, {d[3], d[4], d[5]});
-    out[3 * i] = f.r;
-    out[3 * i + 1] = f.g;
-    out[3 * i + 2] = f.b;
-  }
-}
-
 // ---- Tabulation -----------------------------------------------------------------------------------
 
 namespace {
@@ -623,7 +553,9 @@ constexpr double kAlbedoStartMax = 1e-5;
 constexpr int kAlbedoNodesB = 96;
 constexpr int kAlbedoNodesPhi = 64;
 
-void check_spec(const TabulateSpec& s) {
+}  // namespace
+
+void detail::check_tabulate_spec(const TabulateSpec& s) {
   if (s.materials.empty()) throw Error("no materials to tabulate");
   if (s.layout != TableLayout::Albedo && s.materials.size() != 1)
     throw Error(std::string("layout ") + table_layout_name(s.layout) + " tabulates one material (got " +
@@ -633,13 +565,17 @@ void check_spec(const TabulateSpec& s) {
     throw Error("slice phi_d must be in [0, pi] (got " + fmt(s.slice_phi_d) + ")");
 }
 
+namespace {
+
 std::vector<Material> params_of(const TabulateSpec& s) {
   std::vector<Material> v;
   for (const NamedMaterial& m : s.materials) v.push_back(m.params);
   return v;
 }
 
-void common_meta(Metadata& meta, const TabulateSpec& s, const std::vector<int>& res, const std::string& device,
+}  // namespace
+
+void detail::tabulate_metadata(Metadata& meta, const TabulateSpec& s, const std::vector<int>& res, const std::string& device,
                  const std::string& precision, const std::string& lobes) {
   auto set = [&](const std::string& k, const std::string& v) {
     for (auto& kv : meta)
@@ -664,6 +600,8 @@ void common_meta(Metadata& meta, const TabulateSpec& s, const std::vector<int>& 
   set("conventions", kConventions);
 }
 
+namespace {
+
 std::string device_name(Device::Impl& dev) {
   return dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")";
 }
@@ -672,30 +610,9 @@ std::string precision_label(const EvalOptions& o) {
   return std::string(precision_name(o.precision)) + (o.fast_math ? " -cl-fast-relaxed-math" : "");
 }
 
-// Runs body(k) for k in [0, n) on every core.
-template <class Body>
-void parallel_for(size_t n, Body&& body) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    try {
-      for (size_t k = next++; k < n; k = next++) body(k);
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next = n;
-    }
-  };
-  const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), static_cast<unsigned>(std::max<size_t>(1, n))));
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
+}  // namespace
 
-Table make_table(const TabulateSpec& s, const std::vector<int>& res) {
+Table detail::make_tabulate_table(const TabulateSpec& s, const std::vector<int>& res) {
   Table t;
   t.channels = {"r", "g", "b"};
   switch (s.layout) {
@@ -754,17 +671,19 @@ Table make_table(const TabulateSpec& s, const std::vector<int>& res) {
   return t;
 }
 
-void merl_meta(Metadata& meta) {
+void detail::merl_metadata(Metadata& meta) {
   meta.emplace_back("merl_layout",
                     "bin (i, j, k) of theta_h, theta_d, phi_d holds f at theta_h = ((i + 0.5)/90)^2 pi/2, theta_d = "
                     "(j + 0.5)/90 pi/2, phi_d = (k + 0.5)/180 pi, phi_h = 0, stored as f / scale with scale = "
                     "1/1500, 1.15/1500, 1.66/1500 (red, green, blue); -1 where a direction is below the horizon");
 }
 
+namespace {
+
 // The albedo quadrature nodes (layout in kernels/brdf_eval.cl, brdf_albedo).
 std::vector<double> albedo_nodes(int n_a, int n_b, int n_p) {
   std::vector<double> q;
-  const auto& g8 = reference::gauss_legendre(8);
+  const auto& g8 = math::gauss_legendre(8);
   const int panels = n_a / 8;
   std::vector<double> xa, wa;
   for (int p = 0; p < panels; ++p)
@@ -774,7 +693,7 @@ std::vector<double> albedo_nodes(int n_a, int n_b, int n_p) {
     }
   q.insert(q.end(), xa.begin(), xa.end());
   q.insert(q.end(), wa.begin(), wa.end());
-  const auto& gb = reference::gauss_legendre(n_b);
+  const auto& gb = math::gauss_legendre(n_b);
   for (int k = 0; k < n_b; ++k) q.push_back(0.5 * (1.0 - std::cos(kPi * 0.5 * (1.0 + gb.nodes[size_t(k)]))));
   for (int k = 0; k < n_b; ++k) {
     const double x = 0.5 * (1.0 + gb.nodes[size_t(k)]);
@@ -782,7 +701,7 @@ std::vector<double> albedo_nodes(int n_a, int n_b, int n_p) {
   }
   for (int j = 0; j < n_p; ++j) q.push_back(std::cos((j + 0.5) * kPi / n_p));
   for (int j = 0; j < n_p; ++j) q.push_back(std::sin((j + 0.5) * kPi / n_p));
-  const auto& gp = reference::gauss_legendre(n_p);
+  const auto& gp = math::gauss_legendre(n_p);
   for (int j = 0; j < n_p; ++j) q.push_back(0.5 * (1.0 + gp.nodes[size_t(j)]));
   for (int j = 0; j < n_p; ++j) q.push_back(0.5 * gp.weights[size_t(j)]);
   return q;
@@ -821,7 +740,7 @@ std::vector<int> tabulate_resolution(const TabulateSpec& s) {
 MerlTable tabulate_merl(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   const auto t0 = Clock::now();
   if (s.layout != TableLayout::Merl) throw Error("tabulate_merl needs the merl layout");
-  check_spec(s);
+  detail::check_tabulate_spec(s);
   const std::vector<int> res = tabulate_resolution(s);
   auto& dev = device.impl();
   const int lanes = resolve_lanes(s.options);
@@ -842,8 +761,8 @@ MerlTable tabulate_merl(Device& device, const TabulateSpec& s, TabulateTiming* t
     read_reals(dev, prec, out, t.values.size(), t.values.data());
     return detail::event_seconds(e);
   });
-  common_meta(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
-  merl_meta(t.metadata);
+  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
+  detail::merl_metadata(t.metadata);
   if (timing) {
     timing->device_seconds = device_seconds;
     timing->wall_seconds = seconds_since(t0);
@@ -851,38 +770,10 @@ MerlTable tabulate_merl(Device& device, const TabulateSpec& s, TabulateTiming* t
   return t;
 }
 
-MerlTable tabulate_merl_reference(const TabulateSpec& s, TabulateTiming* timing) {
-  const auto t0 = Clock::now();
-  if (s.layout != TableLayout::Merl) throw Error("tabulate_merl_reference needs the merl layout");
-  check_spec(s);
-  const std::vector<int> res = tabulate_resolution(s);
-  const Material& m = s.materials.front().params;
-  MerlTable t;
-  t.values.resize(3 * kMerlBins);
-  parallel_for(static_cast<size_t>(kMerlThetaH * kMerlThetaD), [&](size_t row) {
-    const int i = static_cast<int>(row) / kMerlThetaD, j = static_cast<int>(row) % kMerlThetaD;
-    for (int k = 0; k < kMerlPhiD; ++k) {
-      const io::MerlAngles a = io::merl_bin_centre(i, j, k);
-      reference::Vec3 wi{}, wo{};
-      io::half_diff_to_directions(a.theta_h, a.theta_d, a.phi_d, wi, wo);
-      const size_t b = row * kMerlPhiD + static_cast<size_t>(k);
-      Rgb f{kMerlBelowHorizon, kMerlBelowHorizon, kMerlBelowHorizon};
-      if (wi.z > 0.0 && wo.z > 0.0) f = reference::brdf(s.model, m, wi, wo);
-      t.values[b] = f.r;
-      t.values[kMerlBins + b] = f.g;
-      t.values[2 * kMerlBins + b] = f.b;
-    }
-  });
-  common_meta(t.metadata, s, res, "reference (scalar double)", "fp64", "all");
-  merl_meta(t.metadata);
-  if (timing) timing->device_seconds = timing->wall_seconds = seconds_since(t0);
-  return t;
-}
-
 Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   const auto t0 = Clock::now();
   if (s.layout == TableLayout::Merl) throw Error("the merl layout is written by tabulate_merl");
-  check_spec(s);
+  detail::check_tabulate_spec(s);
   const std::vector<int> res = tabulate_resolution(s);
   auto& dev = device.impl();
   const int lanes = resolve_lanes(s.options);
@@ -890,7 +781,7 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   const Lobes lobes = s.options.specialize ? lobes_used(s.model, mats) : all_lobes(s.model);
   cl::Program program = detail::build_program(dev, program_spec(s.model, lobes, s.options, lanes));
   const Packed packed = pack(s.model, mats);
-  Table t = make_table(s, res);
+  Table t = detail::make_tabulate_table(s, res);
   const Precision prec = s.options.precision;
   const size_t l = static_cast<size_t>(lanes);
   const std::string what = std::string("kernel brdf_") + table_layout_name(s.layout) + " on '" + dev.info.name + "'";
@@ -956,71 +847,13 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
     }
     return detail::event_seconds(e);
   });
-  common_meta(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
+  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
   if (s.layout == TableLayout::Albedo)
     t.set_meta("method", "deterministic quadrature over the half vector, split at the horizon (kernels/brdf_eval.cl)");
   if (timing) {
     timing->device_seconds = device_seconds;
     timing->wall_seconds = seconds_since(t0);
   }
-  return t;
-}
-
-Table tabulate_reference(const TabulateSpec& s, TabulateTiming* timing) {
-  const auto t0 = Clock::now();
-  if (s.layout == TableLayout::Merl) throw Error("the merl layout is written by tabulate_merl_reference");
-  check_spec(s);
-  const std::vector<int> res = tabulate_resolution(s);
-  Table t = make_table(s, res);
-  auto store = [&](size_t cell, const Rgb& f) {
-    t.data[cell * 3] = static_cast<float>(f.r);
-    t.data[cell * 3 + 1] = static_cast<float>(f.g);
-    t.data[cell * 3 + 2] = static_cast<float>(f.b);
-  };
-  switch (s.layout) {
-    case TableLayout::Albedo: {
-      const int n = res[0];
-      parallel_for(s.materials.size() * static_cast<size_t>(n), [&](size_t k) {
-        const size_t m = k / static_cast<size_t>(n);
-        const int i = static_cast<int>(k % static_cast<size_t>(n));
-        store(m * static_cast<size_t>(n) + static_cast<size_t>(i),
-              reference::directional_albedo(s.model, s.materials[m].params, (i + 0.5) / n * kHalfPi));
-      });
-      t.set_meta("method", "nested adaptive Gauss-Legendre over the half vector, to 1e-7 (reference)");
-      break;
-    }
-    case TableLayout::Grid: {
-      const int ni = res[0], no = res[1], np = res[2];
-      const Material& m = s.materials.front().params;
-      parallel_for(static_cast<size_t>(ni) * static_cast<size_t>(np), [&](size_t row) {
-        const int k = static_cast<int>(row) / ni, i = static_cast<int>(row) % ni;
-        const double ti = (i + 0.5) / ni * kHalfPi, pd = (k + 0.5) / np * kPi;
-        for (int j = 0; j < no; ++j) {
-          const double to = (j + 0.5) / no * kHalfPi;
-          const reference::Vec3 wi{std::sin(ti), 0.0, std::cos(ti)};
-          const reference::Vec3 wo{std::sin(to) * std::cos(pd), std::sin(to) * std::sin(pd), std::cos(to)};
-          store(row * static_cast<size_t>(no) + static_cast<size_t>(j), reference::brdf(s.model, m, wi, wo));
-        }
-      });
-      break;
-    }
-    case TableLayout::Slice: {
-      const int w = res[0], h = res[1];
-      const Material& m = s.materials.front().params;
-      parallel_for(static_cast<size_t>(h), [&](size_t j) {
-        for (int i = 0; i < w; ++i) {
-          reference::Vec3 wi{}, wo{};
-          io::half_diff_to_directions((i + 0.5) / w * kHalfPi, (static_cast<double>(j) + 0.5) / h * kHalfPi,
-                                      s.slice_phi_d, wi, wo);
-          store(j * static_cast<size_t>(w) + static_cast<size_t>(i), reference::brdf(s.model, m, wi, wo));
-        }
-      });
-      break;
-    }
-    case TableLayout::Merl: break;
-  }
-  common_meta(t.metadata, s, res, "reference (scalar double)", "fp64", "all");
-  if (timing) timing->device_seconds = timing->wall_seconds = seconds_since(t0);
   return t;
 }
 

@@ -112,8 +112,8 @@ void set_field(const Field& f, Material& m, const json& v, const std::string& wh
       break;
     case Kind::Distribution: {
       const std::string d = v.is_string() ? v.get<std::string>() : std::string();
-      if (d == "ggx") m.distribution = reference::MicrofacetDistribution::Ggx;
-      else if (d == "beckmann") m.distribution = reference::MicrofacetDistribution::Beckmann;
+      if (d == "ggx") m.distribution = MicrofacetDistribution::Ggx;
+      else if (d == "beckmann") m.distribution = MicrofacetDistribution::Beckmann;
       else throw Error(where + ": distribution must be \"ggx\" or \"beckmann\" (got " + v.dump() + ")");
       break;
     }
@@ -171,8 +171,8 @@ void validate_material(const Material& m, const std::string& where) {
       throw Error(where + ": specularColorFactor must have every channel finite and >= 0 (got " + fmt(v) + ")");
   if (m.diffuse_color) check_unit(where, "diffuseColor", *m.diffuse_color);
   if (m.specular_color) check_unit(where, "specularColor", *m.specular_color);
-  if (m.shininess && !(*m.shininess >= 0.0 && *m.shininess <= reference::kMaxShininess))
-    throw Error(where + ": shininess must be in [0, " + fmt(reference::kMaxShininess) + "] (got " +
+  if (m.shininess && !(*m.shininess >= 0.0 && *m.shininess <= kMaxShininess))
+    throw Error(where + ": shininess must be in [0, " + fmt(kMaxShininess) + "] (got " +
                 fmt(*m.shininess) + ")");
 }
 
@@ -354,7 +354,7 @@ std::string material_to_json(const NamedMaterial& nm) {
         break;
       case Kind::Boolean: j[f.name] = m.normalized; break;
       case Kind::Distribution:
-        j[f.name] = m.distribution == reference::MicrofacetDistribution::Beckmann ? "beckmann" : "ggx";
+        j[f.name] = m.distribution == MicrofacetDistribution::Beckmann ? "beckmann" : "ggx";
         break;
     }
   }

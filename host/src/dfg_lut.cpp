@@ -1,8 +1,6 @@
-// The DFG lookup tables on the device (kernels/dfg_lut.cl) and by the reference.
+// The DFG lookup tables on the device (kernels/dfg_lut.cl); the reference backend's bake_lut_reference
+// is host/src/reference_backend/dfg_lut.cpp.
 #include <algorithm>
-#include <atomic>
-#include <mutex>
-#include <thread>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,9 +8,9 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/lut.hpp"
-#include "brdfbake/reference/dfg.hpp"
-#include "brdfbake/reference/quadrature.hpp"
+#include "brdfbake/math/gauss_legendre.hpp"
 #include "brdfbake/version.hpp"
+#include "dfg_lut_internal.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -78,17 +76,12 @@ int default_samples(LutKind kind, Estimator estimator, Precision precision) {
   return kFallbackSamples;
 }
 
-reference::SheenVisibility to_reference(SheenVisibility v) {
-  return v == SheenVisibility::Neubelt ? reference::SheenVisibility::Neubelt
-                                       : reference::SheenVisibility::EstevezKulla;
-}
-
 // The quadrature's split of `samples` evaluations per texel: n_xi nodes in the polar variable and
 // n_phi in azimuth, on each of the two panels (2 n_xi n_phi evaluations). The azimuth converges
 // much faster than the polar angle (docs/BENCHMARKS.md), so n_phi stays small until the polar rule
 // is long. The kernel runs 8 polar nodes at once: n_xi is rounded up to a multiple of 8.
 void quadrature_shape(LutKind kind, int samples, int& n_xi, int& n_phi) {
-  constexpr int kWidth = 8;  // BRDFBAKE_VW: n_xi is a multiple of it
+  constexpr int kWidth = 8;  // BRDFBAKE_LANES: n_xi is a multiple of it
   // GGX's azimuth rule limits it to ~1e-5 with 8 nodes (grazing, low roughness), so it doubles
   // them early; Charlie's band needs polar nodes first (measured: docs/BENCHMARKS.md).
   const int to16 = kind == LutKind::Charlie ? 2048 : 768;
@@ -110,7 +103,9 @@ std::string fmt(double v) {
   return b;
 }
 
-Table make_table(const LutSpec& s) {
+}  // namespace
+
+Table detail::make_lut_table(const LutSpec& s) {
   Table t;
   t.width = static_cast<int>(s.n_dot_v.size());
   t.height = static_cast<int>(s.roughness.size());
@@ -127,11 +122,18 @@ Table make_table(const LutSpec& s) {
   std::string channels;
   for (const auto& c : t.channels) channels += (channels.empty() ? "" : ",") + c;
   t.set_meta("channels", channels);
-  t.set_meta("x_axis", "n_dot_v = (i + 0.5) / width, the cell centre of column i");
-  t.set_meta("y_axis", std::string(s.kind == LutKind::Charlie ? "sheen_roughness" : "roughness") +
-                           " = (j + 0.5) / height, perceptual, the cell centre of row j; alpha = " +
-                           (s.kind == LutKind::Charlie ? "sheen_roughness^2" : "roughness^2"));
-  t.set_meta("layout", "row j = 0 (smallest roughness) stored first; sample at uv = (n_dot_v, roughness)");
+  const std::string rough = s.kind == LutKind::Charlie ? "sheen_roughness" : "roughness";
+  const bool sx = s.n_dot_v_axis == LutAxis::Sqrt, sy = s.roughness_axis == LutAxis::Sqrt;
+  t.set_meta("x_axis", std::string("n_dot_v = ") + (sx ? "((i + 0.5) / width)^2" : "(i + 0.5) / width") +
+                           ", at the cell centre of column i");
+  t.set_meta("y_axis", rough + " = " + (sy ? "((j + 0.5) / height)^2" : "(j + 0.5) / height") +
+                           ", perceptual, at the cell centre of row j; alpha = " + rough + "^2");
+  t.set_meta("n_dot_v_axis", lut_axis_name(s.n_dot_v_axis));
+  t.set_meta("roughness_axis", lut_axis_name(s.roughness_axis));
+  t.set_meta("layout", "row j = 0 (smallest roughness) stored first; sample at uv = (" +
+                           std::string(sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " + (sy ? "sqrt(" + rough + ")" : rough) + ")");
+  t.set_meta("lookup", std::string("uv = (") + (sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " +
+                           (sy ? "sqrt(" + rough + ")" : rough) + "), bilinear, clamp to edge");
   switch (s.kind) {
     case LutKind::Ggx:
       t.set_meta("definition",
@@ -155,31 +157,20 @@ Table make_table(const LutSpec& s) {
   return t;
 }
 
+namespace {
+
 // A Gauss-Legendre rule mapped to [0, 1].
 struct Rule01 {
   std::vector<double> x, w;
 };
 Rule01 rule01(int n) {
-  const auto& r = reference::gauss_legendre(n);
+  const auto& r = math::gauss_legendre(n);
   Rule01 out;
   for (size_t k = 0; k < r.nodes.size(); ++k) {
     out.x.push_back(0.5 * (1.0 + r.nodes[k]));
     out.w.push_back(0.5 * r.weights[k]);
   }
   return out;
-}
-
-// The reference values of one texel, channels in lut_channels order.
-void reference_texel(LutKind kind, double n_dot_v, double roughness, reference::SheenVisibility vis,
-                     float* out) {
-  if (kind == LutKind::Charlie) {
-    out[0] = static_cast<float>(reference::charlie_albedo(n_dot_v, roughness, vis));
-    return;
-  }
-  const auto d = reference::dfg_ggx(n_dot_v, roughness);
-  out[0] = static_cast<float>(kind == LutKind::Ggx ? d.scale : d.bias);
-  out[1] = static_cast<float>(kind == LutKind::Ggx ? d.bias : d.scale + d.bias);
-  out[2] = static_cast<float>(reference::burley_albedo(n_dot_v, roughness));
 }
 
 bool has_custom_points(const LutSpec& in) { return !in.n_dot_v.empty() || !in.roughness.empty(); }
@@ -196,6 +187,15 @@ SheenVisibility sheen_visibility_from_name(const std::string& n) {
   return from_name<SheenVisibility>(kVisibilities, n, "sheen visibility");
 }
 const char* sheen_visibility_name(SheenVisibility v) { return to_name(kVisibilities, v); }
+
+LutAxis lut_axis_from_name(const std::string& n) {
+  if (n == "uniform") return LutAxis::Uniform;
+  if (n == "sqrt") return LutAxis::Sqrt;
+  throw Error("unknown axis '" + n + "' (expected uniform or sqrt)");
+}
+const char* lut_axis_name(LutAxis a) { return a == LutAxis::Sqrt ? "sqrt" : "uniform"; }
+double lut_axis_uv(LutAxis a, double x) { return a == LutAxis::Sqrt ? std::sqrt(std::max(0.0, x)) : x; }
+double lut_axis_value(LutAxis a, double uv) { return a == LutAxis::Sqrt ? uv * uv : uv; }
 
 std::vector<std::string> lut_channels(LutKind kind) {
   switch (kind) {
@@ -262,8 +262,9 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
   if (!has_custom_points(s)) {
     s.n_dot_v.resize(static_cast<size_t>(s.width));
     s.roughness.resize(static_cast<size_t>(s.height));
-    for (int i = 0; i < s.width; ++i) s.n_dot_v[static_cast<size_t>(i)] = (i + 0.5) / s.width;
-    for (int j = 0; j < s.height; ++j) s.roughness[static_cast<size_t>(j)] = (j + 0.5) / s.height;
+    for (int i = 0; i < s.width; ++i) s.n_dot_v[static_cast<size_t>(i)] = lut_axis_value(s.n_dot_v_axis, (i + 0.5) / s.width);
+    for (int j = 0; j < s.height; ++j)
+      s.roughness[static_cast<size_t>(j)] = lut_axis_value(s.roughness_axis, (j + 0.5) / s.height);
   }
   return s;
 }
@@ -317,7 +318,7 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
   q.insert(q.end(), gl_d.x.begin(), gl_d.x.end());
   q.insert(q.end(), gl_d.w.begin(), gl_d.w.end());
 
-  Table t = make_table(s);
+  Table t = detail::make_lut_table(s);
   const std::string what = "kernel dfg_lut on '" + dev.info.name + "'";
   double device_seconds = detail::cl_call(what, [&] {
     auto real_buffer = [&](const std::vector<double>& v) {
@@ -374,44 +375,6 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
     timing->device_seconds = device_seconds;
     timing->wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  return t;
-}
-
-Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  LutSpec s = resolve_lut_spec(in);
-  Table t = make_table(s);
-  const auto vis = to_reference(s.sheen_visibility);
-  // Rows are shared among the cores; each texel is an independent converged integral.
-  std::atomic<int> next_row{0}, done_rows{0};
-  std::mutex progress_mutex;
-  auto worker = [&] {
-    for (int j = next_row++; j < s.height; j = next_row++) {
-      for (int i = 0; i < s.width; ++i)
-        reference_texel(s.kind, s.n_dot_v[size_t(i)], s.roughness[size_t(j)], vis, &t.at(i, j, 0));
-      const int done = ++done_rows;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        progress(static_cast<double>(done) / s.height);
-      }
-    }
-  };
-  const unsigned n_threads = std::max(1u, std::min(std::thread::hardware_concurrency(),
-                                                   static_cast<unsigned>(s.height)));
-  std::vector<std::thread> pool;
-  for (unsigned k = 1; k < n_threads; ++k) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  t.set_meta("device", "reference (scalar double, converged quadrature)");
-  t.set_meta("precision", "fp64");
-  t.set_meta("estimator", "reference");
-  t.set_meta("samples", "converged");
-  t.set_meta("error_bound", fmt(kLutReferenceBound));
-  t.set_meta("error_bound_definition", "the reference's stated convergence (tests/reference)");
-  if (timing) {
-    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    timing->device_seconds = timing->wall_seconds;
   }
   return t;
 }

@@ -1,6 +1,6 @@
-// Loading environments: equirects and crosses through OpenImageIO, six face files, KTX2 cubes, and
-// the procedural builtin:studio and builtin:sun; validation of the values.
-#include <OpenImageIO/imageio.h>
+// Loading environments: equirects and crosses (OpenEXR and Radiance RGBE read directly, other
+// formats through the OpenImageIO module, io/image_file), six face files, KTX2 cubes, and the
+// procedural builtin:studio and builtin:sun; validation of the values.
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,7 +11,8 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "io/image_file.hpp"
 
 namespace brdfbake {
 namespace {
@@ -21,7 +22,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 const char* const kFaceNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
-// ---- Files through OpenImageIO -------------------------------------------------------------------
+// ---- Image files --------------------------------------------------------------------------------
 
 struct RgbImage {
   int width = 0, height = 0;
@@ -29,51 +30,43 @@ struct RgbImage {
   std::string description;
 };
 
-// Level 0 of subimage 0 of any image OpenImageIO reads, as RGB float (R, G, B found by name, else
-// the first three channels; one channel is grey).
+// The largest environment read, in pixels (16384 x 16384).
+constexpr uint64_t kMaxEnvironmentPixels = uint64_t(1) << 28;
+
+// Level 0 of the first image of a file (io::read_image), as RGB float: R, G, B found by name, else
+// the first three channels; one channel is grey.
 RgbImage read_rgb_image(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("cannot read environment '" + path + "': no such file");
   if (fs::is_directory(path, ec)) throw Error("cannot read environment '" + path + "': it is a folder");
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    if (why.empty()) why = "not an image format OpenImageIO reads";
-    throw Error("cannot read environment '" + path + "': " + why);
+  io::FloatImage image;
+  try {
+    image = io::read_image(path, kMaxEnvironmentPixels);
+  } catch (const Error& e) {
+    throw Error("cannot read environment '" + path + "': " + e.what());
   }
-  const OIIO::ImageSpec spec = in->spec(0, 0);
-  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  const int w = image.width, h = image.height, nch = image.channels;
   if (w < 1 || h < 1 || nch < 1) throw Error("environment '" + path + "' has no pixels");
-  if (static_cast<long long>(w) * h > (1ll << 28))
-    throw Error("environment '" + path + "' is too large (" + std::to_string(w) + "x" + std::to_string(h) + ")");
   int ch[3] = {0, nch > 1 ? 1 : 0, nch > 2 ? 2 : 0};
   if (nch == 2) ch[1] = ch[2] = 0;
   for (int c = 0; c < nch; ++c) {
-    const std::string& name = spec.channelnames.size() > size_t(c) ? spec.channelnames[size_t(c)] : "";
+    const std::string& name = image.channel_names.size() > size_t(c) ? image.channel_names[size_t(c)] : "";
     if (name == "R" || name == "r") ch[0] = c;
     if (name == "G" || name == "g") ch[1] = c;
     if (name == "B" || name == "b") ch[2] = c;
   }
-  std::vector<float> all(static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(nch));
-  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data())) {
-    std::string why = in->geterror();
-    if (why.empty()) why = "read failed";
-    throw Error("cannot read environment '" + path + "' (truncated or corrupt?): " + why);
-  }
   RgbImage out;
   out.width = w;
   out.height = h;
-  out.rgb.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
-  for (size_t p = 0; p < static_cast<size_t>(w) * static_cast<size_t>(h); ++p)
-    for (size_t c = 0; c < 3; ++c) out.rgb[3 * p + c] = all[p * static_cast<size_t>(nch) + static_cast<size_t>(ch[c])];
-  std::ostringstream d;
-  d << in->format_name() << " " << w << "x" << h << ", " << nch << " channel(s), " << spec.format.c_str();
-  if (spec.tile_width > 0) d << ", tiled";
-  int levels = 1;
-  while (in->seek_subimage(0, levels)) ++levels;
-  if (levels > 1) d << ", " << levels << " mip levels (level 0 read)";
-  out.description = d.str();
-  in->close();
+  if (nch == 3 && ch[0] == 0 && ch[1] == 1 && ch[2] == 2) {
+    out.rgb = std::move(image.pixels);
+  } else {
+    out.rgb.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
+    for (size_t p = 0; p < static_cast<size_t>(w) * static_cast<size_t>(h); ++p)
+      for (size_t c = 0; c < 3; ++c)
+        out.rgb[3 * p + c] = image.pixels[p * static_cast<size_t>(nch) + static_cast<size_t>(ch[c])];
+  }
+  out.description = image.description;
   return out;
 }
 
@@ -174,7 +167,7 @@ EnvImage load_faces(const std::vector<std::string>& files, const std::string& sp
 struct V3 {
   double x, y, z;
 };
-V3 v3(const reference::Dir3& d) { return {d.x, d.y, d.z}; }
+V3 v3(const Vec3& d) { return {d.x, d.y, d.z}; }
 double dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 V3 cross(const V3& a, const V3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 V3 unit(const V3& a) {
@@ -278,7 +271,7 @@ EnvImage render_equirect(const std::string& name, int width, void (*radiance)(co
   const double pixel_angle = 2.0 * kPi / w;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const V3 centre = v3(reference::equirect_direction((x + 0.5) / w, (y + 0.5) / h));
+      const V3 centre = v3(math::equirect_direction((x + 0.5) / w, (y + 0.5) / h));
       int k = 2;
       if (sun && std::acos(std::clamp(dot(centre, sun_direction()), -1.0, 1.0)) <
                      kSunRadius + 4.0 * pixel_angle / std::max(0.05, std::sqrt(1.0 - centre.y * centre.y)))
@@ -287,7 +280,7 @@ EnvImage render_equirect(const std::string& name, int width, void (*radiance)(co
       for (int sy = 0; sy < k; ++sy)
         for (int sx = 0; sx < k; ++sx) {
           const double v = (y + (sy + 0.5) / k) / h;
-          const V3 d = v3(reference::equirect_direction((x + (sx + 0.5) / k) / w, v));
+          const V3 d = v3(math::equirect_direction((x + (sx + 0.5) / k) / w, v));
           const double weight = std::cos(kPi * (0.5 - v));  // solid angle of the sub-sample
           double l[3];
           radiance(d, l);
@@ -314,11 +307,8 @@ EnvImage builtin_environment(const std::string& name, int width) {
   throw Error("unknown builtin environment 'builtin:" + name + "' (expected builtin:studio or builtin:sun)");
 }
 
-EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
-  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
-  if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
-
-  EnvImage env;
+// The six face files a spec names ("PX,NX,PY,NY,PZ,NZ", or a path holding "{face}"), or none.
+static std::vector<std::string> face_files(const std::string& spec) {
   std::vector<std::string> faces;
   if (spec.find(',') != std::string::npos) {
     std::stringstream ss(spec);
@@ -329,17 +319,26 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
     for (const char* f : kFaceNames) faces.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
   }
+  return faces;
+}
+
+EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
+  if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
+  if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
+
+  EnvImage env;
+  const std::vector<std::string> faces = face_files(spec);
   if (!faces.empty()) {
     env = load_faces(faces, spec);
   } else if (ends_with(spec, ".ktx2")) {
     env = read_ktx2_cube(spec, 0);
   } else {
-    const RgbImage img = read_rgb_image(spec);
+    RgbImage img = read_rgb_image(spec);
     if (img.width == 2 * img.height) {
       env.layout = EnvImage::Layout::Equirect;
       env.width = img.width;
       env.height = img.height;
-      env.rgb = img.rgb;
+      env.rgb = std::move(img.rgb);
       env.description = "equirect: " + img.description;
     } else if (3 * img.width == 4 * img.height && img.width % 4 == 0) {
       env = cube_from_cross(img, true);
@@ -384,18 +383,8 @@ void check_environment_source(const std::string& spec) {
       if (n == name) return;
     throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
   }
-  std::vector<std::string> files;
-  if (spec.find(',') != std::string::npos) {
-    std::stringstream ss(spec);
-    std::string item;
-    while (std::getline(ss, item, ',')) files.push_back(item);
-    if (files.size() != 6)
-      throw Error("a cube from face files needs six files (+X,-X,+Y,-Y,+Z,-Z), got " + std::to_string(files.size()));
-  } else if (const size_t at = spec.find("{face}"); at != std::string::npos) {
-    for (const char* f : kFaceNames) files.push_back(spec.substr(0, at) + f + spec.substr(at + 6));
-  } else {
-    files.push_back(spec);
-  }
+  std::vector<std::string> files = face_files(spec);
+  if (files.empty()) files.push_back(spec);
   namespace fs = std::filesystem;
   for (const auto& f : files) {
     std::error_code ec;

@@ -1,4 +1,7 @@
-// Fresnel reflectance tables on the device (kernels/fresnel.cl) and by the reference.
+// Fresnel reflectance tables on the device (kernels/fresnel.cl): names, validation, the resolution of a
+// spec into the kernels' parameters (material presets and the engine's own fits), errors and the
+// comparison of models. The reference backend (bake_fresnel_reference, fit_conductor) is
+// host/src/reference_backend/fresnel.cpp.
 #include "brdfbake/fresnel.hpp"
 
 #include <algorithm>
@@ -10,15 +13,14 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
+#include "fresnel_internal.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 
-namespace {
+using detail::Resolved;
 
-using reference::MaterialKind;
-using reference::MaterialPreset;
-using reference::Rgb;
+namespace {
 
 // ---- Names ---------------------------------------------------------------------------------------
 
@@ -53,19 +55,6 @@ const ModelInfo& info(FresnelModel m) {
   for (const ModelInfo& i : kModels)
     if (i.model == m) return i;
   throw Error("invalid FresnelModel value");
-}
-
-// Kernel parameters per channel, in kernels/fresnel.cl's order, and which one a 2-D table's y axis
-// replaces (kernels/fresnel.cl's FRESNEL_Y_PARAM).
-int parameter_count(FresnelModel m) {
-  switch (m) {
-    case FresnelModel::SchlickMetallic:
-    case FresnelModel::Empirical: return 3;
-    default: return 2;
-  }
-}
-int y_parameter(FresnelModel m) {
-  return m == FresnelModel::SchlickIor || m == FresnelModel::Dielectric ? 1 : 0;
 }
 
 // Cells per work-item in kernels/fresnel.cl: kChunks vectors of lanes(precision) cells; 16 lanes
@@ -157,30 +146,17 @@ void check_rgb(const std::optional<Rgb>& c, const std::string& what, Check check
 
 std::string material_list() {
   std::vector<std::string> names;
-  for (const MaterialPreset& p : reference::material_presets()) names.push_back(p.name);
+  for (const MaterialPreset& p : material_presets()) names.push_back(p.name);
   return join(names, ", ");
 }
 
 const MaterialPreset* find_preset(const std::string& name) {
-  const MaterialPreset* p = reference::find_material(name);
+  const MaterialPreset* p = find_material_preset(name);
   if (!p) throw Error("unknown material '" + name + "' (expected one of " + material_list() + ")");
   return p;
 }
 
 // ---- Resolution -----------------------------------------------------------------------------------
-
-// What the kernel and the reference evaluate: the cells, and per channel the model's parameters.
-struct Resolved {
-  FresnelSpec spec;
-  const MaterialPreset* preset = nullptr;
-  bool two_d = false;
-  int width = 0, height = 1, channels = 3;
-  std::vector<double> x, y;
-  std::vector<double> params;  // channels x parameter_count(model)
-  std::string y_name;          // "f0" | "ior" for 2-D tables
-  std::pair<double, double> range{0.0, 0.0};
-  std::string parameters;      // for the metadata
-};
 
 std::vector<double> grid(int n, double lo, double hi, bool endpoints) {
   std::vector<double> g(static_cast<size_t>(n));
@@ -238,7 +214,63 @@ void check_values(const FresnelSpec& s) {
   }
 }
 
-Resolved resolve(const FresnelSpec& in) {
+}  // namespace
+
+// ---- The engine's conversions of a conductor's (n, k) --------------------------------------------
+// Written here, not taken from the reference: the kernels receive these parameters, and a mistake
+// in them must show against the reference's own fit (tests/device/test_fresnel.cpp).
+
+// The exact unpolarised reflectance of a conductor n + ik seen from air at incidence cos c, in real
+// arithmetic (Born & Wolf 14.2; the form of Cook & Torrance 1982, appendix): with s^2 = 1 - c^2,
+// t0 = n^2 - k^2 - s^2 and a^2 + b^2 = sqrt(t0^2 + 4 n^2 k^2), a = sqrt((a^2 + b^2 + t0) / 2),
+//   R_s = (a^2 + b^2 + c^2 - 2 a c) / (a^2 + b^2 + c^2 + 2 a c),
+//   R_p = R_s ((a^2 + b^2) c^2 + s^4 - 2 a c s^2) / ((a^2 + b^2) c^2 + s^4 + 2 a c s^2).
+namespace {
+double conductor_reflectance(double c, double n, double k) {
+  const double c2 = c * c, s2 = 1.0 - c2;
+  const double t0 = n * n - k * k - s2;
+  const double ab2 = std::sqrt(t0 * t0 + 4.0 * n * n * k * k);
+  const double a = std::sqrt(std::max(0.0, 0.5 * (ab2 + t0)));
+  const double two_ac = 2.0 * a * c;
+  const double rs = (ab2 + c2 - two_ac) / (ab2 + c2 + two_ac);
+  const double q = ab2 * c2 + s2 * s2, r = two_ac * s2;
+  const double rp = rs * (q - r) / (q + r);
+  return 0.5 * (rs + rp);
+}
+}  // namespace
+
+Rgb detail::conductor_f0(const Rgb& n, const Rgb& k) {
+  const auto f0 = [](double nn, double kk) {
+    const double k2 = kk * kk;
+    return ((nn - 1.0) * (nn - 1.0) + k2) / ((nn + 1.0) * (nn + 1.0) + k2);
+  };
+  return {f0(n.r, k.r), f0(n.g, k.g), f0(n.b, k.b)};
+}
+
+// F82(1/7) = tint * Schlick(1/7) = exact(1/7) (Hoffman 2023): tint = exact(1/7) / Schlick(1/7, F0),
+// Schlick(1/7) = F0 + (1 - F0)(6/7)^5 >= (6/7)^5 > 0.46, never 0.
+Rgb detail::fit_f82_tint(const Rgb& n, const Rgb& k) {
+  const Rgb f0 = conductor_f0(n, k);
+  const double pin = 1.0 / 7.0, w = std::pow(6.0 / 7.0, 5.0);
+  const auto tint = [&](double nn, double kk, double f) {
+    return conductor_reflectance(pin, nn, kk) / (f + (1.0 - f) * w);
+  };
+  return {tint(n.r, k.r, f0.r), tint(n.g, k.g, f0.g), tint(n.b, k.b, f0.b)};
+}
+
+int detail::fresnel_parameter_count(FresnelModel m) {
+  switch (m) {
+    case FresnelModel::SchlickMetallic:
+    case FresnelModel::Empirical: return 3;
+    default: return 2;
+  }
+}
+
+int detail::fresnel_y_parameter(FresnelModel m) {
+  return m == FresnelModel::SchlickIor || m == FresnelModel::Dielectric ? 1 : 0;
+}
+
+Resolved detail::resolve_fresnel(const FresnelSpec& in) {
   Resolved r;
   r.spec = in;
   const FresnelSpec& s = r.spec;
@@ -269,7 +301,7 @@ Resolved resolve(const FresnelSpec& in) {
                   "' is a conductor (use the conductor model)");
     if (r.two_d)
       throw Error("a 2-D table takes its " +
-                  std::string(y_parameter(m) == 1 ? "ior" : "f0") +
+                  std::string(fresnel_y_parameter(m) == 1 ? "ior" : "f0") +
                   " from the y axis; give no material");
   }
 
@@ -331,10 +363,10 @@ Resolved resolve(const FresnelSpec& in) {
   // Per-channel parameters in the kernel's order; and the record of them.
   std::vector<Rgb> p;  // one Rgb per kernel parameter
   const MaterialPreset* mat = r.preset;
-  const Rgb exact_f0 = mat ? reference::exact_f0(*mat) : Rgb{0, 0, 0};
+  const Rgb preset_f0 = mat ? exact_f0(*mat) : Rgb{0, 0, 0};
   switch (m) {
     case FresnelModel::Schlick: {
-      const Rgb f0 = mat ? exact_f0 : s.f0.value_or(splat(0.0));
+      const Rgb f0 = mat ? preset_f0 : s.f0.value_or(splat(0.0));
       const Rgb f90 = s.f90.value_or(splat(1.0));
       p = {f0, f90};
       r.parameters = (r.two_d ? "f0 = y axis" : "f0 = " + fmt(f0)) + ", f90 = " + fmt(f90);
@@ -342,7 +374,7 @@ Resolved resolve(const FresnelSpec& in) {
       break;
     }
     case FresnelModel::SchlickMetallic: {
-      Rgb base = mat ? exact_f0 : *s.base_color;
+      Rgb base = mat ? preset_f0 : *s.base_color;
       double metallic = mat ? (mat->kind == MaterialKind::Conductor ? 1.0 : 0.0) : *s.metallic;
       const double d = s.dielectric_f0.value_or(0.04);
       p = {base, splat(metallic), splat(d)};
@@ -371,8 +403,8 @@ Resolved resolve(const FresnelSpec& in) {
       break;
     }
     case FresnelModel::F82Tint: {
-      const Rgb f0 = mat ? exact_f0 : s.f0.value_or(splat(0.0));
-      const Rgb tint = mat ? reference::fit_f82_tint(mat->n, mat->k) : *s.f82_tint;
+      const Rgb f0 = mat ? preset_f0 : s.f0.value_or(splat(0.0));
+      const Rgb tint = mat ? fit_f82_tint(mat->n, mat->k) : *s.f82_tint;
       p = {f0, tint};
       r.parameters = (r.two_d ? "f0 = y axis" : "f0 = " + fmt(f0)) + ", f82_tint = " + fmt(tint);
       if (mat) r.parameters += " (" + mat->name + ": exact F0, tint fitted at cos = 1/7)";
@@ -402,24 +434,7 @@ Resolved resolve(const FresnelSpec& in) {
   return r;
 }
 
-// ---- Reference evaluation ---------------------------------------------------------------------
-
-// One channel of one cell by the scalar double reference, parameters in the kernel's order.
-double reference_value(FresnelModel m, const double* p, double c) {
-  switch (m) {
-    case FresnelModel::Schlick: return reference::fresnel_schlick(c, p[0], p[1]);
-    case FresnelModel::SchlickMetallic:
-      return reference::fresnel_schlick(c, reference::schlick_metallic_f0(splat(p[0]), p[1], p[2]).r);
-    case FresnelModel::SchlickIor: return reference::fresnel_schlick(c, reference::f0_from_ior(p[0], p[1]));
-    case FresnelModel::Dielectric: return reference::fresnel_dielectric(c, p[1] / p[0]);
-    case FresnelModel::Conductor: return reference::fresnel_conductor(c, p[0], p[1]);
-    case FresnelModel::F82Tint: return reference::fresnel_f82_tint(c, p[0], p[1]);
-    case FresnelModel::Empirical: return reference::fresnel_empirical(c, p[0], p[1], p[2]);
-  }
-  return 0.0;
-}
-
-Table make_table(const Resolved& r) {
+Table detail::make_fresnel_table(const Resolved& r) {
   const FresnelSpec& s = r.spec;
   Table t;
   t.width = r.width;
@@ -439,7 +454,7 @@ Table make_table(const Resolved& r) {
     t.set_meta("material_n", fmt(r.preset->n));
     t.set_meta("material_k", fmt(r.preset->k));
     t.set_meta("material_source", r.preset->nk_source);
-    t.set_meta("material_wavelengths_nm", fmt(reference::kPresetWavelengthsNm));
+    t.set_meta("material_wavelengths_nm", fmt(kPresetWavelengthsNm));
   } else {
     t.set_meta("material", "none");
   }
@@ -469,13 +484,30 @@ Table make_table(const Resolved& r) {
   } else {
     t.set_meta("layout", "one row; sample at u = cos_theta with the same cell rule");
   }
-  t.set_meta("conventions",
-             "unpolarised reflectance (mean of s and p); eta = n_t / n_i; cos_theta outside [0, 1] "
-             "is clamped (docs/CONVENTIONS.md, Fresnel tables)");
+  // The conventions of what the model computes: eta only where an index of refraction enters.
+  const char* what = "";
+  switch (s.model) {
+    case FresnelModel::Dielectric:
+    case FresnelModel::Conductor:
+    case FresnelModel::SchlickIor:
+      what = "unpolarised reflectance (mean of s and p); eta = n_t / n_i; ";
+      break;
+    case FresnelModel::Schlick:
+    case FresnelModel::SchlickMetallic:
+    case FresnelModel::F82Tint:
+      what = "an approximation of unpolarised reflectance from its value at normal incidence; ";
+      break;
+    case FresnelModel::Empirical:
+      what = "an empirical rim term, not a solution of the Fresnel equations; ";
+      break;
+  }
+  t.set_meta("conventions", std::string(what) + "cos_theta outside [0, 1] is clamped (docs/CONVENTIONS.md, Fresnel tables)");
   return t;
 }
 
 // ---- Errors ------------------------------------------------------------------------------------
+
+namespace {
 
 void check_same_shape(const Table& a, const Table& b) {
   if (a.width != b.width || a.height != b.height || a.channels != b.channels ||
@@ -531,10 +563,10 @@ const char* fresnel_table_kind_name(FresnelTableKind kind) {
 
 // ---- Public: specs -----------------------------------------------------------------------------
 
-void validate_fresnel_spec(const FresnelSpec& spec) { (void)resolve(spec); }
+void validate_fresnel_spec(const FresnelSpec& spec) { (void)detail::resolve_fresnel(spec); }
 
 FresnelSpec exact_fresnel_spec(const FresnelSpec& spec) {
-  const Resolved r = resolve(spec);
+  const Resolved r = detail::resolve_fresnel(spec);
   if (r.two_d) throw Error("the exact model is compared with 1-D tables only");
   FresnelSpec e;
   e.size = spec.size;
@@ -570,7 +602,7 @@ FresnelSpec exact_fresnel_spec(const FresnelSpec& spec) {
 
 Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Resolved r = resolve(spec);
+  const Resolved r = detail::resolve_fresnel(spec);
   auto& dev = device.impl();
 
   detail::ProgramSpec ps;
@@ -578,7 +610,7 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
   ps.precision = spec.precision;
   ps.defines.push_back({info(spec.model).define, "1"});
   ps.defines.push_back({"BRDFBAKE_FRESNEL_CHUNKS", std::to_string(kChunks)});
-  ps.defines.push_back({"BRDFBAKE_FRESNEL_LANES", std::to_string(lanes(spec.precision))});
+  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes(spec.precision))});
   if (r.two_d) ps.defines.push_back({"BRDFBAKE_FRESNEL_2D", "1"});
   cl::Program program = detail::build_program(dev, ps);
 
@@ -589,7 +621,7 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
   xs.resize(items * cells_per_item, 1.0);
   std::vector<double> ys = r.two_d ? r.y : std::vector<double>{0.0};
 
-  Table t = make_table(r);
+  Table t = detail::make_fresnel_table(r);
   const std::string what = "kernel fresnel_table on '" + dev.info.name + "'";
   const double device_seconds = detail::cl_call(what, [&] {
     auto real_buffer = [&](const std::vector<double>& v, cl_mem_flags flags) {
@@ -622,29 +654,6 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
   if (timing) {
     timing->device_seconds = device_seconds;
     timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  return t;
-}
-
-Table bake_fresnel_reference(const FresnelSpec& spec, FresnelTiming* timing) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Resolved r = resolve(spec);
-  Table t = make_table(r);
-  const int np = parameter_count(spec.model);
-  std::vector<double> p(static_cast<size_t>(np));
-  for (int j = 0; j < r.height; ++j) {
-    for (int c = 0; c < r.channels; ++c) {
-      std::copy_n(r.params.begin() + static_cast<std::ptrdiff_t>(c * np), np, p.begin());
-      if (r.two_d) p[static_cast<size_t>(y_parameter(spec.model))] = r.y[static_cast<size_t>(j)];
-      for (int i = 0; i < r.width; ++i)
-        t.at(i, j, c) = static_cast<float>(reference_value(spec.model, p.data(), r.x[static_cast<size_t>(i)]));
-    }
-  }
-  t.set_meta("device", "reference (scalar double)");
-  t.set_meta("precision", "fp64");
-  if (timing) {
-    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    timing->device_seconds = timing->wall_seconds;
   }
   return t;
 }
@@ -721,7 +730,7 @@ FresnelComparison compare_fresnel_models(const std::string& material, Device* de
   exact_spec.size = options.grid;
   exact_spec.endpoints = true;
   const Table exact = bake_fresnel_reference(exact_spec);
-  const Rgb f0 = reference::exact_f0(*preset);
+  const Rgb f0 = exact_f0(*preset);
 
   for (FresnelModel m : fresnel_models()) {
     if (preset->kind == MaterialKind::Conductor &&
@@ -789,31 +798,7 @@ FresnelComparison compare_fresnel_models(const std::string& material, Device* de
   return out;
 }
 
-// ---- Public: conversions -----------------------------------------------------------------------
-
-ConductorFit fit_conductor(const Rgb& n, const Rgb& k) {
-  FresnelSpec check;
-  check.model = FresnelModel::Conductor;
-  check.n = n;
-  check.k = k;
-  validate_fresnel_spec(check);
-  ConductorFit fit;
-  fit.f0 = reference::schlick_f0_from_conductor(n, k);
-  fit.f82_tint = reference::fit_f82_tint(n, k);
-  double schlick[3], f82[3];
-  for (int c = 0; c < 3; ++c) {
-    const double nc = channel(n, c), kc = channel(k, c), f0c = channel(fit.f0, c),
-                 tc = channel(fit.f82_tint, c);
-    const auto exact = [&](double x) { return reference::fresnel_conductor(x, nc, kc); };
-    schlick[c] = reference::fresnel_fit_error([&](double x) { return reference::fresnel_schlick(x, f0c); },
-                                              exact).max_abs;
-    f82[c] = reference::fresnel_fit_error(
-                 [&](double x) { return reference::fresnel_f82_tint(x, f0c, tc); }, exact).max_abs;
-  }
-  fit.schlick_max_error = {schlick[0], schlick[1], schlick[2]};
-  fit.f82_max_error = {f82[0], f82[1], f82[2]};
-  return fit;
-}
+// ---- Public: hard-coded F0 values ------------------------------------------------------------
 
 // Hoffman 2010, SIGGRAPH course "Physically-Based Shading Models in Film and Game Production",
 // Table 1 (values from Real-Time Rendering, 3rd ed.): the F0 colours many shaders still hard-code.
@@ -833,7 +818,7 @@ constexpr const char* kLegacySource =
     "Hoffman 2010 SIGGRAPH course notes, Table 1 (from Real-Time Rendering 3rd ed.)";
 }  // namespace
 
-std::vector<HardCodedF0> hard_coded_f0(const reference::MaterialPreset& preset) {
+std::vector<HardCodedF0> hard_coded_f0(const MaterialPreset& preset) {
   std::vector<HardCodedF0> out;
   if (preset.common_f0) out.push_back({*preset.common_f0, preset.common_f0_source});
   for (const LegacyF0& l : kLegacyF0) {

@@ -1,5 +1,5 @@
-// Diffuse irradiance on the device (kernels/irradiance.cl): spherical harmonics projected with a
-// work-group reduction, and an irradiance cube by direct cosine convolution.
+// Diffuse irradiance: spherical harmonics projected on the host (sh_projection.cpp), and an
+// irradiance cube by direct cosine convolution on the device (kernels/irradiance.cl).
 //
 // Conventions (docs/CONVENTIONS.md): real SH without the Condon-Shortley phase, index l (l + 1) + m;
 // "radiance" holds L_lm = int L Y_lm dl; "irradiance_over_pi" holds c_lm = (A_l / pi) w_l L_lm with
@@ -13,17 +13,18 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "io/atomic_file.hpp"
+#include "env_internal.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr int kGroups = 64;      // work-groups of the projection (a power of two for sh_reduce)
-constexpr int kGroupSize = 64;   // work-items per group
+using math::kPi;
 constexpr int kMaxPointSource = 64;  // the rest is summed at this face size or below
 constexpr int kBrightSplit = 2;      // sub-cells per texel side of a bright texel's footprint
 
@@ -36,18 +37,6 @@ cl::Buffer real_buffer(Device::Impl& dev, Precision p, const std::vector<double>
   std::vector<float> f(v.size());
   for (size_t k = 0; k < v.size(); ++k) f[k] = static_cast<float>(v[k]);
   return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
-}
-
-std::vector<double> read_reals(Device::Impl& dev, Precision p, const cl::Buffer& b, size_t n) {
-  std::vector<double> out(n);
-  if (p == Precision::Fp64) {
-    dev.queue.enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(double), out.data());
-  } else {
-    std::vector<float> f(n);
-    dev.queue.enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(float), f.data());
-    for (size_t k = 0; k < n; ++k) out[k] = f[k];
-  }
-  return out;
 }
 
 // The rest of the cube (bright texels removed) reduced by solid-angle-weighted 2x2 means to a face
@@ -63,7 +52,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   auto solid_angles = [&](int n) {
     omega.assign(size_t(n) * size_t(n), 0.0);
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = reference::cube_texel_solid_angle(n, i, j);
+      for (int i = 0; i < n; ++i) omega[size_t(j) * size_t(n) + size_t(i)] = math::cube_texel_solid_angle(n, i, j);
   };
   solid_angles(s);
   while (s > kMaxPointSource && s % 2 == 0) {
@@ -91,7 +80,7 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i) {
-        const auto d = reference::cube_texel_direction(f, s, i, j);
+        const auto d = math::cube_texel_direction(f, s, i, j);
         const double w = omega[size_t(j) * size_t(s) + size_t(i)];
         const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
         arrays[0].push_back(d.x);
@@ -131,126 +120,119 @@ std::vector<double> sh_window_weights(ShWindow w, int order) {
   return out;
 }
 
-IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
-                                    const EnvProgress& progress) {
+void detail::check_irradiance_spec(const IrradianceSpec& spec) {
   if (spec.sh_order != 3 && spec.sh_order != 5)
     throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
   if (spec.cube_size < 0 || spec.cube_size > kIrradianceMaxCube)
-    throw Error("irradiance cube size must be in 1.." + std::to_string(kIrradianceMaxCube) + " (or 0 for none), not " + std::to_string(spec.cube_size));
+    throw Error("irradiance cube size must be in 1.." + std::to_string(kIrradianceMaxCube) + " (or 0 for none), not " +
+                std::to_string(spec.cube_size));
   if (spec.source_size < 1 || spec.source_size > kIrradianceMaxSource)
-    throw Error("irradiance source size must be in 1.." + std::to_string(kIrradianceMaxSource) + ", not " + std::to_string(spec.source_size));
-  auto& dev = device.impl();
+    throw Error("irradiance source size must be in 1.." + std::to_string(kIrradianceMaxSource) + ", not " +
+                std::to_string(spec.source_size));
+}
+
+ShCoefficients detail::sh_coefficients(const IrradianceSpec& spec, std::vector<double> radiance) {
+  ShCoefficients sh;
+  sh.order = spec.sh_order;
+  sh.window = spec.window;
+  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
+  sh.radiance = std::move(radiance);
+  sh.irradiance_over_pi.resize(sh.radiance.size());
+  for (int l = 0; l < spec.sh_order; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const size_t k = size_t(math::sh_index(l, m));
+      for (size_t c = 0; c < 3; ++c)
+        sh.irradiance_over_pi[3 * k + c] =
+            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
+    }
+  return sh;
+}
+
+void detail::irradiance_cube_metadata(CubeLevels& c, const EnvImage& env, const IrradianceSpec& spec,
+                                      const ShCoefficients& sh, const std::string& definition,
+                                      const std::string& precision, const std::string& device) {
+  c.set_meta("generator", std::string("brdfbake ") + kVersion);
+  c.set_meta("kind", "irradiance");
+  c.set_meta("definition", definition);
+  c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
+  c.set_meta("source", env.source);
+  c.set_meta("source_size", std::to_string(spec.source_size));
+  std::string coeffs;
+  for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
+  c.set_meta("sh_order", std::to_string(sh.order));
+  c.set_meta("sh_irradiance_over_pi", coeffs);
+  if (!sh.projection.empty()) c.set_meta("sh_projection", sh.projection);
+  c.set_meta("sh_convention",
+             "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
+  c.set_meta("precision", precision);
+  c.set_meta("device", device);
+}
+
+IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress) {
+  detail::check_irradiance_spec(spec);
   IrradianceResult result;
-  if (progress) progress(0.0, "converting to a cube");
+  // The SH on the host (sh_projection.cpp): exact for the input, and no device for SH alone.
+  if (progress) progress(0.0, "spherical harmonics");
+  result.sh = project_sh(env, spec.sh_order, spec.window);
+  const ShCoefficients& sh = result.sh;
+  if (spec.cube_size == 0) {
+    if (progress) progress(1.0, "done");
+    return result;
+  }
+  auto& dev = device.impl();
+  if (progress) progress(0.1, "converting to a cube");
   double seconds = 0.0;
   const CubeLevels cube = environment_to_cube(device, env, spec.source_size, &seconds);
   const int s = cube.size;
-  const int n_sh = spec.sh_order * spec.sh_order;
-  const size_t n_acc = size_t(3 * n_sh + 1);
 
-  std::vector<double> totals;
-  detail::cl_call("projecting on spherical harmonics on '" + dev.info.name + "'", [&] {
+  detail::cl_call("computing the irradiance cube on '" + dev.info.name + "'", [&] {
     detail::ProgramSpec ps;
     ps.file = "irradiance.cl";
     ps.precision = spec.precision;
     ps.defines = {{"BRDFBAKE_SH_ORDER", std::to_string(spec.sh_order)}, {"BRDFBAKE_ENV_COSINE", "1"}};
     cl::Program prog = detail::build_program(dev, ps);
-    const size_t real_size = spec.precision == Precision::Fp64 ? sizeof(double) : sizeof(float);
-
-    if (progress) progress(0.1, "spherical harmonics");
-    std::vector<double> omega(size_t(s) * size_t(s));
-    for (int j = 0; j < s; ++j)
-      for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
-    cl::Buffer cube_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cube.levels[0].size() * sizeof(float),
-                        const_cast<float*>(cube.levels[0].data()));
-    cl::Buffer omega_buf = real_buffer(dev, spec.precision, omega);
-    cl::Buffer partials(dev.context, CL_MEM_READ_WRITE, size_t(kGroups) * n_acc * real_size);
-    cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, n_acc * real_size);
-    cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::LocalSpaceArg> project(prog, "sh_project");
-    cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer> reduce(prog, "sh_reduce");
-    std::vector<cl::Event> events;
-    events.push_back(project(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(kGroups * kGroupSize)), cl::NDRange(kGroupSize)),
-                             cube_buf, s, omega_buf, partials, cl::Local(size_t(kGroupSize) * n_acc * real_size)));
-    events.push_back(reduce(cl::EnqueueArgs(dev.queue, cl::NDRange(n_acc)), partials, kGroups, out));
-    totals = read_reals(dev, spec.precision, out, n_acc);
-    for (auto& e : events) seconds += detail::event_seconds(e);
-
-    if (spec.cube_size > 0) {
-      if (progress) progress(0.4, "irradiance cube");
-      const std::vector<BrightTexel> bright = find_bright_texels(cube, kDefaultBrightTexels, kBrightRatio);
-      std::vector<double> arrays[6];
-      rest_points(cube, bright, arrays);
-      // bright texels at full resolution, as their bilinear footprints split into sub-cells: the
-      // cosine's kink at the horizon cuts through them
-      int n_bright = 0;
-      const std::vector<double> bp = bright_texel_points(bright, s, kBrightSplit, 1.0, &n_bright);
-      const size_t padded = bp.size() / 6;
-      for (size_t a = 0; a < 6; ++a)
-        arrays[a].insert(arrays[a].end(), bp.begin() + static_cast<std::ptrdiff_t>(a * padded),
-                         bp.begin() + static_cast<std::ptrdiff_t>(a * padded + size_t(n_bright)));
-      while (arrays[0].size() % 8 != 0) {
-        arrays[0].push_back(0.0);
-        arrays[1].push_back(0.0);
-        arrays[2].push_back(1.0);
-        for (size_t c = 0; c < 3; ++c) arrays[3 + c].push_back(0.0);
-      }
-      std::vector<double> pts;
-      for (const auto& a : arrays) pts.insert(pts.end(), a.begin(), a.end());
-      const int n_points = static_cast<int>(arrays[0].size());
-      cl::Buffer pts_buf = real_buffer(dev, spec.precision, pts);
-      const int cs = spec.cube_size;
-      cl::Buffer cube_out(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(cs) * sizeof(float));
-      cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> irr(prog, "irradiance_cube");
-      cl::Event e = irr(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(cs), 6u * size_t(cs))), cube_out, cs, pts_buf,
-                        n_points);
-      result.cube.size = cs;
-      result.cube.levels.assign(1, std::vector<float>(4 * face_texels(cs)));
-      dev.queue.enqueueReadBuffer(cube_out, CL_TRUE, 0, result.cube.levels[0].size() * sizeof(float),
-                                  result.cube.levels[0].data());
-      seconds += detail::event_seconds(e);
+    if (progress) progress(0.4, "irradiance cube");
+    const std::vector<BrightTexel> bright = find_bright_texels(cube, kDefaultBrightTexels, kBrightRatio);
+    std::vector<double> arrays[6];
+    rest_points(cube, bright, arrays);
+    // bright texels at full resolution, as their bilinear footprints split into sub-cells: the
+    // cosine's kink at the horizon cuts through them
+    int n_bright = 0;
+    const std::vector<double> bp = bright_texel_points(bright, s, kBrightSplit, 1.0, &n_bright);
+    const size_t padded = bp.size() / 6;
+    for (size_t a = 0; a < 6; ++a)
+      arrays[a].insert(arrays[a].end(), bp.begin() + static_cast<std::ptrdiff_t>(a * padded),
+                       bp.begin() + static_cast<std::ptrdiff_t>(a * padded + size_t(n_bright)));
+    while (arrays[0].size() % 8 != 0) {
+      arrays[0].push_back(0.0);
+      arrays[1].push_back(0.0);
+      arrays[2].push_back(1.0);
+      for (size_t c = 0; c < 3; ++c) arrays[3 + c].push_back(0.0);
     }
+    std::vector<double> pts;
+    for (const auto& a : arrays) pts.insert(pts.end(), a.begin(), a.end());
+    const int n_points = static_cast<int>(arrays[0].size());
+    cl::Buffer pts_buf = real_buffer(dev, spec.precision, pts);
+    const int cs = spec.cube_size;
+    cl::Buffer cube_out(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(cs) * sizeof(float));
+    cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> irr(prog, "irradiance_cube");
+    cl::Event e = irr(cl::EnqueueArgs(dev.queue, cl::NDRange(size_t(cs), 6u * size_t(cs))), cube_out, cs, pts_buf,
+                      n_points);
+    result.cube.size = cs;
+    result.cube.levels.assign(1, std::vector<float>(4 * face_texels(cs)));
+    dev.queue.enqueueReadBuffer(cube_out, CL_TRUE, 0, result.cube.levels[0].size() * sizeof(float),
+                                result.cube.levels[0].data());
+    seconds += detail::event_seconds(e);
     return 0;
   });
-
-  // SH: normalise by the solid angle sum (exactly 4 pi up to rounding), apply A_l / pi and the window.
-  ShCoefficients& sh = result.sh;
-  sh.order = spec.sh_order;
-  sh.window = spec.window;
-  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
-  const double scale = 4.0 * kPi / totals[size_t(3 * n_sh)];
-  sh.radiance.resize(size_t(3 * n_sh));
-  sh.irradiance_over_pi.resize(size_t(3 * n_sh));
-  for (int l = 0; l < spec.sh_order; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const size_t k = size_t(l * (l + 1) + m);
-      for (size_t c = 0; c < 3; ++c) {
-        sh.radiance[3 * k + c] = totals[3 * k + c] * scale;
-        sh.irradiance_over_pi[3 * k + c] =
-            sh.radiance[3 * k + c] * reference::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
-      }
-    }
   result.device_seconds = seconds;
 
-  if (spec.cube_size > 0) {
-    CubeLevels& c = result.cube;
-    c.set_meta("generator", std::string("brdfbake ") + kVersion);
-    c.set_meta("kind", "irradiance");
-    c.set_meta("definition",
-               "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
-               "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse "
-               "albedo only");
-    c.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order), OpenGL face orientation, +Y up");
-    c.set_meta("source", env.source);
-    c.set_meta("source_size", std::to_string(spec.source_size));
-    std::string coeffs;
-    for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
-    c.set_meta("sh_order", std::to_string(sh.order));
-    c.set_meta("sh_irradiance_over_pi", coeffs);
-    c.set_meta("sh_convention",
-               "real SH without Condon-Shortley phase, index l(l+1)+m, RGB per coefficient; E(n)/pi = sum c Y(n)");
-    c.set_meta("precision", precision_name(spec.precision));
-    c.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
-  }
+  detail::irradiance_cube_metadata(
+      result.cube, env, spec, sh,
+      "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
+      "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse albedo only",
+      precision_name(spec.precision), dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (progress) progress(1.0, "done");
   return result;
 }
@@ -266,6 +248,7 @@ std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
       "Y1-1 = 0.488603 y, Y10 = 0.488603 z, Y11 = 0.488603 x, Y2-2 = 1.092548 xy, Y2-1 = 1.092548 yz, "
       "Y20 = 0.315392 (3z^2 - 1), Y21 = 1.092548 xz, Y22 = 0.546274 (x^2 - y^2), ...";
   j["radiance_definition"] = "L_lm = int L(l) Y_lm(l) dl";
+  if (!sh.projection.empty()) j["projection"] = sh.projection;
   j["irradiance_definition"] =
       "c_lm = (A_l / pi) w_l L_lm, A = (pi, 2pi/3, pi/4, 0, -pi/24) (Ramamoorthi & Hanrahan 2001), so that "
       "E(n) / pi = sum_lm c_lm Y_lm(n): irradiance DIVIDED BY PI, multiply by the albedo only";

@@ -15,18 +15,21 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sampling.hpp"
 #include "brdfbake/version.hpp"
+#include "env_internal.hpp"
+#include "env_lobes.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
-constexpr int kVectorWidth = 8;  // BRDFBAKE_VW: sample and point arrays are padded to a multiple
+constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
@@ -44,18 +47,6 @@ double luminance(const float* rgb) {
 
 size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
 
-reference::EnvLobe to_lobe(EnvDistribution d) {
-  return d == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
-}
-
-double van_der_corput(uint32_t i) {
-  i = (i << 16) | (i >> 16);
-  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
-  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
-  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
-  i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
-  return static_cast<double>(i) * 2.3283064365386963e-10;
-}
 
 // The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
 // (kernels/prefilter.cl): N Hammersley points, h from D(h) (n.h), l = 2 (n.h) h - n, kept when
@@ -65,7 +56,8 @@ std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int 
   std::vector<double> x, y, z, w, lod;
   const double omega_texel = (2.0 / source_size) * (2.0 / source_size);
   for (int k = 0; k < n; ++k) {
-    const double u1 = (k + 0.5) / n, u2 = van_der_corput(static_cast<uint32_t>(k));
+    const math::Point2 u = math::hammersley(static_cast<uint32_t>(k), static_cast<uint32_t>(n));
+    const double u1 = u.u, u2 = u.v;
     double cos_h, sin_h;
     if (dist == EnvDistribution::Ggx) {  // Walter et al. 2007, eq. 35: tan^2 = alpha^2 u / (1 - u)
       const double t2 = alpha * alpha * u1 / (1.0 - u1);
@@ -78,7 +70,7 @@ std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int 
     const double phi = 2.0 * kPi * u2;
     const double lz = 2.0 * cos_h * cos_h - 1.0;
     if (lz <= 0.0) continue;
-    const double d = dist == EnvDistribution::Ggx ? reference::D_GGX(cos_h, alpha) : reference::D_Charlie(cos_h, alpha);
+    const double d = detail::env_lobe_d(dist, cos_h, alpha);
     // p(l) = D / 4 (dl = 4 (n.h) dh with v = n); the sample covers 1 / (N p) = 4 / (N D)
     const double omega_sample = 4.0 / (n * d);
     x.push_back(2.0 * cos_h * sin_h * std::cos(phi));
@@ -193,12 +185,13 @@ double sum_seconds(const std::vector<cl::Event>& events) {
 
 // One filtered level: a launch of prefilter_level, with the real-typed alpha argument.
 template <class Real>
-cl::Event launch_level(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
-                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha) {
+cl::Event launch_level(cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
+                       const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha,
+                       const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_level");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, chain.buffer, chain.info_buffer, chain.levels,
-               samples, n_samples, bright, n_bright, static_cast<Real>(alpha));
+  return level(rows, out, size, chain.buffer, chain.info_buffer, chain.levels, samples, n_samples, bright, n_bright,
+               static_cast<Real>(alpha));
 }
 
 // ---- The quadrature's pyramid (kernels/common/env_sampling.clh, env_pyramid_sum) ----------------
@@ -242,12 +235,12 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
     std::vector<double> omega(size_t(s0) * size_t(s0));
     for (int j = 0; j < s0; ++j)
       for (int i = 0; i < s0; ++i)
-        omega[size_t(j) * size_t(s0) + size_t(i)] = reference::cube_texel_solid_angle(s0, i, j);
+        omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
     for (int f = 0; f < 6; ++f)
       for (int j = 0; j < s0; ++j)
         for (int i = 0; i < s0; ++i) {
           const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
-          const reference::Dir3 d = reference::cube_texel_direction(f, s0, i, j);
+          const Vec3 d = math::cube_texel_direction(f, s0, i, j);
           const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
           const double lum = luminance(&rgba[4 * t]) * w;
           const double dv[3] = {d.x, d.y, d.z};
@@ -331,7 +324,6 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
 // band holds (lo, hi) per level; (2, 2) is empty.
 void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s, double refinement,
                         std::vector<double>& cos_core, std::vector<double>& band) {
-  const reference::EnvLobe lobe = to_lobe(dist);
   cos_core.assign(size_t(p.levels), 2.0);
   band.assign(2 * size_t(p.levels), 2.0);
   auto finest_level = [&](double width) {
@@ -358,7 +350,7 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
   double k_max = 0.0;
   std::vector<double> profile(kSteps + 1);
   for (int t = 0; t <= kSteps; ++t) {
-    profile[size_t(t)] = reference::env_lobe_kernel(lobe, alpha, std::cos(0.5 * kPi * t / kSteps));
+    profile[size_t(t)] = detail::env_lobe_kernel(dist, alpha, std::cos(0.5 * kPi * t / kSteps));
     k_max = std::max(k_max, profile[size_t(t)]);
   }
   double theta_lo = 0.5 * kPi, theta_hi = 0.0, half_lo = 0.5 * kPi, half_hi = 0.0;
@@ -397,17 +389,18 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
 }
 
 template <class Real>
-cl::Event launch_pyramid(Device::Impl& dev, cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
-                         const cl::Buffer& bright, int n_bright, double alpha) {
+                         const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_pyramid");
-  return level(cl::EnqueueArgs(dev.queue, cube_range(size)), out, size, pyramid, info, levels, cos_core, band, bright,
-               n_bright, static_cast<Real>(alpha));
+  return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }
 
+}  // namespace
+
 // Biased, opt-in: luminance above `limit` is compressed to limit (1 + log(lum / limit)).
-void clamp_luminance(std::vector<float>& rgba, double limit) {
+void detail::clamp_luminance(std::vector<float>& rgba, double limit) {
   for (size_t t = 0; t < rgba.size(); t += 4) {
     const double lum = luminance(&rgba[t]);
     if (lum <= limit) continue;
@@ -416,13 +409,13 @@ void clamp_luminance(std::vector<float>& rgba, double limit) {
   }
 }
 
-std::string join(const std::vector<std::string>& v) {
+std::string detail::comma_join(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& e : v) s += (s.empty() ? "" : ",") + e;
   return s;
 }
 
-void conventions_metadata(CubeLevels& cube) {
+void detail::cube_conventions_metadata(CubeLevels& cube) {
   cube.set_meta("generator", std::string("brdfbake ") + kVersion);
   cube.set_meta("faces", "+X,-X,+Y,-Y,+Z,-Z (KTX / OpenGL cube map order)");
   cube.set_meta("face_orientation",
@@ -437,7 +430,40 @@ void conventions_metadata(CubeLevels& cube) {
   cube.set_meta("texels", "linear radiance (RGB, alpha 1)");
 }
 
-}  // namespace
+void detail::prefilter_metadata(CubeLevels& out, const PrefilterSpec& s, const std::vector<double>& roughness) {
+  const int levels = static_cast<int>(roughness.size());
+  cube_conventions_metadata(out);
+  out.set_meta("kind", "prefiltered radiance");
+  out.set_meta("distribution", env_distribution_name(s.distribution));
+  out.set_meta("definition",
+               "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
+               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
+                                                                           : "Charlie (Estevez & Kulla 2017)") +
+                   ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
+                   "the source itself (roughness 0)");
+  out.set_meta("levels", std::to_string(levels));
+  out.set_meta("size", std::to_string(s.size));
+  out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
+  out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
+  out.set_meta("roughness_of_level",
+               s.schedule == RoughnessSchedule::Linear     ? "roughness = l / (levels - 1)"
+               : s.schedule == RoughnessSchedule::Filament ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
+               : s.schedule == RoughnessSchedule::Sqrt
+                   ? "roughness = (l / (levels - 1))^2"
+                   : "roughness = min(1, sqrt(2^(l / 0.8) / size)), 0 at level 0 (Babylon.js HDRFiltering)");
+  out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
+  std::vector<std::string> r_text;
+  for (double r : roughness) r_text.push_back(fmt(r, "%.9g"));
+  out.set_meta("roughness_per_level", comma_join(r_text));
+}
+
+void detail::environment_source_metadata(CubeLevels& out, const EnvImage& env) {
+  out.set_meta("source", env.source);
+  if (!env.description.empty()) out.set_meta("source_description", env.description);
+  if (env.sanitize.replaced)
+    out.set_meta("sanitized", std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) +
+                                  " infinite, " + std::to_string(env.sanitize.negative) + " negative values replaced");
+}
 
 // ---- Names and schedules ---------------------------------------------------------------------
 
@@ -459,10 +485,17 @@ RoughnessSchedule roughness_schedule_from_name(const std::string& n) {
   if (n == "linear") return RoughnessSchedule::Linear;
   if (n == "filament") return RoughnessSchedule::Filament;
   if (n == "sqrt") return RoughnessSchedule::Sqrt;
-  throw Error("unknown schedule '" + n + "' (expected linear, filament or sqrt)");
+  if (n == "babylon") return RoughnessSchedule::Babylon;
+  throw Error("unknown schedule '" + n + "' (expected linear, filament, sqrt or babylon)");
 }
 const char* roughness_schedule_name(RoughnessSchedule s) {
-  return s == RoughnessSchedule::Filament ? "filament" : s == RoughnessSchedule::Sqrt ? "sqrt" : "linear";
+  switch (s) {
+    case RoughnessSchedule::Filament: return "filament";
+    case RoughnessSchedule::Sqrt: return "sqrt";
+    case RoughnessSchedule::Babylon: return "babylon";
+    case RoughnessSchedule::Linear: break;
+  }
+  return "linear";
 }
 
 double schedule_roughness(RoughnessSchedule s, int level, int levels) {
@@ -472,6 +505,12 @@ double schedule_roughness(RoughnessSchedule s, int level, int levels) {
     case RoughnessSchedule::Linear: return t;
     case RoughnessSchedule::Filament: return 1.0 - std::sqrt(1.0 - t);
     case RoughnessSchedule::Sqrt: return t * t;
+    case RoughnessSchedule::Babylon: {
+      // Babylon.js HDRFiltering: alphaG = 2^((lod - offset) / scale) / width, 0 at lod 0.
+      if (level == 0) return 0.0;
+      const double alpha = std::pow(2.0, level / kBabylonLodGenerationScale) / std::ldexp(1.0, levels - 1);
+      return std::min(1.0, std::sqrt(alpha));
+    }
   }
   return t;
 }
@@ -482,6 +521,13 @@ double schedule_lod(RoughnessSchedule s, double r, int levels) {
     case RoughnessSchedule::Linear: return m * r;
     case RoughnessSchedule::Filament: return m * r * (2.0 - r);
     case RoughnessSchedule::Sqrt: return m * std::sqrt(r);
+    case RoughnessSchedule::Babylon: {
+      // Babylon.js pbrBlockReflection: getLodFromAlphaG(size, alphaG) * lodGenerationScale, with
+      // alphaG = roughness^2 + MINIMUMVARIANCE; textureLod clamps to the chain.
+      const double lod = kBabylonLodGenerationScale *
+                         std::log2(std::ldexp(1.0, levels - 1) * (r * r + kBabylonMinimumVariance));
+      return std::clamp(lod, 0.0, m);
+    }
   }
   return m * r;
 }
@@ -491,6 +537,8 @@ std::string schedule_lod_formula(RoughnessSchedule s) {
     case RoughnessSchedule::Linear: return "lod = (levels - 1) * roughness";
     case RoughnessSchedule::Filament: return "lod = (levels - 1) * roughness * (2 - roughness)";
     case RoughnessSchedule::Sqrt: return "lod = (levels - 1) * sqrt(roughness)";
+    case RoughnessSchedule::Babylon:
+      return "lod = clamp(0.8 * log2(size * (roughness^2 + 0.0005)), 0, levels - 1), size = 2^(levels - 1)";
   }
   return "";
 }
@@ -538,7 +586,7 @@ std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_coun
   const int s = cube.size;
   std::vector<double> omega(static_cast<size_t>(s) * static_cast<size_t>(s));
   for (int j = 0; j < s; ++j)
-    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = reference::cube_texel_solid_angle(s, i, j);
+    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
   const size_t n = face_texels(s);
   std::vector<double> lum(n);
   double mean = 0.0;
@@ -578,10 +626,10 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
         const double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
         // the tent's exact mean over the sub-cell (it is linear there: the cells do not straddle 0)
         const double tent = (1.0 - std::fabs(xm)) * (1.0 - std::fabs(ym));
-        const reference::Dir3 p = reference::cube_plane_point(t.face, ca + h * xm, cb + h * ym);
+        const Vec3 p = math::cube_plane_point(t.face, ca + h * xm, cb + h * ym);
         const double len = std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
         const double omega =
-            reference::cube_rect_solid_angle(ca + h * x0, cb + h * y0, ca + h * x1, cb + h * y1) * tent * scale;
+            math::cube_rect_solid_angle(ca + h * x0, cb + h * y0, ca + h * x1, cb + h * y1) * tent * scale;
         px.push_back(p.x / len);
         py.push_back(p.y / len);
         pz.push_back(p.z / len);
@@ -655,7 +703,7 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
     return sum_seconds(events);
   });
   if (device_seconds) *device_seconds = seconds;
-  conventions_metadata(cube);
+  detail::cube_conventions_metadata(cube);
   cube.set_meta("source", env.source);
   return cube;
 }
@@ -678,7 +726,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   out.metadata = source.metadata;
   out.levels.resize(size_t(levels));
   out.levels[0] = source.levels[0];
-  if (s.clamp_luminance > 0.0) clamp_luminance(out.levels[0], s.clamp_luminance);
+  if (s.clamp_luminance > 0.0) detail::clamp_luminance(out.levels[0], s.clamp_luminance);
 
   // Environment sampling: the bright texels leave the rest.
   const int max_bright = s.bright_texels < 0 ? kDefaultBrightTexels : s.bright_texels;
@@ -692,6 +740,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
   std::vector<double> refinement(static_cast<size_t>(levels), s.refinement);
   std::vector<int> samples(static_cast<size_t>(levels), 0);
+  std::vector<double> measured(static_cast<size_t>(levels), 0.0);  // max_error: the last difference per level
   for (int l = 0; l < levels; ++l) {
     roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels);
     if (l > 0 && !quadrature) samples[size_t(l)] = s.samples > 0 ? s.samples : default_samples(l, levels);
@@ -725,39 +774,60 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
 
     // One level into `dst` with n samples (sampling) or refinement r (quadrature); waits, returns
     // its device seconds.
-    auto run_level = [&](int l, int n, double r, std::vector<float>& dst) {
+    // Rows of a level are launched in chunks (global id offsets) so that progress can follow
+    // within a level: the first levels hold most of the texels and take most of the time.
+    auto run_level = [&](int l, int n, double r, std::vector<float>& dst, const std::function<void(double)>& step) {
       const int size = out.level_size(l);
-      const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], reference::kMinAlpha);
+      const double alpha = std::max(roughness[size_t(l)] * roughness[size_t(l)], math::kMinAlpha);
       int n_points = 0;
       // Bright points carry L Omega; the sampling estimator divides them by W = int K dl here,
       // the quadrature by its own sum of K Omega in the kernel.
-      const double scale = quadrature ? 1.0 : 1.0 / reference::env_lobe_normalization(to_lobe(s.distribution), alpha);
+      const double scale = quadrature ? 1.0 : 1.0 / detail::env_lobe_normalization(s.distribution, alpha);
       const std::vector<double> pts = bright_texel_points(bright, s0, bright_subdivision(s.distribution, alpha, s0, bright.size()), scale, &n_points);
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
       cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
-      cl::Event e;
       const bool fp64 = s.precision == Precision::Fp64;
+      const int rows = 6 * size;
+      const int chunks = step ? std::clamp(rows / 16, 1, 24) : 1;
+      std::vector<cl::Event> events;
+      std::vector<double> cos_core, band, table;
+      cl::Buffer core_buf, band_buf, table_buf;
+      int n_padded = 0;
       if (quadrature) {
-        std::vector<double> cos_core, band;
         pyramid_thresholds(pyramid, s.distribution, alpha, s, r, cos_core, band);
-        cl::Buffer core_buf = real_buffer(dev, s.precision, cos_core), band_buf = real_buffer(dev, s.precision, band);
-        e = fp64 ? launch_pyramid<cl_double>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                             core_buf, band_buf, pts_buf, n_pts, alpha)
-                 : launch_pyramid<cl_float>(dev, filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
-                                            core_buf, band_buf, pts_buf, n_pts, alpha);
+        core_buf = real_buffer(dev, s.precision, cos_core);
+        band_buf = real_buffer(dev, s.precision, band);
       } else {
         int n_kept = 0;
-        const std::vector<double> table =
-            lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
-        cl::Buffer table_buf = real_buffer(dev, s.precision, table);
-        const int n_padded = static_cast<int>(table.size() / 5);
-        e = fp64 ? launch_level<cl_double>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha)
-                 : launch_level<cl_float>(dev, filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts, alpha);
+        table = lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
+        table_buf = real_buffer(dev, s.precision, table);
+        n_padded = static_cast<int>(table.size() / 5);
+      }
+      for (int c = 0; c < chunks; ++c) {
+        const int row0 = rows * c / chunks, row1 = rows * (c + 1) / chunks;
+        const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
+                                    cl::NullRange);
+        if (quadrature)
+          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+        else
+          events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                          pts_buf, n_pts, alpha, range)
+                                : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                         pts_buf, n_pts, alpha, range));
+      }
+      double level_seconds = 0.0;
+      for (size_t c = 0; c < events.size(); ++c) {
+        events[c].wait();
+        level_seconds += detail::event_seconds(events[c]);
+        if (step) step(double(c + 1) / double(events.size()));
       }
       dst.resize(4 * face_texels(size));
       dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
-      return detail::event_seconds(e);
+      return level_seconds;
     };
 
     // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
@@ -779,6 +849,25 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     for (int l = 1; l < levels; ++l) {
       const std::string label = "level " + std::to_string(l) + "/" + std::to_string(levels - 1);
       if (progress) progress(total_work > 0 ? done_work / total_work : 0.0, label);
+      // Within the level's share of the work: run k of a search (refinement or sample count, each
+      // dearer than the last) fills [1 - 2^-k, 1 - 2^-(k+1)) of it, so the line moves on and never back.
+      const double share = total_work > 0 ? double(face_texels(out.level_size(l))) / total_work : 0.0;
+      const double start = total_work > 0 ? done_work / total_work : 0.0;
+      int run = 0;
+      std::string step_label = label;
+      auto step = [&](double f) {
+        if (!progress) return;
+        const double a = 1.0 - std::ldexp(1.0, -run), b = 1.0 - std::ldexp(1.0, -(run + 1));
+        progress(start + share * (s.max_error > 0.0 ? a + (b - a) * f : f), step_label);
+      };
+      std::function<void(double)> stepper;
+      if (progress) stepper = step;
+      auto search_run = [&](int n, double r, std::vector<float>& dst) {
+        step_label = label + (quadrature ? ", refinement " + fmt(r) : ", " + std::to_string(n) + " samples");
+        const double t = run_level(l, n, r, dst, stepper);
+        ++run;
+        return t;
+      };
       double& sec = seconds[size_t(l)];
       if (s.max_error > 0.0 && quadrature) {
         // Refinement 2, 3, 4, 6, 8, 12, 16: each result is compared with the next; the first
@@ -786,11 +875,12 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         // difference).
         static const double kSteps[] = {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0};
         std::vector<float> a, b;
-        sec += run_level(l, 0, kSteps[0], a);
+        sec += search_run(0, kSteps[0], a);
         for (size_t k = 1; k < std::size(kSteps); ++k) {
-          sec += run_level(l, 0, kSteps[k], b);
+          sec += search_run(0, kSteps[k], b);
           refinement[size_t(l)] = kSteps[k];
-          const bool done = rms_difference(a, b) <= s.max_error;
+          measured[size_t(l)] = rms_difference(a, b);
+          const bool done = measured[size_t(l)] <= s.max_error;
           a.swap(b);
           if (done) break;
         }
@@ -800,19 +890,20 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         // kSearchStart until it is below max_error, and the 4n result is kept.
         std::vector<float> a, b;
         int n = kSearchStart;
-        sec += run_level(l, n, 0.0, a);
+        sec += search_run(n, 0.0, a);
         for (;;) {
-          sec += run_level(l, 4 * n, 0.0, b);
-          if (rms_difference(a, b) <= s.max_error || 4 * n >= kSearchMax) {
+          sec += search_run(4 * n, 0.0, b);
+          measured[size_t(l)] = rms_difference(a, b);
+          if (measured[size_t(l)] <= s.max_error || 4 * n >= kSearchMax) {
             samples[size_t(l)] = 4 * n;
             out.levels[size_t(l)] = std::move(b);
             break;
           }
           n *= 2;
-          sec += run_level(l, n, 0.0, a);
+          sec += search_run(n, 0.0, a);
         }
       } else {
-        sec = run_level(l, samples[size_t(l)], refinement[size_t(l)], out.levels[size_t(l)]);
+        sec = run_level(l, samples[size_t(l)], refinement[size_t(l)], out.levels[size_t(l)], stepper);
       }
       device_seconds += sec;
       done_work += double(face_texels(out.level_size(l)));
@@ -822,34 +913,15 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   });
 
   // Metadata: what the levels hold, how they were made.
-  conventions_metadata(out);
-  out.set_meta("kind", "prefiltered radiance");
-  out.set_meta("distribution", env_distribution_name(s.distribution));
-  out.set_meta("definition",
-               "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
-               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
-                                                                           : "Charlie (Estevez & Kulla 2017)") +
-                   ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
-                   "the source itself (roughness 0)");
-  out.set_meta("levels", std::to_string(levels));
-  out.set_meta("size", std::to_string(s0));
-  out.set_meta("min_size", std::to_string(out.level_size(levels - 1)));
-  out.set_meta("roughness_schedule", roughness_schedule_name(s.schedule));
-  out.set_meta("roughness_of_level", s.schedule == RoughnessSchedule::Linear ? "roughness = l / (levels - 1)"
-                                     : s.schedule == RoughnessSchedule::Filament
-                                         ? "roughness = 1 - sqrt(1 - l / (levels - 1))"
-                                         : "roughness = (l / (levels - 1))^2");
-  out.set_meta("lod_from_roughness", schedule_lod_formula(s.schedule) + " (levels = " + std::to_string(levels) + ")");
-  std::vector<std::string> r_text, n_text;
+  detail::prefilter_metadata(out, s, roughness);
+  std::vector<std::string> n_text;
   for (int l = 0; l < levels; ++l) {
-    r_text.push_back(fmt(roughness[size_t(l)], "%.9g"));
     n_text.push_back(quadrature ? (l == 0 ? std::string("0") : fmt(refinement[size_t(l)], "%g"))
                                 : std::to_string(samples[size_t(l)]));
   }
-  out.set_meta("roughness_per_level", join(r_text));
   out.set_meta("estimator", env_estimator_name(s.estimator));
   if (quadrature) {
-    out.set_meta("refinement_per_level", join(n_text));
+    out.set_meta("refinement_per_level", detail::comma_join(n_text));
     out.set_meta("estimator_description",
                  "deterministic hierarchical quadrature: a solid-angle pyramid of level 0 (per texel: solid angle, "
                  "L Omega, centroid and radiance centroid directions), texels refined within refinement x texel "
@@ -858,7 +930,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
                      " rad); K at the radiance centroid, normalised by the sum of K Omega; plus " +
                      std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
   } else {
-    out.set_meta("samples_per_level", join(n_text));
+    out.set_meta("samples_per_level", detail::comma_join(n_text));
     out.set_meta("estimator_description",
                  std::string("lobe importance sampling, N = V = R, Hammersley points, ") +
                      (s.filtered_importance_sampling
@@ -868,10 +940,30 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
                      "from a solid-angle-weighted mip chain, self-normalised weights (n.l)+; plus " +
                      std::to_string(bright.size()) + " bright texels summed exactly (environment sampling)");
   }
-  if (s.max_error > 0.0)
+  if (s.max_error > 0.0) {
+    // A level that reached the largest refinement (or sample count) without meeting the target makes
+    // the chain fail: no file may claim a bound it does not meet.
+    double worst = 0.0;
+    int worst_level = 0;
+    std::vector<std::string> m_text;
+    for (int l = 0; l < levels; ++l) {
+      m_text.push_back(fmt(measured[size_t(l)], "%.3g"));
+      if (measured[size_t(l)] > worst) {
+        worst = measured[size_t(l)];
+        worst_level = l;
+      }
+    }
+    if (worst > s.max_error)
+      throw Error("max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) + " still differs by " +
+                  fmt(worst, "%.3g") + " (RMS) between its two finest " +
+                  (quadrature ? "refinements (the largest is 16)" : "sample counts (the largest is " + std::to_string(kSearchMax) + ")") +
+                  "; ask for max-error " + fmt(worst * 1.5, "%.2g") + " or more");
     out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
                                   std::string(quadrature ? "refinements" : "sample counts (N, 4N)") + " <= " +
                                   fmt(s.max_error) + " (the finer result is kept)");
+    out.set_meta("measured_error_per_level", detail::comma_join(m_text));
+    out.set_meta("measured_error", fmt(worst, "%.3g"));
+  }
   if (s.clamp_luminance > 0.0)
     out.set_meta("clamp", "BIASED: source luminance above " + fmt(s.clamp_luminance) +
                               " compressed to limit (1 + log(lum / limit))");
@@ -880,6 +972,10 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   if (timing) {
     timing->device_seconds += device_seconds;
     timing->level_device_seconds = seconds;
+    if (s.max_error > 0.0) {
+      timing->measured_error_per_level = measured;
+      timing->measured_error = *std::max_element(measured.begin(), measured.end());
+    }
     timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return out;
@@ -895,11 +991,7 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   CubeLevels out = prefilter_cube(device, source, s, &t, progress);
-  out.set_meta("source", env.source);
-  if (!env.description.empty()) out.set_meta("source_description", env.description);
-  if (env.sanitize.replaced)
-    out.set_meta("sanitized", std::to_string(env.sanitize.nan) + " NaN, " + std::to_string(env.sanitize.infinite) +
-                                  " infinite, " + std::to_string(env.sanitize.negative) + " negative values replaced");
+  detail::environment_source_metadata(out, env);
   if (timing) {
     *timing = t;
     if (!timing->level_device_seconds.empty()) timing->level_device_seconds[0] += convert_seconds;

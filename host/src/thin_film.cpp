@@ -1,6 +1,6 @@
-// The thin-film interference Fresnel table (KHR_materials_iridescence), on an OpenCL device
-// (kernels/thin_film.cl) or by the scalar double reference (host/reference/src/thin_film.cpp).
-#include "brdfbake/thin_film.hpp"
+// The thin-film interference Fresnel table (KHR_materials_iridescence) on an OpenCL device
+// (kernels/thin_film.cl); the scalar double reference is reference_backend/thin_film.cpp.
+#include "thin_film.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,6 @@
 #include <cstdio>
 
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/thin_film.hpp"
 #include "brdfbake/version.hpp"
 #include "runtime/program.hpp"
 
@@ -26,19 +25,6 @@ std::string fmt(double v) {
   return buf;
 }
 
-reference::ThinFilm film_of(const ThinFilmSpec& r) {
-  reference::ThinFilm f;
-  f.outside_ior = r.outside_ior;
-  f.film_ior = r.film_ior;
-  if (r.base_ior) {
-    const double f0 = reference::thin_film_ior_to_f0(*r.base_ior, 1.0);
-    f.base_f0 = {f0, f0, f0};
-  } else if (r.base_f0) {
-    f.base_f0 = *r.base_f0;
-  }
-  return f;
-}
-
 std::vector<double> cos_grid(int n) {
   std::vector<double> x(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) x[static_cast<size_t>(i)] = (i + 0.5) / n;
@@ -54,8 +40,24 @@ std::vector<double> thickness_grid(const ThinFilmSpec& r) {
   return y;
 }
 
-Table make_table(const ThinFilmSpec& r) {
-  const reference::ThinFilm f = film_of(r);
+}  // namespace
+
+detail::ThinFilmParams detail::thin_film_params(const ThinFilmSpec& r) {
+  ThinFilmParams f;
+  f.outside_ior = r.outside_ior;
+  f.film_ior = r.film_ior;
+  if (r.base_ior) {
+    // the base's normal-incidence reflectance from air, ((n - 1) / (n + 1))^2
+    const double q = (*r.base_ior - 1.0) / (*r.base_ior + 1.0), f0 = q * q;
+    f.base_f0 = {f0, f0, f0};
+  } else if (r.base_f0) {
+    f.base_f0 = *r.base_f0;
+  }
+  return f;
+}
+
+Table detail::make_thin_film_table(const ThinFilmSpec& r) {
+  const ThinFilmParams f = thin_film_params(r);
   Table t;
   t.width = r.width;
   t.height = r.height;
@@ -87,8 +89,6 @@ Table make_table(const ThinFilmSpec& r) {
   return t;
 }
 
-}  // namespace
-
 ThinFilmSpec resolve_thin_film_spec(const ThinFilmSpec& in) {
   ThinFilmSpec r = in;
   auto finite = [](double v) { return std::isfinite(v); };
@@ -108,35 +108,16 @@ ThinFilmSpec resolve_thin_film_spec(const ThinFilmSpec& in) {
   return r;
 }
 
-Table bake_thin_film_reference(const ThinFilmSpec& in, ThinFilmTiming* timing) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const ThinFilmSpec r = resolve_thin_film_spec(in);
-  const reference::ThinFilm film = film_of(r);
-  Table t = make_table(r);
-  for (int j = 0; j < r.height; ++j)
-    for (int i = 0; i < r.width; ++i) {
-      const reference::Rgb v =
-          reference::thin_film_fresnel(t.x[static_cast<size_t>(i)], t.y[static_cast<size_t>(j)], film);
-      t.at(i, j, 0) = static_cast<float>(v.r);
-      t.at(i, j, 1) = static_cast<float>(v.g);
-      t.at(i, j, 2) = static_cast<float>(v.b);
-    }
-  t.set_meta("device", "reference (scalar double)");
-  t.set_meta("precision", "fp64");
-  if (timing) timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return t;
-}
-
 Table bake_thin_film(Device& device, const ThinFilmSpec& in, ThinFilmTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();
   const ThinFilmSpec r = resolve_thin_film_spec(in);
-  const reference::ThinFilm film = film_of(r);
+  const detail::ThinFilmParams film = detail::thin_film_params(r);
   auto& dev = device.impl();
   ProgramSpec ps;
   ps.file = "thin_film.cl";
   ps.precision = r.precision;
   cl::Program program = build_program(dev, ps);
-  Table t = make_table(r);
+  Table t = detail::make_thin_film_table(r);
   const std::vector<double> params = {film.outside_ior, film.film_ior, film.base_f0.r, film.base_f0.g, film.base_f0.b};
   double device_seconds = 0.0;
   cl_call("kernel thin_film_table on '" + dev.info.name + "'", [&] {

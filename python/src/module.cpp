@@ -238,7 +238,9 @@ std::string run(const std::string& job_text, bool is_path, const std::string& or
   Manifest m;
   {
     const py::gil_scoped_release release;
-    m = run_job(job, job_progress, shared_backend);
+    RunHooks hooks;
+    hooks.backend = shared_backend;  // the process's devices, opened once and reused
+    m = run_job(job, job_progress, hooks);
   }
   return manifest_to_json(m);
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <random>
@@ -14,6 +15,10 @@
 
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/reference/brdf.hpp"
+#include "brdfbake/reference/dfg.hpp"
+#include "reference_backend/brdf_convert.hpp"
+#include "sheen_albedo.hpp"
 #include "support/brdf_cases.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -25,7 +30,7 @@ using test::corner_materials;
 using test::corner_pairs;
 using test::random_material;
 using test::random_pairs;
-using Vec3 = reference::Vec3;
+using detail::to_reference;
 
 // What the device sees of a direction: normalised in double, then (fp32) rounded to float with
 // components below FLT_MIN flushed to zero (host/src/brdf_eval.cpp).
@@ -42,6 +47,13 @@ Vec3 device_view(const Vec3& v, Precision p) {
     u = {f(u.x), f(u.y), f(u.z)};
   }
   return u;
+}
+
+// "1.23e-10": measured errors for the test report (std::to_string keeps 6 decimals).
+std::string sci(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
 }
 
 std::string label(BrdfModel model, Precision p) {
@@ -82,7 +94,7 @@ Worst compare(Device& dev, BrdfModel model, const std::vector<Material>& mats,
   for (size_t m = 0; m < mats.size(); ++m)
     for (size_t i = 0; i < pairs.size(); ++i) {
       const auto& [wi, wo] = seen[i];
-      const Rgb want = reference::brdf(model, mats[m], wi, wo);
+      const Rgb want = reference::brdf(to_reference(model), to_reference(mats[m]), wi, wo);
       const double* got = &out[(m * pairs.size() + i) * 3];
       const double wants[3] = {want.r, want.g, want.b};
       for (int c = 0; c < 3; ++c) {
@@ -115,12 +127,12 @@ TEST_P(BrdfVsReference, RandomValidInputs) {
   }
   std::mt19937 rng(1234u + static_cast<unsigned>(model));
   std::vector<Material> mats;
-  for (int k = 0; k < 12; ++k) mats.push_back(random_material(model, rng));
+  for (int k = 0; k < 12; ++k) mats.push_back(random_material<Material>(model, rng));
   EvalOptions o;
   o.precision = precision;
   const Worst w = compare(*dev, model, mats, random_pairs(rng, 600), o);
   EXPECT_LE(w.err, tolerance(precision)) << w.where;
-  RecordProperty("max_error", std::to_string(w.err));
+  RecordProperty("max_error", sci(w.err));
 }
 
 TEST_P(BrdfVsReference, Corners) {
@@ -131,7 +143,7 @@ TEST_P(BrdfVsReference, Corners) {
   }
   std::vector<Material> mats;
   std::vector<std::string> names;
-  for (const auto& [name, m] : corner_materials(model)) {
+  for (const auto& [name, m] : corner_materials<Material>(model)) {
     names.push_back(name);
     mats.push_back(m);
   }
@@ -139,11 +151,11 @@ TEST_P(BrdfVsReference, Corners) {
   o.precision = precision;
   const Worst w = compare(*dev, model, mats, corner_pairs(), o, names);
   EXPECT_LE(w.err, tolerance(precision)) << w.where;
-  RecordProperty("max_error", std::to_string(w.err));
+  RecordProperty("max_error", sci(w.err));
 }
 
 INSTANTIATE_TEST_SUITE_P(AllModels, BrdfVsReference,
-                         ::testing::Combine(::testing::ValuesIn(test::all_models()),
+                         ::testing::Combine(::testing::ValuesIn(test::all_models<BrdfModel>()),
                                             ::testing::Values(Precision::Fp32, Precision::Fp64)),
                          [](const auto& param_info) {
                            return label(std::get<0>(param_info.param), std::get<1>(param_info.param));
@@ -179,7 +191,7 @@ double table_tolerance(Precision p, const std::pair<Vec3, Vec3>& d) {
 // directions from angles on the device, and a direction rounded by 1e-7 rad moves a lobe of width
 // alpha by ~2e-7 / alpha relative (kBrdfTableFp32).
 Material smooth_material(BrdfModel model, std::mt19937& rng) {
-  Material m = random_material(model, rng);
+  Material m = random_material<Material>(model, rng);
   m.roughness = std::max(m.roughness, 0.3);
   m.clearcoat_roughness = std::max(m.clearcoat_roughness, 0.3);
   m.clearcoat_gloss = std::min(m.clearcoat_gloss, 0.5);
@@ -192,13 +204,13 @@ Material smooth_material(BrdfModel model, std::mt19937& rng) {
 TEST(BrdfAlbedo, DeviceMatchesReference) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   std::mt19937 rng(99u);
-  for (BrdfModel model : test::all_models()) {
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
     TabulateSpec s;
     s.model = model;
     s.layout = TableLayout::Albedo;
     s.res = {5};
-    for (int k = 0; k < 3; ++k) s.materials.push_back(named("random" + std::to_string(k), random_material(model, rng)));
-    for (const auto& [name, m] : corner_materials(model)) s.materials.push_back(named(name, m));
+    for (int k = 0; k < 3; ++k) s.materials.push_back(named("random" + std::to_string(k), random_material<Material>(model, rng)));
+    for (const auto& [name, m] : corner_materials<Material>(model)) s.materials.push_back(named(name, m));
     const Table want = tabulate_reference(s);
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
       if (p == Precision::Fp64 && !dev->info().fp64) continue;
@@ -248,7 +260,7 @@ std::vector<EnergyCase> energy_cases() {
   };
   auto normalise = [](Material& m) {
     m.normalized = true;
-    const Rgb kd = reference::classic_diffuse(m);
+    const Rgb kd = reference::classic_diffuse(to_reference(m));
     m.specular_color = Rgb{1.0 - kd.r, 1.0 - kd.g, 1.0 - kd.b};
   };
   auto metal = [](Material& m) {
@@ -290,7 +302,7 @@ TEST(BrdfAlbedo, EnergyBounds) {
     s.layout = TableLayout::Albedo;
     s.res = {16};
     for (int k = 0; k < 8; ++k) {
-      Material m = random_material(ec.model, rng);
+      Material m = random_material<Material>(ec.model, rng);
       ec.set(m);
       s.materials.push_back(named("m" + std::to_string(k), m));
     }
@@ -350,7 +362,7 @@ TEST(BrdfTables, MerlMatchesReference) {
 TEST(BrdfTables, GridAndSliceMatchReference) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   std::mt19937 rng(23u);
-  for (BrdfModel model : test::all_models()) {
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
     for (TableLayout layout : {TableLayout::Grid, TableLayout::Slice}) {
       TabulateSpec s;
       s.model = model;
@@ -389,12 +401,12 @@ TEST(BrdfTables, GridAndSliceMatchReference) {
 TEST(BrdfProperties, Reciprocity) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   std::mt19937 rng(31u);
-  for (BrdfModel model : test::all_models()) {
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
     std::vector<Material> mats;
     for (int k = 0; k < 6; ++k) {
-      Material m = random_material(model, rng);
+      Material m = random_material<Material>(model, rng);
       m.clearcoat = model == BrdfModel::Gltf || model == BrdfModel::GltfCorrelated ? 0.0 : m.clearcoat;
-      ASSERT_TRUE(reference::brdf_is_reciprocal(model, m));
+      ASSERT_TRUE(reference::brdf_is_reciprocal(to_reference(model), to_reference(m)));
       mats.push_back(m);
     }
     const auto pairs = random_pairs(rng, 400);
@@ -418,7 +430,7 @@ TEST(BrdfProperties, Reciprocity) {
 TEST(BrdfProperties, SpecialisationGivesTheSameValues) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   std::mt19937 rng(41u);
-  for (BrdfModel model : test::all_models()) {
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
     Material plain;
     plain.base_color = {0.7, 0.4, 0.2};
     plain.roughness = 0.35;
@@ -447,7 +459,7 @@ TEST(BrdfProperties, MaterialsAreIndependent) {
   std::mt19937 rng(43u);
   const BrdfModel model = BrdfModel::Gltf;
   std::vector<Material> mats;
-  for (int k = 0; k < 5; ++k) mats.push_back(random_material(model, rng));
+  for (int k = 0; k < 5; ++k) mats.push_back(random_material<Material>(model, rng));
   const auto pairs = random_pairs(rng, 100);
   std::vector<double> in;
   for (const auto& [x, y] : pairs)
@@ -490,6 +502,78 @@ TEST(BrdfErrors, BadDirectionsAndMaterials) {
   }
   m.roughness = nan;
   EXPECT_THROW(BrdfEvaluator(*dev, BrdfModel::Disney, {m}), Error);
+}
+
+// ---- The engine's own inputs to the kernels, against the reference's -----------------------------
+
+// The reference backend's conversion carries every field of the public Material to the reference's
+// own type (brdfbake/reference/brdf.hpp): each set to a value other than its default.
+TEST(BrdfConversion, EveryFieldReachesTheReference) {
+  Material m;
+  m.base_color = {0.1, 0.2, 0.3};
+  m.metallic = 0.4;
+  m.roughness = 0.6;
+  m.subsurface = 0.7;
+  m.specular = 0.8;
+  m.specular_tint = 0.9;
+  m.anisotropic = 0.15;
+  m.sheen = 0.25;
+  m.sheen_tint = 0.35;
+  m.clearcoat = 0.45;
+  m.clearcoat_gloss = 0.55;
+  m.sheen_color = {0.65, 0.75, 0.85};
+  m.sheen_roughness = 0.95;
+  m.clearcoat_roughness = 0.05;
+  m.ior = 1.33;
+  m.specular_factor = 0.66;
+  m.specular_color_factor = {1.1, 1.2, 1.3};
+  m.diffuse_color = Rgb{0.01, 0.02, 0.03};
+  m.specular_color = Rgb{0.04, 0.05, 0.06};
+  m.shininess = 77.0;
+  m.normalized = false;
+  m.distribution = MicrofacetDistribution::Beckmann;
+  const reference::BrdfMaterial r = to_reference(m);
+  EXPECT_EQ(r.base_color.g, 0.2);
+  EXPECT_EQ(r.metallic, 0.4);
+  EXPECT_EQ(r.roughness, 0.6);
+  EXPECT_EQ(r.subsurface, 0.7);
+  EXPECT_EQ(r.specular, 0.8);
+  EXPECT_EQ(r.specular_tint, 0.9);
+  EXPECT_EQ(r.anisotropic, 0.15);
+  EXPECT_EQ(r.sheen, 0.25);
+  EXPECT_EQ(r.sheen_tint, 0.35);
+  EXPECT_EQ(r.clearcoat, 0.45);
+  EXPECT_EQ(r.clearcoat_gloss, 0.55);
+  EXPECT_EQ(r.sheen_color.b, 0.85);
+  EXPECT_EQ(r.sheen_roughness, 0.95);
+  EXPECT_EQ(r.clearcoat_roughness, 0.05);
+  EXPECT_EQ(r.ior, 1.33);
+  EXPECT_EQ(r.specular_factor, 0.66);
+  EXPECT_EQ(r.specular_color_factor.r, 1.1);
+  ASSERT_TRUE(r.diffuse_color && r.specular_color && r.shininess);
+  EXPECT_EQ(r.diffuse_color->b, 0.03);
+  EXPECT_EQ(r.specular_color->r, 0.04);
+  EXPECT_EQ(*r.shininess, 77.0);
+  EXPECT_FALSE(r.normalized);
+  EXPECT_EQ(r.distribution, reference::MicrofacetDistribution::Beckmann);
+  for (BrdfModel model : test::all_models<BrdfModel>())
+    EXPECT_EQ(std::string(brdf_model_name(model)).empty(), false) << static_cast<int>(to_reference(model));
+  EXPECT_EQ(to_reference(BrdfModel::BlinnPhongFromPbr), reference::BrdfModel::BlinnPhongFromPbr);
+  EXPECT_EQ(to_reference(BrdfModel::GltfCorrelated), reference::BrdfModel::GltfCorrelated);
+}
+
+// KHR_materials_sheen's E(mu): the engine's own quadrature over l (host/src/sheen_albedo.cpp), which
+// the kernels' table is built from, against the reference's charlie_albedo over h at twice its order
+// and refinement.
+TEST(SheenAlbedo, EngineQuadratureMatchesTheReference) {
+  for (double r : {0.0, 0.3, 1.0})
+    for (double mu : {1e-7, 3e-5, 2e-3, 0.1, 0.45, 0.8, 0.999, 1.0}) {
+      const double want =
+          reference::charlie_albedo(mu, r, reference::SheenVisibility::EstevezKulla, reference::Quadrature{20, 2});
+      EXPECT_NEAR(detail::sheen_albedo_quadrature(mu, r) / std::max(1.0, want), want / std::max(1.0, want),
+                  test::kSheenAlbedoEngine)
+          << "sheen roughness " << r << " mu " << mu;
+    }
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// The DFG lookup-table kernels against the scalar double reference, every kind, fp32 and fp64.
+// The DFG lookup-table kernels against the scalar double reference, every kind, fp32 and fp64, and
+// the DFG identities (tests/identities/dfg_identities.hpp) on the device's own outputs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,10 +8,62 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/lut.hpp"
+#include "identities/dfg_identities.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
+namespace test {
+namespace {
+
+// bake_lut at explicit points, default sample count.
+class DeviceDfg : public DfgBackend {
+ public:
+  DeviceDfg(Device& device, Precision precision) : device_(device), precision_(precision) {}
+  std::vector<DfgTexel> ggx(const std::vector<double>& n_dot_v, double roughness) override {
+    const Table t = bake(LutKind::Ggx, n_dot_v, roughness, SheenVisibility::EstevezKulla);
+    std::vector<DfgTexel> out;
+    for (int i = 0; i < t.width; ++i) out.push_back({t.at(i, 0, 0), t.at(i, 0, 1), t.at(i, 0, 2)});
+    return out;
+  }
+  std::vector<double> charlie(const std::vector<double>& n_dot_v, double sheen_roughness, bool neubelt) override {
+    const Table t = bake(LutKind::Charlie, n_dot_v, sheen_roughness,
+                         neubelt ? SheenVisibility::Neubelt : SheenVisibility::EstevezKulla);
+    std::vector<double> out;
+    for (int i = 0; i < t.width; ++i) out.push_back(t.at(i, 0, 0));
+    return out;
+  }
+
+ private:
+  Table bake(LutKind kind, const std::vector<double>& n_dot_v, double roughness, SheenVisibility visibility) {
+    LutSpec s;
+    s.kind = kind;
+    s.n_dot_v = n_dot_v;
+    s.roughness = {roughness};
+    s.precision = precision_;
+    s.sheen_visibility = visibility;
+    return bake_lut(device_, s);
+  }
+  Device& device_;
+  Precision precision_;
+};
+
+}  // namespace
+
+void make_dfg_backend(Backend b, std::unique_ptr<DfgBackend>& out) {
+  Device* dev = test_device();
+  if (!dev) {
+    if (allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";
+    FAIL() << "this test needs an OpenCL device and found none";
+  }
+  if (b == Backend::Fp64 && !dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
+  out = std::make_unique<DeviceDfg>(*dev, b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
+}
+
+INSTANTIATE_TEST_SUITE_P(Device, DfgIdentities, ::testing::Values(Backend::Fp32, Backend::Fp64), BackendName());
+
+}  // namespace test
+
 namespace {
 
 using test::kLutDefaultBound;
@@ -124,34 +177,8 @@ INSTANTIATE_TEST_SUITE_P(
       return n + "_" + precision_name(std::get<1>(param_info.param));
     });
 
-// Mirror limit, a closed form independent of the reference: as roughness -> 0 the lobe is a
-// perfect mirror, so scale + bias -> 1 and bias -> Fc = (1 - n.v)^5 at h = n.
-TEST(LutClosedForm, MirrorAtRoughnessZero) {
-  BRDFBAKE_REQUIRE_DEVICE(dev);
-  LutSpec spec;
-  spec.n_dot_v = {0.05, 0.2, 0.5, 0.8, 1.0};
-  spec.roughness = {0.0};
-  const Table t = bake_lut(*dev, spec);
-  for (int i = 0; i < t.width; ++i) {
-    const double nv = spec.n_dot_v[size_t(i)];
-    EXPECT_NEAR(t.at(i, 0, 0) + t.at(i, 0, 1), 1.0, 10 * kLutFp32Rounding) << nv;
-    EXPECT_NEAR(t.at(i, 0, 1), std::pow(1.0 - nv, 5.0), 10 * kLutFp32Rounding) << nv;
-  }
-}
-
-// Burley's diffuse albedo at normal incidence has a closed form: with v = n, (l.h)^2 = (1 + t)/2
-// for t = n.l, so F_D90 - 1 = k(t) = -0.5 + r (1 + t) and the n.v factor is 1, giving
-// albedo = 2 int_0^1 (1 + k(t)(1 - t)^5) t dt = 1 - 1/42 + r 5/84 (Beta integrals
-// int t (1-t)^5 = 1/42, int t^2 (1-t)^5 = 1/168).
-TEST(LutClosedForm, BurleyAlbedoAtNormalIncidence) {
-  BRDFBAKE_REQUIRE_DEVICE(dev);
-  LutSpec spec;
-  spec.n_dot_v = {1.0};
-  spec.roughness = {0.5};
-  const Table t = bake_lut(*dev, spec);
-  const double expected = 1.0 - 0.5 * (2.0 / 42.0) + 0.5 * (5.0 / 84.0);
-  EXPECT_NEAR(t.at(0, 0, 2), expected, kLutFp32Rounding);
-}
+// The mirror limit and Burley's closed form at normal incidence are in the identity body
+// (tests/identities/dfg_identities.hpp), with the reference's.
 
 // Every texel is computed on its own: a 1x1 table equals the same cell of a larger table
 // (different launch shapes and work-group sizes) bit for bit.

@@ -1,5 +1,6 @@
 // The Fresnel kernels against the scalar double reference (every model, every preset, fp32 and
-// fp64), and the closed forms and identities of the issue checked on the device's own outputs.
+// fp64), and the Fresnel identities (tests/identities/fresnel_identities.hpp) on the device's own
+// outputs in fp32 and fp64: the same body the reference passes in tests/reference.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,16 +12,88 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/fresnel.hpp"
 #include "brdfbake/reference/fresnel.hpp"
-#include "brdfbake/reference/materials.hpp"
+#include "fresnel_internal.hpp"
+#include "identities/fresnel_identities.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
+namespace test {
 namespace {
 
-using reference::MaterialKind;
-using reference::MaterialPreset;
-using reference::Rgb;
+// A grey curve as a FresnelSpec, evaluated by bake_fresnel at explicit cosines.
+class DeviceFresnel : public FresnelBackend {
+ public:
+  DeviceFresnel(Device& device, Precision precision) : device_(device), precision_(precision) {}
+  std::vector<double> eval(const FresnelCurve& c, const std::vector<double>& cosines) override {
+    const auto grey = [](double v) { return Rgb{v, v, v}; };
+    FresnelSpec s;
+    const std::vector<double>& p = c.p;
+    switch (c.kind) {
+      case FresnelCurve::Kind::Schlick:
+        s.model = FresnelModel::Schlick;
+        s.f0 = grey(p[0]);
+        s.f90 = grey(p[1]);
+        break;
+      case FresnelCurve::Kind::SchlickMetallic:
+        s.model = FresnelModel::SchlickMetallic;
+        s.base_color = grey(p[0]);
+        s.metallic = p[1];
+        s.dielectric_f0 = p[2];
+        break;
+      case FresnelCurve::Kind::SchlickIor:
+      case FresnelCurve::Kind::Dielectric:
+        s.model = c.kind == FresnelCurve::Kind::SchlickIor ? FresnelModel::SchlickIor : FresnelModel::Dielectric;
+        s.ior_outside = p[0];
+        s.ior = grey(p[1]);
+        break;
+      case FresnelCurve::Kind::Conductor:
+        s.model = FresnelModel::Conductor;
+        s.n = grey(p[0]);
+        s.k = grey(p[1]);
+        break;
+      case FresnelCurve::Kind::F82Tint:
+        s.model = FresnelModel::F82Tint;
+        s.f0 = grey(p[0]);
+        s.f82_tint = grey(p[1]);
+        break;
+      case FresnelCurve::Kind::Empirical:
+        s.model = FresnelModel::Empirical;
+        s.bias = p[0];
+        s.scale = p[1];
+        s.power = p[2];
+        break;
+    }
+    s.cos_theta = cosines;
+    s.precision = precision_;
+    const Table t = bake_fresnel(device_, s);
+    std::vector<double> out;
+    for (int i = 0; i < t.width; ++i) out.push_back(t.at(i, 0, 0));
+    return out;
+  }
+
+ private:
+  Device& device_;
+  Precision precision_;
+};
+
+}  // namespace
+
+void make_fresnel_backend(Backend b, std::unique_ptr<FresnelBackend>& out) {
+  Device* dev = test_device();
+  if (!dev) {
+    if (allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";
+    FAIL() << "this test needs an OpenCL device and found none";
+  }
+  if (b == Backend::Fp64 && !dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
+  out = std::make_unique<DeviceFresnel>(*dev, b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
+}
+
+INSTANTIATE_TEST_SUITE_P(Device, FresnelIdentities, ::testing::Values(Backend::Fp32, Backend::Fp64), BackendName());
+
+}  // namespace test
+
+namespace {
 
 Rgb grey(double v) { return {v, v, v}; }
 
@@ -40,7 +113,7 @@ std::string describe(const FresnelSpec& s) {
 // Every way a preset can be fed to a model (empirical takes parameters instead).
 std::vector<FresnelSpec> preset_specs(FresnelModel model) {
   std::vector<FresnelSpec> out;
-  for (const MaterialPreset& p : reference::material_presets()) {
+  for (const MaterialPreset& p : material_presets()) {
     if (model == FresnelModel::Empirical) break;
     if ((model == FresnelModel::SchlickIor || model == FresnelModel::Dielectric) &&
         p.kind == MaterialKind::Conductor)
@@ -208,9 +281,9 @@ INSTANTIATE_TEST_SUITE_P(
       return name + "_" + precision_name(std::get<1>(test_info.param));
     });
 
-// ---- Identities on the device outputs ---------------------------------------------------------------
+// ---- The identities' device-side extensions: presets, the reference's own steps, 2-D tables ------
 
-class FresnelIdentities : public ::testing::TestWithParam<Precision> {
+class FresnelDevice : public ::testing::TestWithParam<Precision> {
  protected:
   Device* dev_ = nullptr;
   void SetUp() override {
@@ -221,7 +294,7 @@ class FresnelIdentities : public ::testing::TestWithParam<Precision> {
     }
     if (GetParam() == Precision::Fp64 && !dev_->info().fp64) GTEST_SKIP() << "no fp64";
   }
-  // The device's value of channel c at each cosine.
+  // The device's table at explicit cosines.
   Table at(FresnelSpec s, std::vector<double> cosines) {
     s.cos_theta = std::move(cosines);
     s.precision = GetParam();
@@ -252,86 +325,42 @@ std::vector<double> endpoints_grid(int n) {
   return g;
 }
 
-TEST_P(FresnelIdentities, NormalIncidenceClosedForms) {
-  for (double n : {1.0001, 1.333, 1.5, 2.417, 4.0, 10.0}) {
-    const double r = (n - 1.0) / (n + 1.0);
-    const Table t = at(dielectric(n), {1.0});
-    EXPECT_NEAR(t.at(0, 0, 0), r * r, tol()) << "dielectric n = " << n;
-  }
-  const Rgb n{0.188, 2.892, 10.0}, k{3.403, 3.065, 100.0};
-  const Table t = at(conductor(n, k), {1.0});
-  for (int c = 0; c < 3; ++c) {
-    const double nc = c == 0 ? n.r : c == 1 ? n.g : n.b, kc = c == 0 ? k.r : c == 1 ? k.g : k.b;
-    const double want = ((nc - 1) * (nc - 1) + kc * kc) / ((nc + 1) * (nc + 1) + kc * kc);
-    EXPECT_NEAR(t.at(0, 0, c), want, tol()) << nc << " + " << kc << "i";
-  }
+// Grazing gives 1 for every model fed from every preset (the identity body checks parameter sets),
+// to the last bits of a float: the kernels' arithmetic makes numerator and denominator equal there.
+TEST_P(FresnelDevice, GrazingIsOneForEveryPreset) {
+  for (FresnelModel m : {FresnelModel::Schlick, FresnelModel::SchlickMetallic, FresnelModel::SchlickIor,
+                         FresnelModel::Dielectric, FresnelModel::Conductor, FresnelModel::F82Tint})
+    for (const FresnelSpec& s : preset_specs(m)) {
+      const Table t = at(s, {0.0});
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(t.at(0, 0, c), 1.0, test::kFresnelGrazingOne) << describe(s) << " channel " << c;
+    }
 }
 
-// cos_theta = 0 gives 1 for every physical model and every Schlick variant (F90 = 1), to the
-// last bits: the kernels' arithmetic makes numerator and denominator equal there.
-TEST_P(FresnelIdentities, GrazingIsOneForEveryModel) {
-  std::vector<FresnelSpec> specs;
-  for (FresnelModel m : {FresnelModel::Schlick, FresnelModel::SchlickMetallic,
-                         FresnelModel::SchlickIor, FresnelModel::Dielectric,
-                         FresnelModel::Conductor, FresnelModel::F82Tint})
-    for (const FresnelSpec& s : preset_specs(m)) specs.push_back(s);
-  specs.push_back(dielectric(1.0, 1.5));  // internal
-  specs.push_back(dielectric(10.0));
-  specs.push_back(conductor({10.0, 0.01, 1.0}, {100.0, 100.0, 1e-6}));
-  for (const FresnelSpec& s : parameter_specs(FresnelModel::F82Tint)) specs.push_back(s);
-  for (const FresnelSpec& s : specs) {
-    const Table t = at(s, {0.0});
-    for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(t.at(0, 0, c), 1.0, test::kFresnelGrazingOne) << describe(s) << " channel " << c;
+// Continuous at the critical angle as the reference is: no step between neighbouring cosines 1e-6
+// apart larger than the reference's own (which moves by O(sqrt(1e-6)) at the branch point).
+TEST_P(FresnelDevice, ContinuousAtTheCriticalAngleAsTheReference) {
+  const FresnelSpec s = dielectric(1.0, 1.5);
+  const double eta = 1.0 / 1.5;
+  const double cos_critical = std::sqrt((1.0 - eta) * (1.0 + eta));
+  std::vector<double> near;
+  for (int i = -200; i <= 200; ++i) near.push_back(cos_critical + i * 1e-6);
+  FresnelSpec r = s;
+  r.cos_theta = near;
+  const Table t = at(s, near);
+  const Table want = bake_fresnel_reference(r);
+  double step = 0.0, ref_step = 0.0;
+  for (int i = 1; i < t.width; ++i) {
+    step = std::max(step, double(std::fabs(t.at(i, 0, 0) - t.at(i - 1, 0, 0))));
+    ref_step = std::max(ref_step, double(std::fabs(want.at(i, 0, 0) - want.at(i - 1, 0, 0))));
   }
+  EXPECT_LE(step, ref_step + test::kFresnelCriticalAngleFp32) << "largest step " << step;
+  EXPECT_LE(ref_step, 0.05);
+  for (float v : t.data) EXPECT_LE(v, 1.0f);
 }
 
-// The empirical rim term is not a reflectance: at grazing it gives clamp(bias + scale, 0, 1), so 1
-// only where bias + scale >= 1 (power > 0). What this checks: that value, for both cases.
-TEST_P(FresnelIdentities, EmpiricalAtGrazingIsBiasPlusScaleClamped) {
-  for (const auto& [b, sc] : std::vector<std::pair<double, double>>{
-           {0.0, 1.0}, {0.3, 0.7}, {0.5, 1.0}, {0.2, 0.5}, {-0.1, 0.6}}) {
-    FresnelSpec s;
-    s.model = FresnelModel::Empirical;
-    s.bias = b;
-    s.scale = sc;
-    s.power = 5.0;
-    const Table t = at(s, {0.0});
-    EXPECT_NEAR(t.at(0, 0, 0), std::clamp(b + sc, 0.0, 1.0), tol()) << b << " + " << sc;
-  }
-}
-
-TEST_P(FresnelIdentities, ConductorWithZeroExtinctionIsDielectric) {
-  const std::vector<double> g = endpoints_grid(1025);
-  for (double eta : {1.0001, 1.333, 1.5, 2.417, 4.0, 1.0 / 1.5}) {
-    FresnelSpec d = eta < 1 ? dielectric(1.0, 1.0 / eta) : dielectric(eta);
-    const Table a = at(conductor(grey(eta), grey(0.0)), g), b = at(d, g);
-    const FresnelError e = fresnel_error(a, b);
-    const double t = eta < 1 && GetParam() == Precision::Fp32 ? test::kFresnelCriticalAngleFp32 : tol();
-    EXPECT_LE(e.max_abs, t) << "eta " << eta << " worst at cos " << e.x_at_max;
-  }
-}
-
-TEST_P(FresnelIdentities, IndexOneReflectsNothing) {
-  const std::vector<double> g = endpoints_grid(257);
-  FresnelSpec schlick_ior;
-  schlick_ior.model = FresnelModel::SchlickIor;
-  schlick_ior.ior = grey(1.0);
-  FresnelSpec same = schlick_ior;
-  same.ior = grey(1.5);
-  same.ior_outside = 1.5;
-  for (const FresnelSpec& s : {dielectric(1.0), dielectric(1.5, 1.5), conductor(grey(1.0), grey(0.0))}) {
-    const Table t = at(s, g);
-    for (float v : t.data) ASSERT_EQ(v, 0.0f) << describe(s);
-  }
-  // Schlick from an IOR pair has F0 = 0 exactly, but still rises to F90 = 1 at grazing: "nothing
-  // reflects" is a property of the exact equations, one that the approximation does not keep.
-  for (const FresnelSpec& s : {schlick_ior, same}) {
-    const Table t = at(s, {1.0, 0.0});
-    EXPECT_EQ(t.at(0, 0, 0), 0.0f) << describe(s);
-    EXPECT_EQ(t.at(1, 0, 0), 1.0f) << describe(s);
-  }
-  // The row of IOR exactly 1 in a 2-D dielectric table over [0.5, 1.5] with both ends.
+// The row of IOR exactly 1 in a 2-D dielectric table over [0.5, 1.5] with both ends reflects nothing.
+TEST_P(FresnelDevice, IndexOneRowOfATwoDimensionalTable) {
   FresnelSpec two_d;
   two_d.model = FresnelModel::Dielectric;
   two_d.table = FresnelTableKind::TwoD;
@@ -345,62 +374,8 @@ TEST_P(FresnelIdentities, IndexOneReflectsNothing) {
   for (int i = 0; i < t.width; ++i) EXPECT_EQ(t.at(i, 1, 0), 0.0f) << i;
 }
 
-// eta = 1/1.5 (glass to air): exactly 1 past the critical angle, and continuous at it as the
-// reference is: no step between neighbouring cosines larger than the reference's own.
-TEST_P(FresnelIdentities, InternalReflectionIsTotalAndContinuous) {
-  const FresnelSpec s = dielectric(1.0, 1.5);
-  const double eta = 1.0 / 1.5;
-  const double cos_critical = std::sqrt((1.0 - eta) * (1.0 + eta));
-  std::vector<double> g;
-  for (int i = 0; i < 1024; ++i) g.push_back(cos_critical * i / 1024.0 * (1.0 - 1e-6));
-  Table t = at(s, g);
-  for (int i = 0; i < t.width; ++i) ASSERT_EQ(t.at(i, 0, 0), 1.0f) << "cos " << g[size_t(i)];
-
-  std::vector<double> near;
-  for (int i = -200; i <= 200; ++i) near.push_back(cos_critical + i * 1e-6);
-  FresnelSpec r = s;
-  r.cos_theta = near;
-  t = at(s, near);
-  const Table want = bake_fresnel_reference(r);
-  double step = 0.0, ref_step = 0.0;
-  for (int i = 1; i < t.width; ++i) {
-    step = std::max(step, double(std::fabs(t.at(i, 0, 0) - t.at(i - 1, 0, 0))));
-    ref_step = std::max(ref_step, double(std::fabs(want.at(i, 0, 0) - want.at(i - 1, 0, 0))));
-  }
-  // The reference moves by O(sqrt(1e-6)) between neighbours at the branch point; a jump would be O(1).
-  EXPECT_LE(step, ref_step + test::kFresnelCriticalAngleFp32) << "largest step " << step;
-  EXPECT_LE(ref_step, 0.05);
-  for (float v : t.data) EXPECT_LE(v, 1.0f);
-}
-
-TEST_P(FresnelIdentities, SchlickSpotValues) {
-  FresnelSpec s;
-  s.model = FresnelModel::Schlick;
-  s.f0 = grey(0.04);
-  EXPECT_NEAR(at(s, {0.1}).at(0, 0, 0), 0.60687, test::kFresnelSpotValue);
-  s.f0 = Rgb{0.85, 0.55, 0.25};
-  const Table t = at(s, {0.1});
-  EXPECT_NEAR(t.at(0, 0, 0), 0.93857, test::kFresnelSpotValue);
-  EXPECT_NEAR(t.at(0, 0, 1), 0.81572, test::kFresnelSpotValue);
-  EXPECT_NEAR(t.at(0, 0, 2), 0.69287, test::kFresnelSpotValue);
-}
-
-// Cosines a hair outside [0, 1] (rounding upstream) are clamped: the values at 0 and 1, not NaN.
-TEST_P(FresnelIdentities, CosinesJustOutsideTheRangeAreClamped) {
-  std::vector<FresnelSpec> specs;
-  for (FresnelModel m : fresnel_models())
-    for (const FresnelSpec& s : parameter_specs(m)) specs.push_back(s);
-  for (const FresnelSpec& s : specs) {
-    const Table t = at(s, {-1e-7, 0.0, 1.0, 1.0 + 1e-7});
-    for (int c = 0; c < 3; ++c) {
-      EXPECT_TRUE(std::isfinite(t.at(0, 0, c)) && std::isfinite(t.at(3, 0, c))) << describe(s);
-      EXPECT_EQ(t.at(0, 0, c), t.at(1, 0, c)) << describe(s) << " channel " << c;
-      EXPECT_EQ(t.at(3, 0, c), t.at(2, 0, c)) << describe(s) << " channel " << c;
-    }
-  }
-}
-
-TEST_P(FresnelIdentities, ExtremeIndicesStayFiniteAndBounded) {
+// Extreme indices against the reference (the identity body checks they stay finite and bounded).
+TEST_P(FresnelDevice, ExtremeIndicesMatchTheReference) {
   const std::vector<double> g = endpoints_grid(4097);
   std::vector<FresnelSpec> specs = {
       conductor({10.0, 0.01, 1.0}, {100.0, 100.0, 100.0}), conductor({10.0, 0.01, 0.5}, {0.0, 1e-6, 1.0}),
@@ -411,11 +386,6 @@ TEST_P(FresnelIdentities, ExtremeIndicesStayFiniteAndBounded) {
   specs.push_back(si);
   for (FresnelSpec s : specs) {
     const Table t = at(s, g);
-    for (float v : t.data) {
-      ASSERT_TRUE(std::isfinite(v)) << describe(s);
-      ASSERT_GE(v, 0.0f) << describe(s);
-      ASSERT_LE(v, 1.0f) << describe(s);
-    }
     s.cos_theta = g;
     const FresnelError e = fresnel_error(t, bake_fresnel_reference(s));
     const double limit = tolerance(s, GetParam());
@@ -424,7 +394,7 @@ TEST_P(FresnelIdentities, ExtremeIndicesStayFiniteAndBounded) {
 }
 
 // 2-D tables (cos_theta x F0, cos_theta x IOR) against the reference, odd sizes, both cell rules.
-TEST_P(FresnelIdentities, TwoDimensionalTables) {
+TEST_P(FresnelDevice, TwoDimensionalTables) {
   std::vector<FresnelSpec> specs;
   FresnelSpec s;
   s.table = FresnelTableKind::TwoD;
@@ -465,8 +435,7 @@ TEST_P(FresnelIdentities, TwoDimensionalTables) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(BothPrecisions, FresnelIdentities,
-                         ::testing::Values(Precision::Fp32, Precision::Fp64),
+INSTANTIATE_TEST_SUITE_P(BothPrecisions, FresnelDevice, ::testing::Values(Precision::Fp32, Precision::Fp64),
                          [](const auto& test_info) { return std::string(precision_name(test_info.param)); });
 
 // ---- Tables, metadata, comparisons ---------------------------------------------------------------
@@ -627,26 +596,49 @@ TEST(FresnelCompare, ApproximationsAgainstTheExactModel) {
       if (r.model == FresnelModel::SchlickMetallic) return r.worst;
     return -1.0;
   };
-  const double diamond_f0 = reference::exact_f0(*reference::find_material("diamond")).r;
+  const double diamond_f0 = exact_f0(*find_material_preset("diamond")).r;
   EXPECT_GE(metallic_error("diamond"), diamond_f0 - 0.04);
   EXPECT_GT(metallic_error("diamond"), 3.0 * metallic_error("glass"));
   EXPECT_THROW(compare_fresnel_models("unobtainium", nullptr, o), Error);
 }
 
+// fit_conductor ships the engine's own fits (host/src/fresnel.cpp); they must agree with the
+// reference's (host/reference/src/fresnel.cpp), and with what a table from the preset receives.
 TEST(FresnelConversions, ConductorFitAndHardCodedF0) {
-  const MaterialPreset& chromium = *reference::find_material("chromium");
+  const MaterialPreset& chromium = *find_material_preset("chromium");
   const ConductorFit fit = fit_conductor(chromium.n, chromium.k);
-  const Rgb f0 = reference::exact_f0(chromium);
+  const Rgb f0 = exact_f0(chromium);
   EXPECT_DOUBLE_EQ(fit.f0.r, f0.r);
-  EXPECT_DOUBLE_EQ(fit.f82_tint.g, reference::fit_f82_tint(chromium.n, chromium.k).g);
+  const Rgb ref_f0 = reference::schlick_f0_from_conductor(chromium.n, chromium.k);
+  const Rgb ref_tint = reference::fit_f82_tint(chromium.n, chromium.k);
+  for (int c = 0; c < 3; ++c) {
+    const double want_f0 = c == 0 ? ref_f0.r : c == 1 ? ref_f0.g : ref_f0.b;
+    const double want_tint = c == 0 ? ref_tint.r : c == 1 ? ref_tint.g : ref_tint.b;
+    EXPECT_NEAR(c == 0 ? fit.f0.r : c == 1 ? fit.f0.g : fit.f0.b, want_f0, test::kRounding) << c;
+    EXPECT_NEAR(c == 0 ? fit.f82_tint.r : c == 1 ? fit.f82_tint.g : fit.f82_tint.b, want_tint, test::kRounding) << c;
+  }
   EXPECT_LT(fit.f82_max_error.r, fit.schlick_max_error.r);
-  const MaterialPreset& gold = *reference::find_material("gold");
+  const MaterialPreset& gold = *find_material_preset("gold");
   const auto hard = hard_coded_f0(gold);
   ASSERT_EQ(hard.size(), 2u);  // RTR4's and Hoffman 2010's
   EXPECT_DOUBLE_EQ(hard[1].f0.g, 0.71);
-  EXPECT_EQ(hard_coded_f0(*reference::find_material("water")).size(), 1u)
+  EXPECT_EQ(hard_coded_f0(*find_material_preset("water")).size(), 1u)
       << "both tables give water 0.02: listed once";
   EXPECT_THROW(fit_conductor(Rgb{-1, 1, 1}, Rgb{1, 1, 1}), Error);
+}
+
+// Every conductor preset: the engine's fits equal the reference's.
+TEST(FresnelConversions, EngineFitsMatchTheReferenceForEveryPreset) {
+  for (const MaterialPreset& p : material_presets()) {
+    if (p.kind != MaterialKind::Conductor) continue;
+    const Rgb f0 = detail::conductor_f0(p.n, p.k), tint = detail::fit_f82_tint(p.n, p.k);
+    const Rgb ref_f0 = reference::schlick_f0_from_conductor(p.n, p.k), ref_tint = reference::fit_f82_tint(p.n, p.k);
+    EXPECT_NEAR(f0.r, ref_f0.r, test::kRounding) << p.name;
+    EXPECT_NEAR(f0.b, ref_f0.b, test::kRounding) << p.name;
+    EXPECT_NEAR(tint.r, ref_tint.r, test::kRounding) << p.name;
+    EXPECT_NEAR(tint.g, ref_tint.g, test::kRounding) << p.name;
+    EXPECT_NEAR(tint.b, ref_tint.b, test::kRounding) << p.name;
+  }
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
+#include "env_lobes.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
 
@@ -109,6 +111,23 @@ INSTANTIATE_TEST_SUITE_P(AllLobes, Furnace,
                                             ::testing::Values(EnvEstimator::Quadrature, EnvEstimator::Sampling)));
 
 // fp64 kernels: the furnace, and the same values as fp32 to fp32's rounding.
+// The engine's host-side lobes (host/src/env_lobes.cpp: D for the sample tables, the Charlie profile
+// for the pyramid's thresholds, W in closed form for the bright texels) against the reference's
+// (kernel by its own D, W by adaptive quadrature).
+TEST(EnvLobes, EngineMatchesTheReference) {
+  for (EnvDistribution d : {EnvDistribution::Ggx, EnvDistribution::Charlie}) {
+    const auto lobe = d == EnvDistribution::Ggx ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie;
+    for (double alpha : {1e-3, 0.01, 0.1, 0.3, 1.0 / 3.0, 0.5, 0.8, 0.95, 1.0}) {
+      const double w = detail::env_lobe_normalization(d, alpha), want = reference::env_lobe_normalization(lobe, alpha);
+      EXPECT_NEAR(w / want, 1.0, test::kAnalytic) << env_distribution_name(d) << " alpha " << alpha;
+      for (double c : {-0.5, 0.0, 1e-6, 0.1, 0.5, 0.9, 0.999, 1.0}) {
+        const double k = detail::env_lobe_kernel(d, alpha, c), kr = reference::env_lobe_kernel(lobe, alpha, c);
+        EXPECT_NEAR(k, kr, test::kRounding * std::max(1.0, std::fabs(kr))) << env_distribution_name(d) << " " << alpha << " " << c;
+      }
+    }
+  }
+}
+
 TEST(Prefilter, Fp64) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   BRDFBAKE_REQUIRE_FP64(dev);
@@ -306,6 +325,35 @@ TEST(Prefilter, MaxErrorChoosesPerLevel) {
   EXPECT_NE(m.meta("samples_per_level"), "");
 }
 
+// Progress follows the rows of each level (the first levels hold most of the work: a progress line
+// that moved only between levels sat at 0% through most of a bake), goes only forward, and names
+// the refinement a --max-error search is at.
+TEST(Prefilter, ProgressMovesWithinEveryLevel) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), 64);
+  for (double max_error : {0.0, 0.01}) {
+    PrefilterSpec s;
+    s.size = 64;
+    s.min_size = 16;  // levels 64, 32, 16: level 1 holds 4/5 of the filtered texels
+    s.max_error = max_error;
+    std::vector<double> f;
+    std::vector<std::string> labels;
+    prefilter_cube(*dev, source, s, nullptr, [&](double x, const std::string& label) {
+      f.push_back(x);
+      labels.push_back(label);
+    });
+    ASSERT_FALSE(f.empty());
+    for (size_t k = 1; k < f.size(); ++k) EXPECT_GE(f[k], f[k - 1]) << labels[k];
+    EXPECT_EQ(f.back(), 1.0);
+    int inside_level_one = 0;
+    for (size_t k = 0; k < f.size(); ++k) inside_level_one += f[k] > 0.0 && f[k] < 0.8 && labels[k].rfind("level 1/2", 0) == 0;
+    EXPECT_GE(inside_level_one, 5) << "max_error " << max_error;
+    bool refinement = false;
+    for (const auto& l : labels) refinement |= l.find("refinement") != std::string::npos;
+    EXPECT_EQ(refinement, max_error > 0.0);
+  }
+}
+
 // OrientationLatLong.exr (OpenEXR's chart) draws, at the four horizon views, short black lines
 // towards the positive axes: from +X towards +Z, from +Z towards +X, from -X towards +Z, from -Z
 // towards +X, and from each view up towards +Y. The cube converted on the device must be black
@@ -321,7 +369,7 @@ TEST(Prefilter, EquirectOrientationChart) {
   auto darkest = [&](double x, double y, double z) {
     int face = 0;
     double a = 0, b = 0;
-    reference::cube_face_coords({x, y, z}, face, a, b);
+    math::cube_face_coords({x, y, z}, face, a, b);
     const int ci = std::clamp(int(std::floor(0.5 * (a + 1) * n)), 0, n - 1);
     const int cj = std::clamp(int(std::floor(0.5 * (b + 1) * n)), 0, n - 1);
     double lum = 1e9;

@@ -28,7 +28,7 @@ std::string detail_format(double v) {
 void compare(Device& dev, Precision p, double tolerance) {
   ThinFilmSpec r;
   r.film_ior = 1.8;
-  r.base_f0 = reference::Rgb{0.9, 0.5, 0.04};
+  r.base_f0 = Rgb{0.9, 0.5, 0.04};
   r.thickness_min = 0.0;
   r.thickness_max = 1200.0;
   r.width = 33;
@@ -43,7 +43,7 @@ void compare(Device& dev, Precision p, double tolerance) {
   double worst = 0.0;
   for (int j = 0; j < t.height; ++j)
     for (int i = 0; i < t.width; ++i) {
-      const reference::Rgb v = reference::thin_film_fresnel(t.x[size_t(i)], t.y[size_t(j)], f);
+      const Rgb v = reference::thin_film_fresnel(t.x[size_t(i)], t.y[size_t(j)], f);
       worst = std::max({worst, std::fabs(double(t.at(i, j, 0)) - v.r), std::fabs(double(t.at(i, j, 1)) - v.g),
                         std::fabs(double(t.at(i, j, 2)) - v.b)});
     }
@@ -85,7 +85,7 @@ TEST(ThinFilmDevice, DielectricBaseAndOneThickness) {
   EXPECT_EQ(t.y.size(), 1u);
   EXPECT_DOUBLE_EQ(t.y[0], 400.0);
   EXPECT_EQ(t.meta("base_ior"), "1.5");
-  const reference::Rgb v = reference::thin_film_fresnel(t.x[3], 400.0, reference::ThinFilm{1.0, 1.3, {0.04, 0.04, 0.04}});
+  const Rgb v = reference::thin_film_fresnel(t.x[3], 400.0, reference::ThinFilm{1.0, 1.3, {0.04, 0.04, 0.04}});
   EXPECT_NEAR(double(t.at(3, 0, 1)), v.g, kThinFilmFp32);
 }
 

@@ -1,6 +1,8 @@
 // `brdfbake bake` and `brdfbake run`, run as a user runs them: the plan, what is written, exit
 // codes, one-line errors, nothing half written.
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +16,8 @@
 #include <sstream>
 #include <string>
 
+#include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
 #include "support/cli_runner.hpp"
 
 namespace {
@@ -97,12 +101,17 @@ TEST(CliBake, DryRunJsonIsThePlan) {
 TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   const fs::path out = temp_dir() / "default";
   fs::remove_all(out);
-  const CliRun r = run("bake -o " + out.string() + kSizes);
+  const CliRun r = run("bake -o " + out.string() + kSizes + " --contact-sheet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json"})
+  for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json",
+                        "contact_sheet.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
+  // The DFG kind's runtime formula: ggx-multiscatter needs a different shader from ggx.
+  EXPECT_NE(r.out.find("runtime: specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("contact sheet: " + out.string() + "/contact_sheet.png"), std::string::npos) << r.out;
+  EXPECT_NE(run("bake --dry-run --contact-sheet").err.find("not with --dry-run"), std::string::npos);
   std::ifstream m(out / "manifest.json");
   const json manifest = json::parse(m);
   ASSERT_EQ(manifest["files"].size(), 3u);
@@ -199,6 +208,89 @@ TEST(CliBake, EveryRealSceneHasAPlan) {
     EXPECT_TRUE(json::accept(r.out)) << e.path();
   }
   EXPECT_EQ(n, 18);
+}
+
+}  // namespace
+
+namespace {
+
+// `bake --target T` writes the engine's file set (brdfbake/engines.hpp) beside the tables, in the
+// engine's conventions, and lists it in the manifest; a job that lacks what the set needs is refused
+// with nothing written.
+// irradiance --target: the engine's SH window unless given, and its coefficients beside ours. For
+// glTF (EXT_lights_image_based), E_lm = s_k pi (E/pi)_lm with s_k the Condon-Shortley sign (-1 at
+// m = +-1), from the JSON's own irradiance_over_pi.
+TEST(CliBake, IrradianceTargetAddsTheEnginesCoefficients) {
+  const fs::path dir = temp_dir() / "irr_target";
+  fs::create_directories(dir);
+  for (const std::string& target : {std::string("gltf"), std::string("filament")}) {
+    const fs::path out = dir / (target + ".json");
+    const CliRun r = run("irradiance --env builtin:studio --target " + target + " --quiet -o " + out.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const json j = json::parse(std::ifstream(out));
+    const brdfbake::EngineSettings e = brdfbake::engine_settings(brdfbake::engine_target_from_name(target));
+    EXPECT_EQ(j["window"], brdfbake::sh_window_name(e.sh_window)) << target;
+    ASSERT_EQ(j["engine"]["target"], target);
+    ASSERT_EQ(j["engine"]["coefficients"].size(), 9u);
+    if (target != "gltf") continue;
+    for (size_t k = 0; k < 9; ++k) {
+      const double sign = (k == 1 || k == 3 || k == 5 || k == 7) ? -1.0 : 1.0;
+      for (size_t c = 0; c < 3; ++c) {
+        const double want = sign * 3.14159265358979323846 * j["irradiance_over_pi"][k][c].get<double>();
+        EXPECT_NEAR(j["engine"]["coefficients"][k][c].get<double>(), want, 1e-12 * (1.0 + std::fabs(want))) << k;
+      }
+    }
+  }
+  // an explicit window wins over the engine's
+  const CliRun w = run("irradiance --env builtin:studio --target filament --sh-window lanczos --quiet -o " +
+                       (dir / "w.json").string());
+  ASSERT_EQ(w.code, 0) << w.err;
+  EXPECT_EQ(json::parse(std::ifstream(dir / "w.json"))["window"], "lanczos");
+  fs::remove_all(dir);
+}
+
+TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
+  const fs::path dir = temp_dir() / "targets";
+  fs::create_directories(dir);
+  for (const std::string& target : brdfbake::engine_target_names()) {
+    if (target == "generic") continue;
+    const fs::path out = dir / ("set_" + target);
+    const std::string name = out.filename().string();
+    const CliRun r = run("bake --target " + target + " --cube-size 16 --min-size 4 --lut-size 8 --quiet -o " + out.string());
+    if (target == "filament" || target == "babylon") {
+      // these engines fix their sizes (power-of-two chains down to their own smallest level)
+      const CliRun own = run("bake --target " + target + " --quiet -o " + out.string());
+      ASSERT_EQ(own.code, 0) << target << ": " << own.err;
+    } else {
+      ASSERT_EQ(r.code, 0) << target << ": " << r.err;
+    }
+    const brdfbake::EngineSettings e = brdfbake::engine_settings(brdfbake::engine_target_from_name(target));
+    const json m = json::parse(std::ifstream(out / "manifest.json"));
+    ASSERT_TRUE(m.contains("engine")) << target;
+    EXPECT_EQ(m["engine"]["target"], target);
+    for (std::string f : e.files) {
+      // patterns (per-level images) and optional files (a Charlie chain) are checked through the manifest
+      if (f.find('<') != std::string::npos || f.find('(') != std::string::npos) continue;
+      const auto at = f.find("NAME");
+      if (at != std::string::npos) f.replace(at, 4, name);
+      EXPECT_TRUE(fs::exists(out / f)) << target << ": " << f;
+    }
+    for (const auto& f : m["engine"]["files"])
+      EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
+    // the chain the set was made from has the engine's schedule
+    for (const auto& f : m["files"]) {
+      if (f["kind"] == "prefilter") {
+        EXPECT_EQ(f["parameters"]["schedule"], std::string(brdfbake::roughness_schedule_name(e.schedule))) << target;
+      }
+    }
+  }
+  // a job with a target but no irradiance table: refused, nothing written
+  std::ofstream(dir / "job.json") << R"({"target": "filament", "tables": [{"kind": "prefilter", "size": 16, "min_size": 4}]})";
+  const CliRun bad = run("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "bad").string());
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("needs a GGX prefiltered chain and an irradiance table"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -234,6 +234,18 @@ TEST(CliEval, CsvMatchesTheReference) {
   }
 }
 
+// The summary names the device and counts in words that agree with the number ("1 pair").
+TEST(CliEval, SummaryNamesTheDeviceAndCountsPairs) {
+  const fs::path dir = temp_dir(), mats = materials_file();
+  std::vector<double> pairs;
+  write_text(dir / "one.csv", pairs_csv(1, 7u, pairs));
+  const CliRun r = run("eval --material " + mats.string() + " --name gold -i " + (dir / "one.csv").string() + " -o " +
+                       (dir / "one_f.csv").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("1 pair, ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(" on "), std::string::npos) << "the device: " << r.err;
+}
+
 // More pairs than one chunk (1 << 16), through standard input and output, in order; the reference
 // device gives the same rows.
 TEST(CliEval, StreamsSeveralChunksThroughPipes) {
@@ -345,14 +357,16 @@ TEST(CliTabulate, MerlFileWithSidecarMatchesTheReference) {
       for (int k : {10, 90}) {
         const double u = (i + 0.5) / 90, th = u * u * pi / 2, td = (j + 0.5) / 90 * pi / 2, pd = (k + 0.5) / 180 * pi;
         const double st = std::sin(th), ct = std::cos(th), sd = std::sin(td), cd = std::cos(td), dx = sd * std::cos(pd);
-        const reference::Vec3 wi{dx * ct + cd * st, sd * std::sin(pd), cd * ct - dx * st};
-        const reference::Vec3 wo{2 * cd * st - wi.x, -wi.y, 2 * cd * ct - wi.z};
+        const Vec3 wi{dx * ct + cd * st, sd * std::sin(pd), cd * ct - dx * st};
+        const Vec3 wo{2 * cd * st - wi.x, -wi.y, 2 * cd * ct - wi.z};
         const Rgb got = merl_lookup(t, wi, wo);
         if (wi.z <= 0 || wo.z <= 0) {
           EXPECT_EQ(got.r, kMerlBelowHorizon);
           continue;
         }
-        const Rgb want = reference::brdf(BrdfModel::Gltf, all[1].params, wi, wo);
+        double pair[6] = {wi.x, wi.y, wi.z, wo.x, wo.y, wo.z}, f[3];
+        eval_reference(BrdfModel::Gltf, all[1].params, pair, 1, f);
+        const Rgb want{f[0], f[1], f[2]};
         EXPECT_LE(error(got.g, want.g), 1e-4) << i << " " << j << " " << k;
       }
 }

@@ -153,7 +153,7 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   expect_clean_failure("prefilter --env builtin:studio --size 16 --min-size 32" + out, dir, "--min-size");
   expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--size");
   expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir, "--distribution: must be one of ggx, charlie (got 'phong')");
-  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "--schedule: must be one of linear, filament, sqrt (got 'cubic')");
+  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "--schedule: must be one of linear, filament, sqrt, babylon (got 'cubic')");
   expect_clean_failure("prefilter --env builtin:studio --samples 64" + out, dir, "--estimator sampling");
   expect_clean_failure("prefilter --env builtin:studio --estimator sampling --samples 0" + out, dir, "--samples");
   expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--max-error");

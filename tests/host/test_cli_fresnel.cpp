@@ -96,6 +96,24 @@ TEST(CliFresnel, EndpointsIncludeGrazingAndNormalIncidence) {
   EXPECT_TRUE(has_meta(c, "# material_source: Johnson & Christy 1972"));
 }
 
+// The conventions line states what the model computes: eta only where an index enters (issue 10:
+// the empirical rim term's CSV carried the dielectric's eta line).
+TEST(CliFresnel, ConventionsNameEtaOnlyForModelsWithAnIndex) {
+  auto conventions = [](const std::string& args) {
+    const CliRun r = run("fresnel " + args + " --size 2 --quiet -o - --format csv");
+    EXPECT_EQ(r.code, 0) << r.err;
+    for (const std::string& m : parse_csv(r.out).meta)
+      if (m.rfind("# conventions: ", 0) == 0) return m;
+    return std::string();
+  };
+  const std::string empirical = conventions("--model empirical --bias 0.1 --scale 0.9 --power 5");
+  EXPECT_EQ(empirical.find("eta ="), std::string::npos) << empirical;
+  EXPECT_NE(empirical.find("empirical rim term"), std::string::npos) << empirical;
+  EXPECT_EQ(conventions("--model schlick --f0 0.04").find("eta ="), std::string::npos);
+  EXPECT_NE(conventions("--model dielectric --ior 1.5").find("eta = n_t / n_i"), std::string::npos);
+  EXPECT_NE(conventions("--model conductor --material gold").find("unpolarised reflectance"), std::string::npos);
+}
+
 // --vs exact: err_<c> = value - exact, the exact model being the conductor for a metal preset.
 TEST(CliFresnel, VsExactAddsSignedErrorColumns) {
   const CliRun r =

@@ -14,7 +14,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/equirect.hpp"
 
 #ifndef BRDFBAKE_SHARED_DIR
 #define BRDFBAKE_SHARED_DIR "../shared"
@@ -114,7 +114,7 @@ TEST(Environment, TiledMipMappedExrFromShared) {
   EXPECT_GT(peak, 1000.0);  // SOURCES.md: max luminance 1678
 }
 
-// The documented equirect mapping (reference::equirect_coords) puts OpenEXR's chart's black axis
+// The documented equirect mapping (math::equirect_coords) puts OpenEXR's chart's black axis
 // lines where the chart says the axes are (tests/device/test_prefilter.cpp checks the device's
 // conversion the same way).
 TEST(Environment, OrientationChartMatchesTheDocumentedMapping) {
@@ -123,7 +123,7 @@ TEST(Environment, OrientationChartMatchesTheDocumentedMapping) {
   const EnvImage e = load_environment(file);
   auto lum = [&](double x, double y, double z) {
     double u = 0, v = 0;
-    reference::equirect_coords({x, y, z}, u, v);
+    math::equirect_coords({x, y, z}, u, v);
     const int px = std::min(e.width - 1, int(u * e.width)), py = std::min(e.height - 1, int(v * e.height));
     double darkest = 1e9;
     for (int dy = -1; dy <= 1; ++dy) {

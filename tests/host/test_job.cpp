@@ -8,6 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <map>
+#include <set>
 #include <string>
 
 #include "brdfbake/job.hpp"
@@ -155,11 +157,29 @@ TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
                       "job.json");
   job.output_dir = dir.string();
   int events = 0;
+  std::map<int, std::vector<double>> fractions;  // per bake
+  std::map<int, std::string> labels;
   const Manifest m = run_job(job, [&](const JobEvent& e) {
     ++events;
     EXPECT_LT(e.bake, e.bakes);
+    fractions[e.bake].push_back(e.fraction);
+    labels[e.bake] = e.what;
   });
   EXPECT_GT(events, 0);
+  // Progress moves during a bake, not only at its start and end (the prefilter's levels report
+  // as their rows complete), and never goes back.
+  for (const auto& [bake, f] : fractions) {
+    std::set<double> inside;
+    for (size_t k = 0; k < f.size(); ++k) {
+      if (f[k] > 0.0 && f[k] < 1.0) inside.insert(f[k]);
+      if (k > 0 && f[k] != 0.0) {
+        EXPECT_GE(f[k], f[k - 1]) << labels[bake];
+      }
+    }
+    if (labels[bake].find("prefilter") != std::string::npos) {
+      EXPECT_GE(inside.size(), 2u) << labels[bake];
+    }
+  }
   EXPECT_EQ(m.bakes, 6) << "the two ggx-multiscatter entries are one bake";
   ASSERT_EQ(m.files.size(), 7u);
   EXPECT_EQ(m.files[0].bake, m.files[1].bake);

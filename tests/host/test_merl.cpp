@@ -101,7 +101,7 @@ TEST(Merl, BinCentresLookUpTheirOwnBin) {
     for (int j = 0; j < kMerlThetaD; ++j)
       for (int k = 0; k < kMerlPhiD; k += 7) {
         const io::MerlAngles a = io::merl_bin_centre(i, j, k);
-        reference::Vec3 wi{}, wo{};
+        Vec3 wi{}, wo{};
         io::half_diff_to_directions(a.theta_h, a.theta_d, a.phi_d, wi, wo);
         ASSERT_EQ(io::merl_index(wi, wo), (size_t(i) * 90 + size_t(j)) * 180 + size_t(k)) << i << " " << j << " " << k;
         // reciprocity: the swapped pair lands in the same theta bins, phi_d folded
@@ -127,7 +127,7 @@ TEST(Merl, ReferenceTableAndLookup) {
     for (int j = 0; j < kMerlThetaD; j += 3)
       for (int k = 0; k < kMerlPhiD; k += 5) {
         const io::MerlAngles a = io::merl_bin_centre(i, j, k);
-        reference::Vec3 wi{}, wo{};
+        Vec3 wi{}, wo{};
         io::half_diff_to_directions(a.theta_h, a.theta_d, a.phi_d, wi, wo);
         const size_t b = (size_t(i) * 90 + size_t(j)) * 180 + size_t(k);
         const Rgb f = merl_lookup(t, wi, wo);

@@ -78,7 +78,9 @@ MINIMAL = {
     "thin-film": {"base_ior": 1.5},
     "tabulate": {"layout": "albedo"},
 }
+_LUT_SYMBOL = {"symbol": {"symbol": "dfg", "output": "dfg.h"}}
 CONTEXT = {
+    "ggx": _LUT_SYMBOL, "ggx-multiscatter": _LUT_SYMBOL, "charlie": _LUT_SYMBOL,
     "fresnel": {
         "model": {"model": "schlick-ior", "ior": 1.5},
         "material": {"model": "conductor", "material": "gold"},

@@ -13,7 +13,7 @@
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/dfg.hpp"
 #include "brdfbake/reference/fresnel.hpp"
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/brdf_cases.hpp"
 #include "support/tolerances.hpp"
@@ -54,8 +54,8 @@ double hemisphere(const G& g, int n_phi = 256) {
 
 TEST(BrdfReference, ZeroAtAndBelowTheHorizon) {
   std::mt19937 rng(1u);
-  for (BrdfModel model : test::all_models()) {
-    const BrdfMaterial m = test::random_material(model, rng);
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
+    const BrdfMaterial m = test::random_material<BrdfMaterial>(model, rng);
     const Vec3 up = dir(0.3, 0.2), flat{1.0, 0.0, 0.0}, below{0.3, 0.1, -0.2};
     for (const auto& [a, b] : {std::pair{up, flat}, std::pair{flat, up}, std::pair{up, below}, std::pair{below, up},
                                std::pair{flat, flat}}) {
@@ -68,8 +68,8 @@ TEST(BrdfReference, ZeroAtAndBelowTheHorizon) {
 }
 
 TEST(BrdfReference, FiniteAndNonNegativeAtTheCorners) {
-  for (BrdfModel model : test::all_models())
-    for (const auto& [name, m] : test::corner_materials(model))
+  for (BrdfModel model : test::all_models<BrdfModel>())
+    for (const auto& [name, m] : test::corner_materials<BrdfMaterial>(model))
       for (const auto& [a, b] : test::corner_pairs()) {
         const Rgb f = brdf(model, m, a, b);
         for (double c : {f.r, f.g, f.b}) {
@@ -81,9 +81,9 @@ TEST(BrdfReference, FiniteAndNonNegativeAtTheCorners) {
 
 TEST(BrdfReference, ReciprocityWhereTheModelIsReciprocal) {
   std::mt19937 rng(2u);
-  for (BrdfModel model : test::all_models()) {
+  for (BrdfModel model : test::all_models<BrdfModel>()) {
     for (int k = 0; k < 6; ++k) {
-      BrdfMaterial m = test::random_material(model, rng);
+      BrdfMaterial m = test::random_material<BrdfMaterial>(model, rng);
       if (model == BrdfModel::Gltf || model == BrdfModel::GltfCorrelated) m.clearcoat = 0.0;
       ASSERT_TRUE(brdf_is_reciprocal(model, m));
       for (const auto& [a, b] : test::random_pairs(rng, 50)) {
@@ -286,7 +286,7 @@ TEST(BrdfReference, DocumentedAlbedoBounds) {
 TEST(BrdfReference, AlbedoSelfConvergence) {
   std::mt19937 rng(6u);
   for (BrdfModel model : {BrdfModel::Disney, BrdfModel::Gltf, BrdfModel::CookTorrance, BrdfModel::BlinnPhongFromPbr}) {
-    BrdfMaterial m = test::random_material(model, rng);
+    BrdfMaterial m = test::random_material<BrdfMaterial>(model, rng);
     m.sheen_color = {0, 0, 0};
     for (double t : {0.3, 1.4}) {
       const Rgb a = directional_albedo(model, m, t), b = directional_albedo(model, m, t, 1e-9);

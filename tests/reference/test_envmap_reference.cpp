@@ -1,21 +1,30 @@
-// The environment-map reference: addressing against the KTX / OpenGL table, exact solid angles,
-// the SH basis, the lobe normalisation in closed form, and the brute-force integrals' identities
-// and convergence.
+// The environment-map reference: the seamless bilinear environment, the brute-force conversions, the
+// lobe normalisation in closed form, and the brute-force integrals' identities and convergence. Cube
+// addressing, solid angles, the equirect mapping and the SH basis are the shared maths'
+// (tests/math).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
-#include "brdfbake/reference/quadrature.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake::reference {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double dot(const Dir3& a, const Dir3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+using math::cube_plane_point;
+using math::cube_rect_solid_angle;
+using math::cube_texel_direction;
+using math::cube_texel_solid_angle;
+using math::dot;
+using math::kPi;
+using math::sh_basis;
+using math::sh_cosine_lobe;
 
 EnvCube constant_cube(int size, double r, double g, double b) {
   EnvCube c;
@@ -38,80 +47,11 @@ EnvCube smooth_cube(int size) {
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < size; ++j)
       for (int i = 0; i < size; ++i) {
-        const Dir3 d = cube_texel_direction(f, size, i, j);
+        const Vec3 d = cube_texel_direction(f, size, i, j);
         const double v = 1.0 + 0.5 * d.x + 0.25 * d.y * d.z + 0.3 * d.z * d.z;
         for (int ch = 0; ch < 3; ++ch) c.at(f, i, j, ch) = v * (1.0 + 0.1 * ch);
       }
   return c;
-}
-
-// OpenGL 4.6, table 8.19: the major axis and (sc, tc) of each face, written out independently.
-TEST(EnvmapAddressing, FollowsTheOpenGlCubeTable) {
-  struct Row {
-    int face;
-    Dir3 major;
-    Dir3 sc_axis, tc_axis;  // s grows along sc_axis, t along tc_axis
-  };
-  const Row rows[] = {
-      {0, {1, 0, 0}, {0, 0, -1}, {0, -1, 0}}, {1, {-1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
-      {2, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}},   {3, {0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
-      {4, {0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {5, {0, 0, -1}, {-1, 0, 0}, {0, -1, 0}},
-  };
-  for (const Row& row : rows) {
-    for (double a : {-0.9, -0.3, 0.0, 0.6}) {
-      for (double b : {-0.7, 0.0, 0.2, 0.95}) {
-        const Dir3 p = cube_plane_point(row.face, a, b);
-        const Dir3 want = {row.major.x + a * row.sc_axis.x + b * row.tc_axis.x,
-                           row.major.y + a * row.sc_axis.y + b * row.tc_axis.y,
-                           row.major.z + a * row.sc_axis.z + b * row.tc_axis.z};
-        EXPECT_DOUBLE_EQ(p.x, want.x);
-        EXPECT_DOUBLE_EQ(p.y, want.y);
-        EXPECT_DOUBLE_EQ(p.z, want.z);
-        int face = -1;
-        double ra = 0, rb = 0;
-        cube_face_coords({2.5 * p.x, 2.5 * p.y, 2.5 * p.z}, face, ra, rb);
-        EXPECT_EQ(face, row.face);
-        EXPECT_NEAR(ra, a, test::kRounding);
-        EXPECT_NEAR(rb, b, test::kRounding);
-      }
-    }
-  }
-  // the first texel of +X (top-left as stored) looks up and towards +Z
-  const Dir3 d = cube_texel_direction(0, 4, 0, 0);
-  EXPECT_GT(d.y, 0.0);
-  EXPECT_GT(d.z, 0.0);
-}
-
-TEST(EnvmapAddressing, SolidAnglesTileTheSphere) {
-  for (int size : {1, 2, 3, 7, 32}) {
-    double sum = 0;
-    for (int j = 0; j < size; ++j)
-      for (int i = 0; i < size; ++i) sum += cube_texel_solid_angle(size, i, j);
-    EXPECT_NEAR(6.0 * sum, 4.0 * kPi, test::kRounding * 10) << size;
-  }
-  // the whole face is a sixth of the sphere; the centre texel of a large face is (2/S)^2
-  EXPECT_NEAR(cube_rect_solid_angle(-1, -1, 1, 1), 4.0 * kPi / 6.0, test::kRounding);
-  EXPECT_NEAR(cube_texel_solid_angle(1000, 500, 500) / (4e-6), 1.0, 1e-5);
-}
-
-TEST(EnvmapAddressing, EquirectMapping) {
-  // docs/CONVENTIONS.md: top row +Y, centre +Z, u = 1/4 +X, u = 3/4 -X, the edges -Z
-  const Dir3 top = equirect_direction(0.3, 0.0), centre = equirect_direction(0.5, 0.5);
-  const Dir3 px = equirect_direction(0.25, 0.5), nx = equirect_direction(0.75, 0.5);
-  const Dir3 nz = equirect_direction(0.0, 0.5);
-  EXPECT_NEAR(top.y, 1.0, test::kRounding);
-  EXPECT_NEAR(centre.z, 1.0, test::kRounding);
-  EXPECT_NEAR(px.x, 1.0, test::kRounding);
-  EXPECT_NEAR(nx.x, -1.0, test::kRounding);
-  EXPECT_NEAR(nz.z, -1.0, test::kRounding);
-  for (double u : {0.1, 0.37, 0.5, 0.81}) {
-    for (double v : {0.05, 0.4, 0.77}) {
-      double ru = 0, rv = 0;
-      equirect_coords(equirect_direction(u, v), ru, rv);
-      EXPECT_NEAR(ru, u, 1e-12);
-      EXPECT_NEAR(rv, v, 1e-12);
-    }
-  }
 }
 
 TEST(EnvmapBilinear, TexelCentresAndSeams) {
@@ -130,25 +70,33 @@ TEST(EnvmapBilinear, TexelCentresAndSeams) {
   EXPECT_DOUBLE_EQ(b[0], c.at(1, 7, 3, 0));
 }
 
-TEST(EnvmapSh, BasisIsOrthonormal) {
-  // Gauss-Legendre in z times the midpoint rule in phi: exact for these polynomial products
-  const auto& gl = gauss_legendre(16);
-  const int n_phi = 32;
-  std::vector<double> gram(25 * 25, 0.0);
-  for (size_t a = 0; a < gl.nodes.size(); ++a)
-    for (int m = 0; m < n_phi; ++m) {
-      const double z = gl.nodes[a], phi = 2.0 * kPi * (m + 0.5) / n_phi, r = std::sqrt(1 - z * z);
-      const auto y = sh_basis(5, {r * std::cos(phi), r * std::sin(phi), z});
-      const double w = gl.weights[a] * 2.0 * kPi / n_phi;
-      for (size_t i = 0; i < 25; ++i)
-        for (size_t j = 0; j < 25; ++j) gram[i * 25 + j] += w * y[i] * y[j];
-    }
-  for (size_t i = 0; i < 25; ++i)
-    for (size_t j = 0; j < 25; ++j)
-      EXPECT_NEAR(gram[i * 25 + j], i == j ? 1.0 : 0.0, test::kAnalytic) << i << "," << j;
-  // the Condon-Shortley-free signs: Y_1,-1 ~ +y, Y_10 ~ +z, Y_11 ~ +x
-  const auto y = sh_basis(2, {0.0, 1.0, 0.0});
-  EXPECT_GT(y[1], 0.0);
+// The brute-force conversions reproduce what they average: a constant exactly; the mean of a smooth
+// environment converges with the sub-cells; an equirect pixel's centre is the pixel.
+TEST(EnvmapConversion, ConstantAndSmoothSources) {
+  EnvEquirect e;
+  e.width = 64;
+  e.height = 32;
+  for (int y = 0; y < e.height; ++y)
+    for (int x = 0; x < e.width; ++x) e.rgb.insert(e.rgb.end(), {2.0, 0.5, 1e6});
+  const EnvCube c = equirect_to_cube(e, 8, 0, 1);
+  ASSERT_EQ(c.size, 8);
+  for (size_t t = 0; t < c.rgb.size(); t += 3) {
+    EXPECT_NEAR(c.rgb[t] / 2.0, 1.0, test::kRounding);
+    EXPECT_NEAR(c.rgb[t + 2] / 1e6, 1.0, test::kRounding);
+  }
+  const EnvCube r = cube_resample(constant_cube(16, 1.0, 3.0, 0.25), 4);
+  for (size_t t = 0; t < r.rgb.size(); t += 3) EXPECT_NEAR(r.rgb[t + 1] / 3.0, 1.0, test::kRounding);
+  // the mean over a texel of a smooth environment converges with the sub-cells (doubling them changes
+  // it far less than any tolerance of the environment tests)
+  const EnvCube s = smooth_cube(8), a = cube_resample(s, 4, 8), b = cube_resample(s, 4, 16);
+  for (size_t k = 0; k < a.rgb.size(); ++k) EXPECT_NEAR(a.rgb[k] / b.rgb[k], 1.0, test::kEnvReferenceSubCells) << k;
+  // the equirect's bilinear function at a pixel centre is the pixel
+  EnvEquirect g;
+  g.width = 16;
+  g.height = 8;
+  for (int k = 0; k < 16 * 8; ++k) g.rgb.insert(g.rgb.end(), {double(k), 0.0, 1.0});
+  const auto v = equirect_bilinear(g, math::equirect_direction(5.5 / 16.0, 3.5 / 8.0));
+  EXPECT_NEAR(v[0], 3.0 * 16.0 + 5.0, test::kRounding * 100);
 }
 
 TEST(EnvmapLobe, NormalisationInClosedForm) {
@@ -193,14 +141,14 @@ TEST(EnvmapPrefilter, SubCellsResolveTheLobe) {
       const double alpha = r * r;
       const int q = env_default_subdivision(lobe, alpha, 16);
       // sum of K Omega over the sub-cells around one direction
-      const Dir3 d = cube_texel_direction(4, 16, 5, 9);
+      const Vec3 d = cube_texel_direction(4, 16, 5, 9);
       double sum = 0;
       for (int f = 0; f < 6; ++f)
         for (int j = 0; j < 16 * q; ++j)
           for (int i = 0; i < 16 * q; ++i) {
             const double a0 = -1 + 2.0 * i / (16 * q), a1 = -1 + 2.0 * (i + 1) / (16 * q);
             const double b0 = -1 + 2.0 * j / (16 * q), b1 = -1 + 2.0 * (j + 1) / (16 * q);
-            Dir3 p = cube_plane_point(f, 0.5 * (a0 + a1), 0.5 * (b0 + b1));
+            Vec3 p = cube_plane_point(f, 0.5 * (a0 + a1), 0.5 * (b0 + b1));
             const double n = std::sqrt(dot(p, p));
             p = {p.x / n, p.y / n, p.z / n};
             sum += env_lobe_kernel(lobe, alpha, dot(d, p)) * cube_rect_solid_angle(a0, b0, a1, b1);
@@ -229,9 +177,9 @@ TEST(EnvmapPrefilter, SingleTexelSpreadsIntoTheLobe) {
   const int f = 4, i = 7, j = 8;
   for (int ch = 0; ch < 3; ++ch) c.at(f, i, j, ch) = 1000.0;
   const double r = 0.7, alpha = r * r;
-  const Dir3 l = cube_texel_direction(f, 16, i, j);
+  const Vec3 l = cube_texel_direction(f, 16, i, j);
   const double omega = cube_texel_solid_angle(16, i, j);
-  const std::vector<Dir3> dirs = {cube_texel_direction(4, 8, 3, 4), cube_texel_direction(4, 8, 1, 6),
+  const std::vector<Vec3> dirs = {cube_texel_direction(4, 8, 3, 4), cube_texel_direction(4, 8, 1, 6),
                                   cube_texel_direction(0, 8, 2, 4)};
   const auto p = prefilter_directions(c, EnvLobe::Ggx, r, dirs);
   for (size_t k = 0; k < dirs.size(); ++k) {
@@ -256,7 +204,7 @@ TEST(EnvmapSh, ConstantEnvironmentHasOnlyL00) {
 TEST(EnvmapIrradiance, ConstantAndSmoothEnvironments) {
   // a constant L: E / pi = L
   const EnvCube c = constant_cube(4, 1.5, 1.5, 1.5);
-  const std::vector<Dir3> dirs = {{0, 1, 0}, {0.6, 0, 0.8}, cube_texel_direction(3, 4, 1, 2)};
+  const std::vector<Vec3> dirs = {{0, 1, 0}, {0.6, 0, 0.8}, cube_texel_direction(3, 4, 1, 2)};
   for (double v : irradiance_directions(c, dirs)) EXPECT_NEAR(v / 1.5, 1.0, test::kEnvReferenceCosine);
   // a smooth L of degree <= 2: the 9-coefficient SH irradiance is exact, so both routes agree
   const EnvCube s = smooth_cube(16);

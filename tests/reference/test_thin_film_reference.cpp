@@ -8,6 +8,7 @@
 namespace {
 
 using namespace brdfbake::reference;
+using brdfbake::Rgb;
 
 // Closed forms evaluated by the reference in double: rounding only.
 constexpr double kClosedForm = 1e-12;

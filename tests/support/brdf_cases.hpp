@@ -1,6 +1,8 @@
 // Materials and direction pairs shared by the BRDF tests: random valid inputs and the corners the
 // bulk-BRDF issue names (horizon, wi = wo, wi = -wo, grazing, roughness/anisotropy/metallic and every
-// lobe weight at 0 and 1).
+// lobe weight at 0 and 1). The materials are generated for either parameter type, the public API's
+// (brdfbake::Material, BrdfModel: tests/device) or the reference's own (reference::BrdfMaterial,
+// reference::BrdfModel: tests/reference): both have the same fields and enumerators.
 #pragma once
 
 #include <cmath>
@@ -9,16 +11,13 @@
 #include <utility>
 #include <vector>
 
-#include "brdfbake/reference/brdf.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/types.hpp"
 
 namespace brdfbake::test {
 
-using reference::BrdfMaterial;
-using reference::BrdfModel;
-using reference::Rgb;
-using reference::Vec3;
-
-inline const std::vector<BrdfModel>& all_models() {
+template <class BrdfModel>
+const std::vector<BrdfModel>& all_models() {
   static const std::vector<BrdfModel> models = {
       BrdfModel::Disney,     BrdfModel::Gltf,         BrdfModel::GltfCorrelated, BrdfModel::Lambert,
       BrdfModel::Phong,      BrdfModel::BlinnPhong,   BrdfModel::CookTorrance,   BrdfModel::BlinnPhongFromPbr};
@@ -37,7 +36,9 @@ inline Vec3 from_angles(double theta, double phi) {
 
 // Random materials with every parameter in its valid range; a quarter of the draws of each weight
 // land exactly on 0 or 1.
-inline BrdfMaterial random_material(BrdfModel model, std::mt19937& rng) {
+template <class BrdfMaterial, class BrdfModel>
+BrdfMaterial random_material(BrdfModel model, std::mt19937& rng) {
+  using Distribution = decltype(BrdfMaterial{}.distribution);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto unit = [&] {
     const double k = u(rng);
@@ -81,7 +82,7 @@ inline BrdfMaterial random_material(BrdfModel model, std::mt19937& rng) {
       if (u(rng) < 0.5) m.specular_color = colour();
       break;
     case BrdfModel::CookTorrance:
-      m.distribution = u(rng) < 0.5 ? reference::MicrofacetDistribution::Beckmann : reference::MicrofacetDistribution::Ggx;
+      m.distribution = u(rng) < 0.5 ? Distribution::Beckmann : Distribution::Ggx;
       if (u(rng) < 0.5) m.specular_color = Rgb{unit(), u(rng), u(rng)};
       break;
     default: break;
@@ -90,7 +91,9 @@ inline BrdfMaterial random_material(BrdfModel model, std::mt19937& rng) {
 }
 
 // The corner materials of a model: roughness, anisotropy, metallic and every lobe weight at 0 and 1.
-inline std::vector<std::pair<std::string, BrdfMaterial>> corner_materials(BrdfModel model) {
+template <class BrdfMaterial, class BrdfModel>
+std::vector<std::pair<std::string, BrdfMaterial>> corner_materials(BrdfModel model) {
+  using Distribution = decltype(BrdfMaterial{}.distribution);
   std::vector<std::pair<std::string, BrdfMaterial>> out;
   BrdfMaterial base;
   base.base_color = {0.9, 0.5, 0.2};
@@ -142,11 +145,11 @@ inline std::vector<std::pair<std::string, BrdfMaterial>> corner_materials(BrdfMo
     case BrdfModel::Phong:
     case BrdfModel::BlinnPhong:
       add("normalized", [](BrdfMaterial& m, double w) { m.normalized = w > 0.5; });
-      add("shininess", [](BrdfMaterial& m, double w) { m.shininess = w == 0.0 ? 0.0 : reference::kMaxShininess; });
+      add("shininess", [](BrdfMaterial& m, double w) { m.shininess = w == 0.0 ? 0.0 : math::kMaxShininess; });
       break;
     case BrdfModel::CookTorrance:
       add("beckmann", [](BrdfMaterial& m, double w) {
-        m.distribution = w > 0.5 ? reference::MicrofacetDistribution::Beckmann : reference::MicrofacetDistribution::Ggx;
+        m.distribution = w > 0.5 ? Distribution::Beckmann : Distribution::Ggx;
       });
       add("specularColor", [](BrdfMaterial& m, double w) { m.specular_color = Rgb{w, w, w}; });
       break;

@@ -35,10 +35,24 @@ inline constexpr double kLutFp32Rounding = 4e-6;
 // 1e-6 contract dominates.
 inline constexpr double kLutQuadratureFp64 = 2e-6;
 
+// The mirror limit (tests/identities/dfg_identities.hpp) on the device at its default sample counts,
+// roughness 0 and 1e-3: the limit's own deviation at 1e-3 (kMirrorLimit) plus the quadrature and
+// float storage, the bound the device's mirror test has always had. Measured worst 6.9e-7 (fp32),
+// 5.7e-7 (fp64).
+inline constexpr double kLutMirrorDevice = 10 * kLutFp32Rounding;
+
 // Charlie in fp32 at n.v <= 1e-6 with sheen roughness <= 1e-3, where the albedo is 260 to 1600
 // and the integrand lives where cos(theta_h) ~ n.v ~ 1e-7: fp32 quadrature plateaus at ~1e-3
 // relative there (fp64 agrees with the reference to 1e-6). Measured worst: 9.4e-4.
 inline constexpr double kCharlieDegenerateFp32 = 2e-3;
+
+// --- Fresnel identities on the reference (tests/identities/fresnel_identities.hpp) ---
+// Two routes to the same closed form in double (different operation order, csqrt): a few ulps of
+// values <= 1, ulp 2.2e-16.
+inline constexpr double kFresnelReferenceRounding = 1e-15;
+// F has a square-root branch point at the critical angle: a step of 1e-9 in cos moves it by
+// O(sqrt(1e-9)), 3.4e-4 for eta = 1/1.5 (continuous, but not Lipschitz). A jump would be O(1).
+inline constexpr double kFresnelCriticalAngleStep = 1e-3;
 
 // --- Fresnel kernels against the reference (tests/device/test_fresnel.cpp) ---
 // fp32 tables: cos_theta and the parameters rounded to float, a few ulps of arithmetic on values
@@ -70,8 +84,12 @@ inline constexpr double kBrdfTableFp32 = 2e-5;
 // ... and near the horizon a cosine is a difference of O(1) terms, ~1e-7 off absolutely, which the
 // 1/n.l, 1/n.v of the visibilities turn into ~1e-7 / cos relative (measured 1.7e-8 / cos).
 inline constexpr double kBrdfTableDirection = 1e-7;
-// fp64: rounding, and the kernels' cubic pieces of the sheen albedo series (4.3e-10 measured);
-// worst otherwise Phong at n = 1e6 (2.2e-10: the exponent amplifies the last bits of ln cos).
+// fp64: rounding, and the sheen albedo E(mu): the kernels' cubic pieces (built by the engine from its
+// own quadrature, host/src/sheen_albedo.cpp) against the reference's Chebyshev series (from
+// charlie_albedo): the pieces are within 1e-12 of the true E except on the upper panel next to the
+// Lambda fit's seam at mu = 1/2 (1.05e-9 at sheen roughness 0.3, as the pieces of the reference's own
+// series were), the series within 1.8e-10; measured worst 7.6e-10 (gltf, random inputs). Worst
+// otherwise Phong at n = 1e6 (2.2e-10: the exponent amplifies the last bits of ln cos).
 inline constexpr double kBrdfFp64 = 1e-9;
 // The device albedo's fixed quadrature against the reference's adaptive one (1e-7), in float
 // table storage: measured worst 5.3e-6 (disney) over random and corner materials of every model ...
@@ -114,15 +132,25 @@ inline constexpr double kEnvFp32VsFp64 = 1e-4;
 // per texel on 32^2 cubes: its mip blur is a bias that falls like 1/N (docs/BENCHMARKS.md).
 inline constexpr double kEnvSamplingRms = 0.02;
 inline constexpr double kEnvSamplingMax = 0.10;
-// Device SH projection against the reference's: fp32 sums over 6 x 32^2 texels and the reference's
-// sub-cells against the device's texel centres (O(1/S^2)).
-inline constexpr double kEnvShDevice = 2e-3;
+// The host SH projection is exact for an equirect's pixels and a cube's texel centres: against an
+// independent 16 x 16-node Gauss-Legendre quadrature per pixel (converged to ~1e-14) and the
+// reference's texel-centre sum, only double rounding remains (measured 6e-16 of the largest coefficient).
+inline constexpr double kShExactProjection = 1e-12;
+// The engine's SH of a cube (texel centres, exact solid angles) against the reference's sub-cell
+// projection of the same cube: the two quadratures differ by O(1 / S^2) of L00.
+inline constexpr double kShTexelCentres = 2e-3;
 // Device irradiance cube against the reference's brute force on a 64^2 source: the device sums
 // texels as boxes, the reference interpolates them bilinearly (a tent twice as wide), which differs
 // by O(texel size) only where a sun of 5e4 sits on a normal's horizon (measured worst 0.87%, RMS
 // 0.1%); elsewhere both agree to ~1e-4.
 inline constexpr double kEnvIrradianceDevice = 1e-2;
 inline constexpr double kEnvIrradianceDeviceRms = 2e-3;
+// The reference backend's equirect-to-cube conversion (q x q sub-cells per texel, q >= 4 per equirect
+// pixel) against the device's (k x k samples, fp32): both estimate each texel's mean of the same
+// bilinear equirect; on a smooth one their sampling errors are O(texel^2) of its curvature, plus
+// fp32 (measured on 32^2 from 256 x 128: RMS 8e-6, worst 4.3e-5).
+inline constexpr double kEnvConversionRoutesRms = 5e-5;
+inline constexpr double kEnvConversionRoutesMax = 2e-4;
 // --- BRDF reference (tests/reference/test_brdf_reference.cpp) ---
 // f(wi, wo) against f(wo, wi): the same terms in another order of operations (l.h vs v.h, the
 // normalisation of each vector).
@@ -133,5 +161,9 @@ inline constexpr double kBrdfAlbedoReference = 2e-6;
 // The sheen albedo's Chebyshev series against charlie_albedo at twice the order and refinement:
 // measured 7e-10; the series' nodes carry charlie_albedo's own 1e-9.
 inline constexpr double kSheenAlbedoSeries = 1e-8;
+// The engine's own quadrature of the same integral (over l, adaptive, host/src/sheen_albedo.cpp)
+// against charlie_albedo at twice the order and refinement: two converged quadratures by different
+// routes, relative above 1 (measured 5e-13 at the series' nodes).
+inline constexpr double kSheenAlbedoEngine = 1e-11;
 
 }  // namespace brdfbake::test

@@ -31,13 +31,15 @@ class Backend {
   virtual ~Backend() = default;
 
   // "reference": the scalar double reference; anything else selects an OpenCL device as
-  // select_device() does ("" = $BRDFBAKE_DEVICE, else the default device). Throws Error naming the
-  // selector and the devices there are.
+  // select_device() does ("" = $BRDFBAKE_DEVICE, else the default device), opened on first use
+  // (work without a device, such as SH alone, opens none); a bad selector throws Error, naming
+  // the devices there are, at that first use.
   static std::shared_ptr<Backend> open(const std::string& selector);
   static std::shared_ptr<Backend> open(const Device& device);
 
   virtual bool is_reference() const = 0;
-  // The device's name, or "reference".
+  // The device's name, "reference", or "host (no device used)" when nothing has needed the device
+  // yet (SH alone).
   virtual std::string name() const = 0;
   // The OpenCL device, or nullptr for the reference.
   virtual Device* device() = 0;

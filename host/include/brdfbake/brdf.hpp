@@ -1,7 +1,7 @@
 // Bulk BRDF evaluation and tabulation: the Disney principled BRDF, the glTF 2.0 metallic-roughness
 // BRDF (with KHR_materials_sheen, _clearcoat, _specular, _ior) and the classic models, evaluated for
 // many materials and direction pairs at once on an OpenCL device (kernels/brdf_eval.cl), or by the
-// scalar double reference (brdfbake/reference/brdf.hpp).
+// scalar double reference (the *_reference functions; host/src/reference_backend/brdf.cpp).
 //
 // Conventions (docs/CONVENTIONS.md, "BRDF evaluation"): f is the BRDF without the cosine;
 // directions are in tangent space, normal +z, tangent +x; f = 0 at and below the horizon.
@@ -14,14 +14,63 @@
 #include <vector>
 
 #include "brdfbake/device.hpp"
-#include "brdfbake/reference/brdf.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/types.hpp"
 #include "brdfbake/table.hpp"
 
 namespace brdfbake {
 
-using BrdfModel = reference::BrdfModel;
-using Material = reference::BrdfMaterial;  // every parameter of every model; see docs/CONVENTIONS.md
-using Rgb = reference::Rgb;
+// ---- Models and their parameters ----------------------------------------------------------------
+
+enum class BrdfModel {
+  Disney,             // Burley 2012, in the BRDF Explorer's disney.brdf formulation
+  Gltf,               // glTF 2.0 Appendix B, separable Smith G
+  GltfCorrelated,     // the same with the height-correlated Smith visibility (Khronos sample renderer)
+  Lambert,            // Lambert 1760
+  Phong,              // Phong 1975, reciprocal BRDF form
+  BlinnPhong,         // Blinn 1977
+  CookTorrance,       // Cook & Torrance 1982, Beckmann or GGX
+  BlinnPhongFromPbr,  // metallic-roughness mapped to a normalised, Fresnel-weighted Blinn-Phong
+};
+
+// Cook-Torrance's distribution of normals.
+enum class MicrofacetDistribution { Beckmann, Ggx };
+
+// The largest Phong / Blinn-Phong exponent accepted (validate_material); the lobe is then 0.1
+// degree wide.
+inline constexpr double kMaxShininess = math::kMaxShininess;
+
+// Every parameter of every model; a model reads only its own (docs/CONVENTIONS.md lists which and
+// their file names). Ranges are checked by validate_material.
+struct Material {
+  // glTF 2.0 metallic-roughness core and Disney 2012 (baseColor, metallic, roughness).
+  Rgb base_color{0.8, 0.8, 0.8};  // linear, [0, 1]
+  double metallic = 0.0;          // [0, 1]
+  double roughness = 0.5;         // perceptual, [0, 1]
+  // Disney 2012 only, [0, 1] each (BRDF Explorer's defaults).
+  double subsurface = 0.0;
+  double specular = 0.5;          // F0 = 0.08 specular
+  double specular_tint = 0.0;
+  double anisotropic = 0.0;
+  double sheen = 0.0;
+  double sheen_tint = 0.5;
+  double clearcoat = 0.0;         // Disney's clearcoat, and glTF's clearcoatFactor
+  double clearcoat_gloss = 1.0;
+  // glTF extensions.
+  Rgb sheen_color{0.0, 0.0, 0.0};    // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;      // sheenRoughnessFactor, [0, 1]
+  double clearcoat_roughness = 0.0;  // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
+  double ior = 1.5;                  // KHR_materials_ior: 0 or >= 1
+  double specular_factor = 1.0;      // KHR_materials_specular specularFactor, [0, 1]
+  Rgb specular_color_factor{1.0, 1.0, 1.0};  // specularColorFactor, >= 0
+  // Classic models. Unset colours and exponent derive from the metallic-roughness parameters:
+  // kd = base_color (1 - metallic), ks = mix(0.04, base_color, metallic), n = 2048^(1 - roughness).
+  std::optional<Rgb> diffuse_color;   // kd, [0, 1]
+  std::optional<Rgb> specular_color;  // ks (Phong, Blinn-Phong), F0 (Cook-Torrance), [0, 1]
+  std::optional<double> shininess;    // Phong / Blinn-Phong exponent, [0, kMaxShininess]
+  bool normalized = true;             // energy-normalised lobes (false: the textbook forms)
+  MicrofacetDistribution distribution = MicrofacetDistribution::Ggx;  // Cook-Torrance's D
+};
 
 // "disney", "gltf", "gltf-correlated", "lambert", "phong", "blinn-phong", "cook-torrance",
 // "blinn-phong-from-pbr". Throws Error naming the unknown model and the known ones.
@@ -173,6 +222,6 @@ void write_merl(const MerlTable& table, const std::string& path);
 MerlTable read_merl(const std::string& path);
 // MERL's lookup_brdf_val: the value of the bin that (wi, wo) falls in (nearest bin, phi_d folded by
 // reciprocity), or kMerlBelowHorizon.
-Rgb merl_lookup(const MerlTable& table, const reference::Vec3& wi, const reference::Vec3& wo);
+Rgb merl_lookup(const MerlTable& table, const Vec3& wi, const Vec3& wo);
 
 }  // namespace brdfbake

@@ -47,7 +47,8 @@ struct EnvLoadOptions {
 };
 
 // Loads an environment:
-//   FILE.hdr / FILE.exr (any OpenImageIO format): equirect if 2:1, horizontal cross if 4:3,
+//   FILE.hdr / FILE.exr (read directly; any other format OpenImageIO reads through the lazily
+//     loaded OpenImageIO module, brdfbake_oiio.so): equirect if 2:1, horizontal cross if 4:3,
 //     vertical cross if 3:4 (docs/CONVENTIONS.md); tiled and mip-mapped files read level 0;
 //   FILE.ktx2: a cubemap (faceCount 6, RGBA16F/32F, level 0);
 //   "PX,NX,PY,NY,PZ,NZ" (six files, comma separated) or a path holding "{face}" (replaced by px,
@@ -112,7 +113,7 @@ enum class CubeImageLayout { Faces, HorizontalCross, VerticalCross, Equirect };
 enum class CubeImageFormat { Exr, Hdr };
 
 struct CubeWriteOptions {
-  PixelType pixel = PixelType::F16;                  // containers: RGBA16F or RGBA32F
+  PixelType pixel = PixelType::F16;                  // containers: RGBA16F or RGBA32F; R11G11B10: .ktx, .dds only
   CubeImageLayout layout = CubeImageLayout::Faces;   // Directory only
   CubeImageFormat image_format = CubeImageFormat::Exr;  // Directory only (.exr float, .hdr RGBE)
   std::string stem = "level";                        // Directory only: file name prefix
@@ -137,11 +138,21 @@ const char* env_distribution_name(EnvDistribution d);
 //   linear:   roughness = t              lod = (L - 1) roughness            (Khronos; the default)
 //   filament: roughness = 1 - sqrt(1 - t)  lod = (L - 1) roughness (2 - roughness)   (Filament)
 //   sqrt:     roughness = t^2            lod = (L - 1) sqrt(roughness)
-enum class RoughnessSchedule { Linear, Filament, Sqrt };
+//   babylon:  Babylon.js's .env chain (HDRFiltering), a full chain down to 1x1 so that the face
+//             size is S = 2^(L - 1): level 0 the mirror, level l >= 1 has GGX alpha
+//             2^(l / 0.8) / S (roughness = sqrt(alpha), capped at 1); the shader's lookup is
+//             lod = 0.8 log2(S (roughness^2 + 0.0005)) (getLodFromAlphaG with Babylon's
+//             MINIMUMVARIANCE 0.0005, lodGenerationScale 0.8), clamped to [0, L - 1]. It is the
+//             inverse of the schedule up to that 0.0005 and the cap, as in Babylon itself.
+enum class RoughnessSchedule { Linear, Filament, Sqrt, Babylon };
 RoughnessSchedule roughness_schedule_from_name(const std::string& name);
 const char* roughness_schedule_name(RoughnessSchedule s);
 double schedule_roughness(RoughnessSchedule s, int level, int levels);
-double schedule_lod(RoughnessSchedule s, double roughness, int levels);  // the exact inverse
+double schedule_lod(RoughnessSchedule s, double roughness, int levels);  // the inverse (see babylon)
+// Babylon.js's lodGenerationScale of .env files and of its own prefiltering (HDRFiltering), and
+// its shader's MINIMUMVARIANCE added to roughness^2 before the lookup.
+inline constexpr double kBabylonLodGenerationScale = 0.8;
+inline constexpr double kBabylonMinimumVariance = 0.0005;
 // The shader formula of the inverse, e.g. "lod = (levels - 1) * roughness".
 std::string schedule_lod_formula(RoughnessSchedule s);
 
@@ -194,6 +205,10 @@ struct PrefilterTiming {
   double device_seconds = 0.0;              // every kernel (conversion, mips, filtering)
   double wall_seconds = 0.0;
   std::vector<double> level_device_seconds;  // the filtering of each level (level 0: conversion)
+  // With max_error: per level, the RMS relative luminance difference between its two finest
+  // estimates, and the largest of them (the chain's measured bound); empty / -1 otherwise.
+  std::vector<double> measured_error_per_level;
+  double measured_error = -1.0;
 };
 
 // Progress: fraction done (0..1) and a short label ("level 2/4").
@@ -210,6 +225,22 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
 // The same from a source cube already at spec.size (level 0 of `source`).
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
+
+// The same chain by the scalar double reference (host/src/reference_backend/prefilter.cpp): the
+// environment converted to a cube by brute force (every texel the solid-angle-weighted mean of the
+// source's bilinear interpolation over q x q sub-cells), and every level l >= 1 the lobe integral
+// over every source texel split into sub-cells (brdfbake/reference/envmap.hpp, prefilter_cube), in
+// double, stored as float. The estimator and its settings (samples, refinement, max_error, bright
+// texels) do not apply; clamp_luminance does. The metadata has the keys of prefilter_environment's
+// with the reference's values (estimator "reference", device "reference (scalar double)").
+// Practical on small cubes only: the work, sum over levels of (output texels) x (source sub-cells),
+// grows like size^4; a request above kPrefilterReferenceMaxWork lobe evaluations (a few seconds on
+// two cores) throws Error naming the limit and suggesting an OpenCL device.
+inline constexpr double kPrefilterReferenceMaxWork = 6e8;
+CubeLevels prefilter_environment_reference(const EnvImage& env, const PrefilterSpec& spec,
+                                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
+// The lobe evaluations prefilter_environment_reference would make for a spec (resolved).
+double prefilter_reference_work(const PrefilterSpec& spec);
 
 // The default number of explicitly summed bright texels, and the luminance ratio to the mean
 // above which a texel counts as bright.
@@ -258,6 +289,7 @@ struct ShCoefficients {
   std::vector<double> irradiance_over_pi; // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
   ShWindow window = ShWindow::None;
   std::vector<double> window_weights;     // w_l per band
+  std::string projection;                 // how L_lm was computed (recorded in the JSON)
 };
 
 struct IrradianceResult {
@@ -266,8 +298,28 @@ struct IrradianceResult {
   double device_seconds = 0.0;
 };
 
+// The SH (project_sh, on the host) and, when spec.cube_size > 0, the irradiance cube (on the
+// device, from the environment converted to a cube of spec.source_size). With cube_size 0 the
+// device is not used at all.
 IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
                                     const EnvProgress& progress = {});
+// The SH projection of an environment on the host, in double precision, without a device: an
+// equirect exactly as its pixels define it (each constant over its cell, integrated against the
+// basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
+ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
+
+// The same by the scalar double reference (host/src/reference_backend/irradiance.cpp): the source
+// cube converted by brute force (as prefilter_environment_reference), the SH coefficients projected
+// over every source sub-cell (brdfbake/reference/envmap.hpp, sh_project), the irradiance cube by
+// direct cosine convolution over every source sub-cell (irradiance_directions). Same result type and
+// cube metadata keys as compute_irradiance, device "reference (scalar double)". Practical on small
+// cubes only: above kIrradianceReferenceMaxSourceSize, or above kIrradianceReferenceMaxWork cosine
+// terms for the cube (cube texels x source sub-cells, a few seconds on two cores), it throws Error
+// naming the limit and suggesting an OpenCL device.
+inline constexpr int kIrradianceReferenceMaxSourceSize = 512;
+inline constexpr double kIrradianceReferenceMaxWork = 4e9;
+IrradianceResult compute_irradiance_reference(const EnvImage& env, const IrradianceSpec& spec,
+                                              const EnvProgress& progress = {});
 // The window weights w_l, l < order: hanning 0.5 (1 + cos(pi l / order)), lanczos sinc(l / order).
 std::vector<double> sh_window_weights(ShWindow w, int order);
 // JSON text of the coefficients with the basis and conventions, and `metadata`.

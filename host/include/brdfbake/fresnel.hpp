@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "brdfbake/device.hpp"
-#include "brdfbake/reference/fresnel.hpp"
-#include "brdfbake/reference/materials.hpp"
+#include "brdfbake/material_presets.hpp"
+#include "brdfbake/math/types.hpp"
 #include "brdfbake/table.hpp"
 
 namespace brdfbake {
@@ -44,29 +44,29 @@ enum class FresnelTableKind { OneD, TwoD };
 FresnelTableKind fresnel_table_kind_from_name(const std::string& name);  // "1d" | "2d"
 const char* fresnel_table_kind_name(FresnelTableKind kind);
 
-// What to tabulate. Give either `material` (a preset of reference::material_presets()) or the
+// What to tabulate. Give either `material` (a preset of material_presets()) or the
 // model's own parameters; each parameter belongs to the models named beside it, and giving one to
 // another model is an error. An RGB parameter with equal channels is a grey one.
 //
 // From a material the models take: schlick F0 = the exact F0; schlick-metallic: conductors
 // base_color = exact F0, metallic 1, dielectrics metallic 0 (F0 = dielectric_f0, glTF's 0.04: the
 // constant the workflow assumes); schlick-ior and dielectric the preset's n (dielectrics only);
-// conductor n, k; f82-tint F0 and the fitted tint (reference::fit_f82_tint). `empirical` takes no
+// conductor n, k; f82-tint F0 and the fitted tint (fit_conductor). `empirical` takes no
 // material.
 struct FresnelSpec {
   FresnelModel model = FresnelModel::Schlick;
   std::string material;
 
-  std::optional<reference::Rgb> f0;          // schlick, f82-tint: in [0, 1]
-  std::optional<reference::Rgb> f90;         // schlick: in [0, 1] (default 1)
-  std::optional<reference::Rgb> f82_tint;    // f82-tint: >= 0 (1 is plain Schlick)
-  std::optional<reference::Rgb> base_color;  // schlick-metallic: in [0, 1]
+  std::optional<Rgb> f0;          // schlick, f82-tint: in [0, 1]
+  std::optional<Rgb> f90;         // schlick: in [0, 1] (default 1)
+  std::optional<Rgb> f82_tint;    // f82-tint: >= 0 (1 is plain Schlick)
+  std::optional<Rgb> base_color;  // schlick-metallic: in [0, 1]
   std::optional<double> metallic;            // schlick-metallic: in [0, 1]
   std::optional<double> dielectric_f0;       // schlick-metallic: in [0, 1] (default 0.04)
-  std::optional<reference::Rgb> ior;         // schlick-ior, dielectric: index of the far side, > 0
+  std::optional<Rgb> ior;         // schlick-ior, dielectric: index of the far side, > 0
   std::optional<double> ior_outside;         // schlick-ior, dielectric: > 0 (default 1, air)
-  std::optional<reference::Rgb> n;           // conductor: real part of the index, > 0
-  std::optional<reference::Rgb> k;           // conductor: extinction coefficient, >= 0
+  std::optional<Rgb> n;           // conductor: real part of the index, > 0
+  std::optional<Rgb> k;           // conductor: extinction coefficient, >= 0
   std::optional<double> bias, scale, power;  // empirical: finite, power >= 0
 
   FresnelTableKind table = FresnelTableKind::OneD;
@@ -129,8 +129,8 @@ Table with_error_columns(const Table& table, const Table& exact);
 struct FresnelModelReport {
   FresnelModel model;
   std::string setting;           // how the model was set from the material
-  reference::Rgb max_abs;        // per channel, max |model - exact| over the cosine grid
-  reference::Rgb mean_abs;       // per channel, mean |model - exact|
+  Rgb max_abs;        // per channel, max |model - exact| over the cosine grid
+  Rgb mean_abs;       // per channel, mean |model - exact|
   double worst = 0.0;            // the largest of max_abs
   double cos_at_worst = 0.0;     // where it occurs
   double cells_per_second = 0.0; // device evaluation rate (RGB cells), 0 when not measured
@@ -144,8 +144,10 @@ struct FresnelComparison {
   std::string device;           // "" when the rates were not measured
   std::vector<FresnelModelReport> rows;
 };
+// Cosines of the error grids of compare_fresnel_models and fit_conductor: [0, 1] with both ends.
+inline constexpr int kFresnelErrorGrid = 4097;
 struct FresnelCompareOptions {
-  int grid = reference::kFitErrorSamples;
+  int grid = kFresnelErrorGrid;
   int rate_cells = 1 << 20;     // 0: do not measure rates
   int rate_runs = 5;            // timed runs after a warm-up; the median is kept
   Precision precision = Precision::Fp32;
@@ -161,23 +163,23 @@ FresnelComparison compare_fresnel_models(const std::string& material, Device* de
 // ---- Conversions ---------------------------------------------------------------------------------
 
 // A conductor's (n, k) -> the Schlick F0 that matches it at normal incidence and the F82 tint that
-// matches it at cos = 1/7, with the error each leaves (max |approx - exact| per channel over the
-// cosine grid of reference::fresnel_fit_error).
+// matches it at cos = 1/7, with the error each leaves against the exact conductor of the scalar
+// reference (max |approx - exact| per channel over kFresnelErrorGrid cosines).
 struct ConductorFit {
-  reference::Rgb f0;
-  reference::Rgb f82_tint;
-  reference::Rgb schlick_max_error;
-  reference::Rgb f82_max_error;
+  Rgb f0;
+  Rgb f82_tint;
+  Rgb schlick_max_error;
+  Rgb f82_max_error;
 };
-ConductorFit fit_conductor(const reference::Rgb& n, const reference::Rgb& k);
+ConductorFit fit_conductor(const Rgb& n, const Rgb& k);
 
 // F0 values that shaders commonly hard-code for a material, with where each comes from: the
 // preset's own (Real-Time Rendering 4th ed.) and the older values still in circulation
 // (Hoffman 2010's course-notes table, from Real-Time Rendering 3rd ed.).
 struct HardCodedF0 {
-  reference::Rgb f0;
+  Rgb f0;
   std::string source;
 };
-std::vector<HardCodedF0> hard_coded_f0(const reference::MaterialPreset& preset);
+std::vector<HardCodedF0> hard_coded_f0(const MaterialPreset& preset);
 
 }  // namespace brdfbake

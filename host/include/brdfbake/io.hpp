@@ -10,7 +10,10 @@
 namespace brdfbake {
 
 enum class TableFormat { Exr, Png, Hdr, Ktx2, Csv, CHeader };
-enum class PixelType { F16, F32 };
+// F16 / F32: IEEE half / float per channel. R11G11B10: OpenGL's packed unsigned float
+// GL_R11F_G11F_B10F (no alpha, no sign, 6/6/5 mantissa bits, max 65024/65024/64512), written to
+// KTX1 cubemaps (Filament's IBL format) only; tables refuse it.
+enum class PixelType { F16, F32, R11G11B10 };
 
 // The format named by a file's extension (.exr .png .hdr .ktx2 .csv .h), or by a --format name
 // ("exr", "png", "hdr", "ktx2", "csv", "h"). Throws brdfbake::Error for anything else.

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +22,10 @@ struct Job {
   std::string output_dir;       // the folder the files and manifest.json go to
   std::string environment = kDefaultEnvironment;
   bool sanitize = false;        // replace NaN, infinite and negative environment pixels (recorded)
+  // An engine's file set (brdfbake/engines.hpp, docs/ENGINES.md) written beside the tables from the
+  // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
+  // "khronos-viewer".
+  std::string target = "generic";
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
@@ -54,9 +57,16 @@ using JobProgress = std::function<void(const JobEvent&)>;
 // Everything is written into a temporary folder beside it first and moved in at the end, so a
 // failure (bad input, a kind not available, a device error) leaves the folder as it was. Throws
 // NotAvailableError before any work when a kind cannot be baked by this build.
-// `backends` opens the backend of a selector (default: Backend::open, once per selector per run); a
-// long-lived caller (the Python package) passes its own to reuse devices it already opened.
-using BackendProvider = std::function<std::shared_ptr<Backend>(const std::string& selector)>;
-Manifest run_job(const Job& job, const JobProgress& progress = {}, const BackendProvider& backends = {});
+Manifest run_job(const Job& job, const JobProgress& progress = {});
+
+// What a caller that runs many jobs (the server, host/server/) passes in: where backends come from
+// (kept warm across jobs, instead of one opened per run) and a checkpoint called on the calling
+// thread before each bake and before the files are moved in, which may throw to stop the job
+// (cancelled, timed out); the folder is then left as it was.
+struct RunHooks {
+  std::function<std::shared_ptr<Backend>(const std::string& selector)> backend;
+  std::function<void()> checkpoint;
+};
+Manifest run_job(const Job& job, const JobProgress& progress, const RunHooks& hooks);
 
 }  // namespace brdfbake

@@ -25,6 +25,16 @@ enum class Estimator {
 Estimator estimator_from_name(const std::string& name);  // "quadrature" | "vndf" | "ndf" | "uniform"
 const char* estimator_name(Estimator e);
 
+// How a table axis maps cells to the quantity: uniform, texel i at x = (i + 0.5) / N (the lookup
+// uv is the quantity itself); sqrt, x = ((i + 0.5) / N)^2 (the lookup uv is sqrt of the quantity),
+// which puts more texels where the integrals change fastest (grazing n_dot_v, low roughness).
+enum class LutAxis { Uniform, Sqrt };
+LutAxis lut_axis_from_name(const std::string& name);  // "uniform" | "sqrt"
+const char* lut_axis_name(LutAxis axis);
+// The lookup coordinate of a quantity and back (the shader's formula is in the table's metadata).
+double lut_axis_uv(LutAxis axis, double x);
+double lut_axis_value(LutAxis axis, double uv);
+
 enum class SheenVisibility { EstevezKulla, Neubelt };
 SheenVisibility sheen_visibility_from_name(const std::string& name);  // "estevez-kulla" | "neubelt"
 const char* sheen_visibility_name(SheenVisibility v);
@@ -46,6 +56,8 @@ struct LutSpec {
   Estimator estimator = Estimator::Quadrature;
   Precision precision = Precision::Fp32;
   SheenVisibility sheen_visibility = SheenVisibility::EstevezKulla;
+  LutAxis n_dot_v_axis = LutAxis::Uniform;
+  LutAxis roughness_axis = LutAxis::Uniform;
   // When non-empty, evaluate at these coordinates instead of the cell centres (tests, corners).
   std::vector<double> n_dot_v;
   std::vector<double> roughness;

@@ -35,6 +35,9 @@ struct Manifest {
   int bakes = 0;             // distinct tables baked
   double seconds = 0.0;
   std::vector<std::string> notes, warnings;
+  std::string target;                     // the engine target, when not generic
+  std::vector<std::string> engine_files;  // the files of its file set, relative to the folder
+  Metadata engine_delivered;              // their delivered error (storage, clamping, compression)
 };
 std::string manifest_to_json(const Manifest& manifest);
 

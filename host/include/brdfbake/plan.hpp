@@ -28,6 +28,8 @@ struct PlanOptions {
   std::optional<int> sh_order;
   std::optional<std::string> sheen_visibility;  // the Charlie DFG table's (the albedo table's is
                                                 // always estevez-kulla, as the extension says)
+  std::string target = "generic";   // an engine's file set too (brdfbake/engines.hpp): its schedule,
+                                    // sizes and SH window unless given
   std::string table_format = "exr"; // 1-D and 2-D tables
   std::string cube_format = "ktx2";
   std::string pixel;                // "" = each kind's default

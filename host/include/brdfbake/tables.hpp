@@ -47,6 +47,10 @@ std::string table_kind_summary(TableKind kind);
 bool table_kind_available(TableKind kind, std::string* why = nullptr);
 // Whether the kind reads the job's environment (prefilter, irradiance).
 bool table_kind_uses_environment(TableKind kind);
+// Whether the command line streams the kind from standard input to standard output (eval).
+bool table_kind_streams(TableKind kind);
+// The pixel type ("f16" or "f32") written when a request names none.
+std::string table_kind_default_pixel(TableKind kind);
 
 // A kind this build cannot bake: the job stops before anything is written.
 class NotAvailableError : public Error {
@@ -76,8 +80,11 @@ struct TableRequest {
   std::string format;        // "" = from the output's extension
   std::string pixel;         // f16 | f32 (.ktx2, .h and cube containers); "" = the kind's default
   std::vector<Request> requested_by;
+  // The parameters the request named itself (validate_table records them before filling defaults).
+  std::vector<std::string> given;
 
   const ParamValue* find(const std::string& name) const;
+  bool was_given(const std::string& name) const;
   double number(const std::string& name, double fallback = 0.0) const;
   std::string text(const std::string& name, const std::string& fallback = {}) const;
   bool flag(const std::string& name, bool fallback = false) const;
@@ -111,6 +118,10 @@ void validate_table(TableRequest& request, const FieldNaming& naming = {});
 std::string default_table_output(const TableRequest& request);
 // A key equal for requests that bake the same data (output fields aside).
 std::string table_bake_key(const TableRequest& request);
+// About how many bytes baking a validated request holds at its peak, host and device together (the
+// result, its device buffers and the writer's copy; the environment image excluded), computed from
+// the parameters before anything is allocated. The server refuses requests that would not fit.
+std::uint64_t estimate_table_bytes(const TableRequest& request);
 
 // ---- Baking and writing --------------------------------------------------------------------------
 
@@ -158,8 +169,21 @@ using BakeProgress = std::function<void(double fraction, const std::string& step
 // reference prefilter of a large cube, naming the limit).
 BakeResult bake_table(const TableRequest& request, Backend& backend, const BakeInputs& inputs = {},
                       const BakeProgress& progress = {});
-// Writes a result to `path` in the request's format, atomically (a failure leaves nothing).
-void write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
+// What writing a result stored. The bound a file records is on |stored value - converged value|:
+// the result's own bound (its integration) plus what the format's encoding adds, measured on the
+// values the file stores (docs/CONVENTIONS.md, "Error bounds").
+struct WriteReport {
+  std::optional<double> error_bound;  // delivered; empty where the family measures none
+  double storage_error = 0.0;         // what the encoding added (0 for float32 and exact text)
+  std::string encoding;               // e.g. "binary16 (round to nearest even)"
+  Metadata details;                   // e.g. png_scale, clamped values
+};
+
+// Writes a result to `path` in the request's format, atomically (a failure leaves nothing); "-"
+// writes a table as CSV to standard output. A value the format cannot hold is refused with a
+// message naming the option that fixes it (a 16-bit PNG outside [0, 1] unless png_range says
+// otherwise; binary16 beyond 65504; NaN or infinity anywhere).
+WriteReport write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
 
 // The eval kind streamed: pairs read from `input` ("-": standard input) and results written chunk by
 // chunk to `output` ("-": standard output; a file is written to a temporary and renamed at the end),

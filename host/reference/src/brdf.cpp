@@ -8,7 +8,9 @@
 
 #include "brdf_internal.hpp"
 #include "brdfbake/reference/fresnel.hpp"
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/burley.hpp"
+#include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/ggx.hpp"
 
 namespace brdfbake::reference {
 namespace {
@@ -108,7 +110,7 @@ Rgb disney(const BrdfMaterial& m, const BrdfGeometry& g) {
 // ---- glTF 2.0 metallic-roughness ----------------------------------------------------------------
 // glTF 2.0 specification, Appendix B: specular_brdf(alpha) = D V with the GGX D and the separable
 // Smith G, V = G / (4 |n.l| |n.v|). `correlated` takes Heitz 2014's height-correlated V instead.
-// microfacet.hpp's D_GGX(n.h) forms sin^2 as (1 - n.h)(1 + n.h), which rounds to 0 within 1e-8 rad
+// ggx.hpp's D_GGX(n.h) forms sin^2 as (1 - n.h)(1 + n.h), which rounds to 0 within 1e-8 rad
 // of the peak, where a lobe at the alpha floor (1e-7) still lives; the same D from the components
 // of h (D_GGXAniso with equal widths) is exact there.
 double D_GGXIsotropic(const Vec3& h, double alpha) {
@@ -117,7 +119,7 @@ double D_GGXIsotropic(const Vec3& h, double alpha) {
 }
 
 // Estevez & Kulla 2017, "Production Friendly Microfacet Sheen BRDF", eq. 2 (Charlie):
-// D = (2 + 1/alpha) sin^(1/alpha) / (2 pi). microfacet.hpp's D_Charlie(n.h) forms sin^2 from n.h,
+// D = (2 + 1/alpha) sin^(1/alpha) / (2 pi). charlie.hpp's D_Charlie(n.h) forms sin^2 from n.h,
 // which rounds to 0 within 1e-8 rad of the normal; here sin^2 comes from the components of h near
 // the normal (n.h >= 1/2), and where the lobe lives (n.h < 1/2) D_Charlie is exact already.
 double D_CharlieFromHalf(const Vec3& h, double alpha) {
@@ -249,26 +251,6 @@ double classic_shininess(const BrdfMaterial& m) {
 
 // ---- Terms ----------------------------------------------------------------------------------------
 
-// Burley 2012, "Physically-Based Shading at Disney", appendix B eq. 13 (GTR2 anisotropic; Heitz
-// 2014 eq. 85): D = 1 / (pi ax ay ((h.t / ax)^2 + (h.b / ay)^2 + (h.n)^2)^2). Written from the
-// components of h, the sum has no cancellation at the peak.
-double D_GGXAniso(const Vec3& h, double alpha_x, double alpha_y) {
-  if (!(h.z > 0.0)) return 0.0;
-  const double tx = h.x / alpha_x, ty = h.y / alpha_y;
-  const double s = tx * tx + ty * ty + h.z * h.z;
-  return 1.0 / (kPi * alpha_x * alpha_y * s * s);
-}
-
-// Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", eq. 86:
-// anisotropic GGX Lambda = (-1 + sqrt(1 + alpha_o^2 tan^2)) / 2 with alpha_o^2 tan^2 =
-// ((ax x.t)^2 + (ay x.b)^2) / (x.n)^2, so G1 = 1 / (1 + Lambda) = 2 c / (c + sqrt((ax x.t)^2 + (ay x.b)^2 + c^2))
-// (disney.brdf's smithG_GGX_aniso is G1 / (2 c)).
-double G1_SmithGGXAniso(double n_dot_x, double t_dot_x, double b_dot_x, double alpha_x, double alpha_y) {
-  const double c = n_dot_x;
-  const double a = alpha_x * t_dot_x, b = alpha_y * b_dot_x;
-  return 2.0 * c / (c + std::sqrt(a * a + b * b + c * c));
-}
-
 // Burley 2012, appendix B eq. 4 (GTR with gamma = 1, Berry 1923):
 // D = (a^2 - 1) / (pi ln(a^2) (1 + (a^2 - 1) cos^2)), 1/pi at a = 1. The bracket is written as
 // sin^2 + a^2 cos^2 (no cancellation at the peak).
@@ -297,16 +279,6 @@ double D_Beckmann(const Vec3& h, double m) {
 double G_CookTorrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h) {
   const double k = 2.0 * n_dot_h / v_dot_h;
   return std::min(1.0, std::min(k * n_dot_v, k * n_dot_l));
-}
-
-// Burley 2012 (disney.brdf, after Hanrahan & Krueger 1993): F_ss90 = roughness (l.h)^2,
-// F_ss = (1 + (F_ss90 - 1)(1 - n.l)^5)(1 + (F_ss90 - 1)(1 - n.v)^5),
-// f_ss = (1.25 / pi) (F_ss (1 / (n.l + n.v) - 0.5) + 0.5). n.l + n.v > 0 is the caller's guard
-// (both cosines floored at kBrdfMinCosine, docs/CONVENTIONS.md).
-double Fd_DisneySubsurface(double n_dot_v, double n_dot_l, double l_dot_h, double roughness) {
-  const double f90 = roughness * l_dot_h * l_dot_h;
-  const double fss = (1.0 + (f90 - 1.0) * pow5(1.0 - n_dot_l)) * (1.0 + (f90 - 1.0) * pow5(1.0 - n_dot_v));
-  return 1.25 * kInvPi * (fss * (1.0 / (n_dot_l + n_dot_v) - 0.5) + 0.5);
 }
 
 // Phong 1975, "Illumination for Computer Generated Pictures": cos^n of the angle between the mirror

@@ -12,7 +12,8 @@
 #include "brdf_internal.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/dfg.hpp"
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 
 namespace brdfbake::reference {
@@ -35,7 +36,15 @@ constexpr double kPi = 3.14159265358979323846;
 // kind (c_k = (2/N) sum_j f_j cos(k (2j + 1) pi / 2N), Trefethen, "Approximation Theory and
 // Approximation Practice", ch. 3); E is summed by Clenshaw's recurrence. tests/reference measures
 // the series against charlie_albedo at a finer quadrature.
+// The upper panels' nodes take charlie_albedo at refinement 2: at the default resolution the nodes
+// within ~1e-6 of mu = 1 (v at the normal, where Lambda's cusp at l = n meets the lobe) are off by
+// up to 4.4e-9 (sheen roughness 1; 2e-9 at 0.5), which the series carries to E(1) and the glTF sheen's
+// albedo scaling to f; at refinement 2 the nodes are within 1.1e-10 (against an independent
+// quadrature over l, host/src/sheen_albedo.cpp), at 2.5 times the cost of those 64 nodes. The lower
+// panels' nodes are within 1e-9 relative at the default (measured at sheen roughness 0 to 1).
 // ---------------------------------------------------------------------------------------------
+constexpr Quadrature kSheenUpperQuadrature{10, 2};
+
 SheenAlbedoSeries make_sheen_series(double sheen_roughness) {
   SheenAlbedoSeries s;
   s.exponent = SheenFitExponent(sheen_roughness * sheen_roughness);
@@ -49,7 +58,8 @@ SheenAlbedoSeries make_sheen_series(double sheen_roughness) {
     for (int j = 0; j < n; ++j) {
       const double y = 0.5 * (a + b) + 0.5 * (b - a) * x[size_t(j)];
       const double mu = upper ? 1.0 - std::pow(y, 1.0 / s.exponent) : std::exp(y);
-      f[size_t(j)] = charlie_albedo(mu, sheen_roughness, SheenVisibility::EstevezKulla);
+      f[size_t(j)] = charlie_albedo(mu, sheen_roughness, SheenVisibility::EstevezKulla,
+                                    upper ? kSheenUpperQuadrature : Quadrature{});
     }
     for (int k = 0; k < n; ++k) {
       double c = 0.0;

@@ -10,7 +10,9 @@
 #include <thread>
 #include <vector>
 
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/reference/burley.hpp"
+#include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 
 // Frame: n = +z, v = (sin_v, 0, n.v) with sin_v = sqrt(1 - n.v^2), beta = asin(n.v) the elevation of

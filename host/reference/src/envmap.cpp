@@ -16,20 +16,29 @@
 #include <string>
 #include <thread>
 
-#include "brdfbake/reference/microfacet.hpp"
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "brdfbake/math/sh.hpp"
+#include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 
 namespace brdfbake::reference {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using math::cube_face_coords;
+using math::cube_plane_point;
+using math::cube_rect_solid_angle;
+using math::cube_texel_direction;
+using math::kPi;
 
-Dir3 normalized(const Dir3& d) {
+Vec3 normalized(const Vec3& d) {
   const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   return {d.x / n, d.y / n, d.z / n};
 }
 
-double dot(const Dir3& a, const Dir3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+using math::dot;
 
 void check_cube(const EnvCube& cube) {
   if (cube.size < 1) throw std::invalid_argument("envmap reference: cube size must be at least 1");
@@ -57,7 +66,7 @@ void parallel_ranges(size_t n, unsigned threads, const std::function<void(size_t
 
 // One sub-cell of the sphere: unit centre direction and exact solid angle.
 struct Cell {
-  Dir3 d;
+  Vec3 d;
   double omega;
 };
 
@@ -105,66 +114,6 @@ double adaptive_integral(const std::function<double(double)>& f, double a, doubl
 
 }  // namespace
 
-// ---- Addressing ------------------------------------------------------------------------------------
-
-// The KTX / OpenGL cube map table (OpenGL 4.6, table 8.19), with a = 2 s - 1 and b = 2 t - 1: the
-// major axis ma and the face coordinates sc = a |ma|, tc = b |ma| of a direction (x, y, z) are
-//   +X: sc = -z, tc = -y    -X: sc = +z, tc = -y    +Y: sc = +x, tc = +z
-//   -Y: sc = +x, tc = -z    +Z: sc = +x, tc = -y    -Z: sc = -x, tc = -y
-Dir3 cube_plane_point(int face, double a, double b) {
-  switch (face) {
-    case 0: return {1.0, -b, -a};
-    case 1: return {-1.0, -b, a};
-    case 2: return {a, 1.0, b};
-    case 3: return {a, -1.0, -b};
-    case 4: return {a, -b, 1.0};
-    case 5: return {-a, -b, -1.0};
-    default: throw std::invalid_argument("cube face must be 0..5, not " + std::to_string(face));
-  }
-}
-
-void cube_face_coords(const Dir3& d, int& face, double& a, double& b) {
-  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
-  if (ax >= ay && ax >= az) {
-    face = d.x >= 0.0 ? 0 : 1;
-    a = (d.x >= 0.0 ? -d.z : d.z) / ax;
-    b = -d.y / ax;
-  } else if (ay >= az) {
-    face = d.y >= 0.0 ? 2 : 3;
-    a = d.x / ay;
-    b = (d.y >= 0.0 ? d.z : -d.z) / ay;
-  } else {
-    face = d.z >= 0.0 ? 4 : 5;
-    a = (d.z >= 0.0 ? d.x : -d.x) / az;
-    b = -d.y / az;
-  }
-}
-
-Dir3 cube_texel_direction(int face, int size, int i, int j) {
-  return normalized(cube_plane_point(face, 2.0 * (i + 0.5) / size - 1.0, 2.0 * (j + 0.5) / size - 1.0));
-}
-
-double cube_rect_solid_angle(double a0, double b0, double a1, double b1) {
-  auto F = [](double a, double b) { return std::atan2(a * b, std::sqrt(1.0 + a * a + b * b)); };
-  return F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0);
-}
-
-double cube_texel_solid_angle(int size, int i, int j) {
-  return cube_rect_solid_angle(2.0 * i / size - 1.0, 2.0 * j / size - 1.0, 2.0 * (i + 1) / size - 1.0,
-                               2.0 * (j + 1) / size - 1.0);
-}
-
-Dir3 equirect_direction(double u, double v) {
-  const double phi = 2.0 * kPi * (0.5 - u), theta = kPi * (0.5 - v);
-  return {std::sin(phi) * std::cos(theta), std::sin(theta), std::cos(phi) * std::cos(theta)};
-}
-
-void equirect_coords(const Dir3& d, double& u, double& v) {
-  const Dir3 n = normalized(d);
-  u = 0.5 - std::atan2(n.x, n.z) / (2.0 * kPi);
-  v = 0.5 - std::asin(std::clamp(n.y, -1.0, 1.0)) / kPi;
-}
-
 // ---- The environment function --------------------------------------------------------------------
 
 std::array<double, 3> cube_fetch_extended(const EnvCube& cube, int face, int i, int j) {
@@ -179,7 +128,7 @@ std::array<double, 3> cube_fetch_extended(const EnvCube& cube, int face, int i, 
     return {(p[0] + q[0] + r[0]) / 3.0, (p[1] + q[1] + r[1]) / 3.0, (p[2] + q[2] + r[2]) / 3.0};
   }
   // The extended texel centre lies just past the edge, on the neighbouring face's edge row.
-  const Dir3 p = cube_plane_point(face, 2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0);
+  const Vec3 p = cube_plane_point(face, 2.0 * (i + 0.5) / n - 1.0, 2.0 * (j + 0.5) / n - 1.0);
   int f = 0;
   double a = 0, b = 0;
   cube_face_coords(p, f, a, b);
@@ -188,7 +137,7 @@ std::array<double, 3> cube_fetch_extended(const EnvCube& cube, int face, int i, 
   return {cube.at(f, ni, nj, 0), cube.at(f, ni, nj, 1), cube.at(f, ni, nj, 2)};
 }
 
-std::array<double, 3> cube_bilinear(const EnvCube& cube, const Dir3& d) {
+std::array<double, 3> cube_bilinear(const EnvCube& cube, const Vec3& d) {
   int face = 0;
   double a = 0, b = 0;
   cube_face_coords(d, face, a, b);
@@ -205,6 +154,87 @@ std::array<double, 3> cube_bilinear(const EnvCube& cube, const Dir3& d) {
     out[size_t(c)] = (1.0 - fy) * ((1.0 - fx) * t00[size_t(c)] + fx * t10[size_t(c)]) +
                      fy * ((1.0 - fx) * t01[size_t(c)] + fx * t11[size_t(c)]);
   return out;
+}
+
+// ---- Conversion ----------------------------------------------------------------------------------
+
+namespace {
+
+// Every texel of an out_size cube as the solid-angle-weighted mean of f over its q x q sub-cells.
+template <class F>
+EnvCube texel_means(int out_size, int q, unsigned threads, F&& f) {
+  if (out_size < 1) throw std::invalid_argument("envmap reference: output size must be at least 1");
+  EnvCube out;
+  out.size = out_size;
+  out.rgb.assign(18u * static_cast<size_t>(out_size) * static_cast<size_t>(out_size), 0.0);
+  const int n = out_size * q;  // sub-cells per face side
+  parallel_ranges(6u * static_cast<size_t>(out_size), threads, [&](size_t begin, size_t end) {
+    for (size_t row = begin; row < end; ++row) {
+      const int face = static_cast<int>(row) / out_size, j = static_cast<int>(row) % out_size;
+      for (int i = 0; i < out_size; ++i) {
+        double sum[3] = {0.0, 0.0, 0.0}, weight = 0.0;
+        for (int sj = j * q; sj < (j + 1) * q; ++sj) {
+          const double b0 = -1.0 + 2.0 * sj / n, b1 = -1.0 + 2.0 * (sj + 1) / n;
+          for (int si = i * q; si < (i + 1) * q; ++si) {
+            const double a0 = -1.0 + 2.0 * si / n, a1 = -1.0 + 2.0 * (si + 1) / n;
+            const double omega = cube_rect_solid_angle(a0, b0, a1, b1);
+            const auto v = f(normalized(cube_plane_point(face, 0.5 * (a0 + a1), 0.5 * (b0 + b1))));
+            for (size_t c = 0; c < 3; ++c) sum[c] += omega * v[c];
+            weight += omega;
+          }
+        }
+        for (int c = 0; c < 3; ++c) out.at(face, i, j, c) = sum[c] / weight;
+      }
+    }
+  });
+  return out;
+}
+
+// Sub-cells per output texel side: at least 4 samples per source pixel (or texel) side across the
+// output texel, so that the mean of the bilinear function converges like 1/q^2 well below the
+// source's own resolution; at least 2, at most 64.
+int conversion_subdivision(int subdivision, double source_pixels_per_texel) {
+  if (subdivision > 0) return subdivision;
+  return static_cast<int>(std::clamp(std::ceil(4.0 * source_pixels_per_texel), 2.0, 64.0));
+}
+
+}  // namespace
+
+std::array<double, 3> equirect_bilinear(const EnvEquirect& image, const Vec3& d) {
+  double u = 0, v = 0;
+  math::equirect_coords(d, u, v);
+  const int w = image.width, h = image.height;
+  const double fx = u * w - 0.5;
+  const double fy = std::clamp(v * h - 0.5, 0.0, static_cast<double>(h - 1));
+  const double x0f = std::floor(fx), y0f = std::floor(fy);
+  const double tx = fx - x0f, ty = fy - y0f;
+  int x0 = static_cast<int>(x0f) % w;
+  if (x0 < 0) x0 += w;
+  const int x1 = x0 + 1 == w ? 0 : x0 + 1;
+  const int y0 = static_cast<int>(y0f), y1 = std::min(y0 + 1, h - 1);
+  auto px = [&](int x, int y, size_t c) {
+    return image.rgb[3 * (static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) + c];
+  };
+  std::array<double, 3> out{};
+  for (size_t c = 0; c < 3; ++c)
+    out[c] = (1.0 - ty) * ((1.0 - tx) * px(x0, y0, c) + tx * px(x1, y0, c)) +
+             ty * ((1.0 - tx) * px(x0, y1, c) + tx * px(x1, y1, c));
+  return out;
+}
+
+EnvCube equirect_to_cube(const EnvEquirect& source, int size, int subdivision, unsigned threads) {
+  if (source.width < 1 || source.height < 1 ||
+      source.rgb.size() != 3u * static_cast<size_t>(source.width) * static_cast<size_t>(source.height))
+    throw std::invalid_argument("envmap reference: the equirect image is empty or the wrong size");
+  // an output texel spans about (pi / 2) / size radians, an equirect pixel 2 pi / width at the equator
+  const int q = conversion_subdivision(subdivision, 0.25 * source.width / size);
+  return texel_means(size, q, threads, [&](const Vec3& d) { return equirect_bilinear(source, d); });
+}
+
+EnvCube cube_resample(const EnvCube& source, int size, int subdivision, unsigned threads) {
+  check_cube(source);
+  const int q = conversion_subdivision(subdivision, static_cast<double>(source.size) / size);
+  return texel_means(size, q, threads, [&](const Vec3& d) { return cube_bilinear(source, d); });
 }
 
 // ---- Lobes -----------------------------------------------------------------------------------------
@@ -253,7 +283,7 @@ int env_default_subdivision(EnvLobe lobe, double alpha, int source_size) {
 // ---- Prefiltered radiance ---------------------------------------------------------------------------
 
 std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, double roughness,
-                                         const std::vector<Dir3>& dirs, int subdivision, unsigned threads) {
+                                         const std::vector<Vec3>& dirs, int subdivision, unsigned threads) {
   check_cube(source);
   if (!(roughness >= 0.0 && roughness <= 1.0))
     throw std::invalid_argument("envmap reference: roughness must be in [0, 1]");
@@ -299,7 +329,7 @@ std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, do
 EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size, int subdivision,
                        unsigned threads) {
   if (out_size < 1) throw std::invalid_argument("envmap reference: output size must be at least 1");
-  std::vector<Dir3> dirs;
+  std::vector<Vec3> dirs;
   for (int f = 0; f < 6; ++f)
     for (int j = 0; j < out_size; ++j)
       for (int i = 0; i < out_size; ++i) dirs.push_back(cube_texel_direction(f, out_size, i, j));
@@ -311,34 +341,6 @@ EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, in
 
 // ---- Spherical harmonics and irradiance ----------------------------------------------------------
 
-// Real spherical harmonics as polynomials in (x, y, z) on the unit sphere, without the
-// Condon-Shortley phase (the table of docs/CONVENTIONS.md).
-std::vector<double> sh_basis(int order, const Dir3& d) {
-  if (order < 1 || order > 5) throw std::invalid_argument("SH order must be 1..5");
-  const double x = d.x, y = d.y, z = d.z;
-  const double x2 = x * x, y2 = y * y, z2 = z * z;
-  const double ip = 1.0 / kPi;
-  std::vector<double> v = {
-      0.5 * std::sqrt(ip),
-      std::sqrt(0.75 * ip) * y, std::sqrt(0.75 * ip) * z, std::sqrt(0.75 * ip) * x,
-      0.5 * std::sqrt(15.0 * ip) * x * y, 0.5 * std::sqrt(15.0 * ip) * y * z,
-      0.25 * std::sqrt(5.0 * ip) * (3.0 * z2 - 1.0), 0.5 * std::sqrt(15.0 * ip) * x * z,
-      0.25 * std::sqrt(15.0 * ip) * (x2 - y2),
-      0.25 * std::sqrt(17.5 * ip) * y * (3.0 * x2 - y2), 0.5 * std::sqrt(105.0 * ip) * x * y * z,
-      0.25 * std::sqrt(10.5 * ip) * y * (5.0 * z2 - 1.0), 0.25 * std::sqrt(7.0 * ip) * z * (5.0 * z2 - 3.0),
-      0.25 * std::sqrt(10.5 * ip) * x * (5.0 * z2 - 1.0), 0.25 * std::sqrt(105.0 * ip) * z * (x2 - y2),
-      0.25 * std::sqrt(17.5 * ip) * x * (x2 - 3.0 * y2),
-      0.75 * std::sqrt(35.0 * ip) * x * y * (x2 - y2), 0.75 * std::sqrt(17.5 * ip) * y * z * (3.0 * x2 - y2),
-      0.75 * std::sqrt(5.0 * ip) * x * y * (7.0 * z2 - 1.0), 0.75 * std::sqrt(2.5 * ip) * y * z * (7.0 * z2 - 3.0),
-      (3.0 / 16.0) * std::sqrt(ip) * (35.0 * z2 * z2 - 30.0 * z2 + 3.0),
-      0.75 * std::sqrt(2.5 * ip) * x * z * (7.0 * z2 - 3.0), (3.0 / 8.0) * std::sqrt(5.0 * ip) * (x2 - y2) * (7.0 * z2 - 1.0),
-      0.75 * std::sqrt(17.5 * ip) * x * z * (x2 - 3.0 * y2),
-      (3.0 / 16.0) * std::sqrt(35.0 * ip) * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2)),
-  };
-  v.resize(static_cast<size_t>(order * order));
-  return v;
-}
-
 std::vector<double> sh_project(const EnvCube& source, int order, int subdivision) {
   check_cube(source);
   const size_t n = static_cast<size_t>(order * order);
@@ -346,7 +348,7 @@ std::vector<double> sh_project(const EnvCube& source, int order, int subdivision
   for (int face = 0; face < 6; ++face) {
     for (const Cell& cell : face_cells(face, source.size, auto_subdivision(subdivision, source.size))) {
       const auto l = cube_bilinear(source, cell.d);
-      const auto y = sh_basis(order, cell.d);
+      const auto y = math::sh_basis(order, cell.d);
       for (size_t k = 0; k < n; ++k)
         for (size_t c = 0; c < 3; ++c) out[3 * k + c] += l[c] * y[k] * cell.omega;
     }
@@ -354,18 +356,7 @@ std::vector<double> sh_project(const EnvCube& source, int order, int subdivision
   return out;
 }
 
-double sh_cosine_lobe(int l) {
-  switch (l) {
-    case 0: return kPi;
-    case 1: return 2.0 * kPi / 3.0;
-    case 2: return kPi / 4.0;
-    case 3: return 0.0;
-    case 4: return -kPi / 24.0;
-    default: throw std::invalid_argument("sh_cosine_lobe: band must be 0..4");
-  }
-}
-
-std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Dir3>& normals,
+std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals,
                                           int subdivision, unsigned threads) {
   check_cube(source);
   std::vector<double> out(3 * normals.size(), 0.0);

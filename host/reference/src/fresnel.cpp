@@ -37,6 +37,8 @@ double fresnel_schlick(double cos_theta, double f0, double f90) {
   return f0 + (f90 - f0) * pow5(1.0 - clamp_cos(cos_theta));
 }
 
+double F_Schlick(double f0, double f90, double v_dot_h) { return fresnel_schlick(v_dot_h, f0, f90); }
+
 Rgb fresnel_schlick(double cos_theta, const Rgb& f0, const Rgb& f90) {
   return {fresnel_schlick(cos_theta, f0.r, f90.r), fresnel_schlick(cos_theta, f0.g, f90.g),
           fresnel_schlick(cos_theta, f0.b, f90.b)};

@@ -2,6 +2,7 @@
 // Engine: host/src/dfg_lut.cpp and kernels/dfg_lut.cl; reference: host/reference/src/dfg.cpp;
 // tests: tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
 #include <algorithm>
+#include <cmath>
 
 #include "brdfbake/lut.hpp"
 #include "families/family.hpp"
@@ -22,9 +23,41 @@ std::string runtime_formula(TableKind k) {
   }
 }
 
+std::vector<ParamDef> with_output_params(std::vector<ParamDef> s) {
+  add_table_output_params(s);
+  return s;
+}
+
+// The most the output's encoding can add to a value in [0, 2] (the DFG channels' range; abs below 1,
+// relative above): binary16 rounds to 11 significant bits, 16-bit UNORM to 1/65535, RGBE's shared
+// exponent leaves the smaller channels 8 bits of the largest; float32 and 9-digit text add nothing.
+double storage_allowance(const TableRequest& t) {
+  if (t.output.empty() || t.output == "-") return 0.0;
+  switch (table_output_format(t)) {
+    case TableFormat::Ktx2:
+    case TableFormat::CHeader: return t.pixel == "f32" ? 0.0 : std::ldexp(1.0, -11);
+    case TableFormat::Png: return 0.5 / 65535.0;
+    case TableFormat::Hdr: return std::ldexp(1.0, -7);
+    default: return 0.0;
+  }
+}
+
+std::string storage_name(const TableRequest& t) {
+  switch (table_output_format(t)) {
+    case TableFormat::Ktx2:
+    case TableFormat::CHeader: return "binary16";
+    case TableFormat::Png: return "16-bit PNG";
+    case TableFormat::Hdr: return "RGBE (.hdr)";
+    default: return "this format";
+  }
+}
+
 class DfgLutFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
+  }
   std::string command() const override { return "lut"; }
   std::string summary(TableKind k) const override {
     switch (k) {
@@ -37,7 +70,7 @@ class DfgLutFamily final : public Family {
   const std::vector<ParamDef>& schema(TableKind k) const override {
     static const LutSpec d;
     using T = ParamType;
-    static const std::vector<ParamDef> ggx = {
+    static const std::vector<ParamDef> ggx = with_output_params({
         ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)").range(1, kLutMaxSize).def(double(d.width)),
         ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"),
         ParamDef("samples", T::Int, "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
@@ -45,11 +78,14 @@ class DfgLutFamily final : public Family {
         ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
         ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
             .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
-    };
+        ParamDef("n_dot_v_axis", T::Name, "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
+            .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
+    });
     static const std::vector<ParamDef> charlie = [] {
-      std::vector<ParamDef> s = ggx;
+      std::vector<ParamDef> s(ggx.begin(), ggx.end() - 2);  // before the output parameters
       s.push_back(ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
                       .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))));
+      add_table_output_params(s);
       return s;
     }();
     return k == TableKind::Charlie ? charlie : ggx;
@@ -59,11 +95,7 @@ class DfgLutFamily final : public Family {
     if (!t.find("height")) t.set("height", t.number("size"));
     if (t.find("samples") && t.find("max_error"))
       throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
-    try {
-      resolve_lut_spec(spec_of(t));
-    } catch (const Error& e) {
-      throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what());
-    }
+    resolve_or_explain(t);
   }
 
   std::string default_output(const TableRequest& t) const override {
@@ -73,9 +105,22 @@ class DfgLutFamily final : public Family {
     if (t.kind == TableKind::Charlie && t.text("sheen_visibility") != "estevez-kulla") stem += "_" + t.text("sheen_visibility");
     stem += "_" + fmt_number(t.number("size"), "%.0f");
     if (t.number("height") != t.number("size")) stem += "x" + fmt_number(t.number("height"), "%.0f");
+    if (t.text("n_dot_v_axis") == "sqrt") stem += "_sqrt_nv";
     return stem + (t.format.empty() ? ".exr" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override { return table_formats(); }
+
+  // max_error bounds the delivered values: the integration gets what the format's storage leaves.
+  void check_output(const TableRequest& t, const FieldName& name) const override {
+    Family::check_output(t, name);
+    if (!t.find("max_error")) return;
+    const double target = t.number("max_error");
+    const double storage = storage_allowance(t);
+    if (storage >= target)
+      throw FieldError("max_error", fmt_number(target) + " cannot be delivered in " + storage_name(t) + " (its rounding alone is up to " +
+                                        fmt_number(storage, "%.2g") + "): give pixel f32 (--pixel f32) or write .exr or .csv");
+    resolve_or_explain(t);
+  }
 
   BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress& progress) const override {
     const LutSpec spec = spec_of(t);
@@ -95,33 +140,83 @@ class DfgLutFamily final : public Family {
         r.details.push_back({"error_bound_measured_at", table.meta("error_bound_measured_at")});
       r.parameters.push_back({"samples", double(resolved.samples)});
     }
+    std::string interpolation;
+    // What a shader's bilinear lookup of this table misses between texel centres: the table looked
+    // up at the lines between centres (and at both edges) against the backend's own evaluation
+    // there; both are within the integration bound of the converged values.
+    {
+      const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
+      LutSpec probe = resolved;  // the same estimator and sample count
+      probe.max_error = 0.0;
+      probe.n_dot_v.clear();
+      probe.roughness.clear();
+      for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
+      for (double v : vs) probe.roughness.push_back(lut_axis_value(resolved.roughness_axis, v));
+      const Table truth = backend.lut(probe, nullptr, {});
+      const LookupError e = bilinear_lookup_error(table, us, vs, truth);
+      const double margin = 2.0 * r.error_bound.value_or(0.0);
+      const std::string interior = fmt_number(e.interior + margin, "%.3g"), edge = fmt_number(e.edge + margin, "%.3g");
+      r.details.push_back({"interpolation_error", interior});
+      r.details.push_back({"edge_error", edge});
+      table.set_meta("interpolation_error", interior);
+      table.set_meta("interpolation_error_definition",
+                     "max |bilinear lookup - converged value| (abs below 1, relative above) on the lines between "
+                     "texel centres: measured against the same estimator there, plus twice its integration bound");
+      table.set_meta("edge_error", edge);
+      table.set_meta("edge_error_definition",
+                     "the same within half a texel of the table's edges (n_dot_v or roughness near 0 or 1), where "
+                     "clamp to edge returns the outermost texel");
+      interpolation = ", bilinear lookup within " + fmt_number(e.interior + margin, "%.2g") + " (" +
+                      fmt_number(e.edge + margin, "%.2g") + " at the edges)";
+    }
     r.details.push_back({"channels", table.meta("channels")});
     r.details.push_back({"runtime", runtime_formula(t.kind)});
     r.device_seconds = timing.device_seconds;
     r.summary = std::string(table_kind_name(t.kind)) + " " + std::to_string(table.width) + "x" +
                 std::to_string(table.height) + ", " + table.meta("estimator") + ", " + table.meta("samples") +
-                " samples, " + table.meta("precision") + ", error bound " +
+                " samples, " + table.meta("precision") + ", integration error bound " +
                 (r.error_bound ? fmt_number(*r.error_bound, "%.2g") : std::string("not measured")) + ", " +
                 fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") +
-                " s); runtime: " + runtime_formula(t.kind);
+                " s)" + interpolation + "; runtime: " + runtime_formula(t.kind);
     r.artifact = std::move(table);
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    return write_table_result(*r.table(), t, path, r.error_bound,
+                              t.find("max_error") ? std::optional<double>(t.number("max_error")) : std::nullopt);
   }
 
  private:
+  // resolve_lut_spec, its message naming the field and, for an unreachable max_error, what reaches it.
+  static void resolve_or_explain(const TableRequest& t) {
+    try {
+      resolve_lut_spec(spec_of(t));
+    } catch (const Error& e) {
+      std::string hint;
+      if (t.find("max_error") && t.precision == Precision::Fp32) {
+        LutSpec fp64 = spec_of(t);
+        fp64.precision = Precision::Fp64;
+        try {
+          resolve_lut_spec(fp64);
+          hint = "; precision fp64 (--precision fp64) reaches it";
+        } catch (const Error&) {
+        }
+      }
+      throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what() + hint);
+    }
+  }
+
   static LutSpec spec_of(const TableRequest& t) {
     LutSpec s;
     s.kind = lut_kind_of(t.kind);
     s.width = static_cast<int>(t.number("size"));
     s.height = static_cast<int>(t.number("height", t.number("size")));
     s.samples = static_cast<int>(t.number("samples", 0));
-    s.max_error = t.number("max_error", 0);
+    s.max_error = t.find("max_error") ? std::max(0.0, t.number("max_error") - storage_allowance(t)) : 0.0;
     s.estimator = estimator_from_name(t.text("estimator"));
     if (t.kind == TableKind::Charlie) s.sheen_visibility = sheen_visibility_from_name(t.text("sheen_visibility"));
+    s.n_dot_v_axis = lut_axis_from_name(t.text("n_dot_v_axis"));
     s.precision = t.precision;
     return s;
   }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 #include "families/family.hpp"
@@ -229,7 +230,7 @@ EvalOptions eval_options(const TableRequest& t) {
 }
 
 std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t, const Backend& b, double device_seconds) {
-  return std::to_string(pairs) + " pairs, " + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
+  return std::to_string(pairs) + (pairs == 1 ? " pair, " : " pairs, ") + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
          (b.is_reference() ? std::string("reference (fp64)") : std::string(precision_name(t.precision))) + " on " +
          b.name() + " (device " + fmt_number(device_seconds, "%.3f") + " s)";
 }
@@ -237,7 +238,18 @@ std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t
 class EvalFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Eval}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // A job's eval reads every pair first: 6 doubles in, 3 out and the writer's copy (96 bytes a
+    // pair), plus the input's bytes. The pairs are counted from the input's size: a float32 pair is
+    // 24 bytes, the shortest CSV line ("0,0,1,0,0,1") 12.
+    std::error_code ec;
+    const std::string input = t.text("input");
+    const double bytes = input.empty() || input == "-" ? 0.0 : static_cast<double>(std::filesystem::file_size(input, ec));
+    const double pairs = ec ? 0.0 : bytes / (t.flag("binary") ? 24.0 : 12.0);
+    return static_cast<std::uint64_t>((ec ? 0.0 : bytes) + 96 * pairs) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "eval"; }
+  bool streams() const override { return true; }
   std::string summary(TableKind) const override {
     return "a BRDF evaluated at (wi, wo) pairs: CSV or float32 in, f (without the cosine) out";
   }
@@ -317,11 +329,14 @@ class EvalFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     const EvalResult& e = *r.eval();
     std::string bytes;
     format_results(e.values.data(), e.values.size() / 3, t.flag("binary"), true, bytes);
     io::write_file_atomically(path, bytes);
+    WriteReport w;
+    w.encoding = t.flag("binary") ? "float32" : "decimal text, 9 significant digits";
+    return w;
   }
 };
 

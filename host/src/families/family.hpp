@@ -5,6 +5,7 @@
 // family only through its descriptor (docs/ARCHITECTURE.md, "How to add a table family").
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -45,6 +46,9 @@ class Family {
   // The pixel type written when the request names none.
   virtual std::string default_pixel() const { return "f16"; }
   virtual bool uses_environment() const { return false; }
+  // Whether the command line streams it (standard input to standard output) instead of baking it
+  // whole (eval_stream).
+  virtual bool streams() const { return false; }
 
   // The family's rules across fields, after every field passed its schema check and the defaults
   // were filled in; may resolve dependent defaults (t.set). Throws FieldError.
@@ -57,7 +61,13 @@ class Family {
 
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;
-  virtual void write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+  virtual WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+
+  // About how many bytes a bake of the validated request holds at its peak, host and device
+  // together: the result, its device buffers and the copy the writer encodes (the environment image
+  // excluded: environment_bytes). Computed from the parameters alone, before anything is allocated,
+  // so that the server can refuse what would not fit (estimate_table_bytes).
+  virtual std::uint64_t estimated_bytes(const TableRequest& t) const = 0;
 };
 
 // The family that bakes `kind`.
@@ -86,9 +96,30 @@ PixelType pixel_of(const TableRequest& t);
 Rgb rgb_of(const ParamValue& v);
 // A value as part of a file name: "1.5", "0.9_0.6_0.2".
 std::string name_part(const ParamValue& v);
+// What a shader's bilinear lookup of `table` (texel i's centre at u = (i + 0.5) / width, clamp to
+// edge) misses, over probe points at lookup coordinates us x vs against `probe`, the table's quantity
+// evaluated there (probe.width = us.size(), probe.height = vs.size()); abs below 1, relative above.
+struct LookupError {
+  double interior = 0.0;  // between the outermost texel centres: the interpolation error
+  double edge = 0.0;      // within half a texel of an edge, where clamp to edge holds the outer texel
+};
+LookupError bilinear_lookup_error(const Table& table, const std::vector<double>& us, const std::vector<double>& vs,
+                                  const Table& probe);
+// The lookup coordinates where a table's lookup error is measured: the lines between texel centres
+// (i / n) and points closing in on both edges.
+std::vector<double> probe_coordinates(int n);
+
 // The formats every 2-D table family writes.
 OutputFormats table_formats();
-// Writes a Table result with the request's format and pixel type.
-void write_table_result(const Table& table, const TableRequest& t, const std::string& path);
+// The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
+void add_table_output_params(std::vector<ParamDef>& schema);
+// Writes a Table result with the request's format and pixel type; `bound` is the table's own
+// (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
+// request's max_error) is refused before anything is written.
+WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
+                               std::optional<double> bound, std::optional<double> limit = std::nullopt);
+// The peak bytes of a float grid of `cells` cells and `channels` channels: the host table, its
+// device buffer and the writer's copy (4 bytes a value each), and the cells' coordinates.
+std::uint64_t grid_bytes(double cells, double channels);
 
 }  // namespace brdfbake::detail

@@ -20,6 +20,11 @@ std::vector<std::string> model_names() {
 class FresnelFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Fresnel}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // 1d: r, g, b (and three error columns with vs_exact); 2d: one channel over size x height.
+    if (t.text("table") == "2d") return grid_bytes(t.number("size") * t.number("height", t.number("size")), 1);
+    return grid_bytes(t.number("size"), t.flag("vs_exact") ? 6 : 3);
+  }
   std::string command() const override { return "fresnel"; }
   std::string summary(TableKind) const override {
     return "a Fresnel reflectance table: exact dielectric and conductor, Schlick and its variants, F82 tint";
@@ -28,7 +33,8 @@ class FresnelFamily final : public Family {
   const std::vector<ParamDef>& schema(TableKind) const override {
     static const FresnelSpec d;
     using T = ParamType;
-    static const std::vector<ParamDef> s = {
+    static const std::vector<ParamDef> s = [] {
+      std::vector<ParamDef> v = {
         ParamDef("model", T::Name, "the Fresnel model").one_of(model_names()).needed(),
         ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"),
         ParamDef("f0", T::Color, "schlick, f82-tint: reflectance at normal incidence").range(0, 1),
@@ -54,8 +60,10 @@ class FresnelFamily final : public Family {
         ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
         ParamDef("vs_exact", T::Flag, "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
             .def(false),
-        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
-    };
+      };
+      add_table_output_params(v);
+      return v;
+    }();
     return s;
   }
 
@@ -114,15 +122,15 @@ class FresnelFamily final : public Family {
     r.device_seconds = timing.device_seconds;
     r.summary = table.meta("model") + (spec.material.empty() ? "" : " " + spec.material) + " " +
                 std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
-                ", error bound " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") +
+                ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") +
                 " s (device " + fmt_number(timing.device_seconds * 1e3, "%.3f") + " ms)" +
                 (t.flag("vs_exact") ? ", max |error| vs exact " + table.meta("error_max_abs") : "");
     r.artifact = std::move(table);
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    return write_table_result(*r.table(), t, path, r.error_bound);
   }
 
  private:

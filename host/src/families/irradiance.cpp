@@ -3,10 +3,14 @@
 // Engine: host/src/irradiance.cpp and kernels/irradiance.cl; reference: host/reference/src/envmap.cpp
 // (sh_project); tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
 #include <algorithm>
+#include <cmath>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace brdfbake::detail {
 
@@ -16,10 +20,43 @@ CubeFormat cube_format_of(const TableRequest& t);
 CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string& stem);
 void add_cube_output_params(std::vector<ParamDef>& s);
 void check_cube_output(const TableRequest& t, const FieldName& name);
+WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
+                              const std::string& stem, std::optional<double> bound);
 
 namespace {
 
 bool is_json(const TableRequest& t) { return output_extension(t) == ".json"; }
+
+// The SH JSON, with the coefficients in the target engine's own convention added where one is named
+// (the same numbers bake --target writes into the engine's files).
+std::string sh_json_for(const ShCoefficients& sh, const Metadata& meta, const std::string& target_name) {
+  const std::string text = sh_to_json(sh, meta);
+  const EngineTarget target = engine_target_from_name(target_name);
+  if (target == EngineTarget::Generic) return text;
+  const EngineSettings e = engine_settings(target);
+  std::array<Rgb3, 9> c{};
+  const char* layout = "";
+  switch (target) {
+    case EngineTarget::Filament:
+      c = filament_sh(sh);
+      layout = "9 RGB, Filament's pre-scaled order (the KTX1 sh key, IndirectLight::irradiance)";
+      break;
+    case EngineTarget::Babylon:
+      c = babylon_polynomial(sh);
+      layout = "9 RGB, Babylon's spherical polynomial x, y, z, xx, yy, zz, yz, zx, xy";
+      break;
+    default:
+      c = gltf_irradiance_coefficients(sh);
+      layout = "9 RGB, EXT_lights_image_based irradianceCoefficients (l00, l1-1, l10, l11, l2-2, l2-1, l20, l21, l22)";
+      break;
+  }
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const Rgb3& v : c) a.push_back({v[0], v[1], v[2]});
+  j["engine"] = {{"target", target_name}, {"engine", e.engine}, {"convention", e.sh_description},
+                 {"layout", layout}, {"coefficients", a}};
+  return j.dump(2) + "\n";
+}
 
 Metadata sh_metadata(const BakeResult& r) {
   Metadata m;
@@ -31,6 +68,12 @@ Metadata sh_metadata(const BakeResult& r) {
 class IrradianceFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Irradiance}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // RGBA float texels (16 bytes): the source cube on the host and the device; the irradiance cube
+    // on the device, the host and in the writer's encoding.
+    const double source = t.number("source_size"), cube = t.number("cube_size", 0);
+    return static_cast<std::uint64_t>(16 * (2 * 6 * source * source + 3 * 6 * cube * cube)) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "irradiance"; }
   std::string summary(TableKind) const override {
     return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";
@@ -50,6 +93,10 @@ class IrradianceFamily final : public Family {
           ParamDef("source_size", T::Int, "face size the environment is converted to first")
               .range(1, kIrradianceMaxSource).def(double(d.source_size)),
           ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output(),
+          ParamDef("target", T::Name,
+                   "an engine's SH conventions (docs/ENGINES.md): its window unless given, and its coefficients "
+                   "added to the JSON")
+              .one_of(engine_target_names()).def(std::string("generic")),
       };
       add_cube_output_params(v);
       return v;
@@ -58,9 +105,11 @@ class IrradianceFamily final : public Family {
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
+    if (t.text("target") != "generic" && !t.was_given("sh_window"))
+      t.set("sh_window", std::string(sh_window_name(engine_settings(engine_target_from_name(t.text("target"))).sh_window)));
     if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
       throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
-    const bool json = t.output.empty() ? !t.find("cube_size") : is_json(t);
+    const bool json = !t.output.empty() ? is_json(t) : !t.format.empty() ? t.format == "json" : !t.find("cube_size");
     if (json && t.find("cube_size"))
       throw FieldError("cube_size", "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
     if (json && t.find("sh_json"))
@@ -71,7 +120,7 @@ class IrradianceFamily final : public Family {
 
   std::string default_output(const TableRequest& t) const override {
     std::string stem = "irradiance_sh" + fmt_number(t.number("sh_order"), "%.0f");
-    if (!t.find("cube_size")) return stem + ".json";
+    if (!t.find("cube_size") || t.format == "json") return stem + ".json";
     return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") + (t.format.empty() ? ".ktx2" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override {
@@ -109,23 +158,24 @@ class IrradianceFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     const IrradianceResult& res = *r.irradiance();
+    WriteReport w;
     if (is_json(t)) {
-      write_sh_json(res.sh, sh_metadata(r), path);
-      return;
+      io::write_file_atomically(path, sh_json_for(res.sh, sh_metadata(r), t.text("target")));
+      w.encoding = "decimal text (JSON)";
+      return w;
     }
     // The cube and, with sh_json, the coefficients: the JSON is staged first and renamed only once
     // the cube is written, so a failure leaves an existing JSON file as it was.
     std::optional<io::TempFile> json;
     if (t.find("sh_json")) {
       json.emplace(t.text("sh_json"));
-      io::write_bytes(*json, sh_to_json(res.sh, sh_metadata(r)));
+      io::write_bytes(*json, sh_json_for(res.sh, sh_metadata(r), t.text("target")));
     }
-    TableRequest at = t;
-    at.output = path;
-    write_cubemap(res.cube, path, cube_format_of(at), cube_write_options_of(at, "irradiance"));
+    w = write_cube_result(res.cube, t, path, "irradiance", std::nullopt);
     if (json) json->commit();
+    return w;
   }
 };
 

@@ -3,10 +3,13 @@
 // Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
 // tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
+#include "io/storage.hpp"
 
 namespace brdfbake::detail {
 
@@ -56,11 +59,52 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
   (void)name;
 }
 
+// Writes a cube with the request's container and pixel type, refusing texels the pixel type cannot
+// hold (binary16 beyond 65504: a real sun) and adding the storage rounding to `bound`.
+WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
+                              const std::string& stem, std::optional<double> bound) {
+  const PixelType pixel = pixel_of(t);
+  const io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
+  if (s.out_of_range > 0) {
+    const std::string what = std::to_string(s.out_of_range) + " texel value" + (s.out_of_range == 1 ? "" : "s");
+    if (pixel == PixelType::F16)
+      throw Error("'" + path + "': " + what + " beyond 65504 (largest " + fmt_number(s.largest, "%.6g") +
+                  "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+    throw Error("'" + path + "': " + what + " not finite: no NaN or infinity is written");
+  }
+  TableRequest at = t;
+  at.output = path;
+  CubeLevels out = cube;
+  WriteReport w;
+  w.storage_error = s.max_error;
+  w.encoding = s.encoding;
+  if (bound) {
+    w.error_bound = *bound + s.max_error;
+    out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
+    out.set_meta("storage_encoding", s.encoding);
+    out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
+  }
+  write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
+  return w;
+}
+
 namespace {
 
 class PrefilterFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Prefilter}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // RGBA float texels (16 bytes): the source cube and its mips on the host and on the device, the
+    // chain on the device, on the host and in the writer's encoding.
+    const double size = t.number("size"), min_size = std::max(1.0, t.number("min_size", 1));
+    double chain = 0;
+    for (double s = size; s >= min_size; s = std::floor(s / 2)) {
+      chain += 6 * s * s;
+      if (s <= 1) break;
+    }
+    const double source = 6 * size * size * 4.0 / 3.0;
+    return static_cast<std::uint64_t>(16 * (2 * source + 3 * chain)) + (std::uint64_t(1) << 20);
+  }
   std::string command() const override { return "prefilter"; }
   std::string summary(TableKind) const override {
     return "a prefiltered radiance mip chain of an environment (GGX or Charlie lobe per level)";
@@ -76,8 +120,8 @@ class PrefilterFamily final : public Family {
               .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
           ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)),
           ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)),
-          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos) | filament | sqrt")
-              .one_of({"linear", "filament", "sqrt"}).def(std::string(roughness_schedule_name(d.schedule))),
+          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
+              .one_of({"linear", "filament", "sqrt", "babylon"}).def(std::string(roughness_schedule_name(d.schedule))),
           ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
               .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
           ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"),
@@ -91,6 +135,10 @@ class PrefilterFamily final : public Family {
           ParamDef("fis", T::Flag, "sampling: filtered importance sampling (off: every sample reads level 0)")
               .def(d.filtered_importance_sampling),
           ParamDef("clamp", T::Number, "BIASED, opt-in: compress source luminance above this value").above(0),
+          ParamDef("target", T::Name,
+                   "an engine's conventions (docs/ENGINES.md): its schedule and sizes unless given; "
+                   "bake --target writes its whole file set")
+              .one_of(engine_target_names()).def(std::string("generic")),
       };
       add_cube_output_params(v);
       return v;
@@ -99,6 +147,13 @@ class PrefilterFamily final : public Family {
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
+    if (t.text("target") != "generic") {
+      // The engine's conventions where the request does not name its own.
+      const EngineSettings e = engine_settings(engine_target_from_name(t.text("target")));
+      if (!t.was_given("schedule")) t.set("schedule", std::string(roughness_schedule_name(e.schedule)));
+      if (!t.was_given("size")) t.set("size", double(e.size));
+      if (!t.was_given("min_size")) t.set("min_size", double(e.min_size));
+    }
     if (t.find("samples") && t.text("estimator") != "sampling")
       throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " + name("refinement") +
                                       " or " + name("max_error") + ")");
@@ -135,8 +190,12 @@ class PrefilterFamily final : public Family {
     BakeResult r;
     CubeLevels cube = backend.prefilter(*in.environment, spec, &timing, progress);
     if (spec.max_error > 0) {
-      r.error_bound = spec.max_error;
-      r.error_bound_definition = cube.meta("max_error");
+      // The measured difference of each level's two finest estimates (at most max_error, or the
+      // bake fails): the estimate of its distance from the converged level.
+      r.error_bound = timing.measured_error;
+      r.error_bound_definition = "the largest over the levels of the RMS relative luminance difference between its two "
+                                 "finest estimates (per level: measured_error_per_level), at most max_error " +
+                                 fmt_number(spec.max_error);
     } else {
       r.error_bound_definition =
           "not measured when baked (the quadrature's accuracy against the reference is in docs/BENCHMARKS.md; give "
@@ -157,10 +216,8 @@ class PrefilterFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    TableRequest at = t;
-    at.output = path;
-    write_cubemap(*r.cube(), path, cube_format_of(at), cube_write_options_of(at, "level"));
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    return write_cube_result(*r.cube(), t, path, "level", r.error_bound);
   }
 
  private:

@@ -2,13 +2,17 @@
 // every front end bakes and writes through. Nothing here knows a family's parameters: those live in
 // each family's descriptor (host/src/families/<family>.cpp).
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
+#include "io/storage.hpp"
 
 namespace brdfbake {
 
@@ -69,15 +73,161 @@ std::string name_part(const ParamValue& v) {
   return s;
 }
 
+std::vector<double> probe_coordinates(int n) {
+  // The lines between texel centres, i / n, and within half a texel of each edge (where clamp to
+  // edge holds the outermost texel and the tables change fastest) points that close in on it
+  // geometrically: 0.5 / n * 2^-k.
+  std::vector<double> u;
+  constexpr int kEdgePoints = 6;
+  u.push_back(0.0);
+  for (int k = kEdgePoints; k >= 1; --k) u.push_back(0.5 / n * std::ldexp(1.0, -k));
+  for (int i = 1; i < n; ++i) u.push_back(static_cast<double>(i) / n);
+  for (int k = 1; k <= kEdgePoints; ++k) u.push_back(1.0 - 0.5 / n * std::ldexp(1.0, -k));
+  u.push_back(1.0);
+  return u;
+}
+
+LookupError bilinear_lookup_error(const Table& t, const std::vector<double>& us, const std::vector<double>& vs,
+                                  const Table& probe) {
+  const int channels = t.channel_count();
+  // texel coordinate of a lookup: (u * n - 0.5), clamped to the first and last centres
+  auto split = [](double uv, int n, int* i0, double* f) {
+    const double x = std::clamp(uv * n - 0.5, 0.0, double(n - 1));
+    *i0 = std::min(static_cast<int>(x), std::max(n - 2, 0));
+    *f = n > 1 ? x - *i0 : 0.0;
+  };
+  // outside the outermost centres (within half a texel of an edge) clamp to edge holds the value
+  auto on_edge = [](double uv, int n) { return uv < 0.5 / n || uv > 1.0 - 0.5 / n; };
+  LookupError e;
+  for (size_t b = 0; b < vs.size(); ++b) {
+    int j0 = 0;
+    double fy = 0.0;
+    split(vs[b], t.height, &j0, &fy);
+    const int j1 = std::min(j0 + 1, t.height - 1);
+    for (size_t a = 0; a < us.size(); ++a) {
+      int i0 = 0;
+      double fx = 0.0;
+      split(us[a], t.width, &i0, &fx);
+      const int i1 = std::min(i0 + 1, t.width - 1);
+      const bool edge = on_edge(us[a], t.width) || (t.height > 1 && on_edge(vs[b], t.height));
+      for (int c = 0; c < channels; ++c) {
+        const double lookup = (1 - fy) * ((1 - fx) * double(t.at(i0, j0, c)) + fx * double(t.at(i1, j0, c))) +
+                              fy * ((1 - fx) * double(t.at(i0, j1, c)) + fx * double(t.at(i1, j1, c)));
+        const double truth = double(probe.at(static_cast<int>(a), static_cast<int>(b), c));
+        const double d = std::fabs(lookup - truth) / std::max(1.0, std::fabs(truth));
+        (edge ? e.edge : e.interior) = std::max(edge ? e.edge : e.interior, d);
+      }
+    }
+  }
+  return e;
+}
+
+std::uint64_t grid_bytes(double cells, double channels) {
+  return static_cast<std::uint64_t>(cells * channels * 4 * 3 + cells * 16) + (std::uint64_t(1) << 20);
+}
+
 OutputFormats table_formats() {
   return {{".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"}, "a table format (.exr .png .hdr .ktx2 .csv .h)"};
 }
 
-void write_table_result(const Table& table, const TableRequest& t, const std::string& path) {
+void add_table_output_params(std::vector<ParamDef>& s) {
+  s.push_back(ParamDef("symbol", ParamType::Name, "C identifier of the array in a .h output").output());
+  s.push_back(ParamDef("png_range", ParamType::Name,
+                       "16-bit .png holds [0, 1]: refuse other values, scale each channel by its largest value "
+                       "(recorded as png_scale), or clamp them (recorded)")
+                  .one_of({"refuse", "scale", "clamp"})
+                  .def(std::string("refuse"))
+                  .output());
+}
+
+namespace {
+
+// A bound as text, rounded up to three significant digits: the recorded text is never below it.
+std::string bound_text(double v) {
+  if (!(v > 0) || !std::isfinite(v)) return fmt_number(v, "%.3g");
+  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
+  return fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
+}
+
+std::string count_text(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
+
+}  // namespace
+
+WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
+                               std::optional<double> bound, std::optional<double> limit) {
+  const TableFormat format = path == "-" && t.format.empty() ? TableFormat::Csv : table_output_format(t);
+  const PixelType pixel = pixel_of(t);
+  Table out = table;
+  io::StorageReport s = io::measure_storage(out, format, pixel);
+  WriteReport w;
+  if (format == TableFormat::Png && s.out_of_range > 0) {
+    const std::string policy = t.text("png_range", "refuse");
+    if (policy == "refuse")
+      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " outside [0, 1] (largest " +
+                  fmt_number(s.largest, "%.4g") +
+                  "), which a 16-bit PNG cannot hold: write .exr or .ktx2, or give png_range scale (or clamp)");
+    if (policy == "scale") {
+      // Each channel divided by its largest value (at least 1): stored = value / scale.
+      const size_t channels = out.channels.size();
+      std::vector<double> scale(channels, 1.0);
+      for (size_t k = 0; k < out.data.size(); ++k)
+        scale[k % channels] = std::max(scale[k % channels], std::fabs(double(out.data[k])));
+      std::string text;
+      for (size_t c = 0; c < channels; ++c) text += (c ? "," : "") + fmt_number(scale[c], "%.9g");
+      for (size_t k = 0; k < out.data.size(); ++k) out.data[k] = float(double(out.data[k]) / scale[k % channels]);
+      out.set_meta("png_scale", text);
+      out.set_meta("png_scale_definition", "value = stored * png_scale (per channel, in the order of channels)");
+      w.details.push_back({"png_scale", text});
+      const io::StorageReport scaled = io::measure_storage(out, format, pixel);
+      // the scaled error, back in the table's units
+      double worst = 0.0;
+      for (double k : scale) worst = std::max(worst, k);
+      s.max_error = scaled.max_error * worst;
+      s.out_of_range = scaled.out_of_range;
+    } else {
+      out.set_meta("png_clamped", count_text(s.out_of_range, "value") + " clamped to [0, 1], the largest " +
+                                      fmt_number(s.largest, "%.6g"));
+      w.details.push_back({"png_clamped", std::to_string(s.out_of_range)});
+      s.out_of_range = 0;  // asked for: the error is measured (it includes the clamping)
+    }
+  }
+  if (s.out_of_range > 0) {
+    if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
+      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
+                  fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+    throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " the format cannot hold (largest |value| " +
+                fmt_number(s.largest, "%.6g") + "): no NaN or infinity is written");
+  }
+  w.storage_error = s.max_error;
+  w.encoding = s.encoding;
+  if (bound) {
+    w.error_bound = *bound + s.max_error;
+    if (limit && *w.error_bound > *limit)
+      throw Error("'" + path + "': the stored values would be within " + bound_text(*w.error_bound) +
+                  " of converged (integration " + bound_text(*bound) + " + " + s.encoding + " " + bound_text(s.max_error) +
+                  "), above max_error " + fmt_number(*limit) + ": " +
+                  (format == TableFormat::Png || format == TableFormat::Hdr ? "write .exr, .csv or a .ktx2 with pixel f32"
+                                                                            : "give pixel f32 (--pixel f32)"));
+    out.set_meta("integration_error_bound", bound_text(*bound));
+    const std::string definition = out.meta("error_bound_definition");
+    if (!definition.empty()) out.set_meta("integration_error_bound_definition", definition);
+    out.set_meta("storage_error", bound_text(s.max_error));
+    out.set_meta("storage_encoding", s.encoding);
+    out.set_meta("error_bound", bound_text(*w.error_bound));
+    out.set_meta("error_bound_definition",
+                 "bound on |stored value - converged value| (abs below 1, relative above) of every value this "
+                 "file stores: integration_error_bound plus storage_error, the encoding's error measured on the "
+                 "stored values");
+  }
+  if (path == "-") {
+    write_table_csv(out, std::cout);
+    return w;
+  }
   TableWriteOptions o;
-  o.pixel = pixel_of(t);
+  o.pixel = pixel;
   o.symbol = t.text("symbol");
-  write_table(table, path, table_output_format(t), o);
+  write_table(out, path, format, o);
+  return w;
 }
 
 void Family::check_output(const TableRequest& t, const FieldName&) const {
@@ -157,6 +307,10 @@ std::string table_kind_summary(TableKind kind) { return family_of(kind).summary(
 
 bool table_kind_uses_environment(TableKind kind) { return family_of(kind).uses_environment(); }
 
+bool table_kind_streams(TableKind kind) { return family_of(kind).streams(); }
+
+std::string table_kind_default_pixel(TableKind kind) { return family_of(kind).default_pixel(); }
+
 bool table_kind_available(TableKind kind, std::string* why) {
   // Developer and test switch: kinds listed here (comma separated) are treated as missing.
   if (const char* off = std::getenv("BRDFBAKE_UNAVAILABLE_KINDS")) {
@@ -175,6 +329,10 @@ const ParamValue* TableRequest::find(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return &p.value;
   return nullptr;
+}
+
+bool TableRequest::was_given(const std::string& name) const {
+  return std::find(given.begin(), given.end(), name) != given.end();
 }
 
 double TableRequest::number(const std::string& name, double fallback) const {
@@ -259,6 +417,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
                   join(names) + ")");
     }
   // Types and ranges, then defaults, in the schema's order.
+  if (t.given.empty())
+    for (const auto& p : t.params) t.given.push_back(p.name);
   Params ordered;
   for (const auto& d : schema) {
     if (Param* given = find_param(t.params, d.name)) {
@@ -287,6 +447,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
 }
 
 std::string default_table_output(const TableRequest& t) { return family_of(t.kind).default_output(t); }
+
+std::uint64_t estimate_table_bytes(const TableRequest& t) { return family_of(t.kind).estimated_bytes(t); }
 
 std::string table_bake_key(const TableRequest& t) {
   std::string k = table_kind_name(t.kind);
@@ -325,10 +487,12 @@ BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs&
   return r;
 }
 
-void write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
+WriteReport write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
+  if (path == "-") return family_of(t.kind).write(r, t, path);
   io::ParentFolders parents(path);
-  family_of(t.kind).write(r, t, path);
+  WriteReport w = family_of(t.kind).write(r, t, path);
   parents.keep();
+  return w;
 }
 
 }  // namespace brdfbake

@@ -18,6 +18,18 @@ bool is_merl(const TableRequest& t) { return t.text("layout") == "merl"; }
 class TabulateFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Tabulate}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    // Every cell is evaluated at a direction pair (6 doubles) to 3 doubles, then stored as floats;
+    // the albedo layout integrates each cell over a hemisphere of pairs, in batches.
+    const std::string layout = t.text("layout");
+    const std::vector<double> res = t.numbers("res");
+    double cells = 0;
+    if (layout == "merl") cells = 90.0 * 90.0 * 180.0;
+    else if (layout == "grid") cells = res.empty() ? 32.0 * 32 * 32 : res.size() == 1 ? res[0] * res[0] * res[0] : res[0] * res[1] * res[2];
+    else if (layout == "albedo") cells = (res.empty() ? 90.0 : res[0]) * 4096.0;
+    else cells = res.empty() ? 256.0 * 256 : res.size() == 1 ? res[0] * res[0] : res[0] * res[1];
+    return static_cast<std::uint64_t>(cells * (6 + 3) * 8) + grid_bytes(cells, 3);
+  }
   std::string command() const override { return "tabulate"; }
   std::string summary(TableKind) const override {
     return "a BRDF tabulated: MERL binary, grid, directional albedo or a slice image";
@@ -26,7 +38,8 @@ class TabulateFamily final : public Family {
 
   const std::vector<ParamDef>& schema(TableKind) const override {
     using T = ParamType;
-    static const std::vector<ParamDef> s = {
+    static const std::vector<ParamDef> s = [] {
+      std::vector<ParamDef> v = {
         ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(),
         ParamDef("name", T::Name,
                  "the material to use (albedo: default every material; the others: needed when the file holds several)"),
@@ -39,8 +52,10 @@ class TabulateFamily final : public Family {
             .range(1, 4096),
         ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"),
         ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
-        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
-    };
+      };
+      add_table_output_params(v);
+      return v;
+    }();
     return s;
   }
 
@@ -93,9 +108,14 @@ class TabulateFamily final : public Family {
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    if (const MerlTable* m = r.merl()) write_merl(*m, path);
-    else write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    if (const MerlTable* m = r.merl()) {
+      write_merl(*m, path);
+      WriteReport w;
+      w.encoding = "float64 (MERL binary)";
+      return w;
+    }
+    return write_table_result(*r.table(), t, path, r.error_bound);
   }
 
  private:

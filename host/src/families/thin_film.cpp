@@ -16,6 +16,9 @@ std::string name_number(double v) { return fmt_number(v, "%.6g"); }
 class ThinFilmFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::ThinFilm}; }
+  std::uint64_t estimated_bytes(const TableRequest& t) const override {
+    return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
+  }
   std::string command() const override { return "thin-film"; }
   std::string summary(TableKind) const override {
     return "thin-film interference Fresnel over (cos_theta, thickness) for KHR_materials_iridescence";
@@ -24,7 +27,8 @@ class ThinFilmFamily final : public Family {
   const std::vector<ParamDef>& schema(TableKind) const override {
     static const ThinFilmSpec d;
     using T = ParamType;
-    static const std::vector<ParamDef> s = {
+    static const std::vector<ParamDef> s = [] {
+      std::vector<ParamDef> v = {
         ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior),
         ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10),
         ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)").range(0, 1),
@@ -33,8 +37,10 @@ class ThinFilmFamily final : public Family {
         ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)").range(0, 1e5).def(d.thickness_max),
         ParamDef("size", T::Int, "cells along cos_theta").range(1, 8192).def(double(d.width)),
         ParamDef("height", T::Int, "cells along the thickness").range(1, 8192).defaults_to("size, or 1 when thickness_min = thickness_max"),
-        ParamDef("symbol", T::Name, "C identifier of the array in a .h output").output(),
-    };
+      };
+      add_table_output_params(v);
+      return v;
+    }();
     return s;
   }
 
@@ -85,13 +91,13 @@ class ThinFilmFamily final : public Family {
     r.device_seconds = timing.device_seconds;
     r.summary = "thin film on " + (spec.base_ior ? "ior " + name_number(*spec.base_ior) : std::string("an F0 base")) + " " +
                 std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
-                ", error bound " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") + " s";
+                ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") + " s";
     r.artifact = std::move(table);
     return r;
   }
 
-  void write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
-    write_table_result(*r.table(), t, path);
+  WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
+    return write_table_result(*r.table(), t, path, r.error_bound);
   }
 
  private:

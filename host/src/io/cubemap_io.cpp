@@ -1,9 +1,7 @@
 // Writing cubemaps with all their levels: KTX2 (through io/ktx2), KTX1, DDS (DX10 or legacy
-// header), and folders of per-face, cross or equirect images (EXR / HDR through OpenImageIO).
+// header), and folders of per-face, cross or equirect images (EXR / HDR through io/image_file).
 // Every file goes through io::TempFile: it appears complete or not at all.
 #include "io/cubemap_io.hpp"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,10 +12,14 @@
 #include <nlohmann/json.hpp>
 
 #include "brdfbake/error.hpp"
-#include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
+#include "io/image_file.hpp"
 #include "io/ktx2.hpp"
+#include "io/rgbe.hpp"
+#include "io/packed_float.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -71,22 +73,21 @@ std::string_view as_view(const std::vector<uint8_t>& b) {
 
 // ---- Image folders ------------------------------------------------------------------------------
 
-void write_oiio(const std::string& path, const TempFile& temp, const char* format, int w, int h,
-                const std::vector<float>& rgb, const Metadata& metadata) {
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  if (std::string(format) == "openexr") {
-    spec.attribute("compression", "zip");
-    for (const auto& [k, v] : metadata) spec.attribute(kKeyPrefix + k, v);
+// One image of a folder: float RGB OpenEXR (ZIP, the metadata as "brdfbake:KEY" attributes) or
+// Radiance RGBE (no metadata: the folder's JSON has it; RGBE has no sign and no infinity, so a
+// negative or NaN value, which the filters do not produce, would be written as 0 and one beyond
+// kRgbeMax as kRgbeMax).
+void write_image(const TempFile& temp, CubeImageFormat format, int w, int h, const std::vector<float>& rgb,
+                 const Metadata& metadata) {
+  if (format == CubeImageFormat::Hdr) {
+    std::vector<float> clamped(rgb.size());
+    for (size_t k = 0; k < rgb.size(); ++k) clamped[k] = rgb[k] >= 0.0f ? std::min(rgb[k], kRgbeMax) : 0.0f;
+    write_rgbe(temp, w, h, clamped.data());
+    return;
   }
-  auto out = OIIO::ImageOutput::create(format);
-  if (!out) throw_write_error(path, std::string("OpenImageIO has no '") + format + "' writer");
-  if (!out->open(temp.path(), spec)) throw_write_error(path, out->geterror());
-  if (!out->write_image(OIIO::TypeDesc::FLOAT, rgb.data())) {
-    const std::string why = out->geterror();
-    out->close();
-    throw_write_error(path, why);
-  }
-  if (!out->close()) throw_write_error(path, out->geterror());
+  std::vector<std::pair<std::string, std::string>> attributes;
+  for (const auto& [k, v] : metadata) attributes.emplace_back(kKeyPrefix + k, v);
+  write_exr(temp, w, h, 3, rgb.data(), attributes);
 }
 
 // RGB of one face of a level, row 0 first.
@@ -126,20 +127,64 @@ std::vector<float> cross_rgb(const CubeLevels& cube, int level, bool horizontal,
   return rgb;
 }
 
+// The texel (i, j) of `face` of a level for i, j in [-1, s]: inside the face, the texel; one index
+// outside, the texel of the neighbouring face nearest to the extended texel centre; both outside
+// (a corner), the mean of the three texels around it (docs/CONVENTIONS.md, "Environment maps": the
+// seamless bilinear environment).
+void fetch_extended(const CubeLevels& cube, int level, int face, int i, int j, double out[3]) {
+  const int s = cube.level_size(level);
+  const bool in_i = i >= 0 && i < s, in_j = j >= 0 && j < s;
+  if (in_i && in_j) {
+    const float* t = cube.texel(level, face, i, j);
+    for (int c = 0; c < 3; ++c) out[c] = t[c];
+    return;
+  }
+  if (!in_i && !in_j) {
+    const int ci = std::clamp(i, 0, s - 1), cj = std::clamp(j, 0, s - 1);
+    double p[3], q[3], r[3];
+    fetch_extended(cube, level, face, ci, j, p);
+    fetch_extended(cube, level, face, i, cj, q);
+    fetch_extended(cube, level, face, ci, cj, r);
+    for (int c = 0; c < 3; ++c) out[c] = (p[c] + q[c] + r[c]) / 3.0;
+    return;
+  }
+  int f = 0;
+  double a = 0, b = 0;
+  math::cube_face_coords(math::cube_plane_point(face, 2.0 * (i + 0.5) / s - 1.0, 2.0 * (j + 0.5) / s - 1.0), f, a, b);
+  const int ni = std::clamp(static_cast<int>(std::floor(0.5 * (a + 1.0) * s)), 0, s - 1);
+  const int nj = std::clamp(static_cast<int>(std::floor(0.5 * (b + 1.0) * s)), 0, s - 1);
+  const float* t = cube.texel(level, f, ni, nj);
+  for (int c = 0; c < 3; ++c) out[c] = t[c];
+}
+
+// The seamless bilinear interpolation of a level's texels at direction d.
+void cube_bilinear(const CubeLevels& cube, int level, const Vec3& d, double out[3]) {
+  const int s = cube.level_size(level);
+  int face = 0;
+  double a = 0, b = 0;
+  math::cube_face_coords(d, face, a, b);
+  const double x = 0.5 * (a + 1.0) * s - 0.5, y = 0.5 * (b + 1.0) * s - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+  const int i0 = static_cast<int>(x0), j0 = static_cast<int>(y0);
+  double t00[3], t10[3], t01[3], t11[3];
+  fetch_extended(cube, level, face, i0, j0, t00);
+  fetch_extended(cube, level, face, i0 + 1, j0, t10);
+  fetch_extended(cube, level, face, i0, j0 + 1, t01);
+  fetch_extended(cube, level, face, i0 + 1, j0 + 1, t11);
+  for (int c = 0; c < 3; ++c)
+    out[c] = (1.0 - fy) * ((1.0 - fx) * t00[c] + fx * t10[c]) + fy * ((1.0 - fx) * t01[c] + fx * t11[c]);
+}
+
 // An equirect of one level (4 s x 2 s): each pixel the seamless bilinear value at its centre.
 std::vector<float> equirect_rgb(const CubeLevels& cube, int level, int* w, int* h) {
   const int s = cube.level_size(level);
   *w = std::max(4, 4 * s);
   *h = *w / 2;
-  reference::EnvCube ec;
-  ec.size = s;
-  ec.rgb.resize(18u * size_t(s) * size_t(s));
-  for (size_t t = 0; t < 6u * size_t(s) * size_t(s); ++t)
-    for (size_t c = 0; c < 3; ++c) ec.rgb[3 * t + c] = cube.levels[size_t(level)][4 * t + c];
   std::vector<float> rgb(3u * size_t(*w) * size_t(*h));
   for (int y = 0; y < *h; ++y)
     for (int x = 0; x < *w; ++x) {
-      const auto v = reference::cube_bilinear(ec, reference::equirect_direction((x + 0.5) / *w, (y + 0.5) / *h));
+      double v[3];
+      cube_bilinear(cube, level, math::equirect_direction((x + 0.5) / *w, (y + 0.5) / *h), v);
       for (size_t c = 0; c < 3; ++c) rgb[3 * (size_t(y) * size_t(*w) + size_t(x)) + c] = static_cast<float>(v[c]);
     }
   return rgb;
@@ -166,12 +211,11 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
   try {
     std::vector<std::unique_ptr<TempFile>> temps;
     std::vector<std::string> names;
-    const char* format = o.image_format == CubeImageFormat::Exr ? "openexr" : "hdr";
     const char* ext = o.image_format == CubeImageFormat::Exr ? ".exr" : ".hdr";
     auto write_one = [&](const std::string& name, int w, int h, const std::vector<float>& rgb) {
       const std::string file = (fs::path(path) / name).string();
       temps.push_back(std::make_unique<TempFile>(file));
-      write_oiio(file, *temps.back(), format, w, h, rgb, cube.metadata);
+      write_image(*temps.back(), o.image_format, w, h, rgb, cube.metadata);
       names.push_back(name);
     };
     const std::string layout = o.layout == CubeImageLayout::Faces             ? "faces"
@@ -205,10 +249,19 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
 
 }  // namespace
 
-std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel) {
+std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated) {
   check_cube(cube);
   std::vector<std::vector<uint8_t>> out;
   for (const auto& level : cube.levels) {
+    if (pixel == PixelType::R11G11B10) {  // RGB packed into one UInt32, alpha dropped
+      std::vector<uint8_t> bytes(level.size());
+      for (size_t t = 0; t < level.size() / 4; ++t) {
+        const uint32_t p = pack_r11g11b10(level[4 * t], level[4 * t + 1], level[4 * t + 2], saturated);
+        for (size_t i = 0; i < 4; ++i) bytes[4 * t + i] = static_cast<uint8_t>(p >> (8 * i));
+      }
+      out.push_back(std::move(bytes));
+      continue;
+    }
     std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
     for (size_t k = 0; k < level.size(); ++k) {
       if (pixel == PixelType::F16) {
@@ -226,27 +279,46 @@ std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, Pixel
   return out;
 }
 
-std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube) {
+std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version) {
   std::vector<std::pair<std::string, std::string>> kv;
   for (const auto& [k, v] : cube.metadata) kv.emplace_back(kKeyPrefix + k, v);
-  kv.emplace_back("KTXwriter", kGenerator);
+  if (ktx_version == 2) {
+    // KTX 2.0 "KTXwriter" and "KTXorientation": cubemap faces must be "rd" (row 0 at the top).
+    kv.emplace_back("KTXwriter", kGenerator);
+    kv.emplace_back("KTXorientation", "rd");
+  } else {
+    // KTX 1.1 defines KTXorientation (as "S=r,T=d") but no writer key: the writer goes under our
+    // own prefix, so that KTX-Software's ktx2ktx2, which adds its own KTXwriter, makes no duplicate.
+    kv.emplace_back("KTXorientation", "S=r,T=d");
+    kv.emplace_back(std::string(kKeyPrefix) + "writer", kGenerator);
+  }
   return kv;
 }
 
-// KTX 1.1 "File Structure". Every face row of RGBA16F/32F is a multiple of 4 bytes, so rows need
-// no GL_UNPACK_ALIGNMENT padding, and cubePadding and mipPadding are always empty.
+// KTX 1.1 "File Structure". Every face row of RGBA16F/32F and of packed R11F_G11F_B10F is a
+// multiple of 4 bytes, so rows need no GL_UNPACK_ALIGNMENT padding, and cubePadding and mipPadding
+// are always empty.
 std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
-                                      const std::vector<std::pair<std::string, std::string>>& key_values) {
-  const auto levels = cube_level_bytes(cube, pixel);
+                                      const std::vector<std::pair<std::string, std::string>>& key_values,
+                                      const Ktx1Options& options) {
+  const auto levels = cube_level_bytes(cube, pixel, options.saturated);
   static const uint8_t kId[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
   std::vector<uint8_t> out(kId, kId + 12);
   const bool half = pixel == PixelType::F16;
-  append_u32(out, 0x04030201);                      // endianness
-  append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
-  append_u32(out, half ? 2 : 4);                    // glTypeSize
-  append_u32(out, kGlRgba);                         // glFormat
-  append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
-  append_u32(out, kGlRgba);                         // glBaseInternalFormat
+  append_u32(out, 0x04030201);  // endianness
+  if (pixel == PixelType::R11G11B10) {
+    append_u32(out, options.filament_r11_gltype ? kGlR11fG11fB10f : kGlUnsignedInt10f11f11fRev);  // glType
+    append_u32(out, 4);                       // glTypeSize: the packed UInt32
+    append_u32(out, kGlRgb);                  // glFormat
+    append_u32(out, kGlR11fG11fB10f);         // glInternalFormat
+    append_u32(out, kGlRgb);                  // glBaseInternalFormat
+  } else {
+    append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
+    append_u32(out, half ? 2 : 4);                    // glTypeSize
+    append_u32(out, kGlRgba);                         // glFormat
+    append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
+    append_u32(out, kGlRgba);                         // glBaseInternalFormat
+  }
   append_u32(out, static_cast<uint32_t>(cube.size));  // pixelWidth
   append_u32(out, static_cast<uint32_t>(cube.size));  // pixelHeight
   append_u32(out, 0);                               // pixelDepth
@@ -280,9 +352,12 @@ std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
 // DDS: magic, DDS_HEADER, [DDS_HEADER_DXT10], then faces in order, each with all its mip levels
 // (the opposite nesting of KTX).
 std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bool dx10_header) {
+  if (pixel == PixelType::R11G11B10 && !dx10_header)
+    throw Error("DDS: R11F_G11F_B10F needs the DX10 header (the legacy header has no such format)");
   const auto levels = cube_level_bytes(cube, pixel);
   const bool half = pixel == PixelType::F16;
-  const uint32_t texel_bytes = half ? 8 : 16;
+  const bool packed = pixel == PixelType::R11G11B10;
+  const uint32_t texel_bytes = packed ? 4 : half ? 8 : 16;
   std::vector<uint8_t> out;
   append_u32(out, kDdsMagic);
   append_u32(out, 124);  // dwSize
@@ -304,7 +379,7 @@ std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bo
   append_u32(out, 0);  // dwCaps4
   append_u32(out, 0);  // dwReserved2
   if (dx10_header) {
-    append_u32(out, half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);
+    append_u32(out, packed ? kDxgiR11G11B10Float : half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);
     append_u32(out, kD3d10ResourceDimensionTexture2d);
     append_u32(out, kDdsResourceMiscTextureCube);
     append_u32(out, 1);  // arraySize: one cube
@@ -338,6 +413,9 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
   io::check_cube(cube);
   switch (format) {
     case CubeFormat::Ktx2: {
+      if (o.pixel == PixelType::R11G11B10)
+        io::throw_write_error(path, "R11F_G11F_B10F is written to .ktx (KTX1) and .dds only; use f16 or f32 for "
+                                    ".ktx2, or an ASTC HDR KTX2 (write_astc_ktx2_cube) for a compressed one");
       io::Ktx2Image image;
       const bool half = o.pixel == PixelType::F16;
       image.vk_format = half ? io::kVkFormatR16G16B16A16Sfloat : io::kVkFormatR32G32B32A32Sfloat;
@@ -345,7 +423,7 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       image.faces = 6;
       image.levels = static_cast<uint32_t>(cube.level_count());
       image.level_data = io::cube_level_bytes(cube, o.pixel);
-      image.key_values = io::cube_key_values(cube);
+      image.key_values = io::cube_key_values(cube, 2);
       std::vector<uint8_t> bytes;
       try {
         bytes = io::encode_ktx2(image);
@@ -356,13 +434,19 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       return;
     }
     case CubeFormat::Ktx1:
-      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube))));
+      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube, 1))));
       return;
     case CubeFormat::Dds:
     case CubeFormat::DdsLegacy: {
       // DDS has no metadata: it goes to a sidecar FILE.json, committed with the image.
+      std::vector<uint8_t> dds;
+      try {
+        dds = io::encode_dds_cube(cube, o.pixel, format == CubeFormat::Dds);
+      } catch (const Error& e) {
+        io::throw_write_error(path, e.what());
+      }
       io::TempFile image(path), json(path + ".json");
-      io::write_bytes(image, io::as_view(io::encode_dds_cube(cube, o.pixel, format == CubeFormat::Dds)));
+      io::write_bytes(image, io::as_view(dds));
       io::write_bytes(json, io::metadata_json(cube, {std::filesystem::path(path).filename().string()},
                                               format == CubeFormat::Dds ? "dds-dx10" : "dds-legacy"));
       image.commit();

@@ -24,6 +24,9 @@ inline constexpr uint32_t kGlFloat = 0x1406;
 inline constexpr uint32_t kGlRgba = 0x1908;
 inline constexpr uint32_t kGlRgba16f = 0x881A;
 inline constexpr uint32_t kGlRgba32f = 0x8814;
+inline constexpr uint32_t kGlRgb = 0x1907;
+inline constexpr uint32_t kGlR11fG11fB10f = 0x8C3A;             // GL_R11F_G11F_B10F
+inline constexpr uint32_t kGlUnsignedInt10f11f11fRev = 0x8C3B;  // GL_UNSIGNED_INT_10F_11F_11F_REV
 
 // DDS constants.
 inline constexpr uint32_t kDdsMagic = 0x20534444;  // "DDS "
@@ -37,18 +40,30 @@ inline constexpr uint32_t kD3dFmtA16B16G16R16F = 113;
 inline constexpr uint32_t kD3dFmtA32B32G32R32F = 116;
 inline constexpr uint32_t kDxgiR16G16B16A16Float = 10;
 inline constexpr uint32_t kDxgiR32G32B32A32Float = 2;
+inline constexpr uint32_t kDxgiR11G11B10Float = 26;
 inline constexpr uint32_t kD3d10ResourceDimensionTexture2d = 3;
 inline constexpr uint32_t kDdsResourceMiscTextureCube = 0x4;
 
-// The texels of a cube (every level) as RGBA half or float, little-endian, KTX order: level, face,
-// row, texel.
-std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel);
+// The texels of a cube (every level) as RGBA half or float, or packed R11F_G11F_B10F (RGB),
+// little-endian, KTX order: level, face, row, texel. `saturated`, when given, counts the channels
+// that R11F_G11F_B10F clamped to its largest finite value.
+std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated = nullptr);
 
+struct Ktx1Options {
+  // R11F_G11F_B10F only. KTX 1.1 wants glType GL_UNSIGNED_INT_10F_11F_11F_REV (0x8C3B); Filament's
+  // image::KtxUtility (1.9 to today) maps glType GL_R11F_G11F_B10F (0x8C3A), the value cmgen
+  // writes, and no other, to its packed pixel type. true writes Filament's value.
+  bool filament_r11_gltype = false;
+  int* saturated = nullptr;  // counts channels clamped by R11F_G11F_B10F
+};
 std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
-                                      const std::vector<std::pair<std::string, std::string>>& key_values);
+                                      const std::vector<std::pair<std::string, std::string>>& key_values,
+                                      const Ktx1Options& options = {});
 std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bool dx10_header);
 
-// The metadata as KTX key/value pairs: "brdfbake:KEY" plus KTXwriter.
-std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube);
+// The metadata as KTX key/value pairs: "brdfbake:KEY" for every entry, plus, for KTX 2.0
+// (ktx_version 2), KTXwriter and KTXorientation "rd"; for KTX 1.1 (ktx_version 1) only keys KTX 1.1
+// defines, KTXorientation "S=r,T=d", and the writer as "brdfbake:writer".
+std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version);
 
 }  // namespace brdfbake::io

@@ -66,16 +66,27 @@ constexpr size_t kLevelIndexEntrySize = 24;
 struct Format {
   uint32_t vk_format;
   const char* name;
-  uint32_t components;       // R, G, B, A in this order, tightly packed
-  uint32_t component_bytes;  // 2: IEEE binary16, 4: IEEE binary32
+  uint32_t components;       // R, G, B, A in this order, tightly packed; 0: block-compressed
+  uint32_t component_bytes;  // 2: IEEE binary16, 4: IEEE binary32; 0: block-compressed
+  uint32_t block_width = 1;  // texel block (KDF texelBlockDimension); 1 x 1 when uncompressed
+  uint32_t block_height = 1;
+  uint32_t block_bytes = 0;  // bytes of one compressed block (ASTC: 16)
 };
 
+// ASTC HDR (VK_EXT_texture_compression_astc_hdr, core in Vulkan 1.3): 128-bit blocks.
 constexpr Format kFormats[] = {
     {76, "VK_FORMAT_R16_SFLOAT", 1, 2},        {83, "VK_FORMAT_R16G16_SFLOAT", 2, 2},
     {90, "VK_FORMAT_R16G16B16_SFLOAT", 3, 2},  {97, "VK_FORMAT_R16G16B16A16_SFLOAT", 4, 2},
     {100, "VK_FORMAT_R32_SFLOAT", 1, 4},       {103, "VK_FORMAT_R32G32_SFLOAT", 2, 4},
     {106, "VK_FORMAT_R32G32B32_SFLOAT", 3, 4}, {109, "VK_FORMAT_R32G32B32A32_SFLOAT", 4, 4},
+    {kVkFormatAstc4x4SfloatBlock, "VK_FORMAT_ASTC_4x4_SFLOAT_BLOCK", 0, 0, 4, 4, 16},
+    {kVkFormatAstc6x6SfloatBlock, "VK_FORMAT_ASTC_6x6_SFLOAT_BLOCK", 0, 0, 6, 6, 16},
 };
+
+bool compressed(const Format& format) { return format.block_bytes != 0; }
+
+// KTX2 "typeSize": the component size of an unpacked format, 1 for block-compressed formats.
+uint32_t type_size(const Format& format) { return compressed(format) ? 1 : format.component_bytes; }
 
 const Format* find_format(uint32_t vk_format) {
   for (const Format& format : kFormats) {
@@ -93,7 +104,10 @@ std::string supported_formats_list() {
   return list;
 }
 
-uint32_t texel_size(const Format& format) { return format.components * format.component_bytes; }
+// Bytes of one texel block (one texel when uncompressed).
+uint32_t texel_size(const Format& format) {
+  return compressed(format) ? format.block_bytes : format.components * format.component_bytes;
+}
 
 // KTX2 "mipPadding": levels start at multiples of lcm(texel block size, 4) when not
 // supercompressed.
@@ -109,8 +123,11 @@ uint64_t align_up(uint64_t value, uint64_t alignment) {
 // on overflow. A 1-D texture (height 0) has one row.
 bool level_byte_size(const Format& format, uint32_t width, uint32_t height, uint32_t faces,
                      uint32_t level, uint64_t* size) {
-  const uint64_t level_width = std::max<uint64_t>(1, level < 32 ? width >> level : 0);
-  const uint64_t level_height = std::max<uint64_t>(1, level < 32 ? height >> level : 0);
+  const uint64_t texel_width = std::max<uint64_t>(1, level < 32 ? width >> level : 0);
+  const uint64_t texel_height = std::max<uint64_t>(1, level < 32 ? height >> level : 0);
+  // KTX2 "levelImages": whole blocks, ceil(width / blockWidth) x ceil(height / blockHeight).
+  const uint64_t level_width = (texel_width + format.block_width - 1) / format.block_width;
+  const uint64_t level_height = (texel_height + format.block_height - 1) / format.block_height;
   uint64_t bytes = 0;
   return !__builtin_mul_overflow(level_width, level_height, &bytes) &&
          !__builtin_mul_overflow(bytes, uint64_t{faces}, &bytes) &&
@@ -125,6 +142,8 @@ constexpr uint32_t kDfVendorKhronos = 0;
 constexpr uint32_t kDfDescriptorTypeBasic = 0;
 constexpr uint32_t kDfVersion13 = 2;  // KHR_DF_VERSIONNUMBER_1_3
 constexpr uint32_t kDfModelRgbsda = 1;
+constexpr uint32_t kDfModelAstc = 162;    // KHR_DF_MODEL_ASTC
+constexpr uint32_t kDfChannelAstcData = 0;  // KHR_DF_CHANNEL_ASTC_DATA
 constexpr uint32_t kDfPrimariesBt709 = 1;
 constexpr uint32_t kDfTransferLinear = 1;
 constexpr uint32_t kDfFlagAlphaPremultiplied = 1;  // the only flag; 0 is ALPHA_STRAIGHT
@@ -140,13 +159,33 @@ constexpr uint32_t kFloatOneBits = 0x3F800000u;
 
 uint32_t channel_id(uint32_t component) { return component < 3 ? component : kDfChannelAlpha; }
 
+uint32_t dfd_sample_count(const Format& format) { return compressed(format) ? 1 : format.components; }
+
 uint32_t dfd_block_size(const Format& format) {
-  return kDfdBlockHeaderBytes + kDfdSampleBytes * format.components;
+  return kDfdBlockHeaderBytes + kDfdSampleBytes * dfd_sample_count(format);
 }
 
 // The whole descriptor as words: dfdTotalSize, then the basic block.
 std::vector<uint32_t> dfd_words(const Format& format) {
   const uint32_t block_size = dfd_block_size(format);
+  if (compressed(format)) {
+    // KDF "ASTC" model: one sample covering the 128-bit block, channel ASTC_DATA, qualified
+    // FLOAT | SIGNED with sampleLower/Upper -1.0f/1.0f for the SFLOAT (HDR) formats; the block
+    // dimensions minus one in texelBlockDimension0/1 (as KTX-Software's createDFDCompressed).
+    return {
+        4 + block_size,
+        kDfVendorKhronos | kDfDescriptorTypeBasic << 17,
+        kDfVersion13 | block_size << 16,
+        kDfModelAstc | kDfPrimariesBt709 << 8 | kDfTransferLinear << 16 | 0u << 24,
+        (format.block_width - 1) | (format.block_height - 1) << 8,
+        format.block_bytes,
+        0,
+        0u | (format.block_bytes * 8 - 1) << 16 | (kDfChannelAstcData | kDfQualifierFloat | kDfQualifierSigned) << 24,
+        0,
+        kFloatMinusOneBits,
+        kFloatOneBits,
+    };
+  }
   std::vector<uint32_t> words = {
       4 + block_size,                                   // dfdTotalSize
       kDfVendorKhronos | kDfDescriptorTypeBasic << 17,  // vendorId (17 bits), descriptorType
@@ -381,10 +420,10 @@ class Decoder {
       fail("unsupported vkFormat " + std::to_string(image.vk_format) +
            " (supported: " + supported_formats_list() + ")");
     }
-    // KTX2 "typeSize": for unpacked formats, typeSize is the size of one component.
-    if (u32(kOffsetTypeSize) != format->component_bytes) {
+    // KTX2 "typeSize": for unpacked formats the size of one component, 1 for block formats.
+    if (u32(kOffsetTypeSize) != type_size(*format)) {
       fail("typeSize is " + std::to_string(u32(kOffsetTypeSize)) + ", expected " +
-           std::to_string(format->component_bytes) + " for " + format->name);
+           std::to_string(type_size(*format)) + " for " + format->name);
     }
     image.width = u32(kOffsetPixelWidth);
     image.height = u32(kOffsetPixelHeight);
@@ -443,8 +482,10 @@ class Decoder {
     const uint32_t model = word2 & 0xFFu;
     const uint32_t transfer = (word2 >> 16) & 0xFFu;
     const uint32_t flags = word2 >> 24;
-    if (model != kDfModelRgbsda) {
-      fail("DFD colorModel is " + std::to_string(model) + ", expected 1 (RGBSDA)");
+    const uint32_t expected_model = compressed(format) ? kDfModelAstc : kDfModelRgbsda;
+    if (model != expected_model) {
+      fail("DFD colorModel is " + std::to_string(model) + ", expected " + std::to_string(expected_model) +
+           (compressed(format) ? " (ASTC)" : " (RGBSDA)"));
     }
     if (transfer != kDfTransferLinear) {
       fail("DFD transferFunction is " + std::to_string(transfer) + ", expected 1 (LINEAR)");
@@ -452,15 +493,18 @@ class Decoder {
     if ((flags & ~kDfFlagAlphaPremultiplied) != 0) {
       fail("DFD flags " + std::to_string(flags) + " has undefined bits");
     }
-    if (u32(block + 12) != 0) {
-      fail("DFD texelBlockDimension is " + hex32(u32(block + 12)) + ", expected 1x1x1x1 (0)");
+    const uint32_t dimension = (format.block_width - 1) | (format.block_height - 1) << 8;
+    if (u32(block + 12) != dimension) {
+      fail("DFD texelBlockDimension is " + hex32(u32(block + 12)) + ", expected " +
+           std::to_string(format.block_width) + "x" + std::to_string(format.block_height) + "x1x1 (" +
+           hex32(dimension) + ")");
     }
     if (u32(block + 16) != texel_size(format) || u32(block + 20) != 0) {
       fail("DFD bytesPlane0..7 are " + hex32(u32(block + 16)) + " " + hex32(u32(block + 20)) +
            ", expected bytesPlane0 = " + std::to_string(texel_size(format)) + " and the rest 0");
     }
-    const uint32_t bits = format.component_bytes * 8;
-    for (uint32_t c = 0; c < format.components; ++c) {
+    const uint32_t bits = compressed(format) ? format.block_bytes * 8 : format.component_bytes * 8;
+    for (uint32_t c = 0; c < dfd_sample_count(format); ++c) {
       const uint64_t sample = block + kDfdBlockHeaderBytes + uint64_t{kDfdSampleBytes} * c;
       const std::string name = "DFD sample " + std::to_string(c);
       const uint32_t word = u32(sample);
@@ -473,9 +517,9 @@ class Decoder {
              std::to_string(bit_length) + ", expected " + std::to_string(c * bits) + "+" +
              std::to_string(bits));
       }
-      if (channel != channel_id(c)) {
+      if (channel != (compressed(format) ? kDfChannelAstcData : channel_id(c))) {
         fail(name + " has channelType " + std::to_string(channel) + ", expected " +
-             std::to_string(channel_id(c)));
+             std::to_string(compressed(format) ? kDfChannelAstcData : channel_id(c)));
       }
       // KTX2 "Restrictions" (of the DFD): the LINEAR qualifier may differ from the format's
       // definition.
@@ -644,7 +688,7 @@ std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
   std::vector<uint8_t> out(cursor, 0);
   std::memcpy(out.data(), kIdentifier, sizeof kIdentifier);
   put_u32(out, kOffsetVkFormat, format.vk_format);
-  put_u32(out, kOffsetTypeSize, format.component_bytes);
+  put_u32(out, kOffsetTypeSize, type_size(format));
   put_u32(out, kOffsetPixelWidth, image.width);
   put_u32(out, kOffsetPixelHeight, image.height);
   put_u32(out, kOffsetPixelDepth, 0);

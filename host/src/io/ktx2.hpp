@@ -3,10 +3,11 @@
 // floating-point 1-D and 2-D textures and cubemaps, with mip levels, no supercompression, no arrays
 // and no 3-D textures.
 //
-// Supported formats: VK_FORMAT_R16{,G16{,B16{,A16}}}_SFLOAT and
-// VK_FORMAT_R32{,G32{,B32{,A32}}}_SFLOAT. Each is described by one row of a small table (component
-// count and size); the texel size, the typeSize field, the mip alignment and the Data Format
-// Descriptor all derive from that row.
+// Supported formats: VK_FORMAT_R16{,G16{,B16{,A16}}}_SFLOAT,
+// VK_FORMAT_R32{,G32{,B32{,A32}}}_SFLOAT, and the ASTC HDR block formats
+// VK_FORMAT_ASTC_{4x4,6x6}_SFLOAT_BLOCK. Each is described by one row of a small table (component
+// count and size, or block size); the texel (block) size, the typeSize field, the mip alignment
+// and the Data Format Descriptor all derive from that row.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +20,8 @@ namespace brdfbake::io {
 
 inline constexpr uint32_t kVkFormatR16G16B16A16Sfloat = 97;
 inline constexpr uint32_t kVkFormatR32G32B32A32Sfloat = 109;
+inline constexpr uint32_t kVkFormatAstc4x4SfloatBlock = 1000066000;  // VK_FORMAT_ASTC_4x4_SFLOAT_BLOCK
+inline constexpr uint32_t kVkFormatAstc6x6SfloatBlock = 1000066004;  // VK_FORMAT_ASTC_6x6_SFLOAT_BLOCK
 
 struct Ktx2Image {
   uint32_t vk_format = kVkFormatR16G16B16A16Sfloat;
@@ -42,7 +45,7 @@ bool ktx2_format_supported(uint32_t vk_format);
 // Bytes per texel of a supported format; throws brdfbake::Error otherwise.
 uint32_t ktx2_texel_size(uint32_t vk_format);
 // Bytes of mip level `level`: faces * max(1, width >> level) * max(1, height >> level) * texel
-// size.
+// size, in whole blocks for a block-compressed format.
 uint64_t ktx2_level_size(const Ktx2Image& image, uint32_t level);
 // The largest valid level count for a width and height: floor(log2(max(width, height))) + 1.
 uint32_t ktx2_max_levels(uint32_t width, uint32_t height);

@@ -21,17 +21,17 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfPi = 0.5 * kPi;
 constexpr std::size_t kHeaderBytes = 3 * sizeof(std::int32_t);
 
-reference::Vec3 normalize(const reference::Vec3& v) {
+Vec3 normalize(const Vec3& v) {
   const double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
   return {v.x / len, v.y / len, v.z / len};
 }
 
 // Rotation of v about the y axis by `angle` (right-handed), and about z.
-reference::Vec3 rotate_y(const reference::Vec3& v, double angle) {
+Vec3 rotate_y(const Vec3& v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   return {v.x * c + v.z * s, v.y, v.z * c - v.x * s};
 }
-reference::Vec3 rotate_z(const reference::Vec3& v, double angle) {
+Vec3 rotate_z(const Vec3& v, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   return {v.x * c - v.y * s, v.x * s + v.y * c, v.z};
 }
@@ -45,11 +45,11 @@ MerlAngles merl_bin_centre(int i, int j, int k) {
   return {u * u * kHalfPi, (j + 0.5) / kMerlThetaD * kHalfPi, (k + 0.5) / kMerlPhiD * kPi};
 }
 
-void half_diff_to_directions(double theta_h, double theta_d, double phi_d, reference::Vec3& wi,
-                             reference::Vec3& wo) {
+void half_diff_to_directions(double theta_h, double theta_d, double phi_d, Vec3& wi,
+                             Vec3& wo) {
   const double st = std::sin(theta_h), ct = std::cos(theta_h);
   const double sd = std::sin(theta_d), cd = std::cos(theta_d);
-  const reference::Vec3 d{sd * std::cos(phi_d), sd * std::sin(phi_d), cd};
+  const Vec3 d{sd * std::cos(phi_d), sd * std::sin(phi_d), cd};
   wi = rotate_y(d, theta_h);
   // wi.h = cos td for h = (sin th, 0, cos th)
   wo = {2.0 * cd * st - wi.x, -wi.y, 2.0 * cd * ct - wi.z};
@@ -57,12 +57,12 @@ void half_diff_to_directions(double theta_h, double theta_d, double phi_d, refer
 
 // std_coords_to_half_diff_coords: h = normalize(wi + wo), theta_h = acos(h.z), phi_h = atan2(h.y, h.x);
 // diff = R_y(-theta_h) R_z(-phi_h) wi, theta_d = acos(diff.z), phi_d = atan2(diff.y, diff.x).
-std::size_t merl_index(const reference::Vec3& wi_in, const reference::Vec3& wo_in) {
-  const reference::Vec3 wi = normalize(wi_in), wo = normalize(wo_in);
-  const reference::Vec3 h = normalize({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
+std::size_t merl_index(const Vec3& wi_in, const Vec3& wo_in) {
+  const Vec3 wi = normalize(wi_in), wo = normalize(wo_in);
+  const Vec3 h = normalize({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
   const double theta_h = std::acos(std::clamp(h.z, -1.0, 1.0));
   const double phi_h = std::atan2(h.y, h.x);
-  const reference::Vec3 diff = rotate_y(rotate_z(wi, -phi_h), -theta_h);
+  const Vec3 diff = rotate_y(rotate_z(wi, -phi_h), -theta_h);
   const double theta_d = std::acos(std::clamp(diff.z, -1.0, 1.0));
   double phi_d = std::atan2(diff.y, diff.x);
   if (phi_d < 0.0) phi_d += kPi;  // reciprocity
@@ -158,7 +158,7 @@ MerlTable read_merl(const std::string& path) {
   return table;
 }
 
-Rgb merl_lookup(const MerlTable& table, const reference::Vec3& wi, const reference::Vec3& wo) {
+Rgb merl_lookup(const MerlTable& table, const Vec3& wi, const Vec3& wo) {
   if (table.values.size() != 3 * kMerlBins) throw Error("merl_lookup: not a MERL table");
   const std::size_t b = io::merl_index(wi, wo);
   return Rgb{table.values[b], table.values[kMerlBins + b], table.values[2 * kMerlBins + b]};

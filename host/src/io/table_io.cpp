@@ -8,8 +8,6 @@
 //
 // Every writer goes through io::TempFile or io::write_file_atomically: the file appears complete
 // or not at all, and every failure throws Error("cannot write '<path>': <reason>").
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -25,7 +23,9 @@
 #include "brdfbake/io.hpp"
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
+#include "io/image_file.hpp"
 #include "io/ktx2.hpp"
+#include "io/rgbe.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -151,42 +151,22 @@ std::string format_g9(double value) {
   return text;
 }
 
-// ---- OpenImageIO formats ------------------------------------------------------------------------
+// ---- Image formats ------------------------------------------------------------------------------
 
-template <typename T>
-void write_oiio_image(const std::string& path, const io::TempFile& temp, const char* oiio_format,
-                      const OIIO::ImageSpec& spec, const std::vector<T>& pixels) {
-  auto out = OIIO::ImageOutput::create(oiio_format);
-  if (!out) {
-    io::throw_write_error(
-        path, std::string("OpenImageIO has no '") + oiio_format + "' writer: " + OIIO::geterror());
-  }
-  if (!out->open(temp.path(), spec)) io::throw_write_error(path, out->geterror());
-  if (!out->write_image(OIIO::BaseTypeFromC<T>::value, pixels.data())) {
-    const std::string reason = out->geterror();
-    out->close();
-    io::throw_write_error(path, reason);
-  }
-  if (!out->close()) io::throw_write_error(path, out->geterror());
-}
-
-void add_attributes(OIIO::ImageSpec& spec, const Metadata& metadata) {
-  for (const auto& [key, value] : metadata) spec.attribute(kKeyPrefix + key, value);
+// The metadata as image attributes or text chunks: "brdfbake:KEY".
+std::vector<std::pair<std::string, std::string>> prefixed(const Metadata& metadata) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [key, value] : metadata) out.emplace_back(kKeyPrefix + key, value);
+  return out;
 }
 
 // .exr: float32, channels named R, G, B, A in table order (a 1-channel table is just "R"),
 // ZIP compression, every metadata entry as a string attribute "brdfbake:KEY".
 void write_exr(const Table& table, const std::string& path) {
   check_channel_limit(table, path, 4, ".exr");
-  const int channels = table.channel_count();
-  OIIO::ImageSpec spec(table.width, table.height, channels, OIIO::TypeDesc::FLOAT);
-  const char* names[] = {"R", "G", "B", "A"};
-  spec.channelnames.assign(names, names + channels);
-  spec.alpha_channel = channels == 4 ? 3 : -1;
-  spec.attribute("compression", "zip");
-  add_attributes(spec, image_metadata(table));
   io::TempFile temp(path);
-  write_oiio_image(path, temp, "openexr", spec, table.data);
+  io::write_exr(temp, table.width, table.height, table.channel_count(), table.data.data(),
+                prefixed(image_metadata(table)));
   temp.commit();
 }
 
@@ -220,16 +200,9 @@ void write_png(const Table& table, const std::string& path) {
                                       kKeyPrefix + "' prefix)");
     }
   }
-  OIIO::ImageSpec spec(table.width, table.height, static_cast<int>(file_channels),
-                       OIIO::TypeDesc::UINT16);
-  // The fourth channel is data, not coverage: without this, OpenImageIO divides RGB by it
-  // ("un-premultiplies") on the way to PNG's straight alpha.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  // Table values are linear data: no sRGB chunk (OpenImageIO then writes gAMA 1.0).
-  spec.attribute("oiio:ColorSpace", "Linear");
-  add_attributes(spec, metadata);
   io::TempFile temp(path);
-  write_oiio_image(path, temp, "png", spec, pixels);
+  io::write_png16(temp, table.width, table.height, static_cast<int>(file_channels), pixels.data(),
+                  prefixed(metadata));
   temp.commit();
 }
 
@@ -238,8 +211,7 @@ void write_png(const Table& table, const std::string& path) {
 // (exponent byte 255) as that value, each counted in "clamped_values", and the metadata, channel
 // names and layout go to a sidecar "FILE.json", written atomically alongside.
 void write_hdr(const Table& table, const std::string& path) {
-  // 8-bit mantissa 255 under exponent byte 255 (2^(255 - 128)): (255 / 256) * 2^127.
-  constexpr float kRgbeMax = 0x1.FEp126f;
+  constexpr float kRgbeMax = io::kRgbeMax;  // (255 / 256) * 2^127
   check_channel_limit(table, path, 3, ".hdr");
   const size_t channels = channel_count(table);
   std::vector<float> pixels(texel_count(table) * 3, 0.0f);
@@ -281,9 +253,8 @@ void write_hdr(const Table& table, const std::string& path) {
     io::throw_write_error(path + ".json", e.what());
   }
 
-  OIIO::ImageSpec spec(table.width, table.height, 3, OIIO::TypeDesc::FLOAT);
   io::TempFile image_temp(path);
-  write_oiio_image(path, image_temp, "hdr", spec, pixels);
+  io::write_rgbe(image_temp, table.width, table.height, pixels.data());
   const std::string json_path = path + ".json";
   io::TempFile json_temp(json_path);
   io::write_bytes(json_temp, json_text);
@@ -495,6 +466,9 @@ TableFormat table_format_from_name(const std::string& name) {
 void write_table(const Table& table, const std::string& path, TableFormat format,
                  const TableWriteOptions& options) {
   check_table(table, path);
+  if (options.pixel == PixelType::R11G11B10)
+    throw Error("cannot write '" + path + "': the R11F_G11F_B10F pixel format is for KTX1 cubemaps only "
+                "(no sign, 6-bit mantissas); use f16 or f32 for tables");
   switch (format) {
     case TableFormat::Exr:
       write_exr(table, path);

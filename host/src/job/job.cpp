@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
@@ -196,6 +197,13 @@ Job parse_job(const std::string& text, const std::string& origin) {
     } else if (key == "environment") {
       if (!it->is_string()) throw Error(field + ": must be a string (FILE or builtin:NAME)");
       job.environment = it->get<std::string>();
+    } else if (key == "target") {
+      job.target = get_string(*it, field);
+      try {
+        engine_target_from_name(job.target);
+      } catch (const Error& e) {
+        throw Error(field + ": " + e.what());
+      }
     } else if (key == "sanitize") {
       if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
       job.sanitize = it->get<bool>();
@@ -218,7 +226,7 @@ Job parse_job(const std::string& text, const std::string& origin) {
       if (!it->is_array()) throw Error(field + ": must be an array of tables (got " + json_excerpt(*it) + ")");
     } else {
       throw Error(origin + ": " + key.substr(0, 60) +
-                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, device, precision, "
+                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, device, precision, "
                   "tables, scene, notes, warnings, plan)");
     }
   }
@@ -285,7 +293,7 @@ json table_json(const TableRequest& t, const Job& job) {
   if (!t.environment.empty()) o["environment"] = t.environment;
   o["output"] = t.output;
   if (!t.format.empty()) o["format"] = t.format;
-  if (!t.pixel.empty()) o["pixel"] = t.pixel;
+  if (!t.pixel.empty() && t.pixel != table_kind_default_pixel(t.kind)) o["pixel"] = t.pixel;
   if (!t.requested_by.empty()) {
     o["requested_by"] = requests_json(t.requested_by);
     o["materials"] = t.materials();
@@ -300,6 +308,7 @@ json job_json(const Job& job) {
   if (!job.scene.empty()) o["scene"] = job.scene;
   o["environment"] = job.environment;
   if (job.sanitize) o["sanitize"] = true;
+  if (job.target != "generic") o["target"] = job.target;
   o["device"] = job.device;
   o["precision"] = precision_name(job.precision);
   json tables = json::array();

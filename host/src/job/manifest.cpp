@@ -35,6 +35,15 @@ std::string manifest_to_json(const Manifest& m) {
     files.push_back(e);
   }
   o["files"] = files;
+  if (!m.target.empty()) {
+    nlohmann::ordered_json e;
+    e["target"] = m.target;
+    e["files"] = m.engine_files;
+    nlohmann::ordered_json d = nlohmann::ordered_json::object();
+    for (const auto& [k, v] : m.engine_delivered) d[k] = v;
+    e["delivered"] = d;
+    o["engine"] = e;
+  }
   if (!m.notes.empty()) o["notes"] = m.notes;
   if (!m.warnings.empty()) o["warnings"] = m.warnings;
   return o.dump(2) + "\n";

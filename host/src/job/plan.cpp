@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/plan.hpp"
 #include "job/job_json.hpp"
 
@@ -47,6 +48,15 @@ class Planner {
     plan_.job.precision = o.precision;
     plan_.job.source = "bake plan";
     plan_.job.sanitize = o.sanitize;
+    plan_.job.target = o.target;
+    if (o.target != "generic") {
+      // The engine's conventions, unless the options say otherwise.
+      const EngineSettings e = engine_settings(engine_target_from_name(o.target));
+      if (!o_.schedule) o_.schedule = roughness_schedule_name(e.schedule);
+      if (!o_.cube_size) o_.cube_size = e.size;
+      if (!o_.cube_min_size) o_.cube_min_size = e.min_size;
+      if (e.sh_window != ShWindow::None) sh_window_ = sh_window_name(e.sh_window);
+    }
   }
 
   Plan& plan() { return plan_; }
@@ -119,6 +129,12 @@ class Planner {
     TableRequest t;
     t.kind = TableKind::Irradiance;
     if (o_.sh_order) t.params.push_back({"sh_order", double(*o_.sh_order)});
+    if (!sh_window_.empty()) t.params.push_back({"sh_window", sh_window_});
+    // The Khronos viewer takes a Lambertian cube beside the SH (docs/ENGINES.md).
+    if (o_.target == "khronos-viewer") {
+      t.format = "ktx2";
+      return t;
+    }
     t.format = "json";
     return t;
   }
@@ -164,6 +180,7 @@ class Planner {
   }
 
   PlanOptions o_;
+  std::string sh_window_;  // the engine target's, when it has one
   Plan plan_;
   std::map<std::string, size_t> index_;
   std::set<std::string> fired_;
@@ -554,6 +571,9 @@ const std::vector<ParamDef>& plan_schema() {
       from_table(TableKind::ThinFilm, "size", "thin_film_size", "thin-film tables: cells along cos_theta and thickness"),
       from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5", "sh"),
       from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
+      ParamDef("target", ParamType::Name,
+               "write an engine's file set too (docs/ENGINES.md), with its schedule, sizes and SH window")
+          .one_of(engine_target_names()).def(d.target),
       ParamDef("table_format", ParamType::Name, "1-D and 2-D tables: the file format")
           .one_of({"exr", "png", "hdr", "ktx2", "csv", "h"}).def(d.table_format),
       ParamDef("cube_format", ParamType::Name, "prefiltered chains: the container").one_of({"ktx2", "ktx", "dds"}).def(d.cube_format),
@@ -580,6 +600,7 @@ PlanOptions plan_options_from_params(const Params& params, bool cli) {
     else if (p.name == "sh_order") o.sh_order = integer();
     else if (p.name == "sheen_visibility") o.sheen_visibility = std::get<std::string>(p.value);
     else if (p.name == "table_format") o.table_format = std::get<std::string>(p.value);
+    else if (p.name == "target") o.target = std::get<std::string>(p.value);
     else if (p.name == "cube_format") o.cube_format = std::get<std::string>(p.value);
   }
   if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)

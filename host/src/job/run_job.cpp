@@ -5,8 +5,11 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
+#include "families/family.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
 
@@ -54,7 +57,9 @@ std::uint64_t bytes_of(const fs::path& p) {
 
 }  // namespace
 
-Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvider& open_backend) {
+Manifest run_job(const Job& in, const JobProgress& progress) { return run_job(in, progress, RunHooks{}); }
+
+Manifest run_job(const Job& in, const JobProgress& progress, const RunHooks& hooks) {
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   validate_job(job);
@@ -111,7 +116,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvid
   auto backend_for = [&](const std::string& selector) -> Backend& {
     auto it = backends.find(selector);
     if (it == backends.end())
-      it = backends.emplace(selector, open_backend ? open_backend(selector) : Backend::open(selector)).first;
+      it = backends.emplace(selector, hooks.backend ? hooks.backend(selector) : Backend::open(selector)).first;
     return *it->second;
   };
 
@@ -128,22 +133,30 @@ Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvid
                                   " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
                                   std::to_string(env.sanitize.negative) + " negative values");
 
+  const EngineTarget engine = engine_target_from_name(job.target);
+  std::optional<BakeResult> ggx_chain, irradiance;
   for (size_t g = 0; g < groups.size(); ++g) {
     const TableRequest& t = job.tables[groups[g].front()];
     const std::string what = bake_label(t);
     auto report = [&](double fraction, const std::string& step) {
       if (progress) progress({int(g), int(groups.size()), step.empty() ? what : what + ": " + step, fraction});
     };
+    if (hooks.checkpoint) hooks.checkpoint();
     report(0.0, "");
     Backend& backend = backend_for(t.device);
     BakeInputs inputs;
     if (table_kind_uses_environment(t.kind)) inputs.environment = &environments.at(t.environment);
     const BakeResult r = bake_table(t, backend, inputs, report);
     report(1.0, "");
+    // What an engine's file set is made of: the first GGX chain and the first SH.
+    if (engine != EngineTarget::Generic) {
+      if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
+      if (!irradiance && r.irradiance()) irradiance = r;
+    }
     for (size_t k = 0; k < groups[g].size(); ++k) {
       const TableRequest& o = job.tables[groups[g][k]];
       const TableRequest s = staged(o, staging.path());
-      write_result(r, s, s.output);
+      const WriteReport written = write_result(r, s, s.output);
       ManifestFile f;
       f.path = fs::path(o.output).lexically_normal().string();
       f.kind = o.kind;
@@ -159,9 +172,18 @@ Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvid
       f.precision = backend.result_precision(o.precision);
       f.device = r.device;
       if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
-      f.error_bound = r.error_bound;
+      f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
       f.error_bound_definition = r.error_bound_definition;
       f.details = r.details;
+      if (written.error_bound && r.error_bound) {
+        f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
+                                   "storage error measured on the stored values";
+        f.details.push_back({"integration_error_bound", detail::fmt_number(*r.error_bound, "%.3g")});
+        f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
+        f.details.push_back({"storage_error", detail::fmt_number(written.storage_error, "%.3g")});
+        f.details.push_back({"storage_encoding", written.encoding});
+      }
+      for (const auto& d : written.details) f.details.push_back(d);
       f.requested_by = o.requested_by;
       f.materials = o.materials();
       f.bytes = bytes_of(s.output);
@@ -171,6 +193,24 @@ Manifest run_job(const Job& in, const JobProgress& progress, const BackendProvid
     }
   }
 
+  if (engine != EngineTarget::Generic) {
+    // The engine's files beside the tables, named after the folder (as cmgen -x names them).
+    if (!ggx_chain || !irradiance)
+      throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
+                  "job (the plan of brdfbake bake --target " + job.target + " has both)");
+    EngineBake eb;
+    eb.prefiltered = ggx_chain->cube();
+    eb.sh = &irradiance->irradiance()->sh;
+    if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
+    EngineWriteOptions wo;
+    wo.name = fs::path(target).filename().string();
+    const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
+    manifest.target = job.target;
+    for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
+    manifest.engine_delivered = w.delivered;
+  }
+
+  if (hooks.checkpoint) hooks.checkpoint();
   manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   io::write_file_atomically((staging.path() / "manifest.json").string(), manifest_to_json(manifest));
   staging.commit("manifest.json");

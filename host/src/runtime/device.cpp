@@ -39,10 +39,15 @@ const char* type_name(cl_device_type t) {
   return "other";
 }
 
+// A device as enumeration finds it: its handles and type only. Opening a device asks no more than
+// this of the others (clGetPlatformIDs, clGetDeviceIDs, CL_DEVICE_TYPE); the full DeviceInfo is
+// queried for the chosen device alone (and for every device by list_devices).
 struct Found {
-  DeviceInfo info;
+  int platform_index = -1, device_index = -1;
   cl::Platform platform;
   cl::Device device;
+  std::string type;  // type_name()
+  bool is_default = false;
 };
 
 std::vector<Found> enumerate() {
@@ -61,40 +66,55 @@ std::vector<Found> enumerate() {
       continue;  // CL_DEVICE_NOT_FOUND on a platform with no device
     }
     for (size_t d = 0; d < devices.size(); ++d) {
-      const cl::Device& dev = devices[d];
-      DeviceInfo info;
-      info.platform_index = static_cast<int>(p);
-      info.device_index = static_cast<int>(d);
-      detail::cl_call("querying device information", [&] {
-        info.platform_name = trim(platforms[p].getInfo<CL_PLATFORM_NAME>());
-        info.platform_version = trim(platforms[p].getInfo<CL_PLATFORM_VERSION>());
-        info.name = trim(dev.getInfo<CL_DEVICE_NAME>());
-        info.vendor = trim(dev.getInfo<CL_DEVICE_VENDOR>());
-        info.version = trim(dev.getInfo<CL_DEVICE_VERSION>());
-        info.driver_version = trim(dev.getInfo<CL_DRIVER_VERSION>());
-        info.type = type_name(dev.getInfo<CL_DEVICE_TYPE>());
-        info.compute_units = dev.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-        info.global_memory = dev.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-        info.local_memory = dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
-        info.max_alloc = dev.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-        info.max_work_group_size = dev.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-        const std::string ext = dev.getInfo<CL_DEVICE_EXTENSIONS>();
-        info.fp64 = ext.find("cl_khr_fp64") != std::string::npos ||
-                    dev.getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
-        return 0;
-      });
-      out.push_back({info, platforms[p], dev});
+      Found f;
+      f.platform_index = static_cast<int>(p);
+      f.device_index = static_cast<int>(d);
+      f.platform = platforms[p];
+      f.device = devices[d];
+      f.type = detail::cl_call("querying device information",
+                               [&] { return std::string(type_name(devices[d].getInfo<CL_DEVICE_TYPE>())); });
+      out.push_back(std::move(f));
     }
   }
   // The default: the first GPU, else the first CPU, else the first device.
   auto pick = [&](const char* type) {
-    return std::find_if(out.begin(), out.end(), [&](const Found& f) { return f.info.type == type; });
+    return std::find_if(out.begin(), out.end(), [&](const Found& f) { return f.type == type; });
   };
   auto it = pick("gpu");
   if (it == out.end()) it = pick("cpu");
   if (it == out.end()) it = out.begin();
-  if (it != out.end()) it->info.is_default = true;
+  if (it != out.end()) it->is_default = true;
   return out;
+}
+
+std::string device_name(const Found& f) {
+  return detail::cl_call("querying device information", [&] { return trim(f.device.getInfo<CL_DEVICE_NAME>()); });
+}
+
+DeviceInfo full_info(const Found& f) {
+  DeviceInfo info;
+  info.platform_index = f.platform_index;
+  info.device_index = f.device_index;
+  info.type = f.type;
+  info.is_default = f.is_default;
+  const cl::Device& dev = f.device;
+  detail::cl_call("querying device information", [&] {
+    info.platform_name = trim(f.platform.getInfo<CL_PLATFORM_NAME>());
+    info.platform_version = trim(f.platform.getInfo<CL_PLATFORM_VERSION>());
+    info.name = trim(dev.getInfo<CL_DEVICE_NAME>());
+    info.vendor = trim(dev.getInfo<CL_DEVICE_VENDOR>());
+    info.version = trim(dev.getInfo<CL_DEVICE_VERSION>());
+    info.driver_version = trim(dev.getInfo<CL_DRIVER_VERSION>());
+    info.compute_units = dev.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+    info.global_memory = dev.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+    info.local_memory = dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+    info.max_alloc = dev.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+    info.max_work_group_size = dev.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+    const std::string ext = dev.getInfo<CL_DEVICE_EXTENSIONS>();
+    info.fp64 = ext.find("cl_khr_fp64") != std::string::npos || dev.getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
+    return 0;
+  });
+  return info;
 }
 
 std::string describe(const std::vector<Found>& all) {
@@ -102,8 +122,7 @@ std::string describe(const std::vector<Found>& all) {
   std::ostringstream s;
   s << "available:";
   for (const auto& f : all)
-    s << " " << f.info.platform_index << ":" << f.info.device_index << " '" << f.info.name << "' ("
-      << f.info.type << ")";
+    s << " " << f.platform_index << ":" << f.device_index << " '" << device_name(f) << "' (" << f.type << ")";
   return s.str();
 }
 
@@ -116,7 +135,7 @@ Found find(const std::string& selector_in) {
   if (all.empty()) throw Error(describe(all));
   if (selector.empty() || selector == "default") {
     for (const auto& f : all)
-      if (f.info.is_default) return f;
+      if (f.is_default) return f;
   }
   // "P:D"
   const auto colon = selector.find(':');
@@ -128,18 +147,18 @@ Found find(const std::string& selector_in) {
     if (digits) {
       const int p = std::stoi(a), d = std::stoi(b);
       for (const auto& f : all)
-        if (f.info.platform_index == p && f.info.device_index == d) return f;
+        if (f.platform_index == p && f.device_index == d) return f;
       throw Error("no OpenCL device " + selector + "; " + describe(all));
     }
   }
   const std::string want = lower(selector);
   if (want == "cpu" || want == "gpu" || want == "accelerator") {
     for (const auto& f : all)
-      if (f.info.type == want) return f;
+      if (f.type == want) return f;
     throw Error("no OpenCL " + want + " device; " + describe(all));
   }
   for (const auto& f : all)
-    if (lower(f.info.name).find(want) != std::string::npos) return f;
+    if (lower(device_name(f)).find(want) != std::string::npos) return f;
   throw Error("no OpenCL device matches '" + selector + "'; " + describe(all));
 }
 
@@ -147,19 +166,19 @@ Found find(const std::string& selector_in) {
 
 std::vector<DeviceInfo> list_devices() {
   std::vector<DeviceInfo> out;
-  for (auto& f : enumerate()) out.push_back(f.info);
+  for (auto& f : enumerate()) out.push_back(full_info(f));
   return out;
 }
 
-DeviceInfo select_device(const std::string& selector) { return find(selector).info; }
+DeviceInfo select_device(const std::string& selector) { return full_info(find(selector)); }
 
 Device Device::open(const std::string& selector) {
   Found f = find(selector);
   auto impl = std::make_shared<Impl>();
-  impl->info = f.info;
+  impl->info = full_info(f);
   impl->platform = f.platform;
   impl->device = f.device;
-  detail::cl_call("opening device '" + f.info.name + "'", [&] {
+  detail::cl_call("opening device '" + impl->info.name + "'", [&] {
     impl->context = cl::Context(f.device);
     impl->queue = cl::CommandQueue(impl->context, f.device, CL_QUEUE_PROFILING_ENABLE);
     return 0;

@@ -1,6 +1,7 @@
 #include "runtime/program.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <mutex>
 #include <cstdlib>
@@ -9,7 +10,9 @@
 #include <set>
 #include <sstream>
 
+#include "brdfbake/diagnostics.hpp"
 #include "io/atomic_file.hpp"
+#include "runtime/stderr_capture.hpp"
 
 namespace brdfbake::detail {
 
@@ -63,6 +66,50 @@ void expand(const std::string& path, std::set<std::string>& seen, std::ostringst
 std::mutex g_cache_dir_mutex;
 bool g_cache_dir_set = false;
 std::string g_cache_dir;
+
+std::mutex g_observer_mutex;
+ProgramBuildStartObserver g_on_start;
+ProgramBuildObserver g_on_done;
+
+void notify_start(const std::string& program, const std::string& device) {
+  std::lock_guard<std::mutex> lock(g_observer_mutex);
+  if (g_on_start) g_on_start(program, device);
+}
+void notify_done(const ProgramBuild& b) {
+  std::lock_guard<std::mutex> lock(g_observer_mutex);
+  if (g_on_done) g_on_done(b);
+}
+
+std::string trimmed(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return {};
+  return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
+}
+
+// Builds (compiles, or links a cached binary) with whatever the implementation prints to stderr
+// contained; returns the OpenCL error code (CL_SUCCESS) and appends the build log and the
+// contained text to *log.
+cl_int contained_build(cl::Program& program, const cl::Device& device, const std::string& options, std::string* log) {
+  cl_int code = CL_SUCCESS;
+  const std::string printed = run_with_stderr_captured([&] {
+    try {
+      program.build({device}, options.c_str());
+    } catch (const cl::Error& e) {
+      code = e.err();
+    }
+  });
+  std::string build_log;
+  try {
+    build_log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+  } catch (const cl::Error&) {
+  }
+  *log = trimmed(trimmed(build_log) + "\n" + trimmed(printed));
+  return code;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 std::atomic<uint64_t> g_disk_hits{0}, g_source_builds{0}, g_bad_entries{0}, g_write_failures{0};
 
@@ -141,14 +188,9 @@ void store_binary(const std::string& file, const std::string& key, const std::st
   }
 }
 
-[[noreturn]] void throw_build_failure(const cl::Program& program, const cl::Device& device,
-                                      const ProgramSpec& spec, const std::string& options, int code) {
-  std::string log;
-  try {
-    log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
-  } catch (const cl::Error&) {
-    log = "(no build log)";
-  }
+[[noreturn]] void throw_build_failure(const ProgramSpec& spec, const std::string& options, int code,
+                                      std::string log) {
+  if (log.empty()) log = "(no build log)";
   throw Error("building kernels/" + spec.file + " failed (" + std::to_string(code) + " " +
               cl_error_name(code) + ", options '" + options + "'):\n" + log);
 }
@@ -208,6 +250,8 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
   const std::string dir = program_cache_dir();
   const std::string file = dir.empty() ? std::string() : cache_file(dir, key);
   const std::string what = "building kernels/" + spec.file;
+  const std::string label = "kernels/" + spec.file + " " + precision_name(spec.precision) +
+                            (spec.options.empty() ? "" : " " + spec.options);
 
   if (!file.empty()) {
     const std::string binary = load_binary(file, key);
@@ -215,9 +259,12 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
       try {
         cl::Program::Binaries bins{std::vector<unsigned char>(binary.begin(), binary.end())};
         std::vector<cl_int> status;
+        const auto t0 = std::chrono::steady_clock::now();
         cl::Program program(dev.context, {dev.device}, bins, &status);
-        program.build({dev.device}, options.c_str());
+        std::string log;
+        if (contained_build(program, dev.device, options, &log) != CL_SUCCESS) throw cl::Error(CL_BUILD_PROGRAM_FAILURE);
         ++g_disk_hits;
+        notify_done({label, dev.info.name, true, seconds_since(t0), log});
         dev.programs.emplace(key, program);
         return program;
       } catch (const cl::Error&) {
@@ -226,13 +273,14 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
     }
   }
 
+  notify_start(label, dev.info.name);
+  const auto t0 = std::chrono::steady_clock::now();
   cl::Program program = cl_call(what, [&] { return cl::Program(dev.context, source); });
-  try {
-    program.build({dev.device}, options.c_str());
-  } catch (const cl::Error& e) {
-    throw_build_failure(program, dev.device, spec, options, e.err());
-  }
+  std::string log;
+  if (const cl_int code = contained_build(program, dev.device, options, &log); code != CL_SUCCESS)
+    throw_build_failure(spec, options, code, log);
   ++g_source_builds;
+  notify_done({label, dev.info.name, false, seconds_since(t0), log});
   if (!file.empty()) {
     try {
       const auto bins = program.getInfo<CL_PROGRAM_BINARIES>();
@@ -255,3 +303,13 @@ double event_seconds(const cl::Event& event) {
 }
 
 }  // namespace brdfbake::detail
+
+namespace brdfbake {
+
+void set_program_build_observers(ProgramBuildStartObserver on_start, ProgramBuildObserver on_done) {
+  std::lock_guard<std::mutex> lock(detail::g_observer_mutex);
+  detail::g_on_start = std::move(on_start);
+  detail::g_on_done = std::move(on_done);
+}
+
+}  // namespace brdfbake

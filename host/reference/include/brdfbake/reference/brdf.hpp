@@ -5,7 +5,7 @@
 //
 // Written from the papers and specification texts, independently of kernels/brdf_eval.cl. Each
 // physical term is one small cited function; the models are compositions of them (and of the terms
-// of microfacet.hpp and fresnel.hpp, reused where they fit).
+// of ggx.hpp, charlie.hpp, burley.hpp and fresnel.hpp, reused where they fit).
 //
 // Conventions (docs/CONVENTIONS.md, "BRDF evaluation"):
 //   - f is the BRDF value, without the cosine: outgoing radiance = f * incident irradiance.
@@ -23,25 +23,24 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
+#include "brdfbake/math/types.hpp"
 #include "brdfbake/reference/fresnel.hpp"
 
 namespace brdfbake::reference {
 
-// A direction or half vector in tangent space.
-struct Vec3 {
-  double x, y, z;
-};
+// The conventions' floors and ranges (brdfbake/math/conventions.hpp): n.l and n.v above the horizon
+// are floored at kBrdfMinCosine, Disney's GGX widths at kDisneyMinAlpha, every other width at
+// kMinAlpha; a Phong exponent is at most kMaxShininess.
+using math::kBrdfMinCosine;
+using math::kDisneyMinAlpha;
+using math::kMaxShininess;
 
-// The floor of n.l and n.v above the horizon. Every term divided by a cosine (the visibilities,
-// Disney's subsurface 1/(n.l + n.v)) stays finite for any direction strictly above the horizon, in
-// fp32 as in double: a direction within 1e-7 rad of the horizon is evaluated as if it were 1e-7
-// above it (its contribution to any integral is below 1e-7 of the lobe's).
-inline constexpr double kBrdfMinCosine = 1e-7;
-// Burley 2012's own floor of the anisotropic GGX widths (disney.brdf: max(.001, ...)).
-inline constexpr double kDisneyMinAlpha = 1e-3;
-// The largest Phong / Blinn-Phong exponent accepted; the lobe is then 0.1 degree wide.
-inline constexpr double kMaxShininess = 1e6;
-
+// The reference's own parameter types. They mirror the public API's (brdfbake/brdf.hpp: BrdfModel,
+// Material) field for field, but are separate types: the oracle states what each model reads
+// without depending on the product's headers, and the product's API can grow (or the oracle
+// change) without the other following. The product's reference backend converts
+// (host/src/reference_backend/brdf.cpp).
 enum class BrdfModel {
   Disney,             // Burley 2012, in the BRDF Explorer's disney.brdf formulation
   Gltf,               // glTF 2.0 Appendix B, separable Smith G
@@ -95,12 +94,8 @@ Rgb classic_specular(const BrdfMaterial& m);
 // n = shininess, else 2048^(1 - roughness) (the mapping of blinn-phong-from-pbr).
 double classic_shininess(const BrdfMaterial& m);
 
-// ---- Terms (each cites its source in brdf.cpp) --------------------------------------------------
-// Burley 2012, appendix B eq. 13: anisotropic GGX (GTR2) for a unit half vector h in tangent space.
-double D_GGXAniso(const Vec3& h, double alpha_x, double alpha_y);
-// Heitz 2014, eq. 86: anisotropic GGX Smith masking of a direction with cosine n_dot_x (floored by
-// the caller) and tangent-plane components t_dot_x, b_dot_x.
-double G1_SmithGGXAniso(double n_dot_x, double t_dot_x, double b_dot_x, double alpha_x, double alpha_y);
+// ---- Terms of the classic models (each cites its source in brdf.cpp; GGX's are in ggx.hpp,
+// Charlie's in charlie.hpp, Burley's diffuse and Disney's subsurface in burley.hpp) ---------------
 // Burley 2012, appendix B eq. 4: GTR1 (Berry), the clearcoat distribution, width a in (0, 1].
 double D_GTR1(double n_dot_h, double a);
 // Beckmann 1963 / Walter et al. 2007 eq. 25: normalised Beckmann distribution of a unit half vector,
@@ -108,9 +103,6 @@ double D_GTR1(double n_dot_h, double a);
 double D_Beckmann(const Vec3& h, double m);
 // Cook & Torrance 1982 (after Blinn 1977): V-cavity masking-shadowing min(1, 2 nh nv / vh, 2 nh nl / vh).
 double G_CookTorrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h);
-// Burley 2012 (disney.brdf): the Hanrahan-Krueger-inspired subsurface lobe, including 1/pi:
-// (1.25/pi) (F_ss (1/(n.l + n.v) - 0.5) + 0.5), F_ss90 = roughness (l.h)^2.
-double Fd_DisneySubsurface(double n_dot_v, double n_dot_l, double l_dot_h, double roughness);
 // Phong 1975 lobe in its reciprocal BRDF form, max(0, r.v)^n, normalised by (n + 2) / (2 pi)
 // (Lewis 1994) when `normalized`.
 double phong_lobe(double r_dot_v, double n, bool normalized);

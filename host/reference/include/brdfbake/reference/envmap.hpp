@@ -15,12 +15,9 @@
 #include <cstddef>
 #include <vector>
 
-namespace brdfbake::reference {
+#include "brdfbake/math/types.hpp"
 
-// A direction (not necessarily normalised where a function says so).
-struct Dir3 {
-  double x, y, z;
-};
+namespace brdfbake::reference {
 
 // A cubemap in double: faces in KTX/OpenGL order +X, -X, +Y, -Y, +Z, -Z, each face size x size
 // texels, row j = 0 first, texel (i, j) at rgb[3 * ((face * size + j) * size + i) + channel].
@@ -42,28 +39,8 @@ struct EnvCube {
   }
 };
 
-// ---- Addressing (docs/CONVENTIONS.md, "Environment maps") ---------------------------------------
-
-// The direction through face coordinates (a, b) in [-1, 1]^2 of `face` (a along the row, b down
-// the rows; a = 2 (i + 0.5) / size - 1 at a texel centre), unnormalised: the point on the face
-// plane at distance 1. Defined for |a|, |b| > 1 too (the plane extended past the face).
-Dir3 cube_plane_point(int face, double a, double b);
-// The face a direction falls on (major axis; ties go to x, then y) and its face coordinates.
-void cube_face_coords(const Dir3& d, int& face, double& a, double& b);
-// The unit direction of texel (i, j)'s centre on a face of `size`.
-Dir3 cube_texel_direction(int face, int size, int i, int j);
-
-// The exact solid angle of the face rectangle [a0, a1] x [b0, b1]: the integral of
-// (1 + a^2 + b^2)^(-3/2) over it, through its antiderivative atan2(a b, sqrt(1 + a^2 + b^2)).
-double cube_rect_solid_angle(double a0, double b0, double a1, double b1);
-// The exact solid angle of texel (i, j) of a face of `size`.
-double cube_texel_solid_angle(int size, int i, int j);
-
-// Equirectangular mapping (OpenEXR's LatLongMap orientation, texel centres at (x + 0.5) / width):
-// u = (x + 0.5) / width, v = (y + 0.5) / height, longitude phi = 2 pi (0.5 - u), latitude
-// theta = pi (0.5 - v), direction (sin phi cos theta, sin theta, cos phi cos theta).
-Dir3 equirect_direction(double u, double v);
-void equirect_coords(const Dir3& d, double& u, double& v);
+// Cube addressing, exact texel solid angles and the equirect mapping are the shared maths'
+// (brdfbake/math/cubemap.hpp, brdfbake/math/equirect.hpp); the SH basis too (brdfbake/math/sh.hpp).
 
 // ---- The environment function ---------------------------------------------------------------------
 
@@ -72,7 +49,28 @@ void equirect_coords(const Dir3& d, double& u, double& v);
 // |a| or |b| > 1); both outside (a corner), the mean of the three texels around it.
 std::array<double, 3> cube_fetch_extended(const EnvCube& cube, int face, int i, int j);
 // The seamless bilinear interpolation of the texels at direction d (any length > 0).
-std::array<double, 3> cube_bilinear(const EnvCube& cube, const Dir3& d);
+std::array<double, 3> cube_bilinear(const EnvCube& cube, const Vec3& d);
+
+// ---- Conversion ----------------------------------------------------------------------------------
+
+// An equirectangular image in double (docs/CONVENTIONS.md): width x height pixels, row 0 (+Y) first,
+// pixel (x, y) at rgb[3 * (y * width + x) + channel]. Its environment function is the bilinear
+// interpolation of the pixels at (u w - 0.5, v h - 0.5), periodic in u and clamped in v.
+struct EnvEquirect {
+  int width = 0;
+  int height = 0;
+  std::vector<double> rgb;
+};
+// That bilinear interpolation at direction d (any length > 0).
+std::array<double, 3> equirect_bilinear(const EnvEquirect& image, const Vec3& d);
+
+// A cube of `size` whose texels hold the mean of an environment function over their footprints:
+// every texel split into q x q sub-cells, each weighted by its exact solid angle (q = 0: enough
+// sub-cells to sample the source at least 4 x 4 times per source pixel or texel, at most 64).
+// From an equirect ...
+EnvCube equirect_to_cube(const EnvEquirect& source, int size, int subdivision = 0, unsigned threads = 0);
+// ... or from another cube's seamless bilinear environment (cube_bilinear).
+EnvCube cube_resample(const EnvCube& source, int size, int subdivision = 0, unsigned threads = 0);
 
 // ---- Lobes -----------------------------------------------------------------------------------------
 
@@ -100,7 +98,7 @@ int env_default_subdivision(EnvLobe lobe, double alpha, int source_size);
 // L(R) itself. The normaliser is the same sum with L = 1, so a constant environment returns its
 // constant. Returns 3 doubles per direction. threads = 0: all cores.
 std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, double roughness,
-                                         const std::vector<Dir3>& dirs, int subdivision = 0,
+                                         const std::vector<Vec3>& dirs, int subdivision = 0,
                                          unsigned threads = 0);
 // The same at every texel centre of an out_size cube.
 EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size,
@@ -108,23 +106,16 @@ EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, in
 
 // ---- Spherical harmonics and irradiance --------------------------------------------------------------
 
-// Real spherical harmonics without the Condon-Shortley phase (Ramamoorthi & Hanrahan 2001's
-// convention): index k = l (l + 1) + m, bands l < order (order 3: 9 functions, order 5: 25).
-// Y_00 = 1 / (2 sqrt(pi)), Y_1-1 = sqrt(3 / 4pi) y, Y_10 = sqrt(3 / 4pi) z, Y_11 = sqrt(3 / 4pi) x, ...
-// (the table is in docs/CONVENTIONS.md). d must be a unit vector.
-std::vector<double> sh_basis(int order, const Dir3& d);
 // Radiance coefficients L_lm = int L(l) Y_lm(l) dl: order^2 coefficients x 3 channels, brute force
 // with q x q sub-cells per texel (0: q = ceil(128 / size), so that the midpoint rule's O(h^2)
-// error is ~1e-5).
+// error is ~1e-5), in the basis of brdfbake/math/sh.hpp. The irradiance follows with the cosine
+// lobe's A_l (math::sh_cosine_lobe): E(n) = sum A_l L_lm Y_lm(n).
 std::vector<double> sh_project(const EnvCube& source, int order, int subdivision = 0);
-// Ramamoorthi & Hanrahan 2001, eq. 8-9: the cosine lobe's SH coefficients A_l, so that
-// E(n) = sum A_l L_lm Y_lm(n): A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4, A_3 = 0, A_4 = -pi / 24.
-double sh_cosine_lobe(int l);
 
 // E(n) / pi = (1 / pi) int L(l) (n.l)+ dl for each unit normal, brute force (q x q sub-cells;
 // 0: q = ceil(128 / size), which resolves the cosine's kink at the horizon to ~2e-5; the error
 // falls as 1 / (size q)^2). 3 doubles per normal.
-std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Dir3>& normals,
+std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals,
                                           int subdivision = 0, unsigned threads = 0);
 
 }  // namespace brdfbake::reference

@@ -9,12 +9,9 @@
 
 #include <functional>
 
-namespace brdfbake::reference {
+#include "brdfbake/math/types.hpp"
 
-// A linear RGB triple (reflectances, F0 colours, per-channel indices).
-struct Rgb {
-  double r, g, b;
-};
+namespace brdfbake::reference {
 
 // Intensity reflectances for s- (TE, perpendicular) and p- (TM, parallel) polarisation.
 struct Polarized {
@@ -26,6 +23,9 @@ struct Polarized {
 // Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering", eq. 24, with F90.
 double fresnel_schlick(double cos_theta, double f0, double f90 = 1.0);
 Rgb fresnel_schlick(double cos_theta, const Rgb& f0, const Rgb& f90 = Rgb{1.0, 1.0, 1.0});
+// The same term with the argument order of the shading-model code (Filament's F_Schlick(f0, f90,
+// VoH)), as the BRDF models compose it.
+double F_Schlick(double f0, double f90, double v_dot_h);
 
 // Normal-incidence reflectance between two dielectrics: ((n1 - n2) / (n1 + n2))^2.
 double f0_from_ior(double n1, double n2);

@@ -1,7 +1,7 @@
 // Deterministic composite Gauss-Legendre quadrature for the scalar reference.
 //
-// Gauss-Legendre rules are computed once per order (Newton iteration on the Legendre recurrence, in
-// double) and cached. Integrals are sums over panels; a panel may carry a power map at an end
+// The Gauss-Legendre rules themselves are the shared maths' (brdfbake/math/gauss_legendre.hpp,
+// tested in tests/math). Integrals are sums over panels; a panel may carry a power map at an end
 // (t = a + L s^p), which turns an endpoint behaviour such as sqrt(t - a) * smooth into an analytic
 // integrand, and intervals can be refined geometrically towards an end where the integrand is
 // (nearly) singular.
@@ -12,17 +12,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include "brdfbake/math/gauss_legendre.hpp"
+
 namespace brdfbake::reference {
 
-// An n-point Gauss-Legendre rule on [-1, 1], nodes ascending.
-struct GaussLegendreRule {
-  std::vector<double> nodes;
-  std::vector<double> weights;
-};
-
-// The n-point rule (1 <= n <= 512), computed on first use and cached; thread-safe. Throws
-// std::invalid_argument outside that range.
-const GaussLegendreRule& gauss_legendre(int order);
+using math::gauss_legendre;
+using math::GaussLegendreRule;
 
 // A panel [a, b] of length L. Its Gauss nodes s in [0, 1] are placed at t = a + L s^power_a (when
 // power_a != 1) or t = b - L (1 - s)^power_b (when power_b != 1), else linearly. An endpoint

@@ -1,0 +1,105 @@
+// Where the time of a short job goes, stage by stage, in one cold process (issue 11, start-up):
+//
+//   startup_stages lut [SIZE]            the DFG LUT (ggx-multiscatter) as `brdfbake lut` runs it
+//   startup_stages irradiance ENV        3-band SH only, as `brdfbake irradiance --sh 3 -o x.json`
+//
+// Each stage is timed with a steady clock (wall time, milliseconds): opening the OpenCL platform
+// and device, loading the environment, the bake (program from the binary cache, kernels, read
+// back), the same bake again (programs already built: the difference is the program build), and
+// writing the output. Run it cold (a new process each time) several times; the first stage also
+// pays for loading the OpenCL implementation (PoCL: LLVM and clang, ~100 MiB of libraries).
+// Prints one line per stage; the whole-process time and peak memory come from bench/cmgen_compare.sh.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/io.hpp"
+#include "brdfbake/lut.hpp"
+
+using namespace brdfbake;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class Stages {
+ public:
+  void mark(const char* what) {
+    const auto now = Clock::now();
+    std::printf("%-44s %8.2f ms\n", what, std::chrono::duration<double, std::milli>(now - last_).count());
+    last_ = now;
+  }
+  void total() const {
+    std::printf("%-44s %8.2f ms\n", "total (after process start)",
+                std::chrono::duration<double, std::milli>(Clock::now() - first_).count());
+  }
+
+ private:
+  Clock::time_point first_ = Clock::now(), last_ = first_;
+};
+
+std::string temp_output(const char* name) {
+  return (std::filesystem::temp_directory_path() / ("startup_stages_" + std::to_string(::getpid()) + name)).string();
+}
+
+int lut(int size) {
+  Stages t;
+  Device device = Device::open();
+  t.mark("open the OpenCL platform and device");
+  LutSpec spec;
+  spec.kind = LutKind::GgxMultiscatter;
+  spec.width = spec.height = size;
+  Table table = bake_lut(device, spec);
+  t.mark("bake (program from the cache, kernel, read)");
+  LutTiming timing;
+  table = bake_lut(device, spec, &timing);
+  t.mark("bake again (program already built)");
+  std::printf("%-44s %8.2f ms\n", "  of which device time (event profiling)", 1e3 * timing.device_seconds);
+  const std::string out = temp_output(".exr");
+  write_table(table, out, TableFormat::Exr);
+  t.mark("write .exr");
+  t.total();
+  std::filesystem::remove(out);
+  return 0;
+}
+
+int irradiance(const std::string& env_spec) {
+  Stages t;
+  const EnvImage env = load_environment(env_spec);
+  t.mark("load the environment");
+  Device device = Device::open();
+  t.mark("open the OpenCL platform and device");
+  IrradianceSpec spec;
+  spec.sh_order = 3;
+  spec.cube_size = 0;
+  IrradianceResult r = compute_irradiance(device, env, spec);
+  t.mark("SH (programs from the cache, conversion, SH)");
+  r = compute_irradiance(device, env, spec);
+  t.mark("SH again (programs already built)");
+  std::printf("%-44s %8.2f ms\n", "  of which device time (event profiling)", 1e3 * r.device_seconds);
+  const std::string out = temp_output(".json");
+  write_sh_json(r.sh, {{"source", env.source}}, out);
+  t.mark("write .json");
+  t.total();
+  std::filesystem::remove(out);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc >= 2 && std::strcmp(argv[1], "lut") == 0) return lut(argc >= 3 ? std::atoi(argv[2]) : 128);
+    if (argc >= 3 && std::strcmp(argv[1], "irradiance") == 0) return irradiance(argv[2]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "startup_stages: %s\n", e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "usage: startup_stages lut [SIZE] | startup_stages irradiance ENV\n");
+  return 2;
+}

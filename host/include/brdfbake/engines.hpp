@@ -1,0 +1,112 @@
+// Engine targets: what each engine loads as it is (docs/ENGINES.md). A target fixes the roughness
+// schedule of the prefiltered chain, the face sizes, the pixel format, the SH convention and
+// scaling, the orientation and the file set; write_engine_files() writes that file set, atomically,
+// from what a bake produced (the prefiltered chain, the irradiance SH, the skybox cube).
+//
+//   generic         today's output: prefiltered.ktx2 (RGBA16F, linear schedule) + irradiance_sh.json
+//   filament        what `cmgen -x DIR -f ktx` writes: DIR/NAME_ibl.ktx (R11F_G11F_B10F, the chain
+//                   with the "sh" key), DIR/NAME_skybox.ktx, DIR/sh.txt; Filament's schedule
+//   gltf            NAME.gltf with EXT_lights_image_based (RGBD PNG faces per level, 3 x 9 SH)
+//   babylon         NAME.env, Babylon.js's own environment format (RGBD PNG faces, full chain)
+//   khronos-viewer  the glTF-IBL-Sampler convention: KTX2 RGBA16F cubes, linear schedule, a
+//                   Lambertian (irradiance) cube
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/io.hpp"
+
+namespace brdfbake {
+
+enum class EngineTarget { Generic, Filament, Gltf, Babylon, KhronosViewer };
+
+// "generic" | "filament" | "gltf" | "babylon" | "khronos-viewer"; throws Error listing them.
+EngineTarget engine_target_from_name(const std::string& name);
+const char* engine_target_name(EngineTarget target);
+std::vector<std::string> engine_target_names();
+
+// How the irradiance SH is stored for a target.
+enum class ShConvention {
+  IrradianceOverPi,   // ours: c_lm = (A_l / pi) w_l L_lm, E(n)/pi = sum c_lm Y_lm(n) (docs/CONVENTIONS.md)
+  FilamentPrescaled,  // Filament: 9 RGB, c_k = Y-constant_k (A_l / pi) w_l L_lm: E/pi = sum c_k poly_k(n)
+  GltfIrradiance,     // EXT_lights_image_based as Babylon.js reads it: E_lm = A_l w_l L_lm in the basis
+                      // with the Condon-Shortley phase (Babylon's SphericalHarmonics), 9 x RGB
+  BabylonPolynomial,  // Babylon .env "irradiance": the spherical polynomial x..xy of
+                      // SphericalPolynomial.FromHarmonics, E/pi = polynomial(n)
+};
+
+// Everything a target fixes. Text fields are what docs/ENGINES.md and the metadata say.
+struct EngineSettings {
+  EngineTarget target = EngineTarget::Generic;
+  std::string engine;            // e.g. "Filament 1.9 (cmgen -x DIR -f ktx)"
+  RoughnessSchedule schedule = RoughnessSchedule::Linear;
+  std::string schedule_source;   // where the engine's mapping comes from
+  std::string lod_formula;       // the engine's shader lookup
+  int size = 256;                // face size of level 0
+  int min_size = 16;             // smallest level's face size (1: the full chain)
+  bool power_of_two = false;     // sizes must be powers of two
+  PixelType pixel = PixelType::F16;  // container texels (PNG targets: RGBD 8-bit, see pixel_format)
+  std::string pixel_format;      // e.g. "KTX1 GL_R11F_G11F_B10F"
+  ShWindow sh_window = ShWindow::None;
+  ShConvention sh_convention = ShConvention::IrradianceOverPi;
+  std::string sh_description;
+  std::string orientation;       // faces, rows, handedness notes
+  std::vector<std::string> files;  // the file set, NAME standing for the base name
+  bool skybox = false;           // the file set holds a skybox cube
+};
+
+EngineSettings engine_settings(EngineTarget target);
+
+// ---- SH in each engine's convention (from our ShCoefficients, order >= 3) -------------------
+
+using Rgb3 = std::array<double, 3>;
+// Filament's 9 pre-scaled coefficients (the KTX1 "sh" key, sh.txt, IndirectLight::irradiance).
+std::array<Rgb3, 9> filament_sh(const ShCoefficients& sh);
+// EXT_lights_image_based irradianceCoefficients (9 x RGB, order l00, l1-1, l10, l11, l2-2, l2-1,
+// l20, l21, l22).
+std::array<Rgb3, 9> gltf_irradiance_coefficients(const ShCoefficients& sh);
+// Babylon's spherical polynomial, in the order x, y, z, xx, yy, zz, yz, zx, xy.
+std::array<Rgb3, 9> babylon_polynomial(const ShCoefficients& sh);
+inline constexpr const char* kBabylonPolynomialNames[9] = {"x", "y", "z", "xx", "yy", "zz", "yz", "zx", "xy"};
+
+// ---- Writing a target's files -------------------------------------------------------------------
+
+// What a bake produced. The chain must have been baked with engine_settings(target).schedule (the
+// writer checks the chain's "roughness_schedule" metadata and its sizes against the target).
+struct EngineBake {
+  const CubeLevels* prefiltered = nullptr;  // required: the GGX chain
+  const ShCoefficients* sh = nullptr;       // required by every target (order >= 3)
+  const CubeLevels* skybox = nullptr;       // optional: the skybox cube; default level 0 of the chain
+  const CubeLevels* irradiance_cube = nullptr;  // khronos-viewer: the Lambertian cube (E/pi); optional
+  const CubeLevels* charlie = nullptr;      // khronos-viewer: a Charlie chain for sheen; optional
+};
+
+// ASTC HDR compression of KTX2 chains (generic, khronos-viewer).
+enum class AstcBlock { None, Astc4x4, Astc6x6 };
+
+struct EngineWriteOptions {
+  std::string name;               // base name of the files; default: the folder's name (as cmgen -x)
+  bool override_pixel = false;    // use `pixel` instead of the target's (containers only)
+  PixelType pixel = PixelType::F16;
+  AstcBlock astc = AstcBlock::None;  // generic / khronos-viewer: ASTC HDR KTX2 instead of RGBA16F
+  double astc_quality = 60.0;        // astcenc effort 0..100 (ASTCENC_PRE_MEDIUM)
+  double intensity = 1.0;            // gltf: the light's intensity
+  std::array<double, 4> rotation = {0.0, 0.0, 0.0, 1.0};  // gltf: the light's quaternion
+};
+
+struct EngineWriteResult {
+  std::vector<std::string> files;  // paths written, in the order above
+  Metadata delivered;              // delivered error of each file: storage rounding, clamping, compression
+};
+
+// Writes the target's file set into `out_dir` (created if missing): every file goes to a temporary
+// folder beside it and the folder's content is moved into place only when all are complete, so a
+// failure leaves `out_dir` as it was. Throws Error for a bake that does not fit the target (a
+// missing SH, a schedule or size the engine would read differently, values a format cannot hold).
+EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake, const std::string& out_dir,
+                                     const EngineWriteOptions& options = {});
+
+}  // namespace brdfbake

@@ -1,0 +1,450 @@
+#include "server/scheduler.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "brdfbake/job.hpp"
+#include "brdfbake/manifest.hpp"
+
+namespace brdfbake::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// Thrown by a job's checkpoint: why the job stops before its next bake.
+struct Stopped {
+  enum Why { Cancel, Shutdown, Timeout } why;
+};
+
+void log_line(const std::string& s) {
+  std::fprintf(stderr, "brdfbake serve: %s\n", s.c_str());
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+struct Scheduler::Slot {
+  std::string key, name, type;
+  std::uint64_t global_memory = 0;
+  std::shared_ptr<Backend> backend;
+  std::mutex use;  // held while the device works (its queue is in order and shared by nobody else)
+  // Guarded by queue_mutex_:
+  std::deque<std::packaged_task<void()>> tasks;  // fast path, first
+  std::deque<std::string> jobs;
+  std::string running;
+  bool warm = false;
+  double busy_seconds = 0;
+  std::thread thread;
+};
+
+struct Scheduler::Control {
+  std::atomic<int> stop{-1};  // -1: run on; else a Stopped::Why
+  double deadline = 0;        // steady seconds; 0: none
+  mutable std::mutex mutex;
+  JobProgressInfo progress;
+};
+
+Scheduler::Scheduler(JobStore& store, Metrics& metrics, SchedulerOptions options)
+    : store_(store), metrics_(metrics), options_(std::move(options)) {
+  std::vector<std::string> selectors = options_.devices;
+  if (selectors.empty()) selectors.push_back("");
+  for (const std::string& sel : selectors) {
+    if (sel == "reference") continue;
+    auto s = std::make_unique<Slot>();
+    try {
+      s->backend = Backend::open(sel);
+    } catch (const Error& e) {
+      throw Error("--devices: cannot open '" + (sel.empty() ? std::string("default") : sel) + "': " + e.what());
+    }
+    const DeviceInfo& info = s->backend->device()->info();
+    s->key = std::to_string(info.platform_index) + ":" + std::to_string(info.device_index);
+    s->name = info.name;
+    s->type = info.type;
+    s->global_memory = info.global_memory;
+    if (slot(s->key)) continue;  // two selectors of one device
+    slots_.push_back(std::move(s));
+  }
+  auto ref = std::make_unique<Slot>();
+  ref->key = ref->name = ref->type = "reference";
+  ref->backend = Backend::open("reference");
+  ref->warm = true;
+  slots_.push_back(std::move(ref));
+  for (auto& s : slots_) s->thread = std::thread([this, p = s.get()] { worker(*p); });
+}
+
+Scheduler::~Scheduler() {
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stopping_ = true;
+  }
+  work_cv_.notify_all();
+  for (auto& s : slots_)
+    if (s->thread.joinable()) s->thread.join();
+}
+
+Scheduler::Slot* Scheduler::slot(const std::string& key) const {
+  for (const auto& s : slots_)
+    if (s->key == key) return s.get();
+  return nullptr;
+}
+
+std::string Scheduler::device_key(const std::string& selector) {
+  if (selector.empty() || selector == "default") return slots_.front()->key;
+  if (selector == "reference") return "reference";
+  {
+    std::lock_guard<std::mutex> lock(selector_mutex_);
+    auto it = selector_keys_.find(selector);
+    if (it != selector_keys_.end()) return it->second;
+  }
+  std::string served;
+  for (const auto& s : slots_) served += (served.empty() ? "" : ", ") + s->key + " '" + s->name + "'";
+  std::string key;
+  try {
+    const DeviceInfo info = select_device(selector);
+    key = std::to_string(info.platform_index) + ":" + std::to_string(info.device_index);
+  } catch (const Error&) {
+    throw Error("'" + selector.substr(0, 60) + "' names no device here (serving " + served + ")");
+  }
+  if (!slot(key)) throw Error("'" + selector.substr(0, 60) + "' is not served (serving " + served + "; see --devices)");
+  std::lock_guard<std::mutex> lock(selector_mutex_);
+  if (selector_keys_.size() < 256) selector_keys_[selector] = key;
+  return key;
+}
+
+std::uint64_t Scheduler::device_memory(const std::string& key) const {
+  const Slot* s = slot(key);
+  return s ? s->global_memory : 0;
+}
+
+int Scheduler::retry_after_locked() const {
+  int queued = 0;
+  for (const auto& s : slots_) queued += static_cast<int>(s->jobs.size());
+  const double seconds = mean_job_seconds_ * queued / static_cast<double>(slots_.size());
+  return static_cast<int>(std::clamp(std::ceil(seconds), 1.0, 60.0));
+}
+
+void Scheduler::submit(JobRecord& r) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  if (stopping_) throw QueueFull("the server is shutting down", 5);
+  int queued = 0;
+  for (const auto& s : slots_) queued += static_cast<int>(s->jobs.size());
+  if (queued >= options_.max_queue)
+    throw QueueFull("the queue is full (" + std::to_string(queued) + " jobs waiting, --max-queue " +
+                        std::to_string(options_.max_queue) + "); retry later",
+                    retry_after_locked());
+  Slot* s = slot(r.device);
+  if (!s) throw Error("device '" + r.device + "' is not served");
+  store_.insert(r);  // under the lock: the queue and the store agree on every job
+  s->jobs.push_back(r.id);
+  lock.unlock();
+  work_cv_.notify_all();
+}
+
+void Scheduler::resume(const JobRecord& r) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  Slot* s = slot(r.device);
+  if (!s) {
+    lock.unlock();
+    store_.finish(r.id, JobState::Failed, now_seconds(),
+                  "device '" + r.device + "' is no longer served (the server restarted with other --devices)", 1, "");
+    return;
+  }
+  s->jobs.push_back(r.id);
+  lock.unlock();
+  work_cv_.notify_all();
+}
+
+std::future<void> Scheduler::run_now(const std::string& key, std::function<void(Backend&)> work) {
+  Slot* s = slot(key);
+  if (!s) throw Error("device '" + key + "' is not served");
+  std::packaged_task<void()> task([this, s, work = std::move(work)] {
+    std::lock_guard<std::mutex> use(s->use);
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Busy {
+      Scheduler* self;
+      Slot* slot;
+      std::chrono::steady_clock::time_point t0;
+      ~Busy() {
+        std::lock_guard<std::mutex> lock(self->queue_mutex_);
+        slot->busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    } busy{this, s, t0};
+    work(*s->backend);
+  });
+  std::future<void> f = task.get_future();
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (stopping_) throw QueueFull("the server is shutting down", 5);
+    if (static_cast<int>(s->tasks.size()) >= options_.max_queue)
+      throw QueueFull("the table queue of device " + key + " is full; retry later", 1);
+    s->tasks.push_back(std::move(task));
+  }
+  work_cv_.notify_all();
+  return f;
+}
+
+void Scheduler::warm_up(Slot& s) {
+  // The programs most requests need are built (or fetched from the binary cache) before the first
+  // request, so that the first table costs what every other one does.
+  std::lock_guard<std::mutex> use(s.use);
+  try {
+    for (const char* kind : {"ggx", "fresnel"}) {
+      TableRequest t;
+      t.kind = table_kind_from_name(kind);
+      t.params = {{"size", 4.0}};
+      if (t.kind == TableKind::Fresnel) {
+        t.params.push_back({"model", std::string("schlick")});
+        t.params.push_back({"f0", 0.04});
+      }
+      validate_table(t);
+      (void)bake_table(t, *s.backend);
+    }
+  } catch (const std::exception& e) {
+    log_line("warming up device " + s.key + " failed: " + e.what());
+  }
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  s.warm = true;
+}
+
+void Scheduler::worker(Slot& s) {
+  if (options_.warm_up && !s.warm) warm_up(s);
+  for (;;) {
+    std::unique_lock<std::mutex> lock(queue_mutex_);
+    work_cv_.wait(lock, [&] { return stopping_ || !s.tasks.empty() || !s.jobs.empty(); });
+    if (stopping_) return;  // queued jobs stay queued in the store for the next start
+    if (!s.tasks.empty()) {
+      std::packaged_task<void()> task = std::move(s.tasks.front());
+      s.tasks.pop_front();
+      lock.unlock();
+      task();
+      continue;
+    }
+    const std::string id = s.jobs.front();
+    s.jobs.pop_front();
+    s.running = id;
+    auto control = std::make_shared<Control>();
+    running_[id] = control;
+    lock.unlock();
+    run_job(s, id);
+    lock.lock();
+    s.running.clear();
+    running_.erase(id);
+    lock.unlock();
+    finished_cv_.notify_all();
+  }
+}
+
+void Scheduler::run_job(Slot& s, const std::string& id) {
+  std::shared_ptr<Control> control;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    control = running_.at(id);
+  }
+  std::optional<JobRecord> rec;
+  try {
+    rec = store_.get(id);
+  } catch (const std::exception& e) {
+    log_line("job " + id + ": " + e.what());
+    return;
+  }
+  if (!rec || rec->state != JobState::Queued) return;  // cancelled while it waited
+  const auto t0 = std::chrono::steady_clock::now();
+  auto steady = [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
+  if (rec->timeout > 0) control->deadline = steady() + rec->timeout;
+  auto finish = [&](JobState state, const std::string& error, int exit_code, const std::string& manifest) {
+    try {
+      store_.finish(id, state, now_seconds(), error, exit_code, manifest);
+    } catch (const std::exception& e) {
+      // The store cannot record it (a full disk): the job stays "running" there and the next start
+      // runs it again.
+      log_line("job " + id + ": cannot record that it " + (state == JobState::Done ? "finished" : "failed") + ": " +
+               e.what());
+    }
+  };
+  try {
+    store_.mark_running(id, now_seconds(), rec->attempts + 1);
+  } catch (const std::exception& e) {
+    log_line("job " + id + ": " + e.what());
+    return;
+  }
+  try {
+    Job job = parse_job(rec->job, rec->source);
+    const fs::path out = options_.jobs_dir / id;
+    std::error_code ec;
+    fs::remove_all(out, ec);  // what an interrupted earlier attempt may have left
+    job.output_dir = out.string();
+
+    // Every device the job uses, locked in one global order (no two workers can wait on each other).
+    std::vector<std::string> keys = {s.key};
+    for (const auto& t : job.tables) keys.push_back(device_key(t.device.empty() ? job.device : t.device));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::vector<std::unique_lock<std::mutex>> locks;
+    for (const auto& k : keys) locks.emplace_back(slot(k)->use);
+
+    RunHooks hooks;
+    hooks.backend = [&](const std::string& selector) {
+      return slot(device_key(selector.empty() ? job.device : selector))->backend;
+    };
+    hooks.checkpoint = [&] {
+      const int why = control->stop.load();
+      if (why >= 0) throw Stopped{static_cast<Stopped::Why>(why)};
+      if (control->deadline > 0 && steady() > control->deadline) throw Stopped{Stopped::Timeout};
+    };
+    auto on_progress = [&](const JobEvent& e) {
+      std::lock_guard<std::mutex> lock(control->mutex);
+      control->progress = {e.bake, e.bakes, e.what, e.fraction};
+    };
+    Manifest m;
+    try {
+      m = brdfbake::run_job(job, on_progress, hooks);
+    } catch (...) {
+      const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      for (const auto& k : keys) slot(k)->busy_seconds += busy;
+      throw;
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      for (const auto& k : keys) slot(k)->busy_seconds += seconds;
+      mean_job_seconds_ = 0.8 * mean_job_seconds_ + 0.2 * seconds;
+    }
+    std::vector<bool> seen(static_cast<size_t>(std::max(m.bakes, 0)), false);
+    for (const auto& f : m.files)
+      if (f.bake >= 0 && static_cast<size_t>(f.bake) < seen.size() && !seen[static_cast<size_t>(f.bake)]) {
+        seen[static_cast<size_t>(f.bake)] = true;
+        metrics_.observe_bake(table_kind_name(f.kind), f.seconds);
+      }
+    finish(JobState::Done, "", 0, manifest_to_json(m));
+  } catch (const Stopped& st) {
+    if (st.why == Stopped::Shutdown) {
+      try {
+        store_.requeue(id);
+      } catch (const std::exception& e) {
+        log_line("job " + id + ": cannot re-queue it: " + e.what());
+      }
+    } else if (st.why == Stopped::Cancel) {
+      finish(JobState::Cancelled, "cancelled (DELETE /v1/jobs/" + id + ") while running; nothing was written", 1, "");
+    } else {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "timed out: still running after its timeout of %g s; nothing was written", rec->timeout);
+      finish(JobState::Failed, buf, 1, "");
+    }
+  } catch (const NotAvailableError& e) {
+    finish(JobState::Failed, e.what(), 1, "");
+  } catch (const ClError& e) {
+    finish(JobState::Failed, e.what(), 1, "");
+  } catch (const Error& e) {
+    finish(JobState::Failed, e.what(), 2, "");
+  } catch (const std::exception& e) {
+    finish(JobState::Failed, e.what(), 1, "");
+  }
+}
+
+CancelResult Scheduler::cancel(const std::string& id) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  for (auto& s : slots_) {
+    auto it = std::find(s->jobs.begin(), s->jobs.end(), id);
+    if (it != s->jobs.end()) {
+      s->jobs.erase(it);
+      store_.finish(id, JobState::Cancelled, now_seconds(), "cancelled (DELETE /v1/jobs/" + id + ") before it started", 1, "");
+      lock.unlock();
+      finished_cv_.notify_all();
+      return CancelResult::Cancelled;
+    }
+  }
+  auto r = running_.find(id);
+  if (r != running_.end()) {
+    int none = -1;
+    r->second->stop.compare_exchange_strong(none, Stopped::Cancel);
+    return CancelResult::Stopping;
+  }
+  lock.unlock();
+  const auto rec = store_.get(id, false);
+  if (!rec) return CancelResult::Unknown;
+  return CancelResult::Finished;
+}
+
+std::optional<JobProgressInfo> Scheduler::progress(const std::string& id) const {
+  std::shared_ptr<Control> c;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    auto it = running_.find(id);
+    if (it == running_.end()) return std::nullopt;
+    c = it->second;
+  }
+  std::lock_guard<std::mutex> lock(c->mutex);
+  return c->progress;
+}
+
+void Scheduler::wait_finished(const std::string& id, double seconds) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  auto pending = [&] {
+    if (stopping_) return false;
+    if (running_.count(id)) return true;
+    for (const auto& s : slots_)
+      if (std::find(s->jobs.begin(), s->jobs.end(), id) != s->jobs.end()) return true;
+    return false;
+  };
+  finished_cv_.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return !pending(); });
+}
+
+std::vector<DeviceStatus> Scheduler::devices() const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  std::vector<DeviceStatus> out;
+  for (const auto& s : slots_) {
+    DeviceStatus d;
+    d.key = s->key;
+    d.name = s->name;
+    d.type = s->type;
+    d.global_memory = s->global_memory;
+    d.warm = s->warm;
+    d.running = s->running;
+    d.busy = !s->running.empty();
+    d.queued = static_cast<int>(s->jobs.size());
+    d.busy_seconds = s->busy_seconds;
+    out.push_back(d);
+  }
+  return out;
+}
+
+int Scheduler::queued_total() const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  int n = 0;
+  for (const auto& s : slots_) n += static_cast<int>(s->jobs.size());
+  return n;
+}
+
+int Scheduler::running_total() const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  return static_cast<int>(running_.size());
+}
+
+bool Scheduler::shutdown(double grace, double hard) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  stopping_ = true;
+  for (auto& s : slots_) s->tasks.clear();  // their callers get a broken promise: 503
+  work_cv_.notify_all();
+  finished_cv_.notify_all();
+  finished_cv_.wait_for(lock, std::chrono::duration<double>(grace), [&] { return running_.empty(); });
+  for (auto& [id, c] : running_) {
+    int none = -1;
+    c->stop.compare_exchange_strong(none, Stopped::Shutdown);
+  }
+  const bool stopped = finished_cv_.wait_for(lock, std::chrono::duration<double>(hard), [&] { return running_.empty(); });
+  lock.unlock();
+  if (!stopped) return false;
+  for (auto& s : slots_)
+    if (s->thread.joinable()) s->thread.join();
+  return true;
+}
+
+}  // namespace brdfbake::server

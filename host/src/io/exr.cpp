@@ -1,0 +1,177 @@
+// OpenEXR files through OpenEXR 3.1's Imf library (no OpenImageIO): reading level 0 of the first
+// part, and writing float32 images with string attributes.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/ImfThreading.h>
+#include <OpenEXR/ImfTiledInputFile.h>
+#include <OpenEXR/ImfTileDescription.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "brdfbake/error.hpp"
+#include "io/image_file.hpp"
+
+namespace brdfbake::io {
+namespace {
+
+// Decompression and compression run on OpenEXR's global thread pool, one thread per core: a 4k
+// PIZ or ZIP file decodes in a fraction of the single-threaded time. Started on the first EXR.
+void start_exr_threads() {
+  static std::once_flag once;
+  std::call_once(once, [] { Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))); });
+}
+
+const char* pixel_type_name(Imf::PixelType t) {
+  switch (t) {
+    case Imf::HALF: return "half";
+    case Imf::FLOAT: return "float";
+    case Imf::UINT: return "uint";
+    default: return "unknown";
+  }
+}
+
+// The number of levels of a mip-mapped file with level 0 of w x h (OpenEXR's TileDescription:
+// each level halves the larger side, rounding down or up, down to 1).
+int mip_levels(int w, int h, Imf::LevelRoundingMode rounding) {
+  int levels = 1;
+  for (int size = std::max(w, h); size > 1; ++levels)
+    size = rounding == Imf::ROUND_UP ? (size + 1) / 2 : size / 2;
+  return levels;
+}
+
+// Channel names in OpenImageIO's order: R, G, B, A, then the rest as the file lists them
+// (OpenEXR lists channels alphabetically).
+std::vector<std::string> ordered_channels(const Imf::ChannelList& list) {
+  std::vector<std::string> names;
+  for (const char* first : {"R", "G", "B", "A"})
+    if (list.findChannel(first)) names.emplace_back(first);
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string name = it.name();
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  return names;
+}
+
+}  // namespace
+
+bool is_exr(std::string_view head) {
+  // The magic number 20000630, little-endian (OpenEXR, "OpenEXR File Layout").
+  return head.size() >= 4 && static_cast<uint8_t>(head[0]) == 0x76 && static_cast<uint8_t>(head[1]) == 0x2f &&
+         static_cast<uint8_t>(head[2]) == 0x31 && static_cast<uint8_t>(head[3]) == 0x01;
+}
+
+namespace {
+
+// Reads level 0 of an opened file (Imf::InputFile, or Imf::TiledInputFile for tiled files: reading
+// whole tiles is several times faster than InputFile's scanline view of them). False for the
+// variants left to OpenImageIO.
+template <typename File, typename Read>
+bool read_level0(File& file, uint64_t max_pixels, FloatImage& out, Read read) {
+  const Imf::Header& header = file.header();
+  const Imf::ChannelList& list = header.channels();
+  for (auto it = list.begin(); it != list.end(); ++it)
+    if (it.channel().xSampling != 1 || it.channel().ySampling != 1) return false;  // luminance/chroma
+
+  const Imath::Box2i window = header.dataWindow();
+  const int64_t w = int64_t(window.max.x) - window.min.x + 1, h = int64_t(window.max.y) - window.min.y + 1;
+  const std::vector<std::string> names = ordered_channels(list);
+  if (w < 1 || h < 1 || names.empty()) throw Error("no pixels");
+  if (uint64_t(w) * uint64_t(h) > max_pixels)
+    throw Error("too large (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+
+  out.width = int(w);
+  out.height = int(h);
+  out.channels = int(names.size());
+  out.channel_names = names;
+  out.pixels.assign(size_t(w) * size_t(h) * names.size(), 0.0f);
+  // Slices address pixel (x, y) of the data window at base + x xStride + y yStride.
+  const size_t x_stride = sizeof(float) * names.size(), y_stride = x_stride * size_t(w);
+  char* origin = reinterpret_cast<char*>(out.pixels.data()) - ptrdiff_t(window.min.x) * ptrdiff_t(x_stride) -
+                 ptrdiff_t(window.min.y) * ptrdiff_t(y_stride);
+  Imf::FrameBuffer frame;
+  for (size_t c = 0; c < names.size(); ++c)
+    frame.insert(names[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), x_stride, y_stride));
+  file.setFrameBuffer(frame);
+  read(file, window);
+
+  std::ostringstream d;
+  d << "OpenEXR " << w << "x" << h << ", " << names.size() << " channel(s), "
+    << pixel_type_name(list.findChannel(names[0])->type);
+  if (header.hasTileDescription()) {
+    const Imf::TileDescription tiles = header.tileDescription();
+    d << ", tiled";
+    if (tiles.mode == Imf::MIPMAP_LEVELS)
+      d << ", " << mip_levels(int(w), int(h), tiles.roundingMode) << " mip levels (level 0 read)";
+    if (tiles.mode == Imf::RIPMAP_LEVELS) d << ", rip-mapped (level 0 read)";
+  }
+  out.description = d.str();
+  for (auto it = header.begin(); it != header.end(); ++it)
+    if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+      out.attributes.emplace_back(it.name(), a->value());
+  return true;
+}
+
+}  // namespace
+
+bool read_exr(const std::string& path, uint64_t max_pixels, FloatImage& out) {
+  start_exr_threads();
+  try {
+    bool tiled = false, deep = false, multi_part = false;
+    if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multi_part)) throw Error("not an OpenEXR file");
+    if (deep) return false;
+    if (tiled && !multi_part) {
+      Imf::TiledInputFile file(path.c_str());
+      return read_level0(file, max_pixels, out, [](Imf::TiledInputFile& f, const Imath::Box2i&) {
+        f.readTiles(0, f.numXTiles(0) - 1, 0, f.numYTiles(0) - 1, 0, 0);
+      });
+    }
+    // Scanline files, and the first part of multi-part files.
+    Imf::InputFile file(path.c_str());
+    if (file.header().hasType() && Imf::isDeepData(file.header().type())) return false;
+    return read_level0(file, max_pixels, out,
+                       [](Imf::InputFile& f, const Imath::Box2i& window) { f.readPixels(window.min.y, window.max.y); });
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // Iex::BaseExc and std::bad_alloc
+    throw Error(std::string("truncated or corrupt OpenEXR file: ") + e.what());
+  }
+}
+
+void write_exr(const TempFile& temp, int width, int height, int channels, const float* pixels,
+               const std::vector<std::pair<std::string, std::string>>& attributes) {
+  static const char* const kNames[] = {"R", "G", "B", "A"};
+  if (channels < 1 || channels > 4)
+    throw_write_error(temp.destination(), "OpenEXR output holds 1 to 4 channels, not " + std::to_string(channels));
+  start_exr_threads();
+  try {
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (int c = 0; c < channels; ++c) header.channels().insert(kNames[c], Imf::Channel(Imf::FLOAT));
+    for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
+    const size_t x_stride = sizeof(float) * size_t(channels), y_stride = x_stride * size_t(width);
+    Imf::FrameBuffer frame;
+    for (int c = 0; c < channels; ++c) {
+      // Imf::Slice takes a non-const base; OutputFile only reads through it.
+      char* base = const_cast<char*>(reinterpret_cast<const char*>(pixels)) + size_t(c) * sizeof(float);
+      frame.insert(kNames[c], Imf::Slice(Imf::FLOAT, base, x_stride, y_stride));
+    }
+    Imf::OutputFile file(temp.path().c_str(), header);
+    file.setFrameBuffer(frame);
+    file.writePixels(height);
+  } catch (const std::exception& e) {
+    throw_write_error(temp.destination(), e.what());
+  }
+}
+
+}  // namespace brdfbake::io

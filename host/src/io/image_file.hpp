@@ -1,0 +1,66 @@
+// Image files. The formats on the hot path go through focused libraries, linked into the program:
+//   OpenEXR (.exr, read and write)       OpenEXR 3.1 (Imf), float32 written with ZIP compression
+//   PNG (.png, 16-bit write)             libpng
+//   Radiance RGBE (.hdr, read and write) io/rgbe (a small codec: stb_image hangs or returns black
+//                                        on truncated files, see rgbe.hpp)
+// Every other format is read through OpenImageIO, which lives in a separate module
+// (brdfbake_oiio.so, io/oiio_module.hpp) loaded with dlopen the first time such a file is read:
+// a program that never reads one never loads OpenImageIO and its few hundred libraries.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "io/atomic_file.hpp"
+
+namespace brdfbake::io {
+
+// Level 0 of the first image of a file, as float.
+struct FloatImage {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  // The file's channel names (may be empty where the format has none), in OpenImageIO's order:
+  // R, G, B, A first when present, then the others as the file lists them.
+  std::vector<std::string> channel_names;
+  std::vector<float> pixels;  // width x height x channels, row 0 (the top row) first
+  // e.g. "OpenEXR 1024x512, 3 channel(s), half, tiled, 11 mip levels (level 0 read)"
+  std::string description;
+  // The file's string attributes (OpenEXR; empty for the other formats), in the file's order.
+  std::vector<std::pair<std::string, std::string>> attributes;
+};
+
+// Reads an image, choosing the reader by the file's signature (its first bytes): OpenEXR
+// (scanline or tiled, mip-mapped or not, half, float or uint; not subsampled luminance/chroma or
+// deep data, which go to OpenImageIO) and Radiance RGBE here, any other format through the
+// OpenImageIO module. An image of more than `max_pixels` pixels is refused before it is decoded.
+// Throws Error with a one-line reason that does not repeat the path (callers say what the file
+// was for), e.g. "truncated: the data ends in scanline 17", or, for a format only OpenImageIO
+// reads when the module cannot be loaded, "... needs the OpenImageIO module ...: <why>".
+FloatImage read_image(const std::string& path, uint64_t max_pixels);
+
+// The OpenEXR reader behind read_image: whether `head` (the first bytes of a file) is OpenEXR's
+// magic number, and the file read into `out`. Returns false, reading nothing, for the variants
+// left to OpenImageIO (deep data, subsampled channels); throws Error(reason) for a bad file.
+bool is_exr(std::string_view head);
+bool read_exr(const std::string& path, uint64_t max_pixels, FloatImage& out);
+
+// Writers: each fills the temporary `temp` (the caller commits it) and throws
+// Error("cannot write '<destination>': <reason>").
+//
+// OpenEXR: `channels` (1..4) float32 channels named R, G, B, A in that order, ZIP compression,
+// every attribute a string attribute (keys as given).
+void write_exr(const TempFile& temp, int width, int height, int channels, const float* pixels,
+               const std::vector<std::pair<std::string, std::string>>& attributes);
+// PNG: 16-bit grey (1 channel), RGB (3) or RGBA (4, straight alpha), gAMA 1.0 (linear data, no
+// sRGB chunk), every text entry a tEXt chunk (iTXt, UTF-8, where a value is not plain ASCII).
+// Keywords must be 1 to 79 bytes (checked by the caller, who knows the prefix).
+void write_png16(const TempFile& temp, int width, int height, int channels, const uint16_t* pixels,
+                 const std::vector<std::pair<std::string, std::string>>& text);
+// Radiance RGBE: RGB values, finite and in [0, kRgbeMax] (rgbe.hpp; callers clamp and count).
+void write_rgbe(const TempFile& temp, int width, int height, const float* rgb);
+
+}  // namespace brdfbake::io

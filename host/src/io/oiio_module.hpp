@@ -1,0 +1,58 @@
+// The OpenImageIO module: a shared library (brdfbake_oiio.so, built from io/oiio_module.cpp) that
+// reads the image formats the focused readers of io/image_file do not (PNG, TIFF, JPEG, PSD, DDS,
+// ...). The program does not link OpenImageIO: linking it costs every run ~150 ms and ~130 MiB
+// for the ~250 libraries Debian's build pulls in and their initialisers, even `--help`. The module
+// is loaded with dlopen the first time such a file is read.
+//
+// Found, in order: the file $BRDFBAKE_OIIO_MODULE names (only it, when set); brdfbake_oiio.so
+// beside the running executable; ../lib/brdfbake/brdfbake_oiio.so from it; the build tree's copy.
+//
+// The interface is plain C, versioned, so that the module and the program need not share C++
+// types across the boundary.
+#pragma once
+
+#include <cstddef>
+
+extern "C" {
+
+// Bumped whenever a struct or a signature below changes; the loader refuses another version.
+#define BRDFBAKE_OIIO_ABI_VERSION 1
+
+struct brdfbake_oiio_image {
+  int width;
+  int height;
+  int channels;
+  float* pixels;          // width x height x channels, row 0 first (allocated by the module)
+  char* channel_names;    // comma-separated, in OpenImageIO's order (allocated by the module)
+  char* description;      // e.g. "tiff 640x480, 3 channel(s), uint8" (allocated by the module)
+};
+
+// int brdfbake_oiio_abi_version(void): BRDFBAKE_OIIO_ABI_VERSION of the module.
+typedef int (*brdfbake_oiio_abi_version_fn)(void);
+// Reads level 0 of subimage 0 of `path` as float into `out`; images of more than max_pixels
+// pixels are refused before decoding. Returns 0 on success; otherwise a one-line reason (without
+// the path) in `error` (NUL-terminated, at most error_size bytes) and `out` untouched.
+typedef int (*brdfbake_oiio_read_fn)(const char* path, unsigned long long max_pixels, brdfbake_oiio_image* out,
+                                     char* error, size_t error_size);
+// Frees what brdfbake_oiio_read allocated in `image`.
+typedef void (*brdfbake_oiio_free_fn)(brdfbake_oiio_image* image);
+
+}  // extern "C"
+
+#include <string>
+
+namespace brdfbake::io {
+
+// The loaded module's functions. Throws Error with a one-line reason naming where it looked when
+// the module cannot be loaded (missing, wrong ABI version, missing symbols).
+struct OiioModule {
+  brdfbake_oiio_read_fn read = nullptr;
+  brdfbake_oiio_free_fn free = nullptr;
+  std::string path;  // the file loaded
+};
+const OiioModule& oiio_module();
+
+// Whether the module is loaded in this process (for tests of laziness).
+bool oiio_module_loaded();
+
+}  // namespace brdfbake::io

@@ -1,0 +1,326 @@
+// The report's page: one self-contained HTML file, its plots inline SVG drawn here (text stays text,
+// scales without blur, and nothing is fetched from the network), the numbers in tables beside them.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "brdfbake/report.hpp"
+
+namespace brdfbake {
+
+namespace {
+
+std::string fmt(double v, const char* f = "%.3g") {
+  if (!std::isfinite(v)) return "inf";
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '&')
+      o += "&amp;";
+    else if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
+  }
+  return o;
+}
+
+const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
+
+struct Series {
+  std::string name;
+  std::vector<double> x, y;
+  std::vector<std::string> labels;  // one per point, may be empty
+  bool dashed = false;
+  bool line = true;  // join the points (a sweep); false: markers only
+};
+
+// An axis: log10 over whole decades, or linear over [lo, hi] with round ticks.
+struct Axis {
+  bool log = true;
+  double lo = 0, hi = 1;
+  double map(double v, double a, double b) const {  // to pixels a..b
+    const double t = log ? (std::log10(v) - lo) / (hi - lo) : (v - lo) / (hi - lo);
+    return a + t * (b - a);
+  }
+  std::vector<std::pair<double, std::string>> ticks() const {
+    std::vector<std::pair<double, std::string>> t;
+    if (log) {
+      const int step = std::max(1, static_cast<int>(std::ceil((hi - lo) / 8)));
+      for (int e = static_cast<int>(lo); e <= static_cast<int>(hi); e += step)
+        t.push_back({std::pow(10.0, e), "1e" + std::to_string(e)});
+    } else {
+      const double span = hi - lo, raw = span / 5;
+      const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+      const double step = raw / mag < 2 ? 2 * mag : raw / mag < 5 ? 5 * mag : 10 * mag;
+      for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back({v, fmt(v, "%g")});
+    }
+    return t;
+  }
+};
+
+Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& ser : s)
+    for (double v : x ? ser.x : ser.y) {
+      if (!std::isfinite(v) || (log && v <= 0)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  Axis a;
+  a.log = log;
+  if (!(lo <= hi)) {
+    lo = log ? 1e-3 : 0;
+    hi = log ? 1 : 1;
+  }
+  if (log) {
+    a.lo = std::floor(std::log10(lo));
+    a.hi = std::ceil(std::log10(hi));
+    if (a.hi <= a.lo) a.hi = a.lo + 1;
+  } else {
+    a.lo = std::min(0.0, lo);
+    a.hi = hi > a.lo ? hi * 1.05 : a.lo + 1;
+  }
+  return a;
+}
+
+std::string svg_plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                     const std::vector<Series>& series, bool logx, bool logy) {
+  const int w = 620, h = 380, left = 70, right = 150, top = 30, bottom = 50;
+  const Axis ax = make_axis(series, true, logx), ay = make_axis(series, false, logy);
+  const double x0 = left, x1 = w - right, y0 = h - bottom, y1 = top;
+  std::ostringstream o;
+  // Styles are attributes, not CSS: the SVG stands alone when saved from the page.
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" viewBox=\"0 0 " << w
+    << ' ' << h << "\" role=\"img\" aria-label=\"" << esc(title)
+    << "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#333\">\n";
+  o << "<rect x=\"0\" y=\"0\" width=\"" << w << "\" height=\"" << h << "\" fill=\"#fff\"/>\n";
+  o << "<text x=\"" << left << "\" y=\"18\" font-size=\"13\" font-weight=\"bold\">" << esc(title) << "</text>\n";
+  for (const auto& [v, label] : ax.ticks()) {
+    const double px = ax.map(v, x0, x1);
+    o << "<line x1=\"" << px << "\" y1=\"" << y0 << "\" x2=\"" << px << "\" y2=\"" << y1 << "\" stroke=\"#e4e4e4\"/>";
+    o << "<text x=\"" << px << "\" y=\"" << y0 + 16 << "\" text-anchor=\"middle\">" << esc(label) << "</text>\n";
+  }
+  for (const auto& [v, label] : ay.ticks()) {
+    const double py = ay.map(v, y0, y1);
+    o << "<line x1=\"" << x0 << "\" y1=\"" << py << "\" x2=\"" << x1 << "\" y2=\"" << py << "\" stroke=\"#e4e4e4\"/>";
+    o << "<text x=\"" << x0 - 6 << "\" y=\"" << py + 4 << "\" text-anchor=\"end\">" << esc(label) << "</text>\n";
+  }
+  o << "<rect x=\"" << x0 << "\" y=\"" << y1 << "\" width=\"" << x1 - x0 << "\" height=\"" << y0 - y1
+    << "\" fill=\"none\" stroke=\"#999\"/>\n";
+  o << "<text x=\"" << (x0 + x1) / 2 << "\" y=\"" << h - 12 << "\" text-anchor=\"middle\">" << esc(xlabel)
+    << "</text>\n";
+  o << "<text transform=\"translate(16 " << (y0 + y1) / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << esc(ylabel)
+    << "</text>\n";
+  for (size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    const char* c = kColours[k % std::size(kColours)];
+    std::string path;
+    std::ostringstream marks;
+    for (size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (logx && s.x[i] <= 0) || (logy && s.y[i] <= 0)) continue;
+      const double px = ax.map(s.x[i], x0, x1), py = ay.map(s.y[i], y0, y1);
+      path += (path.empty() ? "M" : " L") + fmt(px, "%.1f") + " " + fmt(py, "%.1f");
+      marks << "<circle cx=\"" << fmt(px, "%.1f") << "\" cy=\"" << fmt(py, "%.1f") << "\" r=\"3\" fill=\"" << c
+            << "\"><title>" << esc(s.name) << (i < s.labels.size() ? ", " + esc(s.labels[i]) : std::string()) << ": "
+            << fmt(s.x[i]) << ", " << fmt(s.y[i]) << "</title></circle>";
+      if (i < s.labels.size() && !s.labels[i].empty())
+        marks << "<text x=\"" << fmt(px + 4, "%.1f") << "\" y=\"" << fmt(py - 4, "%.1f") << "\" font-size=\"9\" fill=\""
+              << c << "\">" << esc(s.labels[i]) << "</text>";
+      marks << "\n";
+    }
+    if (!path.empty() && s.line)
+      o << "<path d=\"" << path << "\" fill=\"none\" stroke=\"" << c << "\" stroke-width=\"1.5\""
+        << (s.dashed ? " stroke-dasharray=\"5 3\"" : "") << "/>\n";
+    o << marks.str();
+    const double ly = top + 14 + 18 * double(k);
+    o << "<line x1=\"" << x1 + 10 << "\" y1=\"" << ly - 4 << "\" x2=\"" << x1 + 30 << "\" y2=\"" << ly - 4
+      << "\" stroke=\"" << c << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"5 3\"" : "")
+      << (s.line ? "" : " opacity=\"0\"") << "/><circle cx=\"" << x1 + 20 << "\" cy=\"" << ly - 4
+      << "\" r=\"3\" fill=\"" << c << "\"/>";
+    o << "<text x=\"" << x1 + 34 << "\" y=\"" << ly << "\">" << esc(s.name) << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
+const char* kStyle = R"(
+body { font: 14px/1.45 system-ui, sans-serif; margin: 2em auto; max-width: 1300px; color: #222; padding: 0 1em; }
+h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 1em 0; font-variant-numeric: tabular-nums; }
+td, th { border: 1px solid #ddd; padding: 3px 8px; text-align: right; } th { background: #f4f4f4; }
+td:first-child, th:first-child { text-align: left; }
+.meta { color: #555; } .note { color: #555; font-size: 0.92em; }
+.plots { display: flex; flex-wrap: wrap; gap: 1em; }
+code { background: #f4f4f4; padding: 0 3px; }
+)";
+
+std::string load_text(const double l[3]) {
+  if (l[0] < 0) return "unknown";
+  return fmt(l[0], "%.2f") + " / " + fmt(l[1], "%.2f") + " / " + fmt(l[2], "%.2f");
+}
+
+void dfg_section(std::ostringstream& o, const DfgSweep& s) {
+  o << "<h2>DFG <code>" << lut_kind_name(s.kind) << "</code>, " << s.size << "&times;" << s.size << "</h2>\n";
+  o << "<p>Converged scalar double reference: " << fmt(s.reference_seconds, "%.2f") << " s on " << s.reference_threads
+    << " thread" << (s.reference_threads == 1 ? "" : "s")
+    << " (its error against itself: " << fmt(s.reference_error.max)
+    << "). Each point is one table baked on the device at one sample count; the label is the sample count.</p>\n";
+  // Series per estimator and precision.
+  std::map<std::string, Series> by;
+  std::vector<std::string> order;
+  for (const auto& p : s.points) {
+    const std::string key = std::string(estimator_name(p.estimator)) + " " + precision_name(p.precision);
+    if (!by.count(key)) {
+      order.push_back(key);
+      by[key].name = key;
+      by[key].dashed = p.precision == Precision::Fp64;
+    }
+    by[key].x.push_back(p.device_seconds * 1e3);
+    by[key].y.push_back(p.error.max);
+    by[key].labels.push_back(std::to_string(p.samples));
+  }
+  std::vector<Series> vs_time, vs_samples;
+  for (const auto& k : order) {
+    vs_time.push_back(by[k]);
+    Series n = by[k];
+    n.x.clear();
+    n.labels.clear();
+    for (const auto& p : s.points)
+      if (std::string(estimator_name(p.estimator)) + " " + precision_name(p.precision) == k) n.x.push_back(p.samples);
+    vs_samples.push_back(n);
+  }
+  o << "<div class=\"plots\">\n"
+    << svg_plot(std::string(lut_kind_name(s.kind)) + ": max error against device time", "device time (ms)",
+                "max error vs reference", vs_time, true, true)
+    << svg_plot(std::string(lut_kind_name(s.kind)) + ": max error against samples", "samples per texel",
+                "max error vs reference", vs_samples, true, true)
+    << "</div>\n";
+  o << "<table><tr><th>estimator</th><th>precision</th><th>samples</th><th>evaluations/texel</th><th>device time "
+       "(ms)</th>"
+       "<th>max error</th><th>RMS error</th></tr>\n";
+  for (const auto& p : s.points)
+    o << "<tr><td>" << estimator_name(p.estimator) << "</td><td>" << precision_name(p.precision) << "</td><td>"
+      << p.samples << "</td><td>" << p.evaluations_per_texel << "</td><td>" << fmt(p.device_seconds * 1e3, "%.2f")
+      << "</td><td>" << fmt(p.error.max, "%.2e") << "</td><td>" << fmt(p.error.rms, "%.2e") << "</td></tr>\n";
+  o << "</table>\n";
+  if (!s.skipped.empty()) {
+    o << "<p class=\"note\">Not measured: ";
+    for (size_t k = 0; k < s.skipped.size(); ++k) o << (k ? "; " : "") << esc(s.skipped[k]);
+    o << ".</p>\n";
+  }
+}
+
+void fresnel_section(std::ostringstream& o, const std::vector<FresnelComparison>& all) {
+  o << "<h2>Fresnel models against the exact equations</h2>\n<p>For each measured material, every model set from it "
+       "(how is in the table) against the exact conductor or dielectric: the largest |model &minus; exact| over "
+       "cos&theta; "
+       "in [0, 1] and the three channels, and the device's rate for a 1-D RGB table.</p>\n";
+  std::vector<Series> pts;
+  for (const auto& c : all) {
+    Series s;
+    s.name = c.material;
+    s.line = false;
+    for (const auto& r : c.rows) {
+      if (r.cells_per_second <= 0) continue;
+      s.x.push_back(1e9 / r.cells_per_second);
+      s.y.push_back(r.worst);
+      s.labels.push_back(fresnel_model_name(r.model));
+    }
+    pts.push_back(s);
+  }
+  if (!all.empty() && all.front().rate_cells > 0)
+    o << "<div class=\"plots\">"
+      << svg_plot("worst error against device time per cell (the exact model: 0, not drawn)", "device ns per RGB cell",
+                  "max |model - exact|", pts, false, true)
+      << "</div>\n";
+  for (const auto& c : all) {
+    o << "<h3>" << esc(c.material) << " (exact: " << fresnel_model_name(c.exact_model) << ")</h3>\n"
+      << "<table><tr><th>model</th><th>set from the material</th><th>max error r, g, b</th><th>worst</th><th>at "
+         "cos&theta;</th>"
+         "<th>device ns/cell</th></tr>\n";
+    for (const auto& r : c.rows)
+      o << "<tr><td>" << fresnel_model_name(r.model) << "</td><td>" << esc(r.setting) << "</td><td>"
+        << fmt(r.max_abs.r, "%.2e") << ", " << fmt(r.max_abs.g, "%.2e") << ", " << fmt(r.max_abs.b, "%.2e")
+        << "</td><td>" << fmt(r.worst, "%.2e") << "</td><td>" << fmt(r.cos_at_worst, "%.3f") << "</td><td>"
+        << (r.cells_per_second > 0 ? fmt(1e9 / r.cells_per_second, "%.3f") : std::string("&ndash;")) << "</td></tr>\n";
+    o << "</table>\n";
+  }
+}
+
+void prefilter_section(std::ostringstream& o, const std::vector<PrefilterReport>& all) {
+  if (all.empty()) return;
+  o << "<h2>Prefiltered GGX levels</h2>\n<p>A chain of " << all.front().size << "&sup2; ("
+    << esc(all.front().environment)
+    << "), each estimator at its default settings, against the brute-force reference filtering the same source cube, "
+       "at up "
+       "to 8&times;8 texels per face of every level. Error: per channel |P &minus; P<sub>ref</sub>| / "
+       "max(P<sub>ref</sub>, "
+       "10<sup>&minus;3</sup> mean).</p>\n";
+  std::vector<Series> err, time;
+  for (const auto& p : all) {
+    Series e, t;
+    e.name = t.name = p.estimator;
+    for (const auto& l : p.levels) {
+      e.x.push_back(l.roughness);
+      e.y.push_back(l.rms_error);
+      t.x.push_back(l.roughness);
+      t.y.push_back(l.device_seconds * 1e3);
+    }
+    err.push_back(e);
+    time.push_back(t);
+  }
+  o << "<div class=\"plots\">"
+    << svg_plot("RMS error per level", "roughness of the level", "RMS relative error", err, false, true)
+    << svg_plot("device time per level", "roughness of the level", "device time (ms)", time, false, true) << "</div>\n";
+  o << "<table><tr><th>estimator</th><th>level</th><th>size</th><th>roughness</th><th>samples</th><th>device time "
+       "(ms)</th>"
+       "<th>RMS error</th><th>max error</th></tr>\n";
+  for (const auto& p : all)
+    for (const auto& l : p.levels)
+      o << "<tr><td>" << p.estimator << "</td><td>" << l.level << "</td><td>" << l.size << "</td><td>"
+        << fmt(l.roughness, "%.3f") << "</td><td>" << (l.samples ? std::to_string(l.samples) : std::string("&ndash;"))
+        << "</td><td>" << fmt(l.device_seconds * 1e3, "%.2f") << "</td><td>" << fmt(l.rms_error, "%.2e") << "</td><td>"
+        << fmt(l.max_error, "%.2e") << "</td></tr>\n";
+  o << "</table>\n";
+}
+
+}  // namespace
+
+std::string report_html(const Report& r) {
+  std::ostringstream o;
+  o << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdfbake report: " << esc(r.device)
+    << "</title>\n<style>" << kStyle << "</style></head><body>\n";
+  o << "<h1>brdfbake: accuracy against time</h1>\n";
+  o << "<p class=\"meta\">" << esc(r.generator) << ", " << esc(r.date) << "<br>Device: <b>" << esc(r.device) << "</b> ("
+    << esc(r.device_details) << ")<br>Machine: " << r.cores << " cores; load average (1, 5, 15 min) "
+    << load_text(r.load_before) << " at the start, " << load_text(r.load_after)
+    << " at the end: times stretch with the load, errors do not<br>"
+    << "The report took " << fmt(r.seconds, "%.1f") << " s"
+    << (r.options.command.empty() ? "" : ": <code>" + esc(r.options.command) + "</code>") << "</p>\n";
+  o << "<p class=\"note\">Times are device seconds from OpenCL event profiling (the median of up to three runs after a "
+       "warm-up; "
+       "one run above 0.1 s), without program builds or transfers. DFG errors are the max (and RMS) over every channel "
+       "and "
+       "cell of |table &minus; reference| / max(1, |reference|) against the converged scalar double reference at the "
+       "same "
+       "cells. The numbers are also in the JSON file beside this page.</p>\n";
+  for (const auto& s : r.dfg) dfg_section(o, s);
+  if (!r.fresnel.empty()) fresnel_section(o, r.fresnel);
+  prefilter_section(o, r.prefilter);
+  o << "</body></html>\n";
+  return o.str();
+}
+
+}  // namespace brdfbake

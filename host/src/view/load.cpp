@@ -1,0 +1,513 @@
+// Reading what `brdfbake view` shows. One row of kReaders per kind of file: the first row whose
+// claim() accepts a path reads it. The container readers are io/ (ktx2, ktx1, dds, table_read,
+// image_file, png_image) and read_merl (brdf.hpp); this file only turns their contents into items.
+#include "view/load.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+#include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "io/dds.hpp"
+#include "io/half.hpp"
+#include "io/image_file.hpp"
+#include "io/json_input.hpp"
+#include "io/ktx1.hpp"
+#include "io/ktx2.hpp"
+#include "io/png_image.hpp"
+#include "io/table_read.hpp"
+
+namespace brdfbake::view {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+constexpr const char* kKeyPrefix = "brdfbake:";
+
+std::string lower_ext(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+bool is_dir(const std::string& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec);
+}
+
+Metadata our_metadata(const std::vector<std::pair<std::string, std::string>>& kv) {
+  Metadata m;
+  for (const auto& [k, v] : kv)
+    if (k.rfind(kKeyPrefix, 0) == 0) m.emplace_back(k.substr(std::strlen(kKeyPrefix)), v);
+  return m;
+}
+
+Metadata metadata_object(const json& j) {
+  Metadata m;
+  if (!j.is_object()) return m;
+  for (const auto& [k, v] : j.items()) m.emplace_back(k, v.is_string() ? v.get<std::string>() : v.dump());
+  return m;
+}
+
+float component(const uint8_t* p, uint32_t bytes) {
+  if (bytes == 2) return io::half_bits_to_float(static_cast<uint16_t>(p[0] | p[1] << 8));
+  const uint32_t b = uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+
+// Levels of six faces in KTX order (per level: face, row, texel) -> a float RGBA cube.
+CubeLevels cube_from_levels(uint32_t size, const std::vector<std::vector<uint8_t>>& levels, uint32_t components,
+                            uint32_t bytes, Metadata metadata, const std::string& path) {
+  CubeLevels cube;
+  cube.size = static_cast<int>(size);
+  cube.metadata = std::move(metadata);
+  for (size_t l = 0; l < levels.size(); ++l) {
+    const size_t s = static_cast<size_t>(cube.level_size(static_cast<int>(l)));
+    const size_t texels = 6 * s * s;
+    if (levels[l].size() != texels * components * bytes)
+      throw Error("cannot read '" + path + "': level " + std::to_string(l) + " has the wrong size");
+    std::vector<float> rgba(4 * texels, 1.0f);
+    for (size_t t = 0; t < texels; ++t)
+      for (size_t c = 0; c < components && c < 4; ++c)
+        rgba[4 * t + c] = component(levels[l].data() + (t * components + c) * bytes, bytes);
+    cube.levels.push_back(std::move(rgba));
+  }
+  return cube;
+}
+
+// ---- The readers ---------------------------------------------------------------------------------
+
+Item read_ktx2_file(const std::string& path) {
+  const io::Ktx2Image k = io::read_ktx2(path);
+  Item it;
+  if (k.faces != 6) {
+    it.kind = "table (KTX2)";
+    it.content = io::read_table(path);
+    return it;
+  }
+  uint32_t components = 0, bytes = 0;
+  switch (k.vk_format) {
+    case 90:
+      components = 3;
+      bytes = 2;
+      break;
+    case 97:
+      components = 4;
+      bytes = 2;
+      break;
+    case 106:
+      components = 3;
+      bytes = 4;
+      break;
+    case 109:
+      components = 4;
+      bytes = 4;
+      break;
+    default:
+      throw Error("cannot view '" + path + "': vkFormat " + std::to_string(k.vk_format) +
+                  " is not a float RGB(A) format");
+  }
+  it.kind = "cube (KTX2)";
+  it.content = cube_from_levels(k.width, k.level_data, components, bytes, our_metadata(k.key_values), path);
+  return it;
+}
+
+Item read_ktx1_file(const std::string& path) {
+  const io::Ktx1Image k = io::read_ktx1(path);
+  Item it;
+  if (k.faces == 6) {
+    it.kind = "cube (KTX1)";
+    it.content =
+        cube_from_levels(k.width, k.level_data, k.components(), k.component_bytes(), our_metadata(k.key_values), path);
+    return it;
+  }
+  // A 2-D texture: a table of its channels (level 0).
+  Table t;
+  t.width = static_cast<int>(k.width);
+  t.height = static_cast<int>(k.height);
+  t.channels =
+      k.components() == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"R", "G", "B", "A"};
+  t.metadata = our_metadata(k.key_values);
+  const size_t texels = size_t(t.width) * size_t(t.height);
+  for (size_t i = 0; i < texels * k.components(); ++i)
+    t.data.push_back(component(k.level_data[0].data() + i * k.component_bytes(), k.component_bytes()));
+  // Our channel names when the file records them (the first channels of each texel).
+  std::vector<std::string> names;
+  std::string cur;
+  for (char c : t.meta("channels") + ",") {
+    if (c != ',') {
+      cur += c;
+    } else if (!cur.empty()) {
+      names.push_back(cur);
+      cur.clear();
+    }
+  }
+  if (!names.empty() && names.size() <= k.components()) {
+    std::vector<float> kept;
+    for (size_t i = 0; i < texels; ++i)
+      for (size_t c = 0; c < names.size(); ++c) kept.push_back(t.data[i * k.components() + c]);
+    t.data = std::move(kept);
+    t.channels = names;
+  }
+  t.x_name = "column";
+  t.y_name = "row";
+  for (int i = 0; i < t.width; ++i) t.x.push_back(i);
+  for (int j = 0; j < t.height; ++j) t.y.push_back(j);
+  it.kind = "table (KTX1)";
+  it.content = std::move(t);
+  return it;
+}
+
+Item read_dds_file(const std::string& path) {
+  const io::DdsImage d = io::read_dds(path);
+  if (d.faces != 6) throw Error("cannot view '" + path + "': a 2-D DDS texture (view shows DDS cubes)");
+  Metadata meta;
+  std::error_code ec;
+  if (fs::exists(path + ".json", ec)) {
+    const json j = io::parse_json(io::read_text_file(path + ".json", "DDS sidecar"), path + ".json");
+    if (j.is_object() && j.contains("metadata")) meta = metadata_object(j["metadata"]);
+  }
+  Item it;
+  it.kind = std::string("cube (DDS, ") + (d.dx10_header ? "DX10 header" : "legacy header") + ")";
+  it.content = cube_from_levels(d.width, d.level_data, 4, d.component_bytes, std::move(meta), path);
+  return it;
+}
+
+// A folder of per-level images as write_cubemap writes it: STEM.json lists the files and the layout.
+bool is_cube_description(const json& j) {
+  if (!j.is_object() || !j.contains("layout") || !j.contains("files") || !j["files"].is_array()) return false;
+  const std::string layout = j["layout"].is_string() ? j["layout"].get<std::string>() : "";
+  return layout == "faces" || layout == "horizontal-cross" || layout == "vertical-cross" || layout == "equirect";
+}
+
+// Images a sheet shows are read whole: 256 Mpixel is far beyond any output the tool writes.
+constexpr uint64_t kMaxViewPixels = uint64_t(1) << 28;
+
+io::FloatImage read_image(const std::string& path) {
+  try {
+    return io::read_image(path, kMaxViewPixels);
+  } catch (const Error& e) {
+    throw Error("cannot read '" + path + "': " + e.what());
+  }
+}
+
+const float* pixel(const io::FloatImage& im, int x, int y) {
+  return &im.pixels[(size_t(y) * size_t(im.width) + size_t(x)) * size_t(im.channels)];
+}
+
+CubeLevels cube_from_folder(const std::string& description) {
+  const json j = io::parse_json(io::read_text_file(description, "cube description"), description);
+  const std::string layout = j["layout"].get<std::string>();
+  const std::vector<std::string> files = j["files"].get<std::vector<std::string>>();
+  const fs::path dir = fs::path(description).parent_path();
+  CubeLevels cube;
+  cube.metadata = metadata_object(j.value("metadata", json::object()));
+  const size_t per_level = layout == "faces" ? 6 : 1;
+  if (files.empty() || files.size() % per_level != 0)
+    throw Error("cannot view '" + description + "': " + std::to_string(files.size()) + " files for the " + layout +
+                " layout");
+  struct Cell {
+    int col, row;
+    bool rotate;
+  };
+  static const Cell kHorizontal[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                      {1, 2, false}, {1, 1, false}, {3, 1, false}};
+  static const Cell kVertical[6] = {{2, 1, false}, {0, 1, false}, {1, 0, false},
+                                    {1, 2, false}, {1, 1, false}, {1, 3, true}};
+  for (size_t l = 0; l < files.size() / per_level; ++l) {
+    std::vector<io::FloatImage> images;
+    for (size_t k = 0; k < per_level; ++k) images.push_back(read_image((dir / files[l * per_level + k]).string()));
+    int s = 0;
+    if (layout == "faces")
+      s = images[0].width;
+    else if (layout == "horizontal-cross")
+      s = images[0].width / 4;
+    else if (layout == "vertical-cross")
+      s = images[0].width / 3;
+    else
+      s = std::max(1, images[0].width / 4);
+    if (l == 0) cube.size = s;
+    if (s != cube.level_size(static_cast<int>(l)))
+      throw Error("cannot view '" + description + "': level " + std::to_string(l) + " is " + std::to_string(s) +
+                  " a side, expected " + std::to_string(cube.level_size(static_cast<int>(l))));
+    std::vector<float> rgba(24u * size_t(s) * size_t(s), 1.0f);
+    for (int f = 0; f < 6; ++f)
+      for (int jj = 0; jj < s; ++jj)
+        for (int ii = 0; ii < s; ++ii) {
+          float* o = &rgba[4 * ((size_t(f) * size_t(s) + size_t(jj)) * size_t(s) + size_t(ii))];
+          const float* p = nullptr;
+          float sampled[3];
+          if (layout == "faces") {
+            p = pixel(images[size_t(f)], ii, jj);
+          } else if (layout == "equirect") {
+            // The equirect back onto the cube: bilinear at the texel centre's direction.
+            const io::FloatImage& im = images[0];
+            double u = 0, v = 0;
+            math::equirect_coords(math::cube_texel_direction(f, s, ii, jj), u, v);
+            const double x = u * im.width - 0.5, y = std::clamp(v * im.height - 0.5, 0.0, double(im.height - 1));
+            const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+            const double fx = x - x0, fy = y - y0;
+            for (int c = 0; c < 3; ++c) {
+              auto at = [&](int xi, int yi) {
+                xi = ((xi % im.width) + im.width) % im.width;
+                yi = std::clamp(yi, 0, im.height - 1);
+                return double(pixel(im, xi, yi)[c]);
+              };
+              sampled[c] = static_cast<float>((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+                                              fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)));
+            }
+            p = sampled;
+          } else {
+            const Cell c = layout == "horizontal-cross" ? kHorizontal[f] : kVertical[f];
+            const int si = c.rotate ? s - 1 - ii : ii, sj = c.rotate ? s - 1 - jj : jj;
+            p = pixel(images[0], c.col * s + si, c.row * s + sj);
+          }
+          std::copy(p, p + 3, o);
+        }
+    cube.levels.push_back(std::move(rgba));
+  }
+  return cube;
+}
+
+// The description file of a cube folder, or "".
+std::string cube_folder_description(const std::string& dir) {
+  std::error_code ec;
+  std::vector<std::string> candidates;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.is_regular_file(ec) && lower_ext(e.path().string()) == ".json") candidates.push_back(e.path().string());
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& c : candidates) {
+    try {
+      if (is_cube_description(io::parse_json(io::read_text_file(c, "JSON"), c))) return c;
+    } catch (const Error&) {
+    }
+  }
+  return "";
+}
+
+Item read_sh(const json& j, const std::string& path) {
+  ShView sh;
+  try {
+    sh.order = j.at("order").get<int>();
+    for (const auto& t : j.at("irradiance_over_pi"))
+      for (const auto& v : t) sh.irradiance_over_pi.push_back(v.get<double>());
+    if (j.contains("radiance"))
+      for (const auto& t : j["radiance"])
+        for (const auto& v : t) sh.radiance.push_back(v.get<double>());
+    sh.window = j.value("window", "");
+    sh.metadata = metadata_object(j.value("metadata", json::object()));
+  } catch (const json::exception& e) {
+    throw Error("cannot view '" + path + "': malformed SH coefficients (" + e.what() + ")");
+  }
+  if (sh.order < 1 || sh.order > 8 || sh.irradiance_over_pi.size() != 3u * size_t(sh.order) * size_t(sh.order))
+    throw Error("cannot view '" + path + "': " + std::to_string(sh.irradiance_over_pi.size() / 3) +
+                " coefficients for order " + std::to_string(sh.order));
+  if (!sh.radiance.empty() && sh.radiance.size() != sh.irradiance_over_pi.size()) sh.radiance.clear();
+  Item it;
+  it.kind = "SH coefficients (JSON)";
+  it.content = std::move(sh);
+  return it;
+}
+
+Item read_manifest(const json& j, const std::string& path) {
+  FileList list;
+  const fs::path dir = fs::path(path).parent_path();
+  for (const auto& f : j["files"]) {
+    if (!f.is_object() || !f.contains("path") || !f["path"].is_string())
+      throw Error("cannot view '" + path + "': a file entry without a path");
+    list.paths.push_back((dir / f["path"].get<std::string>()).string());
+    Metadata notes;
+    for (const char* key : {"kind", "error_bound", "runtime", "channels", "device"})
+      if (f.contains(key) && !f[key].is_null())
+        notes.emplace_back(key, f[key].is_string() ? f[key].get<std::string>() : f[key].dump());
+    list.notes.push_back(std::move(notes));
+  }
+  Item it;
+  it.kind = "manifest";
+  it.content = std::move(list);
+  return it;
+}
+
+// A JSON file: a manifest, SH coefficients, a cube folder's description, or the sidecar of a file
+// that view reads through its main file (.hdr table, .dds, MERL .binary).
+Item read_json_file(const std::string& path) {
+  const json j = io::parse_json(io::read_text_file(path, "JSON file"), path);
+  if (j.is_object() && j.contains("files") && j["files"].is_array() && !j["files"].empty() && j["files"][0].is_object())
+    return read_manifest(j, path);
+  if (j.is_object() && j.contains("order") && j.contains("irradiance_over_pi")) return read_sh(j, path);
+  if (is_cube_description(j)) {
+    Item it;
+    it.kind = "cube (folder of " + j["layout"].get<std::string>() + " images)";
+    it.content = cube_from_folder(path);
+    return it;
+  }
+  if (j.is_object() && j.contains("layout") && j["layout"].is_string() &&
+      j["layout"].get<std::string>().rfind("dds", 0) == 0 && j.contains("files") && j["files"].is_array() &&
+      !j["files"].empty())
+    return read_dds_file((fs::path(path).parent_path() / j["files"][0].get<std::string>()).string());
+  const std::string main = path.size() > 5 ? path.substr(0, path.size() - 5) : "";
+  std::error_code ec;
+  if (!main.empty() && fs::exists(main, ec) && j.is_object() && (j.contains("image") || j.contains("format")))
+    return load(main);
+  throw Error("cannot view '" + path +
+              "': not a JSON file brdfbake writes (a manifest, SH coefficients, a cube folder's "
+              "description or a sidecar)");
+}
+
+Item read_table_file(const std::string& path) {
+  Item it;
+  const std::string ext = lower_ext(path);
+  const char* container = ext == ".exr"   ? "OpenEXR"
+                          : ext == ".png" ? "PNG"
+                          : ext == ".hdr" ? "RGBE"
+                          : ext == ".csv" ? "CSV"
+                                          : "C header";
+  // An RGB(E) image with no table description is an environment (or any HDR picture).
+  std::error_code ec;
+  if (ext == ".hdr" && !fs::exists(path + ".json", ec)) {
+    const io::FloatImage im = read_image(path);
+    HdrImage h{im.width, im.height, im.pixels, {}};
+    it.kind = "HDR image (RGBE)";
+    it.content = std::move(h);
+    return it;
+  }
+  if (ext == ".exr") {
+    io::FloatImage im = read_image(path);
+    const bool table = std::any_of(im.attributes.begin(), im.attributes.end(),
+                                   [](const auto& a) { return a.first == std::string(kKeyPrefix) + "channels"; });
+    if (!table) {
+      if (im.channels < 3)
+        throw Error("cannot view '" + path + "': an OpenEXR image of " + std::to_string(im.channels) +
+                    " channels without a table description");
+      HdrImage h;
+      h.width = im.width;
+      h.height = im.height;
+      h.metadata = our_metadata(im.attributes);
+      for (size_t t = 0; t < size_t(im.width) * size_t(im.height); ++t)
+        for (size_t c = 0; c < 3; ++c) h.rgb.push_back(im.pixels[t * size_t(im.channels) + c]);
+      it.kind = "HDR image (OpenEXR)";
+      it.content = std::move(h);
+      return it;
+    }
+  }
+  Table t = io::read_table(path);
+  it.kind = ext == ".csv" && t.x_name == "pair" && t.meta("kind").empty() ? "BRDF values (eval CSV)"
+                                                                          : std::string("table (") + container + ")";
+  it.content = std::move(t);
+  return it;
+}
+
+Item read_eval_binary(const std::string& path) {
+  const std::vector<uint8_t> bytes = io::read_binary_file(path, "float32 file");
+  if (bytes.empty() || bytes.size() % 12 != 0)
+    throw Error("cannot view '" + path + "': " + std::to_string(bytes.size()) +
+                " bytes is not a whole number of float32 r, g, b triples");
+  Table t;
+  t.channels = {"r", "g", "b"};
+  t.width = static_cast<int>(bytes.size() / 12);
+  t.height = 1;
+  t.x_name = "pair";
+  t.data.resize(bytes.size() / 4);
+  for (size_t k = 0; k < t.data.size(); ++k) {
+    t.data[k] = component(bytes.data() + 4 * k, 4);
+    if (!std::isfinite(t.data[k])) t.data[k] = 0.0f;
+  }
+  for (int i = 0; i < t.width; ++i) t.x.push_back(i);
+  Item it;
+  it.kind = "BRDF values (eval float32)";
+  it.content = std::move(t);
+  return it;
+}
+
+Item read_merl_file(const std::string& path) {
+  Item it;
+  it.kind = "MERL table";
+  it.content = read_merl(path);
+  return it;
+}
+
+Item read_folder(const std::string& path) {
+  Item it;
+  std::error_code ec;
+  if (fs::exists(fs::path(path) / "manifest.json", ec)) {
+    it = read_json_file((fs::path(path) / "manifest.json").string());
+    return it;
+  }
+  const std::string description = cube_folder_description(path);
+  if (!description.empty()) return read_json_file(description);
+  // Any other folder: the files in it that some reader claims (sidecars aside), in name order.
+  FileList list;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(path, ec))
+    if (e.is_regular_file(ec)) names.push_back(e.path().string());
+  std::sort(names.begin(), names.end());
+  const std::set<std::string> all(names.begin(), names.end());
+  for (const auto& n : names) {
+    if (lower_ext(n) == ".json" && all.count(n.substr(0, n.size() - 5))) continue;  // a sidecar
+    try {
+      kind_of(n);
+    } catch (const Error&) {
+      continue;
+    }
+    list.paths.push_back(n);
+    list.notes.emplace_back();
+  }
+  if (list.paths.empty()) throw Error("cannot view '" + path + "': the folder holds nothing view can show");
+  it.kind = "folder";
+  it.content = std::move(list);
+  return it;
+}
+
+struct Reader {
+  const char* kind;  // for view_kind before reading
+  bool (*claims)(const std::string& path, const std::string& ext, bool dir);
+  Item (*read)(const std::string& path);
+};
+
+const Reader kReaders[] = {
+    {"folder", [](const std::string&, const std::string&, bool dir) { return dir; }, read_folder},
+    {"KTX2", [](const std::string&, const std::string& e, bool) { return e == ".ktx2"; }, read_ktx2_file},
+    {"KTX1", [](const std::string&, const std::string& e, bool) { return e == ".ktx"; }, read_ktx1_file},
+    {"DDS", [](const std::string&, const std::string& e, bool) { return e == ".dds"; }, read_dds_file},
+    {"JSON", [](const std::string&, const std::string& e, bool) { return e == ".json"; }, read_json_file},
+    {"MERL", [](const std::string&, const std::string& e, bool) { return e == ".binary"; }, read_merl_file},
+    {"table",
+     [](const std::string&, const std::string& e, bool) {
+       return e == ".exr" || e == ".png" || e == ".hdr" || e == ".csv" || e == ".h";
+     },
+     read_table_file},
+    {"float32",
+     [](const std::string&, const std::string& e, bool) { return e == ".f32" || e == ".bin" || e == ".raw"; },
+     read_eval_binary},
+};
+
+const Reader* reader_for(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("cannot view '" + path + "': no such file or folder");
+  const bool dir = is_dir(path);
+  const std::string ext = lower_ext(path);
+  for (const Reader& r : kReaders)
+    if (r.claims(path, ext, dir)) return &r;
+  throw Error("cannot view '" + path +
+              "': unknown kind of file (view shows .ktx2 .ktx .dds .exr .png .hdr .csv .h .json "
+              ".binary .f32 and output folders)");
+}
+
+}  // namespace
+
+std::string kind_of(const std::string& path) { return reader_for(path)->kind; }
+
+Item load(const std::string& path) {
+  Item it = reader_for(path)->read(path);
+  it.path = path;
+  return it;
+}
+
+}  // namespace brdfbake::view

@@ -1,0 +1,48 @@
+// Internal to `brdfbake view`: what a file holds, read by the first reader of a short table that
+// claims it (view/load.cpp). A new output format is one more row of that table.
+#pragma once
+
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "brdfbake/brdf.hpp"
+#include "brdfbake/environment.hpp"
+#include "brdfbake/table.hpp"
+
+namespace brdfbake::view {
+
+// SH coefficients as irradiance writes them (.json).
+struct ShView {
+  int order = 0;
+  std::vector<double> irradiance_over_pi;  // order^2 x RGB
+  std::vector<double> radiance;            // order^2 x RGB (may be empty)
+  std::string window;
+  Metadata metadata;
+};
+
+// An HDR image that is neither a table nor a cube (e.g. an equirect environment), RGB.
+struct HdrImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  Metadata metadata;
+};
+
+// The files a manifest or a folder lists, with what the manifest says of each.
+struct FileList {
+  std::vector<std::string> paths;
+  std::vector<Metadata> notes;  // per path: kind, error bound, runtime, ... (may be empty)
+};
+
+struct Item {
+  std::string path;
+  std::string kind;  // "cube (KTX2)", "table (OpenEXR)", ... as view_kind says
+  std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList> content;
+  Metadata notes;  // from a manifest: what it records about this file
+};
+
+// The reader that claims `path`: its kind text (view_kind); throws Error for no reader.
+std::string kind_of(const std::string& path);
+Item load(const std::string& path);
+
+}  // namespace brdfbake::view

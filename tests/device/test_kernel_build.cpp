@@ -1,0 +1,179 @@
+// Every program variant the product can request builds without a compiler warning (issue 18).
+//
+// The variants: each kernel family with each combination of #defines its host code (the planner,
+// the evaluator, the bake commands) can produce, in fp32 and fp64, with and without
+// -cl-fast-relaxed-math. The enumeration below mirrors the host's choices; KernelBuild.
+// EveryKernelSwitchIsEnumerated guards it against drift by scanning the kernel sources for the
+// BRDFBAKE_* switches they test and requiring each to be covered here.
+//
+// Builds go through the product's one build path (detail::build_program) with the on-disk cache
+// off, so each is a real build from source whose log the driver fills.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <regex>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runtime/cl.hpp"
+#include "runtime/program.hpp"
+#include "support/device_fixture.hpp"
+
+namespace brdfbake {
+namespace {
+
+using Defines = std::vector<std::pair<std::string, std::string>>;
+
+struct Variant {
+  std::string file;
+  Defines defines;
+  bool fast_math_too = true;  // also built with -cl-fast-relaxed-math
+};
+
+// Subsets of `flags`, as define lists.
+std::vector<Defines> subsets(const std::vector<std::string>& flags) {
+  std::vector<Defines> out;
+  for (unsigned mask = 0; mask < (1u << flags.size()); ++mask) {
+    Defines d;
+    for (size_t k = 0; k < flags.size(); ++k)
+      if (mask & (1u << k)) d.push_back({flags[k], "1"});
+    out.push_back(d);
+  }
+  return out;
+}
+
+bool has(const Defines& d, const std::string& name) {
+  return std::any_of(d.begin(), d.end(), [&](const auto& p) { return p.first == name; });
+}
+
+Defines join(Defines a, const Defines& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// host/src/dfg_lut.cpp: one table kind, one estimator (resolve_lut_spec: GGX takes quadrature, vndf
+// or ndf; Charlie quadrature, ndf or uniform), and for Charlie the sheen visibility.
+std::vector<Variant> dfg_variants() {
+  std::vector<Variant> v;
+  for (const char* kind : {"BRDFBAKE_LUT_GGX", "BRDFBAKE_LUT_GGX_MULTISCATTER"})
+    for (const char* est : {"BRDFBAKE_EST_QUADRATURE", "BRDFBAKE_EST_VNDF", "BRDFBAKE_EST_NDF"})
+      v.push_back({"dfg_lut.cl", {{kind, "1"}, {est, "1"}}});
+  for (const char* est : {"BRDFBAKE_EST_QUADRATURE", "BRDFBAKE_EST_NDF", "BRDFBAKE_EST_UNIFORM"})
+    for (bool neubelt : {false, true}) {
+      Defines d = {{"BRDFBAKE_LUT_CHARLIE", "1"}, {est, "1"}};
+      if (neubelt) d.push_back({"BRDFBAKE_SHEEN_NEUBELT", "1"});
+      v.push_back({"dfg_lut.cl", d});
+    }
+  return v;
+}
+
+// host/src/fresnel.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
+std::vector<Variant> fresnel_variants() {
+  std::vector<Variant> v;
+  for (const char* model : {"BRDFBAKE_FRESNEL_SCHLICK", "BRDFBAKE_FRESNEL_SCHLICK_METALLIC",
+                            "BRDFBAKE_FRESNEL_SCHLICK_IOR", "BRDFBAKE_FRESNEL_DIELECTRIC",
+                            "BRDFBAKE_FRESNEL_CONDUCTOR", "BRDFBAKE_FRESNEL_F82_TINT",
+                            "BRDFBAKE_FRESNEL_EMPIRICAL"})
+    for (bool two_d : {false, true}) {
+      Defines d = {{model, "1"}, {"BRDFBAKE_FRESNEL_CHUNKS", "8"}};
+      if (two_d) d.push_back({"BRDFBAKE_FRESNEL_2D", "1"});
+      v.push_back({"fresnel.cl", d});
+    }
+  return v;
+}
+
+// host/src/brdf_eval.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
+// subsurface and sheen come only with its diffuse lobe (metallic < 1); glTF has a diffuse or a
+// metal lobe or both, its specular colour only with the diffuse lobe; Cook-Torrance uses Beckmann,
+// GGX or both. The lane width (8 or 16) is an option of the evaluator's API.
+std::vector<Variant> brdf_variants() {
+  std::vector<Variant> v;
+  auto add = [&](const char* model, const Defines& lobes) {
+    v.push_back({"brdf_eval.cl", join({{model, "1"}}, lobes)});
+  };
+  for (const Defines& l : subsets({"BRDFBAKE_LOBE_DIFFUSE", "BRDFBAKE_LOBE_SUBSURFACE", "BRDFBAKE_LOBE_SHEEN",
+                                   "BRDFBAKE_LOBE_CLEARCOAT", "BRDFBAKE_LOBE_ANISOTROPIC"})) {
+    const bool diffuse = has(l, "BRDFBAKE_LOBE_DIFFUSE");
+    if (!diffuse && (has(l, "BRDFBAKE_LOBE_SUBSURFACE") || has(l, "BRDFBAKE_LOBE_SHEEN"))) continue;
+    add("BRDFBAKE_MODEL_DISNEY", l);
+  }
+  for (const char* model : {"BRDFBAKE_MODEL_GLTF", "BRDFBAKE_MODEL_GLTF_CORRELATED"})
+    for (const Defines& l : subsets({"BRDFBAKE_LOBE_DIFFUSE", "BRDFBAKE_LOBE_METAL", "BRDFBAKE_LOBE_SPECULAR_COLOR",
+                                     "BRDFBAKE_LOBE_SHEEN", "BRDFBAKE_LOBE_CLEARCOAT"})) {
+      const bool diffuse = has(l, "BRDFBAKE_LOBE_DIFFUSE"), metal = has(l, "BRDFBAKE_LOBE_METAL");
+      if (!diffuse && !metal) continue;
+      if (!diffuse && has(l, "BRDFBAKE_LOBE_SPECULAR_COLOR")) continue;
+      add(model, l);
+    }
+  for (const Defines& l : subsets({"BRDFBAKE_CT_BECKMANN", "BRDFBAKE_CT_GGX"}))
+    if (!l.empty()) add("BRDFBAKE_MODEL_COOK_TORRANCE", l);
+  for (const char* model : {"BRDFBAKE_MODEL_LAMBERT", "BRDFBAKE_MODEL_PHONG", "BRDFBAKE_MODEL_BLINN_PHONG",
+                            "BRDFBAKE_MODEL_BLINN_PHONG_FROM_PBR"})
+    add(model, {});
+  return v;
+}
+
+// host/src/prefilter.cpp, environment.cpp, irradiance.cpp, thin_film.cpp.
+std::vector<Variant> environment_variants() {
+  return {{"cubemap.cl", {}},
+          {"prefilter.cl", {{"BRDFBAKE_ENV_GGX", "1"}}},
+          {"prefilter.cl", {{"BRDFBAKE_ENV_CHARLIE", "1"}}},
+          {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "3"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
+          {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "5"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
+          {"thin_film.cl", {}}};
+}
+
+// Builds each variant in both precisions (and fast math where asked) and collects every log that
+// mentions a warning.
+void expect_warning_free(const std::vector<Variant>& variants, const std::vector<Defines>& lane_choices = {{}},
+                         bool per_precision_fresnel_lanes = false) {
+  BRDFBAKE_REQUIRE_DEVICE(device);
+  detail::set_program_cache_dir("");  // real builds from source
+  auto& dev = device->impl();
+  const auto t0 = std::chrono::steady_clock::now();
+  int built = 0;
+  for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+    if (p == Precision::Fp64 && !device->info().fp64) continue;
+    for (const Variant& v : variants)
+      for (const Defines& lanes : lane_choices)
+        for (bool fast : {false, true}) {
+          if (fast && !v.fast_math_too) continue;
+          detail::ProgramSpec spec;
+          spec.file = v.file;
+          spec.precision = p;
+          spec.defines = join(v.defines, lanes);
+          if (per_precision_fresnel_lanes)
+            spec.defines.push_back({"BRDFBAKE_LANES", p == Precision::Fp64 ? "8" : "16"});
+          if (fast) spec.options = "-cl-fast-relaxed-math";
+          std::string what = v.file + " " + precision_name(p) + (fast ? " fast-math" : "");
+          for (const auto& [name, value] : spec.defines) what += " " + name + "=" + value;
+          cl::Program program;
+          try {
+            program = detail::build_program(dev, spec);
+          } catch (const Error& e) {
+            ADD_FAILURE() << what << ": " << e.what();
+            continue;
+          }
+          ++built;
+          const std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(dev.device);
+          const bool warned = log.find("warning") != std::string::npos || log.find("error") != std::string::npos;
+          EXPECT_FALSE(warned) << what << ":\n" << log;
+        }
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("built %d programs in %.1f s\n", built, s);
+}
+
+TEST(KernelBuild, DfgLutVariantsAreWarningFree) { expect_warning_free(dfg_variants()); }
+TEST(KernelBuild, FresnelVariantsAreWarningFree) { expect_warning_free(fresnel_variants(), {{}}, true); }
+TEST(KernelBuild, BrdfEvalVariantsAreWarningFree) {
+  expect_warning_free(brdf_variants(), {{{"BRDFBAKE_LANES", "8"}}, {{"BRDFBAKE_LANES", "16"}}});
+}
+TEST(KernelBuild, EnvironmentVariantsAreWarningFree) { expect_warning_free(environment_variants()); }
+
+}  // namespace
+}  // namespace brdfbake

@@ -1,0 +1,139 @@
+// Start-up costs only what the job uses (issue 11): the program links no OpenImageIO; commands
+// that compute nothing load no library at run time (no OpenCL implementation, no image module);
+// the hot formats (EXR, PNG, HDR) need no OpenImageIO module; other formats load it on demand and
+// fail with one clear line when it is missing. Checked through the dynamic loader's own reports
+// (LD_TRACE_LOADED_OBJECTS, LD_DEBUG=files), never through timings.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "support/cli_runner.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using brdfbake::test::CliRun;
+using brdfbake::test::count_lines;
+using brdfbake::test::run_cli;
+
+constexpr const char* kNoModule = "BRDFBAKE_OIIO_MODULE=/nonexistent/brdfbake_oiio.so";
+
+// The folder of this process's files, removed when the test program exits.
+const fs::path& temp_root() {
+  static const struct Root {
+    fs::path path = fs::temp_directory_path() / ("brdfbake-startup-" + std::to_string(::getpid()));
+    ~Root() {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  } root;
+  return root.path;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = temp_root() / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The libraries the dynamic loader opened at run time (dlopen), from LD_DEBUG=files on stderr.
+std::vector<std::string> dynamically_loaded(const std::string& err) {
+  std::vector<std::string> out;
+  size_t at = 0;
+  while ((at = err.find("dynamically loaded by", at)) != std::string::npos) {
+    const size_t line = err.rfind('\n', at) + 1;
+    out.push_back(err.substr(line, at - line));
+    at += 10;
+  }
+  return out;
+}
+
+void write_png_equirect(const fs::path& p) {
+  auto out = OIIO::ImageOutput::create(p.string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(16, 8, 3, OIIO::TypeDesc::UINT8);
+  std::vector<unsigned char> px(16 * 8 * 3, 128);
+  ASSERT_TRUE(out->open(p.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+  out->close();
+}
+
+TEST(Startup, TheProgramDoesNotLinkOpenImageIo) {
+  const CliRun r = run_cli("", "", "LD_TRACE_LOADED_OBJECTS=1");
+  ASSERT_TRUE(contains(r.out, "libc.so")) << r.out;  // the loader did list the libraries
+  EXPECT_FALSE(contains(r.out, "OpenImageIO")) << r.out;
+}
+
+TEST(Startup, CommandsThatComputeNothingLoadNothing) {
+  const fs::path dir = temp_dir("nothing");
+  const std::vector<std::string> commands = {"--help", "lut --help", "irradiance --help",
+                                             "lut --size 0 --quiet -o " + (dir / "t.exr").string()};
+  for (const std::string& args : commands) {
+    const CliRun r = run_cli(args, "", "LD_DEBUG=files");
+    ASSERT_TRUE(contains(r.err, "needed by")) << "LD_DEBUG=files reported nothing: " << r.err;
+    EXPECT_EQ(dynamically_loaded(r.err), std::vector<std::string>{}) << args;
+  }
+}
+
+// 3-band SH alone is a host computation: no OpenCL implementation is loaded.
+TEST(Startup, ShAloneOpensNoOpenClPlatform) {
+  const fs::path dir = temp_dir("sh");
+  const fs::path hdr = dir / "env.hdr";
+  ASSERT_EQ(run_cli("lut --kind ggx --size 16 --height 8 --quiet -o " + hdr.string()).code, 0);
+  const CliRun r = run_cli("irradiance --env " + hdr.string() + " --sh 3 --quiet -o " + (dir / "sh.json").string(), "",
+                           "LD_DEBUG=files");
+  EXPECT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(contains(r.err, "needed by")) << "LD_DEBUG=files reported nothing";
+  EXPECT_EQ(dynamically_loaded(r.err), std::vector<std::string>{});
+  EXPECT_TRUE(fs::exists(dir / "sh.json"));
+}
+
+TEST(Startup, HotFormatsNeedNoOpenImageIoModule) {
+  const fs::path dir = temp_dir("hot");
+  for (const char* ext : {".exr", ".png", ".hdr"}) {
+    const fs::path out = dir / (std::string("dfg") + ext);
+    const CliRun r = run_cli("lut --kind ggx --size 8 --png-range scale --quiet -o " + out.string(), "", kNoModule);
+    EXPECT_EQ(r.code, 0) << ext << ": " << r.err;
+    EXPECT_TRUE(fs::exists(out)) << ext;
+  }
+  // the outputs read back as environments (.exr and .hdr at 2:1) without the module either
+  const fs::path hdr = dir / "env.hdr";
+  ASSERT_EQ(run_cli("lut --kind ggx --size 16 --height 8 --quiet -o " + hdr.string()).code, 0);
+  const CliRun r = run_cli("irradiance --env " + hdr.string() + " --source-size 8 --quiet -o " +
+                               (dir / "sh.json").string(),
+                           "", std::string(kNoModule) + " LD_DEBUG=files");
+  EXPECT_EQ(r.code, 0) << r.err;
+  for (const std::string& lib : dynamically_loaded(r.err))
+    EXPECT_FALSE(contains(lib, "brdfbake_oiio") || contains(lib, "OpenImageIO")) << lib;
+}
+
+TEST(Startup, OtherFormatsLoadTheModuleOnDemand) {
+  const fs::path dir = temp_dir("other");
+  const fs::path png = dir / "env.png";
+  write_png_equirect(png);
+  const std::string args = "irradiance --env " + png.string() + " --source-size 8 --quiet -o ";
+  // with the module (found beside the executable): it is loaded, and the job runs
+  const CliRun ok = run_cli(args + (dir / "sh.json").string(), "", "LD_DEBUG=files");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  bool loaded = false;
+  for (const std::string& lib : dynamically_loaded(ok.err)) loaded |= contains(lib, "brdfbake_oiio.so");
+  EXPECT_TRUE(loaded);
+  // without it: one line that names the module and how to point at it, and no output
+  const CliRun missing = run_cli(args + (dir / "sh2.json").string(), "", kNoModule);
+  EXPECT_NE(missing.code, 0);
+  EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "env.png")) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "brdfbake_oiio.so")) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "BRDFBAKE_OIIO_MODULE")) << missing.err;
+  EXPECT_FALSE(fs::exists(dir / "sh2.json"));
+}
+
+}  // namespace
