@@ -12,6 +12,7 @@ command-line tool's writers, atomic):
 >>> chain = brdfbake.prefilter("builtin:studio", size=64)
 >>> merl = brdfbake.tabulate({"model": "disney", "roughness": 0.3}, layout="merl")
 >>> manifest = brdfbake.run("job.json", "out")
+>>> manifest = brdfbake.bake_scene("scene.glb", "out", target="filament")
 
 Batches across a Dask cluster: :mod:`brdfbake.dask`. The guide with examples: docs/PYTHON.md.
 
@@ -26,10 +27,12 @@ from ._api import (
     Environment,
     Result,
     bake,
+    bake_scene,
     devices,
     function_of,
     kinds,
     load_environment,
+    plan_options,
     run,
     schema,
     validate,
@@ -44,6 +47,6 @@ globals().update(_FUNCTIONS)
 # `eval` stays out of the star-import, which would shadow the builtin: use brdfbake.eval.
 __all__ = [
     "ArgumentError", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
-    "bake", "devices", "function_of", "kinds", "load_environment", "run", "schema", "validate",
+    "bake", "bake_scene", "devices", "function_of", "kinds", "load_environment", "plan_options", "run", "schema", "validate",
     *sorted(name for name in _FUNCTIONS if name != "eval"),
 ]

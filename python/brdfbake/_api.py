@@ -665,6 +665,49 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
     return json.loads(manifest)
 
 
+def bake_scene(scene: "os.PathLike[str] | str | None" = None, output_dir: "os.PathLike[str] | str | None" = None,
+               *, env: "os.PathLike[str] | str" = "builtin:studio", sanitize: bool = False, target: str = "generic",
+               device: Optional[str] = None, precision: str = "fp32", pixel: Optional[str] = None,
+               dry_run: bool = False, progress: Optional[Callable[[Dict[str, Any]], None]] = None,
+               **options: Any) -> Dict[str, Any]:
+    """Bakes what a glTF scene's materials call for, as ``brdfbake bake`` does (docs/SCENES.md), and
+    returns the manifest as a dict; with ``dry_run=True`` bakes nothing and returns the plan: the job
+    document (``brdfbake.run`` accepts it) with its ``"plan"`` section (the rules that fired, and
+    for each material why).
+
+    ``scene`` is a .gltf or .glb path; ``None`` plans the standard set for metallic-roughness
+    materials. ``env`` is an environment path or ``builtin:NAME``. ``target`` adds an engine's file
+    set (docs/ENGINES.md: ``"filament"``, ``"gltf"``, ``"babylon"``, ``"khronos-viewer"``) with its
+    schedule, sizes and SH window. ``options`` are the planner's other options, the command's long
+    options with ``_`` for ``-`` (:func:`plan_options` lists them): ``lut_size``, ``cube_size``,
+    ``min_size``, ``schedule``, ``prefilter_max_error``, ``fresnel_size``, ``thin_film_size``,
+    ``sh_order``, ``sheen_visibility``, ``energy_compensation``, ``table_format``, ``cube_format``.
+
+    >>> plan = brdfbake.bake_scene("scene.glb", dry_run=True, target="filament")
+    >>> manifest = brdfbake.bake_scene("scene.glb", "out", target="filament", cube_size=128)
+    """
+    scene_path = "" if scene is None else _text_path(scene, "bake_scene.scene")
+    env_text = _text_path(env, "bake_scene.env")
+    opts = [("target", target)] + [(name, _number(v, "bake_scene." + name)) for name, v in options.items()]
+    for name, v in (("device", device), ("pixel", pixel)):
+        if v is not None and not isinstance(v, str):
+            raise InputError(f"bake_scene.{name}: must be a string (got {type(v).__name__})")
+    if not isinstance(precision, str):
+        raise InputError(f"bake_scene.precision: must be a string (got {type(precision).__name__})")
+    job = json.loads(_core.plan(scene_path, opts, env_text, bool(sanitize), pixel or "", precision, device or ""))
+    if dry_run:
+        return job
+    if output_dir is None:
+        raise InputError("bake_scene.output_dir: missing (give the folder to bake into, or dry_run=True)")
+    return run(job, output_dir, progress=progress)
+
+
+def plan_options() -> List[Dict[str, Any]]:
+    """The options of :func:`bake_scene` (the planner's, those of ``brdfbake bake``): name, type,
+    choices, default, help and the command-line option."""
+    return _core.plan_schema()
+
+
 def devices() -> List[Dict[str, Any]]:
     """The OpenCL devices: selector ("P:D"), name, type, vendor, platform, versions, compute units,
     memory, fp64, and which is the default. ``device="reference"`` (the scalar double reference) is

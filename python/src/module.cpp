@@ -13,6 +13,8 @@
 
 #include "backends.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
+#include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "convert.hpp"
 #include "results.hpp"
@@ -245,6 +247,41 @@ std::string run(const std::string& job_text, bool is_path, const std::string& or
   return manifest_to_json(m);
 }
 
+// The scene planner (`brdfbake bake`): the job that bakes what `scene`'s materials call for (the
+// standard set when `scene` is empty), as a job document with its "plan" section. `options` are
+// [(name, value), ...] of plan_schema(), checked as the command line and the server check them.
+std::string plan(const std::string& scene, const py::list& options, const std::string& environment, bool sanitize,
+                 const std::string& pixel, const std::string& precision, const std::string& device) {
+  Params params;
+  for (const py::handle item : options) {
+    const auto pair = item.cast<py::tuple>();
+    const std::string name = pair[0].cast<std::string>();
+    const ParamDef* d = find_param_def(plan_schema(), name);
+    if (!d) {
+      std::string names;
+      for (const auto& def : plan_schema()) names += (names.empty() ? "" : ", ") + def.name;
+      throw Error("bake_scene: " + name.substr(0, 60) + ": unknown option (expected " + names + ")");
+    }
+    const ParamValue v = to_param(pair[1], "bake_scene." + name);
+    check_param(*d, v, "bake_scene." + name);
+    params.push_back({name, v});
+  }
+  PlanOptions o = plan_options_from_params(params, false);
+  o.environment = environment;
+  o.sanitize = sanitize;
+  if (!pixel.empty() && pixel != "f16" && pixel != "f32")
+    throw Error("bake_scene.pixel: must be f16 or f32 (got '" + pixel.substr(0, 20) + "')");
+  o.pixel = pixel;
+  try {
+    o.precision = precision_from_name(precision);
+  } catch (const Error& e) {
+    throw Error("bake_scene.precision: " + std::string(e.what()));
+  }
+  o.device = device;
+  const py::gil_scoped_release release;  // reading a large .glb
+  return plan_to_json(scene.empty() ? plan_default(o) : plan_scene(read_scene(scene), o));
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_brdfbake, m) {
@@ -297,4 +334,20 @@ PYBIND11_MODULE(_brdfbake, m) {
         py::arg("environment") = py::none(), py::arg("pairs") = py::none(), py::arg("progress") = py::none());
   m.def("run", &run, py::arg("job"), py::arg("is_path"), py::arg("origin"), py::arg("output_dir"),
         py::arg("sanitize") = false, py::arg("progress") = py::none());
+  m.def("plan", &plan, py::arg("scene"), py::arg("options"), py::arg("environment"), py::arg("sanitize"),
+        py::arg("pixel"), py::arg("precision"), py::arg("device"));
+  m.def("plan_schema", [] {
+    py::list out;
+    for (const ParamDef& d : plan_schema()) {
+      py::dict p;
+      p["name"] = d.name;
+      p["type"] = type_name(d.type);
+      p["choices"] = d.choices;
+      p["default"] = d.fallback ? from_param(*d.fallback, &d) : py::none();
+      p["help"] = d.help;
+      p["cli"] = "--" + d.cli_name();
+      out.append(p);
+    }
+    return out;
+  });
 }
