@@ -21,6 +21,15 @@ without the GIL (calls from several threads share a device one call at a time). 
 :class:`Error` subclasses carrying the command-line tool's one-line message.
 """
 
+import os as _os
+
+# The OpenImageIO module installed beside the extension (PNG, TIFF, JPEG... environments): the library
+# looks for it beside the executable (here the interpreter) unless BRDFBAKE_OIIO_MODULE names it.
+_oiio = _os.path.join(_os.path.dirname(__file__), "brdfbake_oiio.so")
+if _os.path.isfile(_oiio):
+    _os.environ.setdefault("BRDFBAKE_OIIO_MODULE", _oiio)
+del _oiio
+
 from ._errors import ArgumentError, DeviceError, Error, InputError, NotAvailableError
 from . import _brdfbake
 from ._api import (

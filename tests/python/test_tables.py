@@ -171,3 +171,28 @@ def test_devices_and_generic_bake():
     r = brdfbake.bake("thin-film", base_ior=1.5, size=8)
     assert r.kind == "thin-film" and r.array.shape[1] == 8
     assert brdfbake.function_of("charlie") is brdfbake.lut
+
+
+def _white_png(path, width, height):
+    """An 8-bit RGB PNG, every texel 255 (1.0 with or without an sRGB decode), written by hand."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    rows = b"".join(b"\x00" + b"\xff" * (3 * width) for _ in range(height))
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+                     + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def test_a_png_environment_goes_through_the_installed_openimageio_module(tmp_path):
+    # PNG is read by the OpenImageIO module the package installs beside the extension and names.
+    import os
+    module = os.environ.get("BRDFBAKE_OIIO_MODULE", "")
+    assert os.path.dirname(module) == os.path.dirname(brdfbake.__file__) and os.path.isfile(module)
+    _white_png(tmp_path / "white.png", 64, 32)
+    env = brdfbake.load_environment(tmp_path / "white.png")
+    assert (env.width, env.height) == (64, 32)
+    r = brdfbake.irradiance(env, sh_order=3)
+    np.testing.assert_allclose(r.sh["irradiance_over_pi"][0], 2 * math.sqrt(math.pi), rtol=ENV_FURNACE)
