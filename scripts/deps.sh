@@ -16,6 +16,7 @@ BRDFBAKE_PACKAGES=(
   libpng-dev libastcenc-dev
   libgtest-dev libgmock-dev
   gnuplot-nox
+  python3-venv python3-dev python3-pip
 )
 # Used only by the test suite: Filament's own KtxBundle and cmgen check the Filament target
 # (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output

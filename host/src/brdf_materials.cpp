@@ -6,6 +6,7 @@
 // tooling does not have (shared/scenes holds the JSON alone).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -290,6 +291,16 @@ std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const s
 }
 
 std::vector<NamedMaterial> read_materials(const std::string& path) {
+  // In-memory material JSON (the Python package): text starting with '{' that names no file.
+  if (const size_t first = path.find_first_not_of(" \t\r\n"); first != std::string::npos && path[first] == '{') {
+    std::error_code ec;  // a name too long for a path is no file either
+    if (!std::filesystem::exists(path, ec)) {
+      const json doc = io::parse_json(path, "material JSON");
+      if (doc.is_object() && doc.contains("asset") && doc["asset"].is_object())
+        return parse_gltf_materials(path, "material JSON");
+      return parse_materials_json(path, "material JSON");
+    }
+  }
   auto ends_with = [&](const char* ext) {
     const std::string e(ext);
     if (path.size() < e.size()) return false;

@@ -356,6 +356,25 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   return env;
 }
 
+EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
+                                   const EnvLoadOptions& options) {
+  if (height < 1 || width != 2 * height)
+    throw Error("environment '" + source + "' is " + std::to_string(width) + "x" + std::to_string(height) +
+                ": an equirect must be twice as wide as it is high");
+  if (rgb.size() != 3u * static_cast<size_t>(width) * static_cast<size_t>(height))
+    throw Error("environment '" + source + "': " + std::to_string(rgb.size()) + " values for " +
+                std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");
+  EnvImage env;
+  env.layout = EnvImage::Layout::Equirect;
+  env.width = width;
+  env.height = height;
+  env.rgb = std::move(rgb);
+  env.source = source;
+  env.description = "equirect " + std::to_string(width) + "x" + std::to_string(height) + " (in memory)";
+  validate(env, options.sanitize);
+  return env;
+}
+
 void check_environment_source(const std::string& spec) {
   if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
   if (spec.rfind("builtin:", 0) == 0) {

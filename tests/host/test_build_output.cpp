@@ -121,8 +121,9 @@ TEST(BuildOutput, CompilerWarningsGoToTheObserverNotStderr) {
   EXPECT_EQ(seen, "");
   EXPECT_NE(log.find("a deliberate warning"), std::string::npos) << log;
   // what PoCL printed on its own is in the log too
-  if (device->info().platform_name.find("Portable Computing Language") != std::string::npos)
+  if (device->info().platform_name.find("Portable Computing Language") != std::string::npos) {
     EXPECT_NE(log.find("warning generated."), std::string::npos) << log;
+  }
 }
 
 // A first run from cold caches (ours and PoCL's): nothing on stderr with --quiet; one line a

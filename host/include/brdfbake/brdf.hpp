@@ -96,7 +96,9 @@ std::vector<NamedMaterial> parse_materials_json(const std::string& text, const s
 // Textures, buffers and images are not read (each ignored texture is listed in `notes`).
 std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const std::string& origin);
 // Reads `path`: a .gltf file (or any JSON with an "asset" object) as glTF, anything else as ours.
-// A .glb file is refused with a message.
+// A .glb file is refused with a message. A JSON document itself may stand in place of the path (text
+// starting with '{' that names no file): the Python package passes in-memory materials this way, so
+// that they reach the same parser, checks, metadata and bake key as a file.
 std::vector<NamedMaterial> read_materials(const std::string& path);
 // Throws Error("<where>: <field> must be ...") for a parameter out of range or NaN.
 void validate_material(const Material& material, const std::string& where);

@@ -58,6 +58,11 @@ struct EnvLoadOptions {
 // non-2:1 (and non-cross) image, faces of different sizes, and (unless options.sanitize) NaN,
 // infinite or negative values, naming how many of each.
 EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options = {});
+// An equirect already in memory (the Python package's NumPy arrays): width = 2 height, width x
+// height x 3 linear RGB floats, row 0 first. Checked (and with options.sanitize, repaired) as
+// load_environment checks a file; `source` names it in messages and metadata.
+EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
+                                   const EnvLoadOptions& options = {});
 
 // Checks cheaply, without reading pixels, that `spec` names something load_environment can open
 // (a known builtin, existing readable files): commands call it before slow work.

@@ -4,6 +4,7 @@
 // these calls; each family has one home (host/src/families/, docs/ARCHITECTURE.md).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -156,6 +157,10 @@ struct BakeResult {
 // What a bake reads beside its parameters.
 struct BakeInputs {
   const EnvImage* environment = nullptr;  // prefilter, irradiance
+  // eval: pairs already in memory (6 values a pair: wi, wo), read instead of the `input` file (the
+  // Python package's arrays).
+  const double* pairs = nullptr;
+  std::size_t pair_count = 0;
 };
 
 // Fraction done (0..1) and a short label of the step ("level 2/5").

@@ -347,19 +347,30 @@ class EvalFamily final : public Family {
     if (!t.format.empty()) throw FieldError("format", "eval's output is CSV, or float32 with binary: give no format");
   }
 
-  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress&) const override {
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs, const BakeProgress&) const override {
     const Chosen c = choose_material(t, [](const std::string& f) { return f; });
     std::unique_ptr<PairEvaluator> ev;
     auto get = [&]() -> PairEvaluator& {
       if (!ev) ev = backend.evaluator(c.model, {c.material.params}, eval_options(t));
       return *ev;
     };
-    Input in(t.text("input"));
     EvalResult res;
     double device_seconds = 0.0;
-    res.pairs = stream_pairs(in, t.flag("binary"), get, &device_seconds,
-                             [&](const double* f, size_t n) { res.values.insert(res.values.end(), f, f + 3 * n); },
-                             kMaxPairsInMemory);
+    if (inputs.pairs) {  // in memory: the same chunks through the same evaluator
+      res.pairs = inputs.pair_count;
+      res.values.assign(3 * inputs.pair_count, 0.0);
+      for (size_t at = 0; at < inputs.pair_count; at += kChunkPairs) {
+        const size_t n = std::min(kChunkPairs, inputs.pair_count - at);
+        EvalTiming timing;
+        get().eval(inputs.pairs + 6 * at, n, res.values.data() + 3 * at, &timing);
+        device_seconds += timing.device_seconds;
+      }
+    } else {
+      Input in(t.text("input"));
+      res.pairs = stream_pairs(in, t.flag("binary"), get, &device_seconds,
+                               [&](const double* f, size_t n) { res.values.insert(res.values.end(), f, f + 3 * n); },
+                               kMaxPairsInMemory);
+    }
     res.material = c.material.name;
     res.metadata = {{"model", brdf_model_name(c.model)}, {"material", material_to_json(c.material)}};
     BakeResult r;

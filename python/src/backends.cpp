@@ -1,0 +1,108 @@
+#include "backends.hpp"
+
+#include <map>
+#include <mutex>
+
+namespace brdfbake::python {
+
+namespace {
+
+// Serialises every call into one backend. Each family entry is one call, so a lock is never held
+// across two backends (no ordering between devices, no deadlock); an evaluator made by the backend
+// takes the same lock for each batch.
+class LockedBackend final : public Backend {
+ public:
+  explicit LockedBackend(std::shared_ptr<Backend> inner) : inner_(std::move(inner)) {}
+
+  bool is_reference() const override { return inner_->is_reference(); }
+  std::string name() const override { return inner_->name(); }
+  Device* device() override { return inner_->device(); }
+  Precision result_precision(Precision requested) const override { return inner_->result_precision(requested); }
+
+  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->lut(s, t, p);
+  }
+  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->fresnel(s, t);
+  }
+  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->thin_film(s, t);
+  }
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->prefilter(env, s, t, p);
+  }
+  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->irradiance(env, s, p);
+  }
+  std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
+                                           const EvalOptions& options) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return std::make_unique<LockedEvaluator>(inner_->evaluator(model, materials, options), mutex_);
+  }
+  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->tabulate_merl(s, t);
+  }
+  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    return inner_->tabulate(s, t);
+  }
+
+ private:
+  class LockedEvaluator final : public PairEvaluator {
+   public:
+    LockedEvaluator(std::unique_ptr<PairEvaluator> inner, std::shared_ptr<std::mutex> mutex)
+        : inner_(std::move(inner)), mutex_(std::move(mutex)) {}
+    ~LockedEvaluator() override {
+      std::lock_guard<std::mutex> lock(*mutex_);  // its device buffers are released under the lock too
+      inner_.reset();
+    }
+    void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
+      std::lock_guard<std::mutex> lock(*mutex_);
+      inner_->eval(pairs, count, out, timing);
+    }
+
+   private:
+    std::unique_ptr<PairEvaluator> inner_;
+    std::shared_ptr<std::mutex> mutex_;
+  };
+
+  std::shared_ptr<Backend> inner_;
+  std::shared_ptr<std::mutex> mutex_ = std::make_shared<std::mutex>();
+};
+
+std::mutex cache_mutex;
+// Keyed by the device a selector resolves to ("P:D"), or "reference". Never destroyed: a device's
+// OpenCL context must not be released after the ICD loader has unloaded at interpreter exit.
+auto* cache = new std::map<std::string, std::shared_ptr<Backend>>();
+
+}  // namespace
+
+std::shared_ptr<Backend> shared_backend(const std::string& selector) {
+  std::string key = "reference";
+  DeviceInfo info;
+  if (selector != "reference") {
+    info = select_device(selector);
+    key = std::to_string(info.platform_index) + ":" + std::to_string(info.device_index);
+  }
+  std::lock_guard<std::mutex> lock(cache_mutex);
+  auto it = cache->find(key);
+  if (it == cache->end()) {
+    std::shared_ptr<Backend> inner =
+        selector == "reference" ? Backend::open(std::string("reference")) : Backend::open(Device::open(info));
+    it = cache->emplace(key, std::make_shared<LockedBackend>(std::move(inner))).first;
+  }
+  return it->second;
+}
+
+int opened_backends() {
+  std::lock_guard<std::mutex> lock(cache_mutex);
+  return static_cast<int>(cache->size());
+}
+
+}  // namespace brdfbake::python

@@ -1,0 +1,201 @@
+#include "results.hpp"
+
+#include <pybind11/stl.h>
+
+#include <filesystem>
+
+#include "convert.hpp"
+
+namespace brdfbake::python {
+
+namespace {
+
+// A read-only float32 view of `data` owned by `owner` (the Result): NumPy holds a reference to the
+// owner for as long as the array (or any view of it) lives.
+py::array view(const py::handle& owner, const float* data, std::vector<py::ssize_t> shape,
+               std::vector<py::ssize_t> strides_in_floats) {
+  std::vector<py::ssize_t> strides;
+  for (py::ssize_t s : strides_in_floats) strides.push_back(s * static_cast<py::ssize_t>(sizeof(float)));
+  py::array_t<float> a(shape, strides, data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return std::move(a);
+}
+
+const char* artifact_name(const BakeResult& r) {
+  if (r.table()) return "table";
+  if (r.cube()) return "cube";
+  if (r.irradiance()) return "irradiance";
+  if (r.merl()) return "merl";
+  if (r.eval()) return "eval";
+  return "none";
+}
+
+// The levels of a cube as (6, s, s, 3) views of its RGBA texels (alpha, always 1, left out).
+py::list cube_views(const py::handle& owner, const CubeLevels& cube) {
+  py::list levels;
+  for (int l = 0; l < cube.level_count(); ++l) {
+    const py::ssize_t s = cube.level_size(l);
+    levels.append(view(owner, cube.levels[static_cast<size_t>(l)].data(), {6, s, s, 3}, {s * s * 4, s * 4, 4, 1}));
+  }
+  return levels;
+}
+
+py::array sh_array(const std::vector<double>& values, int order) {
+  py::array_t<double> a({static_cast<py::ssize_t>(order) * order, py::ssize_t(3)});
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return std::move(a);
+}
+
+// The float32 copy of a MERL table (theta_h, theta_d, phi_d, channel) or of eval values (pair, channel).
+void convert(PyResult& r) {
+  std::call_once(r.converted_once, [&] {
+    if (const MerlTable* m = r.result.merl()) {
+      r.converted.resize(3 * kMerlBins);
+      for (size_t c = 0; c < 3; ++c)
+        for (size_t b = 0; b < kMerlBins; ++b) r.converted[3 * b + c] = static_cast<float>(m->values[c * kMerlBins + b]);
+    } else if (const EvalResult* e = r.result.eval()) {
+      r.converted.assign(e->values.begin(), e->values.end());
+    }
+  });
+}
+
+void save(PyResult& r, const std::string& path, const std::string& format, const std::string& pixel,
+          const py::list& output_params) {
+  TableRequest t = r.request;
+  const std::string prefix = r.prefix + ".save";
+  const FieldNaming naming{prefix, false};
+  t.output = path;
+  t.format = format;
+  if (!pixel.empty()) t.pixel = pixel;
+  const auto& schema = table_schema(t.kind);
+  for (const py::handle item : output_params) {
+    const auto pair = item.cast<py::tuple>();
+    const std::string name = pair[0].cast<std::string>();
+    const ParamDef* d = find_param_def(schema, name);
+    if (!d || !d->output_only) {
+      std::string names;
+      for (const auto& o : schema)
+        if (o.output_only) names += (names.empty() ? "" : ", ") + o.name;
+      throw Error(naming.field(t.kind, name) + ": not an output parameter of " + table_kind_name(t.kind) +
+                  " (save takes path, format, pixel" + (names.empty() ? "" : ", " + names) +
+                  "; parameters of what is baked go to the baking call)");
+    }
+    const ParamValue v = to_param(pair[1], naming.field(t.kind, name));
+    t.set(name, v);
+  }
+  if (t.kind == TableKind::Eval) {
+    // The bytes follow the file name: float32 for .f32 .bin .raw, CSV otherwise.
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    t.set("binary", ext == ".f32" || ext == ".bin" || ext == ".raw");
+  }
+  validate_table(t, naming);
+  TableRequest baked = r.request;
+  if (t.kind == TableKind::Eval) baked.set("binary", t.flag("binary"));  // how it is written, not what
+  if (table_bake_key(t) != table_bake_key(baked)) {
+    // The output asks for a different table (an irradiance cube from a result baked as SH only, ...).
+    std::string what;
+    for (const Param& p : t.params) {
+      const ParamValue* before = r.request.find(p.name);
+      if (!before || param_value_text(*before) != param_value_text(p.value))
+        what += (what.empty() ? "" : ", ") + p.name + "=" + param_value_text(p.value);
+    }
+    throw Error(prefix + ": '" + path + "' needs a table baked with " + (what.empty() ? "other parameters" : what) +
+                "; bake it with them (or save to another format)");
+  }
+  const py::gil_scoped_release release;
+  write_result(r.result, t, path);
+}
+
+}  // namespace
+
+void bind_results(py::module_& module) {
+  py::class_<PyResult, std::shared_ptr<PyResult>>(module, "Result", "A baked table (see brdfbake.Result)")
+      .def_property_readonly("kind", [](const PyResult& r) { return std::string(table_kind_name(r.result.kind)); })
+      .def_property_readonly("artifact", [](const PyResult& r) { return std::string(artifact_name(r.result)); })
+      .def_property_readonly("summary", [](const PyResult& r) { return r.result.summary; })
+      .def_property_readonly("device", [](const PyResult& r) { return r.result.device; })
+      .def_property_readonly("seconds", [](const PyResult& r) { return r.result.seconds; })
+      .def_property_readonly("device_seconds", [](const PyResult& r) { return r.result.device_seconds; })
+      .def_property_readonly("error_bound", [](const PyResult& r) -> py::object {
+        if (r.result.error_bound) return py::float_(*r.result.error_bound);
+        return py::none();
+      })
+      .def_property_readonly("error_bound_definition", [](const PyResult& r) { return r.result.error_bound_definition; })
+      .def_property_readonly("parameters", [](const PyResult& r) { return params_dict(r.result.parameters, r.result.kind); })
+      .def_property_readonly("details", [](const PyResult& r) { return metadata_dict(r.result.details); })
+      .def_property_readonly("request", [](const PyResult& r) { return request_dict(r.request); })
+      .def_property_readonly("metadata", [](const PyResult& r) -> py::dict {
+        // What the file carries: the artifact's own metadata (irradiance: see sh_json).
+        if (const Table* t = r.result.table()) return metadata_dict(t->metadata);
+        if (const CubeLevels* c = r.result.cube()) return metadata_dict(c->metadata);
+        if (const IrradianceResult* i = r.result.irradiance()) return metadata_dict(i->cube.metadata);
+        if (const MerlTable* m = r.result.merl()) return metadata_dict(m->metadata);
+        if (const EvalResult* e = r.result.eval()) return metadata_dict(e->metadata);
+        return {};
+      })
+      .def("table_array", [](py::object self) -> py::object {
+        const PyResult& r = self.cast<const PyResult&>();
+        const Table* t = r.result.table();
+        if (!t) return py::none();
+        const py::ssize_t c = t->channel_count(), w = t->width, h = t->height;
+        return view(self, t->data.data(), {h, w, c}, {w * c, c, 1});
+      })
+      .def("table_axes", [](const PyResult& r) -> py::object {
+        const Table* t = r.result.table();
+        if (!t) return py::none();
+        py::dict d;
+        d["channels"] = t->channels;
+        d["x_name"] = t->x_name;
+        d["y_name"] = t->y_name;
+        d["x"] = py::array_t<double>(static_cast<py::ssize_t>(t->x.size()), t->x.data());
+        d["y"] = py::array_t<double>(static_cast<py::ssize_t>(t->y.size()), t->y.data());
+        return std::move(d);
+      })
+      .def("cube_levels", [](py::object self) -> py::object {
+        const PyResult& r = self.cast<const PyResult&>();
+        if (const CubeLevels* c = r.result.cube()) return cube_views(self, *c);
+        if (const IrradianceResult* i = r.result.irradiance())
+          if (i->cube.level_count() > 0) return cube_views(self, i->cube);
+        return py::none();
+      })
+      .def("sh", [](const PyResult& r) -> py::object {
+        const IrradianceResult* i = r.result.irradiance();
+        if (!i) return py::none();
+        py::dict d;
+        d["order"] = i->sh.order;
+        d["radiance"] = sh_array(i->sh.radiance, i->sh.order);
+        d["irradiance_over_pi"] = sh_array(i->sh.irradiance_over_pi, i->sh.order);
+        d["window"] = sh_window_name(i->sh.window);
+        d["window_weights"] = i->sh.window_weights;
+        return std::move(d);
+      })
+      .def("sh_json", [](const PyResult& r) -> py::object {
+        const IrradianceResult* i = r.result.irradiance();
+        if (!i) return py::none();
+        Metadata m;
+        for (const auto& [k, v] : r.result.details)
+          if (k == "source" || k == "source_size") m.push_back({k, v});
+        return py::str(sh_to_json(i->sh, m));
+      })
+      .def("converted_array", [](py::object self) -> py::object {
+        PyResult& r = self.cast<PyResult&>();
+        if (r.result.merl()) {
+          {
+            const py::gil_scoped_release release;
+            convert(r);
+          }
+          return view(self, r.converted.data(), {kMerlThetaH, kMerlThetaD, kMerlPhiD, 3},
+                      {kMerlThetaD * kMerlPhiD * 3, kMerlPhiD * 3, 3, 1});
+        }
+        if (const EvalResult* e = r.result.eval()) {
+          convert(r);
+          return view(self, r.converted.data(), {static_cast<py::ssize_t>(e->pairs), 3}, {3, 1});
+        }
+        return py::none();
+      })
+      .def("save", &save, py::arg("path"), py::arg("format") = "", py::arg("pixel") = "",
+           py::arg("output_params") = py::list());
+}
+
+}  // namespace brdfbake::python

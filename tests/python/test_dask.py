@@ -1,0 +1,110 @@
+"""brdfbake.dask on a 2-worker LocalCluster (separate processes, one device each): jobs, materials
+and environments baked across workers, failures reported per item without losing the others."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+import brdfbake
+
+distributed = pytest.importorskip("distributed", reason="dask.distributed is not installed (pip install dask[distributed])")
+import brdfbake.dask as bdask  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def client():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=40) as cluster, distributed.Client(cluster) as c:
+        c.register_plugin(bdask.DevicePlugin())
+        yield c
+
+
+def csv_values(path):
+    rows = [l for l in open(path) if not l.startswith("#")][1:]
+    return np.array([[float(x) for x in r.split(",")] for r in rows])
+
+
+def test_eight_jobs_one_failing(client, tmp_path):
+    jobs = [{"brdfbake_job": 1, "tables": [{"kind": "ggx", "size": 8 + i, "output": "dfg.csv"}]} for i in range(7)]
+    # The failure happens on a worker, at bake time: its environment does not exist.
+    jobs.insert(5, {"brdfbake_job": 1, "environment": str(tmp_path / "missing.hdr"), "tables": [{"kind": "irradiance"}]})
+    batch = bdask.bake(client, jobs, output_root=tmp_path / "out")
+    assert len(batch) == 8
+    assert [o.name for o in batch.failed] == ["job-00005"]
+    failed = batch.failed[0]
+    assert failed.error_type == "InputError" and "missing.hdr" in failed.error
+    assert not (tmp_path / "out" / "job-00005").exists()  # all or nothing
+    assert len(batch.succeeded) == 7
+    workers = set()
+    for o in batch.succeeded:
+        size = o.value["files"][0]["parameters"]["size"]
+        folder = tmp_path / "out" / o.name
+        assert json.loads((folder / "manifest.json").read_text()) == o.value
+        got = csv_values(folder / "dfg.csv")[:, 2:].astype(np.float32).reshape(size, size, 3)
+        # Correct: the very table this process bakes itself (same kernels, same device kind).
+        np.testing.assert_array_equal(got, brdfbake.lut(kind="ggx", size=size).array)
+        workers.add(o.worker)
+    assert len(workers) == 2  # both workers took part
+    with pytest.raises(brdfbake.Error, match="1 of 8 items failed: job-00005"):
+        batch.raise_for_failures()
+
+
+def test_materials_come_back_as_arrays(client):
+    mats = [{"name": f"m{i}", "model": "gltf", "baseColor": [0.9, 0.5, 0.1], "roughness": 0.2 + 0.3 * i}
+            for i in range(3)]
+    batch = bdask.bake(client, mats, kind="tabulate", layout="merl")
+    assert [o.name for o in batch] == ["m0", "m1", "m2"] and not batch.failed
+    for m, o in zip(mats, batch):
+        np.testing.assert_array_equal(o.value["array"], brdfbake.tabulate(m, layout="merl").array)
+        assert o.value["meta"]["layout"] == "merl"
+
+
+def test_npy_shards_with_a_bad_material(client, tmp_path):
+    mats = [{"name": f"m{i}", "model": "disney", "roughness": 0.1 * i} for i in range(5)]
+    mats[2]["roughness"] = 2.0  # out of range: this one fails, its shard keeps the other
+    batch = bdask.bake(client, mats, kind="tabulate", layout="merl", output_root=tmp_path, output_format="npy",
+                       shard_size=2)
+    assert [o.name for o in batch.failed] == ["m2"] and "roughness" in batch.failed[0].error
+    shards = sorted(p.name for p in tmp_path.iterdir())
+    assert shards == ["shard-00000.json", "shard-00000.npy", "shard-00001.json", "shard-00001.npy",
+                      "shard-00002.json", "shard-00002.npy"]
+    s1 = np.load(tmp_path / "shard-00001.npy")
+    assert s1.shape == (1, 90, 90, 180, 3) and s1.dtype == np.float32
+    index = json.loads((tmp_path / "shard-00001.json").read_text())["items"]
+    assert [i["name"] for i in index] == ["m3"]
+    np.testing.assert_array_equal(s1[0], brdfbake.tabulate(mats[3], layout="merl").array)
+    assert batch.by_name()["m4"].value == {"path": str(tmp_path / "shard-00002.npy"), "index": 0,
+                                           "meta": batch.by_name()["m4"].value["meta"]}
+
+
+def test_environments_written_under_the_output_root(client, tmp_path):
+    white = np.ones((16, 32, 3), np.float32)
+    batch = bdask.bake(client, [white, "builtin:studio", str(tmp_path / "nope.exr")], kind="irradiance",
+                       names=["white", "studio", "nope"], output_root=tmp_path, sh_order=5)
+    assert [o.name for o in batch.failed] == ["nope"]
+    sh = json.loads((tmp_path / "white.json").read_text())
+    assert sh["order"] == 5
+    np.testing.assert_allclose(sh["irradiance_over_pi"][0], 2 * np.sqrt(np.pi), rtol=1e-5)
+    assert batch.by_name()["studio"].value["path"] == str(tmp_path / "studio.json")
+    assert sorted(os.listdir(tmp_path)) == ["studio.json", "white.json"]  # nothing partial
+
+
+def test_bad_batches_fail_before_submission(client, tmp_path):
+    with pytest.raises(brdfbake.InputError, match="output_root"):
+        bdask.bake(client, [{"brdfbake_job": 1, "tables": []}])
+    with pytest.raises(brdfbake.InputError, match="two items are named"):
+        bdask.bake(client, [{"name": "a"}, {"name": "a"}], kind="tabulate", layout="merl")
+    with pytest.raises(brdfbake.InputError, match="tabulate.layout"):
+        bdask.bake(client, [{"name": "a"}], kind="tabulate", layout="nonesuch")
+    with pytest.raises(brdfbake.InputError, match="unknown table kind"):
+        bdask.bake(client, [{}], kind="nonesuch")
+
+
+def test_without_a_client_the_same_tasks_run_in_this_process(tmp_path):
+    mats = [{"name": "a", "model": "lambert"}, {"name": "b", "model": "lambert", "baseColor": [2, 0, 0]}]
+    batch = bdask.bake(None, mats, kind="tabulate", layout="albedo", res=8, output_root=tmp_path, suffix=".csv")
+    assert [o.name for o in batch.succeeded] == ["a"] and "baseColor" in batch.failed[0].error
+    assert batch[0].value["path"] == str(tmp_path / "a.csv") and sorted(os.listdir(tmp_path)) == ["a.csv"]
+    assert batch[0].worker.endswith(":" + str(os.getpid()))

@@ -1,0 +1,198 @@
+"""Every table family through Python: shapes, zero-copy views, metadata, and values against closed
+forms and the double reference."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import brdfbake
+from tolerances import BRDF_FP32, ENV_FURNACE, FRESNEL_FP32, PREFILTER_FURNACE
+
+
+def test_lut_is_a_view_of_the_result_with_its_metadata():
+    r = brdfbake.lut(kind="ggx", size=32, height=16)
+    a = r.array
+    assert a.shape == (16, 32, 3) and a.dtype == np.float32
+    # No copy: the array's memory belongs to the C++ result, which the array keeps alive.
+    assert not a.flags.owndata and a.base is not None and not a.flags.writeable
+    assert r.array is a
+    axes = r.axes
+    assert axes["channels"] == ["scale", "bias", "diffuse"]
+    np.testing.assert_allclose(axes["x"], (np.arange(32) + 0.5) / 32)  # cell centres (docs/CONVENTIONS.md)
+    np.testing.assert_allclose(axes["y"], (np.arange(16) + 0.5) / 16)
+    meta = r.meta
+    assert meta["kind"] == "ggx" and meta["channels"] == "scale,bias,diffuse"
+    assert isinstance(meta["error_bound"], float) and 0 < meta["error_bound"] <= 1e-4
+    assert meta["error_bound"] == r.error_bound
+    assert r.parameters["samples"] > 0 and r.parameters["size"] == 32
+    # Split-sum sanity at the smoothest row and normal incidence: scale + bias is the directional
+    # albedo of a white specular GGX lobe, at most 1 and near 1 for a smooth surface.
+    assert 0.9 < a[0, -1, 0] + a[0, -1, 1] <= 1.0 + 1e-6
+
+
+def test_array_outlives_the_result():
+    a = brdfbake.lut(kind="charlie", size=8).array  # the Result itself is gone at once
+    import gc
+
+    gc.collect()
+    assert np.isfinite(a).all() and a.shape == (8, 8, 1)
+
+
+def test_fresnel_dielectric_matches_the_closed_form():
+    # endpoints: cos_theta = i / (N - 1), so the last cell is normal incidence and the first grazing.
+    r = brdfbake.fresnel("dielectric", ior=1.5, size=16, endpoints=True)
+    a = r.array
+    assert a.shape == (1, 16, 3)
+    assert abs(a[0, -1, 0] - 0.04) < FRESNEL_FP32  # ((1.5 - 1) / (1.5 + 1))^2
+    assert abs(a[0, 0, 0] - 1.0) < FRESNEL_FP32  # grazing: total reflection
+    # Fresnel's error bound is measured against the double reference at every cell as it is baked.
+    assert r.error_bound is not None and r.error_bound < FRESNEL_FP32
+
+
+def test_eval_lambert_is_albedo_over_pi_and_zero_below_the_horizon():
+    m = {"model": "lambert", "baseColor": [0.5, 0.25, 1.0]}
+    wi = np.array([[0, 0, 1], [0.3, 0.4, 0.5], [0, 0, -1]], dtype=np.float32)
+    r = brdfbake.eval(m, wi, [0, 0.6, 0.8])  # wo broadcast against wi
+    a = r.array
+    assert a.shape == (3, 3) and a.dtype == np.float32
+    np.testing.assert_allclose(a[:2], np.array([[0.5, 0.25, 1.0]] * 2) / math.pi, rtol=BRDF_FP32)
+    assert (a[2] == 0).all()
+    assert r.meta["model"] == "lambert"
+
+
+def test_eval_on_the_device_matches_the_reference(red):
+    rng = np.random.default_rng(7)
+    wi = rng.normal(size=(500, 3))
+    wo = rng.normal(size=(500, 3))
+    wi[:, 2], wo[:, 2] = np.abs(wi[:, 2]) + 0.05, np.abs(wo[:, 2]) + 0.05
+    got = brdfbake.eval(red, wi, wo).array
+    want = brdfbake.eval(red, wi, wo, device="reference").array
+    err = np.abs(got - want) / np.maximum(1.0, np.abs(want))
+    assert err.max() < BRDF_FP32 + 1e-7  # + the float32 rounding of the reference's own array
+
+
+def test_prefilter_of_a_constant_environment_is_constant():
+    white = np.full((32, 64, 3), 2.0, dtype=np.float64)  # any float dtype; converted to float32
+    r = brdfbake.prefilter(white, size=16, min_size=4)
+    levels = r.array
+    assert [l.shape for l in levels] == [(6, 16, 16, 3), (6, 8, 8, 3), (6, 4, 4, 3)]
+    assert all(not l.flags.owndata and not l.flags.writeable for l in levels)
+    for l in levels:
+        assert np.abs(l - 2.0).max() < 2.0 * PREFILTER_FURNACE
+    assert r.meta["levels"] == "3"
+    assert r.request["environment"] == "array 64x32"
+
+
+def test_irradiance_of_a_white_environment_is_pi_in_l00_only():
+    # Furnace: radiance 1 everywhere gives E = pi, E / pi = 1 = c00 Y00 with Y00 = 1 / (2 sqrt(pi)).
+    white = np.ones((32, 64, 3), dtype=np.float32)
+    r = brdfbake.irradiance(white, cube_size=8)
+    sh = r.sh
+    assert sh["order"] == 3 and sh["irradiance_over_pi"].shape == (9, 3)
+    np.testing.assert_allclose(sh["irradiance_over_pi"][0], 2 * math.sqrt(math.pi), rtol=ENV_FURNACE)
+    assert np.abs(sh["irradiance_over_pi"][1:]).max() < ENV_FURNACE
+    assert r.array.dtype == np.float32 and r.array.shape == (9, 3)
+    assert r.cube.shape == (6, 8, 8, 3)
+    np.testing.assert_allclose(r.cube, 1.0, rtol=10 * ENV_FURNACE)
+    assert "basis" in r.meta and r.meta["error_bound"] is None
+
+
+def test_tabulate_merl_layout(red, tmp_path):
+    r = brdfbake.tabulate(red, layout="merl")
+    a = r.array
+    assert a.shape == (90, 90, 180, 3) and a.dtype == np.float32
+    assert (a[a < 0] == -1).all()  # below the horizon: MERL's -1
+    assert np.isfinite(a).all() and (a >= 0).sum() > 0.5 * a.size
+    assert json.loads(r.meta["materials"])[0]["name"] == "red"
+    # The file: MERL's binary, f divided by the channel scales (docs/CONVENTIONS.md).
+    path = tmp_path / "red.binary"
+    assert r.save(path) == str(path)
+    raw = path.read_bytes()
+    dims = np.frombuffer(raw[:12], dtype="<i4")
+    assert dims.tolist() == [90, 90, 180]
+    stored = np.frombuffer(raw[12:], dtype="<f8").reshape(3, 90, 90, 180)
+    scales = np.array([1 / 1500, 1.15 / 1500, 1.66 / 1500])
+    above = a[..., 0] >= 0
+    for c in range(3):
+        back = (stored[c] * scales[c])[above]
+        np.testing.assert_allclose(a[..., c][above], back, rtol=2e-7, atol=0)
+    assert (path.parent / "red.binary.json").exists()
+
+
+def test_tabulate_albedo_of_several_materials(tmp_path):
+    mats = [{"name": "a", "model": "lambert", "baseColor": 0.5}, {"name": "b", "model": "lambert", "baseColor": 1.0}]
+    mats = [{"name": m["name"], "model": m["model"], "baseColor": [m["baseColor"]] * 3} for m in mats]
+    r = brdfbake.tabulate(mats, layout="albedo", res=16)
+    a = r.array
+    assert a.shape == (2, 16, 3)  # one row per material
+    # Lambert's directional albedo is its albedo at every angle.
+    np.testing.assert_allclose(a[0], 0.5, rtol=2e-5)
+    np.testing.assert_allclose(a[1], 1.0, rtol=2e-5)
+
+
+@pytest.mark.parametrize("fmt", [".exr", ".csv", ".ktx2", ".h"])
+def test_save_writes_every_table_format(tmp_path, fmt):
+    r = brdfbake.lut(kind="ggx-multiscatter", size=8)
+    path = r.save(tmp_path / ("dfg" + fmt))
+    assert (tmp_path / ("dfg" + fmt)).stat().st_size > 0
+    assert [p.name for p in tmp_path.iterdir()] == ["dfg" + fmt]  # nothing else: no temporary left
+    assert path.endswith(fmt)
+
+
+def test_output_argument_writes_as_it_bakes(tmp_path):
+    out = tmp_path / "chain.ktx2"
+    r = brdfbake.prefilter("builtin:studio", size=8, min_size=8, output=out)
+    assert out.stat().st_size > 0 and r.array[0].shape == (6, 8, 8, 3)
+
+
+def test_environment_loaded_once_serves_several_bakes():
+    env = brdfbake.load_environment("builtin:sun")
+    assert env.layout == "equirect" and env.width == 2 * env.height
+    a = brdfbake.irradiance(env).array
+    b = brdfbake.irradiance("builtin:sun").array
+    np.testing.assert_array_equal(a, b)
+
+
+def test_real_hdr_from_shared(shared_dir):
+    if shared_dir is None:
+        pytest.skip("../shared is absent: no real HDR maps to load")
+    hdrs = sorted(shared_dir.rglob("*.hdr"))
+    if not hdrs:
+        pytest.skip(f"no .hdr file under {shared_dir}")
+    r = brdfbake.irradiance(hdrs[0])
+    assert np.isfinite(r.array).all() and r.array[0].min() > 0  # L00 of a real sky is positive
+
+
+def test_devices_and_generic_bake():
+    ds = brdfbake.devices()
+    assert all({"selector", "name", "type", "default"} <= set(d) for d in ds)
+    r = brdfbake.bake("thin-film", base_ior=1.5, size=8)
+    assert r.kind == "thin-film" and r.array.shape[1] == 8
+    assert brdfbake.function_of("charlie") is brdfbake.lut
+
+
+def _white_png(path, width, height):
+    """An 8-bit RGB PNG, every texel 255 (1.0 with or without an sRGB decode), written by hand."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    rows = b"".join(b"\x00" + b"\xff" * (3 * width) for _ in range(height))
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+                     + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def test_a_png_environment_goes_through_the_installed_openimageio_module(tmp_path):
+    # PNG is read by the OpenImageIO module the package installs beside the extension and names.
+    import os
+    module = os.environ.get("BRDFBAKE_OIIO_MODULE", "")
+    assert os.path.dirname(module) == os.path.dirname(brdfbake.__file__) and os.path.isfile(module)
+    _white_png(tmp_path / "white.png", 64, 32)
+    env = brdfbake.load_environment(tmp_path / "white.png")
+    assert (env.width, env.height) == (64, 32)
+    r = brdfbake.irradiance(env, sh_order=3)
+    np.testing.assert_allclose(r.sh["irradiance_over_pi"][0], 2 * math.sqrt(math.pi), rtol=ENV_FURNACE)
