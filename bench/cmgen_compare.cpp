@@ -255,6 +255,7 @@ int main(int argc, char** argv) {
   std::string jobs_wanted = "startup,dfg,sh,irradiance,ggx256,ggx1024";
   std::string ours_bin = BRDFBAKE_CLI, cmgen_name = "cmgen", shared = BRDFBAKE_SHARED_DIR, baseline;
   bool keep = false;
+  std::string write_4k;  // --write-4k PATH: only write the 4096x2048 input (for /usr/bin/time -v runs)
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     auto value = [&]() -> std::string {
@@ -271,9 +272,10 @@ int main(int argc, char** argv) {
     else if (arg == "--baseline") baseline = value();
     else if (arg == "--shared") shared = value();
     else if (arg == "--keep") keep = true;
+    else if (arg == "--write-4k") write_4k = value();
     else {
       std::fprintf(stderr, "usage: cmgen_compare [--runs N] [--jobs LIST] [--brdfbake PATH] [--cmgen PATH] "
-                           "[--baseline PATH] [--shared DIR] [--keep]\n");
+                           "[--baseline PATH] [--shared DIR] [--keep] [--write-4k PATH]\n");
       return 2;
     }
   }
@@ -282,6 +284,14 @@ int main(int argc, char** argv) {
   const std::string cmgen = find_in_path(cmgen_name);
   const fs::path env1k = fs::path(shared) / "envmaps" / "venice_sunset_1k.hdr";
   const bool have_env = fs::exists(env1k);
+  if (!write_4k.empty()) {
+    if (!have_env) {
+      std::fprintf(stderr, "cmgen_compare: %s is missing\n", env1k.string().c_str());
+      return 1;
+    }
+    write_upsampled(load_environment(env1k.string()), 4, write_4k);
+    return 0;
+  }
   char tmpl[] = "/tmp/cmgen_compare.XXXXXX";
   if (::mkdtemp(tmpl) == nullptr) {
     std::perror("mkdtemp");

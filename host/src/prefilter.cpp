@@ -720,6 +720,13 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   const int levels = prefilter_level_count(s);
   const int s0 = s.size;
   const bool quadrature = s.estimator == EnvEstimator::Quadrature;
+  std::vector<std::pair<std::string, double>> stages;
+  auto stage_mark = std::chrono::steady_clock::now();
+  auto stage = [&](std::string name) {
+    const auto now = std::chrono::steady_clock::now();
+    stages.emplace_back(std::move(name), std::chrono::duration<double>(now - stage_mark).count());
+    stage_mark = now;
+  };
 
   CubeLevels out;
   out.size = s0;
@@ -736,6 +743,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
     t[0] = t[1] = t[2] = 0.0f;
   }
+  stage("bright texels");
 
   std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
   std::vector<double> refinement(static_cast<size_t>(levels), s.refinement);
@@ -751,6 +759,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   detail::cl_call(what, [&] {
     const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
     cl::Program filter_prog = program(dev, "prefilter.cl", s.precision, {{lobe_define, "1"}});
+    stage("program");
     // The source: the quadrature's pyramid (built here, on the host, in double), or the sampling
     // estimator's padded mip chain (built on the device).
     Pyramid pyramid;
@@ -771,6 +780,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       seconds[0] = sum_seconds(chain_events);
       device_seconds += seconds[0];
     }
+    stage(quadrature ? "pyramid" : "source chain");
 
     // One level into `dst` with n samples (sampling) or refinement r (quadrature); waits, returns
     // its device seconds.
@@ -907,6 +917,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       }
       device_seconds += sec;
       done_work += double(face_texels(out.level_size(l)));
+      stage("level " + std::to_string(l));
     }
     if (progress) progress(1.0, "done");
     return 0;
@@ -970,6 +981,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   out.set_meta("precision", precision_name(s.precision));
   out.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (timing) {
+    timing->stage_seconds.insert(timing->stage_seconds.end(), stages.begin(), stages.end());
     timing->device_seconds += device_seconds;
     timing->level_device_seconds = seconds;
     if (s.max_error > 0.0) {
@@ -990,6 +1002,7 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   CubeLevels source = environment_to_cube(device, env, s.size, &convert_seconds);
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
+  t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   CubeLevels out = prefilter_cube(device, source, s, &t, progress);
   detail::environment_source_metadata(out, env);
   if (timing) {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "brdfbake/device.hpp"
@@ -204,6 +205,9 @@ struct PrefilterTiming {
   // estimates, and the largest of them (the chain's measured bound); empty / -1 otherwise.
   std::vector<double> measured_error_per_level;
   double measured_error = -1.0;
+  // Wall seconds of each host-side stage in order ("convert", "bright texels", "pyramid",
+  // "level 1", ...), for bench/startup_stages: where the time of a chain goes.
+  std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
 // Progress: fraction done (0..1) and a short label ("level 2/4").
