@@ -34,7 +34,10 @@ class Stages {
  public:
   void mark(const char* what) {
     const auto now = Clock::now();
-    std::printf("%-44s %8.2f ms\n", what, std::chrono::duration<double, std::milli>(now - last_).count());
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    std::printf("%-44s %8.2f ms  (peak so far %.0f MiB)\n", what, std::chrono::duration<double, std::milli>(now - last_).count(),
+                double(usage.ru_maxrss) / 1024.0);
     last_ = now;
   }
   void total() const {

@@ -136,6 +136,15 @@ cl::Program program(Device::Impl& dev, const char* file, Precision p,
   return detail::build_program(dev, ps);
 }
 
+// Device buffers stay within CL_DEVICE_MAX_MEM_ALLOC_SIZE (GPUs allow a quarter of their memory or
+// less in one allocation): a larger one is refused here with its size, not by the driver.
+void check_allocation(const Device::Impl& dev, size_t bytes, const std::string& what) {
+  if (dev.info.max_alloc == 0 || bytes <= dev.info.max_alloc) return;
+  throw Error(what + " needs a device buffer of " + std::to_string(bytes >> 20) + " MiB, more than '" + dev.info.name +
+              "' allocates at once (CL_DEVICE_MAX_MEM_ALLOC_SIZE, " + std::to_string(dev.info.max_alloc >> 20) +
+              " MiB): give a smaller size or input, or another device");
+}
+
 cl::NDRange cube_range(int size) { return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size)); }
 
 // The padded source chain on the device: every level of the rest cube down to 1x1.
@@ -215,57 +224,82 @@ size_t quadtree_index(int i, int j, int depth, int top_size) {
   return (root << (2 * depth)) | local;
 }
 
-// The pyramid of an RGBA cube, in double: level 0 holds each texel's exact solid angle, centre
-// direction and L Omega; each coarser level sums 2 x 2 children (the moments Omega d and
-// lum Omega d, Omega, L Omega), down to 1 x 1 or the first odd size (the top level). Directions are
-// normalised on output.
-Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
-  struct Moments {
-    std::vector<double> g, m, w, l;  // 3, 3, 1, 3 per texel, row-major per face
-  };
-  std::vector<Moments> moments(1);
+// Face sizes of the full pyramid of a cube of face size s0: s0, s0 / 2, ... down to 1 or the first
+// odd size (the top level).
+std::vector<int> pyramid_sizes(int s0) {
   std::vector<int> sizes = {s0};
-  {
-    Moments& cur = moments[0];
-    const size_t n0 = face_texels(s0);
-    cur.g.resize(3 * n0);
-    cur.m.resize(3 * n0);
-    cur.w.resize(n0);
-    cur.l.resize(3 * n0);
-    std::vector<double> omega(size_t(s0) * size_t(s0));
-    for (int j = 0; j < s0; ++j)
-      for (int i = 0; i < s0; ++i)
-        omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s0; ++j)
-        for (int i = 0; i < s0; ++i) {
-          const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
-          const Vec3 d = math::cube_texel_direction(f, s0, i, j);
-          const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
-          const double lum = luminance(&rgba[4 * t]) * w;
-          const double dv[3] = {d.x, d.y, d.z};
-          for (size_t c = 0; c < 3; ++c) {
-            cur.g[3 * t + c] = w * dv[c];
-            cur.m[3 * t + c] = lum * dv[c];
-            cur.l[3 * t + c] = double(rgba[4 * t + c]) * w;
-          }
-          cur.w[t] = w;
-        }
+  while (sizes.back() > 1 && sizes.back() % 2 == 0) sizes.push_back(sizes.back() / 2);
+  return sizes;
+}
+
+// The pyramid of an RGBA cube, in double, from level `base` of the full pyramid up (the levels
+// below it are never visited: pyramid_base_level): each texel of the base level sums its
+// 2^base x 2^base texels of level 0 (the moments Omega d and lum Omega d, Omega, L Omega, with each
+// texel's exact solid angle and centre direction; texels marked in `skip`, the bright ones, add their
+// solid angle but no radiance), each coarser level sums 2 x 2 children, down to the top level.
+// Directions are normalised on output. A face at a time (the faces' pyramids are independent), so
+// that only one face's moments are held in double: a 1024^2 cube with base 2 needs 5 MiB for them.
+Pyramid build_pyramid(const std::vector<float>& rgba, int s0, int base, const std::vector<uint8_t>& skip) {
+  struct Moments {
+    std::vector<double> g, m, w, l;  // 3, 3, 1, 3 per texel of one face, row-major
+    void assign(size_t n) {
+      g.assign(3 * n, 0.0);
+      m.assign(3 * n, 0.0);
+      w.assign(n, 0.0);
+      l.assign(3 * n, 0.0);
+    }
+  };
+  const std::vector<int> full = pyramid_sizes(s0);
+  base = std::clamp(base, 0, static_cast<int>(full.size()) - 1);
+  Pyramid p;
+  p.sizes.assign(full.begin() + base, full.end());
+  p.levels = static_cast<int>(p.sizes.size());
+  const int top_size = p.sizes.back();
+  size_t total = 0;
+  for (int sk : p.sizes) {
+    p.info.push_back(static_cast<cl_int>(total));
+    p.info.push_back(sk);
+    total += 10 * (6 * size_t(sk) * size_t(sk) + 8);
   }
-  while (sizes.back() > 1 && sizes.back() % 2 == 0) {
-    const int s = sizes.back(), h = s / 2;
-    const Moments& cur = moments.back();
-    Moments next;
-    const size_t nh = face_texels(h);
-    next.g.assign(3 * nh, 0.0);
-    next.m.assign(3 * nh, 0.0);
-    next.w.assign(nh, 0.0);
-    next.l.assign(3 * nh, 0.0);
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s; ++j)
-        for (int i = 0; i < s; ++i) {
-          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
-          const size_t u = (size_t(f) * size_t(h) + size_t(j / 2)) * size_t(h) + size_t(i / 2);
+  if (total > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
+    throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
+  p.data.assign(total, 0.0f);
+
+  std::vector<double> omega(size_t(s0) * size_t(s0));
+  for (int j = 0; j < s0; ++j)
+    for (int i = 0; i < s0; ++i) omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
+  std::vector<Moments> moments(size_t(p.levels));
+  for (int f = 0; f < 6; ++f) {
+    // the base level: sums over blocks of level 0
+    const int sb = p.sizes[0];
+    Moments& b = moments[0];
+    b.assign(size_t(sb) * size_t(sb));
+    for (int j = 0; j < s0; ++j)
+      for (int i = 0; i < s0; ++i) {
+        const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
+        const size_t u = size_t(j >> base) * size_t(sb) + size_t(i >> base);
+        const Vec3 d = math::cube_texel_direction(f, s0, i, j);
+        const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
+        const double dv[3] = {d.x, d.y, d.z};
+        b.w[u] += w;
+        for (size_t c = 0; c < 3; ++c) b.g[3 * u + c] += w * dv[c];
+        if (!skip.empty() && skip[t]) continue;
+        const double lum = luminance(&rgba[4 * t]) * w;
+        for (size_t c = 0; c < 3; ++c) {
+          b.m[3 * u + c] += lum * dv[c];
+          b.l[3 * u + c] += double(rgba[4 * t + c]) * w;
+        }
+      }
+    // coarser levels: 2 x 2 children each
+    for (int k = 1; k < p.levels; ++k) {
+      const int sc = p.sizes[size_t(k - 1)], h = p.sizes[size_t(k)];
+      const Moments& cur = moments[size_t(k - 1)];
+      Moments& next = moments[size_t(k)];
+      next.assign(size_t(h) * size_t(h));
+      for (int j = 0; j < sc; ++j)
+        for (int i = 0; i < sc; ++i) {
+          const size_t t = size_t(j) * size_t(sc) + size_t(i);
+          const size_t u = size_t(j / 2) * size_t(h) + size_t(i / 2);
           for (size_t c = 0; c < 3; ++c) {
             next.g[3 * u + c] += cur.g[3 * t + c];
             next.m[3 * u + c] += cur.m[3 * t + c];
@@ -273,25 +307,15 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
           }
           next.w[u] += cur.w[t];
         }
-    moments.push_back(std::move(next));
-    sizes.push_back(h);
-  }
-  Pyramid p;
-  p.levels = static_cast<int>(sizes.size());
-  p.sizes = sizes;
-  const int top_size = sizes.back();
-  size_t offset = 0;
-  for (int k = 0; k < p.levels; ++k) {
-    const int s = sizes[size_t(k)];
-    const size_t n_face = size_t(s) * size_t(s), a = 6 * n_face + 8;
-    p.info.push_back(static_cast<cl_int>(offset));
-    p.info.push_back(s);
-    p.data.resize(offset + 10 * a, 0.0f);
-    const Moments& cur = moments[size_t(k)];
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s; ++j)
-        for (int i = 0; i < s; ++i) {
-          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
+    }
+    // this face of every level, in quadtree order, as floats
+    for (int k = 0; k < p.levels; ++k) {
+      const int sk = p.sizes[size_t(k)];
+      const size_t n_face = size_t(sk) * size_t(sk), a = 6 * n_face + 8, offset = size_t(p.info[2 * size_t(k)]);
+      const Moments& cur = moments[size_t(k)];
+      for (int j = 0; j < sk; ++j)
+        for (int i = 0; i < sk; ++i) {
+          const size_t t = size_t(j) * size_t(sk) + size_t(i);
           const size_t at = offset + size_t(f) * n_face + quadtree_index(i, j, p.levels - 1 - k, top_size);
           const double* g = &cur.g[3 * t];
           const double* m = &cur.m[3 * t];
@@ -304,10 +328,8 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
           }
           p.data[at + 6 * a] = static_cast<float>(cur.w[t]);
         }
-    offset += 10 * a;
+    }
   }
-  if (offset > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
-    throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
   return p;
 }
 
@@ -386,6 +408,28 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
     band[2 * size_t(k) + 1] = hi;
   }
   (void)refinement;
+}
+
+// The finest level of the full pyramid of a cube of face size s0 that the quadrature visits for
+// any of the lobes `alphas`: one below the finest level it refines (core, horizon band or Charlie's
+// ring). Levels below it are never read, so build_pyramid starts there; the thresholds do not
+// depend on the refinement's value (only on the lobe, core_refinement and horizon_texel), so every
+// run of a --max-error search visits the same levels.
+int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas, const PrefilterSpec& s) {
+  Pyramid shape;
+  shape.sizes = pyramid_sizes(s0);
+  shape.levels = static_cast<int>(shape.sizes.size());
+  int base = shape.levels - 1;
+  std::vector<double> cos_core, band;
+  for (double alpha : alphas) {
+    pyramid_thresholds(shape, dist, alpha, s, s.refinement, cos_core, band);
+    for (int k = 1; k < shape.levels; ++k)
+      if (cos_core[size_t(k)] <= 1.0 || band[2 * size_t(k)] < band[2 * size_t(k) + 1]) {
+        base = std::min(base, k - 1);
+        break;
+      }
+  }
+  return base;
 }
 
 template <class Real>
@@ -584,30 +628,36 @@ std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_coun
   std::vector<BrightTexel> out;
   if (max_count <= 0 || cube.levels.empty()) return out;
   const int s = cube.size;
-  std::vector<double> omega(static_cast<size_t>(s) * static_cast<size_t>(s));
+  const size_t face = static_cast<size_t>(s) * static_cast<size_t>(s);
+  std::vector<double> omega(face);
   for (int j = 0; j < s; ++j)
     for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
   const size_t n = face_texels(s);
-  std::vector<double> lum(n);
+  const std::vector<float>& level = cube.levels[0];
   double mean = 0.0;
-  for (size_t t = 0; t < n; ++t) {
-    lum[t] = luminance(&cube.levels[0][4 * t]);
-    mean += lum[t] * omega[t % omega.size()];
-  }
+  for (size_t t = 0; t < n; ++t) mean += luminance(&level[4 * t]) * omega[t % face];
   mean /= 4.0 * kPi;
+  // Only the texels above ratio x mean can be chosen: their luminances alone are ranked (the
+  // (max_count + 1)-th brightest of them is the (max_count + 1)-th brightest of all whenever there
+  // are more than max_count), not a copy of every texel's.
   double threshold = ratio * mean;
-  if (n > static_cast<size_t>(max_count)) {
-    std::vector<double> sorted = lum;
-    std::nth_element(sorted.begin(), sorted.begin() + max_count, sorted.end(), std::greater<double>());
-    threshold = std::max(threshold, sorted[size_t(max_count)]);  // the (max_count + 1)-th brightest
-  }
+  std::vector<double> above;
   for (size_t t = 0; t < n; ++t) {
-    if (!(lum[t] > threshold)) continue;
+    const double lum = luminance(&level[4 * t]);
+    if (lum > threshold) above.push_back(lum);
+  }
+  if (above.size() > static_cast<size_t>(max_count)) {
+    std::nth_element(above.begin(), above.begin() + max_count, above.end(), std::greater<double>());
+    threshold = std::max(threshold, above[size_t(max_count)]);  // the (max_count + 1)-th brightest
+  }
+  above = {};
+  for (size_t t = 0; t < n; ++t) {
+    if (!(luminance(&level[4 * t]) > threshold)) continue;
     BrightTexel b;
-    b.face = static_cast<int>(t / (size_t(s) * size_t(s)));
-    b.j = static_cast<int>(t % (size_t(s) * size_t(s)) / size_t(s));
+    b.face = static_cast<int>(t / face);
+    b.j = static_cast<int>(t % face / size_t(s));
     b.i = static_cast<int>(t % size_t(s));
-    for (size_t c = 0; c < 3; ++c) b.rgb[c] = cube.levels[0][4 * t + c];
+    for (size_t c = 0; c < 3; ++c) b.rgb[c] = level[4 * t + c];
     out.push_back(b);
   }
   return out;
@@ -661,25 +711,34 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
   auto& dev = device.impl();
   CubeLevels cube;
   cube.size = size;
-  cube.levels.assign(1, std::vector<float>(4 * face_texels(size)));
+  cube.levels.resize(1);
+  cube.levels[0].resize(4 * face_texels(size));  // in place: assign(1, vector) would hold two copies
   const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
   const double seconds = detail::cl_call(what, [&] {
     cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
     std::vector<cl::Event> events;
-    cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
     if (env.layout == EnvImage::Layout::Equirect) {
-      const size_t px = static_cast<size_t>(env.width) * static_cast<size_t>(env.height);
-      std::vector<float> rgba(4 * px, 1.0f);
-      for (size_t p = 0; p < px; ++p)
-        for (size_t c = 0; c < 3; ++c) rgba[4 * p + c] = env.rgb[3 * p + c];
-      cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rgba.size() * sizeof(float), rgba.data());
+      // the packed RGB pixels as they are (the kernel reads three floats a pixel): on a CPU device
+      // no copy at all, elsewhere one upload
+      const size_t bytes = env.rgb.size() * sizeof(float);
+      check_allocation(dev, bytes, "the " + std::to_string(env.width) + "x" + std::to_string(env.height) + " environment");
+      cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<float*>(env.rgb.data()));
       // k x k samples per texel: about two per equirect pixel along the equator
       const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
-      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> convert(prog, "equirect_to_cube");
-      // one work-item per 8 texels of a row (kernels/cubemap.cl)
-      const cl::NDRange rows(static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth), 6u * static_cast<size_t>(size));
-      events.push_back(convert(cl::EnqueueArgs(dev.queue, rows), src, env.width, env.height, dst, size, k));
+      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int, cl_int> convert(prog, "equirect_to_cube");
+      // one work-item per 8 texels of a row (kernels/cubemap.cl), one face at a time into a face buffer
+      const size_t face_bytes = 4 * static_cast<size_t>(size) * static_cast<size_t>(size) * sizeof(float);
+      check_allocation(dev, face_bytes, "a face of the " + std::to_string(size) + "^2 cube");
+      cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
+      const cl::NDRange rows(static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth), static_cast<size_t>(size));
+      for (int f = 0; f < 6; ++f) {
+        const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(f) * size_t(size)), rows, cl::NullRange);
+        events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
+        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes, cube.levels[0].data() + (face_bytes / sizeof(float)) * size_t(f));
+      }
+      return sum_seconds(events);
     } else {
+      cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
       const int s = env.width;
       std::vector<float> rgba(4 * face_texels(s), 1.0f);
       for (size_t t = 0; t < face_texels(s); ++t)
@@ -698,8 +757,8 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
         events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer,
                                   chain.info[size_t(2 * m)], ms, dst, size, k));
       }
+      dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
     }
-    dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
     return sum_seconds(events);
   });
   if (device_seconds) *device_seconds = seconds;
@@ -710,8 +769,12 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
 
 // ---- The chain ------------------------------------------------------------------------------------
 
-CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& in, PrefilterTiming* timing,
-                          const EnvProgress& progress) {
+namespace {
+
+// The chain from a source cube it owns: level 0 moves into the output, no copy (a 1024^2 cube is
+// 96 MiB).
+CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& in, PrefilterTiming* timing,
+                           const EnvProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (source.levels.empty() || source.size != s.size)
@@ -730,19 +793,15 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
 
   CubeLevels out;
   out.size = s0;
-  out.metadata = source.metadata;
+  out.metadata = std::move(source.metadata);
   out.levels.resize(size_t(levels));
-  out.levels[0] = source.levels[0];
+  out.levels[0] = std::move(source.levels[0]);
+  source.levels.clear();
   if (s.clamp_luminance > 0.0) detail::clamp_luminance(out.levels[0], s.clamp_luminance);
 
   // Environment sampling: the bright texels leave the rest.
   const int max_bright = s.bright_texels < 0 ? kDefaultBrightTexels : s.bright_texels;
   const std::vector<BrightTexel> bright = find_bright_texels(out, max_bright, kBrightRatio);
-  std::vector<float> rest = out.levels[0];
-  for (const BrightTexel& b : bright) {
-    float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
-    t[0] = t[1] = t[2] = 0.0f;
-  }
   stage("bright texels");
 
   std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
@@ -766,14 +825,29 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
     cl::Buffer pyramid_buf, pyramid_info;
     Chain chain;
     if (quadrature) {
-      pyramid = build_pyramid(rest, s0);
-      pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pyramid.data.size() * sizeof(float),
+      std::vector<double> alphas;
+      for (int l = 1; l < levels; ++l)
+        alphas.push_back(std::max(roughness[size_t(l)] * roughness[size_t(l)], math::kMinAlpha));
+      std::vector<uint8_t> skip;
+      if (!bright.empty()) {
+        skip.assign(face_texels(s0), 0);
+        for (const BrightTexel& b : bright) skip[(size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i)] = 1;
+      }
+      pyramid = build_pyramid(out.levels[0], s0, pyramid_base_level(s0, s.distribution, alphas, s), skip);
+      check_allocation(dev, pyramid.data.size() * sizeof(float), "the quadrature's pyramid");
+      // USE_HOST_PTR: a CPU device reads the host's copy (it outlives every level), a GPU uploads it
+      pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, pyramid.data.size() * sizeof(float),
                                pyramid.data.data());
       pyramid_info = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                 pyramid.info.size() * sizeof(cl_int), pyramid.info.data());
     } else {
       cl::Program cube_prog = program(dev, "cubemap.cl", s.precision);
       std::vector<cl::Event> chain_events;
+      std::vector<float> rest = out.levels[0];
+      for (const BrightTexel& b : bright) {
+        float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
+        t[0] = t[1] = t[2] = 0.0f;
+      }
       cl::Buffer level0(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rest.size() * sizeof(float), rest.data());
       chain = build_chain(dev, cube_prog, level0, s0, chain_events);
       for (auto& e : chain_events) e.wait();
@@ -796,7 +870,11 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       const std::vector<double> pts = bright_texel_points(bright, s0, bright_subdivision(s.distribution, alpha, s0, bright.size()), scale, &n_points);
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
-      cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
+      // the level is written into dst through USE_HOST_PTR and mapped back: no second copy on a
+      // CPU device
+      dst.assign(4 * face_texels(size), 0.0f);
+      check_allocation(dev, dst.size() * sizeof(float), "level " + std::to_string(l));
+      cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, dst.size() * sizeof(float), dst.data());
       const bool fp64 = s.precision == Precision::Fp64;
       const int rows = 6 * size;
       const int chunks = step ? std::clamp(rows / 16, 1, 24) : 1;
@@ -835,8 +913,9 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
         level_seconds += detail::event_seconds(events[c]);
         if (step) step(double(c + 1) / double(events.size()));
       }
-      dst.resize(4 * face_texels(size));
-      dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
+      void* mapped = dev.queue.enqueueMapBuffer(dst_buf, CL_TRUE, CL_MAP_READ, 0, dst.size() * sizeof(float));
+      dev.queue.enqueueUnmapMemObject(dst_buf, mapped);
+      dev.queue.finish();
       return level_seconds;
     };
 
@@ -993,6 +1072,13 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   return out;
 }
 
+}  // namespace
+
+CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& in, PrefilterTiming* timing,
+                          const EnvProgress& progress) {
+  return prefilter_chain(device, source, in, timing, progress);
+}
+
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& in, PrefilterTiming* timing,
                                  const EnvProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -1003,7 +1089,7 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  CubeLevels out = prefilter_cube(device, source, s, &t, progress);
+  CubeLevels out = prefilter_chain(device, std::move(source), s, &t, progress);
   detail::environment_source_metadata(out, env);
   if (timing) {
     *timing = t;

@@ -74,16 +74,19 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
   }
   TableRequest at = t;
   at.output = path;
-  CubeLevels out = cube;
   WriteReport w;
   w.storage_error = s.max_error;
   w.encoding = s.encoding;
-  if (bound) {
-    w.error_bound = *bound + s.max_error;
-    out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
-    out.set_meta("storage_encoding", s.encoding);
-    out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
+  if (!bound) {
+    // nothing to add to the metadata: written as it is (a copy of a 1024^2 chain is 128 MiB)
+    write_cubemap(cube, path, cube_format_of(at), cube_write_options_of(at, stem));
+    return w;
   }
+  CubeLevels out = cube;
+  w.error_bound = *bound + s.max_error;
+  out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
+  out.set_meta("storage_encoding", s.encoding);
+  out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
   write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
   return w;
 }
