@@ -108,12 +108,19 @@ int prefilter(const std::string& env_spec, int size, bool charlie) {
   spec.size = size;
   spec.min_size = 16;
   if (charlie) spec.distribution = EnvDistribution::Charlie;
+  // for experiments: BRDFBAKE_BENCH_TILE=1 runs the per-texel quadrature, BRDFBAKE_BENCH_BRIGHT=0
+  // turns environment sampling off
+  if (const char* tile = std::getenv("BRDFBAKE_BENCH_TILE")) spec.strips = std::atoi(tile) != 1;
+  if (const char* bright = std::getenv("BRDFBAKE_BENCH_BRIGHT")) spec.bright_texels = std::atoi(bright);
   PrefilterTiming timing;
   const CubeLevels cube = prefilter_environment(device, env, spec, &timing);
   t.mark("prefilter (stages below)");
   for (const auto& [name, seconds] : timing.stage_seconds)
     std::printf("  %-42s %8.2f ms\n", name.c_str(), 1e3 * seconds);
   std::printf("%-44s %8.2f ms\n", "  of which device time (event profiling)", 1e3 * timing.device_seconds);
+  for (size_t l = 0; l < timing.level_device_seconds.size(); ++l)
+    std::printf("    %-40s %8.2f ms\n", (l == 0 ? std::string("conversion") : "level " + std::to_string(l)).c_str(),
+                1e3 * timing.level_device_seconds[l]);
   const std::string out = temp_output(".ktx2");
   write_cubemap(cube, out, CubeFormat::Ktx2);
   t.mark("write .ktx2");

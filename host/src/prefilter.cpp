@@ -30,6 +30,7 @@ using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
+constexpr int kStripRows = 2;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl)
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
@@ -433,11 +434,11 @@ int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& 
 }
 
 template <class Real>
-cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+cl::Event launch_pyramid(cl::Program& prog, const char* kernel, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
                          const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
-      level(prog, "prefilter_pyramid");
+      level(prog, kernel);
   return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }
 
@@ -892,14 +893,25 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
         table_buf = real_buffer(dev, s.precision, table);
         n_padded = static_cast<int>(table.size() / 5);
       }
+      // The quadrature a strip of 16 x kStripRows texels at a time where the strip divides the level
+      // (prefilter_pyramid_strips), else (and with s.strips off) a traversal per texel
+      // (prefilter_pyramid).
+      const bool strips = quadrature && s.strips && size % 16 == 0 && size % kStripRows == 0;
+      const char* kernel = strips ? "prefilter_pyramid_strips" : "prefilter_pyramid";
+      const int unit = strips ? kStripRows : 1;
+      const int bands = rows / unit;  // chunks hold whole strips
       for (int c = 0; c < chunks; ++c) {
-        const int row0 = rows * c / chunks, row1 = rows * (c + 1) / chunks;
-        const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
-                                    cl::NullRange);
+        const int row0 = bands * c / chunks * unit, row1 = bands * (c + 1) / chunks * unit;
+        if (row1 == row0) continue;
+        const cl::EnqueueArgs range =
+            strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0 / unit)), cl::NDRange(size_t(size / 16), size_t((row1 - row0) / unit)),
+                                     cl::NDRange(1, 1))
+                   : cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
+                                     cl::NullRange);
         if (quadrature)
-          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, kernel, dst_buf, size, pyramid_buf, pyramid_info,
                                                             pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
-                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                : launch_pyramid<cl_float>(filter_prog, kernel, dst_buf, size, pyramid_buf, pyramid_info,
                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
         else
           events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
