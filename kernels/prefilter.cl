@@ -163,15 +163,30 @@ typedef float16 realw;
 #define convert_realw convert_float16
 #endif
 
-// ENV_KERNEL_V on 16 lanes: GGX written out (the same operations as env_kernel_ggx_v), the others
-// as two halves.
-inline realw strip_kernel(realw c, real alpha) {
+// ENV_KERNEL_V on 16 lanes: GGX written out (the same operations as env_kernel_ggx_v), Charlie's
+// D = (2 + 1/alpha) / (2 pi) (sin^2 theta_h)^(1 / (2 alpha)) by multiplication where 1/alpha is a whole
+// number n (power2 = n > 0: the linear schedule's roughness 1/4 and 1/2 give 16 and 4, 1 gives 1), so
+// that no exp or log is taken, else (power2 = 0) as env_kernel_charlie_v.
+inline realw strip_kernel(realw c, real alpha, int power2) {
+#if defined(BRDFBAKE_ENV_CHARLIE)
+  if (power2 > 0) {
+    const realw x = fmax(R(0.5) * (R(1.0) - c), R(0.0));  // sin^2 theta_h
+    realw p = (power2 & 1) ? sqrt(x) : (realw)(R(1.0)), b = x;
+    for (int e = power2 >> 1; e > 0; e >>= 1) {  // x^(power2 / 2) by squaring
+      if (e & 1) p *= b;
+      b *= b;
+    }
+    const real inv_a = R(1.0) / alpha;
+    return fmax(c, R(0.0)) * ((R(2.0) + inv_a) * (R(0.5) * BRDFBAKE_INV_PI)) * p;
+  }
+#endif
 #if defined(BRDFBAKE_ENV_CHARLIE) || defined(BRDFBAKE_ENV_COSINE)
   realw k;
   k.lo = ENV_KERNEL_V(c.lo, alpha);
   k.hi = ENV_KERNEL_V(c.hi, alpha);
   return k;
 #else
+  (void)power2;
   const real alpha2 = alpha * alpha;
   const realw t = fmax(R(0.5) * (R(1.0) - c), R(0.0)) + alpha2 * (R(0.5) * (R(1.0) + c));
   return fmax(c, R(0.0)) * (alpha2 / (BRDFBAKE_PI * t * t));
@@ -193,10 +208,10 @@ inline real2 strip_band(real lo, real hi, real rho) {
 }
 
 // Global size (size / 16, 6 size / BRDFBAKE_STRIP_ROWS), both dividing size; arguments as
-// prefilter_pyramid.
+// prefilter_pyramid, and power2 for strip_kernel.
 kernel void prefilter_pyramid_strips(global float4* out, int size, global const float* pyramid, constant int* info,
                                      int levels, constant real* cos_core, constant real* band,
-                                     global const real* bright, int n_bright, real alpha) {
+                                     global const real* bright, int n_bright, real alpha, int power2) {
   const int i0 = 16 * (int)get_global_id(0), gj0 = BRDFBAKE_STRIP_ROWS * (int)get_global_id(1);
   if (i0 >= size || gj0 >= 6 * size) return;
   const int face = gj0 / size, j0 = gj0 % size;
@@ -292,8 +307,8 @@ kernel void prefilter_pyramid_strips(global float4* out, int size, global const 
           for (int r = 0; r < BRDFBAKE_STRIP_ROWS; ++r) {
             const realw cg = dx[r] * node[0][l] + dy[r] * node[1][l] + dz[r] * node[2][l];
             const realw cm = dx[r] * node[3][l] + dy[r] * node[4][l] + dz[r] * node[5][l];
-            const realw km = strip_kernel(cm, alpha);
-            den[r] += strip_kernel(cg, alpha) * node[6][l];
+            const realw km = strip_kernel(cm, alpha, power2);
+            den[r] += strip_kernel(cg, alpha, power2) * node[6][l];
             nr[r] += km * node[7][l];
             ng[r] += km * node[8][l];
             nb[r] += km * node[9][l];
@@ -312,7 +327,7 @@ kernel void prefilter_pyramid_strips(global float4* out, int size, global const 
     // the bright points, 16 texels at a time
     realw sr = (realw)(R(0.0)), sg = (realw)(R(0.0)), sb = (realw)(R(0.0));
     for (int k = 0; k < n_bright; ++k) {
-      const realw w = strip_kernel(dx[r] * bright[k] + dy[r] * bright[n_bright + k] + dz[r] * bright[2 * n_bright + k], alpha);
+      const realw w = strip_kernel(dx[r] * bright[k] + dy[r] * bright[n_bright + k] + dz[r] * bright[2 * n_bright + k], alpha, power2);
       sr += w * bright[3 * n_bright + k];
       sg += w * bright[4 * n_bright + k];
       sb += w * bright[5 * n_bright + k];

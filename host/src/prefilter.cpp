@@ -434,12 +434,26 @@ int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& 
 }
 
 template <class Real>
-cl::Event launch_pyramid(cl::Program& prog, const char* kernel, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
                          const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
-      level(prog, kernel);
+      level(prog, "prefilter_pyramid");
   return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
+}
+
+// The strips' launch (prefilter_pyramid_strips): prefilter_pyramid's arguments and power2, 1/alpha
+// where it is a whole number up to 64 (Charlie's D by multiplication), else 0.
+template <class Real>
+cl::Event launch_strips(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+                        const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
+                        const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real,
+                    cl_int>
+      level(prog, "prefilter_pyramid_strips");
+  const double n = std::round(1.0 / alpha);
+  const cl_int power2 = n >= 1.0 && n <= 64.0 && std::fabs(1.0 / alpha - n) < 1e-9 * n ? static_cast<cl_int>(n) : 0;
+  return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha), power2);
 }
 
 }  // namespace
@@ -897,7 +911,6 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
       // (prefilter_pyramid_strips), else (and with s.strips off) a traversal per texel
       // (prefilter_pyramid).
       const bool strips = quadrature && s.strips && size % 16 == 0 && size % kStripRows == 0;
-      const char* kernel = strips ? "prefilter_pyramid_strips" : "prefilter_pyramid";
       const int unit = strips ? kStripRows : 1;
       const int bands = rows / unit;  // chunks hold whole strips
       for (int c = 0; c < chunks; ++c) {
@@ -908,10 +921,15 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
                                      cl::NDRange(1, 1))
                    : cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
                                      cl::NullRange);
-        if (quadrature)
-          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, kernel, dst_buf, size, pyramid_buf, pyramid_info,
+        if (strips)
+          events.push_back(fp64 ? launch_strips<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                : launch_strips<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                          pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+        else if (quadrature)
+          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
                                                             pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
-                                : launch_pyramid<cl_float>(filter_prog, kernel, dst_buf, size, pyramid_buf, pyramid_info,
+                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
         else
           events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
