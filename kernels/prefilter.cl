@@ -149,7 +149,7 @@ kernel void prefilter_pyramid(global float4* out, int size, global const float* 
 // its data loaded once. Where a refined list would overflow its capacity the strip falls back to
 // env_pyramid_sum per texel (the per-texel kernel's own result).
 #ifndef BRDFBAKE_STRIP_ROWS
-#define BRDFBAKE_STRIP_ROWS 2
+#define BRDFBAKE_STRIP_ROWS 4
 #endif
 #ifndef BRDFBAKE_STRIP_CAPACITY
 #define BRDFBAKE_STRIP_CAPACITY 2048  // refined texels per face and level of a strip's walk

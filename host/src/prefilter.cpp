@@ -12,6 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <future>
+#include <thread>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
@@ -30,7 +33,7 @@ using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
-constexpr int kStripRows = 2;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl)
+constexpr int kStripRows = 4;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl)
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
@@ -47,6 +50,25 @@ double luminance(const float* rgb) {
 }
 
 size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
+
+// The exact solid angle of every texel (i, j) of a face of `size`, row-major: math::cube_texel_solid_angle
+// from one grid of its antiderivative F(a, b) = atan2(a b, sqrt(1 + a^2 + b^2)) at the texel corners
+// ((size + 1)^2 atan2, not 4 size^2; the same values, summed in the same order).
+std::vector<double> texel_solid_angles(int size) {
+  const size_t n = size_t(size) + 1;
+  std::vector<double> corner(n * n);
+  for (size_t j = 0; j < n; ++j)
+    for (size_t i = 0; i < n; ++i) {
+      const double a = 2.0 * double(i) / size - 1.0, b = 2.0 * double(j) / size - 1.0;
+      corner[j * n + i] = std::atan2(a * b, std::sqrt(1.0 + a * a + b * b));
+    }
+  std::vector<double> omega(size_t(size) * size_t(size));
+  for (size_t j = 0; j < size_t(size); ++j)
+    for (size_t i = 0; i < size_t(size); ++i)
+      omega[j * size_t(size) + i] =
+          corner[(j + 1) * n + i + 1] - corner[(j + 1) * n + i] - corner[j * n + i + 1] + corner[j * n + i];
+  return omega;
+}
 
 
 // The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
@@ -144,6 +166,13 @@ void check_allocation(const Device::Impl& dev, size_t bytes, const std::string& 
   throw Error(what + " needs a device buffer of " + std::to_string(bytes >> 20) + " MiB, more than '" + dev.info.name +
               "' allocates at once (CL_DEVICE_MAX_MEM_ALLOC_SIZE, " + std::to_string(dev.info.max_alloc >> 20) +
               " MiB): give a smaller size or input, or another device");
+}
+
+// The filter's program (kernels/prefilter.cl) for a spec's lobe and precision.
+cl::Program filter_program(Device::Impl& dev, const PrefilterSpec& s) {
+  const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
+  return program(dev, "prefilter.cl", s.precision,
+                 {{lobe_define, "1"}, {"BRDFBAKE_STRIP_ROWS", std::to_string(kStripRows)}});
 }
 
 cl::NDRange cube_range(int size) { return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size)); }
@@ -266,11 +295,11 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0, int base, const st
     throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
   p.data.assign(total, 0.0f);
 
-  std::vector<double> omega(size_t(s0) * size_t(s0));
-  for (int j = 0; j < s0; ++j)
-    for (int i = 0; i < s0; ++i) omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
+  const std::vector<double> omega = texel_solid_angles(s0);
+  // faces 0-2 on a second thread, 3-5 here (independent moments, disjoint parts of p.data)
+  auto faces = [&](int f_begin, int f_end) {
   std::vector<Moments> moments(size_t(p.levels));
-  for (int f = 0; f < 6; ++f) {
+  for (int f = f_begin; f < f_end; ++f) {
     // the base level: sums over blocks of level 0
     const int sb = p.sizes[0];
     Moments& b = moments[0];
@@ -330,6 +359,22 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0, int base, const st
           p.data[at + 6 * a] = static_cast<float>(cur.w[t]);
         }
     }
+  }
+  };
+  if (s0 >= 64) {
+    std::exception_ptr failed;
+    std::thread second([&] {
+      try {
+        faces(0, 3);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    });
+    faces(3, 6);
+    second.join();
+    if (failed) std::rethrow_exception(failed);
+  } else {
+    faces(0, 6);
   }
   return p;
 }
@@ -644,9 +689,7 @@ std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_coun
   if (max_count <= 0 || cube.levels.empty()) return out;
   const int s = cube.size;
   const size_t face = static_cast<size_t>(s) * static_cast<size_t>(s);
-  std::vector<double> omega(face);
-  for (int j = 0; j < s; ++j)
-    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
+  const std::vector<double> omega = texel_solid_angles(s);
   const size_t n = face_texels(s);
   const std::vector<float>& level = cube.levels[0];
   double mean = 0.0;
@@ -719,7 +762,21 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
 
 // ---- Conversion ---------------------------------------------------------------------------------
 
+namespace {
+CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
+                           const std::function<void()>& program_built);
+}
+
 CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds) {
+  return convert_to_cube(device, env, size, device_seconds, {});
+}
+
+namespace {
+
+// environment_to_cube; program_built runs once the conversion's program is built, before its
+// kernels (prefilter_environment builds the filter's program meanwhile).
+CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
+                           const std::function<void()>& program_built) {
   if (size < 1 || size > kMaxSize)
     throw Error("cube size must be in 1.." + std::to_string(kMaxSize) + " (got " + std::to_string(size) + ")");
   if (env.width < 1 || env.height < 1 || env.rgb.empty()) throw Error("empty environment");
@@ -731,6 +788,7 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
   const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
   const double seconds = detail::cl_call(what, [&] {
     cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
+    if (program_built) program_built();
     std::vector<cl::Event> events;
     if (env.layout == EnvImage::Layout::Equirect) {
       // the packed RGB pixels as they are (the kernel reads three floats a pixel): on a CPU device
@@ -782,6 +840,8 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
   return cube;
 }
 
+}  // namespace
+
 // ---- The chain ------------------------------------------------------------------------------------
 
 namespace {
@@ -831,8 +891,7 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
   double device_seconds = 0.0;
   const std::string what = "prefiltering on '" + dev.info.name + "'";
   detail::cl_call(what, [&] {
-    const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
-    cl::Program filter_prog = program(dev, "prefilter.cl", s.precision, {{lobe_define, "1"}});
+    cl::Program filter_prog = filter_program(dev, s);
     stage("program");
     // The source: the quadrature's pyramid (built here, on the host, in double), or the sampling
     // estimator's padded mip chain (built on the device).
@@ -1115,7 +1174,14 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (progress) progress(0.0, "converting to a cube");
   double convert_seconds = 0.0;
-  CubeLevels source = environment_to_cube(device, env, s.size, &convert_seconds);
+  // the filter's program is built (or read from the cache) while the conversion runs
+  std::future<void> filter_built;
+  CubeLevels source = convert_to_cube(device, env, s.size, &convert_seconds, [&] {
+    filter_built = std::async(std::launch::async, [&device, &s] {
+      detail::cl_call("building kernels/prefilter.cl", [&] { return filter_program(device.impl(), s), 0; });
+    });
+  });
+  if (filter_built.valid()) filter_built.get();
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
