@@ -2,6 +2,8 @@
 // environment.
 // Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
 // tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -215,6 +217,13 @@ class PrefilterFamily final : public Family {
                 std::to_string(cube.level_size(levels - 1)) + "^2, " + roughness_schedule_name(spec.schedule) +
                 " schedule (" + cube.meta("lod_from_roughness") + "), " + env_estimator_name(spec.estimator) + ", " +
                 fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") + " s)";
+    if (timing.wall_seconds >= 1.0) {
+      // long runs: the peak resident memory so far (getrusage: of the whole process, so in `serve`
+      // of every job it ran)
+      rusage usage{};
+      if (::getrusage(RUSAGE_SELF, &usage) == 0)
+        r.summary += ", peak memory " + fmt_number(double(usage.ru_maxrss) / 1024.0, "%.0f") + " MiB";
+    }
     r.artifact = std::move(cube);
     return r;
   }
