@@ -33,7 +33,7 @@ using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
-constexpr int kStripRows = 4;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl)
+constexpr int kStripRows = 4;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl): blocks of 8 x 8 texels
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
@@ -966,17 +966,17 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
         table_buf = real_buffer(dev, s.precision, table);
         n_padded = static_cast<int>(table.size() / 5);
       }
-      // The quadrature a strip of 16 x kStripRows texels at a time where the strip divides the level
-      // (prefilter_pyramid_strips), else (and with s.strips off) a traversal per texel
+      // The quadrature a block of 8 x 8 texels at a time where the block divides the level
+      // (prefilter_pyramid_strips), else (and with s.strips off) a walk per texel
       // (prefilter_pyramid).
-      const bool strips = quadrature && s.strips && size % 16 == 0 && size % kStripRows == 0;
-      const int unit = strips ? kStripRows : 1;
-      const int bands = rows / unit;  // chunks hold whole strips
+      const bool strips = quadrature && s.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
+      const int unit = strips ? 2 * kStripRows : 1;
+      const int bands = rows / unit;  // chunks hold whole blocks
       for (int c = 0; c < chunks; ++c) {
         const int row0 = bands * c / chunks * unit, row1 = bands * (c + 1) / chunks * unit;
         if (row1 == row0) continue;
         const cl::EnqueueArgs range =
-            strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0 / unit)), cl::NDRange(size_t(size / 16), size_t((row1 - row0) / unit)),
+            strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0 / unit)), cl::NDRange(size_t(size / 8), size_t((row1 - row0) / unit)),
                                      cl::NDRange(1, 1))
                    : cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
                                      cl::NullRange);

@@ -182,9 +182,9 @@ struct PrefilterSpec {
   double refinement = 4.0;
   double core_refinement = 4.0;
   double horizon_texel = 0.1;
-  // Quadrature: strips of 16 x 2 texels share one walk of the pyramid, refined for every texel of
-  // the strip (each texel's partition is its own or finer; kernels/prefilter.cl) on levels whose
-  // size is a multiple of 16; false: a walk per texel (the former path, kept as the reference).
+  // Quadrature: blocks of 8 x 8 texels share one walk of the pyramid, refined for every texel of
+  // the block (each texel's partition is its own or finer; kernels/prefilter.cl) on levels whose
+  // size is a multiple of 8; false: a walk per texel (the former path, kept as the reference).
   bool strips = true;
   // Estimator switches (defaults are the tool's; the bench turns them off to measure them):
   bool filtered_importance_sampling = true;  // false: every sample reads the source level
