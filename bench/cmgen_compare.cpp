@@ -468,7 +468,7 @@ int main(int argc, char** argv) {
       char theirs_s[32] = "-", ratio[32] = "-", theirs_peak[32] = "-", before_cols[64] = "";
       if (pair) {
         std::snprintf(theirs_s, sizeof theirs_s, "%.3f", seconds(runs_of[theirs]));
-        std::snprintf(ratio, sizeof ratio, "%.2f", median(ratios));
+        std::snprintf(ratio, sizeof ratio, median(ratios) < 0.1 ? "%.3f" : "%.2f", median(ratios));
         std::snprintf(theirs_peak, sizeof theirs_peak, "%.0f MiB", peak(runs_of[theirs]));
       }
       if (!baseline.empty())
