@@ -1,8 +1,10 @@
 // Side by side with Filament's cmgen (issue 11): each job of the issue's table run by brdfbake and
 // by cmgen as whole processes, interleaved, with wall time, peak memory and our error.
 //
-//   cmgen_compare [--runs N] [--jobs startup,dfg,sh,irradiance,ggx256,ggx1024]
-//                 [--brdfbake PATH] [--cmgen PATH] [--baseline PATH] [--shared DIR] [--keep]
+//   cmgen_compare [--runs N] [--jobs startup,dfg,sh,irradiance,ggx256,charlie256,ggx1024] [--env FILE]
+//                 [--brdfbake PATH] [--cmgen PATH] [--baseline PATH] [--shared DIR] [--keep] [--write-4k PATH]
+// --env FILE: the 1k input of the environment jobs (default venice_sunset_1k.hdr; rooitou_park_1k.hdr
+// has the bright sun); the 4k input is it upsampled 4x. --write-4k PATH: only write that input.
 //
 // Every job: one warm-up run of each tool (kernel binary cache, page cache), then N rounds (default
 // 5), each running every tool once, starting with a different one each round; each run is a
@@ -16,7 +18,10 @@
 //               quadrature of the input equirect itself (2 x 2 Gauss-Legendre nodes per pixel);
 //   irradiance  max and RMS relative error of our 64^2 irradiance cube (E / pi) on an 8 x 8 grid
 //               of texels per face against brute-force cosine convolution of the input equirect;
-//   ggx chains  not re-measured here (bench/prefilter_bench holds the chain to <= 1% RMS per level).
+//   chains      RMS and max relative error of the worst level of our KTX2 (as stored) on a grid of
+//               texels per face (8 x 8 at 256^2, 2 x 2 at 1024^2) against the scalar double
+//               reference filtering the file's own level 0 (chain_error); charlie256 runs ours only
+//               (cmgen has no Charlie filter).
 // The 4096x2048 input of ggx1024 is the shared 1k map upsampled bilinearly into a temporary file,
 // removed at the end with everything else (--keep keeps the folder).
 // Without cmgen (Debian: apt-get install libfilament-tools) only our side runs, and it says so.
@@ -43,6 +48,7 @@
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"
+#include "brdfbake/reference/envmap.hpp"
 #include "io/image_file.hpp"
 
 #ifndef BRDFBAKE_CLI
@@ -223,6 +229,55 @@ std::string irradiance_error(const fs::path& ktx2, const EnvImage& env) {
 }
 
 // The 1k equirect upsampled 4x bilinearly (columns wrap, rows clamp) and written as RGBE.
+// Our prefiltered chain (a KTX2 file) against the scalar double reference: for every level l >= 1,
+// an n x n grid of texels per face, each the reference's lobe integral over every texel of the
+// file's own level 0 (reference::prefilter_directions; exact solid angles), per channel
+// |P - P_ref| / max(P_ref, 1e-3 mean); the worst level's RMS and max. The file's binary16 storage is
+// part of what is measured (it is what a user gets).
+std::string chain_error(const fs::path& ktx2, EnvDistribution d, int n) {
+  const EnvImage level0 = read_ktx2_cube(ktx2.string(), 0);
+  reference::EnvCube src;
+  src.size = level0.width;
+  src.rgb.assign(level0.rgb.begin(), level0.rgb.end());
+  double worst_rms = 0, worst_max = 0;
+  int levels = 0;
+  while ((level0.width >> levels) >= 16) ++levels;  // the chains here end at 16^2
+  size_t probes = 0;
+  for (int l = 1; l < levels; ++l) {
+    const EnvImage got = read_ktx2_cube(ktx2.string(), l);
+    const int size = got.width, m = std::min(n, size), stride = size / m;
+    std::vector<Vec3> dirs;
+    std::vector<size_t> at;
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i) {
+          const int ti = i * stride + stride / 2, tj = j * stride + stride / 2;
+          dirs.push_back(math::cube_texel_direction(f, size, ti, tj));
+          at.push_back(3 * ((size_t(f) * size_t(size) + size_t(tj)) * size_t(size) + size_t(ti)));
+        }
+    const std::vector<double> want = reference::prefilter_directions(
+        src, d == EnvDistribution::Ggx ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie,
+        schedule_roughness(RoughnessSchedule::Linear, l, levels), dirs);
+    double mean = 0;
+    for (double v : want) mean += v;
+    mean /= double(want.size());
+    double sum2 = 0, mx = 0;
+    for (size_t k = 0; k < dirs.size(); ++k)
+      for (size_t c = 0; c < 3; ++c) {
+        const double e = std::fabs(double(got.rgb[at[k] + c]) - want[3 * k + c]) / std::max(want[3 * k + c], 1e-3 * mean);
+        sum2 += e * e;
+        mx = std::max(mx, e);
+      }
+    worst_rms = std::max(worst_rms, std::sqrt(sum2 / double(3 * dirs.size())));
+    worst_max = std::max(worst_max, mx);
+    probes += dirs.size();
+  }
+  char b[200];
+  std::snprintf(b, sizeof b, "worst level RMS %.2f%%, max %.1f%% (%zu texels on %d levels vs the double reference, as stored: binary16)",
+                100 * worst_rms, 100 * worst_max, probes, levels - 1);
+  return b;
+}
+
 void write_upsampled(const EnvImage& env, int factor, const fs::path& out) {
   Table t;
   t.width = env.width * factor;
@@ -252,9 +307,11 @@ void write_upsampled(const EnvImage& env, int factor, const fs::path& out) {
 
 int main(int argc, char** argv) {
   int runs = 5;
-  std::string jobs_wanted = "startup,dfg,sh,irradiance,ggx256,ggx1024";
+  std::string jobs_wanted = "startup,dfg,sh,irradiance,ggx256,charlie256,ggx1024";
   std::string ours_bin = BRDFBAKE_CLI, cmgen_name = "cmgen", shared = BRDFBAKE_SHARED_DIR, baseline;
   bool keep = false;
+  std::string write_4k;  // --write-4k PATH: only write the 4096x2048 input (for /usr/bin/time -v runs)
+  std::string env_file;  // --env FILE: the 1k input (default ../shared/envmaps/venice_sunset_1k.hdr)
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     auto value = [&]() -> std::string {
@@ -271,17 +328,27 @@ int main(int argc, char** argv) {
     else if (arg == "--baseline") baseline = value();
     else if (arg == "--shared") shared = value();
     else if (arg == "--keep") keep = true;
+    else if (arg == "--write-4k") write_4k = value();
+    else if (arg == "--env") env_file = value();
     else {
       std::fprintf(stderr, "usage: cmgen_compare [--runs N] [--jobs LIST] [--brdfbake PATH] [--cmgen PATH] "
-                           "[--baseline PATH] [--shared DIR] [--keep]\n");
+                           "[--baseline PATH] [--shared DIR] [--keep] [--write-4k PATH] [--env FILE]\n");
       return 2;
     }
   }
   auto wanted = [&](const std::string& j) { return ("," + jobs_wanted + ",").find("," + j + ",") != std::string::npos; };
 
   const std::string cmgen = find_in_path(cmgen_name);
-  const fs::path env1k = fs::path(shared) / "envmaps" / "venice_sunset_1k.hdr";
+  const fs::path env1k = env_file.empty() ? fs::path(shared) / "envmaps" / "venice_sunset_1k.hdr" : fs::path(env_file);
   const bool have_env = fs::exists(env1k);
+  if (!write_4k.empty()) {
+    if (!have_env) {
+      std::fprintf(stderr, "cmgen_compare: %s is missing\n", env1k.string().c_str());
+      return 1;
+    }
+    write_upsampled(load_environment(env1k.string()), 4, write_4k);
+    return 0;
+  }
   char tmpl[] = "/tmp/cmgen_compare.XXXXXX";
   if (::mkdtemp(tmpl) == nullptr) {
     std::perror("mkdtemp");
@@ -339,6 +406,11 @@ int main(int argc, char** argv) {
                        "-o", (dir / "ggx256.ktx2").string()},
                       {cmgen, "--quiet", "--size=256", "--format=hdr", "--ibl-min-lod-size=16",
                        "--ibl-ld=" + (dir / "ggx256_cmgen").string(), env1k.string()}});
+    if (have_env && wanted("charlie256"))  // cmgen filters GGX only: ours alone
+      jobs.push_back({"charlie256", "Charlie chain 256^2 -> 16^2 from a 1k HDR",
+                      {ours_bin, "prefilter", "--distribution", "charlie", "--env", env1k.string(), "--size", "256",
+                       "--min-size", "16", "--quiet", "-o", (dir / "charlie256.ktx2").string()},
+                      {}});
     if (have_env && wanted("ggx1024"))
       jobs.push_back({"ggx1024", "GGX chain 1024^2 -> 16^2 from a 4k HDR",
                       {ours_bin, "prefilter", "--env", env4k.string(), "--size", "1024", "--min-size", "16",
@@ -379,7 +451,9 @@ int main(int argc, char** argv) {
       if (job.name == "dfg") error = dfg_error(dir / "dfg.exr");
       if (job.name == "sh") error = sh_error(dir / "sh.json", env);
       if (job.name == "irradiance") error = irradiance_error(dir / "irradiance.ktx2", env);
-      if (job.name.rfind("ggx", 0) == 0) error = "not measured here (prefilter_bench: <= 1% RMS per level)";
+      if (job.name == "ggx256") error = chain_error(dir / "ggx256.ktx2", EnvDistribution::Ggx, 8);
+      if (job.name == "charlie256") error = chain_error(dir / "charlie256.ktx2", EnvDistribution::Charlie, 8);
+      if (job.name == "ggx1024") error = chain_error(dir / "ggx1024.ktx2", EnvDistribution::Ggx, 2);
       if (job.name == "startup") error = "-";
       auto seconds = [](const std::vector<Run>& v) {
         std::vector<double> s;
@@ -394,7 +468,7 @@ int main(int argc, char** argv) {
       char theirs_s[32] = "-", ratio[32] = "-", theirs_peak[32] = "-", before_cols[64] = "";
       if (pair) {
         std::snprintf(theirs_s, sizeof theirs_s, "%.3f", seconds(runs_of[theirs]));
-        std::snprintf(ratio, sizeof ratio, "%.2f", median(ratios));
+        std::snprintf(ratio, sizeof ratio, median(ratios) < 0.1 ? "%.3f" : "%.2f", median(ratios));
         std::snprintf(theirs_peak, sizeof theirs_peak, "%.0f MiB", peak(runs_of[theirs]));
       }
       if (!baseline.empty())

@@ -1,6 +1,10 @@
 // Prefiltered environment maps: device time and error against the brute-force reference.
 //
-//   prefilter_bench [--quick] [--timing-only] [--out DIR] [--shared DIR] [--env SPEC]...
+//   prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out DIR] [--shared DIR] [--env SPEC]...
+//
+// --default-only: the default chain's time and per-level errors, no sweep (the accuracy check of a
+// change to the default path); --charlie: the same chain with the Charlie lobe; --per-texel: the
+// quadrature's former walk per texel (PrefilterSpec::strips off), the accuracy reference of the strips.
 //
 // For every environment (builtin:studio, builtin:sun, and the real maps of ../shared/envmaps when
 // present), at 1024x512 input, the default chain (--size 256 --min-size 16, GGX, linear schedule):
@@ -144,17 +148,20 @@ Run timed(Device& dev, const CubeLevels& source, const PrefilterSpec& spec, int 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, timing_only = false;
+  bool quick = false, timing_only = false, default_only = false, charlie = false, per_texel = false;
   std::string out_dir = "bench-out", shared = "";
   std::vector<std::string> envs;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--timing-only")) timing_only = true;
+    else if (!std::strcmp(argv[i], "--default-only")) default_only = true;
+    else if (!std::strcmp(argv[i], "--charlie")) charlie = true;
+    else if (!std::strcmp(argv[i], "--per-texel")) per_texel = true;
     else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
     else if (!std::strcmp(argv[i], "--shared") && i + 1 < argc) shared = argv[++i];
     else if (!std::strcmp(argv[i], "--env") && i + 1 < argc) envs.push_back(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: prefilter_bench [--quick] [--timing-only] [--out DIR] [--shared DIR] [--env SPEC]...\n");
+      std::fprintf(stderr, "usage: prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out DIR] [--shared DIR] [--env SPEC]...\n");
       return 2;
     }
   }
@@ -180,6 +187,8 @@ int main(int argc, char** argv) {
   csv << "env,estimator,variant,parameter,device_seconds,worst_level_rms,worst_level_max\n";
 
   PrefilterSpec base;  // the defaults: 256 -> 16, GGX, linear
+  if (charlie) base.distribution = EnvDistribution::Charlie;
+  if (per_texel) base.strips = false;
   const int levels = prefilter_level_count(base);
 
   for (const std::string& name : envs) {
@@ -239,6 +248,7 @@ int main(int argc, char** argv) {
       }
     }
 
+    if (default_only) continue;
     // The sweep.
     struct Variant {
       const char* estimator;  // quadrature | sampling

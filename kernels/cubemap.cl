@@ -12,8 +12,9 @@
 // is +Y, the centre column +Z, u = 1/4 is +X. The inverse: u = 0.5 - atan2(x, z) / 2 pi,
 // v = 0.5 - asin(y) / pi.
 
-// Bilinear fetch of the equirect at (u, v): rows clamp at the poles, columns wrap around.
-inline real4 equirect_bilinear(global const float4* src, int width, int height, real u, real v) {
+// Bilinear fetch of the equirect at (u, v): rows clamp at the poles, columns wrap around. The
+// pixels are packed RGB (three floats each), as the host holds them: no RGBA copy of a 4k map.
+inline real3 equirect_bilinear(global const float* src, int width, int height, real u, real v) {
   const real fx = u * (real)width - R(0.5);
   const real fy = clamp(v * (real)height - R(0.5), R(0.0), (real)(height - 1));
   const real x0f = floor(fx), y0f = floor(fy);
@@ -22,10 +23,10 @@ inline real4 equirect_bilinear(global const float4* src, int width, int height, 
   if (x0 < 0) x0 += width;
   const int x1 = x0 + 1 == width ? 0 : x0 + 1;
   const int y0 = (int)y0f, y1 = min(y0 + 1, height - 1);
-  const real4 t00 = convert_real4(src[(size_t)y0 * (size_t)width + (size_t)x0]);
-  const real4 t10 = convert_real4(src[(size_t)y0 * (size_t)width + (size_t)x1]);
-  const real4 t01 = convert_real4(src[(size_t)y1 * (size_t)width + (size_t)x0]);
-  const real4 t11 = convert_real4(src[(size_t)y1 * (size_t)width + (size_t)x1]);
+  const real3 t00 = convert_real3(vload3((size_t)y0 * (size_t)width + (size_t)x0, src));
+  const real3 t10 = convert_real3(vload3((size_t)y0 * (size_t)width + (size_t)x1, src));
+  const real3 t01 = convert_real3(vload3((size_t)y1 * (size_t)width + (size_t)x0, src));
+  const real3 t11 = convert_real3(vload3((size_t)y1 * (size_t)width + (size_t)x1, src));
   return (R(1.0) - ty) * ((R(1.0) - tx) * t00 + tx * t10) + ty * ((R(1.0) - tx) * t01 + tx * t11);
 }
 
@@ -34,8 +35,10 @@ inline real4 equirect_bilinear(global const float4* src, int width, int height, 
 // coordinates, weighted by their solid angle (the area element), so that the texel holds the
 // equirect's average over its own footprint. The direction maths runs BRDFBAKE_LANES texels at a
 // time (PoCL vectorises only explicit vectors); the fetches are per lane.
-kernel void equirect_to_cube(global const float4* src, int width, int height, global float4* dst,
-                             int size, int k) {
+// dst holds faces face0.. (the host converts one face at a time: global id 1 is offset to the face,
+// so that no device buffer is larger than a face).
+kernel void equirect_to_cube(global const float* src, int width, int height, global float4* dst,
+                             int size, int k, int face0) {
   const int i0 = (int)get_global_id(0) * BRDFBAKE_LANES, gj = (int)get_global_id(1);
   if (i0 >= size || gj >= 6 * size) return;
   const int face = gj / size, j = gj % size;
@@ -65,7 +68,7 @@ kernel void equirect_to_cube(global const float4* src, int width, int height, gl
       vstore_lanes(v, 0, lv);
       real cr[BRDFBAKE_LANES], cg[BRDFBAKE_LANES], cb[BRDFBAKE_LANES];
       for (int q = 0; q < BRDFBAKE_LANES; ++q) {
-        const real4 t = equirect_bilinear(src, width, height, lu[q], lv[q]);
+        const real3 t = equirect_bilinear(src, width, height, lu[q], lv[q]);
         cr[q] = t.x;
         cg[q] = t.y;
         cb[q] = t.z;
@@ -81,7 +84,7 @@ kernel void equirect_to_cube(global const float4* src, int width, int height, gl
   vstore_lanes(sb / wsum, 0, out_b);
   const int n = min(BRDFBAKE_LANES, size - i0);
   for (int q = 0; q < n; ++q)
-    dst[((size_t)face * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q)] =
+    dst[((size_t)(face - face0) * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q)] =
         (float4)((float)out_r[q], (float)out_g[q], (float)out_b[q], 1.0f);
 }
 

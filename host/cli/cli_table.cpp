@@ -250,6 +250,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     line.update(step.empty() ? title : title + ", " + step, fraction);
   });
   line.finish();
+  environment = EnvImage{};  // the input's pixels are no longer needed (a 4k map holds 96 MiB)
   const WriteReport written = write_result(result, t, t.output);
   std::string stored;
   if (written.error_bound) {

@@ -12,6 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <future>
+#include <thread>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
@@ -21,7 +24,6 @@
 #include "brdfbake/version.hpp"
 #include "env_internal.hpp"
 #include "env_lobes.hpp"
-#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -31,6 +33,7 @@ using math::kPi;
 constexpr int kMaxSize = kPrefilterMaxSize;
 constexpr int kMaxSamples = kPrefilterMaxSamples;
 constexpr int kVectorWidth = 8;  // BRDFBAKE_LANES: sample and point arrays are padded to a multiple
+constexpr int kStripRows = 4;    // BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl): blocks of 8 x 8 texels
 
 // --max-error: sample counts tried per level, and the cap.
 constexpr int kSearchStart = 32;
@@ -47,6 +50,25 @@ double luminance(const float* rgb) {
 }
 
 size_t face_texels(int size) { return 6u * static_cast<size_t>(size) * static_cast<size_t>(size); }
+
+// The exact solid angle of every texel (i, j) of a face of `size`, row-major: math::cube_texel_solid_angle
+// from one grid of its antiderivative F(a, b) = atan2(a b, sqrt(1 + a^2 + b^2)) at the texel corners
+// ((size + 1)^2 atan2, not 4 size^2; the same values, summed in the same order).
+std::vector<double> texel_solid_angles(int size) {
+  const size_t n = size_t(size) + 1;
+  std::vector<double> corner(n * n);
+  for (size_t j = 0; j < n; ++j)
+    for (size_t i = 0; i < n; ++i) {
+      const double a = 2.0 * double(i) / size - 1.0, b = 2.0 * double(j) / size - 1.0;
+      corner[j * n + i] = std::atan2(a * b, std::sqrt(1.0 + a * a + b * b));
+    }
+  std::vector<double> omega(size_t(size) * size_t(size));
+  for (size_t j = 0; j < size_t(size); ++j)
+    for (size_t i = 0; i < size_t(size); ++i)
+      omega[j * size_t(size) + i] =
+          corner[(j + 1) * n + i + 1] - corner[(j + 1) * n + i] - corner[j * n + i + 1] + corner[j * n + i];
+  return omega;
+}
 
 
 // The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
@@ -137,6 +159,22 @@ cl::Program program(Device::Impl& dev, const char* file, Precision p,
   return detail::build_program(dev, ps);
 }
 
+// Device buffers stay within CL_DEVICE_MAX_MEM_ALLOC_SIZE (GPUs allow a quarter of their memory or
+// less in one allocation): a larger one is refused here with its size, not by the driver.
+void check_allocation(const Device::Impl& dev, size_t bytes, const std::string& what) {
+  if (dev.info.max_alloc == 0 || bytes <= dev.info.max_alloc) return;
+  throw Error(what + " needs a device buffer of " + std::to_string(bytes >> 20) + " MiB, more than '" + dev.info.name +
+              "' allocates at once (CL_DEVICE_MAX_MEM_ALLOC_SIZE, " + std::to_string(dev.info.max_alloc >> 20) +
+              " MiB): give a smaller size or input, or another device");
+}
+
+// The filter's program (kernels/prefilter.cl) for a spec's lobe and precision.
+cl::Program filter_program(Device::Impl& dev, const PrefilterSpec& s) {
+  const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
+  return program(dev, "prefilter.cl", s.precision,
+                 {{lobe_define, "1"}, {"BRDFBAKE_STRIP_ROWS", std::to_string(kStripRows)}});
+}
+
 cl::NDRange cube_range(int size) { return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size)); }
 
 // The padded source chain on the device: every level of the rest cube down to 1x1.
@@ -185,7 +223,6 @@ double sum_seconds(const std::vector<cl::Event>& events) {
 }
 
 // One filtered level: a launch of prefilter_level, with the real-typed alpha argument.
-// `rows`: a block of the size x 6 size range (runtime/launch.hpp sizes them).
 template <class Real>
 cl::Event launch_level(cl::Program& prog, const cl::Buffer& out, int size, const Chain& chain,
                        const cl::Buffer& samples, int n_samples, const cl::Buffer& bright, int n_bright, double alpha,
@@ -217,57 +254,82 @@ size_t quadtree_index(int i, int j, int depth, int top_size) {
   return (root << (2 * depth)) | local;
 }
 
-// The pyramid of an RGBA cube, in double: level 0 holds each texel's exact solid angle, centre
-// direction and L Omega; each coarser level sums 2 x 2 children (the moments Omega d and
-// lum Omega d, Omega, L Omega), down to 1 x 1 or the first odd size (the top level). Directions are
-// normalised on output.
-Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
-  struct Moments {
-    std::vector<double> g, m, w, l;  // 3, 3, 1, 3 per texel, row-major per face
-  };
-  std::vector<Moments> moments(1);
+// Face sizes of the full pyramid of a cube of face size s0: s0, s0 / 2, ... down to 1 or the first
+// odd size (the top level).
+std::vector<int> pyramid_sizes(int s0) {
   std::vector<int> sizes = {s0};
-  {
-    Moments& cur = moments[0];
-    const size_t n0 = face_texels(s0);
-    cur.g.resize(3 * n0);
-    cur.m.resize(3 * n0);
-    cur.w.resize(n0);
-    cur.l.resize(3 * n0);
-    std::vector<double> omega(size_t(s0) * size_t(s0));
-    for (int j = 0; j < s0; ++j)
-      for (int i = 0; i < s0; ++i)
-        omega[size_t(j) * size_t(s0) + size_t(i)] = math::cube_texel_solid_angle(s0, i, j);
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s0; ++j)
-        for (int i = 0; i < s0; ++i) {
-          const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
-          const Vec3 d = math::cube_texel_direction(f, s0, i, j);
-          const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
-          const double lum = luminance(&rgba[4 * t]) * w;
-          const double dv[3] = {d.x, d.y, d.z};
-          for (size_t c = 0; c < 3; ++c) {
-            cur.g[3 * t + c] = w * dv[c];
-            cur.m[3 * t + c] = lum * dv[c];
-            cur.l[3 * t + c] = double(rgba[4 * t + c]) * w;
-          }
-          cur.w[t] = w;
-        }
+  while (sizes.back() > 1 && sizes.back() % 2 == 0) sizes.push_back(sizes.back() / 2);
+  return sizes;
+}
+
+// The pyramid of an RGBA cube, in double, from level `base` of the full pyramid up (the levels
+// below it are never visited: pyramid_base_level): each texel of the base level sums its
+// 2^base x 2^base texels of level 0 (the moments Omega d and lum Omega d, Omega, L Omega, with each
+// texel's exact solid angle and centre direction; texels marked in `skip`, the bright ones, add their
+// solid angle but no radiance), each coarser level sums 2 x 2 children, down to the top level.
+// Directions are normalised on output. A face at a time (the faces' pyramids are independent), so
+// that only one face's moments are held in double: a 1024^2 cube with base 2 needs 5 MiB for them.
+Pyramid build_pyramid(const std::vector<float>& rgba, int s0, int base, const std::vector<uint8_t>& skip) {
+  struct Moments {
+    std::vector<double> g, m, w, l;  // 3, 3, 1, 3 per texel of one face, row-major
+    void assign(size_t n) {
+      g.assign(3 * n, 0.0);
+      m.assign(3 * n, 0.0);
+      w.assign(n, 0.0);
+      l.assign(3 * n, 0.0);
+    }
+  };
+  const std::vector<int> full = pyramid_sizes(s0);
+  base = std::clamp(base, 0, static_cast<int>(full.size()) - 1);
+  Pyramid p;
+  p.sizes.assign(full.begin() + base, full.end());
+  p.levels = static_cast<int>(p.sizes.size());
+  const int top_size = p.sizes.back();
+  size_t total = 0;
+  for (int sk : p.sizes) {
+    p.info.push_back(static_cast<cl_int>(total));
+    p.info.push_back(sk);
+    total += 10 * (6 * size_t(sk) * size_t(sk) + 8);
   }
-  while (sizes.back() > 1 && sizes.back() % 2 == 0) {
-    const int s = sizes.back(), h = s / 2;
-    const Moments& cur = moments.back();
-    Moments next;
-    const size_t nh = face_texels(h);
-    next.g.assign(3 * nh, 0.0);
-    next.m.assign(3 * nh, 0.0);
-    next.w.assign(nh, 0.0);
-    next.l.assign(3 * nh, 0.0);
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s; ++j)
-        for (int i = 0; i < s; ++i) {
-          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
-          const size_t u = (size_t(f) * size_t(h) + size_t(j / 2)) * size_t(h) + size_t(i / 2);
+  if (total > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
+    throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
+  p.data.assign(total, 0.0f);
+
+  const std::vector<double> omega = texel_solid_angles(s0);
+  // faces 0-2 on a second thread, 3-5 here (independent moments, disjoint parts of p.data)
+  auto faces = [&](int f_begin, int f_end) {
+  std::vector<Moments> moments(size_t(p.levels));
+  for (int f = f_begin; f < f_end; ++f) {
+    // the base level: sums over blocks of level 0
+    const int sb = p.sizes[0];
+    Moments& b = moments[0];
+    b.assign(size_t(sb) * size_t(sb));
+    for (int j = 0; j < s0; ++j)
+      for (int i = 0; i < s0; ++i) {
+        const size_t t = (size_t(f) * size_t(s0) + size_t(j)) * size_t(s0) + size_t(i);
+        const size_t u = size_t(j >> base) * size_t(sb) + size_t(i >> base);
+        const Vec3 d = math::cube_texel_direction(f, s0, i, j);
+        const double w = omega[size_t(j) * size_t(s0) + size_t(i)];
+        const double dv[3] = {d.x, d.y, d.z};
+        b.w[u] += w;
+        for (size_t c = 0; c < 3; ++c) b.g[3 * u + c] += w * dv[c];
+        if (!skip.empty() && skip[t]) continue;
+        const double lum = luminance(&rgba[4 * t]) * w;
+        for (size_t c = 0; c < 3; ++c) {
+          b.m[3 * u + c] += lum * dv[c];
+          b.l[3 * u + c] += double(rgba[4 * t + c]) * w;
+        }
+      }
+    // coarser levels: 2 x 2 children each
+    for (int k = 1; k < p.levels; ++k) {
+      const int sc = p.sizes[size_t(k - 1)], h = p.sizes[size_t(k)];
+      const Moments& cur = moments[size_t(k - 1)];
+      Moments& next = moments[size_t(k)];
+      next.assign(size_t(h) * size_t(h));
+      for (int j = 0; j < sc; ++j)
+        for (int i = 0; i < sc; ++i) {
+          const size_t t = size_t(j) * size_t(sc) + size_t(i);
+          const size_t u = size_t(j / 2) * size_t(h) + size_t(i / 2);
           for (size_t c = 0; c < 3; ++c) {
             next.g[3 * u + c] += cur.g[3 * t + c];
             next.m[3 * u + c] += cur.m[3 * t + c];
@@ -275,25 +337,15 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
           }
           next.w[u] += cur.w[t];
         }
-    moments.push_back(std::move(next));
-    sizes.push_back(h);
-  }
-  Pyramid p;
-  p.levels = static_cast<int>(sizes.size());
-  p.sizes = sizes;
-  const int top_size = sizes.back();
-  size_t offset = 0;
-  for (int k = 0; k < p.levels; ++k) {
-    const int s = sizes[size_t(k)];
-    const size_t n_face = size_t(s) * size_t(s), a = 6 * n_face + 8;
-    p.info.push_back(static_cast<cl_int>(offset));
-    p.info.push_back(s);
-    p.data.resize(offset + 10 * a, 0.0f);
-    const Moments& cur = moments[size_t(k)];
-    for (int f = 0; f < 6; ++f)
-      for (int j = 0; j < s; ++j)
-        for (int i = 0; i < s; ++i) {
-          const size_t t = (size_t(f) * size_t(s) + size_t(j)) * size_t(s) + size_t(i);
+    }
+    // this face of every level, in quadtree order, as floats
+    for (int k = 0; k < p.levels; ++k) {
+      const int sk = p.sizes[size_t(k)];
+      const size_t n_face = size_t(sk) * size_t(sk), a = 6 * n_face + 8, offset = size_t(p.info[2 * size_t(k)]);
+      const Moments& cur = moments[size_t(k)];
+      for (int j = 0; j < sk; ++j)
+        for (int i = 0; i < sk; ++i) {
+          const size_t t = size_t(j) * size_t(sk) + size_t(i);
           const size_t at = offset + size_t(f) * n_face + quadtree_index(i, j, p.levels - 1 - k, top_size);
           const double* g = &cur.g[3 * t];
           const double* m = &cur.m[3 * t];
@@ -306,10 +358,24 @@ Pyramid build_pyramid(const std::vector<float>& rgba, int s0) {
           }
           p.data[at + 6 * a] = static_cast<float>(cur.w[t]);
         }
-    offset += 10 * a;
+    }
   }
-  if (offset > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
-    throw Error("cube of size " + std::to_string(s0) + " is too large for the quadrature's pyramid");
+  };
+  if (s0 >= 64) {
+    std::exception_ptr failed;
+    std::thread second([&] {
+      try {
+        faces(0, 3);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    });
+    faces(3, 6);
+    second.join();
+    if (failed) std::rethrow_exception(failed);
+  } else {
+    faces(0, 6);
+  }
   return p;
 }
 
@@ -390,6 +456,28 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
   (void)refinement;
 }
 
+// The finest level of the full pyramid of a cube of face size s0 that the quadrature visits for
+// any of the lobes `alphas`: one below the finest level it refines (core, horizon band or Charlie's
+// ring). Levels below it are never read, so build_pyramid starts there; the thresholds do not
+// depend on the refinement's value (only on the lobe, core_refinement and horizon_texel), so every
+// run of a --max-error search visits the same levels.
+int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas, const PrefilterSpec& s) {
+  Pyramid shape;
+  shape.sizes = pyramid_sizes(s0);
+  shape.levels = static_cast<int>(shape.sizes.size());
+  int base = shape.levels - 1;
+  std::vector<double> cos_core, band;
+  for (double alpha : alphas) {
+    pyramid_thresholds(shape, dist, alpha, s, s.refinement, cos_core, band);
+    for (int k = 1; k < shape.levels; ++k)
+      if (cos_core[size_t(k)] <= 1.0 || band[2 * size_t(k)] < band[2 * size_t(k) + 1]) {
+        base = std::min(base, k - 1);
+        break;
+      }
+  }
+  return base;
+}
+
 template <class Real>
 cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
@@ -397,6 +485,20 @@ cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, con
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_pyramid");
   return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
+}
+
+// The strips' launch (prefilter_pyramid_strips): prefilter_pyramid's arguments and power2, 1/alpha
+// where it is a whole number up to 64 (Charlie's D by multiplication), else 0.
+template <class Real>
+cl::Event launch_strips(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
+                        const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
+                        const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real,
+                    cl_int>
+      level(prog, "prefilter_pyramid_strips");
+  const double n = std::round(1.0 / alpha);
+  const cl_int power2 = n >= 1.0 && n <= 64.0 && std::fabs(1.0 / alpha - n) < 1e-9 * n ? static_cast<cl_int>(n) : 0;
+  return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha), power2);
 }
 
 }  // namespace
@@ -586,30 +688,34 @@ std::vector<BrightTexel> find_bright_texels(const CubeLevels& cube, int max_coun
   std::vector<BrightTexel> out;
   if (max_count <= 0 || cube.levels.empty()) return out;
   const int s = cube.size;
-  std::vector<double> omega(static_cast<size_t>(s) * static_cast<size_t>(s));
-  for (int j = 0; j < s; ++j)
-    for (int i = 0; i < s; ++i) omega[size_t(j) * size_t(s) + size_t(i)] = math::cube_texel_solid_angle(s, i, j);
+  const size_t face = static_cast<size_t>(s) * static_cast<size_t>(s);
+  const std::vector<double> omega = texel_solid_angles(s);
   const size_t n = face_texels(s);
-  std::vector<double> lum(n);
+  const std::vector<float>& level = cube.levels[0];
   double mean = 0.0;
-  for (size_t t = 0; t < n; ++t) {
-    lum[t] = luminance(&cube.levels[0][4 * t]);
-    mean += lum[t] * omega[t % omega.size()];
-  }
+  for (size_t t = 0; t < n; ++t) mean += luminance(&level[4 * t]) * omega[t % face];
   mean /= 4.0 * kPi;
+  // Only the texels above ratio x mean can be chosen: their luminances alone are ranked (the
+  // (max_count + 1)-th brightest of them is the (max_count + 1)-th brightest of all whenever there
+  // are more than max_count), not a copy of every texel's.
   double threshold = ratio * mean;
-  if (n > static_cast<size_t>(max_count)) {
-    std::vector<double> sorted = lum;
-    std::nth_element(sorted.begin(), sorted.begin() + max_count, sorted.end(), std::greater<double>());
-    threshold = std::max(threshold, sorted[size_t(max_count)]);  // the (max_count + 1)-th brightest
-  }
+  std::vector<double> above;
   for (size_t t = 0; t < n; ++t) {
-    if (!(lum[t] > threshold)) continue;
+    const double lum = luminance(&level[4 * t]);
+    if (lum > threshold) above.push_back(lum);
+  }
+  if (above.size() > static_cast<size_t>(max_count)) {
+    std::nth_element(above.begin(), above.begin() + max_count, above.end(), std::greater<double>());
+    threshold = std::max(threshold, above[size_t(max_count)]);  // the (max_count + 1)-th brightest
+  }
+  above = {};
+  for (size_t t = 0; t < n; ++t) {
+    if (!(luminance(&level[4 * t]) > threshold)) continue;
     BrightTexel b;
-    b.face = static_cast<int>(t / (size_t(s) * size_t(s)));
-    b.j = static_cast<int>(t % (size_t(s) * size_t(s)) / size_t(s));
+    b.face = static_cast<int>(t / face);
+    b.j = static_cast<int>(t % face / size_t(s));
     b.i = static_cast<int>(t % size_t(s));
-    for (size_t c = 0; c < 3; ++c) b.rgb[c] = cube.levels[0][4 * t + c];
+    for (size_t c = 0; c < 3; ++c) b.rgb[c] = level[4 * t + c];
     out.push_back(b);
   }
   return out;
@@ -656,41 +762,56 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
 
 // ---- Conversion ---------------------------------------------------------------------------------
 
+namespace {
+CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
+                           const std::function<void()>& program_built);
+}
+
 CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds) {
+  return convert_to_cube(device, env, size, device_seconds, {});
+}
+
+namespace {
+
+// environment_to_cube; program_built runs once the conversion's program is built, before its
+// kernels (prefilter_environment builds the filter's program meanwhile).
+CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
+                           const std::function<void()>& program_built) {
   if (size < 1 || size > kMaxSize)
     throw Error("cube size must be in 1.." + std::to_string(kMaxSize) + " (got " + std::to_string(size) + ")");
   if (env.width < 1 || env.height < 1 || env.rgb.empty()) throw Error("empty environment");
   auto& dev = device.impl();
   CubeLevels cube;
   cube.size = size;
-  cube.levels.assign(1, std::vector<float>(4 * face_texels(size)));
+  cube.levels.resize(1);
+  cube.levels[0].resize(4 * face_texels(size));  // in place: assign(1, vector) would hold two copies
   const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
   const double seconds = detail::cl_call(what, [&] {
     cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
+    if (program_built) program_built();
     std::vector<cl::Event> events;
-    double converted = 0.0;  // the bounded launches of the conversion (runtime/launch.hpp)
-    const double source_bytes = 16.0 * double(env.rgb.size() / 3);
-    const double cube_bytes = 16.0 * double(face_texels(size));
-    detail::check_device_memory(dev, std::max(source_bytes, cube_bytes), 2.5 * (source_bytes + cube_bytes),
-                                "converting '" + env.source + "' to a cube of " + std::to_string(size) + "^2");
-    cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
     if (env.layout == EnvImage::Layout::Equirect) {
-      const size_t px = static_cast<size_t>(env.width) * static_cast<size_t>(env.height);
-      std::vector<float> rgba(4 * px, 1.0f);
-      for (size_t p = 0; p < px; ++p)
-        for (size_t c = 0; c < 3; ++c) rgba[4 * p + c] = env.rgb[3 * p + c];
-      cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rgba.size() * sizeof(float), rgba.data());
+      // the packed RGB pixels as they are (the kernel reads three floats a pixel): on a CPU device
+      // no copy at all, elsewhere one upload
+      const size_t bytes = env.rgb.size() * sizeof(float);
+      check_allocation(dev, bytes, "the " + std::to_string(env.width) + "x" + std::to_string(env.height) + " environment");
+      cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<float*>(env.rgb.data()));
       // k x k samples per texel: about two per equirect pixel along the equator
       const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
-      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> convert(prog, "equirect_to_cube");
-      // one work-item per 8 texels of a row (kernels/cubemap.cl), k x k bilinear samples each
-      const size_t items = static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth);
-      converted = detail::launch_in_tiles(items, 6u * static_cast<size_t>(size), double(kVectorWidth * k * k),
-                                          [&](size_t x0, size_t nx, size_t y0, size_t ny) {
-                                            return convert(detail::tile_range(dev.queue, x0, nx, y0, ny), src,
-                                                           env.width, env.height, dst, size, k);
-                                          });
+      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int, cl_int> convert(prog, "equirect_to_cube");
+      // one work-item per 8 texels of a row (kernels/cubemap.cl), one face at a time into a face buffer
+      const size_t face_bytes = 4 * static_cast<size_t>(size) * static_cast<size_t>(size) * sizeof(float);
+      check_allocation(dev, face_bytes, "a face of the " + std::to_string(size) + "^2 cube");
+      cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
+      const cl::NDRange rows(static_cast<size_t>((size + kVectorWidth - 1) / kVectorWidth), static_cast<size_t>(size));
+      for (int f = 0; f < 6; ++f) {
+        const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(f) * size_t(size)), rows, cl::NullRange);
+        events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
+        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes, cube.levels[0].data() + (face_bytes / sizeof(float)) * size_t(f));
+      }
+      return sum_seconds(events);
     } else {
+      cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
       const int s = env.width;
       std::vector<float> rgba(4 * face_texels(s), 1.0f);
       for (size_t t = 0; t < face_texels(s); ++t)
@@ -706,16 +827,12 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
         const int ms = chain.info[size_t(2 * m + 1)];
         const int k = std::clamp((ms + size - 1) / size, 1, 16);
         cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> resample(prog, "cube_resample");
-        for (auto& e : events) e.wait();
-        converted = detail::launch_in_tiles(static_cast<size_t>(size), 6u * static_cast<size_t>(size), double(k * k),
-                                            [&](size_t x0, size_t nx, size_t y0, size_t ny) {
-                                              return resample(detail::tile_range(dev.queue, x0, nx, y0, ny),
-                                                              chain.buffer, chain.info[size_t(2 * m)], ms, dst, size, k);
-                                            });
+        events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer,
+                                  chain.info[size_t(2 * m)], ms, dst, size, k));
       }
+      dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
     }
-    dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
-    return sum_seconds(events) + converted;
+    return sum_seconds(events);
   });
   if (device_seconds) *device_seconds = seconds;
   detail::cube_conventions_metadata(cube);
@@ -723,10 +840,16 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
   return cube;
 }
 
+}  // namespace
+
 // ---- The chain ------------------------------------------------------------------------------------
 
-CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& in, PrefilterTiming* timing,
-                          const EnvProgress& progress) {
+namespace {
+
+// The chain from a source cube it owns: level 0 moves into the output, no copy (a 1024^2 cube is
+// 96 MiB).
+CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& in, PrefilterTiming* timing,
+                           const EnvProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (source.levels.empty() || source.size != s.size)
@@ -735,22 +858,26 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   const int levels = prefilter_level_count(s);
   const int s0 = s.size;
   const bool quadrature = s.estimator == EnvEstimator::Quadrature;
+  std::vector<std::pair<std::string, double>> stages;
+  auto stage_mark = std::chrono::steady_clock::now();
+  auto stage = [&](std::string name) {
+    const auto now = std::chrono::steady_clock::now();
+    stages.emplace_back(std::move(name), std::chrono::duration<double>(now - stage_mark).count());
+    stage_mark = now;
+  };
 
   CubeLevels out;
   out.size = s0;
-  out.metadata = source.metadata;
+  out.metadata = std::move(source.metadata);
   out.levels.resize(size_t(levels));
-  out.levels[0] = source.levels[0];
+  out.levels[0] = std::move(source.levels[0]);
+  source.levels.clear();
   if (s.clamp_luminance > 0.0) detail::clamp_luminance(out.levels[0], s.clamp_luminance);
 
   // Environment sampling: the bright texels leave the rest.
   const int max_bright = s.bright_texels < 0 ? kDefaultBrightTexels : s.bright_texels;
   const std::vector<BrightTexel> bright = find_bright_texels(out, max_bright, kBrightRatio);
-  std::vector<float> rest = out.levels[0];
-  for (const BrightTexel& b : bright) {
-    float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
-    t[0] = t[1] = t[2] = 0.0f;
-  }
+  stage("bright texels");
 
   std::vector<double> roughness(static_cast<size_t>(levels)), seconds(static_cast<size_t>(levels), 0.0);
   std::vector<double> refinement(static_cast<size_t>(levels), s.refinement);
@@ -764,34 +891,44 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   double device_seconds = 0.0;
   const std::string what = "prefiltering on '" + dev.info.name + "'";
   detail::cl_call(what, [&] {
-    const char* lobe_define = s.distribution == EnvDistribution::Charlie ? "BRDFBAKE_ENV_CHARLIE" : "BRDFBAKE_ENV_GGX";
-    cl::Program filter_prog = program(dev, "prefilter.cl", s.precision, {{lobe_define, "1"}});
+    cl::Program filter_prog = filter_program(dev, s);
+    stage("program");
     // The source: the quadrature's pyramid (built here, on the host, in double), or the sampling
     // estimator's padded mip chain (built on the device).
     Pyramid pyramid;
     cl::Buffer pyramid_buf, pyramid_info;
     Chain chain;
     if (quadrature) {
-      pyramid = build_pyramid(rest, s0);
-      const double bytes = double(pyramid.data.size()) * sizeof(float);
-      detail::check_device_memory(dev, bytes, bytes + 16.0 * double(face_texels(s0)),
-                                  "the quadrature pyramid of a " + std::to_string(s0) + "^2 cube");
-      pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pyramid.data.size() * sizeof(float),
+      std::vector<double> alphas;
+      for (int l = 1; l < levels; ++l)
+        alphas.push_back(std::max(roughness[size_t(l)] * roughness[size_t(l)], math::kMinAlpha));
+      std::vector<uint8_t> skip;
+      if (!bright.empty()) {
+        skip.assign(face_texels(s0), 0);
+        for (const BrightTexel& b : bright) skip[(size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i)] = 1;
+      }
+      pyramid = build_pyramid(out.levels[0], s0, pyramid_base_level(s0, s.distribution, alphas, s), skip);
+      check_allocation(dev, pyramid.data.size() * sizeof(float), "the quadrature's pyramid");
+      // USE_HOST_PTR: a CPU device reads the host's copy (it outlives every level), a GPU uploads it
+      pyramid_buf = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, pyramid.data.size() * sizeof(float),
                                pyramid.data.data());
       pyramid_info = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                 pyramid.info.size() * sizeof(cl_int), pyramid.info.data());
     } else {
       cl::Program cube_prog = program(dev, "cubemap.cl", s.precision);
-      const double bytes = 16.0 * 1.4 * double(6u * size_t(s0 + 2) * size_t(s0 + 2));  // every padded level
-      detail::check_device_memory(dev, bytes, bytes + 32.0 * double(face_texels(s0)),
-                                  "the source mip chain of a " + std::to_string(s0) + "^2 cube");
       std::vector<cl::Event> chain_events;
+      std::vector<float> rest = out.levels[0];
+      for (const BrightTexel& b : bright) {
+        float* t = &rest[4 * ((size_t(b.face) * size_t(s0) + size_t(b.j)) * size_t(s0) + size_t(b.i))];
+        t[0] = t[1] = t[2] = 0.0f;
+      }
       cl::Buffer level0(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rest.size() * sizeof(float), rest.data());
       chain = build_chain(dev, cube_prog, level0, s0, chain_events);
       for (auto& e : chain_events) e.wait();
       seconds[0] = sum_seconds(chain_events);
       device_seconds += seconds[0];
     }
+    stage(quadrature ? "pyramid" : "source chain");
 
     // One level into `dst` with n samples (sampling) or refinement r (quadrature); waits, returns
     // its device seconds.
@@ -807,47 +944,67 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       const std::vector<double> pts = bright_texel_points(bright, s0, bright_subdivision(s.distribution, alpha, s0, bright.size()), scale, &n_points);
       const int n_pts = n_points > 0 ? static_cast<int>(pts.size() / 6) : 0;
       cl::Buffer pts_buf = real_buffer(dev, s.precision, pts);
-      cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(size) * sizeof(float));
+      // the level is written into dst through USE_HOST_PTR and mapped back: no second copy on a
+      // CPU device
+      dst.assign(4 * face_texels(size), 0.0f);
+      check_allocation(dev, dst.size() * sizeof(float), "level " + std::to_string(l));
+      cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, dst.size() * sizeof(float), dst.data());
       const bool fp64 = s.precision == Precision::Fp64;
-      const size_t width = static_cast<size_t>(size), rows = 6u * static_cast<size_t>(size);
+      const int rows = 6 * size;
+      const int chunks = step ? std::clamp(rows / 16, 1, 24) : 1;
+      std::vector<cl::Event> events;
       std::vector<double> cos_core, band, table;
       cl::Buffer core_buf, band_buf, table_buf;
       int n_padded = 0;
-      double cost = 0.0;  // units of work of a texel (runtime/launch.hpp)
       if (quadrature) {
         pyramid_thresholds(pyramid, s.distribution, alpha, s, r, cos_core, band);
         core_buf = real_buffer(dev, s.precision, cos_core);
         band_buf = real_buffer(dev, s.precision, band);
-        // Work of a texel: the top level's texels and at most 4 x 512 children per face and level
-        // (BRDFBAKE_PYRAMID_CAPACITY), plus the bright points.
-        const double top = double(pyramid.sizes.back());
-        cost = 6.0 * (top * top + 4.0 * 512.0 * pyramid.levels) + n_pts;
       } else {
         int n_kept = 0;
         table = lobe_samples(s.distribution, alpha, n, s0, s.filtered_importance_sampling, s.lod_bias, &n_kept);
         table_buf = real_buffer(dev, s.precision, table);
         n_padded = static_cast<int>(table.size() / 5);
-        cost = 2.0 * n_padded + n_pts;
       }
-      // Bounded launches of rows (runtime/launch.hpp): progress follows them, a stop request is
-      // honoured between them.
-      const double level_seconds = detail::launch_in_tiles(
-          width, rows, cost,
-          [&](size_t x0, size_t nx, size_t y0, size_t ny) {
-            const cl::EnqueueArgs range = detail::tile_range(dev.queue, x0, nx, y0, ny);
-            if (quadrature)
-              return fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                      pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
-                          : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                     pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range);
-            return fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf,
-                                                  n_pts, alpha, range)
-                        : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf,
-                                                 n_pts, alpha, range);
-          },
-          step, step ? std::clamp<size_t>(rows / 16, 1, 24) : 1);  // a moving progress line within a level
-      dst.resize(4 * face_texels(size));
-      dev.queue.enqueueReadBuffer(dst_buf, CL_TRUE, 0, dst.size() * sizeof(float), dst.data());
+      // The quadrature a block of 8 x 8 texels at a time where the block divides the level
+      // (prefilter_pyramid_strips), else (and with s.strips off) a walk per texel
+      // (prefilter_pyramid).
+      const bool strips = quadrature && s.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
+      const int unit = strips ? 2 * kStripRows : 1;
+      const int bands = rows / unit;  // chunks hold whole blocks
+      for (int c = 0; c < chunks; ++c) {
+        const int row0 = bands * c / chunks * unit, row1 = bands * (c + 1) / chunks * unit;
+        if (row1 == row0) continue;
+        const cl::EnqueueArgs range =
+            strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0 / unit)), cl::NDRange(size_t(size / 8), size_t((row1 - row0) / unit)),
+                                     cl::NDRange(1, 1))
+                   : cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
+                                     cl::NullRange);
+        if (strips)
+          events.push_back(fp64 ? launch_strips<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                : launch_strips<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                          pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+        else if (quadrature)
+          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
+                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+        else
+          events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                          pts_buf, n_pts, alpha, range)
+                                : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
+                                                         pts_buf, n_pts, alpha, range));
+      }
+      double level_seconds = 0.0;
+      for (size_t c = 0; c < events.size(); ++c) {
+        events[c].wait();
+        level_seconds += detail::event_seconds(events[c]);
+        if (step) step(double(c + 1) / double(events.size()));
+      }
+      void* mapped = dev.queue.enqueueMapBuffer(dst_buf, CL_TRUE, CL_MAP_READ, 0, dst.size() * sizeof(float));
+      dev.queue.enqueueUnmapMemObject(dst_buf, mapped);
+      dev.queue.finish();
       return level_seconds;
     };
 
@@ -928,6 +1085,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
       }
       device_seconds += sec;
       done_work += double(face_texels(out.level_size(l)));
+      stage("level " + std::to_string(l));
     }
     if (progress) progress(1.0, "done");
     return 0;
@@ -991,6 +1149,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   out.set_meta("precision", precision_name(s.precision));
   out.set_meta("device", dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (timing) {
+    timing->stage_seconds.insert(timing->stage_seconds.end(), stages.begin(), stages.end());
     timing->device_seconds += device_seconds;
     timing->level_device_seconds = seconds;
     if (s.max_error > 0.0) {
@@ -1002,16 +1161,31 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
   return out;
 }
 
+}  // namespace
+
+CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& in, PrefilterTiming* timing,
+                          const EnvProgress& progress) {
+  return prefilter_chain(device, source, in, timing, progress);
+}
+
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& in, PrefilterTiming* timing,
                                  const EnvProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (progress) progress(0.0, "converting to a cube");
   double convert_seconds = 0.0;
-  CubeLevels source = environment_to_cube(device, env, s.size, &convert_seconds);
+  // the filter's program is built (or read from the cache) while the conversion runs
+  std::future<void> filter_built;
+  CubeLevels source = convert_to_cube(device, env, s.size, &convert_seconds, [&] {
+    filter_built = std::async(std::launch::async, [&device, &s] {
+      detail::cl_call("building kernels/prefilter.cl", [&] { return filter_program(device.impl(), s), 0; });
+    });
+  });
+  if (filter_built.valid()) filter_built.get();
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
-  CubeLevels out = prefilter_cube(device, source, s, &t, progress);
+  t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  CubeLevels out = prefilter_chain(device, std::move(source), s, &t, progress);
   detail::environment_source_metadata(out, env);
   if (timing) {
     *timing = t;

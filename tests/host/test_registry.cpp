@@ -88,6 +88,7 @@ TEST(Registry, EverySpecFieldHasASchemaEntry) {
                   {"schedule", "schedule"}, {"estimator", "estimator"}, {"samples", "samples"},
                   {"max_error", "max_error"}, {"precision", "precision"}, {"refinement", "refinement"},
                   {"core_refinement", ""}, {"horizon_texel", ""},  // quadrature shape: measured by the bench
+                  {"strips", ""},  // the per-texel walk: the accuracy reference of the bench and tests
                   {"filtered_importance_sampling", "fis"},
                   {"lod_bias", ""},  // measured by the bench (0 is best here)
                   {"bright_texels", "env_sampling"}, {"clamp_luminance", "clamp"}},

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "brdfbake/device.hpp"
@@ -186,6 +187,10 @@ struct PrefilterSpec {
   double refinement = 4.0;
   double core_refinement = 4.0;
   double horizon_texel = 0.1;
+  // Quadrature: blocks of 8 x 8 texels share one walk of the pyramid, refined for every texel of
+  // the block (each texel's partition is its own or finer; kernels/prefilter.cl) on levels whose
+  // size is a multiple of 8; false: a walk per texel (the former path, kept as the reference).
+  bool strips = true;
   // Estimator switches (defaults are the tool's; the bench turns them off to measure them):
   bool filtered_importance_sampling = true;  // false: every sample reads the source level
   double lod_bias = 0.0;                     // added to the filtered-importance-sampling lod
@@ -209,6 +214,9 @@ struct PrefilterTiming {
   // estimates, and the largest of them (the chain's measured bound); empty / -1 otherwise.
   std::vector<double> measured_error_per_level;
   double measured_error = -1.0;
+  // Wall seconds of each host-side stage in order ("convert", "bright texels", "pyramid",
+  // "level 1", ...), for bench/startup_stages: where the time of a chain goes.
+  std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
 // Progress: fraction done (0..1) and a short label ("level 2/4").

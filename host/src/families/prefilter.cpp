@@ -2,6 +2,8 @@
 // environment.
 // Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
 // tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -74,16 +76,19 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
   }
   TableRequest at = t;
   at.output = path;
-  CubeLevels out = cube;
   WriteReport w;
   w.storage_error = s.max_error;
   w.encoding = s.encoding;
-  if (bound) {
-    w.error_bound = *bound + s.max_error;
-    out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
-    out.set_meta("storage_encoding", s.encoding);
-    out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
+  if (!bound) {
+    // nothing to add to the metadata: written as it is (a copy of a 1024^2 chain is 128 MiB)
+    write_cubemap(cube, path, cube_format_of(at), cube_write_options_of(at, stem));
+    return w;
   }
+  CubeLevels out = cube;
+  w.error_bound = *bound + s.max_error;
+  out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
+  out.set_meta("storage_encoding", s.encoding);
+  out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
   write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
   return w;
 }
@@ -220,6 +225,13 @@ class PrefilterFamily final : public Family {
                 std::to_string(cube.level_size(levels - 1)) + "^2, " + roughness_schedule_name(spec.schedule) +
                 " schedule (" + cube.meta("lod_from_roughness") + "), " + env_estimator_name(spec.estimator) + ", " +
                 fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") + " s)";
+    if (timing.wall_seconds >= 1.0) {
+      // long runs: the peak resident memory so far (getrusage: of the whole process, so in `serve`
+      // of every job it ran)
+      rusage usage{};
+      if (::getrusage(RUSAGE_SELF, &usage) == 0)
+        r.summary += ", peak memory " + fmt_number(double(usage.ru_maxrss) / 1024.0, "%.0f") + " MiB";
+    }
     r.artifact = std::move(cube);
     return r;
   }
