@@ -24,6 +24,7 @@
 #include "brdfbake/version.hpp"
 #include "env_internal.hpp"
 #include "env_lobes.hpp"
+#include "runtime/launch.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake {
@@ -786,6 +787,12 @@ CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double
   cube.levels.resize(1);
   cube.levels[0].resize(4 * face_texels(size));  // in place: assign(1, vector) would hold two copies
   const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
+  {
+    // Device limits (docs/RELIABILITY.md): the source and the cube must fit the device's memory.
+    const double source_bytes = 12.0 * double(env.rgb.size() / 3), cube_bytes = 16.0 * double(face_texels(size));
+    detail::check_device_memory(dev, std::max(source_bytes, cube_bytes), 2.5 * (source_bytes + cube_bytes),
+                                "converting '" + env.source + "' to a cube of " + std::to_string(size) + "^2");
+  }
   const double seconds = detail::cl_call(what, [&] {
     cl::Program prog = program(dev, "cubemap.cl", Precision::Fp32);
     if (program_built) program_built();
