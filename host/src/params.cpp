@@ -1,5 +1,6 @@
 // Typed parameters: checking values against their definitions, and reading command-line text.
 #include "brdfbake/params.hpp"
+#include "text.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -57,17 +58,7 @@ bool parse_number(const std::string& text, double* out) {
   return true;
 }
 
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  for (;;) {
-    const size_t at = text.find(sep, start);
-    out.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
-    if (at == std::string::npos) break;
-    start = at + 1;
-  }
-  return out;
-}
+using detail::split;  // text.hpp
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 // the writers' (host/src/io/table_io.cpp): texel (i, j) is pixel (i, j), row 0 first; channels in
 // order in R, G, B, A; metadata as "brdfbake:KEY" attributes, text chunks or key/value pairs.
 #include "io/table_read.hpp"
+#include "text.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -43,20 +44,7 @@ std::string trim(const std::string& s) {
   return s.substr(a, b - a);
 }
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == sep) {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
+using detail::split;  // text.hpp
 
 bool parse_double(const std::string& text, double* v) {
   const std::string t = trim(text);

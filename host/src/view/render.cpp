@@ -18,6 +18,7 @@
 #include <set>
 
 #include "brdfbake/error.hpp"
+#include "text.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "brdfbake/view.hpp"
@@ -44,20 +45,7 @@ std::string fmt(double v, const char* f = "%.3g") {
   return b;
 }
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == sep) {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
+using detail::split;  // text.hpp
 
 std::string meta_of(const Metadata& m, const std::string& key) {
   for (const auto& [k, v] : m)
