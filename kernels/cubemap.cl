@@ -12,24 +12,6 @@
 // is +Y, the centre column +Z, u = 1/4 is +X. The inverse: u = 0.5 - atan2(x, z) / 2 pi,
 // v = 0.5 - asin(y) / pi.
 
-// Bilinear fetch of the equirect at (u, v): rows clamp at the poles, columns wrap around. The
-// pixels are packed RGB (three floats each), as the host holds them: no RGBA copy of a 4k map.
-inline real3 equirect_bilinear(global const float* src, int width, int height, real u, real v) {
-  const real fx = u * (real)width - R(0.5);
-  const real fy = clamp(v * (real)height - R(0.5), R(0.0), (real)(height - 1));
-  const real x0f = floor(fx), y0f = floor(fy);
-  const real tx = fx - x0f, ty = fy - y0f;
-  int x0 = (int)x0f % width;
-  if (x0 < 0) x0 += width;
-  const int x1 = x0 + 1 == width ? 0 : x0 + 1;
-  const int y0 = (int)y0f, y1 = min(y0 + 1, height - 1);
-  const real3 t00 = convert_real3(vload3((size_t)y0 * (size_t)width + (size_t)x0, src));
-  const real3 t10 = convert_real3(vload3((size_t)y0 * (size_t)width + (size_t)x1, src));
-  const real3 t01 = convert_real3(vload3((size_t)y1 * (size_t)width + (size_t)x0, src));
-  const real3 t11 = convert_real3(vload3((size_t)y1 * (size_t)width + (size_t)x1, src));
-  return (R(1.0) - ty) * ((R(1.0) - tx) * t00 + tx * t10) + ty * ((R(1.0) - tx) * t01 + tx * t11);
-}
-
 // Eight texels of a row of the cube, global id (chunk, face * size + j), texels i = 8 chunk + lane:
 // each the mean of k x k bilinear samples of the equirect spread evenly over the texel in face
 // coordinates, weighted by their solid angle (the area element), so that the texel holds the
@@ -63,19 +45,40 @@ kernel void equirect_to_cube(global const float* src, int width, int height, glo
       }
       const realv u = R(0.5) - atan2(x, z) * (R(0.5) * BRDFBAKE_INV_PI);
       const realv v = R(0.5) - asin(clamp(y * inv, R(-1.0), R(1.0))) * BRDFBAKE_INV_PI;
-      real lu[BRDFBAKE_LANES], lv[BRDFBAKE_LANES];
-      vstore_lanes(u, 0, lu);
-      vstore_lanes(v, 0, lv);
-      real cr[BRDFBAKE_LANES], cg[BRDFBAKE_LANES], cb[BRDFBAKE_LANES];
+      // bilinear weights and addresses for all lanes at once; only the loads are per lane
+      const realv fx = u * (real)width - R(0.5);
+      const realv fy = clamp(v * (real)height - R(0.5), R(0.0), (real)(height - 1));
+      const realv x0f = floor(fx), y0f = floor(fy);
+      const realv tx = fx - x0f, ty = fy - y0f;
+      intv x0 = convert_intv(x0f);  // u in [0, 1]: x0 in [-1, width - 1] (rounding: up to width)
+      x0 = select(x0, x0 + width, x0 < 0);
+      x0 = select(x0, x0 - width, x0 >= width);
+      const intv x1 = select(x0 + 1, (intv)(0), x0 + 1 >= width);
+      // min(vector, vector): Oclgrind 21.10 returns garbage lanes for the integer min(vector, scalar)
+      const intv y0 = convert_intv(y0f), y1 = min(y0 + 1, (intv)(height - 1));
+      const intv r0 = y0 * width, r1 = y1 * width;
+      int a00[BRDFBAKE_LANES], a10[BRDFBAKE_LANES], a01[BRDFBAKE_LANES], a11[BRDFBAKE_LANES];
+      vstore_lanes(r0 + x0, 0, a00);
+      vstore_lanes(r0 + x1, 0, a10);
+      vstore_lanes(r1 + x0, 0, a01);
+      vstore_lanes(r1 + x1, 0, a11);
+      float c[12][BRDFBAKE_LANES];
       for (int q = 0; q < BRDFBAKE_LANES; ++q) {
-        const real3 t = equirect_bilinear(src, width, height, lu[q], lv[q]);
-        cr[q] = t.x;
-        cg[q] = t.y;
-        cb[q] = t.z;
+        const float3 t00 = vload3((size_t)a00[q], src), t10 = vload3((size_t)a10[q], src);
+        const float3 t01 = vload3((size_t)a01[q], src), t11 = vload3((size_t)a11[q], src);
+        c[0][q] = t00.x; c[1][q] = t00.y; c[2][q] = t00.z;
+        c[3][q] = t10.x; c[4][q] = t10.y; c[5][q] = t10.z;
+        c[6][q] = t01.x; c[7][q] = t01.y; c[8][q] = t01.z;
+        c[9][q] = t11.x; c[10][q] = t11.y; c[11][q] = t11.z;
       }
-      sr += w * vload_lanes(0, cr);
-      sg += w * vload_lanes(0, cg);
-      sb += w * vload_lanes(0, cb);
+      const realv w00 = w * (R(1.0) - tx) * (R(1.0) - ty), w10 = w * tx * (R(1.0) - ty);
+      const realv w01 = w * (R(1.0) - tx) * ty, w11 = w * tx * ty;
+      sr += w00 * convert_realv(vload_lanes(0, c[0])) + w10 * convert_realv(vload_lanes(0, c[3])) +
+            w01 * convert_realv(vload_lanes(0, c[6])) + w11 * convert_realv(vload_lanes(0, c[9]));
+      sg += w00 * convert_realv(vload_lanes(0, c[1])) + w10 * convert_realv(vload_lanes(0, c[4])) +
+            w01 * convert_realv(vload_lanes(0, c[7])) + w11 * convert_realv(vload_lanes(0, c[10]));
+      sb += w00 * convert_realv(vload_lanes(0, c[2])) + w10 * convert_realv(vload_lanes(0, c[5])) +
+            w01 * convert_realv(vload_lanes(0, c[8])) + w11 * convert_realv(vload_lanes(0, c[11]));
       wsum += w;
     }
   real out_r[BRDFBAKE_LANES], out_g[BRDFBAKE_LANES], out_b[BRDFBAKE_LANES];

@@ -190,7 +190,8 @@ inline realw strip_kernel(realw c, real alpha, int power2) {
   (void)power2;
   const real alpha2 = alpha * alpha;
   const realw t = fmax(R(0.5) * (R(1.0) - c), R(0.0)) + alpha2 * (R(0.5) * (R(1.0) + c));
-  return fmax(c, R(0.0)) * (alpha2 / (BRDFBAKE_PI * t * t));
+  const realw it = R(1.0) / t;  // one division; t >= alpha^2 > 0
+  return fmax(c, R(0.0)) * (alpha2 / BRDFBAKE_PI) * (it * it);
 #endif
 }
 
@@ -208,11 +209,19 @@ inline real2 strip_band(real lo, real hi, real rho) {
   return (real2)(t_out >= BRDFBAKE_PI ? R(-2.0) : cos(t_out), t_in <= R(0.0) ? R(2.0) : cos(t_in));
 }
 
-// Global size (size / 8, 6 size / (2 BRDFBAKE_STRIP_ROWS)), both dividing size; arguments as
-// prefilter_pyramid, and power2 for strip_kernel.
+// Global size (size / 8, 6 size / (2 BRDFBAKE_STRIP_ROWS)), both dividing size; the pyramid's
+// arguments as prefilter_pyramid, power2 for strip_kernel, and the bright texels (n_texels of them)
+// as two lists of points grouped by texel (SoA as env_point_sum's, strides fine_n and coarse_n):
+// fine_per points a texel at the full subdivision, coarse_per at the lobe's. A bright texel within
+// `reach` (its footprint and a margin) of the horizon of some texel of the block takes its fine
+// points, so that the kernel's kink there is cut where the per-texel estimators cut it; elsewhere
+// the kernel is smooth across the footprint and the coarse points resolve it. bright_dir: the
+// texels' directions (x, y, z arrays).
 kernel void prefilter_pyramid_strips(global float4* out, int size, global const float* pyramid, constant int* info,
-                                     int levels, constant real* cos_core, constant real* band,
-                                     global const real* bright, int n_bright, real alpha, int power2) {
+                                     int levels, constant real* cos_core, constant real* band, real alpha, int power2,
+                                     global const real* fine, global const real* coarse, int fine_n, int coarse_n,
+                                     int fine_per, int coarse_per, global const real* bright_dir, int n_texels,
+                                     real reach) {
   const int i0 = 8 * (int)get_global_id(0), gj0 = 2 * BRDFBAKE_STRIP_ROWS * (int)get_global_id(1);
   if (i0 >= size || gj0 >= 6 * size) return;
   const int face = gj0 / size, j0 = gj0 % size;
@@ -326,23 +335,37 @@ kernel void prefilter_pyramid_strips(global float4* out, int size, global const 
     }
   }
 
-  for (int r = 0; r < BRDFBAKE_STRIP_ROWS; ++r) {
-    // the bright points, 16 texels at a time
-    realw sr = (realw)(R(0.0)), sg = (realw)(R(0.0)), sb = (realw)(R(0.0));
-    for (int k = 0; k < n_bright; ++k) {
-      const realw w = strip_kernel(dx[r] * bright[k] + dy[r] * bright[n_bright + k] + dz[r] * bright[2 * n_bright + k], alpha, power2);
-      sr += w * bright[3 * n_bright + k];
-      sg += w * bright[4 * n_bright + k];
-      sb += w * bright[5 * n_bright + k];
+  // the bright points, 16 texels at a time; a texel of the block is within rho of the centre, so a
+  // bright texel near its horizon has |cos| to the centre below sin(rho + reach)
+  realw sr[BRDFBAKE_STRIP_ROWS], sg[BRDFBAKE_STRIP_ROWS], sb[BRDFBAKE_STRIP_ROWS];
+  for (int r = 0; r < BRDFBAKE_STRIP_ROWS; ++r) sr[r] = sg[r] = sb[r] = (realw)(R(0.0));
+  const real horizon = sin(fmin(rho + reach, R(0.5) * BRDFBAKE_PI));
+  for (int t = 0; t < n_texels; ++t) {
+    const real c = centre.x * bright_dir[t] + centre.y * bright_dir[n_texels + t] + centre.z * bright_dir[2 * n_texels + t];
+    const bool near_horizon = fabs(c) < horizon;
+    global const real* p = near_horizon ? fine : coarse;
+    const int stride = near_horizon ? fine_n : coarse_n, per = near_horizon ? fine_per : coarse_per;
+    for (int k = t * per; k < (t + 1) * per; ++k) {
+      const real px = p[k], py = p[stride + k], pz = p[2 * stride + k];
+      const real pr = p[3 * stride + k], pg = p[4 * stride + k], pb = p[5 * stride + k];
+      for (int r = 0; r < BRDFBAKE_STRIP_ROWS; ++r) {
+        const realw w = strip_kernel(dx[r] * px + dy[r] * py + dz[r] * pz, alpha, power2);
+        sr[r] += w * pr;
+        sg[r] += w * pg;
+        sb[r] += w * pb;
+      }
     }
+  }
+
+  for (int r = 0; r < BRDFBAKE_STRIP_ROWS; ++r) {
     real o_nr[16], o_ng[16], o_nb[16], o_den[16], o_sr[16], o_sg[16], o_sb[16];
     vstore16(nr[r], 0, o_nr);
     vstore16(ng[r], 0, o_ng);
     vstore16(nb[r], 0, o_nb);
     vstore16(den[r], 0, o_den);
-    vstore16(sr, 0, o_sr);
-    vstore16(sg, 0, o_sg);
-    vstore16(sb, 0, o_sb);
+    vstore16(sr[r], 0, o_sr);
+    vstore16(sg[r], 0, o_sg);
+    vstore16(sb[r], 0, o_sb);
     for (int q = 0; q < 16; ++q) {
       const int i = i0 + q % 8, j = j0 + 2 * r + q / 8;
       real4 sums = (real4)(o_nr[q], o_ng[q], o_nb[q], o_den[q]);

@@ -6,7 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <vector>
 #include <cstdlib>
+
+#include "brdfbake/backend.hpp"
+#include "brdfbake/environment.hpp"
 
 namespace brdfbake::cli {
 
@@ -62,9 +66,42 @@ std::string device_option(const cxxopts::ParseResult& r) {
 }
 bool quiet_option(const cxxopts::ParseResult& r) { return r.count("quiet") > 0; }
 
+std::string memory_budget_help() {
+  char gib[32];
+  std::snprintf(gib, sizeof gib, "%.1f GiB", double(default_memory_budget()) / double(uint64_t(1) << 30));
+  return std::string("the memory an input image may take decoded, checked from its header before anything is "
+                     "allocated (e.g. 2GiB, 512MiB; default: half the machine's memory, ") + gib + ")";
+}
+
+std::uint64_t memory_budget_option(const cxxopts::ParseResult& r) {
+  if (!r.count("memory-budget")) return 0;
+  try {
+    return parse_byte_size(r["memory-budget"].as<std::string>());
+  } catch (const Error& e) {
+    throw UsageError(std::string("--memory-budget: ") + e.what());
+  }
+}
+
+void keep_until_exit(std::shared_ptr<void> object) {
+#ifndef BRDFBAKE_NORMAL_EXIT
+  static std::vector<std::shared_ptr<void>>* kept = new std::vector<std::shared_ptr<void>>();  // never destroyed
+  kept->push_back(std::move(object));
+#else
+  (void)object;
+#endif
+}
+
+std::shared_ptr<Backend> open_backend_kept(const std::string& selector) {
+  std::shared_ptr<Backend> b = Backend::open(selector);
+  keep_until_exit(b);
+  return b;
+}
+
 RunOptions run_options(bool wait, bool quiet) {
   RunOptions o;
   o.wait_for_lock = wait;
+  o.backend = open_backend_kept;
+  o.on_warning = [](const std::string& w) { std::fprintf(stderr, "warning: %s\n", w.c_str()); };
   if (!quiet)
     o.on_wait = [](long pid) {
       std::fprintf(stderr, "waiting for another brdfbake run%s to finish writing the output folder...\n",

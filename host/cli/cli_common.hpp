@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cxxopts.hpp>
+#include <memory>
 #include <string>
 
 #include "brdfbake/device.hpp"
@@ -61,6 +62,29 @@ RunOptions run_options(bool wait, bool quiet);
 
 // Parses, turning cxxopts' exceptions into UsageError with the command's name.
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);
+
+// The process ends with _exit once the command has returned and the streams are flushed (main.cpp):
+// tearing down the OpenCL implementation's and LLVM's state (~5-10 ms) serves no one then. Sanitizer
+// builds end normally, so that LeakSanitizer still looks at the heap.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define BRDFBAKE_NORMAL_EXIT 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define BRDFBAKE_NORMAL_EXIT 1
+#endif
+// Keeps `object` (a backend and its OpenCL context) alive until the process ends, so that its
+// teardown is skipped with the rest; where the process ends normally, nothing (it goes when its
+// last owner lets go, before the OpenCL implementation's own static state).
+void keep_until_exit(std::shared_ptr<void> object);
+// run_options' backends, each kept until the process ends.
+std::shared_ptr<Backend> open_backend_kept(const std::string& selector);
+
+// --memory-budget SIZE (every command that reads environment images): the option's help, and its
+// value in bytes (0 when it is not given: the default).
+std::string memory_budget_help();
+std::uint64_t memory_budget_option(const cxxopts::ParseResult& r);
 
 // The value of an option that must be a finite number / a positive integer.
 double finite_number(const cxxopts::ParseResult& r, const std::string& name);

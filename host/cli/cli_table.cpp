@@ -154,6 +154,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
                                      kDefaultEnvironment + ")",
                           cxxopts::value<std::string>())(
         "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")(
+        "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
         "wait", "a folder output: when another run is writing it, wait for it (default: fail at once)");
   options.add_options()("o,output",
                         eval ? std::string("f as r,g,b rows, or float32 with --binary; - : standard output (default: -)")
@@ -223,14 +224,16 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     lock.emplace(t.output, o.wait_for_lock, o.on_wait);
     remove_stale_temporaries(t.output);
   }
-  const std::shared_ptr<Backend> backend = Backend::open(t.device);
+  const std::shared_ptr<Backend> backend = open_backend_kept(t.device);
   check_backend(t, *backend);  // before the environment is read
 
   BakeInputs inputs;
   EnvImage environment;
   if (env) {
+    if (table_needs_device(t)) backend->prepare();  // the platform opens while the file is read
     EnvLoadOptions lo;
     lo.sanitize = r.count("sanitize") > 0;
+    lo.memory_budget = memory_budget_option(r);
     environment = load_environment(t.environment, lo);
     if (!quiet && environment.sanitize.replaced)
       std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
@@ -252,6 +255,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   line.finish();
   environment = EnvImage{};  // the input's pixels are no longer needed (a 4k map holds 96 MiB)
   const WriteReport written = write_result(result, t, t.output);
+  for (const auto& w : written.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   std::string stored;
   if (written.error_bound) {
     char b[160];

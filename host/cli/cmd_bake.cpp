@@ -116,6 +116,7 @@ int cmd_bake(int argc, char** argv) {
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
       ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
+      ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
       ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
       ("o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))
       ("dry-run", "print the plan and bake nothing")
@@ -185,7 +186,9 @@ int cmd_bake(int argc, char** argv) {
   };
   Manifest manifest;
   try {
-    manifest = run_job(plan.job, progress, run_options(r.count("wait") > 0, quiet));
+    RunOptions run = run_options(r.count("wait") > 0, quiet);
+    run.memory_budget = memory_budget_option(r);
+    manifest = run_job(plan.job, progress, run);
   } catch (...) {
     line.finish();
     throw;

@@ -17,6 +17,7 @@ int cmd_run(int argc, char** argv) {
       ("o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())
       ("dry-run", "check the job and print it with every default filled in; bake nothing")
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
+      ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
       ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
       ("quiet", "no progress or summary")
       ("h,help", "this help");
@@ -52,7 +53,9 @@ int cmd_run(int argc, char** argv) {
   };
   Manifest manifest;
   try {
-    manifest = run_job(job, progress, run_options(r.count("wait") > 0, quiet));
+    RunOptions run = run_options(r.count("wait") > 0, quiet);
+    run.memory_budget = memory_budget_option(r);
+    manifest = run_job(job, progress, run);
   } catch (...) {
     line.finish();
     throw;

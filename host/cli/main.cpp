@@ -80,9 +80,7 @@ void observe_program_builds(bool verbose, bool quiet) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using namespace brdfbake;
   if (argc < 2) {
     usage(std::cerr);
@@ -144,4 +142,18 @@ int main(int argc, char** argv) {
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitFailure;
   }
+}
+
+}  // namespace
+
+// Every output is complete (committed or removed) when run returns: the process ends without
+// tearing down the OpenCL implementation (cli_common.hpp, BRDFBAKE_NORMAL_EXIT).
+int main(int argc, char** argv) {
+  const int code = run(argc, argv);
+#ifndef BRDFBAKE_NORMAL_EXIT
+  std::cout.flush();
+  std::cerr.flush();
+  if (std::fflush(nullptr) == 0) ::_exit(code);
+#endif
+  return code;
 }

@@ -4,6 +4,7 @@
 #include "brdfbake/backend.hpp"
 
 #include <cmath>
+#include <future>
 #include <optional>
 
 #include "brdfbake/error.hpp"
@@ -47,6 +48,10 @@ class OpenClBackend final : public Backend {
   // The device's name once it was used; work that needed none ran on the host.
   std::string name() const override { return device_ ? device_->info().name : std::string("host (no device used)"); }
   Device* device() override { return &opened(); }
+  void prepare() override {
+    if (!device_ && !opening_.valid())
+      opening_ = std::async(std::launch::async, [selector = selector_] { return Device::open(selector); });
+  }
   Precision result_precision(Precision requested) const override { return requested; }
 
   Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut(opened(), s, t, p); }
@@ -73,11 +78,12 @@ class OpenClBackend final : public Backend {
 
  private:
   Device& opened() {
-    if (!device_) device_ = Device::open(selector_);
+    if (!device_) device_ = opening_.valid() ? opening_.get() : Device::open(selector_);
     return *device_;
   }
   std::string selector_;
   std::optional<Device> device_;
+  std::future<Device> opening_;  // prepare()'s
 };
 
 class ReferenceBackend final : public Backend {

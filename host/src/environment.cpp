@@ -7,6 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <sstream>
 
 #include "brdfbake/environment.hpp"
@@ -35,13 +38,15 @@ constexpr uint64_t kMaxEnvironmentPixels = uint64_t(1) << 28;
 
 // Level 0 of the first image of a file (io::read_image), as RGB float: R, G, B found by name, else
 // the first three channels; one channel is grey.
-RgbImage read_rgb_image(const std::string& path) {
+uint64_t budget_of(const EnvLoadOptions& o) { return o.memory_budget > 0 ? o.memory_budget : default_memory_budget(); }
+
+RgbImage read_rgb_image(const std::string& path, uint64_t memory_budget) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("cannot read environment '" + path + "': no such file");
   if (fs::is_directory(path, ec)) throw Error("cannot read environment '" + path + "': it is a folder");
   io::FloatImage image;
   try {
-    image = io::read_image(path, kMaxEnvironmentPixels);
+    image = io::read_image(path, io::ImageLimits{kMaxEnvironmentPixels, memory_budget});
   } catch (const Error& e) {
     throw Error("cannot read environment '" + path + "': " + e.what());
   }
@@ -138,13 +143,13 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return tail == suffix;
 }
 
-EnvImage load_faces(const std::vector<std::string>& files, const std::string& spec) {
+EnvImage load_faces(const std::vector<std::string>& files, const std::string& spec, uint64_t memory_budget) {
   EnvImage env;
   env.layout = EnvImage::Layout::Cube;
   env.source = spec;
   int s = 0;
   for (size_t f = 0; f < 6; ++f) {
-    const RgbImage img = read_rgb_image(files[f]);
+    const RgbImage img = read_rgb_image(files[f], memory_budget / 2);  // the face and the cube it joins
     if (img.width != img.height)
       throw Error("cube face '" + files[f] + "' is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                   "; faces must be square");
@@ -322,6 +327,52 @@ static std::vector<std::string> face_files(const std::string& spec) {
   return faces;
 }
 
+uint64_t default_memory_budget() {
+  static const uint64_t budget = [] {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+    uint64_t usable = pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) : uint64_t(4) << 30;
+    // a container's limit (cgroup v2, then v1) where it is lower
+    for (const char* file : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+      std::ifstream in(file);
+      std::string text;
+      if (in >> text && !text.empty() && std::isdigit(static_cast<unsigned char>(text[0]))) {
+        const uint64_t limit = std::strtoull(text.c_str(), nullptr, 10);
+        if (limit > 0) usable = std::min(usable, limit);
+      }
+    }
+    return usable / 2;
+  }();
+  return budget;
+}
+
+uint64_t parse_byte_size(const std::string& text) {
+  const auto bad = [&] {
+    return Error("'" + text.substr(0, 40) + "' is not a size (e.g. 512MiB, 8GiB, 1.5G or a number of bytes)");
+  };
+  size_t end = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &end);
+  } catch (const std::exception&) {
+    throw bad();
+  }
+  std::string unit = text.substr(end);
+  std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+  static const std::pair<const char*, double> kUnits[] = {
+      {"", 1.0},          {"B", 1.0},
+      {"K", 0x1p10},      {"KI", 0x1p10}, {"KIB", 0x1p10}, {"KB", 1e3},
+      {"M", 0x1p20},      {"MI", 0x1p20}, {"MIB", 0x1p20}, {"MB", 1e6},
+      {"G", 0x1p30},      {"GI", 0x1p30}, {"GIB", 0x1p30}, {"GB", 1e9},
+      {"T", 0x1p40},      {"TI", 0x1p40}, {"TIB", 0x1p40}, {"TB", 1e12}};
+  double scale = 0.0;
+  for (const auto& [name, factor] : kUnits)
+    if (unit == name) scale = factor;
+  if (!(scale > 0.0) || !std::isfinite(value) || !(value > 0.0)) throw bad();
+  const double bytes = value * scale;
+  if (bytes < 1.0 || bytes > std::ldexp(1.0, 60)) throw bad();
+  return static_cast<uint64_t>(bytes);
+}
+
 EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options) {
   if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
   if (spec.rfind("builtin:", 0) == 0) return builtin_environment(spec.substr(8), options.builtin_width);
@@ -329,11 +380,19 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   EnvImage env;
   const std::vector<std::string> faces = face_files(spec);
   if (!faces.empty()) {
-    env = load_faces(faces, spec);
+    env = load_faces(faces, spec, budget_of(options));
   } else if (ends_with(spec, ".ktx2")) {
+    // The reader holds the file (its sizes checked against the file's length) and level 0 as RGB
+    // floats: at most 3 times the file's size (binary16 RGB, 6 bytes a texel, becomes 12).
+    std::error_code ec;
+    const uint64_t bytes = fs::is_regular_file(spec, ec) ? uint64_t(fs::file_size(spec, ec)) : 0;
+    if (!ec && 3 * bytes > budget_of(options))
+      throw Error("cannot read environment '" + spec + "': a " + io::mib_text(bytes) + " KTX2 file takes up to " +
+                  io::mib_text(3 * bytes) + " to read, above the memory budget of " + io::mib_text(budget_of(options)) +
+                  " (--memory-budget)");
     env = read_ktx2_cube(spec, 0);
   } else {
-    RgbImage img = read_rgb_image(spec);
+    RgbImage img = read_rgb_image(spec, budget_of(options));
     if (img.width == 2 * img.height) {
       env.layout = EnvImage::Layout::Equirect;
       env.width = img.width;

@@ -124,9 +124,45 @@ std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int 
 // > 1e-3), so that a bright texel at a texel's horizon is cut where the reference cuts it; at most
 // kMaxBrightPoints points in all.
 constexpr int kMaxBrightPoints = 4096;
-int bright_subdivision(EnvDistribution dist, double alpha, int source_size, size_t bright) {
+// The lobe's part alone: what a bright texel needs away from a texel's horizon (the strips kernel
+// takes these "coarse" points there and the full subdivision only near the horizon).
+int bright_lobe_subdivision(EnvDistribution dist, double alpha, int source_size) {
   const double width = dist == EnvDistribution::Ggx ? 2.0 * alpha : 1.0;
-  double q = std::ceil(4.0 * (2.0 / source_size) / width);
+  return static_cast<int>(std::clamp(std::ceil(4.0 * (2.0 / source_size) / width), 1.0, 4.0));
+}
+// Whether one point a bright texel resolves the lobe: the tent's whole support (2 texels, 4 / S in
+// face coordinates) at most a quarter of the lobe's width.
+bool bright_single_point(EnvDistribution dist, double alpha, int source_size) {
+  const double width = dist == EnvDistribution::Ggx ? 2.0 * alpha : 1.0;
+  return 4.0 * (4.0 / source_size) <= width;
+}
+// Groups of `per` points (one bright texel's, bright_texel_points' layout with SoA stride `stride`)
+// merged into one each: the sum of their values at their weighted mean direction (the weights,
+// proportional to the sub-cells' solid angles within a texel, are the values' sums).
+std::vector<double> merge_bright_points(const std::vector<double>& pts, size_t stride, size_t per, size_t texels) {
+  const size_t n = std::max<size_t>(texels, 1);
+  std::vector<double> out(6 * n, 0.0);
+  if (texels == 0) out[2] = 1.0;  // a padding point as bright_texel_points leaves it
+  for (size_t t = 0; t < texels; ++t) {
+    double d[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    for (size_t k = t * per; k < (t + 1) * per; ++k) {
+      const double w = pts[3 * stride + k] + pts[4 * stride + k] + pts[5 * stride + k];
+      for (size_t c = 0; c < 3; ++c) {
+        d[c] += w * pts[c * stride + k];
+        v[c] += pts[(3 + c) * stride + k];
+      }
+    }
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (size_t c = 0; c < 3; ++c) {
+      out[c * n + t] = len > 0.0 ? d[c] / len : pts[c * stride + t * per];
+      out[(3 + c) * n + t] = v[c];
+    }
+  }
+  return out;
+}
+
+int bright_subdivision(EnvDistribution dist, double alpha, int source_size, size_t bright) {
+  double q = bright_lobe_subdivision(dist, alpha, source_size);
   const double a4 = alpha * alpha * alpha * alpha;
   if (dist == EnvDistribution::Charlie || 4.0 * a4 / ((1.0 + alpha * alpha) * (1.0 + alpha * alpha)) > 1e-3) q = 4.0;
   q = std::min(q, std::floor(std::sqrt(double(kMaxBrightPoints) / (4.0 * double(std::max<size_t>(bright, 1))))));
@@ -488,18 +524,31 @@ cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, con
   return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }
 
+// The bright texels as the strips kernel reads them: each texel's points at the full subdivision
+// (fine, near a texel's horizon) and at the lobe's (coarse, elsewhere), both grouped by texel, and
+// the texels' directions.
+struct StripBright {
+  cl::Buffer fine, coarse, dirs;
+  int fine_stride = 0, coarse_stride = 0;  // the padded point counts (the lists' SoA strides)
+  int fine_per = 0, coarse_per = 0;        // points per texel
+  int texels = 0;
+  double reach = 0.0;  // a bright texel's footprint radius and a margin, in radians
+};
+
 // The strips' launch (prefilter_pyramid_strips): prefilter_pyramid's arguments and power2, 1/alpha
 // where it is a whole number up to 64 (Charlie's D by multiplication), else 0.
 template <class Real>
 cl::Event launch_strips(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                         const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
-                        const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
-  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real,
-                    cl_int>
+                        const StripBright& b, double alpha, const cl::EnqueueArgs& rows) {
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, Real, cl_int,
+                    cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_int, cl::Buffer, cl_int, Real>
       level(prog, "prefilter_pyramid_strips");
   const double n = std::round(1.0 / alpha);
   const cl_int power2 = n >= 1.0 && n <= 64.0 && std::fabs(1.0 / alpha - n) < 1e-9 * n ? static_cast<cl_int>(n) : 0;
-  return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha), power2);
+  return level(rows, out, size, pyramid, info, levels, cos_core, band, static_cast<Real>(alpha), power2, b.fine,
+               b.coarse, b.fine_stride, b.coarse_stride, b.fine_per, b.coarse_per, b.dirs, b.texels,
+               static_cast<Real>(b.reach));
 }
 
 }  // namespace
@@ -978,6 +1027,47 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
       // (prefilter_pyramid).
       const bool strips = quadrature && s.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
       const int unit = strips ? 2 * kStripRows : 1;
+      StripBright sb;
+      if (strips) {
+        const int q_fine = bright_subdivision(s.distribution, alpha, s0, bright.size());
+        const int q_coarse = std::min(q_fine, bright_lobe_subdivision(s.distribution, alpha, s0));
+        sb.fine = pts_buf;
+        sb.fine_stride = static_cast<int>(pts.size() / 6);
+        sb.fine_per = 4 * q_fine * q_fine;
+        sb.coarse_per = 4 * q_coarse * q_coarse;
+        if (bright_single_point(s.distribution, alpha, s0) && !bright.empty()) {
+          // one point a texel: the merged coarse (or fine) points
+          const bool from_fine = q_coarse == q_fine;
+          int n_coarse = 0;
+          const std::vector<double> cp = from_fine ? std::vector<double>{} : bright_texel_points(bright, s0, q_coarse, scale, &n_coarse);
+          const std::vector<double>& src = from_fine ? pts : cp;
+          const std::vector<double> merged =
+              merge_bright_points(src, src.size() / 6, size_t(4 * q_coarse * q_coarse), bright.size());
+          sb.coarse = real_buffer(dev, s.precision, merged);
+          sb.coarse_stride = static_cast<int>(merged.size() / 6);
+          sb.coarse_per = 1;
+        } else if (q_coarse == q_fine) {
+          sb.coarse = pts_buf;
+          sb.coarse_stride = sb.fine_stride;
+        } else {
+          int n_coarse = 0;
+          const std::vector<double> coarse = bright_texel_points(bright, s0, q_coarse, scale, &n_coarse);
+          sb.coarse = real_buffer(dev, s.precision, coarse);
+          sb.coarse_stride = static_cast<int>(coarse.size() / 6);
+        }
+        std::vector<double> dirs(3 * std::max<size_t>(bright.size(), 1), 0.0);
+        for (size_t t = 0; t < bright.size(); ++t) {
+          const Vec3 d = math::cube_texel_direction(bright[t].face, s0, bright[t].i, bright[t].j);
+          dirs[t] = d.x;
+          dirs[bright.size() + t] = d.y;
+          dirs[2 * bright.size() + t] = d.z;
+        }
+        sb.dirs = real_buffer(dev, s.precision, dirs);
+        sb.texels = n_pts > 0 ? static_cast<int>(bright.size()) : 0;
+        // the tent's support reaches a texel diagonal (2 / s0 in face coordinates, at most as many
+        // radians) from the centre; one more texel as margin
+        sb.reach = (std::sqrt(2.0) + 1.0) * 2.0 / double(s0);
+      }
       const int bands = rows / unit;  // chunks hold whole blocks
       for (int c = 0; c < chunks; ++c) {
         const int row0 = bands * c / chunks * unit, row1 = bands * (c + 1) / chunks * unit;
@@ -989,9 +1079,9 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
                                      cl::NullRange);
         if (strips)
           events.push_back(fp64 ? launch_strips<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                                                           pyramid.levels, core_buf, band_buf, sb, alpha, range)
                                 : launch_strips<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                          pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
+                                                          pyramid.levels, core_buf, band_buf, sb, alpha, range));
         else if (quadrature)
           events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
                                                             pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)

@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 // RGBE keeps 8 mantissa bits under the exponent of the pixel's largest channel, truncating: a
 // channel reads back within one step 2^e / 256 <= largest / 128 below its value, never above.
 constexpr double kRgbeStepOfLargest = 1.0 / 128.0;
-constexpr uint64_t kMaxPixels = uint64_t(1) << 28;
+const io::ImageLimits kMaxPixels{uint64_t(1) << 28, 0};
 
 // The folder of this process's files, removed when the test program exits.
 const fs::path& temp_root() {
@@ -401,7 +401,7 @@ TEST(ExrReader, TruncatedAndOversizedFilesAreErrors) {
     }
   }
   try {
-    io::read_image(p.string(), 100);
+    io::read_image(p.string(), io::ImageLimits{100, 0});
     ADD_FAILURE() << "no error for an image above max_pixels";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("too large"), std::string::npos) << e.what();

@@ -174,6 +174,36 @@ TEST(HalfFloat, KnownValuesAndEveryValueRoundTrips) {
   }
 }
 
+// The array conversions (F16C where the CPU has it) give the scalar conversion's bits: every 97th
+// float bit pattern (44 million values: both signs, subnormals, the rounding boundaries around every
+// half, overflow to infinity), and every half back to the same float.
+TEST(HalfFloat, ArrayConversionsMatchTheScalarOnes) {
+  constexpr uint64_t kStride = 97;
+  std::vector<float> in;
+  in.reserve((uint64_t(1) << 32) / kStride + 1);
+  for (uint64_t b = 0; b <= 0xFFFFFFFFull; b += kStride) {
+    float v;
+    const uint32_t u = static_cast<uint32_t>(b);
+    std::memcpy(&v, &u, 4);
+    if (!std::isnan(v)) in.push_back(v);  // NaN payloads may differ; no NaN is ever written
+  }
+  for (float v : {65504.0f, 65519.99f, 65520.0f, 5.96e-8f, 2.98e-8f, 2.99e-8f, -0.0f}) in.push_back(v);
+  std::vector<uint16_t> bits(in.size());
+  io::floats_to_half_bits(in.data(), in.size(), bits.data());
+  size_t mismatches = 0;
+  for (size_t k = 0; k < in.size(); ++k) mismatches += bits[k] != io::float_to_half_bits(in[k]);
+  EXPECT_EQ(mismatches, 0u);
+  std::vector<uint16_t> every(0x10000);
+  for (uint32_t h = 0; h <= 0xFFFF; ++h) every[h] = static_cast<uint16_t>(h);
+  std::vector<float> back(every.size());
+  io::half_bits_to_floats(every.data(), every.size(), back.data());
+  for (uint32_t h = 0; h <= 0xFFFF; ++h) {
+    const float want = io::half_bits_to_float(static_cast<uint16_t>(h));
+    if (std::isnan(want)) EXPECT_TRUE(std::isnan(back[h])) << std::hex << h;
+    else ASSERT_EQ(std::memcmp(&back[h], &want, 4), 0) << std::hex << h;
+  }
+}
+
 // ---- .exr --------------------------------------------------------------------------------------
 
 TEST_F(TableIo, ExrHoldsFloat32ChannelsAndMetadata) {

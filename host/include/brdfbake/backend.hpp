@@ -43,6 +43,11 @@ class Backend {
   virtual std::string name() const = 0;
   // The OpenCL device, or nullptr for the reference.
   virtual Device* device() = 0;
+  // Starts opening the OpenCL device on a second thread, so that loading the platform (PoCL loads
+  // LLVM: ~20 ms) overlaps the caller's reading of its inputs; the first use waits for it and sees
+  // its errors. Nothing for the reference or a device already open. Front ends call it only for
+  // work that will use the device (table_needs_device).
+  virtual void prepare() {}
   // The precision results carry (the reference computes in double whatever is asked).
   virtual Precision result_precision(Precision requested) const = 0;
 

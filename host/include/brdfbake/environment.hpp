@@ -45,7 +45,17 @@ struct EnvImage {
 struct EnvLoadOptions {
   bool sanitize = false;      // replace NaN, infinite and negative values instead of refusing them
   int builtin_width = 1024;   // equirect width of builtin:NAME (height = width / 2)
+  // The memory an input image may take decoded (float32, every channel and copy), checked from its
+  // header before any pixel buffer is allocated; 0: default_memory_budget().
+  std::uint64_t memory_budget = 0;
 };
+
+// The default memory budget for input images: half of the memory this process may use (the
+// machine's physical memory, or the cgroup's memory.max where that is lower).
+std::uint64_t default_memory_budget();
+// "512MiB", "8GiB", "1.5G", "1000000" (bytes); K, M, G, T and KiB..TiB are powers of 1024, KB..TB
+// of 1000. Throws Error naming the value for anything else, zero or more than 2^60.
+std::uint64_t parse_byte_size(const std::string& text);
 
 // Loads an environment:
 //   FILE.hdr / FILE.exr (read directly; any other format OpenImageIO reads through the lazily

@@ -67,6 +67,11 @@ struct RunOptions {
   // Called on the calling thread before each bake and before the files are moved in; may throw to
   // stop the job (cancelled, timed out); the folder is then left as it was.
   std::function<void()> checkpoint;
+  // Called with each warning a write gives (values clamped on request, clamp_f16), as it happens;
+  // the manifest's warnings hold them too.
+  std::function<void(const std::string& warning)> on_warning;
+  // The memory an environment image may take decoded (EnvLoadOptions::memory_budget; 0: the default).
+  std::uint64_t memory_budget = 0;
 };
 using RunHooks = RunOptions;
 

@@ -170,6 +170,10 @@ using BakeProgress = std::function<void(double fraction, const std::string& step
 // naming the device: front ends call it before slow work (loading an environment).
 void check_backend(const TableRequest& request, Backend& backend);
 
+// Whether baking the validated request computes on an OpenCL device (an irradiance request for SH
+// alone does not): front ends call Backend::prepare for those before reading inputs.
+bool table_needs_device(const TableRequest& request);
+
 // Bakes a validated request on `backend`. Throws Error for what the backend cannot do (e.g. a
 // reference prefilter of a large cube, naming the limit), Cancelled when a stop is requested
 // (brdfbake/cancel.hpp; checked at every progress report).
@@ -183,12 +187,14 @@ struct WriteReport {
   double storage_error = 0.0;         // what the encoding added (0 for float32 and exact text)
   std::string encoding;               // e.g. "binary16 (round to nearest even)"
   Metadata details;                   // e.g. png_scale, clamped values
+  std::vector<std::string> warnings;  // what was changed on the way to the file (clamp_f16): front ends show them
 };
 
 // Writes a result to `path` in the request's format, atomically (a failure leaves nothing); "-"
 // writes a table as CSV to standard output. A value the format cannot hold is refused with a
 // message naming the option that fixes it (a 16-bit PNG outside [0, 1] unless png_range says
-// otherwise; binary16 beyond 65504; NaN or infinity anywhere).
+// otherwise; binary16 beyond 65504 unless clamp_f16 is set, which clamps to 65504 and records it;
+// NaN or infinity anywhere).
 WriteReport write_result(const BakeResult& result, const TableRequest& request, const std::string& path);
 
 // The eval kind streamed: pairs read from `input` ("-": standard input) and results written chunk by

@@ -82,7 +82,9 @@ class DfgLutFamily final : public Family {
             .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
     });
     static const std::vector<ParamDef> charlie = [] {
-      std::vector<ParamDef> s(ggx.begin(), ggx.end() - 2);  // before the output parameters
+      std::vector<ParamDef> s;  // GGX's, less the output parameters (added again after sheen_visibility)
+      for (const ParamDef& p : ggx)
+        if (!p.output_only) s.push_back(p);
       s.push_back(ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
                       .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))));
       add_table_output_params(s);

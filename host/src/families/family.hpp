@@ -46,6 +46,9 @@ class Family {
   // The pixel type written when the request names none.
   virtual std::string default_pixel() const { return "f16"; }
   virtual bool uses_environment() const { return false; }
+  // Whether baking the validated request computes on the OpenCL device (SH alone runs on the host):
+  // front ends start opening the device while they read the inputs (Backend::prepare).
+  virtual bool needs_device(const TableRequest&) const { return true; }
   // Whether the command line streams it (standard input to standard output) instead of baking it
   // whole (eval_stream).
   virtual bool streams() const { return false; }
@@ -113,6 +116,10 @@ std::vector<double> probe_coordinates(int n);
 OutputFormats table_formats();
 // The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
 void add_table_output_params(std::vector<ParamDef>& schema);
+// clamp_f16: binary16 outputs clamp values beyond 65504 and record it instead of refusing them.
+ParamDef clamp_f16_param();
+// The text of f16_clamped (metadata and warning): how many values, the largest.
+std::string f16_clamp_text(size_t count, double largest);
 // Writes a Table result with the request's format and pixel type; `bound` is the table's own
 // (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
 // request's max_error) is refused before anything is written.

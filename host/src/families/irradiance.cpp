@@ -79,6 +79,7 @@ class IrradianceFamily final : public Family {
     return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";
   }
   bool uses_environment() const override { return true; }
+  bool needs_device(const TableRequest& t) const override { return t.find("cube_size") != nullptr; }
 
   const std::vector<ParamDef>& schema(TableKind) const override {
     static const IrradianceSpec d;

@@ -45,6 +45,7 @@ void add_cube_output_params(std::vector<ParamDef>& s) {
                   .one_of({"faces", "cross", "vcross", "equirect"}).def(std::string("faces")).output());
   s.push_back(ParamDef("image_format", ParamType::Name, "folder output: .exr (float) or .hdr (RGBE) images")
                   .one_of({"exr", "hdr"}).def(std::string("exr")).output());
+  s.push_back(clamp_f16_param());
 }
 
 void check_cube_output(const TableRequest& t, const FieldName& name) {
@@ -66,25 +67,45 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
 WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
                               const std::string& stem, std::optional<double> bound) {
   const PixelType pixel = pixel_of(t);
-  const io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
+  io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
+  WriteReport w;
+  std::optional<CubeLevels> clamped;  // a copy only when asked to clamp and there is something to clamp
+  if (s.out_of_range > 0 && pixel == PixelType::F16 && t.flag("clamp_f16") && std::isfinite(s.largest)) {
+    clamped = cube;
+    size_t count = 0;
+    for (auto& level : clamped->levels)
+      for (float& v : level)
+        if (std::fabs(v) > 65504.0f) {
+          v = std::copysign(65504.0f, v);
+          ++count;
+        }
+    const std::string text = f16_clamp_text(count, s.largest);
+    clamped->set_meta("f16_clamped", text);
+    w.details.push_back({"f16_clamped", std::to_string(count)});
+    w.warnings.push_back("'" + path + "': " + text);
+    const double largest = s.largest;
+    s = io::measure_cube_storage(clamped->levels, pixel);
+    s.max_error = std::max(s.max_error, (largest - 65504.0) / largest);  // the clamping, relative
+  }
   if (s.out_of_range > 0) {
     const std::string what = std::to_string(s.out_of_range) + " texel value" + (s.out_of_range == 1 ? "" : "s");
-    if (pixel == PixelType::F16)
+    if (pixel == PixelType::F16 && std::isfinite(s.largest))
       throw Error("'" + path + "': " + what + " beyond 65504 (largest " + fmt_number(s.largest, "%.6g") +
-                  "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+                  "), which binary16 cannot hold: give pixel f32 (--pixel f32), or clamp_f16 (--clamp-f16) to clamp "
+                  "and record them");
     throw Error("'" + path + "': " + what + " not finite: no NaN or infinity is written");
   }
+  const CubeLevels& cube_out = clamped ? *clamped : cube;
   TableRequest at = t;
   at.output = path;
-  WriteReport w;
   w.storage_error = s.max_error;
   w.encoding = s.encoding;
   if (!bound) {
     // nothing to add to the metadata: written as it is (a copy of a 1024^2 chain is 128 MiB)
-    write_cubemap(cube, path, cube_format_of(at), cube_write_options_of(at, stem));
+    write_cubemap(cube_out, path, cube_format_of(at), cube_write_options_of(at, stem));
     return w;
   }
-  CubeLevels out = cube;
+  CubeLevels out = cube_out;
   w.error_bound = *bound + s.max_error;
   out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
   out.set_meta("storage_encoding", s.encoding);

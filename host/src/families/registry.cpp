@@ -132,8 +132,22 @@ OutputFormats table_formats() {
   return {{".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"}, "a table format (.exr .png .hdr .ktx2 .csv .h)"};
 }
 
+ParamDef clamp_f16_param() {
+  return ParamDef("clamp_f16", ParamType::Flag,
+                  "f16 outputs: clamp values beyond 65504 to 65504 (counted, recorded as f16_clamped, and warned "
+                  "about) instead of refusing them")
+      .def(false)
+      .output();
+}
+
+std::string f16_clamp_text(size_t count, double largest) {
+  return std::to_string(count) + " value" + (count == 1 ? "" : "s") + " beyond 65504 clamped to 65504 (binary16's largest), the largest " +
+         fmt_number(largest, "%.6g");
+}
+
 void add_table_output_params(std::vector<ParamDef>& s) {
   s.push_back(ParamDef("symbol", ParamType::Name, "C identifier of the array in a .h output").output());
+  s.push_back(clamp_f16_param());
   s.push_back(ParamDef("png_range", ParamType::Name,
                        "16-bit .png holds [0, 1]: refuse other values, scale each channel by its largest value "
                        "(recorded as png_scale), or clamp them (recorded)")
@@ -193,10 +207,32 @@ WriteReport write_table_result(const Table& table, const TableRequest& t, const 
       s.out_of_range = 0;  // asked for: the error is measured (it includes the clamping)
     }
   }
+  if (s.out_of_range > 0 && (format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16 &&
+      t.flag("clamp_f16") && std::isfinite(s.largest)) {
+    // asked for: finite values beyond 65504 become 65504 (non-finite ones are refused below)
+    size_t clamped = 0;
+    bool non_finite = false;
+    for (float& v : out.data) {
+      if (!std::isfinite(v)) non_finite = true;
+      else if (std::fabs(v) > 65504.0f) {
+        v = std::copysign(65504.0f, v);
+        ++clamped;
+      }
+    }
+    if (!non_finite) {
+      const std::string text = f16_clamp_text(clamped, s.largest);
+      out.set_meta("f16_clamped", text);
+      w.details.push_back({"f16_clamped", std::to_string(clamped)});
+      w.warnings.push_back("'" + path + "': " + text);
+      const double largest = s.largest;
+      s = io::measure_storage(out, format, pixel);
+      s.max_error = std::max(s.max_error, (largest - 65504.0) / largest);  // the clamping, relative
+    }
+  }
   if (s.out_of_range > 0) {
     if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
       throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
-                  fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32)");
+                  fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32), or clamp_f16 (--clamp-f16) to clamp and record them");
     throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " the format cannot hold (largest |value| " +
                 fmt_number(s.largest, "%.6g") + "): no NaN or infinity is written");
   }
@@ -330,6 +366,8 @@ std::string table_kind_summary(TableKind kind) { return family_of(kind).summary(
 bool table_kind_uses_environment(TableKind kind) { return family_of(kind).uses_environment(); }
 
 bool table_kind_streams(TableKind kind) { return family_of(kind).streams(); }
+
+bool table_needs_device(const TableRequest& t) { return family_of(t.kind).needs_device(t); }
 
 std::string table_kind_default_pixel(TableKind kind) { return family_of(kind).default_pixel(); }
 

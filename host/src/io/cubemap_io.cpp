@@ -263,16 +263,20 @@ std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, Pixel
       continue;
     }
     std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
-    for (size_t k = 0; k < level.size(); ++k) {
-      if (pixel == PixelType::F16) {
-        const uint16_t b = float_to_half_bits(level[k]);
-        bytes[2 * k] = static_cast<uint8_t>(b);
-        bytes[2 * k + 1] = static_cast<uint8_t>(b >> 8);
-      } else {
-        uint32_t b = 0;
-        std::memcpy(&b, &level[k], 4);
-        for (size_t i = 0; i < 4; ++i) bytes[4 * k + i] = static_cast<uint8_t>(b >> (8 * i));
+    if (pixel == PixelType::F16) {
+      std::vector<uint16_t> bits(level.size());
+      floats_to_half_bits(level.data(), level.size(), bits.data());
+      for (size_t k = 0; k < level.size(); ++k) {  // little-endian
+        bytes[2 * k] = static_cast<uint8_t>(bits[k]);
+        bytes[2 * k + 1] = static_cast<uint8_t>(bits[k] >> 8);
       }
+      out.push_back(std::move(bytes));
+      continue;
+    }
+    for (size_t k = 0; k < level.size(); ++k) {
+      uint32_t b = 0;
+      std::memcpy(&b, &level[k], 4);
+      for (size_t i = 0; i < 4; ++i) bytes[4 * k + i] = static_cast<uint8_t>(b >> (8 * i));
     }
     out.push_back(std::move(bytes));
   }

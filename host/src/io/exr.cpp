@@ -77,7 +77,7 @@ namespace {
 // whole tiles is several times faster than InputFile's scanline view of them). False for the
 // variants left to OpenImageIO.
 template <typename File, typename Read>
-bool read_level0(File& file, uint64_t max_pixels, FloatImage& out, Read read) {
+bool read_level0(File& file, const ImageLimits& limits, FloatImage& out, Read read) {
   const Imf::Header& header = file.header();
   const Imf::ChannelList& list = header.channels();
   for (auto it = list.begin(); it != list.end(); ++it)
@@ -87,8 +87,8 @@ bool read_level0(File& file, uint64_t max_pixels, FloatImage& out, Read read) {
   const int64_t w = int64_t(window.max.x) - window.min.x + 1, h = int64_t(window.max.y) - window.min.y + 1;
   const std::vector<std::string> names = ordered_channels(list);
   if (w < 1 || h < 1 || names.empty()) throw Error("no pixels");
-  if (uint64_t(w) * uint64_t(h) > max_pixels)
-    throw Error("too large (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+  const std::string problem = image_limits_problem(uint64_t(w), uint64_t(h), names.size(), 1, limits);
+  if (!problem.empty()) throw Error(problem);
 
   out.width = int(w);
   out.height = int(h);
@@ -124,7 +124,7 @@ bool read_level0(File& file, uint64_t max_pixels, FloatImage& out, Read read) {
 
 }  // namespace
 
-bool read_exr(const std::string& path, uint64_t max_pixels, FloatImage& out) {
+bool read_exr(const std::string& path, const ImageLimits& limits, FloatImage& out) {
   start_exr_threads();
   try {
     bool tiled = false, deep = false, multi_part = false;
@@ -132,14 +132,14 @@ bool read_exr(const std::string& path, uint64_t max_pixels, FloatImage& out) {
     if (deep) return false;
     if (tiled && !multi_part) {
       Imf::TiledInputFile file(path.c_str());
-      return read_level0(file, max_pixels, out, [](Imf::TiledInputFile& f, const Imath::Box2i&) {
+      return read_level0(file, limits, out, [](Imf::TiledInputFile& f, const Imath::Box2i&) {
         f.readTiles(0, f.numXTiles(0) - 1, 0, f.numYTiles(0) - 1, 0, 0);
       });
     }
     // Scanline files, and the first part of multi-part files.
     Imf::InputFile file(path.c_str());
     if (file.header().hasType() && Imf::isDeepData(file.header().type())) return false;
-    return read_level0(file, max_pixels, out,
+    return read_level0(file, limits, out,
                        [](Imf::InputFile& f, const Imath::Box2i& window) { f.readPixels(window.min.y, window.max.y); });
   } catch (const Error&) {
     throw;

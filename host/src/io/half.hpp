@@ -5,6 +5,7 @@
 
 #include <Imath/half.h>
 
+#include <cstddef>
 #include <cstdint>
 
 namespace brdfbake::io {
@@ -16,5 +17,10 @@ inline float half_bits_to_float(uint16_t bits) {
   value.setBits(bits);
   return static_cast<float>(value);
 }
+
+// The same conversions over arrays (io/half.cpp): with the CPU's F16C instructions where it has
+// them, giving the same bits as the scalar functions above.
+void floats_to_half_bits(const float* in, std::size_t n, uint16_t* out);
+void half_bits_to_floats(const uint16_t* in, std::size_t n, float* out);
 
 }  // namespace brdfbake::io

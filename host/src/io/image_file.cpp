@@ -33,8 +33,8 @@ std::string read_head(const std::string& path, size_t n) {
   return head;
 }
 
-FloatImage read_rgbe_file(const std::string& path, uint64_t max_pixels) {
-  RgbeImage rgbe = decode_rgbe(read_all(path), max_pixels);
+FloatImage read_rgbe_file(const std::string& path, const ImageLimits& limits) {
+  RgbeImage rgbe = decode_rgbe(read_all(path), limits);
   FloatImage out;
   out.width = rgbe.width;
   out.height = rgbe.height;
@@ -46,7 +46,7 @@ FloatImage read_rgbe_file(const std::string& path, uint64_t max_pixels) {
   return out;
 }
 
-FloatImage read_with_oiio(const std::string& path, uint64_t max_pixels) {
+FloatImage read_with_oiio(const std::string& path, const ImageLimits& limits) {
   const OiioModule* module = nullptr;
   try {
     module = &oiio_module();
@@ -55,7 +55,7 @@ FloatImage read_with_oiio(const std::string& path, uint64_t max_pixels) {
   }
   brdfbake_oiio_image image{};
   char error[512] = {};
-  if (module->read(path.c_str(), max_pixels, &image, error, sizeof error) != 0)
+  if (module->read(path.c_str(), limits.max_pixels, limits.max_bytes, &image, error, sizeof error) != 0)
     throw Error(std::string(error[0] ? error : "OpenImageIO could not read it"));
   FloatImage out;
   try {
@@ -76,12 +76,12 @@ FloatImage read_with_oiio(const std::string& path, uint64_t max_pixels) {
 
 }  // namespace
 
-FloatImage read_image(const std::string& path, uint64_t max_pixels) {
+FloatImage read_image(const std::string& path, const ImageLimits& limits) {
   const std::string head = read_head(path, 4);
   FloatImage out;
-  if (is_exr(head) && read_exr(path, max_pixels, out)) return out;
-  if (is_rgbe(head)) return read_rgbe_file(path, max_pixels);
-  return read_with_oiio(path, max_pixels);
+  if (is_exr(head) && read_exr(path, limits, out)) return out;
+  if (is_rgbe(head)) return read_rgbe_file(path, limits);
+  return read_with_oiio(path, limits);
 }
 
 void write_rgbe(const TempFile& temp, int width, int height, const float* rgb) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "io/image_limits.hpp"
 
 namespace brdfbake::io {
 
@@ -36,17 +37,18 @@ struct FloatImage {
 // Reads an image, choosing the reader by the file's signature (its first bytes): OpenEXR
 // (scanline or tiled, mip-mapped or not, half, float or uint; not subsampled luminance/chroma or
 // deep data, which go to OpenImageIO) and Radiance RGBE here, any other format through the
-// OpenImageIO module. An image of more than `max_pixels` pixels is refused before it is decoded.
+// OpenImageIO module. An image beyond `limits` (pixels, or the memory its decoding takes) is refused
+// from its header, before any pixel buffer is allocated.
 // Throws Error with a one-line reason that does not repeat the path (callers say what the file
 // was for), e.g. "truncated: the data ends in scanline 17", or, for a format only OpenImageIO
 // reads when the module cannot be loaded, "... needs the OpenImageIO module ...: <why>".
-FloatImage read_image(const std::string& path, uint64_t max_pixels);
+FloatImage read_image(const std::string& path, const ImageLimits& limits);
 
 // The OpenEXR reader behind read_image: whether `head` (the first bytes of a file) is OpenEXR's
 // magic number, and the file read into `out`. Returns false, reading nothing, for the variants
 // left to OpenImageIO (deep data, subsampled channels); throws Error(reason) for a bad file.
 bool is_exr(std::string_view head);
-bool read_exr(const std::string& path, uint64_t max_pixels, FloatImage& out);
+bool read_exr(const std::string& path, const ImageLimits& limits, FloatImage& out);
 
 // Writers: each fills the temporary `temp` (the caller commits it) and throws
 // Error("cannot write '<destination>': <reason>").

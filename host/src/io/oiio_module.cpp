@@ -2,6 +2,7 @@
 // module; the only code of brdfbake that includes OpenImageIO. It exports the C functions of
 // oiio_module.hpp and nothing else.
 #include "io/oiio_module.hpp"
+#include "io/image_limits.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -40,7 +41,8 @@ std::string one_line(std::string s) {
 BRDFBAKE_OIIO_EXPORT int brdfbake_oiio_abi_version(void) { return BRDFBAKE_OIIO_ABI_VERSION; }
 
 BRDFBAKE_OIIO_EXPORT int brdfbake_oiio_read(const char* path, unsigned long long max_pixels,
-                                            brdfbake_oiio_image* out, char* error, size_t error_size) {
+                                            unsigned long long max_bytes, brdfbake_oiio_image* out, char* error,
+                                            size_t error_size) {
   try {
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
@@ -55,8 +57,13 @@ BRDFBAKE_OIIO_EXPORT int brdfbake_oiio_read(const char* path, unsigned long long
       set_error(error, error_size, "no pixels");
       return 1;
     }
-    if (static_cast<unsigned long long>(w) * static_cast<unsigned long long>(h) > max_pixels) {
-      set_error(error, error_size, "too large (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+    brdfbake::io::ImageLimits limits;
+    limits.max_pixels = max_pixels;
+    limits.max_bytes = max_bytes;
+    // two copies: this module's buffer and the caller's
+    const std::string problem = brdfbake::io::image_limits_problem(uint64_t(w), uint64_t(h), uint64_t(nch), 2, limits);
+    if (!problem.empty()) {
+      set_error(error, error_size, problem);
       return 1;
     }
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(nch);

@@ -16,7 +16,7 @@
 extern "C" {
 
 // Bumped whenever a struct or a signature below changes; the loader refuses another version.
-#define BRDFBAKE_OIIO_ABI_VERSION 1
+#define BRDFBAKE_OIIO_ABI_VERSION 2
 
 struct brdfbake_oiio_image {
   int width;
@@ -30,10 +30,11 @@ struct brdfbake_oiio_image {
 // int brdfbake_oiio_abi_version(void): BRDFBAKE_OIIO_ABI_VERSION of the module.
 typedef int (*brdfbake_oiio_abi_version_fn)(void);
 // Reads level 0 of subimage 0 of `path` as float into `out`; images of more than max_pixels
-// pixels are refused before decoding. Returns 0 on success; otherwise a one-line reason (without
+// pixels, or whose decoding takes more than max_bytes (0: no limit; io/image_limits.hpp, counting
+// the module's buffer and the caller's copy), are refused before decoding. Returns 0 on success; otherwise a one-line reason (without
 // the path) in `error` (NUL-terminated, at most error_size bytes) and `out` untouched.
-typedef int (*brdfbake_oiio_read_fn)(const char* path, unsigned long long max_pixels, brdfbake_oiio_image* out,
-                                     char* error, size_t error_size);
+typedef int (*brdfbake_oiio_read_fn)(const char* path, unsigned long long max_pixels, unsigned long long max_bytes,
+                                     brdfbake_oiio_image* out, char* error, size_t error_size);
 // Frees what brdfbake_oiio_read allocated in `image`.
 typedef void (*brdfbake_oiio_free_fn)(brdfbake_oiio_image* image);
 

@@ -70,6 +70,7 @@ class Reader {
   }
   const uint8_t* data() const { return reinterpret_cast<const uint8_t*>(bytes_.data() + pos_); }
   const uint8_t* end() const { return reinterpret_cast<const uint8_t*>(bytes_.data() + bytes_.size()); }
+  size_t remaining() const { return bytes_.size() - pos_; }
 
  private:
   std::string_view bytes_;
@@ -189,7 +190,7 @@ void rgbe_to_float(const uint8_t rgbe[4], float out[3]) {
 
 bool is_rgbe(std::string_view bytes) { return bytes.size() >= 2 && bytes[0] == '#' && bytes[1] == '?'; }
 
-RgbeImage decode_rgbe(std::string_view bytes, uint64_t max_pixels) {
+RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   if (!is_rgbe(bytes)) throw Error("not a Radiance picture (it does not start with '#?')");
   Reader in(bytes);
   std::string line;
@@ -211,8 +212,15 @@ RgbeImage decode_rgbe(std::string_view bytes, uint64_t max_pixels) {
     throw Error("bad resolution line '" + line.substr(0, 40) + "' (expected e.g. '-Y 512 +X 1024')");
   const Axis& x_axis = first.name == 'X' ? first : second;
   const Axis& y_axis = first.name == 'Y' ? first : second;
-  if (static_cast<uint64_t>(x_axis.count) * static_cast<uint64_t>(y_axis.count) > max_pixels)
-    throw Error("too large (" + std::to_string(x_axis.count) + "x" + std::to_string(y_axis.count) + ")");
+  const std::string problem = image_limits_problem(uint64_t(x_axis.count), uint64_t(y_axis.count), 3, 1, limits);
+  if (!problem.empty()) throw Error(problem);
+  // Every scanline takes at least one 4-byte record (a flat pixel or a run-length header), whatever
+  // its encoding: a 4-line file that promises 16384 x 8192 pixels ends here, before 1.5 GiB exist.
+  const uint64_t least = 4 * uint64_t(first.count);
+  if (in.remaining() < least)
+    throw Error("truncated: the header promises " + std::to_string(x_axis.count) + "x" + std::to_string(y_axis.count) +
+                " pixels, at least " + std::to_string(least) + " bytes of scanlines, and " +
+                std::to_string(in.remaining()) + " bytes follow it");
 
   RgbeImage image;
   image.width = x_axis.count;

@@ -31,6 +31,8 @@
 #include <string_view>
 #include <vector>
 
+#include "io/image_limits.hpp"
+
 namespace brdfbake::io {
 
 // The largest value RGBE holds: mantissa 255 under exponent byte 255, (255 / 256) * 2^127.
@@ -48,8 +50,10 @@ struct RgbeImage {
 bool is_rgbe(std::string_view bytes);
 
 // Decodes a whole picture. Throws Error(reason) for a bad header, a truncated or corrupt file,
-// or an image of more than `max_pixels` pixels; the reason does not name the file.
-RgbeImage decode_rgbe(std::string_view bytes, uint64_t max_pixels = uint64_t(1) << 28);
+// or an image beyond `limits`; the reason does not name the file. A header promising more
+// scanlines than the data can hold (each takes at least 4 bytes) is refused before the pixels are
+// allocated.
+RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits = {});
 
 // Encodes width x height RGB floats (row 0 the top row). Values must be finite and in
 // [0, kRgbeMax]: callers clamp and count (a value outside throws Error).

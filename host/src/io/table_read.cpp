@@ -113,7 +113,7 @@ std::vector<std::string> default_channels(int n) {
 // A table image is read whole (one at most 256 Mpixel).
 FloatImage read_whole(const std::string& path) {
   try {
-    return read_image(path, uint64_t(1) << 28);
+    return read_image(path, ImageLimits{});
   } catch (const Error& e) {
     throw Error("cannot read '" + path + "': " + e.what());
   }

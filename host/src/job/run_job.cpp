@@ -117,10 +117,14 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   // Every table's device, and what it can do, before anything slow (reading environments).
   for (const auto& g : groups) check_backend(job.tables[g.front()], backend_for(job.tables[g.front()].device));
 
-  // Environments first (a bad file fails before any device work), each loaded once.
+  // Environments first (a bad file fails before any device work), each loaded once, while the
+  // devices that will be used open.
+  for (const auto& t : job.tables)
+    if (table_kind_uses_environment(t.kind) && table_needs_device(t)) backend_for(t.device).prepare();
   std::map<std::string, EnvImage> environments;
   EnvLoadOptions load;
   load.sanitize = job.sanitize;
+  load.memory_budget = options.memory_budget;
   for (const auto& t : job.tables)
     if (table_kind_uses_environment(t.kind) && !environments.count(t.environment))
       environments.emplace(t.environment, load_environment(t.environment, load));
@@ -190,6 +194,10 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
         f.details.push_back({"storage_encoding", written.encoding});
       }
       for (const auto& d : written.details) f.details.push_back(d);
+      for (const auto& w : written.warnings) {
+        manifest.warnings.push_back(w);
+        if (options.on_warning) options.on_warning(w);
+      }
       f.requested_by = o.requested_by;
       f.materials = o.materials();
       f.bytes = bytes_of(s.output);

@@ -192,7 +192,7 @@ constexpr uint64_t kMaxViewPixels = uint64_t(1) << 28;
 
 io::FloatImage read_image(const std::string& path) {
   try {
-    return io::read_image(path, kMaxViewPixels);
+    return io::read_image(path, io::ImageLimits{kMaxViewPixels, 0});
   } catch (const Error& e) {
     throw Error("cannot read '" + path + "': " + e.what());
   }
