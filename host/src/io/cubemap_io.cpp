@@ -249,6 +249,15 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
 
 }  // namespace
 
+namespace {
+bool is_little_endian() {
+  const uint16_t one = 1;
+  uint8_t first = 0;
+  std::memcpy(&first, &one, 1);
+  return first == 1;
+}
+}  // namespace
+
 std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated) {
   check_cube(cube);
   std::vector<std::vector<uint8_t>> out;
@@ -264,11 +273,16 @@ std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, Pixel
     }
     std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
     if (pixel == PixelType::F16) {
-      std::vector<uint16_t> bits(level.size());
-      floats_to_half_bits(level.data(), level.size(), bits.data());
-      for (size_t k = 0; k < level.size(); ++k) {  // little-endian
-        bytes[2 * k] = static_cast<uint8_t>(bits[k]);
-        bytes[2 * k + 1] = static_cast<uint8_t>(bits[k] >> 8);
+      // little-endian: where the host is, its uint16 are the file's bytes
+      if (is_little_endian()) {
+        floats_to_half_bits(level.data(), level.size(), reinterpret_cast<uint16_t*>(bytes.data()));
+      } else {
+        std::vector<uint16_t> bits(level.size());
+        floats_to_half_bits(level.data(), level.size(), bits.data());
+        for (size_t k = 0; k < level.size(); ++k) {
+          bytes[2 * k] = static_cast<uint8_t>(bits[k]);
+          bytes[2 * k + 1] = static_cast<uint8_t>(bits[k] >> 8);
+        }
       }
       out.push_back(std::move(bytes));
       continue;
