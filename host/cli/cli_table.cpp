@@ -240,6 +240,8 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
                    environment.source.c_str(), environment.sanitize.nan, environment.sanitize.infinite,
                    environment.sanitize.negative);
     inputs.environment = &environment;
+    // the pixels go once the bake has its cube (metadata stays): a 4k map holds 96 MiB
+    inputs.release_environment = [&environment] { std::vector<float>().swap(environment.rgb); };
   }
 
   if (eval) {

@@ -57,8 +57,9 @@ class OpenClBackend final : public Backend {
   Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut(opened(), s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel(opened(), s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(opened(), s, t); }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
-    return prefilter_environment(opened(), env, s, t, p);
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
+                       const std::function<void()>& source_done = {}) override {
+    return prefilter_environment(opened(), env, s, t, p, source_done);
   }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
     if (s.cube_size == 0) {  // SH alone: on the host, exact for the input (docs/CONVENTIONS.md)
@@ -96,7 +97,8 @@ class ReferenceBackend final : public Backend {
   Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut_reference(s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel_reference(s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
+                       const std::function<void()>& = {}) override {
     return prefilter_environment_reference(env, s, t, p);
   }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {

@@ -1266,7 +1266,7 @@ CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const Prefil
 }
 
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& in, PrefilterTiming* timing,
-                                 const EnvProgress& progress) {
+                                 const EnvProgress& progress, const std::function<void()>& source_done) {
   const auto t0 = std::chrono::steady_clock::now();
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (progress) progress(0.0, "converting to a cube");
@@ -1279,6 +1279,7 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
     });
   });
   if (filter_built.valid()) filter_built.get();
+  if (source_done) source_done();  // the pixels are not read again
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

@@ -31,9 +31,10 @@ class LockedBackend final : public Backend {
     std::lock_guard<std::mutex> lock(*mutex_);
     return inner_->thin_film(s, t);
   }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p) override {
+  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
+                       const std::function<void()>& source_done = {}) override {
     std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->prefilter(env, s, t, p);
+    return inner_->prefilter(env, s, t, p, source_done);
   }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
     std::lock_guard<std::mutex> lock(*mutex_);

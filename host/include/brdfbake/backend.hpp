@@ -55,8 +55,9 @@ class Backend {
   virtual Table lut(const LutSpec& spec, LutTiming* timing, const Progress& progress) = 0;
   virtual Table fresnel(const FresnelSpec& spec, FresnelTiming* timing) = 0;
   virtual Table thin_film(const ThinFilmSpec& spec, ThinFilmTiming* timing) = 0;
+  // source_done: as prefilter_environment's (the reference never calls it).
   virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
-                               const EnvProgress& progress) = 0;
+                               const EnvProgress& progress, const std::function<void()>& source_done = {}) = 0;
   virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
   virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                                    const EvalOptions& options) = 0;

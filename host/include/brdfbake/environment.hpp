@@ -237,9 +237,13 @@ using EnvProgress = std::function<void(double, const std::string&)>;
 CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds = nullptr);
 
 // The whole chain: conversion, source mips, every level. Output metadata: conventions, schedule,
-// roughness per level, samples per level, estimator, device.
+// roughness per level, samples per level, estimator, device. `source_done`, where given, is called
+// once the environment's pixels are no longer read (after the conversion to a cube), so that a
+// caller who owns them can free them before the levels are filtered (a 4k map holds 96 MiB); only
+// env's source, description and sanitize report are read after it.
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& spec,
-                                 PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
+                                 PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
+                                 const std::function<void()>& source_done = {});
 // The same from a source cube already at spec.size (level 0 of `source`).
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});

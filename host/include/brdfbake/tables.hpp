@@ -157,6 +157,10 @@ struct BakeResult {
 // What a bake reads beside its parameters.
 struct BakeInputs {
   const EnvImage* environment = nullptr;  // prefilter, irradiance
+  // Called once the bake no longer reads the environment's pixels (prefilter: after the conversion
+  // to a cube), so that a caller who owns them and needs them no more can free them; may be empty,
+  // may never be called.
+  std::function<void()> release_environment;
   // eval: pairs already in memory (6 values a pair: wi, wo), read instead of the `input` file (the
   // Python package's arrays).
   const double* pairs = nullptr;

@@ -218,7 +218,7 @@ class PrefilterFamily final : public Family {
     double scale = 1.0;
     const EnvImage& env = headroom_environment(*in.environment, scaled, &scale);
     spec.clamp_luminance /= scale;  // the opt-in clamp is a luminance: scaled with the radiance
-    CubeLevels cube = backend.prefilter(env, spec, &timing, progress);
+    CubeLevels cube = backend.prefilter(env, spec, &timing, progress, in.release_environment);
     spec.clamp_luminance *= scale;
     if (scale != 1.0)
       for (auto& level : cube.levels)

@@ -442,13 +442,13 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       image.levels = static_cast<uint32_t>(cube.level_count());
       image.level_data = io::cube_level_bytes(cube, o.pixel);
       image.key_values = io::cube_key_values(cube, 2);
-      std::vector<uint8_t> bytes;
       try {
-        bytes = io::encode_ktx2(image);
+        io::write_ktx2(image, path);  // streamed: the levels are not copied again
+      } catch (const IoError&) {
+        throw;
       } catch (const Error& e) {
         io::throw_write_error(path, e.what());
       }
-      io::write_file_atomically(path, io::as_view(bytes));
       return;
     }
     case CubeFormat::Ktx1:

@@ -661,7 +661,11 @@ uint32_t ktx2_max_levels(uint32_t width, uint32_t height) {
   return levels;
 }
 
-std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
+namespace {
+
+// Everything before the level data (header, level index, DFD, key/value data: the bytes up to the
+// smallest level's offset, padding included), and each level's offset.
+std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>& level_offsets, uint64_t& total) {
   const Format& format = check_image(image);
   auto entries = image.key_values;
   std::sort(entries.begin(), entries.end(),
@@ -678,15 +682,16 @@ std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
   }
   const uint64_t kvd_offset = kvd_length != 0 ? dfd_offset + dfd_length : 0;
 
-  std::vector<uint64_t> level_offsets(image.levels);
+  level_offsets.assign(image.levels, 0);
   uint64_t cursor = dfd_offset + dfd_length + kvd_length;
   for (uint32_t level = image.levels; level-- > 0;) {  // smallest level first
     cursor = align_up(cursor, level_alignment(format));
     level_offsets[level] = cursor;
     cursor += image.level_data[level].size();
   }
+  total = cursor;
 
-  std::vector<uint8_t> out(cursor, 0);
+  std::vector<uint8_t> out(level_offsets.empty() ? cursor : level_offsets.back(), 0);
   std::memcpy(out.data(), kIdentifier, sizeof kIdentifier);
   put_u32(out, kOffsetVkFormat, format.vk_format);
   put_u32(out, kOffsetTypeSize, type_size(format));
@@ -717,6 +722,16 @@ std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
     std::memcpy(out.data() + at + 4 + key.size() + 1, value.data(), value.size());  // padding
     at += 4 + align_up(key_value_byte_length({key, value}), 4);  // are the vector's zeros
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
+  std::vector<uint64_t> level_offsets;
+  uint64_t total = 0;
+  std::vector<uint8_t> out = encode_prefix(image, level_offsets, total);
+  out.resize(total, 0);
   for (uint32_t level = 0; level < image.levels; ++level) {
     std::copy(image.level_data[level].begin(), image.level_data[level].end(),
               out.begin() + static_cast<std::ptrdiff_t>(level_offsets[level]));
@@ -725,9 +740,25 @@ std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
 }
 
 void write_ktx2(const Ktx2Image& image, const std::string& path) {
-  const std::vector<uint8_t> bytes = encode_ktx2(image);
-  write_file_atomically(
-      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  std::vector<uint64_t> level_offsets;
+  uint64_t total = 0;
+  const std::vector<uint8_t> prefix = encode_prefix(image, level_offsets, total);
+  // the levels are written from where they are, smallest first as they lie in the file: no
+  // second copy of a chain (a 1024^2 chain in binary16 is 64 MiB)
+  OutputStream out(path);
+  out.write(prefix.data(), prefix.size());
+  uint64_t at = prefix.size();
+  static const uint8_t kZeros[16] = {};
+  for (uint32_t level = image.levels; level-- > 0;) {
+    while (at < level_offsets[level]) {  // alignment padding (under 16 bytes)
+      const uint64_t n = std::min<uint64_t>(sizeof kZeros, level_offsets[level] - at);
+      out.write(kZeros, n);
+      at += n;
+    }
+    out.write(image.level_data[level].data(), image.level_data[level].size());
+    at += image.level_data[level].size();
+  }
+  out.commit();
 }
 
 Ktx2Image decode_ktx2(const uint8_t* data, size_t size) {

@@ -155,7 +155,17 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     report(0.0, "");
     Backend& backend = backend_for(t.device);
     BakeInputs inputs;
-    if (table_kind_uses_environment(t.kind)) inputs.environment = &environments.at(t.environment);
+    if (table_kind_uses_environment(t.kind)) {
+      EnvImage& env = environments.at(t.environment);
+      inputs.environment = &env;
+      // the last bake that reads this environment may free its pixels once it has its cube
+      bool read_later = false;
+      for (size_t h = g + 1; h < groups.size(); ++h) {
+        const TableRequest& later = job.tables[groups[h].front()];
+        read_later = read_later || (table_kind_uses_environment(later.kind) && later.environment == t.environment);
+      }
+      if (!read_later) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
+    }
     const BakeResult r = bake_table(t, backend, inputs, report);
     report(1.0, "");
     // What an engine's file set is made of: the first GGX chain and the first SH.
