@@ -323,19 +323,18 @@ inline real2 lobe_monte_carlo(real n_dot_v, real sin_v, real alpha, uint samples
 // albedo = (1/pi) int_0^1 t dt int_0^2pi dphi (pi f_d) = (1/2) sum_k w_k t_k sum_m g(t_k, phi_m).
 inline real burley_albedo(real n_dot_v, real sin_v, real roughness, constant real* q, int n_xi,
                           int n_phi) {
-  real acc = R(0.0);
-  for (int k = 0; k < 8; ++k) {
-    const real t = Q_D_X(k), s = sqrt(max(R(0.0), R(1.0) - t * t));
-    real row = R(0.0);
-    for (int m = 0; m < 4; ++m) {
-      const real cos_phi = cos(((real)m + R(0.5)) * BRDFBAKE_PI * R(0.25));
-      const real l_dot_v = s * sin_v * cos_phi + t * n_dot_v;
-      const real l_dot_h2 = R(0.5) * (R(1.0) + l_dot_v);  // (l.h)^2 with h = (l + v)/|l + v|
-      row += Fd_Burley_times_pi(n_dot_v, t, sqrt(l_dot_h2), roughness);
-    }
-    acc += Q_D_W(k) * t * row;
+  // the 8 nodes in t as the 8 lanes; cos((m + 1/2) pi / 4), m = 0..3, is +-cos(pi/8), +-cos(3 pi/8)
+  const realv t = vload_lanes(0, q + 4 * n_xi + 3 * n_phi), w = vload_lanes(0, q + 4 * n_xi + 3 * n_phi + 8);
+  const realv s = sqrt(fmax((realv)R(0.0), R(1.0) - t * t));
+  const real cos_phi[4] = {R(0.92387953251128675613), R(0.38268343236508977173), R(-0.38268343236508977173),
+                           R(-0.92387953251128675613)};
+  realv row = (realv)R(0.0);
+  for (int m = 0; m < 4; ++m) {
+    const realv l_dot_v = s * (sin_v * cos_phi[m]) + t * n_dot_v;
+    const realv l_dot_h2 = R(0.5) * (R(1.0) + l_dot_v);  // (l.h)^2 with h = (l + v)/|l + v|
+    row += Fd_Burley_times_pi_v((realv)n_dot_v, t, sqrt(fmax(l_dot_h2, (realv)R(0.0))), roughness);
   }
-  return R(0.5) * acc;
+  return R(0.5) * lanes_sum(w * t * row);
 }
 
 kernel void dfg_lut(global float* out, global const real* n_dot_vs, global const real* roughnesses,

@@ -1,5 +1,5 @@
 // Image files. The formats on the hot path go through focused libraries, linked into the program:
-//   OpenEXR (.exr, read and write)       OpenEXR 3.1 (Imf), float32 written with ZIP compression
+//   OpenEXR (.exr, read and write)       OpenEXR 3.1 (Imf), float32 written uncompressed below 1 MiB, ZIP above
 //   PNG (.png, 16-bit write)             libpng
 //   Radiance RGBE (.hdr, read and write) io/rgbe (a small codec: stb_image hangs or returns black
 //                                        on truncated files, see rgbe.hpp)
@@ -53,7 +53,8 @@ bool read_exr(const std::string& path, const ImageLimits& limits, FloatImage& ou
 // Writers: each fills the temporary `temp` (the caller commits it) and throws
 // Error("cannot write '<destination>': <reason>").
 //
-// OpenEXR: `channels` (1..4) float32 channels named R, G, B, A in that order, ZIP compression,
+// OpenEXR: `channels` (1..4) float32 channels named R, G, B, A in that order (uncompressed below
+// 1 MiB of pixels, ZIP above),
 // every attribute a string attribute (keys as given).
 void write_exr(const TempFile& temp, int width, int height, int channels, const float* pixels,
                const std::vector<std::pair<std::string, std::string>>& attributes);
