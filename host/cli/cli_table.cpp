@@ -215,6 +215,11 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   validate_table(t, naming);  // everything checked before any slow work
   if (t.output != "-") check_output_path(output_probe(t.output, t.kind));
   const bool quiet = quiet_option(r);
+  // Once the request is known to be good, the OpenCL platform opens on a second thread (PoCL loads
+  // LLVM: ~15 ms) while the output folder is locked and the inputs are read; usage errors and work
+  // that needs no device (SH alone) load no OpenCL at all.
+  const std::shared_ptr<Backend> backend = open_backend_kept(t.device);
+  if (!eval && table_needs_device(t)) backend->prepare();
 
   // A cube written as a folder of images is one output of many files: one run at a time writes it
   // (docs/RELIABILITY.md, "Outputs"), and what killed runs left beside it goes.
@@ -224,13 +229,11 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     lock.emplace(t.output, o.wait_for_lock, o.on_wait);
     remove_stale_temporaries(t.output);
   }
-  const std::shared_ptr<Backend> backend = open_backend_kept(t.device);
   check_backend(t, *backend);  // before the environment is read
 
   BakeInputs inputs;
   EnvImage environment;
   if (env) {
-    if (table_needs_device(t)) backend->prepare();  // the platform opens while the file is read
     EnvLoadOptions lo;
     lo.sanitize = r.count("sanitize") > 0;
     lo.memory_budget = memory_budget_option(r);
