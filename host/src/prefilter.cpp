@@ -1007,8 +1007,6 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
       cl::Buffer dst_buf(dev.context, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, dst.size() * sizeof(float), dst.data());
       const bool fp64 = s.precision == Precision::Fp64;
       const int rows = 6 * size;
-      const int chunks = step ? std::clamp(rows / 16, 1, 24) : 1;
-      std::vector<cl::Event> events;
       std::vector<double> cos_core, band, table;
       cl::Buffer core_buf, band_buf, table_buf;
       int n_padded = 0;
@@ -1068,37 +1066,35 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
         // radians) from the centre; one more texel as margin
         sb.reach = (std::sqrt(2.0) + 1.0) * 2.0 / double(s0);
       }
-      const int bands = rows / unit;  // chunks hold whole blocks
-      for (int c = 0; c < chunks; ++c) {
-        const int row0 = bands * c / chunks * unit, row1 = bands * (c + 1) / chunks * unit;
-        if (row1 == row0) continue;
-        const cl::EnqueueArgs range =
-            strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0 / unit)), cl::NDRange(size_t(size / 8), size_t((row1 - row0) / unit)),
-                                     cl::NDRange(1, 1))
-                   : cl::EnqueueArgs(dev.queue, cl::NDRange(0, size_t(row0)), cl::NDRange(size_t(size), size_t(row1 - row0)),
-                                     cl::NullRange);
-        if (strips)
-          events.push_back(fp64 ? launch_strips<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                           pyramid.levels, core_buf, band_buf, sb, alpha, range)
-                                : launch_strips<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                          pyramid.levels, core_buf, band_buf, sb, alpha, range));
-        else if (quadrature)
-          events.push_back(fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                            pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range)
-                                : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info,
-                                                           pyramid.levels, core_buf, band_buf, pts_buf, n_pts, alpha, range));
-        else
-          events.push_back(fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
-                                                          pts_buf, n_pts, alpha, range)
-                                : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded,
-                                                         pts_buf, n_pts, alpha, range));
-      }
-      double level_seconds = 0.0;
-      for (size_t c = 0; c < events.size(); ++c) {
-        events[c].wait();
-        level_seconds += detail::event_seconds(events[c]);
-        if (step) step(double(c + 1) / double(events.size()));
-      }
+      // Launches over bands of `unit` rows (whole blocks), each sized from the speed the previous
+      // ones measured to take about 50 ms (runtime/launch.hpp: no display watchdog is approached on
+      // a GPU, a stop waits for one launch, progress follows the parts). A band's cost in
+      // LaunchSizer's units: its texels times ~64 evaluations (pyramid texels or samples) each.
+      const size_t bands = size_t(rows / unit);
+      const double band_cost = double(size) * double(unit) * 64.0;
+      const double level_seconds = detail::launch_in_parts(
+          bands, band_cost,
+          [&](size_t first, size_t count) -> cl::Event {
+            const size_t row0 = first * size_t(unit), n_rows = count * size_t(unit);
+            const cl::EnqueueArgs range =
+                strips ? cl::EnqueueArgs(dev.queue, cl::NDRange(0, first), cl::NDRange(size_t(size / 8), count), cl::NDRange(1, 1))
+                       : cl::EnqueueArgs(dev.queue, cl::NDRange(0, row0), cl::NDRange(size_t(size), n_rows), cl::NullRange);
+            if (strips)
+              return fp64 ? launch_strips<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                                     core_buf, band_buf, sb, alpha, range)
+                          : launch_strips<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                                    core_buf, band_buf, sb, alpha, range);
+            if (quadrature)
+              return fp64 ? launch_pyramid<cl_double>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                                      core_buf, band_buf, pts_buf, n_pts, alpha, range)
+                          : launch_pyramid<cl_float>(filter_prog, dst_buf, size, pyramid_buf, pyramid_info, pyramid.levels,
+                                                     core_buf, band_buf, pts_buf, n_pts, alpha, range);
+            return fp64 ? launch_level<cl_double>(filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts,
+                                                  alpha, range)
+                        : launch_level<cl_float>(filter_prog, dst_buf, size, chain, table_buf, n_padded, pts_buf, n_pts,
+                                                 alpha, range);
+          },
+          step, step ? 4 : 1);  // a progress line moves within a level
       void* mapped = dev.queue.enqueueMapBuffer(dst_buf, CL_TRUE, CL_MAP_READ, 0, dst.size() * sizeof(float));
       dev.queue.enqueueUnmapMemObject(dst_buf, mapped);
       dev.queue.finish();

@@ -382,7 +382,9 @@ TEST(Prefilter, ProgressMovesWithinEveryLevel) {
     EXPECT_EQ(f.back(), 1.0);
     int inside_level_one = 0;
     for (size_t k = 0; k < f.size(); ++k) inside_level_one += f[k] > 0.0 && f[k] < 0.8 && labels[k].rfind("level 1/2", 0) == 0;
-    EXPECT_GE(inside_level_one, 5) << "max_error " << max_error;
+    // a level runs as at least 4 launches when progress is followed (more where it is slow: each
+    // launch takes ~50 ms at most), so level 1 reports at least 3 times before it ends
+    EXPECT_GE(inside_level_one, 3) << "max_error " << max_error;
     bool refinement = false;
     for (const auto& l : labels) refinement |= l.find("refinement") != std::string::npos;
     EXPECT_EQ(refinement, max_error > 0.0);

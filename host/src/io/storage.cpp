@@ -96,13 +96,14 @@ StorageReport measure_cube_storage(const std::vector<std::vector<float>>& levels
         half_bits_to_floats(bits.data(), n, back.data());
         s = back.data();
       }
-      // branch-free over the chunk (vectorised); the rare values that cannot be stored are
-      // counted in a second look only where the first found one
+      // One compare a value (d > worst |v| is d / |v| > worst without the division, which is taken
+      // only when the worst grows); the rare values that cannot be stored are counted in a second
+      // look only where the first found one.
       bool all_finite = true;
       for (size_t k = 0; k < n; ++k) {
-        const float d = std::fabs(s[k] - v[k]), a = std::fabs(v[k]);
+        const float d = std::fabs(s[k] - v[k]), a = std::max(std::fabs(v[k]), 1e-30f);
         all_finite &= (d <= 3.4e38f) & (a <= 3.4e38f);  // false for NaN and infinity
-        worst = std::max(worst, d / std::max(a, 1e-30f));
+        if (d > worst * a) worst = d / a;
       }
       if (all_finite) continue;
       for (size_t k = 0; k < n; ++k)

@@ -49,23 +49,46 @@ class LaunchSizer {
 };
 
 // Runs items [0, items) as successive launches sized by LaunchSizer: enqueue(first, count) enqueues
-// one and returns its event. Waits for each launch before the next (at most one is queued, so a stop
-// request is honoured within one launch), calls progress(fraction) after each, and returns the
-// device seconds of all of them. Throws Cancelled between launches.
+// one and returns its event. Two launches are in flight at a time, so that the device never idles
+// between them (the next is queued while the current runs) while a stop request is honoured within
+// two launches; each launch is sized from the speed the finished ones measured. Calls
+// progress(fraction) as each finishes and returns the device seconds of all of them. Throws
+// Cancelled between launches (after the queued ones finish). With `min_parts` above 1, no launch
+// holds more than 1 / min_parts of the items, so that a progress line moves even where the device
+// is fast.
 template <class Enqueue>
-double launch_in_parts(size_t items, double cost, Enqueue&& enqueue, const std::function<void(double)>& progress = {}) {
+double launch_in_parts(size_t items, double cost, Enqueue&& enqueue, const std::function<void(double)>& progress = {},
+                       size_t min_parts = 1) {
   LaunchSizer sizer(double(items), cost);
+  const size_t parts = std::max<size_t>(min_parts, 1);
+  const size_t cap = std::max<size_t>(1, (items + parts - 1) / parts);
   double seconds = 0.0;
-  for (size_t first = 0; first < items;) {
-    throw_if_cancelled();
-    const size_t count = std::min(sizer.next(), items - first);
-    cl::Event e = enqueue(first, count);
-    e.wait();
-    const double s = event_seconds(e);
-    seconds += s;
-    sizer.measured(count, s);
-    first += count;
-    if (progress) progress(double(first) / double(items));
+  struct InFlight {
+    cl::Event event;
+    size_t count;
+  };
+  InFlight queued[2];
+  size_t n_queued = 0, first = 0, done = 0;
+  try {
+    while (done < items) {
+      while (n_queued < 2 && first < items) {
+        throw_if_cancelled();
+        const size_t count = std::min({sizer.next(), cap, items - first});
+        queued[n_queued++] = {enqueue(first, count), count};
+        first += count;
+      }
+      queued[0].event.wait();
+      const double s = event_seconds(queued[0].event);
+      seconds += s;
+      sizer.measured(queued[0].count, s);
+      done += queued[0].count;
+      queued[0] = queued[1];
+      --n_queued;
+      if (progress) progress(double(done) / double(items));
+    }
+  } catch (...) {
+    for (size_t k = 0; k < n_queued; ++k) queued[k].event.wait();  // nothing runs on after a stop
+    throw;
   }
   return seconds;
 }
