@@ -417,6 +417,10 @@ void numeric_outputs(std::vector<Row>& rows) {
                      .file("sun.hdr", sun).has("c.ktx2", "f16_clamped"));
   rows.push_back(R("prefilter_f32_no_clamp_needed", "prefilter --env {d}/sun.hdr --size 8 --min-size 4 --pixel f32 --quiet -o {d}/p.ktx2", 0)
                      .file("sun.hdr", sun).lacks("p.ktx2", "clamped").lines(0));
+  rows.push_back(R("bake_f16_overflow_refused", "bake --env {d}/sun.hdr --lut-size 4 --cube-size 8 --min-size 4 -o {d}/out --quiet", 2)
+                     .file("sun.hdr", sun).says("65504").says("--clamp-f16").no("out"));
+  rows.push_back(R("bake_f16_clamp_in_manifest", "bake --env {d}/sun.hdr --lut-size 4 --cube-size 8 --min-size 4 --clamp-f16 -o {d}/out --quiet", 0)
+                     .file("sun.hdr", sun).has("out/manifest.json", "clamped to 65504").says("warning: "));
   rows.push_back(R("run_f16_overflow_refused", "run {d}/job.json -o {d}/out --quiet", 2)
                      .file("sun.hdr", sun)
                      .file("job.json", job(R"({"kind": "prefilter", "size": 8, "min_size": 4, "pixel": "f16", "output": "p.ktx2"})", R"(, "environment": "sun.hdr")"))

@@ -33,6 +33,7 @@ struct PlanOptions {
   std::string table_format = "exr"; // 1-D and 2-D tables
   std::string cube_format = "ktx2";
   std::string pixel;                // "" = each kind's default
+  bool clamp_f16 = false;           // binary16 outputs clamp values beyond 65504 (recorded) instead of refusing
   Precision precision = Precision::Fp32;
   std::string device;
 };

@@ -66,6 +66,7 @@ class Planner {
   void ask(TableRequest t, const std::string& rule, const std::string& purpose, const std::string& material) {
     t.precision = o_.precision;
     t.pixel = o_.pixel;
+    if (o_.clamp_f16 && find_param_def(table_schema(t.kind), "clamp_f16")) t.set("clamp_f16", true);
     const std::string key = key_of(t);
     auto it = index_.find(key);
     size_t at;
@@ -578,6 +579,10 @@ const std::vector<ParamDef>& plan_schema() {
       ParamDef("table_format", ParamType::Name, "1-D and 2-D tables: the file format")
           .one_of({"exr", "png", "hdr", "ktx2", "csv", "h"}).def(d.table_format),
       ParamDef("cube_format", ParamType::Name, "prefiltered chains: the container").one_of({"ktx2", "ktx", "dds"}).def(d.cube_format),
+      ParamDef("clamp_f16", ParamType::Flag,
+               "binary16 outputs: clamp values beyond 65504 to 65504 (counted, recorded as f16_clamped, warned "
+               "about) instead of refusing them (a sun in an unclipped HDR)")
+          .def(d.clamp_f16),
   };
   return s;
 }
@@ -603,6 +608,7 @@ PlanOptions plan_options_from_params(const Params& params, bool cli) {
     else if (p.name == "table_format") o.table_format = std::get<std::string>(p.value);
     else if (p.name == "target") o.target = std::get<std::string>(p.value);
     else if (p.name == "cube_format") o.cube_format = std::get<std::string>(p.value);
+    else if (p.name == "clamp_f16") o.clamp_f16 = std::get<bool>(p.value);
   }
   if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
     throw Error(std::string(cli ? "--sh" : "sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");

@@ -176,7 +176,23 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     for (size_t k = 0; k < groups[g].size(); ++k) {
       const TableRequest& o = job.tables[groups[g][k]];
       const TableRequest s = staged(o, staging.path());
-      const WriteReport written = write_result(r, s, s.output);
+      // messages about the file name the one the user asked for, not its staged copy
+      const auto final_name = [&](std::string what) {
+        const std::string final_path = (fs::path(target) / o.output).lexically_normal().string();
+        for (size_t at = what.find(s.output); at != std::string::npos; at = what.find(s.output, at + final_path.size()))
+          what.replace(at, s.output.size(), final_path);
+        return what;
+      };
+      WriteReport written;
+      try {
+        written = write_result(r, s, s.output);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const RuntimeFailure&) {
+        throw;
+      } catch (const Error& e) {
+        throw Error(final_name(e.what()));  // a value the format cannot hold
+      }
       ManifestFile f;
       f.path = fs::path(o.output).lexically_normal().string();
       f.kind = o.kind;
@@ -205,8 +221,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       }
       for (const auto& d : written.details) f.details.push_back(d);
       for (const auto& w : written.warnings) {
-        manifest.warnings.push_back(w);
-        if (options.on_warning) options.on_warning(w);
+        manifest.warnings.push_back(final_name(w));
+        if (options.on_warning) options.on_warning(final_name(w));
       }
       f.requested_by = o.requested_by;
       f.materials = o.materials();
