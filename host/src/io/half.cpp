@@ -1,6 +1,7 @@
 #include "io/half.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
 #include <immintrin.h>
 #define BRDFBAKE_HAVE_F16C_PATH 1
 #endif
@@ -29,8 +30,18 @@ __attribute__((target("avx,f16c"))) void from_half_f16c(const uint16_t* in, std:
   for (; k < n; ++k) out[k] = half_bits_to_float(in[k]);
 }
 
+// CPUID leaf 1: ECX bit 29 F16C, bit 28 AVX, bit 27 OSXSAVE; and the OS saves the AVX state (XCR0
+// bits 1 and 2). (__builtin_cpu_supports has no "f16c" in clang 14.)
 bool cpu_has_f16c() {
-  static const bool has = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  static const bool has = [] {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+    const bool f16c = (c >> 29) & 1u, avx = (c >> 28) & 1u, osxsave = (c >> 27) & 1u;
+    if (!(f16c && avx && osxsave)) return false;
+    unsigned lo = 0, hi = 0;
+    __asm__ volatile("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+    return (lo & 6u) == 6u;
+  }();
   return has;
 }
 #endif
