@@ -37,6 +37,8 @@ bool is_oclgrind(const DeviceInfo& d) { return d.platform_name.find("Oclgrind") 
 // implementation may tear its state down before static destructors run).
 struct Pair {
   std::shared_ptr<Backend> oclgrind, other;
+  Device* oclgrind_device = nullptr;  // held here, so that they stay reachable (LeakSanitizer)
+  Device* other_device = nullptr;
   std::string other_name, why_not;
 };
 
@@ -52,8 +54,10 @@ const Pair& backends() {
     } else if (other == all.end()) {
       p->why_not = "no OpenCL device besides Oclgrind to compare with (install pocl-opencl-icd)";
     } else {
-      p->oclgrind = Backend::open(*new Device(Device::open(*og)));
-      p->other = Backend::open(*new Device(Device::open(*other)));
+      p->oclgrind_device = new Device(Device::open(*og));
+      p->other_device = new Device(Device::open(*other));
+      p->oclgrind = Backend::open(*p->oclgrind_device);
+      p->other = Backend::open(*p->other_device);
       p->other_name = other->name;
     }
     return p;

@@ -211,7 +211,9 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
   }
   if (const json* e = get("KHR_materials_ior")) {
     s.ior_ext = true;
-    s.ior = r.number(*e, "ior", path("KHR_materials_ior", "ior"), 1.5, 0, kInf);
+    // at most 10: the thin-film tables' indices (a base for KHR_materials_iridescence) end there,
+    // and every planned table must take what the reader accepts (found by fuzz_scene)
+    s.ior = r.number(*e, "ior", path("KHR_materials_ior", "ior"), 1.5, 0, 10);
     if (s.ior > 0 && s.ior < 1) r.fail(path("KHR_materials_ior", "ior"), "must be 0 or at least 1 (got " + fmt_number(s.ior) + ")");
   }
   if (const json* e = get("KHR_materials_specular")) {
@@ -238,18 +240,20 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
   }
   if (const json* e = get("KHR_materials_dispersion")) {
     s.dispersion_ext = true;
-    s.dispersion = r.number(*e, "dispersion", path("KHR_materials_dispersion", "dispersion"), 0.0, 0, kInf);
+    // 20 / Abbe number: about 0.2-1 for glass; 1000 keeps the channels' indices within the Fresnel
+    // tables' range (kFresnelMaxIndex)
+    s.dispersion = r.number(*e, "dispersion", path("KHR_materials_dispersion", "dispersion"), 0.0, 0, 1000);
   }
   if (const json* e = get("KHR_materials_iridescence")) {
     const char* n = "KHR_materials_iridescence";
     s.iridescence_ext = true;
     s.iridescence = r.number(*e, "iridescenceFactor", path(n, "iridescenceFactor"), 0.0, 0, 1);
     s.iridescence_texture = r.texture(*e, "iridescenceTexture", path(n, "iridescenceTexture"));
-    s.iridescence_ior = r.number(*e, "iridescenceIor", path(n, "iridescenceIor"), 1.3, 1, kInf);
+    s.iridescence_ior = r.number(*e, "iridescenceIor", path(n, "iridescenceIor"), 1.3, 1, 10);  // the thin film's range
     s.iridescence_thickness_min =
-        r.number(*e, "iridescenceThicknessMinimum", path(n, "iridescenceThicknessMinimum"), 100.0, 0, kInf);
+        r.number(*e, "iridescenceThicknessMinimum", path(n, "iridescenceThicknessMinimum"), 100.0, 0, 1e5);
     s.iridescence_thickness_max =
-        r.number(*e, "iridescenceThicknessMaximum", path(n, "iridescenceThicknessMaximum"), 400.0, 0, kInf);
+        r.number(*e, "iridescenceThicknessMaximum", path(n, "iridescenceThicknessMaximum"), 400.0, 0, 1e5);
     s.iridescence_thickness_texture =
         r.texture(*e, "iridescenceThicknessTexture", path(n, "iridescenceThicknessTexture"));
   }
