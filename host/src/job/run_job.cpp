@@ -177,11 +177,11 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       const TableRequest& o = job.tables[groups[g][k]];
       const TableRequest s = staged(o, staging.path());
       // messages about the file name the one the user asked for, not its staged copy
-      const auto final_name = [&](std::string what) {
+      const auto final_name = [&](std::string text) {
         const std::string final_path = (fs::path(target) / o.output).lexically_normal().string();
-        for (size_t at = what.find(s.output); at != std::string::npos; at = what.find(s.output, at + final_path.size()))
-          what.replace(at, s.output.size(), final_path);
-        return what;
+        for (size_t at = text.find(s.output); at != std::string::npos; at = text.find(s.output, at + final_path.size()))
+          text.replace(at, s.output.size(), final_path);
+        return text;
       };
       WriteReport written;
       try {
