@@ -24,4 +24,9 @@ endif()
 if(NOT BRDFBAKE_SANITIZE STREQUAL "")
   add_compile_options(-fsanitize=${BRDFBAKE_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${BRDFBAKE_SANITIZE})
+  # The one switch for code that behaves differently under AddressSanitizer (the CLI ends normally
+  # so that LeakSanitizer runs, the device opens on the calling thread, ulimit rows skip).
+  if(BRDFBAKE_SANITIZE MATCHES "address")
+    add_compile_definitions(BRDFBAKE_ASAN=1)
+  endif()
 endif()

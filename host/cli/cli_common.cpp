@@ -83,7 +83,7 @@ std::uint64_t memory_budget_option(const cxxopts::ParseResult& r) {
 }
 
 void keep_until_exit(std::shared_ptr<void> object) {
-#ifndef BRDFBAKE_NORMAL_EXIT
+#ifndef BRDFBAKE_ASAN
   static std::vector<std::shared_ptr<void>>* kept = new std::vector<std::shared_ptr<void>>();  // never destroyed
   kept->push_back(std::move(object));
 #else

@@ -65,15 +65,8 @@ cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);
 
 // The process ends with _exit once the command has returned and the streams are flushed (main.cpp):
 // tearing down the OpenCL implementation's and LLVM's state (~5-10 ms) serves no one then. Sanitizer
-// builds end normally, so that LeakSanitizer still looks at the heap.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define BRDFBAKE_NORMAL_EXIT 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define BRDFBAKE_NORMAL_EXIT 1
-#endif
+// builds (BRDFBAKE_ASAN, cmake/Sanitizers.cmake) end normally, so that LeakSanitizer still looks at
+// the heap.
 // Keeps `object` (a backend and its OpenCL context) alive until the process ends, so that its
 // teardown is skipped with the rest; where the process ends normally, nothing (it goes when its
 // last owner lets go, before the OpenCL implementation's own static state).

@@ -147,10 +147,10 @@ int run(int argc, char** argv) {
 }  // namespace
 
 // Every output is complete (committed or removed) when run returns: the process ends without
-// tearing down the OpenCL implementation (cli_common.hpp, BRDFBAKE_NORMAL_EXIT).
+// tearing down the OpenCL implementation (cli_common.hpp; not in BRDFBAKE_ASAN builds).
 int main(int argc, char** argv) {
   const int code = run(argc, argv);
-#ifndef BRDFBAKE_NORMAL_EXIT
+#ifndef BRDFBAKE_ASAN
   std::cout.flush();
   std::cerr.flush();
   if (std::fflush(nullptr) == 0) ::_exit(code);

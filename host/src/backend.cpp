@@ -5,15 +5,8 @@
 
 // AddressSanitizer cannot free the thread-local storage of the libraries a thread loaded when that
 // thread ends ("failed to deallocate ... unable to unmap" at the end of the std::async thread that
-// loaded PoCL and LLVM): sanitizer builds open the device on first use, on the calling thread.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define BRDFBAKE_NO_BACKGROUND_OPEN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define BRDFBAKE_NO_BACKGROUND_OPEN 1
-#endif
+// loaded PoCL and LLVM): ASan builds (BRDFBAKE_ASAN) open the device on first use, on the calling
+// thread.
 
 #include <cmath>
 #include <future>
@@ -61,7 +54,7 @@ class OpenClBackend final : public Backend {
   std::string name() const override { return device_ ? device_->info().name : std::string("host (no device used)"); }
   Device* device() override { return &opened(); }
   void prepare() override {
-#ifndef BRDFBAKE_NO_BACKGROUND_OPEN
+#ifndef BRDFBAKE_ASAN
     if (!device_ && !opening_.valid())
       opening_ = std::async(std::launch::async, [selector = selector_] { return Device::open(selector); });
 #endif

@@ -978,12 +978,7 @@ RowRun run_row(const Row& row, const fs::path& dir) {
   return r;
 }
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define BRDFBAKE_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(BRDFBAKE_TEST_ASAN)
+#ifdef BRDFBAKE_ASAN  // cmake/Sanitizers.cmake
 constexpr bool kAddressSanitizer = true;
 #else
 constexpr bool kAddressSanitizer = false;
