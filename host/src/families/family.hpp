@@ -118,8 +118,14 @@ OutputFormats table_formats();
 void add_table_output_params(std::vector<ParamDef>& schema);
 // clamp_f16: binary16 outputs clamp values beyond 65504 and record it instead of refusing them.
 ParamDef clamp_f16_param();
-// The text of f16_clamped (metadata and warning): how many values, the largest.
-std::string f16_clamp_text(size_t count, double largest);
+// clamp_f16, shared by the table and cube writers: finite values beyond 65504 become +-65504
+// (returns how many; NaN and infinity are left for the writer to refuse); record_f16_clamp adds the
+// count to `w`'s details and a warning naming `path`, and returns the f16_clamped metadata text;
+// with_f16_clamp_error is the storage error measured on the clamped values with the clamping itself
+// (relative to the largest value) included.
+size_t clamp_to_binary16(std::vector<float>& values);
+std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest);
+double with_f16_clamp_error(double measured, double largest);
 // Writes a Table result with the request's format and pixel type; `bound` is the table's own
 // (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
 // request's max_error) is refused before anything is written.

@@ -73,19 +73,11 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
   if (s.out_of_range > 0 && pixel == PixelType::F16 && t.flag("clamp_f16") && std::isfinite(s.largest)) {
     clamped = cube;
     size_t count = 0;
-    for (auto& level : clamped->levels)
-      for (float& v : level)
-        if (std::fabs(v) > 65504.0f) {
-          v = std::copysign(65504.0f, v);
-          ++count;
-        }
-    const std::string text = f16_clamp_text(count, s.largest);
-    clamped->set_meta("f16_clamped", text);
-    w.details.push_back({"f16_clamped", std::to_string(count)});
-    w.warnings.push_back("'" + path + "': " + text);
+    for (auto& level : clamped->levels) count += clamp_to_binary16(level);
     const double largest = s.largest;
+    clamped->set_meta("f16_clamped", record_f16_clamp(w, path, count, largest));
     s = io::measure_cube_storage(clamped->levels, pixel);
-    s.max_error = std::max(s.max_error, (largest - 65504.0) / largest);  // the clamping, relative
+    s.max_error = with_f16_clamp_error(s.max_error, largest);
   }
   if (s.out_of_range > 0) {
     const std::string what = std::to_string(s.out_of_range) + " texel value" + (s.out_of_range == 1 ? "" : "s");

@@ -140,9 +140,26 @@ ParamDef clamp_f16_param() {
       .output();
 }
 
-std::string f16_clamp_text(size_t count, double largest) {
-  return std::to_string(count) + " value" + (count == 1 ? "" : "s") + " beyond 65504 clamped to 65504 (binary16's largest), the largest " +
-         fmt_number(largest, "%.6g");
+size_t clamp_to_binary16(std::vector<float>& values) {
+  size_t count = 0;
+  for (float& v : values)
+    if (std::isfinite(v) && std::fabs(v) > 65504.0f) {
+      v = std::copysign(65504.0f, v);
+      ++count;
+    }
+  return count;
+}
+
+std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest) {
+  const std::string text = std::to_string(count) + " value" + (count == 1 ? "" : "s") +
+                           " beyond 65504 clamped to 65504 (binary16's largest), the largest " + fmt_number(largest, "%.6g");
+  w.details.push_back({"f16_clamped", std::to_string(count)});
+  w.warnings.push_back("'" + path + "': " + text);
+  return text;
+}
+
+double with_f16_clamp_error(double measured, double largest) {
+  return std::max(measured, (largest - 65504.0) / largest);  // the clamping, relative
 }
 
 void add_table_output_params(std::vector<ParamDef>& s) {
@@ -209,25 +226,11 @@ WriteReport write_table_result(const Table& table, const TableRequest& t, const 
   }
   if (s.out_of_range > 0 && (format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16 &&
       t.flag("clamp_f16") && std::isfinite(s.largest)) {
-    // asked for: finite values beyond 65504 become 65504 (non-finite ones are refused below)
-    size_t clamped = 0;
-    bool non_finite = false;
-    for (float& v : out.data) {
-      if (!std::isfinite(v)) non_finite = true;
-      else if (std::fabs(v) > 65504.0f) {
-        v = std::copysign(65504.0f, v);
-        ++clamped;
-      }
-    }
-    if (!non_finite) {
-      const std::string text = f16_clamp_text(clamped, s.largest);
-      out.set_meta("f16_clamped", text);
-      w.details.push_back({"f16_clamped", std::to_string(clamped)});
-      w.warnings.push_back("'" + path + "': " + text);
-      const double largest = s.largest;
-      s = io::measure_storage(out, format, pixel);
-      s.max_error = std::max(s.max_error, (largest - 65504.0) / largest);  // the clamping, relative
-    }
+    // asked for (the largest value is finite: nothing non-finite to refuse below)
+    const double largest = s.largest;
+    out.set_meta("f16_clamped", record_f16_clamp(w, path, clamp_to_binary16(out.data), largest));
+    s = io::measure_storage(out, format, pixel);
+    s.max_error = with_f16_clamp_error(s.max_error, largest);
   }
   if (s.out_of_range > 0) {
     if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
