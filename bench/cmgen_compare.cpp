@@ -44,7 +44,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"

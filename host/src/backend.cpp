@@ -1,6 +1,7 @@
-// The two backends behind brdfbake::Backend: an OpenCL device and the scalar double reference.
-// Each family's entry forwards to the family's device code or to its reference code; nothing else
-// in the product chooses between them.
+// The two backends behind brdfbake::Backend: an OpenCL device and the scalar double reference. A
+// moved family's kernels are made by the factories it registered (families/kernels.hpp); each entry
+// left here forwards to a family's device code or to its reference code; nothing else in the product
+// chooses between them.
 #include "brdfbake/backend.hpp"
 
 // AddressSanitizer cannot free the thread-local storage of the libraries a thread loaded when that
@@ -61,7 +62,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut(opened(), s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel(opened(), s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(opened(), s, t); }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
@@ -101,7 +101,6 @@ class ReferenceBackend final : public Backend {
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
 
-  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override { return bake_lut_reference(s, t, p); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel_reference(s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,

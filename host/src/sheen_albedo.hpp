@@ -1,7 +1,7 @@
 // Internal: KHR_materials_sheen's albedo E(mu) as the engine computes it for the kernels
 // (kernels/common/brdf_params.clh): its own quadrature of the Charlie lobe's directional albedo, the
 // Chebyshev series on the kernels' panels, and the cubic pieces the kernels evaluate. Independent of
-// the reference's charlie_albedo (host/reference/src/dfg.cpp), so that tests/device/test_brdf_eval.cpp
+// the reference's charlie_albedo (host/reference/src/dfg_lut.cpp), so that tests/device/test_brdf_eval.cpp
 // (device against reference) can catch a mistake on either side.
 #pragma once
 

@@ -19,10 +19,8 @@ class LockedBackend final : public Backend {
   Device* device() override { return inner_->device(); }
   Precision result_precision(Precision requested) const override { return inner_->result_precision(requested); }
 
-  Table lut(const LutSpec& s, LutTiming* t, const Progress& p) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->lut(s, t, p);
-  }
+  // Every family kernel's call (Backend::create_kernel) runs under this lock.
+  std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
   Table fresnel(const FresnelSpec& s, FresnelTiming* t) override {
     std::lock_guard<std::mutex> lock(*mutex_);
     return inner_->fresnel(s, t);

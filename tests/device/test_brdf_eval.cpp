@@ -16,7 +16,7 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/reference/brdf.hpp"
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "reference_backend/brdf_convert.hpp"
 #include "sheen_albedo.hpp"
 #include "support/brdf_cases.hpp"

@@ -55,7 +55,7 @@ Defines join(Defines a, const Defines& b) {
   return a;
 }
 
-// host/src/dfg_lut.cpp: one table kind, one estimator (resolve_lut_spec: GGX takes quadrature, vndf
+// host/src/families/dfg_lut/opencl.cpp: one table kind, one estimator (resolve_lut_spec: GGX takes quadrature, vndf
 // or ndf; Charlie quadrature, ndf or uniform), and for Charlie the sheen visibility.
 std::vector<Variant> dfg_variants() {
   std::vector<Variant> v;

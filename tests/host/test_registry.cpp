@@ -11,10 +11,11 @@
 #include <sstream>
 
 #include "brdfbake/job.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/thin_film.hpp"
 #include "support/cli_runner.hpp"
+#include "families/family.hpp"
 #include "support/field_count.hpp"
 
 namespace {
@@ -60,15 +61,31 @@ void expect_covered(TableKind kind, size_t fields, const std::vector<FieldMap>& 
   }
 }
 
+// The same for a family whose schema is bound to its spec (families/spec_schema.hpp): the binding
+// lists every field, with the parameter that sets it or the reason none does.
+void expect_bound(TableKind kind, size_t fields, const char* spec) {
+  const std::vector<detail::SpecField> bound = detail::family_of(kind).spec_fields(kind);
+  EXPECT_EQ(fields, bound.size()) << spec << " has " << fields << " fields but " << table_kind_name(kind)
+                                  << "'s schema binds " << bound.size()
+                                  << ": bind the new field to a parameter in its family's schema";
+  const auto& schema = table_schema(kind);
+  const std::set<std::string> common = {"precision", "kind"};
+  std::set<std::string> seen;
+  for (const auto& f : bound) {
+    EXPECT_TRUE(seen.insert(f.field).second) << spec << "." << f.field << " is bound twice";
+    if (f.parameter.empty()) {
+      EXPECT_FALSE(f.reason.empty()) << spec << "." << f.field << " has no parameter and no reason";
+      continue;
+    }
+    if (common.count(f.parameter)) continue;
+    EXPECT_NE(find_param_def(schema, f.parameter), nullptr)
+        << spec << "." << f.field << " maps to '" << f.parameter << "', which " << table_kind_name(kind) << " lacks";
+  }
+}
+
 TEST(Registry, EverySpecFieldHasASchemaEntry) {
-  expect_covered(TableKind::Ggx, field_count<LutSpec>(),
-                 {{"kind", "kind"}, {"width", "size"}, {"height", "height"}, {"samples", "samples"},
-                  {"max_error", "max_error"}, {"estimator", "estimator"}, {"precision", "precision"},
-                  {"sheen_visibility", ""},  // charlie's schema has it (checked below)
-                  {"n_dot_v_axis", "n_dot_v_axis"},
-                  {"roughness_axis", ""},  // measured: no separable mapping beats uniform (docs/BENCHMARKS.md)
-                  {"n_dot_v", ""}, {"roughness", ""}},  // explicit coordinates: tests and benches only
-                 "LutSpec");
+  for (TableKind kind : {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie})
+    expect_bound(kind, field_count<LutSpec>(), "LutSpec");
   EXPECT_NE(find_param_def(table_schema(TableKind::Charlie), "sheen_visibility"), nullptr);
   expect_covered(TableKind::Fresnel, field_count<FresnelSpec>(),
                  {{"model", "model"}, {"material", "material"}, {"f0", "f0"}, {"f90", "f90"}, {"f82_tint", "f82"},

@@ -29,6 +29,10 @@ namespace brdfbake {
 namespace detail {
 namespace {
 
+// The example request's material: one in memory (read_materials takes JSON text).
+constexpr const char* kExampleMaterial =
+    R"({"materials": [{"name": "velvet", "model": "gltf-correlated", "baseColor": [0.3, 0.05, 0.1], "roughness": 0.8, "sheenColor": [0.9, 0.3, 0.4], "sheenRoughness": 0.5}]})";
+
 constexpr size_t kChunkPairs = size_t(1) << 16;
 // An eval held in memory (jobs, bindings) stops here; `brdfbake eval` streams any size.
 constexpr std::uint64_t kMaxPairsInMemory = std::uint64_t(1) << 24;
@@ -302,6 +306,19 @@ class EvalFamily final : public Family {
     return static_cast<std::uint64_t>((ec ? 0.0 : bytes) + 96 * pairs) + (std::uint64_t(1) << 20);
   }
   std::string command() const override { return "eval"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.params = {{"material", std::string(kExampleMaterial)}, {"input", std::string("example pairs")}};
+    e.pairs = {0.0, 0.0, 1.0, 0.0, 0.0, 1.0,                      // normal incidence, mirror
+               -0.5, 0.0, 0.866025404, 0.5, 0.0, 0.866025404,   // 30 degrees, mirror
+               -0.5, 0.0, 0.866025404, 0.0, 0.5, 0.866025404};  // 30 degrees, out of plane
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32",
+            "Evaluate a BRDF at (wi, wo) pairs, streaming CSV or float32",
+            "brdfbake eval --material examples/materials.json --name gold -i examples/pairs.csv -o gold_f.csv"};
+  }
   bool streams() const override { return true; }
   std::string summary(TableKind) const override {
     return "a BRDF evaluated at (wi, wo) pairs: CSV or float32 in, f (without the cosine) out";

@@ -28,6 +28,23 @@ class FieldError : public Error {
 // "--base-ior" on the command line).
 using FieldName = std::function<std::string(const std::string& field)>;
 
+// A family's command-line command as the help shows it.
+struct CommandText {
+  std::string usage;        // its line in `brdfbake --help`
+  std::string description;  // the first line of `brdfbake <command> --help`
+  std::string example;      // one example command line for `brdfbake <command> --help`
+};
+
+// One field of a family's spec struct and what sets it (families/spec_schema.hpp).
+struct SpecField {
+  std::string field;      // the struct's member, e.g. "width"
+  std::string parameter;  // the schema parameter, or the field every table has ("precision", "kind"),
+                          // that sets it; empty when none does (`reason` says why)
+  std::string reason;
+};
+
+class KernelRegistry;
+
 // What a family's output may be.
 struct OutputFormats {
   std::vector<std::string> extensions;  // lower case with the dot, e.g. ".exr"; the first is the default
@@ -39,8 +56,12 @@ class Family {
   virtual ~Family() = default;
 
   virtual std::vector<TableKind> kinds() const = 0;
+  // A kind's name in jobs, requests and options ("ggx-multiscatter"); a family of one kind is named
+  // as its command.
+  virtual std::string kind_name(TableKind) const { return command(); }
   // The command-line command that bakes one request of the family ("lut", "fresnel", ...).
   virtual std::string command() const = 0;
+  virtual CommandText command_text() const = 0;
   virtual std::string summary(TableKind kind) const = 0;
   virtual const std::vector<ParamDef>& schema(TableKind kind) const = 0;
   // The pixel type written when the request names none.
@@ -61,6 +82,16 @@ class Family {
   // Checks that the output's extension and format fit the request; throws FieldError("output" or
   // "format", ...).
   virtual void check_output(const TableRequest& t, const FieldName& name) const;
+
+  // Every field of the spec struct a kind bakes from, with the parameter that sets it (the spec's
+  // SpecSchema): a field added to the struct without one fails a test. Empty for a family without a
+  // SpecSchema yet.
+  virtual std::vector<SpecField> spec_fields(TableKind) const { return {}; }
+  // A small, fast, valid request of the kind (not yet validated), with what it reads beside its
+  // parameters: the device tests, the parity tests and the server's warm-up bake it.
+  virtual TableExample example(TableKind kind) const = 0;
+  // Registers the family's kernel implementations, one per platform (families/kernels.hpp).
+  virtual void register_kernels(KernelRegistry&) const {}
 
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;

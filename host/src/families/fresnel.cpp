@@ -26,6 +26,16 @@ class FresnelFamily final : public Family {
     return grid_bytes(t.number("size"), t.flag("vs_exact") ? 6 : 3);
   }
   std::string command() const override { return "fresnel"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.params = {{"model", std::string("conductor")}, {"material", std::string("gold")}, {"size", 16.0}};
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"bake a Fresnel table (exact and approximate models), compare the models",
+            "Bake a Fresnel reflectance table, or compare the models",
+            "brdfbake fresnel --model conductor --material gold -o gold.exr"};
+  }
   std::string summary(TableKind) const override {
     return "a Fresnel reflectance table: exact dielectric and conductor, Schlick and its variants, F82 tint";
   }

@@ -75,6 +75,17 @@ class IrradianceFamily final : public Family {
     return static_cast<std::uint64_t>(16 * (2 * 6 * source * source + 3 * 6 * cube * cube)) + (std::uint64_t(1) << 20);
   }
   std::string command() const override { return "irradiance"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.environment = "builtin:sun";
+    e.request.params = {{"cube_size", 4.0}, {"source_size", 8.0}};
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"diffuse irradiance of an environment: spherical harmonics and a cube",
+            "Diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube",
+            "brdfbake irradiance --env studio.hdr --sh 3 -o studio_sh.json"};
+  }
   std::string summary(TableKind) const override {
     return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";
   }

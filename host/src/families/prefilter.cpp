@@ -124,6 +124,17 @@ class PrefilterFamily final : public Family {
     return static_cast<std::uint64_t>(16 * (2 * source + 3 * chain)) + (std::uint64_t(1) << 20);
   }
   std::string command() const override { return "prefilter"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.environment = "builtin:sun";
+    e.request.params = {{"size", 8.0}, {"min_size", 4.0}};
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"prefilter an environment into a GGX or Charlie radiance mip chain",
+            "Prefilter an environment into a GGX or Charlie radiance mip chain",
+            "brdfbake prefilter --env studio.hdr --size 256 --distribution ggx -o studio_ggx.ktx2"};
+  }
   std::string summary(TableKind) const override {
     return "a prefiltered radiance mip chain of an environment (GGX or Charlie lobe per level)";
   }

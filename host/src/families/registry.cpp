@@ -309,12 +309,20 @@ using detail::family_of;
 
 namespace {
 
-const std::pair<const char*, TableKind> kKindNames[] = {
-    {"ggx", TableKind::Ggx},           {"ggx-multiscatter", TableKind::GgxMultiscatter},
-    {"charlie", TableKind::Charlie},   {"fresnel", TableKind::Fresnel},
-    {"thin-film", TableKind::ThinFilm}, {"prefilter", TableKind::Prefilter},
-    {"irradiance", TableKind::Irradiance}, {"eval", TableKind::Eval},
-    {"tabulate", TableKind::Tabulate}};
+// Every kind with its name, in the order of families() and of each family's kinds().
+struct KindName {
+  std::string name;
+  TableKind kind;
+};
+const std::vector<KindName>& kind_names() {
+  static const std::vector<KindName> names = [] {
+    std::vector<KindName> v;
+    for (const Family* f : detail::families())
+      for (TableKind k : f->kinds()) v.push_back({f->kind_name(k), k});
+    return v;
+  }();
+  return names;
+}
 
 std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
   std::string s;
@@ -340,26 +348,38 @@ Param* find_param(Params& params, const std::string& name) {
 // ---- Kinds ---------------------------------------------------------------------------------------
 
 TableKind table_kind_from_name(const std::string& name) {
-  for (const auto& [n, k] : kKindNames)
-    if (name == n) return k;
+  for (const KindName& k : kind_names())
+    if (name == k.name) return k.kind;
   std::vector<std::string> names;
-  for (const auto& [n, k] : kKindNames) names.push_back(n);
+  for (const KindName& k : kind_names()) names.push_back(k.name);
   throw Error("unknown table kind '" + name.substr(0, 60) + "' (known: " + join(names) + ")");
 }
 
 const char* table_kind_name(TableKind kind) {
-  for (const auto& [n, k] : kKindNames)
-    if (k == kind) return n;
+  for (const KindName& k : kind_names())
+    if (k.kind == kind) return k.name.c_str();
   return "?";
 }
 
 const std::vector<TableKind>& table_kinds() {
   static const std::vector<TableKind> kinds = [] {
     std::vector<TableKind> v;
-    for (const auto& [n, k] : kKindNames) v.push_back(k);
+    for (const KindName& k : kind_names()) v.push_back(k.kind);
     return v;
   }();
   return kinds;
+}
+
+const std::vector<TableCommandText>& table_commands() {
+  static const std::vector<TableCommandText> commands = [] {
+    std::vector<TableCommandText> v;
+    for (const Family* f : detail::families()) {
+      const detail::CommandText c = f->command_text();
+      v.push_back({f->command(), c.usage, c.description, c.example});
+    }
+    return v;
+  }();
+  return commands;
 }
 
 std::string table_kind_command(TableKind kind) { return family_of(kind).command(); }
@@ -448,6 +468,13 @@ std::vector<std::string> TableRequest::materials() const {
     for (const auto& m : r.materials)
       if (std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
   return out;
+}
+
+TableExample table_kind_example(TableKind kind) {
+  TableExample e = family_of(kind).example(kind);
+  e.request.kind = kind;
+  validate_table(e.request);
+  return e;
 }
 
 // ---- Schemas and validation ----------------------------------------------------------------------

@@ -7,6 +7,10 @@
 namespace brdfbake::detail {
 namespace {
 
+// The example request's material: one in memory (read_materials takes JSON text).
+constexpr const char* kExampleMaterial =
+    R"({"materials": [{"name": "velvet", "model": "gltf-correlated", "baseColor": [0.3, 0.05, 0.1], "roughness": 0.8, "sheenColor": [0.9, 0.3, 0.4], "sheenRoughness": 0.5}]})";
+
 std::vector<std::string> model_names() {
   std::vector<std::string> v;
   for (BrdfModel m : brdf_models()) v.push_back(brdf_model_name(m));
@@ -31,6 +35,16 @@ class TabulateFamily final : public Family {
     return static_cast<std::uint64_t>(cells * (6 + 3) * 8) + grid_bytes(cells, 3);
   }
   std::string command() const override { return "tabulate"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.params = {{"material", std::string(kExampleMaterial)}, {"layout", std::string("albedo")}, {"res", 4.0}};
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"tabulate a BRDF model: MERL binary, grid, directional albedo, slice image",
+            "Tabulate a BRDF: MERL binary, grid, directional albedo or a slice image",
+            "brdfbake tabulate --material examples/materials.json --name gold --layout merl -o gold.binary"};
+  }
   std::string summary(TableKind) const override {
     return "a BRDF tabulated: MERL binary, grid, directional albedo or a slice image";
   }

@@ -20,6 +20,16 @@ class ThinFilmFamily final : public Family {
     return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
   }
   std::string command() const override { return "thin-film"; }
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.params = {{"base_ior", 1.5}, {"size", 4.0}};
+    return e;
+  }
+  CommandText command_text() const override {
+    return {"bake a thin-film interference Fresnel table (KHR_materials_iridescence)",
+            "Bake a thin-film interference Fresnel table over (cos_theta, thickness) (KHR_materials_iridescence)",
+            "brdfbake thin-film --film-ior 1.3 --base-ior 1.5 --thickness-min 100 --thickness-max 400 -o film.exr"};
+  }
   std::string summary(TableKind) const override {
     return "thin-film interference Fresnel over (cos_theta, thickness) for KHR_materials_iridescence";
   }

@@ -1,11 +1,16 @@
-// The DFG family (kinds ggx, ggx-multiscatter, charlie): split-sum lookup tables.
-// Engine: host/src/dfg_lut.cpp and kernels/dfg_lut.cl; reference: host/reference/src/dfg.cpp;
-// tests: tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
+// The DFG family (kinds ggx, ggx-multiscatter, charlie): split-sum lookup tables. Its descriptor:
+// the schema bound to LutSpec, the rules across fields, names, the bake with its lookup error, and
+// the registration of its kernels. Model: model.cpp, calibration.cpp; kernels: opencl.cpp
+// (kernels/dfg_lut.cl), reference.cpp (host/reference/src/dfg_lut.cpp); tests:
+// tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
 #include <algorithm>
 #include <cmath>
 
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
+#include "families/dfg_lut/kernel.hpp"
 #include "families/family.hpp"
+#include "families/kernels.hpp"
+#include "families/spec_schema.hpp"
 
 namespace brdfbake::detail {
 namespace {
@@ -21,11 +26,6 @@ std::string runtime_formula(TableKind k) {
     case TableKind::GgxMultiscatter: return "specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))";
     default: return "sheen = sheen_color * albedo (scale the base layer by 1 - max(sheen_color) * albedo)";
   }
-}
-
-std::vector<ParamDef> with_output_params(std::vector<ParamDef> s) {
-  add_table_output_params(s);
-  return s;
 }
 
 // The most the output's encoding can add to a value in [0, 2] (the DFG channels' range; abs below 1,
@@ -52,6 +52,84 @@ std::string storage_name(const TableRequest& t) {
   }
 }
 
+// The schema of a kind, bound to LutSpec: GGX's parameters, Charlie's with sheen_visibility, and the
+// output parameters of every table.
+SpecSchema<LutSpec> lut_schema(bool charlie) {
+  static const LutSpec d;
+  using T = ParamType;
+  SpecSchema<LutSpec> s;
+  s.common("kind", "kind", [](LutSpec& l, const TableRequest& t) { l.kind = lut_kind_of(t.kind); })
+      .bind(&LutSpec::width, "width",
+            ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)").range(1, kLutMaxSize).def(double(d.width)))
+      .bind(&LutSpec::height, "height", ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"))
+      .bind(&LutSpec::samples, "samples",
+            ParamDef("samples", T::Int, "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
+                .range(1, kLutMaxSamples))
+      // max_error bounds the delivered values: the integration gets what the output's storage leaves.
+      .bind("max_error",
+            ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
+            [](LutSpec& l, const TableRequest& t) {
+              if (t.find("max_error")) l.max_error = std::max(0.0, t.number("max_error") - storage_allowance(t));
+            })
+      .bind(&LutSpec::estimator, "estimator",
+            ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
+                .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
+            by_name(estimator_from_name))
+      .common("precision", "precision", [](LutSpec& l, const TableRequest& t) { l.precision = t.precision; })
+      .bind(&LutSpec::n_dot_v_axis, "n_dot_v_axis",
+            ParamDef("n_dot_v_axis", T::Name, "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
+                .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
+            by_name(lut_axis_from_name))
+      .internal("roughness_axis", "measured: no separable mapping beats uniform (docs/BENCHMARKS.md)")
+      .internal("n_dot_v", "explicit coordinates: tests and benches only")
+      .internal("roughness", "explicit coordinates: tests and benches only");
+  if (charlie)
+    s.bind(&LutSpec::sheen_visibility, "sheen_visibility",
+           ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
+               .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))),
+           by_name(sheen_visibility_from_name));
+  else
+    s.internal("sheen_visibility", "the charlie kind's parameter");
+  std::vector<ParamDef> output;
+  add_table_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<LutSpec>& lut_schema_of(TableKind k) {
+  static const SpecSchema<LutSpec> ggx = lut_schema(false), charlie = lut_schema(true);
+  return k == TableKind::Charlie ? charlie : ggx;
+}
+
+// What a shader's bilinear lookup of `table` misses between texel centres: the table looked up at
+// the lines between centres (and at both edges) against the backend's own evaluation there; both
+// are within the integration bound `bound` of the converged values. Recorded in the table's
+// metadata and `r`'s details; returns the summary's clause.
+std::string add_lookup_error(Table& table, const LutSpec& resolved, Backend& backend, double bound, BakeResult& r) {
+  const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
+  LutSpec probe = resolved;  // the same estimator and sample count
+  probe.max_error = 0.0;
+  probe.n_dot_v.clear();
+  probe.roughness.clear();
+  for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
+  for (double v : vs) probe.roughness.push_back(lut_axis_value(resolved.roughness_axis, v));
+  const Table truth = bake_lut(backend, probe);
+  const LookupError e = bilinear_lookup_error(table, us, vs, truth);
+  const double margin = 2.0 * bound;
+  const std::string interior = fmt_number(e.interior + margin, "%.3g"), edge = fmt_number(e.edge + margin, "%.3g");
+  r.details.push_back({"interpolation_error", interior});
+  r.details.push_back({"edge_error", edge});
+  table.set_meta("interpolation_error", interior);
+  table.set_meta("interpolation_error_definition",
+                 "max |bilinear lookup - converged value| (abs below 1, relative above) on the lines between "
+                 "texel centres: measured against the same estimator there, plus twice its integration bound");
+  table.set_meta("edge_error", edge);
+  table.set_meta("edge_error_definition",
+                 "the same within half a texel of the table's edges (n_dot_v or roughness near 0 or 1), where "
+                 "clamp to edge returns the outermost texel");
+  return ", bilinear lookup within " + fmt_number(e.interior + margin, "%.2g") + " (" +
+         fmt_number(e.edge + margin, "%.2g") + " at the edges)";
+}
+
 class DfgLutFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie}; }
@@ -59,6 +137,14 @@ class DfgLutFamily final : public Family {
     return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
   }
   std::string command() const override { return "lut"; }
+  CommandText command_text() const override {
+    return {"bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)",
+            "Bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)",
+            "brdfbake lut --kind ggx-multiscatter --size 128 -o dfg.exr"};
+  }
+  std::string kind_name(TableKind k) const override {
+    return k == TableKind::Ggx ? "ggx" : k == TableKind::GgxMultiscatter ? "ggx-multiscatter" : "charlie";
+  }
   std::string summary(TableKind k) const override {
     switch (k) {
       case TableKind::Ggx: return "split-sum DFG table: GGX scale and bias, Burley diffuse albedo";
@@ -67,30 +153,17 @@ class DfgLutFamily final : public Family {
     }
   }
 
-  const std::vector<ParamDef>& schema(TableKind k) const override {
-    static const LutSpec d;
-    using T = ParamType;
-    static const std::vector<ParamDef> ggx = with_output_params({
-        ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)").range(1, kLutMaxSize).def(double(d.width)),
-        ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"),
-        ParamDef("samples", T::Int, "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
-            .range(1, kLutMaxSamples),
-        ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
-        ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
-            .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
-        ParamDef("n_dot_v_axis", T::Name, "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
-            .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
-    });
-    static const std::vector<ParamDef> charlie = [] {
-      std::vector<ParamDef> s;  // GGX's, less the output parameters (added again after sheen_visibility)
-      for (const ParamDef& p : ggx)
-        if (!p.output_only) s.push_back(p);
-      s.push_back(ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
-                      .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))));
-      add_table_output_params(s);
-      return s;
-    }();
-    return k == TableKind::Charlie ? charlie : ggx;
+  const std::vector<ParamDef>& schema(TableKind k) const override { return lut_schema_of(k).schema(); }
+  std::vector<SpecField> spec_fields(TableKind k) const override { return lut_schema_of(k).fields(); }
+
+  TableExample example(TableKind) const override {
+    TableExample e;
+    e.request.params = {{"size", 4.0}, {"samples", 256.0}};
+    return e;
+  }
+  void register_kernels(KernelRegistry& r) const override {
+    r.add<DfgLutKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_dfg_lut(*b.device()); });
+    r.add<DfgLutKernel>(Platform::Reference, [](Backend&) { return make_reference_dfg_lut(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -143,7 +216,7 @@ class DfgLutFamily final : public Family {
     const LutSpec spec = spec_of(t);
     LutTiming timing;
     BakeResult r;
-    Table table = backend.lut(spec, &timing, [&](double f) { progress(f, ""); });
+    Table table = bake_lut(backend, spec, &timing, [&](double f) { progress(f, ""); });
     const LutSpec resolved = resolve_lut_spec(spec);
     if (backend.is_reference()) {
       r.error_bound = kLutReferenceBound;
@@ -157,35 +230,7 @@ class DfgLutFamily final : public Family {
         r.details.push_back({"error_bound_measured_at", table.meta("error_bound_measured_at")});
       r.parameters.push_back({"samples", double(resolved.samples)});
     }
-    std::string interpolation;
-    // What a shader's bilinear lookup of this table misses between texel centres: the table looked
-    // up at the lines between centres (and at both edges) against the backend's own evaluation
-    // there; both are within the integration bound of the converged values.
-    {
-      const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
-      LutSpec probe = resolved;  // the same estimator and sample count
-      probe.max_error = 0.0;
-      probe.n_dot_v.clear();
-      probe.roughness.clear();
-      for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
-      for (double v : vs) probe.roughness.push_back(lut_axis_value(resolved.roughness_axis, v));
-      const Table truth = backend.lut(probe, nullptr, {});
-      const LookupError e = bilinear_lookup_error(table, us, vs, truth);
-      const double margin = 2.0 * r.error_bound.value_or(0.0);
-      const std::string interior = fmt_number(e.interior + margin, "%.3g"), edge = fmt_number(e.edge + margin, "%.3g");
-      r.details.push_back({"interpolation_error", interior});
-      r.details.push_back({"edge_error", edge});
-      table.set_meta("interpolation_error", interior);
-      table.set_meta("interpolation_error_definition",
-                     "max |bilinear lookup - converged value| (abs below 1, relative above) on the lines between "
-                     "texel centres: measured against the same estimator there, plus twice its integration bound");
-      table.set_meta("edge_error", edge);
-      table.set_meta("edge_error_definition",
-                     "the same within half a texel of the table's edges (n_dot_v or roughness near 0 or 1), where "
-                     "clamp to edge returns the outermost texel");
-      interpolation = ", bilinear lookup within " + fmt_number(e.interior + margin, "%.2g") + " (" +
-                      fmt_number(e.edge + margin, "%.2g") + " at the edges)";
-    }
+    const std::string interpolation = add_lookup_error(table, resolved, backend, r.error_bound.value_or(0.0), r);
     r.details.push_back({"channels", table.meta("channels")});
     r.details.push_back({"runtime", runtime_formula(t.kind)});
     r.device_seconds = timing.device_seconds;
@@ -224,19 +269,7 @@ class DfgLutFamily final : public Family {
     }
   }
 
-  static LutSpec spec_of(const TableRequest& t) {
-    LutSpec s;
-    s.kind = lut_kind_of(t.kind);
-    s.width = static_cast<int>(t.number("size"));
-    s.height = static_cast<int>(t.number("height", t.number("size")));
-    s.samples = static_cast<int>(t.number("samples", 0));
-    s.max_error = t.find("max_error") ? std::max(0.0, t.number("max_error") - storage_allowance(t)) : 0.0;
-    s.estimator = estimator_from_name(t.text("estimator"));
-    if (t.kind == TableKind::Charlie) s.sheen_visibility = sheen_visibility_from_name(t.text("sheen_visibility"));
-    s.n_dot_v_axis = lut_axis_from_name(t.text("n_dot_v_axis"));
-    s.precision = t.precision;
-    return s;
-  }
+  static LutSpec spec_of(const TableRequest& t) { return lut_schema_of(t.kind).fill(t); }
 };
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 
 #include <cstdint>
 #include <algorithm>

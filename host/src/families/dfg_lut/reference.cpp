@@ -1,5 +1,5 @@
-// The reference backend of the DFG tables: bake_lut_reference, every texel a converged integral of
-// the scalar double reference (host/reference/src/dfg.cpp).
+// The DFG tables on the reference backend: bake_lut_reference, every texel a converged integral of
+// the scalar double reference (host/reference/src/dfg_lut.cpp), and the family's reference kernel.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "brdfbake/cancel.hpp"
-#include "brdfbake/lut.hpp"
-#include "brdfbake/reference/dfg.hpp"
-#include "dfg_lut_internal.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
+#include "families/dfg_lut/kernel.hpp"
+#include "families/dfg_lut/model.hpp"
 
 namespace brdfbake {
 namespace {
@@ -33,7 +33,16 @@ void reference_texel(LutKind kind, double n_dot_v, double roughness, reference::
   out[2] = static_cast<float>(reference::burley_albedo(n_dot_v, roughness));
 }
 
+class ReferenceDfgLut final : public detail::DfgLutKernel {
+ public:
+  Table bake(const LutSpec& spec, LutTiming* timing, const Progress& progress) override {
+    return bake_lut_reference(spec, timing, progress);
+  }
+};
+
 }  // namespace
+
+std::unique_ptr<detail::DfgLutKernel> detail::make_reference_dfg_lut() { return std::make_unique<ReferenceDfgLut>(); }
 
 Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();

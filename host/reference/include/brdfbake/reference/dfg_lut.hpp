@@ -12,7 +12,7 @@
 
 namespace brdfbake::reference {
 
-// Resolution of the composite Gauss-Legendre rules (src/dfg.cpp describes the panels): `order` nodes
+// Resolution of the composite Gauss-Legendre rules (src/dfg_lut.cpp describes the panels): `order` nodes
 // per panel; `refinement` f divides every panel width by f and deepens every geometric refinement
 // by f^2. The defaults meet the 1e-6 contract with a wide margin; convergence is checked against
 // {2 * order, 2 * refinement}.
