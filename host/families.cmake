@@ -4,4 +4,5 @@
 # host/CMakeLists.txt (the library and the embedded kernels) and host/reference/CMakeLists.txt.
 set(BRDFBAKE_FAMILIES
   dfg_lut
+  fresnel
 )

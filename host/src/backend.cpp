@@ -62,7 +62,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel(opened(), s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(opened(), s, t); }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
                        const std::function<void()>& source_done = {}) override {
@@ -101,7 +100,6 @@ class ReferenceBackend final : public Backend {
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
 
-  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override { return bake_fresnel_reference(s, t); }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
                        const std::function<void()>& = {}) override {

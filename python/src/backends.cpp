@@ -21,10 +21,6 @@ class LockedBackend final : public Backend {
 
   // Every family kernel's call (Backend::create_kernel) runs under this lock.
   std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
-  Table fresnel(const FresnelSpec& s, FresnelTiming* t) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->fresnel(s, t);
-  }
   Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override {
     std::lock_guard<std::mutex> lock(*mutex_);
     return inner_->thin_film(s, t);

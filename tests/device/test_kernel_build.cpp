@@ -71,7 +71,7 @@ std::vector<Variant> dfg_variants() {
   return v;
 }
 
-// host/src/fresnel.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
+// host/src/families/fresnel/opencl.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
 std::vector<Variant> fresnel_variants() {
   std::vector<Variant> v;
   for (const char* model : {"BRDFBAKE_FRESNEL_SCHLICK", "BRDFBAKE_FRESNEL_SCHLICK_METALLIC",

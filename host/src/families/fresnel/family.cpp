@@ -1,20 +1,79 @@
 // The Fresnel family (kind fresnel): 1-D tables over cos_theta and 2-D tables over (cos_theta, F0 or
-// IOR) for every model, exact and approximate.
-// Engine: host/src/fresnel.cpp and kernels/fresnel.cl; reference: host/reference/src/fresnel.cpp;
-// tests: tests/device/test_fresnel.cpp, tests/reference/test_fresnel_reference.cpp.
+// IOR) for every model, exact and approximate. Its descriptor: the schema bound to FresnelSpec, the
+// rules across fields, names, the bake with its measured bound, and the registration of its
+// kernels. Model: names.cpp, resolve.cpp, conductor.cpp, metadata.cpp; errors and comparisons:
+// errors.cpp, compare.cpp; kernels: opencl.cpp (kernels/fresnel.cl), reference.cpp
+// (host/reference/src/fresnel.cpp); tests: tests/device/test_fresnel.cpp,
+// tests/reference/test_fresnel_reference.cpp.
 #include <algorithm>
 
 #include "brdfbake/fresnel.hpp"
 #include "families/family.hpp"
+#include "families/fresnel/kernel.hpp"
+#include "families/kernels.hpp"
+#include "families/spec_schema.hpp"
 
 namespace brdfbake::detail {
 namespace {
-
 
 std::vector<std::string> model_names() {
   std::vector<std::string> names;
   for (FresnelModel m : fresnel_models()) names.push_back(fresnel_model_name(m));
   return names;
+}
+
+// The schema, bound to FresnelSpec.
+SpecSchema<FresnelSpec> make_fresnel_schema() {
+  static const FresnelSpec d;
+  using T = ParamType;
+  using S = FresnelSpec;
+  SpecSchema<FresnelSpec> s;
+  s.bind(&S::model, "model", ParamDef("model", T::Name, "the Fresnel model").one_of(model_names()).needed(),
+         by_name(fresnel_model_from_name))
+      .bind(&S::material, "material", ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"))
+      .bind(&S::f0, "f0", ParamDef("f0", T::Color, "schlick, f82-tint: reflectance at normal incidence").range(0, 1))
+      .bind(&S::f90, "f90", ParamDef("f90", T::Color, "schlick: reflectance at grazing incidence").range(0, 1).defaults_to("1"))
+      .bind(&S::f82_tint, "f82_tint", ParamDef("f82", T::Color, "f82-tint: the F82 tint (1 is plain Schlick)").range(0, 1e3))
+      .bind(&S::base_color, "base_color", ParamDef("base_color", T::Color, "schlick-metallic: base colour").range(0, 1))
+      .bind(&S::metallic, "metallic", ParamDef("metallic", T::Number, "schlick-metallic: metallic").range(0, 1))
+      .bind(&S::dielectric_f0, "dielectric_f0",
+            ParamDef("dielectric_f0", T::Number, "schlick-metallic: the dielectric F0").range(0, 1).defaults_to("0.04"))
+      .bind(&S::ior, "ior", ParamDef("ior", T::Color, "schlick-ior, dielectric: index of the far side").above(0, kFresnelMaxIndex))
+      .bind(&S::ior_outside, "ior_outside",
+            ParamDef("ior_outside", T::Number, "schlick-ior, dielectric: index of the side the light comes from")
+                .above(0, kFresnelMaxIndex).defaults_to("1"))
+      .bind(&S::n, "n", ParamDef("n", T::Color, "conductor: real part of the complex index").above(0, kFresnelMaxIndex))
+      .bind(&S::k, "k", ParamDef("k", T::Color, "conductor: extinction coefficient").range(0, kFresnelMaxIndex))
+      .bind(&S::bias, "bias", ParamDef("bias", T::Number, "empirical: bias"))
+      .bind(&S::scale, "scale", ParamDef("scale", T::Number, "empirical: scale"))
+      .bind(&S::power, "power", ParamDef("power", T::Number, "empirical: power").range(0, HUGE_VAL))
+      .bind(&S::table, "table",
+            ParamDef("table", T::Name, "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)")
+                .one_of({"1d", "2d"}).def(std::string(fresnel_table_kind_name(d.table))),
+            by_name(fresnel_table_kind_from_name))
+      .bind(&S::size, "size", ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)))
+      .bind(&S::height, "height",
+            ParamDef("height", T::Int, "2d: cells along the y axis").range(1, double(kFresnelMaxCells)).defaults_to("size"))
+      .bind(&S::endpoints, "endpoints",
+            ParamDef("endpoints", T::Flag, "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
+                .def(d.endpoints))
+      .bind(&S::range, "range", ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
+            [](const ParamValue& v) {
+              const auto& r = std::get<std::vector<double>>(v);
+              return std::make_pair(r[0], r[1]);
+            })
+      .param(ParamDef("vs_exact", T::Flag, "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
+                 .def(false))
+      .common("precision", "precision", [](FresnelSpec& f, const TableRequest& t) { f.precision = t.precision; })
+      .internal("cos_theta", "explicit cosines: tests only");
+  std::vector<ParamDef> output;
+  add_table_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<FresnelSpec>& fresnel_schema() {
+  static const SpecSchema<FresnelSpec> s = make_fresnel_schema();
+  return s;
 }
 
 class FresnelFamily final : public Family {
@@ -40,41 +99,11 @@ class FresnelFamily final : public Family {
     return "a Fresnel reflectance table: exact dielectric and conductor, Schlick and its variants, F82 tint";
   }
 
-  const std::vector<ParamDef>& schema(TableKind) const override {
-    static const FresnelSpec d;
-    using T = ParamType;
-    static const std::vector<ParamDef> s = [] {
-      std::vector<ParamDef> v = {
-        ParamDef("model", T::Name, "the Fresnel model").one_of(model_names()).needed(),
-        ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"),
-        ParamDef("f0", T::Color, "schlick, f82-tint: reflectance at normal incidence").range(0, 1),
-        ParamDef("f90", T::Color, "schlick: reflectance at grazing incidence").range(0, 1).defaults_to("1"),
-        ParamDef("f82", T::Color, "f82-tint: the F82 tint (1 is plain Schlick)").range(0, 1e3),
-        ParamDef("base_color", T::Color, "schlick-metallic: base colour").range(0, 1),
-        ParamDef("metallic", T::Number, "schlick-metallic: metallic").range(0, 1),
-        ParamDef("dielectric_f0", T::Number, "schlick-metallic: the dielectric F0").range(0, 1).defaults_to("0.04"),
-        ParamDef("ior", T::Color, "schlick-ior, dielectric: index of the far side").above(0, kFresnelMaxIndex),
-        ParamDef("ior_outside", T::Number, "schlick-ior, dielectric: index of the side the light comes from")
-            .above(0, kFresnelMaxIndex).defaults_to("1"),
-        ParamDef("n", T::Color, "conductor: real part of the complex index").above(0, kFresnelMaxIndex),
-        ParamDef("k", T::Color, "conductor: extinction coefficient").range(0, kFresnelMaxIndex),
-        ParamDef("bias", T::Number, "empirical: bias"),
-        ParamDef("scale", T::Number, "empirical: scale"),
-        ParamDef("power", T::Number, "empirical: power").range(0, HUGE_VAL),
-        ParamDef("table", T::Name, "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)")
-            .one_of({"1d", "2d"}).def(std::string(fresnel_table_kind_name(d.table))),
-        ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)),
-        ParamDef("height", T::Int, "2d: cells along the y axis").range(1, double(kFresnelMaxCells)).defaults_to("size"),
-        ParamDef("endpoints", T::Flag, "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
-            .def(d.endpoints),
-        ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
-        ParamDef("vs_exact", T::Flag, "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
-            .def(false),
-      };
-      add_table_output_params(v);
-      return v;
-    }();
-    return s;
+  const std::vector<ParamDef>& schema(TableKind) const override { return fresnel_schema().schema(); }
+  std::vector<SpecField> spec_fields(TableKind) const override { return fresnel_schema().fields(); }
+  void register_kernels(KernelRegistry& r) const override {
+    r.add<FresnelKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_fresnel(*b.device()); });
+    r.add<FresnelKernel>(Platform::Reference, [](Backend&) { return make_reference_fresnel(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -113,7 +142,7 @@ class FresnelFamily final : public Family {
     const FresnelSpec spec = spec_of(t);
     FresnelTiming timing;
     BakeResult r;
-    Table table = backend.fresnel(spec, &timing);
+    Table table = bake_fresnel(backend, spec, &timing);
     if (backend.is_reference()) {
       r.error_bound = 0.0;
       r.error_bound_definition = "the scalar double reference itself (stored as float32)";
@@ -144,34 +173,7 @@ class FresnelFamily final : public Family {
   }
 
  private:
-  static FresnelSpec spec_of(const TableRequest& t) {
-    FresnelSpec s;
-    s.model = fresnel_model_from_name(t.text("model"));
-    s.material = t.text("material");
-    if (auto v = t.find("f0")) s.f0 = rgb_of(*v);
-    if (auto v = t.find("f90")) s.f90 = rgb_of(*v);
-    if (auto v = t.find("f82")) s.f82_tint = rgb_of(*v);
-    if (auto v = t.find("base_color")) s.base_color = rgb_of(*v);
-    if (auto v = t.find("metallic")) s.metallic = std::get<double>(*v);
-    if (auto v = t.find("dielectric_f0")) s.dielectric_f0 = std::get<double>(*v);
-    if (auto v = t.find("ior")) s.ior = rgb_of(*v);
-    if (auto v = t.find("ior_outside")) s.ior_outside = std::get<double>(*v);
-    if (auto v = t.find("n")) s.n = rgb_of(*v);
-    if (auto v = t.find("k")) s.k = rgb_of(*v);
-    if (auto v = t.find("bias")) s.bias = std::get<double>(*v);
-    if (auto v = t.find("scale")) s.scale = std::get<double>(*v);
-    if (auto v = t.find("power")) s.power = std::get<double>(*v);
-    s.table = fresnel_table_kind_from_name(t.text("table"));
-    s.size = static_cast<int>(t.number("size"));
-    if (t.find("height")) s.height = static_cast<int>(t.number("height"));
-    s.endpoints = t.flag("endpoints");
-    if (t.find("range")) {
-      const std::vector<double> r = t.numbers("range");
-      s.range = std::make_pair(r[0], r[1]);
-    }
-    s.precision = t.precision;
-    return s;
-  }
+  static FresnelSpec spec_of(const TableRequest& t) { return fresnel_schema().fill(t); }
 };
 
 }  // namespace

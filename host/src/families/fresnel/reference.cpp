@@ -1,6 +1,6 @@
-// The reference backend of the Fresnel tables: bake_fresnel_reference (every cell by the scalar
-// double reference, host/reference/src/fresnel.cpp) and fit_conductor (the engine's fits, measured
-// against the reference's exact conductor).
+// The Fresnel tables on the reference backend: bake_fresnel_reference (every cell by the scalar
+// double reference, host/reference/src/fresnel.cpp), the family's reference kernel, and
+// fit_conductor (the engine's fits, measured against the reference's exact conductor).
 #include <algorithm>
 #include <chrono>
 #include <vector>
@@ -8,13 +8,14 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/fresnel.hpp"
 #include "brdfbake/reference/fresnel.hpp"
-#include "fresnel_internal.hpp"
+#include "families/fresnel/kernel.hpp"
+#include "families/fresnel/model.hpp"
 
 namespace brdfbake {
 namespace {
 
-Rgb splat(double v) { return {v, v, v}; }
-double channel(const Rgb& c, int i) { return i == 0 ? c.r : i == 1 ? c.g : c.b; }
+using detail::splat;
+double channel(const Rgb& c, int i) { return detail::channel_of(c, i); }
 
 // One channel of one cell by the scalar double reference, parameters in the kernel's order.
 double reference_value(FresnelModel m, const double* p, double c) {
@@ -31,7 +32,14 @@ double reference_value(FresnelModel m, const double* p, double c) {
   return 0.0;
 }
 
+class ReferenceFresnel final : public detail::FresnelKernel {
+ public:
+  Table bake(const FresnelSpec& spec, FresnelTiming* timing) override { return bake_fresnel_reference(spec, timing); }
+};
+
 }  // namespace
+
+std::unique_ptr<detail::FresnelKernel> detail::make_reference_fresnel() { return std::make_unique<ReferenceFresnel>(); }
 
 Table bake_fresnel_reference(const FresnelSpec& spec, FresnelTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -1,5 +1,7 @@
-// Internal: what the device path (fresnel.cpp) and the reference backend
-// (reference_backend/fresnel.cpp) of the Fresnel tables share.
+// Internal: the Fresnel family's model, what its descriptor and its two kernels (opencl.cpp,
+// reference.cpp) share: the model table and names (names.cpp), the resolution of a spec into the
+// kernels' parameters (resolve.cpp), the table and its metadata (metadata.cpp), and the engine's
+// conversions of a conductor's index (conductor.cpp).
 #pragma once
 
 #include <string>
@@ -9,6 +11,29 @@
 #include "brdfbake/fresnel.hpp"
 
 namespace brdfbake::detail {
+
+// One model: its name, the kernel's compile-time switch and its formula for the metadata.
+struct FresnelModelInfo {
+  FresnelModel model;
+  const char* name;
+  const char* define;
+  const char* definition;
+};
+const FresnelModelInfo& fresnel_model_info(FresnelModel model);
+
+// Numbers in messages and metadata: 6 significant digits; a grey colour as one number.
+std::string fresnel_number(double v);
+std::string fresnel_number(const Rgb& c);
+// "a, b and c" (last_sep " and ").
+std::string fresnel_join(const std::vector<std::string>& v, const char* last_sep);
+// The preset called `name`; throws Error listing the presets otherwise.
+const MaterialPreset* find_fresnel_preset(const std::string& name);
+inline bool is_grey(const Rgb& c) { return c.r == c.g && c.g == c.b; }
+inline double channel_of(const Rgb& c, int i) { return i == 0 ? c.r : i == 1 ? c.g : c.b; }
+inline Rgb splat(double v) { return {v, v, v}; }
+
+// The parameters a spec gives, by their command-line names.
+std::vector<std::string> fresnel_given_parameters(const FresnelSpec& spec);
 
 // What the kernel and the reference evaluate: the cells, and per channel the model's parameters.
 struct Resolved {
