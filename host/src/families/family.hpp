@@ -117,6 +117,7 @@ const Family& prefilter_family();
 const Family& irradiance_family();
 const Family& eval_family();
 const Family& tabulate_family();
+const Family& preview_family();
 
 // ---- Helpers the families share ----------------------------------------------------------------
 
