@@ -15,7 +15,7 @@
 // to the cell). Below level 0 a pixel is split further on the fly into 2^s x 2^s sub-cells of the
 // same radiance (exact geometry, the same constant L).
 //
-// The walk (one work-item a pixel): from every cell of a start level (at most 32 x 16), a cell is
+// The walk (one work-item a pixel): from every cell of a start level (at most 64 x 32), a cell is
 // replaced by its four children (depth first) while the integrand varies too much across it:
 //   the lobe's peak   within (refinement + 1) rho of the reflected direction r, while rho is above
 //                     the lobe's narrowest width / refinement: the GGX lobe of half vectors of width
@@ -98,33 +98,39 @@ inline bool preview_within(real3 a, real3 b, real theta) {
 
 // ---- Cells ----------------------------------------------------------------------------------------
 
-// A cell as the tree stores it (16 floats, host/src/families/preview/tree.hpp): its mean direction g
-// (unit, and |int l dl| / Omega), its luminance-weighted mean direction m (unit, and its length),
-// Omega, L Omega, its angular radius rho and the luminance of L Omega.
+// A cell as the tree stores it (20 floats, host/src/families/preview/tree.hpp): its unit mean
+// direction g and the mean's length |int l dl| / Omega, Omega, its angular radius rho, L Omega and
+// its luminance, and the first moments M_c = int l L_c dl of the three channels. A pixel or a
+// sub-cell is constant (its L is one value): its rectangle in (u, v) is kept for the lobe's rule.
 typedef struct {
   real3 g;      // unit
   real gl;      // |mean direction| <= 1
-  real3 m;      // unit
-  real ml;
   real omega;
-  real lo[3];   // L Omega
   real rho;
+  real lo[3];   // L Omega
   real lum;     // luminance of L Omega
+  real3 mo[3];  // int l L_c dl, c = r, g, b
+  int is_constant;
+  real uc, du, vc, dv;  // a constant cell's rectangle
 } PreviewCell;
 
 inline PreviewCell preview_tree_cell(global const float* tree, constant int4* levels, int k, int i) {
-  const float16 a = vload16((size_t)levels[k].x + (size_t)i, tree);
+  global const float* p = tree + 20 * ((size_t)levels[k].x + (size_t)i);
+  const float16 a = vload16(0, p);
+  const float4 b = vload4(0, p + 16);
   PreviewCell c;
   c.g = (real3)((real)a.s0, (real)a.s1, (real)a.s2);
   c.gl = (real)a.s3;
-  c.m = (real3)((real)a.s4, (real)a.s5, (real)a.s6);
-  c.ml = (real)a.s7;
-  c.omega = (real)a.s8;
-  c.lo[0] = (real)a.s9;
-  c.lo[1] = (real)a.sa;
-  c.lo[2] = (real)a.sb;
-  c.rho = (real)a.sc;
-  c.lum = (real)a.sd;
+  c.omega = (real)a.s4;
+  c.rho = (real)a.s5;
+  c.lo[0] = (real)a.s6;
+  c.lo[1] = (real)a.s7;
+  c.lo[2] = (real)a.s8;
+  c.lum = (real)a.s9;
+  c.mo[0] = (real3)((real)a.sa, (real)a.sb, (real)a.sc);
+  c.mo[1] = (real3)((real)a.sd, (real)a.se, (real)a.sf);
+  c.mo[2] = (real3)((real)b.s0, (real)b.s1, (real)b.s2);
+  c.is_constant = 0;
   return c;
 }
 
@@ -150,8 +156,12 @@ inline void preview_rect(real uc, real du, real vc, real dv, PreviewCell* c) {
   const real len = length(integral);
   c->g = len > R(0.0) ? integral / len : (real3)(R(0.0), R(1.0), R(0.0));
   c->gl = c->omega > R(0.0) ? len / c->omega : R(0.0);
-  c->m = c->g;
-  c->ml = c->gl;
+  c->mo[0] = c->mo[1] = c->mo[2] = integral;  // times L_c by the caller
+  c->is_constant = 1;
+  c->uc = uc;
+  c->du = du;
+  c->vc = vc;
+  c->dv = dv;
   const real wide = fmax(cos(tm - R(0.5) * dt), cos(tm + R(0.5) * dt));
   const real a = R(0.5) * dt, b = R(0.5) * dphi * wide;
   c->rho = R(1.02) * sqrt(a * a + b * b);
@@ -195,23 +205,69 @@ inline bool preview_refine(const PreviewPixel* p, const PreviewRules* rules, con
   return fabs(ng) < c->rho && (c->rho > rules->horizon_size || c->lum * c->rho > rules->horizon_energy);
 }
 
-// The moment rule of one cell (see the top of the file): the cosine at the unnormalised means (exact
-// for a cell wholly above the horizon), the lobe at m and, for the normalisation, at g (one
-// evaluation where they coincide: every pixel and sub-cell).
-inline void preview_add(const PreviewPixel* p, const PreviewCell* c, PreviewSums* s) {
-  const real nm = fmax(dot(p->n, c->m) * c->ml, R(0.0)), ng = fmax(dot(p->n, c->g) * c->gl, R(0.0));
-  for (int k = 0; k < 3; ++k) s->nd[k] += nm * c->lo[k];
-  s->gd += ng * c->omega;
-  if (!p->spec || (nm <= R(0.0) && ng <= R(0.0))) return;
-  const real2 at_g = preview_lobe(p, c->g);
-  const bool same = c->m.x == c->g.x && c->m.y == c->g.y && c->m.z == c->g.z;
-  const real2 at_m = same ? at_g : preview_lobe(p, c->m);
+// The lobe over a constant cell by the 2 x 2 Gauss-Legendre product rule in longitude and latitude
+// (dl = cos(theta) dtheta dphi): fourth order in the cell's size, where the moment rule is second;
+// returns (sum w D V n.l, sum w D V Fc n.l) with the weights w summing to about Omega.
+inline real2 preview_lobe_gauss(const PreviewPixel* p, const PreviewCell* c) {
+  const real k = R(0.28867513459481288);  // 1 / (2 sqrt(3)): the nodes at +-1/sqrt(3) of the half width
+  const real dphi = R(2.0) * BRDFBAKE_PI * c->du, dt = BRDFBAKE_PI * c->dv;
+  real2 sum = (real2)(R(0.0));
+  for (int j = 0; j < 2; ++j) {
+    const real t = BRDFBAKE_PI * (R(0.5) - (c->vc + (j ? k : -k) * c->dv));
+    const real ct = cos(t), st = sin(t);
+    const real w = R(0.25) * dphi * dt * ct;
+    for (int i = 0; i < 2; ++i) {
+      const real f = R(2.0) * BRDFBAKE_PI * (R(0.5) - (c->uc + (i ? k : -k) * c->du));
+      sum += w * preview_lobe(p, (real3)(sin(f) * ct, st, cos(f) * ct));
+    }
+  }
+  return sum;
+}
+
+// One cell's contribution (see the top of the file): the cosine at the channels' first moments
+// (exact for a cell wholly above the horizon: n.l is linear); the lobe at the luminance-weighted
+// mean m, and for the normalisation at g. A constant cell (a pixel, a sub-cell) takes the lobe by
+// preview_lobe_gauss instead. Near the lobe's peak (within twice the refinement region, where its
+// curvature is largest) a cell of varying radiance takes the same rule's value for the lobe's
+// weight, shifted to m by the ratio lobe(m) / lobe(g): exact for a constant radiance, and still
+// first-order right where the radiance varies.
+// `numerator`: add to the radiance sums only (a bright pixel: its solid angle is already in the
+// tree's normalisation sums, where it stays with no radiance).
+inline void preview_add(const PreviewPixel* p, const PreviewCell* c, PreviewSums* s, bool numerator) {
+  bool any = false;
+  for (int k = 0; k < 3; ++k) {
+    const real nm = fmax(dot(p->n, c->mo[k]), R(0.0));
+    s->nd[k] += nm;
+    any = any || nm > R(0.0);
+  }
+  const real ng = fmax(dot(p->n, c->g), R(0.0)) * c->gl * c->omega;
+  if (!numerator) s->gd += ng;
+  if (!p->spec || (!any && ng <= R(0.0))) return;
+  real2 weight;  // the lobe's integral over the cell, per unit radiance
+  real2 at_m;    // the lobe's value for the radiance, per unit L Omega
+  if (c->is_constant) {
+    weight = preview_lobe_gauss(p, c);
+    at_m = weight / fmax(c->omega, R(1e-30));
+  } else {
+    const real2 at_g = preview_lobe(p, c->g);
+    const real3 m = R(0.2126) * c->mo[0] + R(0.7152) * c->mo[1] + R(0.0722) * c->mo[2];
+    const real ml = length(m);
+    at_m = ml > R(0.0) ? preview_lobe(p, m / ml) : at_g;
+    weight = at_g * c->omega;
+    if (preview_within(c->g, p->r, R(2.0) * p->peak * c->rho)) {
+      const real2 gauss = preview_lobe_gauss(p, c);
+      at_m.x = at_g.x > R(1e-3) * gauss.x / c->omega ? at_m.x * gauss.x / weight.x : gauss.x / c->omega;
+      at_m.y = at_g.y > R(1e-3) * gauss.y / c->omega ? at_m.y * gauss.y / weight.y : gauss.y / c->omega;
+      weight = gauss;
+    }
+  }
   for (int k = 0; k < 3; ++k) {
     s->n1[k] += at_m.x * c->lo[k];
     s->n2[k] += at_m.y * c->lo[k];
   }
-  s->g1 += at_g.x * c->omega;
-  s->g2 += at_g.y * c->omega;
+  if (numerator) return;
+  s->g1 += weight.x;
+  s->g2 += weight.y;
 }
 
 // A stack entry: a cell of level k >= 0 (a = its index), or a sub-cell of pixel a (k = -1 - packed,
@@ -220,69 +276,93 @@ typedef struct {
   int a, k;
 } PreviewRef;
 
-// One pixel's walk; returns false when the stack overflowed (a cell was summed unrefined).
-inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, global const float* tree,
-                         constant int4* levels, int start, int top, int image_w, int image_h,
-                         global const float* image, PreviewSums* s, int* visited) {
+// The cell of stack entry e, or its child q (0..3; q < 0: e itself). Sub-cells below a pixel take
+// its radiance: `fixed` when given (a bright pixel), else the pixel's cell of the tree.
+inline PreviewCell preview_cell(PreviewRef e, int q, PreviewRef* ref, global const float* tree, constant int4* levels,
+                                int top, int image_w, int image_h, const real* fixed) {
+  PreviewCell c;
+  if (!fixed && (q < 0 || e.k > 0)) {
+    *ref = q < 0 ? e : (PreviewRef){4 * e.a + q, e.k - 1};
+    c = preview_tree_cell(tree, levels, ref->k, ref->a);
+    // its rectangle in (u, v), clipped to the image; a pixel is constant
+    const int bits = top - ref->k;
+    const int root = ref->a >> (2 * bits), rem = ref->a & ((1 << (2 * bits)) - 1);
+    const int x = (root << bits) | preview_compact(rem), y = preview_compact(rem >> 1);
+    const int x0 = x << ref->k, y0 = y << ref->k;
+    const int x1 = min((x + 1) << ref->k, image_w), y1 = min((y + 1) << ref->k, image_h);
+    c.is_constant = ref->k == 0;
+    c.du = (real)(x1 - x0) / (real)image_w;
+    c.dv = (real)(y1 - y0) / (real)image_h;
+    c.uc = R(0.5) * (real)(x0 + x1) / (real)image_w;
+    c.vc = R(0.5) * (real)(y0 + y1) / (real)image_h;
+    return c;
+  }
+  // a pixel (the entry itself, fixed), or a pixel's (e.k == 0) or a sub-cell's (e.k < 0) sub-cells
+  const int pixel = e.a;
+  int sub = 0, sx = 0, sy = 0;
+  if (q < 0) {
+    sub = 0;
+  } else if (e.k == 0) {
+    sub = 1;
+    sx = q & 1;
+    sy = q >> 1;
+  } else {
+    const int packed = -1 - e.k;
+    sub = (packed & 15) + 2;  // one below the parent's
+    sx = 2 * ((packed >> 4) & 1023) + (q & 1);
+    sy = 2 * ((packed >> 14) & 1023) + (q >> 1);
+  }
+  const int root = pixel >> (2 * top), rem = pixel & ((1 << (2 * top)) - 1);
+  const int pixel_x = (root << top) | preview_compact(rem), pixel_y = preview_compact(rem >> 1);
+  const real scale = R(1.0) / (real)(1 << sub);
+  preview_rect(((real)pixel_x + ((real)sx + R(0.5)) * scale) / (real)image_w, scale / (real)image_w,
+               ((real)pixel_y + ((real)sy + R(0.5)) * scale) / (real)image_h, scale / (real)image_h, &c);
+  real l[3];
+  if (fixed) {
+    for (int k = 0; k < 3; ++k) l[k] = fixed[k];
+  } else {
+    const PreviewCell leaf = preview_tree_cell(tree, levels, 0, pixel);
+    for (int k = 0; k < 3; ++k) l[k] = leaf.omega > R(0.0) ? leaf.lo[k] / leaf.omega : R(0.0);
+  }
+  for (int k = 0; k < 3; ++k) {
+    c.lo[k] = l[k] * c.omega;
+    c.mo[k] *= l[k];
+  }
+  c.lum = R(0.2126) * c.lo[0] + R(0.7152) * c.lo[1] + R(0.0722) * c.lo[2];
+  *ref = sub == 0 ? (PreviewRef){pixel, 0} : (PreviewRef){pixel, -1 - ((sub - 1) | (sx << 4) | (sy << 14))};
+  return c;
+}
+
+// The depth-first walk from one root entry; returns false when the stack overflowed (a cell was
+// summed unrefined).
+inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, PreviewRef root, const real* fixed,
+                         global const float* tree, constant int4* levels, int top, int image_w, int image_h,
+                         PreviewSums* s, int* visited) {
   PreviewRef stack[PREVIEW_STACK];
   bool ok = true;
-  const int n_start = levels[start].z * levels[start].w;
-  for (int i0 = 0; i0 < n_start; ++i0) {
-    int top_of_stack = 0;
-    stack[top_of_stack++] = (PreviewRef){i0, start};
-    bool first = true;
-    while (top_of_stack > 0) {
-      const PreviewRef e = stack[--top_of_stack];
-      // the cells to look at: the start cell itself, else the four children of e
-      const int n_cells = first ? 1 : 4;
-      for (int q = 0; q < n_cells; ++q) {
-        PreviewCell c;
-        PreviewRef ref;
-        int pixel_x = 0, pixel_y = 0, sub = 0, sx = 0, sy = 0;
-        if (first) {
-          ref = e;
-          c = preview_tree_cell(tree, levels, e.k, e.a);
-        } else if (e.k > 0) {
-          ref = (PreviewRef){4 * e.a + q, e.k - 1};
-          c = preview_tree_cell(tree, levels, ref.k, ref.a);
-        } else {
-          // a pixel's (e.k == 0) or a sub-cell's (e.k < 0) four sub-cells
-          int pixel = e.a;
-          if (e.k == 0) {
-            sub = 1;
-            sx = q & 1;
-            sy = q >> 1;
-          } else {
-            const int packed = -1 - e.k;
-            sub = (packed & 15) + 2;  // one below the parent's
-            sx = 2 * ((packed >> 4) & 1023) + (q & 1);
-            sy = 2 * ((packed >> 14) & 1023) + (q >> 1);
-          }
-          const int root = pixel >> (2 * top), rem = pixel & ((1 << (2 * top)) - 1);
-          pixel_x = (root << top) | preview_compact(rem);
-          pixel_y = preview_compact(rem >> 1);
-          const real scale = R(1.0) / (real)(1 << sub);
-          preview_rect(((real)pixel_x + ((real)sx + R(0.5)) * scale) / (real)image_w, scale / (real)image_w,
-                       ((real)pixel_y + ((real)sy + R(0.5)) * scale) / (real)image_h, scale / (real)image_h, &c);
-          global const float* px = image + 3 * ((size_t)pixel_y * (size_t)image_w + (size_t)pixel_x);
-          for (int k = 0; k < 3; ++k) c.lo[k] = (real)px[k] * c.omega;
-          c.lum = R(0.2126) * c.lo[0] + R(0.7152) * c.lo[1] + R(0.0722) * c.lo[2];
-          ref = (PreviewRef){pixel, -1 - ((sub - 1) | (sx << 4) | (sy << 14))};
+  int top_of_stack = 0;
+  stack[top_of_stack++] = root;
+  bool first = true;
+  while (top_of_stack > 0) {
+    const PreviewRef e = stack[--top_of_stack];
+    // the cells to look at: the root itself, else the four children of e
+    const int n_cells = first ? 1 : 4;
+    for (int q = 0; q < n_cells; ++q) {
+      PreviewRef ref;
+      const PreviewCell c = preview_cell(e, first ? -1 : q, &ref, tree, levels, top, image_w, image_h, fixed);
+      if (!(c.omega > R(0.0))) continue;  // padding beyond the image
+      ++*visited;
+      const bool deeper = ref.k >= 0 || ((-1 - ref.k) & 15) + 1 < PREVIEW_MAX_SUB;
+      if (deeper && preview_refine(p, rules, &c)) {
+        if (top_of_stack < PREVIEW_STACK) {
+          stack[top_of_stack++] = ref;
+          continue;
         }
-        if (!(c.omega > R(0.0))) continue;  // padding beyond the image
-        ++*visited;
-        const bool deeper = ref.k >= 0 || ((-1 - ref.k) & 15) + 1 < PREVIEW_MAX_SUB;
-        if (deeper && preview_refine(p, rules, &c)) {
-          if (top_of_stack < PREVIEW_STACK) {
-            stack[top_of_stack++] = ref;
-            continue;
-          }
-          ok = false;  // summed as it is
-        }
-        preview_add(p, &c, s);
+        ok = false;  // summed as it is
       }
-      first = false;
+      preview_add(p, &c, s, fixed != 0);
     }
+    first = false;
   }
   return ok;
 }
@@ -295,7 +375,8 @@ inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, globa
 // top: log2 of the width in cells of level 0's root squares (the grid of level 0 is 2^(top+1) x 2^top).
 kernel void preview_reference(global real* out, global const float* pixels, int n_pixels, constant real* params,
                               global const float* tree, constant int4* levels, int start, int top, int image_w,
-                              int image_h, global const float* image) {
+                              int image_h, global const float* image, global const int* bright_index,
+                              global const float* bright_rgb, int n_bright) {
   const int id = (int)get_global_id(0);
   if (id >= n_pixels) return;
   global const float* px = pixels + 8 * (size_t)id;
@@ -322,7 +403,14 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
   for (int k = 0; k < 3; ++k) s.n1[k] = s.n2[k] = s.nd[k] = R(0.0);
   s.g1 = s.g2 = s.gd = R(0.0);
   int visited = 0;
-  const bool ok = preview_walk(&p, &rules, tree, levels, start, top, image_w, image_h, image, &s, &visited);
+  bool ok = true;
+  const int n_start = levels[start].z * levels[start].w;
+  for (int i0 = 0; i0 < n_start; ++i0)
+    ok &= preview_walk(&p, &rules, (PreviewRef){i0, start}, 0, tree, levels, top, image_w, image_h, &s, &visited);
+  for (int b = 0; b < n_bright; ++b) {
+    const real l[3] = {(real)bright_rgb[3 * b], (real)bright_rgb[3 * b + 1], (real)bright_rgb[3 * b + 2]};
+    ok &= preview_walk(&p, &rules, (PreviewRef){bright_index[b], 0}, l, tree, levels, top, image_w, image_h, &s, &visited);
+  }
 
   global real* o = out + 12 * (size_t)id;
   if (p.spec) {

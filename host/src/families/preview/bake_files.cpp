@@ -78,7 +78,7 @@ std::vector<double> filament_sh(const std::vector<std::pair<std::string, std::st
 
 }  // namespace
 
-BakeFiles read_bake_files(const std::string& folder, EngineTarget target) {
+BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const std::string& environment) {
   BakeFiles b;
   b.target = target;
   b.folder = folder;
@@ -94,6 +94,18 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target) {
   if (baked_for != engine_target_name(target))
     throw Error("'" + folder + "' was baked for target " + baked_for + ", not " + engine_target_name(target) +
                 ": give --target " + baked_for + ", or bake again with --target " + engine_target_name(target));
+
+  // The chain must be of this environment: the reference integrates it.
+  if (!environment.empty())
+    if (const json* chain = manifest_file(manifest, "prefilter"); chain && chain->contains("environment")) {
+      const std::string baked = (*chain)["environment"].get<std::string>();
+      std::error_code e1, e2;
+      const bool same = baked == environment || (fs::exists(baked, e1) && fs::exists(environment, e2) &&
+                                                 fs::equivalent(baked, environment, e1));
+      if (!same)
+        throw Error("'" + folder + "' was baked from '" + baked + "', not from '" + environment +
+                    "': give the environment of the bake (--env), or bake again");
+    }
 
   // The DFG table: ggx-multiscatter, or ggx (scale, bias).
   const json* dfg = manifest_file(manifest, "ggx-multiscatter");

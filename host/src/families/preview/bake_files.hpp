@@ -38,7 +38,8 @@ struct BakeFiles {
 };
 
 // Reads the folder's manifest.json and the files the target's engine loads. Throws Error naming the
-// folder for a bake made for another target, or missing files.
-BakeFiles read_bake_files(const std::string& folder, EngineTarget target);
+// folder for a bake made for another target or from another environment than `environment` (its
+// source; empty: not checked), or missing files.
+BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const std::string& environment);
 
 }  // namespace brdfbake::detail::preview

@@ -55,8 +55,18 @@ class OpenClPreview final : public PreviewKernel {
       for (const auto& l : tree.levels) levels.push_back({{l[0], l[1], l[2], l[3]}});
       cl::Buffer level_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, levels.size() * sizeof(cl_int4),
                            levels.data());
+      // the bright pixels (at least one element each: OpenCL has no empty buffers)
+      std::vector<cl_int> bright_index(tree.bright_index.begin(), tree.bright_index.end());
+      std::vector<float> bright_rgb = tree.bright_rgb;
+      const cl_int n_bright = static_cast<cl_int>(bright_index.size());
+      bright_index.resize(std::max<size_t>(1, bright_index.size()), 0);
+      bright_rgb.resize(std::max<size_t>(3, bright_rgb.size()), 0.0f);
+      cl::Buffer bright_index_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                  bright_index.size() * sizeof(cl_int), bright_index.data());
+      cl::Buffer bright_rgb_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bright_rgb.size() * sizeof(float),
+                                bright_rgb.data());
       cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int,
-                        cl_int, cl::Buffer>
+                        cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int>
           walk(program, "preview_reference");
       // One pass over a list of pixels at a refinement; done_before: pixels of the earlier pass.
       auto pass = [&](const std::vector<ReferencePixel>& pixels, double refinement, double done_before,
@@ -95,7 +105,7 @@ class OpenClPreview final : public PreviewKernel {
               return walk(cl::EnqueueArgs(dev.queue, cl::NDRange(first * kGroup), cl::NDRange(count * kGroup),
                                           cl::NDRange(kGroup)),
                           out_buf, px_buf, n, param_buf, tree_buf, level_buf, tree.start, tree.top, tree.image_width,
-                          tree.image_height, image_buf);
+                          tree.image_height, image_buf, bright_index_buf, bright_rgb_buf, n_bright);
             },
             [&](double f) {
               if (progress) progress((done_before + f * double(pixels.size())) / total);

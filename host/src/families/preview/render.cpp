@@ -114,6 +114,9 @@ double rgb_distance(const float* a, const float* b) {
   const double d[3] = {double(a[0]) - double(b[0]), double(a[1]) - double(b[1]), double(a[2]) - double(b[2])};
   return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
+// The relative rounding of the reference's float sums, below which no bound is stated.
+constexpr double kFloatSumFloor = 1e-6;
+
 double relative(const double* a, const double* b) {
   const double d =
       std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
@@ -205,7 +208,7 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.times.bake = since(t0);
   }
   auto t0 = Clock::now();
-  SplitSum split(read_bake_files(folder, res.spec.target));
+  SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source));
   res.times.read = since(t0);
   res.bake = split.files().settings;
   if (temp)
@@ -348,7 +351,8 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
                                           task.bound_pixels[t].bias, &sums.bound_values[9 * t]);
       const Rgb coarse = ref[bound_index[k]];
       const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
-      bound[size_t(p.sphere)].push_back(relative(a, b));
+      // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
+      bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
     }
     for (size_t s = 0; s < res.spheres.size(); ++s) {
       PreviewSphereStats st;

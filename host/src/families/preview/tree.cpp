@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 #include "brdfbake/error.hpp"
 
@@ -33,17 +35,15 @@ double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g 
 // The moments a cell sums (double while building).
 struct Moments {
   double omega = 0.0;
-  double g[3] = {0.0, 0.0, 0.0};   // int l dl
-  double lo[3] = {0.0, 0.0, 0.0};  // int L dl
-  double m[3] = {0.0, 0.0, 0.0};   // int l lum dl
-  double lum = 0.0;                // int lum dl
+  double g[3] = {0.0, 0.0, 0.0};                                         // int l dl
+  double lo[3] = {0.0, 0.0, 0.0};                                        // int L dl
+  double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};  // int l L_c dl
   void add(const Moments& o) {
     omega += o.omega;
-    lum += o.lum;
     for (int k = 0; k < 3; ++k) {
       g[k] += o.g[k];
       lo[k] += o.lo[k];
-      m[k] += o.m[k];
+      for (int c = 0; c < 3; ++c) m[c][k] += o.m[c][k];
     }
   }
 };
@@ -97,7 +97,7 @@ Vec3 equirect_rect_moment(double u0, double u1, double v0, double v1) {
   return {2.0 * std::sin(pm) * sh * q, 0.5 * dphi * ds * ss, 2.0 * std::cos(pm) * sh * q};
 }
 
-EnvTree build_env_tree(const EnvImage& env) {
+EnvTree build_env_tree(const EnvImage& env, bool bright) {
   if (env.layout != EnvImage::Layout::Equirect || env.width != 2 * env.height || env.height < 1)
     throw Error("the reference render needs an equirect environment (width = 2 height)");
   EnvTree t;
@@ -109,7 +109,38 @@ EnvTree build_env_tree(const EnvImage& env) {
   t.top = 0;
   while ((2 << t.top) < p) ++t.top;  // level 0: 2^(top + 1) x 2^top
   const int levels = t.top + 1;
-  t.start = std::max(0, t.top - 4);
+  t.start = std::max(0, t.top - 5);
+
+  // The bright pixels: above 16 x the mean luminance, at most the 256 brightest.
+  std::vector<uint8_t> is_bright(size_t(env.width) * size_t(env.height), 0);
+  if (bright) {
+    double sum = 0.0, omega = 0.0;
+    for (int y = 0; y < env.height; ++y) {
+      const double w =
+          equirect_rect_solid_angle(0.0, 1.0 / env.width, double(y) / env.height, double(y + 1) / env.height);
+      for (int x = 0; x < env.width; ++x) {
+        const float* l = &env.rgb[3 * (size_t(y) * size_t(env.width) + size_t(x))];
+        sum += w * luminance(l[0], l[1], l[2]);
+        omega += w;
+      }
+    }
+    const double threshold = kBrightRatio * sum / omega;
+    std::vector<std::pair<double, size_t>> candidates;
+    for (size_t i = 0; i < is_bright.size(); ++i) {
+      const float* l = &env.rgb[3 * i];
+      const double lum = luminance(l[0], l[1], l[2]);
+      if (lum > threshold) candidates.push_back({lum, i});
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    if (candidates.size() > size_t(kDefaultBrightTexels)) candidates.resize(size_t(kDefaultBrightTexels));
+    std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    for (const auto& c : candidates) {
+      is_bright[c.second] = 1;
+      const int x = int(c.second % size_t(env.width)), y = int(c.second / size_t(env.width));
+      t.bright_index.push_back(tree_index(t.top, 0, x, y));
+      for (int k = 0; k < 3; ++k) t.bright_rgb.push_back(env.rgb[3 * c.second + size_t(k)]);
+    }
+  }
 
   // Level 0: the pixels' exact moments, separable in longitude and latitude.
   const int w0 = 2 << t.top, h0 = 1 << t.top;
@@ -122,15 +153,15 @@ EnvTree build_env_tree(const EnvImage& env) {
       Moments& c = m[0][size_t(tree_index(t.top, 0, x, y))];
       c.omega = equirect_rect_solid_angle(u0, u1, v0, v1);
       const Vec3 g = equirect_rect_moment(u0, u1, v0, v1);
-      const float* l = &env.rgb[3 * (size_t(y) * size_t(env.width) + size_t(x))];
-      const double lum = std::max(0.0, luminance(l[0], l[1], l[2]));
+      static const float kBlack[3] = {0.0f, 0.0f, 0.0f};
+      const size_t at = size_t(y) * size_t(env.width) + size_t(x);
+      const float* l = is_bright[at] ? kBlack : &env.rgb[3 * at];
       const double gv[3] = {g.x, g.y, g.z};
       for (int k = 0; k < 3; ++k) {
         c.g[k] = gv[k];
         c.lo[k] = double(l[k]) * c.omega;
-        c.m[k] = gv[k] * lum;
+        for (int ch = 0; ch < 3; ++ch) c.m[ch][k] = gv[k] * double(l[ch]);
       }
-      c.lum = lum * c.omega;
       t.solid_angle += c.omega;
     }
   }
@@ -160,32 +191,18 @@ EnvTree build_env_tree(const EnvImage& env) {
       tree_cell_position(t.top, k, i, x, y);
       const double gl = std::sqrt(c.g[0] * c.g[0] + c.g[1] * c.g[1] + c.g[2] * c.g[2]);
       const Vec3 gn = gl > 0.0 ? Vec3{c.g[0] / gl, c.g[1] / gl, c.g[2] / gl} : Vec3{0.0, 1.0, 0.0};
-      double mv[3] = {c.g[0] / c.omega, c.g[1] / c.omega, c.g[2] / c.omega};
-      if (c.lum > 0.0)
-        for (int a = 0; a < 3; ++a) mv[a] = c.m[a] / c.lum;
-      const double ml = std::sqrt(mv[0] * mv[0] + mv[1] * mv[1] + mv[2] * mv[2]);
       const int c0 = x * span, c1 = std::min((x + 1) * span, env.width);
       const int r0 = y * span, r1 = std::min((y + 1) * span, env.height);
       out[0] = float(gn.x);
       out[1] = float(gn.y);
       out[2] = float(gn.z);
       out[3] = float(gl / c.omega);
-      if (k == 0 || c.lum <= 0.0) {
-        // a pixel's m is its g, bit for bit (the kernel evaluates the lobe once there)
-        out[4] = out[0];
-        out[5] = out[1];
-        out[6] = out[2];
-        out[7] = out[3];
-      } else {
-        out[4] = float(mv[0] / ml);
-        out[5] = float(mv[1] / ml);
-        out[6] = float(mv[2] / ml);
-        out[7] = float(ml);
-      }
-      out[8] = float(c.omega);
-      for (int a = 0; a < 3; ++a) out[9 + a] = float(c.lo[a]);
-      out[12] = float(cell_radius(gn, c0, c1, r0, r1, env.width, env.height));
-      out[13] = float(luminance(c.lo[0], c.lo[1], c.lo[2]));
+      out[4] = float(c.omega);
+      out[5] = float(cell_radius(gn, c0, c1, r0, r1, env.width, env.height));
+      for (int a = 0; a < 3; ++a) out[6 + a] = float(c.lo[a]);
+      out[9] = float(luminance(c.lo[0], c.lo[1], c.lo[2]));
+      for (int ch = 0; ch < 3; ++ch)
+        for (int a = 0; a < 3; ++a) out[10 + 3 * ch + a] = float(c.m[ch][a]);
     }
   }
   return t;

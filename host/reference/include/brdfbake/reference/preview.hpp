@@ -19,7 +19,8 @@ struct PreviewIntegrals {
   std::array<double, 3> s1{}, s2{}, irr{};
 };
 
-// rgb: width x height x 3 linear floats, row 0 first (width = 2 height). n, v unit, n.v > 0.
+// rgb: width x height x 3 linear floats, row 0 first (width = 2 height). n, v any length (normalised
+// here), n.v > 0.
 // `subdivision` sets the sub-cells: a pixel within the lobe is split until a sub-cell is below
 // max(2 alpha, its distance to r) / subdivision, a pixel across the horizon of n into
 // subdivision x subdivision; doubling it measures the convergence (tests/reference).
