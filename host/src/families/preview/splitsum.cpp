@@ -13,13 +13,6 @@ namespace brdfbake::detail::preview {
 
 namespace {
 
-// The basis constants of bands 0..2 without the Condon-Shortley phase, Y_k = kY[k] poly_k
-// (docs/CONVENTIONS.md), and the sign of the Condon-Shortley basis against ours (engines.cpp).
-constexpr double kY[9] = {0.28209479177387814, 0.4886025119029199, 0.4886025119029199,
-                          0.4886025119029199,  1.0925484305920792, 1.0925484305920792,
-                          0.31539156525252005, 1.0925484305920792, 0.5462742152960396};
-constexpr double kCs[9] = {1, -1, 1, -1, 1, -1, 1, -1, 1};
-
 // The polynomials poly_k of the 9 functions: 1, y, z, x, xy, yz, 3z^2 - 1, xz, x^2 - y^2.
 void poly9(float x, float y, float z, float p[9]) {
   p[0] = 1.0f;
@@ -95,6 +88,53 @@ int face_of(const Vec3& d, float* a, float* b) {
   return z >= 0.0f ? 4 : 5;
 }
 
+// Babylon.js's renderer (sphericalPolynomial.ts): the harmonics its shader evaluates from a spherical
+// polynomial, SphericalHarmonics.FromPolynomial then preScaleForRendering (times
+// SH3ylmBasisConstants, which carry the Condon-Shortley signs): 9 x RGB in the order l00, l1-1, l10,
+// l11, l2-2, l2-1, l20, l21, l22. p: x, y, z, xx, yy, zz, yz, zx, xy.
+std::vector<double> babylon_prescaled_harmonics(const std::vector<double>& p) {
+  auto at = [&](int k, int c) { return p[size_t(3 * k + c)]; };
+  const double basis[9] = {
+      std::sqrt(1.0 / (4.0 * M_PI)),  -std::sqrt(3.0 / (4.0 * M_PI)),  std::sqrt(3.0 / (4.0 * M_PI)),
+      -std::sqrt(3.0 / (4.0 * M_PI)), std::sqrt(15.0 / (4.0 * M_PI)),  -std::sqrt(15.0 / (4.0 * M_PI)),
+      std::sqrt(5.0 / (16.0 * M_PI)), -std::sqrt(15.0 / (4.0 * M_PI)), std::sqrt(15.0 / (16.0 * M_PI))};
+  std::vector<double> h(27);
+  for (int c = 0; c < 3; ++c) {
+    const double x = at(0, c), y = at(1, c), z = at(2, c), xx = at(3, c), yy = at(4, c), zz = at(5, c), yz = at(6, c),
+                 zx = at(7, c), xy = at(8, c);
+    const double l[9] = {xx * 0.376127 + yy * 0.376127 + zz * 0.376126,
+                         -y * 0.977204,
+                         z * 0.977204,
+                         -x * 0.977204,
+                         xy * 1.16538,
+                         -yz * 1.16538,
+                         zz * 1.34567 - xx * 0.672834 - yy * 0.672834,
+                         -zx * 1.16538,
+                         xx * 1.16538 - yy * 1.16538};
+    for (int k = 0; k < 9; ++k) h[size_t(3 * k + c)] = l[k] * M_PI * basis[k];
+  }
+  return h;
+}
+
+// Babylon.js's SphericalPolynomial.FromHarmonics (updateFromHarmonics) of harmonics h (9 x RGB).
+std::vector<double> babylon_polynomial_from(const std::vector<double>& h) {
+  std::vector<double> p(27);
+  for (int c = 0; c < 3; ++c) {
+    auto at = [&](int k) { return h[size_t(3 * k + c)]; };
+    const double v[9] = {-1.02333 * at(3),
+                         -1.02333 * at(1),
+                         1.02333 * at(2),
+                         0.886277 * at(0) - 0.247708 * at(6) + 0.429043 * at(8),
+                         0.886277 * at(0) - 0.247708 * at(6) - 0.429043 * at(8),
+                         0.886277 * at(0) + 0.495417 * at(6),
+                         -0.858086 * at(5),
+                         -0.858086 * at(7),
+                         0.858086 * at(4)};
+    for (int k = 0; k < 9; ++k) p[size_t(3 * k + c)] = v[k] / M_PI;
+  }
+  return p;
+}
+
 float mixf(float a, float b, float t) { return a + (b - a) * t; }
 float pow5(float x) {
   const float x2 = x * x;
@@ -104,6 +144,16 @@ float pow5(float x) {
 }  // namespace
 
 SplitSum::SplitSum(BakeFiles files) : files_(std::move(files)) {
+  // Babylon.js evaluates harmonics pre-scaled from the spherical polynomial (the .env's), or from the
+  // polynomial its glTF loader makes of irradianceCoefficients (EXT_lights_image_based.ts:
+  // FromArray, convertIrradianceToLambertianRadiance, SphericalPolynomial.FromHarmonics).
+  if (files_.diffuse == DiffuseSource::BabylonPolynomial) {
+    harmonics_ = babylon_prescaled_harmonics(files_.sh);
+  } else if (files_.diffuse == DiffuseSource::GltfSh) {
+    std::vector<double> lambertian = files_.sh;
+    for (double& v : lambertian) v /= M_PI;
+    harmonics_ = babylon_prescaled_harmonics(babylon_polynomial_from(lambertian));
+  }
   for (int l = 0; l < files_.specular.level_count(); ++l) levels_.push_back(pad<Level>(files_.specular, l));
   if (!files_.irradiance.levels.empty()) irradiance_.push_back(pad<Level>(files_.irradiance, 0));
   if (files_.diffuse == DiffuseSource::OurSh && files_.sh_order < 3)
@@ -191,26 +241,15 @@ void SplitSum::diffuse(const Vec3& n, float out[3]) const {
       }
       return;
     case DiffuseSource::GltfSh:
-      // Babylon.js's loader (EXT_lights_image_based.ts): SphericalHarmonics.FromArray, then
-      // convertIrradianceToLambertianRadiance (/ pi): E / pi = sum E_lm Y_lm^CS(n) / pi
+    case DiffuseSource::BabylonPolynomial:
+      // Babylon.js's harmonicsFunctions.fx, computeEnvironmentIrradiance: sum of the pre-scaled
+      // harmonics times 1, y, z, x, yx, yz, 3z^2 - 1, zx, x^2 - y^2
       for (int ch = 0; ch < 3; ++ch) {
         float e = 0.0f;
-        for (size_t k = 0; k < 9; ++k) e += float(c[3 * k + size_t(ch)] * kCs[k] * kY[k] / M_PI) * p[k];
+        for (size_t k = 0; k < 9; ++k) e += float(harmonics_[3 * k + size_t(ch)]) * p[k];
         out[ch] = e;
       }
       return;
-    case DiffuseSource::BabylonPolynomial: {
-      // Babylon.js's computeEnvironmentIrradiance (polynomial form): x n.x + y n.y + z n.z + xx n.x^2
-      // + yy n.y^2 + zz n.z^2 + yz n.y n.z + zx n.z n.x + xy n.x n.y
-      const float x = float(n.x), y = float(n.y), z = float(n.z);
-      const float q[9] = {x, y, z, x * x, y * y, z * z, y * z, z * x, x * y};
-      for (int ch = 0; ch < 3; ++ch) {
-        float e = 0.0f;
-        for (size_t k = 0; k < 9; ++k) e += float(c[3 * k + size_t(ch)]) * q[k];
-        out[ch] = e;
-      }
-      return;
-    }
     case DiffuseSource::IrradianceCube: {
       // glTF-Sample-Viewer ibl.glsl, getDiffuseLight: texture(u_LambertianEnvSampler, n)
       float a = 0, b = 0;

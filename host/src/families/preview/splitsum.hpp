@@ -37,6 +37,7 @@ class SplitSum {
   BakeFiles files_;
   std::vector<Level> levels_;
   std::vector<Level> irradiance_;
+  std::vector<double> harmonics_;  // Babylon.js's pre-scaled harmonics (babylon, gltf)
 };
 
 }  // namespace brdfbake::detail::preview
