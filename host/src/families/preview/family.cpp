@@ -168,7 +168,7 @@ class PreviewFamily final : public Family {
   TableExample example(TableKind) const override {
     TableExample e;
     e.request.environment = "builtin:sun";
-    e.request.params = {{"width", 64.0}, {"height", 32.0}, {"columns", 12.0}, {"bound_stride", 64.0}};
+    e.request.params = {{"width", 96.0}, {"height", 48.0}, {"bound_stride", 64.0}};
     return e;
   }
   void register_kernels(KernelRegistry& r) const override {
