@@ -89,6 +89,7 @@ TEST(Registry, EverySpecFieldHasASchemaEntry) {
     expect_bound(kind, field_count<LutSpec>(), "LutSpec");
   EXPECT_NE(find_param_def(table_schema(TableKind::Charlie), "sheen_visibility"), nullptr);
   expect_bound(TableKind::Fresnel, field_count<FresnelSpec>(), "FresnelSpec");
+  expect_bound(TableKind::Preview, field_count<PreviewSpec>(), "PreviewSpec");
   expect_covered(TableKind::ThinFilm, field_count<ThinFilmSpec>(),
                  {{"film_ior", "film_ior"}, {"outside_ior", "outside_ior"}, {"base_ior", "base_ior"},
                   {"base_f0", "base_f0"}, {"thickness_min", "thickness_min"}, {"thickness_max", "thickness_max"},
