@@ -152,23 +152,41 @@ EnvImage reference_equirect(const EnvImage& env) {
 }
 
 double median_luminance(const EnvImage& e) {
-  // solid-angle weights: cos(latitude) per row
-  std::vector<std::pair<double, double>> v;
-  v.reserve(size_t(e.width) * size_t(e.height));
+  // Solid-angle weights (cos(latitude) per row) into a histogram of log2 luminance with 1/128 EV
+  // bins between the smallest positive and the largest value (linear time: a sort of the 512k
+  // pixels of a 1k map took 0.1 s); black pixels count below every bin. The median to 0.01 EV is
+  // what the sheet's exposure needs.
+  constexpr double kBinsPerEv = 128.0;
+  double lo = HUGE_VAL, hi = 0.0, total = 0.0, black = 0.0;
+  for (size_t i = 0; i < e.rgb.size() / 3; ++i) {
+    const double l = luminance(&e.rgb[3 * i]);
+    if (l > 0.0) {
+      lo = std::min(lo, l);
+      hi = std::max(hi, l);
+    }
+  }
+  if (!(hi > 0.0)) return 0.0;
+  const double l0 = std::log2(lo);
+  const size_t bins = size_t(std::ceil((std::log2(hi) - l0) * kBinsPerEv)) + 1;
+  std::vector<double> h(bins, 0.0);
   for (int y = 0; y < e.height; ++y) {
     const double w = std::cos(M_PI * (0.5 - (y + 0.5) / e.height));
-    for (int x = 0; x < e.width; ++x)
-      v.push_back({luminance(&e.rgb[3 * (size_t(y) * size_t(e.width) + size_t(x))]), w});
+    for (int x = 0; x < e.width; ++x) {
+      const double l = luminance(&e.rgb[3 * (size_t(y) * size_t(e.width) + size_t(x))]);
+      total += w;
+      if (l > 0.0)
+        h[std::min(bins - 1, size_t((std::log2(l) - l0) * kBinsPerEv))] += w;
+      else
+        black += w;
+    }
   }
-  std::sort(v.begin(), v.end());
-  double total = 0.0;
-  for (const auto& p : v) total += p.second;
-  double acc = 0.0;
-  for (const auto& p : v) {
-    acc += p.second;
-    if (acc >= 0.5 * total) return p.first;
+  double acc = black;
+  if (acc >= 0.5 * total) return 0.0;
+  for (size_t b = 0; b < bins; ++b) {
+    acc += h[b];
+    if (acc >= 0.5 * total) return std::exp2(l0 + (double(b) + 0.5) / kBinsPerEv);
   }
-  return v.empty() ? 0.0 : v.back().first;
+  return hi;
 }
 
 PreviewErrorStats error_stats(std::vector<double> e) {
