@@ -98,7 +98,7 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   const int panels = with_ref ? 3 : 1;
   const int label_w = 84;                                  // row labels left of the first panel
   const int top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
-  const int panel_top = top + kLine + 4;                   // the panel's title
+  const int panel_top = top + 2 * kLine + 4;               // the panel's title, the columns' roughness
   const int sheet_w = std::max(kMargin * 2 + label_w + panels * w + (panels - 1) * kGap, 640);
   const int sheet_h = panel_top + h + kGap + 3 * kLine + kMargin;
   Canvas c(sheet_w, sheet_h, view::kBackground);
@@ -122,10 +122,15 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   if (with_ref) c.text(kMargin, y + 2 * kLine, sheet.colour_scale_text, view::kText);
   double worst_bound = 0.0;
   for (const auto& s : r.stats) worst_bound = std::max(worst_bound, s.reference_rms_bound);
-  c.text(kMargin, y + 3 * kLine,
-         "under each sphere: relative RMS error in linear radiance, then the 99th percentile in 8-bit sRGB steps" +
-             (with_ref ? "; the reference is within " + percent(worst_bound) + " RMS on every sphere" : std::string()),
-         view::kDim);
+  if (with_ref)
+    c.text(
+        kMargin, y + 3 * kLine,
+        "under each sphere: relative RMS error in linear radiance, then the 99th percentile in 8-bit sRGB steps; the "
+        "reference is within " +
+            percent(worst_bound) + " RMS on every sphere",
+        view::kDim);
+  else
+    c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
 
   // the panels
   const int x0 = kMargin + label_w;
@@ -136,6 +141,16 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
                              : k == 1 ? "reference (converged integral)"
                                       : "relative error";
     c.text(px, top, name, view::kText);
+    // each column's roughness, where its spheres share one (the default grid)
+    for (const PreviewSphere& sp : r.spheres) {
+      if (sp.row != 0) continue;
+      bool shared = true;
+      for (const PreviewSphere& o : r.spheres)
+        shared = shared && (o.column != sp.column || o.material.roughness == sp.material.roughness);
+      if (!shared) continue;
+      const std::string label = "r " + fmt(sp.material.roughness, "%.2g");
+      c.text(px + int(sp.centre_x) - view::text_width(label) / 2, top + kLine, label, view::kDim);
+    }
     SheetRegion region;
     region.role = k == 0 ? "split-sum" : k == 1 ? "reference" : "error";
     region.label = name;
