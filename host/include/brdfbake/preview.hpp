@@ -145,7 +145,8 @@ struct PreviewResult {
   PreviewImage splitsum;
   PreviewImage reference;                 // empty when spec.reference is false
   std::vector<PreviewSphereStats> stats;  // one per sphere (empty without the reference)
-  double exposure = 0.0;                  // EV of the sheet: 0.18 / the environment's median luminance
+  double exposure = 0.0;                  // EV of the sheet: 0.18 / the environment's median luminance,
+                                          // at most 0.8 / the spheres' median (split-sum)
   double environment_median = 0.0;        // solid-angle-weighted median luminance
   std::string brdf;                       // the BRDF both renders use, in words
   bool multiscatter = false;              // multiple-scattering compensation applied

@@ -108,7 +108,8 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   char ev[64];
   std::snprintf(ev, sizeof ev, "%+.2f", r.exposure);
   sheet.tone_map_text = std::string("HDR: exposure ") + ev + " EV (0.18 / the environment's median luminance " +
-                        fmt(r.environment_median) + "), ACES filmic fit (Narkowicz 2015), sRGB";
+                        fmt(r.environment_median) +
+                        ", at most 0.8 / the spheres'), ACES filmic fit (Narkowicz 2015), sRGB";
   sheet.colour_scale_text =
       "error: |split-sum - reference| / |reference| per pixel, cubehelix (Green 2011) over log10, " +
       percent(kErrorLo) + " (black) to " + percent(kErrorHi) + " (white)";

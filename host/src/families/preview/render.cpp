@@ -258,6 +258,19 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   for (const SpherePixel& p : pixels)
     put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material));
   res.times.splitsum = since(t0);
+  // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
+  // that would put the spheres' median luminance above 0.8 (a dark studio lit by small softboxes:
+  // its median is 0.009, and +4.4 EV turned every sphere white).
+  {
+    std::vector<double> lum;
+    for (const SpherePixel& p : pixels)
+      lum.push_back(luminance(&res.splitsum.rgb[3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x))]));
+    if (!lum.empty()) {
+      std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(lum.size() / 2), lum.end());
+      const double m = lum[lum.size() / 2];
+      if (m > 0.0) res.exposure = std::min(res.exposure, std::log2(0.8 / m));
+    }
+  }
   if (progress) progress(0.15, "split-sum render");
 
   if (res.spec.reference) {
