@@ -9,11 +9,13 @@
 // The environment's continuous model: every pixel of the equirect image is constant over its cell
 // of longitude x latitude (the model the SH projection uses too; docs/PREVIEW.md). The integrals
 // are sums over a partition of the sphere into cells of a quadtree over the image (built on the
-// host, families/preview/opencl.cpp): level 0 holds the pixels, level k + 1 the sums of 2 x 2 cells
-// of level k, each cell with its solid angle Omega, L Omega, its mean direction g = int l dl / Omega
-// and its luminance-weighted mean direction m, and its angular radius rho (the largest angle from g
-// to the cell). Below level 0 a pixel is split further on the fly into 2^s x 2^s sub-cells of the
-// same radiance (exact geometry, the same constant L).
+// host in double, host/src/families/preview/tree.cpp): level 0 holds the pixels, level k + 1 the
+// sums of 2 x 2 cells of level k, each cell with its solid angle Omega, its mean direction g (unit,
+// and the mean's length), its angular radius rho (the largest angle from g to the cell), L Omega and
+// the channels' first moments int l L_c dl. Below level 0 a pixel is split further on the fly into
+// 2^s x 2^s sub-cells of the same radiance (exact geometry). The brightest pixels (the prefilter's
+// environment sampling: above 16 x the mean, at most 256) are not in the tree's radiance: each is
+// walked on its own, from the pixel down, into the radiance sums only.
 //
 // The walk (one work-item a pixel): from every cell of a start level (at most 64 x 32), a cell is
 // replaced by its four children (depth first) while the integrand varies too much across it:
@@ -21,19 +23,23 @@
 //                     the lobe's narrowest width / refinement: the GGX lobe of half vectors of width
 //                     alpha maps to directions 2 alpha wide in the plane of incidence and 2 alpha v.h
 //                     across it (dl = 4 (v.h) dh), v.h ~ n.v at the peak: 2 alpha n.v;
-//   the horizon of n  a cell that straddles it (|n.g| < sin rho), while rho > horizon_size or its
+//   the horizon of n  a cell that straddles it (|n.g| < rho), while rho > horizon_size or its
 //                     luminance x rho exceeds horizon_energy (a sun at the terminator is cut finely);
 //   any cell          with rho > max_size.
-// A cell that is not refined contributes with the moment rule: the lobe at m times L Omega (m is
-// the first moment of the cell's radiance, so the error is second order in the cell's size even
-// across an edge in the image), and (n.m)+ L Omega to the irradiance, exact for a cell wholly above
-// or below the horizon (m is the unnormalised mean: n.l is linear). Each cell is counted once by
-// construction.
+// A cell that is not refined contributes:
+//   to the irradiance, (n.M_c)+ per channel: exact for a cell wholly above or below the horizon
+//     (n.l is linear in l);
+//   to the lobe, for a pixel or a sub-cell (constant radiance) the 2 x 2 Gauss-Legendre rule over its
+//     rectangle (fourth order); for a cell of varying radiance the lobe at its luminance centroid
+//     (the first moment: second order even across an edge in the image), near the peak with the
+//     Gauss rule's weight shifted there.
+// Each cell is counted once by construction.
 //
 // Normalisation (the ratio estimator of kernels/prefilter.cl): the same walk sums the lobes' own
-// quadrature, G1 = sum D V (n.g)+ Omega at g and likewise G2 and Gd = sum (n.g)+ Omega, whose exact
-// values are known (the directional albedos A = int D V n.l and B = int D V Fc n.l, computed by the
-// DFG family's quadrature at this pixel's n.v and alpha, and pi). The result is
+// quadrature G1 = sum of the lobe's weights over the cells (at g, or the Gauss rule), likewise G2,
+// and Gd = sum (n.g)+ |g| Omega, whose exact values are known (the directional albedos A = int D V n.l
+// and B = int D V Fc n.l, computed by the DFG family's quadrature at this pixel's n.v and alpha, and
+// pi). The result is
 //   S1 = N1 A / G1,  S2 = N2 B / G2,  Irr = Nd pi / Gd,
 // so a constant environment comes back exactly (the white furnace), and where a lobe is narrower
 // than the cells the ratio tends to the radiance of the cells under it times the albedo.
@@ -44,7 +50,6 @@
 
 #define PREVIEW_STACK 192     // entries of the depth-first stack (3 per level below the start is plenty)
 #define PREVIEW_MAX_SUB 8     // sub-cell levels below a pixel (1/256 of a pixel a side)
-
 
 typedef struct {
   real3 n, v, r;
