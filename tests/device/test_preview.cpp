@@ -17,9 +17,12 @@
 #include "brdfbake/backend.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/job.hpp"
+#include "brdfbake/plan.hpp"
 #include "brdfbake/preview.hpp"
 #include "brdfbake/reference/preview.hpp"
 #include "families/preview/bake_files.hpp"
+#include "families/preview/bake_preview.hpp"
 #include "families/preview/kernel.hpp"
 #include "families/preview/model.hpp"
 #include "families/preview/output.hpp"
@@ -451,6 +454,83 @@ TEST(PreviewRender, ASunClippedByTheStorageShowsInTheError) {
       EXPECT_GT(r.stats[s].linear.rms, 0.2) << "the clipped sun is missing from the split-sum render";
     }
   }
+}
+
+// ---- bake --preview ---------------------------------------------------------------------------------
+
+// A small bake for Filament (the plumbing, not the tables) with Job::preview.
+Job small_preview_job(const fs::path& out) {
+  PlanOptions o;
+  o.environment = "builtin:sun";
+  o.target = "filament";
+  o.lut_size = 16;
+  o.cube_size = 16;
+  o.cube_min_size = 8;
+  o.prefilter_max_error = 0.0;
+  Plan plan = plan_default(o);
+  plan.job.output_dir = out.string();
+  plan.job.preview = true;
+  return plan.job;
+}
+
+RunOptions on_backend(Backend& backend) {
+  RunOptions ro;
+  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
+  return ro;
+}
+
+// The preview of a bake's own files lands with them (named after the folder they land in, not the
+// staging folder it was rendered from), and the manifest lists it with numbers that are the JSON's.
+TEST(PreviewBake, ThePreviewLandsWithTheFilesAndTheManifestRecordsIt) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path out = temp_dir("bake") / "sun";
+  fs::remove_all(out);
+  const Manifest m = run_job(small_preview_job(out), {}, on_backend(*backend));
+  for (const char* f : {"preview.png", "preview_splitsum.exr", "preview_reference.exr", "preview.json"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  std::ifstream min(out / "manifest.json");
+  const json manifest = json::parse(min);
+  ASSERT_TRUE(manifest.contains("preview"));
+  EXPECT_EQ(manifest["preview"]["files"].size(), 4u);
+  EXPECT_EQ(manifest["preview"]["target"], "filament");
+  std::ifstream pin(out / "preview.json");
+  const std::string text((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find(".tmp-"), std::string::npos) << "the staging folder's name leaked into preview.json";
+  const json p = json::parse(text);
+  EXPECT_EQ(p["bake"]["folder"], out.string());
+  EXPECT_EQ(p["target"], "filament");
+  ASSERT_EQ(p["spheres"].size(), 72u);  // the default grid
+  double worst = 0.0, bound = 0.0;
+  for (const auto& sphere : p["spheres"]) {
+    worst = std::max(worst, sphere["error"]["linear"]["rms"].get<double>());
+    bound = std::max(bound, sphere["reference_bound"]["rms"].get<double>());
+  }
+  // the manifest's numbers are printed with 4 significant digits
+  EXPECT_NEAR(std::stod(manifest["preview"]["error_rms_max"].get<std::string>()), worst, 1e-3 * worst);
+  EXPECT_NEAR(std::stod(manifest["preview"]["reference_bound_max"].get<std::string>()), bound, 1e-3 * bound);
+  EXPECT_GT(worst, 0.0);
+  EXPECT_LE(bound, kReferenceTarget);
+}
+
+TEST(PreviewBake, AJobWithoutWhatThePreviewReadsFailsBeforeAnyBake) {
+  const fs::path out = temp_dir("bake-refused") / "none";
+  fs::remove_all(out);
+  Job job = small_preview_job(out);
+  job.tables.erase(std::remove_if(job.tables.begin(), job.tables.end(),
+                                  [](const TableRequest& t) { return t.kind == TableKind::Irradiance; }),
+                   job.tables.end());
+  job.target = "generic";
+  try {
+    run_job(job);
+    FAIL() << "a preview without an irradiance table";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no irradiance table"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+  Job clash = small_preview_job(out);
+  clash.tables.front().output = "preview.json";
+  EXPECT_THROW(detail::preview::check_bake_preview(clash), Error);
 }
 
 // ---- The stored encodings read back --------------------------------------------------------------------

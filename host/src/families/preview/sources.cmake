@@ -11,4 +11,5 @@ set(BRDFBAKE_FAMILY_SOURCES
   splitsum.cpp
   render.cpp
   output.cpp
+  bake_preview.cpp
 )
