@@ -21,6 +21,7 @@
 #include "brdfbake/plan.hpp"
 #include "brdfbake/preview.hpp"
 #include "brdfbake/reference/preview.hpp"
+#include "brdfbake/view.hpp"
 #include "families/preview/bake_files.hpp"
 #include "families/preview/bake_preview.hpp"
 #include "families/preview/kernel.hpp"
@@ -32,6 +33,7 @@
 #include "io/astc_ktx2.hpp"
 #include "io/gpu_cube_read.hpp"
 #include "io/packed_float.hpp"
+#include "io/png_image.hpp"
 #include "runtime/program.hpp"
 #include "support/device_fixture.hpp"
 
@@ -511,6 +513,30 @@ TEST(PreviewBake, ThePreviewLandsWithTheFilesAndTheManifestRecordsIt) {
   EXPECT_NEAR(std::stod(manifest["preview"]["reference_bound_max"].get<std::string>()), bound, 1e-3 * bound);
   EXPECT_GT(worst, 0.0);
   EXPECT_LE(bound, kReferenceTarget);
+
+  // `view` shows the preview's sheet as drawn: the folder (through its manifest), the JSON, the sheet.
+  const io::PngImage png = io::read_png((out / "preview.png").string());
+  ViewOptions vo;
+  vo.max_width = png.width + 64;  // no scaling (the sheet has margins): the pixels are the preview sheet's
+  for (const fs::path& given : {out, out / "preview.json", out / "preview.png"}) {
+    const ContactSheet sheet = render_contact_sheet({given.string()}, vo);
+    const auto region = std::find_if(sheet.regions.begin(), sheet.regions.end(),
+                                     [](const SheetRegion& r) { return r.role == "preview sheet"; });
+    ASSERT_NE(region, sheet.regions.end()) << given;
+    ASSERT_EQ(region->width, png.width) << given;
+    ASSERT_EQ(region->height, png.height) << given;
+    int differ = 0;
+    for (int y = 0; y < png.height; ++y)
+      for (int x = 0; x < png.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          differ += sheet.rgb[3 * (size_t(region->y + y) * size_t(sheet.width) + size_t(region->x + x)) + size_t(c)] !=
+                    png.at(x, y, c);
+    EXPECT_EQ(differ, 0) << given;
+    const bool titled = std::any_of(sheet.regions.begin(), sheet.regions.end(), [](const SheetRegion& r) {
+      return r.role == "file title" && r.label.find("(preview)") != std::string::npos;
+    });
+    EXPECT_TRUE(titled) << given;
+  }
 }
 
 TEST(PreviewBake, AJobWithoutWhatThePreviewReadsFailsBeforeAnyBake) {

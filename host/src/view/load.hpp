@@ -2,6 +2,7 @@
 // claims it (view/load.cpp). A new output format is one more row of that table.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
@@ -28,6 +29,14 @@ struct HdrImage {
   Metadata metadata;
 };
 
+// A picture drawn already, shown as it is (8-bit sRGB, row 0 first), with a caption: a preview's
+// contact sheet (brdfbake preview, docs/PREVIEW.md), read through its NAME.json.
+struct Picture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+  std::string caption;
+};
+
 // The files a manifest or a folder lists, with what the manifest says of each.
 struct FileList {
   std::vector<std::string> paths;
@@ -37,7 +46,7 @@ struct FileList {
 struct Item {
   std::string path;
   std::string kind;  // "cube (KTX2)", "table (OpenEXR)", ... as view_kind says
-  std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList> content;
+  std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList, Picture> content;
   Metadata notes;  // from a manifest: what it records about this file
 };
 
