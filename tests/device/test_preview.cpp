@@ -559,6 +559,74 @@ TEST(PreviewBake, AJobWithoutWhatThePreviewReadsFailsBeforeAnyBake) {
   EXPECT_THROW(detail::preview::check_bake_preview(clash), Error);
 }
 
+// ---- The scene and the inputs ----------------------------------------------------------------------
+
+// Every sphere whole (its disc inside the image, rims included) and inside its own cell, for the
+// default grid and for a glTF scene's materials (one sphere each, in the file's order).
+TEST(PreviewScene, EverySphereIsWholeAndEveryMaterialHasOne) {
+  const std::string scene = (fs::path(BRDFBAKE_SHARED_DIR) / "scenes" / "SheenChair.gltf").string();
+  std::vector<PreviewSpec> specs(2);
+  specs[1].materials_file = scene;
+  specs[1].width = 300;
+  specs[1].height = 200;
+  for (const PreviewSpec& spec : specs) {
+    if (!spec.materials_file.empty() && !fs::exists(spec.materials_file)) continue;
+    const PreviewSpec resolved = detail::preview::resolve_spec(spec);
+    const auto layout = detail::preview::make_layout(resolved);
+    for (size_t a = 0; a < layout.spheres.size(); ++a) {
+      const PreviewSphere& s = layout.spheres[a];
+      EXPECT_GE(s.centre_x - s.radius, 0.0) << s.material.name;
+      EXPECT_LE(s.centre_x + s.radius, double(layout.width)) << s.material.name;
+      EXPECT_GE(s.centre_y - s.radius, 0.0) << s.material.name;
+      EXPECT_LE(s.centre_y + s.radius, double(layout.height)) << s.material.name;
+      for (size_t b = a + 1; b < layout.spheres.size(); ++b) {
+        const PreviewSphere& t = layout.spheres[b];
+        EXPECT_GE(std::hypot(s.centre_x - t.centre_x, s.centre_y - t.centre_y), s.radius + t.radius)
+            << s.material.name << " overlaps " << t.material.name;
+      }
+    }
+    if (spec.materials_file.empty()) {
+      ASSERT_EQ(layout.spheres.size(), 72u);
+      EXPECT_EQ(layout.spheres[11].material.roughness, 1.0);
+      EXPECT_EQ(layout.spheres[71].material.metallic, 1.0);
+    } else {
+      std::ifstream in(scene);
+      const json gltf = json::parse(in);
+      ASSERT_EQ(layout.spheres.size(), gltf["materials"].size());
+      for (size_t k = 0; k < layout.spheres.size(); ++k)
+        EXPECT_EQ(layout.spheres[k].material.name, gltf["materials"][k]["name"]) << k;
+      // what the preview does not render is said: the velvets' sheen
+      EXPECT_FALSE(layout.spheres[0].material.notes.empty());
+    }
+  }
+}
+
+// A bake folder for another target or from another environment is refused with what to do, and so
+// is a material file that is not there.
+TEST(PreviewScene, ABakeOfAnotherTargetOrEnvironmentIsRefused) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path out = temp_dir("other") / "filament";
+  Job job = small_preview_job(out);
+  job.preview = false;
+  run_job(job, {}, on_backend(*backend));
+  auto message = [&](EngineTarget target, const std::string& env) {
+    try {
+      detail::preview::read_bake_files(out.string(), target, env);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(EngineTarget::Babylon, "builtin:sun").find("baked for target filament, not babylon"),
+            std::string::npos);
+  EXPECT_NE(message(EngineTarget::Filament, "builtin:studio").find("baked from 'builtin:sun'"), std::string::npos);
+  EXPECT_EQ(message(EngineTarget::Filament, "builtin:sun"), "no error");
+  PreviewSpec spec;
+  spec.materials_file = (out / "none.json").string();
+  EXPECT_THROW(detail::preview::resolve_spec(spec), Error);
+}
+
 // ---- The stored encodings read back --------------------------------------------------------------------
 
 CubeLevels random_cube(int size, int levels, float scale) {
