@@ -20,15 +20,14 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
 #include "support/cli_runner.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-// fp32 device values against the double reference (tests/support/tolerances.hpp kBrdfFp32 is the
-// kernel's; the CSV adds the rounding of its 9 significant digits).
-constexpr double kCliFp32 = 2e-5;
+using brdfbake::test::kCliFp32;
 
 using test::CliRun;
 CliRun run(const std::string& args) { return test::run_cli(args); }
