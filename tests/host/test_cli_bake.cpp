@@ -18,6 +18,9 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
+#include "brdfbake/table.hpp"
+#include "io/ktx2.hpp"
+#include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
 #include "support/tolerances.hpp"
 
@@ -107,6 +110,26 @@ TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json",
                         "contact_sheet.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  // ... and each holds what the one-table command writes for the parameters the manifest records
+  const fs::path one = temp_dir() / "default-one";
+  fs::create_directories(one);
+  ASSERT_EQ(run("lut --kind ggx-multiscatter --size 8 --quiet -o " + (one / "dfg.exr").string()).code, 0);
+  ASSERT_EQ(run("prefilter --env builtin:studio --size 16 --min-size 8 --quiet -o " + (one / "p.ktx2").string()).code,
+            0);
+  ASSERT_EQ(run("irradiance --env builtin:studio --quiet -o " + (one / "sh.json").string()).code, 0);
+  const brdfbake::Table dfg = brdfbake::io::read_table((out / "dfg_ggx_multiscatter_8.exr").string());
+  EXPECT_EQ(dfg.meta("kind"), "ggx-multiscatter");
+  EXPECT_EQ(dfg.width, 8);
+  EXPECT_EQ(dfg.data, brdfbake::io::read_table((one / "dfg.exr").string()).data);
+  const brdfbake::io::Ktx2Image chain = brdfbake::io::read_ktx2((out / "prefilter_ggx_16.ktx2").string());
+  EXPECT_EQ(chain.faces, 6u);
+  EXPECT_EQ(chain.levels, 2u);
+  EXPECT_EQ(chain.level_data, brdfbake::io::read_ktx2((one / "p.ktx2").string()).level_data);
+  const json sh = json::parse(std::ifstream(out / "irradiance_sh3.json")),
+             sh_one = json::parse(std::ifstream(one / "sh.json"));
+  EXPECT_EQ(sh["order"], 3);
+  EXPECT_EQ(sh["irradiance_over_pi"], sh_one["irradiance_over_pi"]);
+  EXPECT_EQ(sh["radiance"], sh_one["radiance"]);
   EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
   // The DFG kind's runtime formula: ggx-multiscatter needs a different shader from ggx.

@@ -236,7 +236,7 @@ TEST(Registry, EveryFresnelModelAndTheTwoDimensionalTablesRunAsJobs) {
     const auto at = text.find("# error_bound: ");
     ASSERT_NE(at, std::string::npos) << f;
     const double bound = std::stod(text.substr(at + 15));
-    EXPECT_LT(bound, 1e-6) << f << ": fp32 Fresnel against the reference";
+    EXPECT_LT(bound, test::kFresnelFp32) << f << ": fp32 Fresnel against the reference";
   }
   // empirical at normal incidence: clamp(bias + scale * 0^power) = bias; the first cell is cos = 1/32
   const std::string emp = read_file(dir / "out" / "emp.csv");
