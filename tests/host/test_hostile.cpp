@@ -2,7 +2,8 @@
 // way a hostile or careless user runs it. Each row is a command line, the files it reads (written
 // into the row's own folder first), its standard input, and what must follow: the exit code (2 bad
 // input, 1 runtime or I/O failure, 0 success), words the one-line message must hold, files that must
-// not exist afterwards and files that must keep their content. Every row also checks what must never
+// not exist afterwards, files that must keep their content, and for some successful rows their
+// output read back against the value it must hold. Every row also checks what must never
 // happen: a crash or a signal, a library's raw exception text, a sanitizer report, a stray temporary.
 //
 // Rows marked `pending` (none today) wait for a piece of work named in their reason: they are
@@ -32,10 +33,14 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "brdfbake/environment.hpp"
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/tables.hpp"
 #include "io/ktx2.hpp"
+#include "support/tolerances.hpp"
 
 #ifndef BRDFBAKE_CLI
 #define BRDFBAKE_CLI "brdfbake"
@@ -147,6 +152,7 @@ struct Row {
   std::string hold_lock;            // the test holds the lock of {d}/<this> during the run
   int release_after_ms = 0;         // ... and releases it after this long (0: at the end)
   long memory_cap_kib = 0;          // the run's address space is capped (ulimit -v): what it allocates must fit
+  std::function<void(const fs::path&)> check_output;  // reads a successful row's output back ({d} given)
 };
 
 // Chained setters so that the table reads as a table.
@@ -171,6 +177,7 @@ struct R {
   R& root_skip() { r.as_root_skip = true; return *this; }
   R& memory_cap_mib(long mib) { r.memory_cap_kib = mib * 1024; return *this; }
   R& lock(std::string target, int release_ms = 0) { r.hold_lock = std::move(target); r.release_after_ms = release_ms; return *this; }
+  R& output(std::function<void(const fs::path&)> check) { r.check_output = std::move(check); return *this; }
   operator Row() const { return r; }
 };
 
@@ -350,23 +357,78 @@ void raw_exceptions(std::vector<Row>& rows) {
                      .file("m.json", glb(kScene)).file("p.csv", kPairs).says("binary glTF").no("f.csv"));
 }
 
+// The grey radiance of {d}/huge.hdr as the product reads it.
+double huge_radiance(const fs::path& dir) {
+  const brdfbake::EnvImage env = brdfbake::load_environment((dir / "huge.hdr").string());
+  EXPECT_FALSE(env.rgb.empty());
+  return env.rgb.empty() ? 0.0 : double(env.rgb[0]);
+}
+
+// A cube (RGBA32F, `levels` levels from `size`^2) of the constant environment {d}/huge.hdr, near
+// FLT_MAX: every texel of every level holds that radiance, finite, within `tolerance` (relative): a
+// prefiltered level is a lobe average of a constant (fp32 sums, kEnvFurnace), an irradiance cube
+// E / pi = L up to the device's cosine convolution of a coarse source (kEnvIrradianceDevice).
+void expect_constant_cube(const fs::path& dir, const std::string& file, uint32_t levels, size_t size,
+                          double tolerance) {
+  const double radiance = huge_radiance(dir);
+  EXPECT_GT(radiance, 1e38);
+  const brdfbake::io::Ktx2Image k = brdfbake::io::read_ktx2((dir / file).string());
+  ASSERT_EQ(k.vk_format, brdfbake::io::kVkFormatR32G32B32A32Sfloat);
+  ASSERT_EQ(k.faces, 6u);
+  ASSERT_EQ(k.levels, levels);
+  for (size_t l = 0; l < k.levels; ++l) {
+    std::vector<float> texels(k.level_data[l].size() / sizeof(float));
+    std::memcpy(texels.data(), k.level_data[l].data(), texels.size() * sizeof(float));
+    ASSERT_EQ(texels.size(), 6u * 4u * (size >> l) * (size >> l));
+    for (size_t t = 0; t < texels.size(); ++t) {
+      if (t % 4 == 3) continue;  // alpha
+      ASSERT_NEAR(double(texels[t]) / radiance, 1.0, tolerance) << file << " level " << l << " texel " << t / 4;
+    }
+  }
+}
+
+// SH coefficients of that environment (order `order`): radiance L gives L_00 = 2 sqrt(pi) L in both
+// the radiance and E / pi (A_0 / pi = 1, band 0 unwindowed), every other coefficient 0; the host
+// projection of equirect pixels is exact.
+void expect_constant_sh(const fs::path& dir, const std::string& file, size_t order) {
+  const double l00 = 2.0 * std::sqrt(3.14159265358979323846) * huge_radiance(dir);
+  std::ifstream in(dir / file);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_TRUE(j.is_object()) << file << " is not JSON";
+  for (const char* key : {"radiance", "irradiance_over_pi"}) {
+    ASSERT_EQ(j[key].size(), order * order) << key;
+    for (size_t k = 0; k < order * order; ++k)
+      for (size_t c = 0; c < 3; ++c)
+        EXPECT_NEAR(j[key][k][c].get<double>() / l00, k == 0 ? 1.0 : 0.0, brdfbake::test::kShExactProjection)
+            << file << " " << key << " " << k;
+  }
+}
+
 // -- Class 3: outputs that cannot hold a value, and radiance near FLT_MAX.
 void numeric_outputs(std::vector<Row>& rows) {
   const std::string huge = rgbe(16, 8, 1.69e38);  // near FLT_MAX: sums of two overflow in fp32
   rows.push_back(R("sh_of_radiance_near_flt_max", "irradiance --env {d}/huge.hdr --source-size 8 --quiet -o {d}/sh.json", 0)
                      .file("huge.hdr", huge).has("sh.json", "irradiance_over_pi").lacks("sh.json", "null")
-                     .lacks("sh.json", "inf").lines(0));
+                     .lacks("sh.json", "inf").lines(0)
+                     .output([](const fs::path& d) { expect_constant_sh(d, "sh.json", 3); }));
   rows.push_back(R("sh5_of_radiance_near_flt_max", "irradiance --env {d}/huge.hdr --sh 5 --sh-window lanczos --source-size 8 --quiet -o {d}/sh.json", 0)
-                     .file("huge.hdr", huge).has("sh.json", "\"order\": 5").lacks("sh.json", "null").lines(0));
+                     .file("huge.hdr", huge).has("sh.json", "\"order\": 5").lacks("sh.json", "null").lines(0)
+                     .output([](const fs::path& d) { expect_constant_sh(d, "sh.json", 5); }));
   rows.push_back(R("irradiance_cube_of_radiance_near_flt_max",
                    "irradiance --env {d}/huge.hdr --source-size 8 --cube 4 --pixel f32 --quiet -o {d}/c.ktx2 --sh-json {d}/sh.json", 0)
-                     .file("huge.hdr", huge).lacks("sh.json", "null").lines(0));
+                     .file("huge.hdr", huge).lacks("sh.json", "null").lines(0).output([](const fs::path& d) {
+                       expect_constant_cube(d, "c.ktx2", 1, 4, brdfbake::test::kEnvIrradianceDevice);
+                       expect_constant_sh(d, "sh.json", 3);
+                     }));
   rows.push_back(R("prefilter_of_radiance_near_flt_max", "prefilter --env {d}/huge.hdr --size 8 --min-size 4 --pixel f32 --quiet -o {d}/p.ktx2", 0)
-                     .file("huge.hdr", huge).lines(0));
+                     .file("huge.hdr", huge).lines(0)
+                     .output([](const fs::path& d) {
+                       expect_constant_cube(d, "p.ktx2", 2, 8, brdfbake::test::kEnvFurnace);
+                     }));
   rows.push_back(R("job_sh_of_radiance_near_flt_max", "run {d}/job.json -o {d}/out --quiet", 0)
                      .file("huge.hdr", huge)
                      .file("job.json", job(R"({"kind": "irradiance", "source_size": 8, "output": "sh.json"})", R"(, "environment": "huge.hdr")"))
-                     .lines(0));
+                     .lines(0).output([](const fs::path& d) { expect_constant_sh(d, "out/sh.json", 3); }));
   // NaN and infinite radiance: refused, or replaced and recorded with --sanitize.
   const std::string nan_cube = ktx2_cube(4, 1.0f, 5, NAN), inf_cube = ktx2_cube(4, 1.0f, 3, INFINITY);
   rows.push_back(R("prefilter_nan_env_refused", "prefilter --env {d}/e.ktx2 --size 8 --min-size 4 -o {d}/p.ktx2", 2)
@@ -1050,6 +1112,10 @@ TEST_P(Hostile, Row) {
     EXPECT_NE(read_file(dir / f).find(text), std::string::npos) << f << " lacks '" << text << "' after " << what;
   for (const auto& [f, text] : row.file_lacks)
     EXPECT_EQ(read_file(dir / f).find(text), std::string::npos) << f << " holds '" << text << "' after " << what;
+  if (row.check_output && r.code == 0) {
+    SCOPED_TRACE(what);
+    row.check_output(dir);
+  }
   // Nothing half-written is left: no temporary and no lock file, save a live process's.
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator(); it.increment(ec)) {

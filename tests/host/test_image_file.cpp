@@ -23,15 +23,14 @@
 #include "io/image_file.hpp"
 #include "io/oiio_module.hpp"
 #include "io/rgbe.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-// RGBE keeps 8 mantissa bits under the exponent of the pixel's largest channel, truncating: a
-// channel reads back within one step 2^e / 256 <= largest / 128 below its value, never above.
-constexpr double kRgbeStepOfLargest = 1.0 / 128.0;
+using test::kRgbeStepOfLargest;
 const io::ImageLimits kMaxPixels{uint64_t(1) << 28, 0};
 
 // The folder of this process's files, removed when the test program exits.

@@ -15,6 +15,7 @@
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 #include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
@@ -201,7 +202,8 @@ TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
   const json& fres = j["files"][2];
   EXPECT_EQ(fres["kind"], "fresnel");
   ASSERT_TRUE(fres["error_bound"].is_number());
-  EXPECT_LT(fres["error_bound"].get<double>(), 1e-5) << "fp32 exact dielectric against the double reference";
+  EXPECT_LT(fres["error_bound"].get<double>(), test::kFresnelFp32)
+      << "fp32 exact dielectric against the double reference";
   EXPECT_TRUE(j["files"][3].contains("error_vs_exact_max_abs"));
   EXPECT_EQ(j["files"][4]["device"], "reference");
   EXPECT_EQ(j["files"][5]["environment"], "builtin:studio");

@@ -128,7 +128,7 @@ TEST(Startup, OtherFormatsLoadTheModuleOnDemand) {
   EXPECT_TRUE(loaded);
   // without it: one line that names the module and how to point at it, and no output
   const CliRun missing = run_cli(args + (dir / "sh2.json").string(), "", kNoModule);
-  EXPECT_NE(missing.code, 0);
+  EXPECT_EQ(missing.code, 2) << missing.err;
   EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
   EXPECT_TRUE(contains(missing.err, "env.png")) << missing.err;
   EXPECT_TRUE(contains(missing.err, "brdfbake_oiio.so")) << missing.err;
