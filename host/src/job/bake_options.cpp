@@ -73,6 +73,8 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
                   naming.unknown + " (expected " + join_names(schema) + ")");
     const std::string field = naming.field(*d);
     if (!seen.insert(p.name).second) throw Error(field + ": given twice");
+    if (const std::string* text = std::get_if<std::string>(&p.value); text && text->empty() && d->type == ParamType::Path)
+      throw Error(field + ": must not be empty");
     check_param(*d, p.value, field);
     if (p.name == "scene") out.scene = std::get<std::string>(p.value);
     else if (p.name == "environment") o.environment = std::get<std::string>(p.value);
