@@ -104,6 +104,7 @@ std::vector<std::string> save(PyResult& r, const std::string& path, const std::s
     throw Error(prefix + ": '" + path + "' needs a table baked with " + (what.empty() ? "other parameters" : what) +
                 "; bake it with them (or save to another format)");
   }
+  t.output = path;  // written where asked, even where validation named a default ("" is refused there)
   Delivery d;
   {
     const py::gil_scoped_release release;

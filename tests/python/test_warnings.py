@@ -62,3 +62,12 @@ def test_job_warns_as_the_command_line_prints(tmp_path):
         manifest = brdfbake.run(job, tmp_path / "out")
     messages = [str(w.message) for w in record if issubclass(w.category, brdfbake.BakeWarning)]
     assert messages == manifest["warnings"] and str(tmp_path / "out" / "t.h") in messages[0]
+
+
+def test_save_writes_where_asked_or_nowhere(tmp_path, monkeypatch):
+    # save("") is refused; it never falls back to the default name validation gives a request.
+    monkeypatch.chdir(tmp_path)
+    r = brdfbake.lut(size=4)
+    with pytest.raises(brdfbake.Error):
+        r.save("")
+    assert list(tmp_path.iterdir()) == [] and r.files == []
