@@ -66,14 +66,22 @@ json schema_array(const std::vector<ParamDef>& schema) {
 
 const char* param_type_name(ParamType t) {
   switch (t) {
-    case ParamType::Int: return "integer";
-    case ParamType::Number: return "number";
-    case ParamType::Name: return "name";
-    case ParamType::Path: return "path";
-    case ParamType::Flag: return "flag";
-    case ParamType::Color: return "rgb";
-    case ParamType::Range: return "range";
-    case ParamType::IntList: return "integers";
+    case ParamType::Int:
+      return "integer";
+    case ParamType::Number:
+      return "number";
+    case ParamType::Name:
+      return "name";
+    case ParamType::Path:
+      return "path";
+    case ParamType::Flag:
+      return "flag";
+    case ParamType::Color:
+      return "rgb";
+    case ParamType::Range:
+      return "range";
+    case ParamType::IntList:
+      return "integers";
   }
   return "?";
 }

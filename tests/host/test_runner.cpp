@@ -113,7 +113,9 @@ TEST(Runner, ClampWarningsNameTheOutputAsRequested) {
   }
   TableRequest t;
   t.kind = TableKind::Tabulate;
-  t.params = {{"material", (dir / "sharp.json").string()}, {"layout", std::string("slice")}, {"res", 64.0},
+  t.params = {{"material", (dir / "sharp.json").string()},
+              {"layout", std::string("slice")},
+              {"res", 64.0},
               {"clamp_f16", true}};
   t.pixel = "f16";
   t.output = "t.ktx2";

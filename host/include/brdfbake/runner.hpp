@@ -28,7 +28,7 @@ enum class TableDelivery {
 
 // One file of a Bytes delivery.
 struct DeliveredFile {
-  std::string name;   // relative to the output's folder: the output's file name, or a sidecar's
+  std::string name;  // relative to the output's folder: the output's file name, or a sidecar's
   std::string bytes;
 };
 

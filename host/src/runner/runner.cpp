@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -131,7 +131,8 @@ BakeProgress with_stop(const TableRunOptions& o) {
   const std::thread::id caller = std::this_thread::get_id();
   return [&o, caller](double fraction, const std::string& step) {
     // Reference backends report from worker threads, which must not throw: they stop by themselves.
-    if (std::this_thread::get_id() == caller && o.stop_requested()) throw Cancelled("cancelled: the run was stopped", 0);
+    if (std::this_thread::get_id() == caller && o.stop_requested())
+      throw Cancelled("cancelled: the run was stopped", 0);
     if (o.progress) o.progress(fraction, step);
   };
 }
@@ -145,15 +146,20 @@ std::string sanitized_warning(const std::string& environment, const EnvImage& im
          " negative values";
 }
 
-Delivery deliver_result(const BakeResult& result, const TableRequest& t, TableDelivery to, const std::string& scratch_dir) {
+Delivery deliver_result(const BakeResult& result, const TableRequest& t, TableDelivery to,
+                        const std::string& scratch_dir) {
   Delivery d;
   switch (to) {
-    case TableDelivery::Memory: d.to = to; break;
+    case TableDelivery::Memory:
+      d.to = to;
+      break;
     case TableDelivery::File:
       d.to = to;
       d.report = write_result(result, t, t.output);
       break;
-    case TableDelivery::Bytes: d = deliver_bytes(result, t, scratch_dir); break;
+    case TableDelivery::Bytes:
+      d = deliver_bytes(result, t, scratch_dir);
+      break;
   }
   // A file's bound is what it records; values in memory are within the result's own.
   d.error_bound = d.report.error_bound ? d.report.error_bound : result.error_bound;
