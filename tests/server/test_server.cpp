@@ -66,6 +66,9 @@ class ServerApi : public ::testing::Test {
     write_file(dir_->path / "inputs" / "materials.json",
                R"({"materials": [{"name": "red", "model": "lambert", "baseColor": [0.8, 0.2, 0.1]}]})");
     write_file(dir_->path / "inputs" / "pairs.csv", "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n");
+    // A Phong lobe of shininess 1e6: its slice peaks at 152 098, beyond binary16's 65504.
+    write_file(dir_->path / "inputs" / "sharp.json",
+               R"({"materials": [{"name": "a", "model": "phong", "shininess": 1000000, "specularColor": [1, 1, 1]}]})");
     write_file(dir_->path / "outside" / "secret.json", R"({"materials": []})");
     fs::create_symlink(dir_->path / "outside" / "secret.json", dir_->path / "inputs" / "link.json");
     server_ = new ServerProcess(dir_->path, {"--data", (dir_->path / "data").string(), "--input-root",
@@ -176,6 +179,81 @@ TEST_F(ServerApi, TableFastPathReturnsTheFile) {
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
   EXPECT_EQ(body_json(bad)["error"], "table.size: must be an integer in 1..16384 (got 0)");
+}
+
+// The value of a key a KTX2 file records ("brdfbake:error_bound"), or "".
+std::string ktx2_value(const std::string& file, const std::string& key) {
+  const std::string k = "brdfbake:" + key + std::string(1, '\0');
+  const size_t at = file.find(k);
+  if (at == std::string::npos) return "";
+  const size_t end = file.find('\0', at + k.size());
+  return end == std::string::npos ? "" : file.substr(at + k.size(), end - at - k.size());
+}
+
+TEST_F(ServerApi, TableErrorBoundHeaderIsWhatTheFileRecords) {
+  // In binary16 the storage error (about 2^-12 relative) is added to the integration bound: the
+  // header carries the delivered bound, the file's own text (rounded up, never below), not the
+  // integration bound alone.
+  auto c = server_->client();
+  auto r = c.Post("/v1/tables", R"({"kind": "ggx", "size": 32, "pixel": "f16", "output": "dfg.ktx2"})", "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const std::string recorded = ktx2_value(r->body, "error_bound"), integration = ktx2_value(r->body, "integration_error_bound");
+  ASSERT_FALSE(recorded.empty());
+  ASSERT_FALSE(integration.empty());
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
+  EXPECT_GT(std::stod(r->get_header_value("X-Brdfbake-Error-Bound")), std::stod(integration) + std::ldexp(1.0, -13))
+      << "the storage error is part of the bound";
+  // A format that adds nothing (float32 EXR) records the integration bound, rounded the same way.
+  auto exr = c.Post("/v1/tables", R"({"kind": "ggx", "size": 32, "output": "dfg32.exr"})", "application/json");
+  ASSERT_TRUE(exr);
+  ASSERT_EQ(exr->status, 200) << exr->body;
+  EXPECT_EQ(exr->get_header_value("X-Brdfbake-Error-Bound"), integration);
+}
+
+TEST_F(ServerApi, ClampWarningsReachTheClient) {
+  auto c = server_->client();
+  // clamp_f16: the values beyond 65504 are clamped, recorded in the file and warned about, naming
+  // the output as the request does (never the server's scratch folder).
+  const std::string body =
+      R"({"kind": "tabulate", "material": "sharp.json", "layout": "slice", "res": 64, "pixel": "f16", "clamp_f16": true, "output": "t.ktx2"})";
+  auto r = c.Post("/v1/tables", body, "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_FALSE(ktx2_value(r->body, "f16_clamped").empty());
+  ASSERT_EQ(r->get_header_value_count("X-Brdfbake-Warning"), 1u);
+  const std::string warning = r->get_header_value("X-Brdfbake-Warning");
+  EXPECT_EQ(warning.rfind("'t.ktx2': ", 0), 0u) << warning;
+  EXPECT_NE(warning.find("clamped to 65504"), std::string::npos) << warning;
+  // From the result cache: the same warning.
+  auto again = c.Post("/v1/tables", body, "application/json");
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->get_header_value("X-Brdfbake-Cache"), "hit");
+  EXPECT_EQ(again->get_header_value("X-Brdfbake-Warning"), warning);
+  // Without clamp_f16: refused, the message naming the output and the option.
+  auto refused = c.Post("/v1/tables",
+                        R"({"kind": "tabulate", "material": "sharp.json", "layout": "slice", "res": 64, "pixel": "f16", "output": "t.ktx2"})",
+                        "application/json");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 400);
+  const std::string message = body_json(refused).value("error", "");
+  EXPECT_EQ(message.rfind("'t.ktx2': ", 0), 0u) << message;
+  EXPECT_NE(message.find("clamp_f16"), std::string::npos) << message;
+  // A table nothing was clamped in: no warning.
+  auto plain = c.Post("/v1/tables", R"({"kind": "ggx", "size": 8})", "application/json");
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->get_header_value_count("X-Brdfbake-Warning"), 0u);
+  // A job: its result lists the warning, naming the file inside the job's folder.
+  const std::string id = submit(c, json::parse(R"({"tables": [{"kind": "tabulate", "material": "sharp.json", "layout": "slice",
+                                                    "res": 64, "pixel": "f16", "clamp_f16": true, "output": "t.h"}]})"));
+  ASSERT_FALSE(id.empty());
+  const json s = wait_job(c, id);
+  ASSERT_EQ(s["state"], "done") << s.dump();
+  ASSERT_TRUE(s.contains("warnings")) << s.dump();
+  ASSERT_EQ(s["warnings"].size(), 1u) << s.dump();
+  const std::string w = s["warnings"][0];
+  EXPECT_EQ(w.rfind("'t.h': ", 0), 0u) << w;
+  EXPECT_NE(w.find("clamped to 65504"), std::string::npos) << w;
 }
 
 TEST_F(ServerApi, BadJobGetsTheCommandLinesMessage) {

@@ -173,14 +173,19 @@ void add_table_output_params(std::vector<ParamDef>& s) {
                   .output());
 }
 
+}  // namespace detail
+
+// Rounded up to three significant digits: the recorded text is never below the bound.
+std::string error_bound_text(double v) {
+  if (!(v > 0) || !std::isfinite(v)) return detail::fmt_number(v, "%.3g");
+  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
+  return detail::fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
+}
+
+namespace detail {
 namespace {
 
-// A bound as text, rounded up to three significant digits: the recorded text is never below it.
-std::string bound_text(double v) {
-  if (!(v > 0) || !std::isfinite(v)) return fmt_number(v, "%.3g");
-  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
-  return fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
-}
+std::string bound_text(double v) { return error_bound_text(v); }
 
 std::string count_text(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
 

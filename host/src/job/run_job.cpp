@@ -1,5 +1,6 @@
-// The job runner: each distinct table baked once through the family registry, every file written
-// into a temporary folder beside the output folder and moved in at the end, manifest.json last.
+// The job runner: each distinct table baked once through the table runner (brdfbake/runner.hpp) and
+// delivered to each of its outputs, every file written into a temporary folder beside the output
+// folder and moved in at the end, manifest.json last.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/output_lock.hpp"
+#include "brdfbake/runner.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
@@ -137,10 +139,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   manifest.warnings = job.warnings;
   manifest.bakes = static_cast<int>(groups.size());
   for (const auto& [name, env] : environments)
-    if (env.sanitize.replaced)
-      manifest.warnings.push_back("environment '" + name + "' sanitized: replaced " + std::to_string(env.sanitize.nan) +
-                                  " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
-                                  std::to_string(env.sanitize.negative) + " negative values");
+    if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
 
   const EngineTarget engine = engine_target_from_name(job.target);
   std::optional<BakeResult> ggx_chain, irradiance;
@@ -166,7 +165,12 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       }
       if (!read_later) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
     }
-    const BakeResult r = bake_table(t, backend, inputs, report);
+    TableRunOptions bake;
+    bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
+    bake.backend = &backend;
+    bake.inputs = inputs;
+    bake.progress = report;
+    const BakeResult r = run_table(t, bake).result;
     report(1.0, "");
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
@@ -183,9 +187,9 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
           text.replace(at, s.output.size(), final_path);
         return text;
       };
-      WriteReport written;
+      Delivery delivered;
       try {
-        written = write_result(r, s, s.output);
+        delivered = deliver_result(r, s, TableDelivery::File);
       } catch (const Cancelled&) {
         throw;
       } catch (const RuntimeFailure&) {
@@ -208,7 +212,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       f.precision = backend.result_precision(o.precision);
       f.device = r.device;
       if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
-      f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
+      const WriteReport& written = delivered.report;
+      f.error_bound = delivered.error_bound;
       f.error_bound_definition = r.error_bound_definition;
       f.details = r.details;
       if (written.error_bound && r.error_bound) {
@@ -220,7 +225,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
         f.details.push_back({"storage_encoding", written.encoding});
       }
       for (const auto& d : written.details) f.details.push_back(d);
-      for (const auto& w : written.warnings) {
+      for (const auto& w : delivered.warnings) {
         manifest.warnings.push_back(final_name(w));
         if (options.on_warning) options.on_warning(final_name(w));
       }
