@@ -6,6 +6,7 @@
 #include <set>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
 
 namespace brdfbake::cli {
@@ -213,7 +214,13 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   FieldNaming naming;
   naming.cli = true;
   validate_table(t, naming);  // everything checked before any slow work
-  if (t.output != "-") check_output_path(output_probe(t.output, t.kind));
+  // The outputs that stream (eval, CSV tables) may be a FIFO, a device or /dev/stdout; no output
+  // may be a file the request reads (brdfbake/output_checks.hpp).
+  std::string ext = std::filesystem::path(t.output).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool streams = eval || t.format == "csv" || (t.format.empty() && ext == ".csv");
+  check_table_files(t, naming, streams);
+  if (t.output != "-") check_output_path(output_probe(t.output, t.kind), streams);
   const bool quiet = quiet_option(r);
   // Once the request is known to be good, the OpenCL platform opens on a second thread (PoCL loads
   // LLVM: ~15 ms) while the output folder is locked and the inputs are read; usage errors and work
@@ -238,6 +245,8 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     lo.sanitize = r.count("sanitize") > 0;
     lo.memory_budget = memory_budget_option(r);
     environment = load_environment(t.environment, lo);
+    if (!quiet)
+      for (const auto& note : environment.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
     if (!quiet && environment.sanitize.replaced)
       std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
                    environment.source.c_str(), environment.sanitize.nan, environment.sanitize.infinite,
