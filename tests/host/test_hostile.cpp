@@ -1175,6 +1175,8 @@ void image_values(std::vector<Row>& rows) {
            {"image_hdr_negative_width", "-Y 8 +X -16"}})
     rows.push_back(R(name, "irradiance --env {d}/e.hdr -o {d}/sh.json", 2)
                        .file("e.hdr", head + line + "\n" + px).says("resolution line").no("sh.json"));
+  rows.push_back(R("image_hdr_exposure_said", "irradiance --env {d}/e.hdr --source-size 8 -o {d}/sh.json", 0)
+                     .file("e.hdr", "#?RADIANCE\nEXPOSURE=2.5\n" + rgbe(16, 8, 1.0).substr(11)).says("EXPOSURE (2.5)").lines(2));
   rows.push_back(R("image_hdr_header_without_end", "irradiance --env {d}/e.hdr -o {d}/sh.json", 2)
                      .file("e.hdr", "#?RADIANCE\n" + repeat("# comment\n", 10000)).says("header").no("sh.json"));
 }

@@ -2,6 +2,7 @@
 // the RGBE writer. The OpenEXR and PNG code is in exr.cpp and png.cpp.
 #include "io/image_file.hpp"
 
+#include <cstdio>
 #include <sstream>
 
 #include "brdfbake/cancel.hpp"
@@ -30,6 +31,13 @@ FloatImage read_rgbe_file(const std::string& path, const ImageLimits& limits) {
   out.pixels = std::move(rgbe.rgb);
   out.description = "Radiance RGBE " + std::to_string(out.width) + "x" + std::to_string(out.height) + ", " +
                     (rgbe.run_length_encoded ? "run-length encoded" : "flat") + ", " + rgbe.orientation;
+  if (rgbe.exposure != 1.0) {
+    // As OpenImageIO and stb_image read it: said, not silently different from what Radiance shows.
+    char b[160];
+    std::snprintf(b, sizeof b, "its header's EXPOSURE (%.6g) is not divided out: values as stored", rgbe.exposure);
+    out.transfer_note = b;
+    out.description += std::string(", ") + b;
+  }
   return out;
 }
 

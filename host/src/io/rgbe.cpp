@@ -239,6 +239,7 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   if (!is_rgbe(bytes)) throw Error("not a Radiance picture (it does not start with '#?')");
   Reader in(bytes);
   std::string line;
+  double exposure = 1.0;
   in.line(line);  // the "#?PROGRAM" line
   for (;;) {
     if (!in.line(line) || in.offset() > kRgbeMaxHeaderBytes)
@@ -246,6 +247,12 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
                       ? "the header is longer than " + std::to_string(kRgbeMaxHeaderBytes >> 10) + " KiB"
                       : std::string("truncated: the header has no end (an empty line)"));
     if (line.empty()) break;
+    if (line.rfind("EXPOSURE=", 0) == 0) {
+      // Radiance multiplies: the values were scaled by every EXPOSURE. Kept for the note the
+      // reader gives; a value that is not a positive finite number is left out.
+      const double e = std::strtod(line.c_str() + 9, nullptr);
+      if (std::isfinite(e) && e > 0.0) exposure *= e;
+    }
     if (line.rfind("FORMAT=", 0) == 0) {
       std::string format = line.substr(7);
       while (!format.empty() && std::isspace(static_cast<unsigned char>(format.back()))) format.pop_back();
@@ -274,6 +281,7 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   image.width = x_axis.count;
   image.height = y_axis.count;
   image.orientation = std::string{first.sign, first.name, ' ', second.sign, second.name};
+  image.exposure = std::isfinite(exposure) ? exposure : 1.0;
   image.rgb.resize(size_t(image.width) * size_t(image.height) * 3);
   // Where the k-th value along an axis lands: X runs left to right, Y points up (row 0 the top).
   auto place = [](const Axis& a, int k) {

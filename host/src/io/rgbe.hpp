@@ -45,6 +45,7 @@ struct RgbeImage {
   std::vector<float> rgb;  // width x height x 3, row 0 the top row
   std::string orientation;  // the resolution line's order, e.g. "-Y +X"
   bool run_length_encoded = false;  // some scanline used new run-length encoding
+  double exposure = 1.0;            // the product of the header's EXPOSURE= lines (not applied)
 };
 
 // The longest header read (Radiance headers hold a few lines of history and options).
