@@ -1,8 +1,12 @@
 // Reading images by signature, with OpenImageIO (the module) for the formats read nowhere else;
-// the RGBE writer. The OpenEXR and PNG code is in exr.cpp and png.cpp.
+// the RGBE writer. The OpenEXR code is in exr.cpp, the PNG writer in png.cpp, the PNG reader in png_image.cpp.
 #include "io/image_file.hpp"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 
 #include "brdfbake/cancel.hpp"
@@ -98,6 +102,7 @@ FloatImage read_with_oiio(const std::string& path, const ImageLimits& limits) {
 FloatImage read_image(const std::string& path, const ImageLimits& limits) {
   // Decoders seek and size the file: a FIFO or a device is refused here, never read (special_files.hpp).
   if (const std::string problem = input_problem(path, Streams::No); !problem.empty()) throw Error(problem);
+  if (::access(path.c_str(), R_OK) != 0) throw Error(std::strerror(errno));  // the reason, without the path again
   const std::string head = read_head(path, 8);
   FloatImage out;
   if (is_exr(head) && read_exr(path, limits, out)) return out;
