@@ -21,9 +21,10 @@ BRDFBAKE_PACKAGES=(
 # Used only by the test suite: Filament's own KtxBundle and cmgen check the Filament target
 # (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output
 # (tests/engines/validate_gltf_ibl.py), oclgrind a second OpenCL implementation for the kernel
-# build test. The tests skip with a message where these are missing.
+# build test. The tests skip with a message where these are missing. clang-format-14 is the formatter
+# of scripts/check_format.sh (.clang-format; other versions format differently).
 BRDFBAKE_TEST_PACKAGES=(
-  libfilament-dev libfilament-tools python3-jsonschema oclgrind
+  libfilament-dev libfilament-tools python3-jsonschema oclgrind clang-format-14
 )
 
 # The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).
