@@ -30,6 +30,7 @@
 #include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "server/confine.hpp"
 #include "server/connections.hpp"
 #include "server/job_store.hpp"
@@ -259,10 +260,7 @@ void Server::Impl::open(ServerOptions options) {
     }
   }
   if (!opt.token_file.empty()) {
-    std::ifstream in(opt.token_file);
-    if (!in) throw Error("--token-file: cannot read '" + opt.token_file + "'");
-    std::getline(in, token);
-    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    token = io::read_token_file(opt.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
     if (token.size() < 16) throw Error("--token-file: the token (its first line) must have at least 16 characters");
   } else if (!is_loopback(opt.host)) {
     throw Error("--listen: refusing to listen on '" + opt.host +
