@@ -269,6 +269,9 @@ def _equirect_array(a: np.ndarray, where: str) -> np.ndarray:
     if h < 1 or w != 2 * h:
         raise InputError(f"{where}.env: an equirect array must be twice as wide as it is high "
                          f"(got {w}x{h}, shape {a.shape})")
+    # The pixel limit and the memory budget, on the shape: before the array (perhaps a broadcast view
+    # of one value, which takes no memory yet) is converted and copied.
+    _core.check_environment_size(w, h, f"{where}.env: array {w}x{h}")
     with np.errstate(over="ignore"):  # float64 beyond float32's range becomes inf: refused (or sanitized) as such
         return np.ascontiguousarray(a, dtype=np.float32)
 
