@@ -295,6 +295,7 @@ PYBIND11_MODULE(_brdfbake, m) {
 
   bind_results(m);
 
+  m.def("default_memory_budget", [] { return default_memory_budget(); });
   m.def("check_environment_size", [](std::uint64_t width, std::uint64_t height, const std::string& source) {
     check_environment_size(width, height, source);
   });

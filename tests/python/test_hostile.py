@@ -87,6 +87,29 @@ def test_a_broadcast_array_is_refused_on_its_shape():
     assert "65536x32768" in lines[1] and "268435456 pixels" in lines[1], lines[1]
 
 
+def test_broadcast_directions_are_refused_on_their_shape():
+    # The same class for eval's pairs: one wi against a broadcast view of 2^33 wo (float32, so the
+    # conversion to float64 would copy it) needs 576 GiB as float64 pairs and values: refused naming
+    # the memory budget before anything is converted or joined (before: a MemoryError, or the
+    # memory taken when the machine allows it).
+    code = """
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+        import numpy as np, brdfbake
+        wo = np.broadcast_to(np.array([0.0, 0.6, 0.8], dtype=np.float32), (1 << 33, 3))
+        try:
+            brdfbake.eval({"model": "lambert"}, [0.0, 0.0, 1.0], wo)
+        except brdfbake.InputError as e:
+            print(str(e))
+        else:
+            print("accepted")
+    """
+    got = _python(code)
+    assert got.returncode == 0, got.stderr[-2000:]
+    message = got.stdout.strip()
+    assert "8589934592 pairs need 576.0 GiB" in message and "memory budget" in message, message
+
+
 def test_a_broadcast_array_within_the_limit_is_taken():
     view = np.broadcast_to(np.float32(1.0), (64, 128, 3))
     env = brdfbake.load_environment(view)
