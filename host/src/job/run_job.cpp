@@ -174,6 +174,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     bake.backend = &backend;
     bake.inputs = inputs;
     bake.progress = report;
+    bake.stop_requested = options.stop_requested;
     const BakeResult r = run_table(t, bake).result;
     report(1.0, "");
     // What an engine's file set is made of: the first GGX chain and the first SH.
@@ -252,7 +253,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     eb.sh = &irradiance->irradiance()->sh;
     if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
     EngineWriteOptions wo;
-    wo.name = fs::path(target).filename().string();
+    wo.name = options.engine_name.empty() ? fs::path(target).filename().string() : options.engine_name;
     const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
     manifest.target = job.target;
     for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
