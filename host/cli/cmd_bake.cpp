@@ -114,7 +114,7 @@ int cmd_bake(int argc, char** argv) {
                            "Read a glTF scene's materials and bake the tables they call for (docs/SCENES.md)");
   options.add_options()
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
-      ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
+      ("environment,env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ") (alias: --env)", cxxopts::value<std::string>())
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
       ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
       ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
