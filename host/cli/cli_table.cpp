@@ -6,6 +6,7 @@
 #include <set>
 
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/runner.hpp"
 
 namespace brdfbake::cli {
@@ -202,6 +203,12 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   FieldNaming naming;
   naming.cli = true;
   validate_table(t, naming);  // everything checked before any slow work
+  // The outputs that stream (eval, CSV tables) may be a FIFO, a device or /dev/stdout; no output
+  // may be a file the request reads (brdfbake/output_checks.hpp).
+  std::string ext = std::filesystem::path(t.output).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool streams = eval || t.format == "csv" || (t.format.empty() && ext == ".csv");
+  check_table_files(t, naming, streams);
   const bool quiet = quiet_option(r);
 
   TableRunOptions run;
@@ -211,10 +218,13 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   run.wait_for_lock = lock.wait_for_lock;
   run.on_wait = lock.on_wait;
   run.stream = eval;
+  run.output_may_stream = streams;
   if (env) {
     run.load.sanitize = r.count("sanitize") > 0;
     run.load.memory_budget = memory_budget_option(r);
     run.on_environment = [quiet](const EnvImage& e) {
+      if (!quiet)
+        for (const auto& note : e.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
       if (!quiet && e.sanitize.replaced)
         std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n", e.source.c_str(),
                      e.sanitize.nan, e.sanitize.infinite, e.sanitize.negative);

@@ -27,6 +27,7 @@
 #include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
@@ -223,10 +224,7 @@ void Server::Impl::open(ServerOptions options) {
   if (opt.max_queue < 1) throw Error("--max-queue: must be at least 1");
   if (opt.threads < 2) throw Error("--threads: must be at least 2");
   if (!opt.token_file.empty()) {
-    std::ifstream in(opt.token_file);
-    if (!in) throw Error("--token-file: cannot read '" + opt.token_file + "'");
-    std::getline(in, token);
-    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    token = io::read_token_file(opt.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
     if (token.size() < 16) throw Error("--token-file: the token (its first line) must have at least 16 characters");
   } else if (!is_loopback(opt.host)) {
     throw Error("--listen: refusing to listen on '" + opt.host +

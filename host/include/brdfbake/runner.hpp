@@ -79,6 +79,9 @@ struct TableRunOptions {
   // takes a file); and a folder output (a cube written as images) locked for the run, with the
   // temporaries of killed runs removed (docs/RELIABILITY.md, "Outputs").
   bool check_output = true;
+  // The output may be a FIFO, a device or standard output as a file (CSV tables, eval: the outputs
+  // that stream; docs/RELIABILITY.md, "Special files"); other outputs refuse them.
+  bool output_may_stream = false;
   bool lock_folder_output = false;
   bool wait_for_lock = false;
   std::function<void(long pid)> on_wait;

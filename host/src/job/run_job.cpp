@@ -11,6 +11,7 @@
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/runner.hpp"
 #include "families/family.hpp"
@@ -104,6 +105,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
+  check_job_files(job, target);  // outputs as a set, against the folder and the inputs, before any work
   // One run at a time per folder; then what killed runs left beside it can go.
   OutputLock lock(target, options.wait_for_lock, options.on_wait);
   remove_stale_temporaries(target);
@@ -138,6 +140,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   manifest.notes = job.notes;
   manifest.warnings = job.warnings;
   manifest.bakes = static_cast<int>(groups.size());
+  for (const auto& [name, env] : environments)
+    for (const auto& note : env.notes) manifest.notes.push_back("environment " + note);  // e.g. sRGB decoded
   for (const auto& [name, env] : environments)
     if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
 

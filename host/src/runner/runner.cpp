@@ -172,7 +172,7 @@ TableRun run_table(const TableRequest& t, const TableRunOptions& o) {
   const bool file = o.delivery == TableDelivery::File;
   const bool streaming = file && o.stream && table_kind_streams(t.kind) && !o.inputs.pairs;
   // Everything that can be checked is, before any slow work.
-  if (file && o.check_output && t.output != "-") check_output_path(output_probe(t));
+  if (file && o.check_output && t.output != "-") check_output_path(output_probe(t), o.output_may_stream);
   // The OpenCL platform opens on a second thread (PoCL loads LLVM: ~15 ms) while the output folder
   // is locked and the inputs are read; work that needs no device (SH alone) loads no OpenCL at all.
   std::shared_ptr<Backend> owned;
