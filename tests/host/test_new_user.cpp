@@ -2,6 +2,10 @@
 // - option names: every parameter is the option --NAME of its job field (with - for _) on every
 //   command, shorter spellings are aliases listed in --help, and an unknown option on any command
 //   says which known one is closest.
+// - progress: 100 % of a step means its files are written (the writing has its share, an engine's
+//   file set is a step of its own).
+// - engine files: with --target every file the bake writes is listed in its summary, the plan says
+//   the target, and `view` shows each of them.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -9,13 +13,17 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "brdfbake/job.hpp"
 #include "brdfbake/params.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/tables.hpp"
+#include "brdfbake/view.hpp"
 #include "support/cli_runner.hpp"
 
 namespace brdfbake {
@@ -140,6 +148,122 @@ TEST(OptionNames, UnknownOptionsOnEveryCommandSayWhatWasMeant) {
   const CliRun far = run_cli("lut --zzzzzz 3");
   EXPECT_EQ(far.code, 2);
   EXPECT_NE(far.err.find("unknown option '--zzzzzz' (see --help)"), std::string::npos) << far.err;
+}
+
+// No option's help states its default twice: a description that says "default: ..." in words is
+// not followed by cxxopts' own "(default: VALUE)" (serve --max-memory printed "default: half the
+// machine's (default: 0)").
+TEST(OptionNames, NoHelpStatesADefaultTwice) {
+  for (const char* command : {"bake", "run", "serve", "devices", "kinds", "lut", "fresnel", "thin-film", "prefilter",
+                              "irradiance", "eval", "tabulate", "view", "report"}) {
+    const CliRun r = run_cli(std::string(command) + " --help");
+    ASSERT_EQ(r.code, 0) << command;
+    const std::string help = unwrapped(r.out);
+    for (size_t at = help.find("default: "); at != std::string::npos; at = help.find("default: ", at + 1)) {
+      // The rest of this option's description: up to the next option ("--" after a space).
+      const size_t next = help.find(" --", at);
+      const std::string rest = help.substr(at + 9, next == std::string::npos ? std::string::npos : next - at - 9);
+      EXPECT_EQ(rest.find("default: "), std::string::npos) << command << ": ..." << help.substr(at, 160);
+    }
+  }
+}
+
+// ---- Engine files ----------------------------------------------------------------------------------
+
+// Every file of the folder (manifest.json aside), relative to it.
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().filename() != "manifest.json")
+      out.push_back(e.path().lexically_relative(dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Each target's bake: the plan names the target, the summary lists every file written (a glTF's
+// faces as one line with their count), and view shows every file, engine files included.
+TEST(EngineFiles, EveryTargetsFilesAreListedAndViewable) {
+  const fs::path dir = temp_dir("targets");
+  for (const char* target : {"filament", "gltf", "babylon", "khronos-viewer"}) {
+    SCOPED_TRACE(target);
+    const fs::path out = dir / target;
+    const std::string args = std::string("bake --environment builtin:sun --target ") + target +
+                             " --cube-size 16 --min-size " + (std::string(target) == "babylon" ? "1" : "4") + " --lut-size 16 --fresnel-size 16 -o " + out.string();
+    const CliRun plan = run_cli(args + " --dry-run");
+    ASSERT_EQ(plan.code, 0) << plan.err;
+    EXPECT_NE(plan.out.find(std::string("target ") + target), std::string::npos) << plan.out;
+    EXPECT_EQ(plan.out.find("target generic"), std::string::npos) << plan.out;
+    const CliRun baked = run_cli(args);
+    ASSERT_EQ(baked.code, 0) << baked.err;
+    const std::vector<std::string> written = files_in(out);
+    size_t pngs = 0;
+    for (const std::string& f : written) {
+      if (f.size() > 4 && f.substr(f.size() - 4) == ".png" && std::string(target) == "gltf") {
+        ++pngs;  // one line for all of them, with the first and last named
+        continue;
+      }
+      EXPECT_NE(baked.out.find("  " + f + " "), std::string::npos) << f << " is not in the summary:\n" << baked.out;
+    }
+    if (std::string(target) == "gltf") {
+      EXPECT_GE(pngs, 6u);
+      EXPECT_NE(baked.out.find(std::to_string(pngs) + " PNGs: "), std::string::npos) << baked.out;
+    }
+    // view: each file alone (the engine files by their own readers), then the folder.
+    for (const std::string& f : written) {
+      if (f.size() > 5 && f.substr(f.size() - 5) == ".json" &&
+          std::find(written.begin(), written.end(), f.substr(0, f.size() - 5)) != written.end())
+        continue;  // a sidecar stands for its file
+      const std::string kind = view_kind((out / f).string());
+      EXPECT_FALSE(kind.empty()) << f;
+    }
+    const ContactSheet sheet = render_contact_sheet({out.string()});
+    for (const std::string& f : written) {
+      if (f.size() > 5 && f.substr(f.size() - 5) == ".json") continue;
+      if (std::string(target) == "gltf" && f.size() > 4 && f.substr(f.size() - 4) == ".png") continue;  // drawn by its .gltf
+      EXPECT_NE(std::find(sheet.files.begin(), sheet.files.end(), (out / f).string()), sheet.files.end())
+          << f << " is not on the folder's sheet";
+    }
+  }
+}
+
+// ---- Progress ------------------------------------------------------------------------------------
+
+// A job's progress reached 100 % and stayed there while the files were written (seconds, with an
+// engine's file set). Now each step's 100 % is its last event, each output has its "writing" event
+// below 100 %, and the engine's file set is the last step.
+TEST(Progress, HundredPercentMeansTheFilesAreWritten) {
+  const fs::path dir = temp_dir("progress");
+  Job job = parse_job(R"({"brdfbake_job": 1, "target": "babylon", "environment": "builtin:sun", "tables": [
+      {"kind": "ggx", "size": 8, "output": "a.exr"},
+      {"kind": "ggx", "size": 8, "output": "b.csv"},
+      {"kind": "prefilter", "size": 16, "min_size": 1, "schedule": "babylon", "output": "p.ktx2"},
+      {"kind": "irradiance", "output": "sh.json"}]})",
+                      "job.json");
+  job.output_dir = (dir / "out").string();
+  std::vector<JobEvent> events;
+  const Manifest m = run_job(job, [&](const JobEvent& e) { events.push_back(e); });
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(m.bakes, 3) << "a.exr and b.csv are one bake";
+  const int steps = 3 + 1;  // the distinct tables, then the .env
+  std::map<int, bool> done;
+  std::set<std::string> writing;
+  for (const JobEvent& e : events) {
+    SCOPED_TRACE(e.what);
+    EXPECT_EQ(e.bakes, steps);
+    EXPECT_FALSE(done[e.bake]) << "an event after its step's 100 %";
+    if (e.fraction >= 1.0) done[e.bake] = true;
+    const size_t at = e.what.find(": writing ");
+    if (at != std::string::npos) {
+      EXPECT_LT(e.fraction, 1.0);
+      writing.insert(e.what.substr(at + 10));
+    }
+  }
+  EXPECT_EQ(writing, (std::set<std::string>{"a.exr", "b.csv", "p.ktx2", "sh.json"}));
+  for (int k = 0; k < steps; ++k) EXPECT_TRUE(done[k]) << "step " << k << " never reached 100 %";
+  EXPECT_EQ(events.back().bake, steps - 1);
+  EXPECT_EQ(events.back().what, "writing the babylon files");
+  EXPECT_EQ(events.back().fraction, 1.0);
+  EXPECT_TRUE(fs::exists(dir / "out" / "out.env"));
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ void validate_job(Job& job);
 std::string job_to_json(const Job& job);
 
 struct JobEvent {
-  int bake = 0, bakes = 0;   // which distinct table, of how many
+  int bake = 0, bakes = 0;   // which step, of how many: the distinct tables, then an engine target's file set
   std::string what;          // e.g. "ggx-multiscatter 128", "prefilter ggx 256: level 2/5"
   double fraction = 0.0;     // of this table
 };
