@@ -44,8 +44,10 @@ fs::path temp_dir(const std::string& name) {
 std::string unwrapped(const std::string& text) {
   std::string s;
   for (char c : text)
-    if (!std::isspace(static_cast<unsigned char>(c))) s += c;
-    else if (!s.empty() && s.back() != ' ') s += ' ';
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      s += c;
+    else if (!s.empty() && s.back() != ' ')
+      s += ' ';
   return s;
 }
 
@@ -63,11 +65,10 @@ std::string read_bytes(const fs::path& p) {
 TEST(OptionNames, TheJobsSpellingIsTheOptionAndShortOnesAreAliases) {
   const fs::path dir = temp_dir("spelling");
   const std::string common = " --source-size 8 --quiet -o ";
-  const CliRun job_names = run_cli("irradiance --environment builtin:sun --sh-order 5 --cube-size 4" + common +
-                                   (dir / "a.ktx2").string());
+  const CliRun job_names =
+      run_cli("irradiance --environment builtin:sun --sh-order 5 --cube-size 4" + common + (dir / "a.ktx2").string());
   ASSERT_EQ(job_names.code, 0) << job_names.err;
-  const CliRun aliases =
-      run_cli("irradiance --env builtin:sun --sh 5 --cube 4" + common + (dir / "b.ktx2").string());
+  const CliRun aliases = run_cli("irradiance --env builtin:sun --sh 5 --cube 4" + common + (dir / "b.ktx2").string());
   ASSERT_EQ(aliases.code, 0) << aliases.err;
   EXPECT_EQ(read_bytes(dir / "a.ktx2"), read_bytes(dir / "b.ktx2"));
   // bake: the same spellings (its sh_order is the table's).
@@ -126,13 +127,20 @@ TEST(OptionNames, UnknownOptionsOnEveryCommandSayWhatWasMeant) {
     const char* meant;
   };
   const Case cases[] = {
-      {"bake", "--cube-sze 64", "--cube-size"},      {"run", "--dry-rn x.json", "--dry-run"},
-      {"serve", "--max-queu 3", "--max-queue"},      {"devices", "--jsn", "--json"},
-      {"kinds", "--markdwn", "--markdown"},          {"lut", "--sise 8", "--size"},
-      {"fresnel", "--materal gold", "--material"},   {"thin-film", "--film-iorr 1.3", "--film-ior"},
-      {"prefilter", "--distribtion ggx", "--distribution"}, {"irradiance", "--sh_order 5", "--sh-order"},
-      {"eval", "--materal m.json", "--material"},    {"tabulate", "--layot merl", "--layout"},
-      {"view", "--exposur 2 x.ktx2 -o s.png", "--exposure"}, {"report", "--kindss ggx", "--kinds"},
+      {"bake", "--cube-sze 64", "--cube-size"},
+      {"run", "--dry-rn x.json", "--dry-run"},
+      {"serve", "--max-queu 3", "--max-queue"},
+      {"devices", "--jsn", "--json"},
+      {"kinds", "--markdwn", "--markdown"},
+      {"lut", "--sise 8", "--size"},
+      {"fresnel", "--materal gold", "--material"},
+      {"thin-film", "--film-iorr 1.3", "--film-ior"},
+      {"prefilter", "--distribtion ggx", "--distribution"},
+      {"irradiance", "--sh_order 5", "--sh-order"},
+      {"eval", "--materal m.json", "--material"},
+      {"tabulate", "--layot merl", "--layout"},
+      {"view", "--exposur 2 x.ktx2 -o s.png", "--exposure"},
+      {"report", "--kindss ggx", "--kinds"},
       {"bake", "--enviroment x.hdr", "--environment"},
   };
   for (const Case& c : cases) {
@@ -188,7 +196,8 @@ TEST(EngineFiles, EveryTargetsFilesAreListedAndViewable) {
     SCOPED_TRACE(target);
     const fs::path out = dir / target;
     const std::string args = std::string("bake --environment builtin:sun --target ") + target +
-                             " --cube-size 16 --min-size " + (std::string(target) == "babylon" ? "1" : "4") + " --lut-size 16 --fresnel-size 16 -o " + out.string();
+                             " --cube-size 16 --min-size " + (std::string(target) == "babylon" ? "1" : "4") +
+                             " --lut-size 16 --fresnel-size 16 -o " + out.string();
     const CliRun plan = run_cli(args + " --dry-run");
     ASSERT_EQ(plan.code, 0) << plan.err;
     EXPECT_NE(plan.out.find(std::string("target ") + target), std::string::npos) << plan.out;
@@ -219,7 +228,8 @@ TEST(EngineFiles, EveryTargetsFilesAreListedAndViewable) {
     const ContactSheet sheet = render_contact_sheet({out.string()});
     for (const std::string& f : written) {
       if (f.size() > 5 && f.substr(f.size() - 5) == ".json") continue;
-      if (std::string(target) == "gltf" && f.size() > 4 && f.substr(f.size() - 4) == ".png") continue;  // drawn by its .gltf
+      if (std::string(target) == "gltf" && f.size() > 4 && f.substr(f.size() - 4) == ".png")
+        continue;  // drawn by its .gltf
       EXPECT_NE(std::find(sheet.files.begin(), sheet.files.end(), (out / f).string()), sheet.files.end())
           << f << " is not on the folder's sheet";
     }
