@@ -118,6 +118,16 @@ Manifest manifest_from_json(const std::string& text, const std::string& output_d
       e.bake = f.value("bake", 0);
       out.files.push_back(std::move(e));
     }
+  if (m.contains("engine") && m["engine"].is_object()) {  // an engine target's file set
+    const json& e = m["engine"];
+    out.target = e.value("target", "");
+    if (e.contains("files") && e["files"].is_array())
+      for (const auto& f : e["files"])
+        if (f.is_string()) out.engine_files.push_back(f.get<std::string>());
+    if (e.contains("delivered") && e["delivered"].is_object())
+      for (const auto& [k, v] : e["delivered"].items())
+        if (v.is_string()) out.engine_delivered.emplace_back(k, v.get<std::string>());
+  }
   for (const char* key : {"notes", "warnings"})
     if (m.contains(key) && m[key].is_array())
       for (const auto& n : m[key])
@@ -129,7 +139,22 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
                     const RemoteOptions& o, const JobProgress& progress) {
   Connection c(o);
   const std::string path = "/v1/jobs?source=" + url_encode(source);
-  const httplib::Result posted = c->Post(path.c_str(), job_text, "application/json");
+  // An engine's files are named after the folder they are written to (docs/ENGINES.md): here, the
+  // local one, not the server's job folder.
+  std::string text = job_text;
+  {
+    json doc = json::parse(job_text, nullptr, false);
+    if (doc.is_object() && doc.contains("target") && !doc.contains("engine_name")) {
+      std::string folder = output_dir;
+      while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+      const std::string name = fs::path(folder).filename().string();
+      if (!name.empty() && name != "." && name != "..") {
+        doc["engine_name"] = name;
+        text = doc.dump();
+      }
+    }
+  }
+  const httplib::Result posted = c->Post(path.c_str(), text, "application/json");
   c.check(posted);
   if (posted->status == 400) throw RemoteError(server_message(posted), 2);
   if (posted->status != 202)

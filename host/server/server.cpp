@@ -412,6 +412,10 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
     json files = json::array();
     if (m.is_object() && m.contains("files"))
       for (const auto& f : m["files"]) files.push_back(f.value("path", ""));
+    // An engine target's file set (docs/ENGINES.md), written beside the tables: every file is listed.
+    if (m.is_object() && m.contains("engine") && m["engine"].is_object() && m["engine"].contains("files"))
+      for (const auto& f : m["engine"]["files"])
+        if (f.is_string()) files.push_back(f);
     files.push_back("manifest.json");
     o["files"] = files;
     // What was changed on the way to the files (clamp_f16, a sanitized environment), naming them

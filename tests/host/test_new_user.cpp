@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/error.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/params.hpp"
 #include "brdfbake/plan.hpp"
@@ -232,6 +233,21 @@ TEST(EngineFiles, EveryTargetsFilesAreListedAndViewable) {
         continue;  // drawn by its .gltf
       EXPECT_NE(std::find(sheet.files.begin(), sheet.files.end(), (out / f).string()), sheet.files.end())
           << f << " is not on the folder's sheet";
+    }
+  }
+}
+
+// A job's engine_name names the engine's files; it is a file name, never a path.
+TEST(EngineFiles, EngineNameIsAFileName) {
+  const std::string head = R"({"brdfbake_job": 1, "target": "gltf", "tables": [], "engine_name": )";
+  EXPECT_EQ(parse_job(head + R"("sky"})", "job.json").engine_name, "sky");
+  for (const char* bad : {R"("../sky")", R"("a/b")", R"("")", R"("..")", "3"}) {
+    SCOPED_TRACE(bad);
+    try {
+      parse_job(head + bad + "}", "job.json");
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("job.json: engine_name: "), std::string::npos) << e.what();
     }
   }
 }

@@ -26,6 +26,9 @@ struct Job {
   // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
   // "khronos-viewer".
   std::string target = "generic";
+  // NAME of the engine's files (NAME.gltf, NAME_ibl.ktx, ...): empty is the output folder's name, as
+  // cmgen names them; `run --server` sets it to the local folder's (the server's folder is a job id).
+  std::string engine_name;
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;

@@ -261,7 +261,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     eb.sh = &irradiance->irradiance()->sh;
     if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
     EngineWriteOptions wo;
-    wo.name = fs::path(target).filename().string();
+    wo.name = job.engine_name.empty() ? fs::path(target).filename().string() : job.engine_name;
     const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
     manifest.target = job.target;
     for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
