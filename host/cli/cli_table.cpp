@@ -13,11 +13,20 @@ namespace brdfbake::cli {
 
 namespace {
 
-// Options whose one-letter alias users expect.
+// The option's names for cxxopts: its one spelling (the job field's), then its aliases, and the
+// one-letter alias users expect of --input.
 std::string option_spec(const ParamDef& d) {
-  const std::string name = d.cli_name();
-  if (name == "input") return "i,input";
-  return name;
+  std::string spec = d.cli_name();
+  if (spec == "input") spec = "i,input";
+  for (const std::string& a : d.aliases) spec += "," + a;
+  return spec;
+}
+
+// " (alias: --sh)" for the help of an option with aliases.
+std::string aliases_text(const ParamDef& d) {
+  std::string s;
+  for (const std::string& a : d.aliases) s += (s.empty() ? " (alias: --" : ", --") + a;
+  return s.empty() ? s : s + ")";
 }
 
 bool negated_flag(const ParamDef& d) {
@@ -36,8 +45,8 @@ std::string default_text(const ParamDef& d) {
 
 std::string help_of(const ParamDef& d) {
   std::string h = d.help;
-  if (negated_flag(d)) return "turn off: " + h;
-  if (d.type == ParamType::Flag) return h;
+  if (negated_flag(d)) return "turn off: " + h + aliases_text(d);
+  if (d.type == ParamType::Flag) return h + aliases_text(d);
   if (!d.choices.empty()) {
     std::string c;
     for (const auto& x : d.choices) c += (c.empty() ? "" : " | ") + x;
@@ -48,7 +57,7 @@ std::string help_of(const ParamDef& d) {
   const std::string def = default_text(d);
   if (!def.empty()) h += " (default: " + def + ")";
   if (d.required) h += " (required)";
-  return h;
+  return h + aliases_text(d);
 }
 
 std::vector<TableKind> kinds_of(const std::string& command) {
@@ -129,9 +138,9 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
       }
   add_schema_options(options, shown);
   if (env)
-    options.add_options()("env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
+    options.add_options()("environment,env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
                                              "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
-                                     kDefaultEnvironment + ")",
+                                     kDefaultEnvironment + ") (alias: --env)",
                           cxxopts::value<std::string>())(
         "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")(
         "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
@@ -179,8 +188,9 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   t.device = device_option(r);
   if (r.count("format")) t.format = r["format"].as<std::string>();
   if (r.count("pixel")) t.pixel = r["pixel"].as<std::string>();
-  if (env) t.environment = r.count("env") ? r["env"].as<std::string>() : std::string(kDefaultEnvironment);
-  if (env && t.environment.empty()) throw UsageError("--env must not be empty");
+  if (env)
+    t.environment = r.count("environment") ? r["environment"].as<std::string>() : std::string(kDefaultEnvironment);
+  if (env && t.environment.empty()) throw UsageError("--environment must not be empty");
   if (r.count("output")) t.output = r["output"].as<std::string>();
   if (eval) {
     if (t.output.empty()) t.output = "-";

@@ -48,10 +48,10 @@ int cmd_serve(int argc, char** argv) {
        cxxopts::value<std::string>()->default_value(""))
       ("token-file", "a file whose first line is the bearer token every request must send", cxxopts::value<std::string>()->default_value(""))
       ("devices", "comma-separated device selectors to serve (default: the default device); reference is always served",
-       cxxopts::value<std::string>()->default_value(""))
+       cxxopts::value<std::string>())
       ("max-queue", "jobs waiting before submissions get 503 with Retry-After", cxxopts::value<std::string>()->default_value("64"))
       ("max-body", "largest request body (bytes, or 64K, 1M); larger gets 413", cxxopts::value<std::string>()->default_value("1M"))
-      ("max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's", cxxopts::value<std::string>()->default_value("0"))
+      ("max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's", cxxopts::value<std::string>())
       ("job-timeout", "seconds a job may run (a request's ?timeout= may ask for less)", cxxopts::value<std::string>()->default_value("3600"))
       ("table-timeout", "seconds POST /v1/tables waits for its table before 504", cxxopts::value<std::string>()->default_value("30"))
       ("io-timeout", "seconds a whole request (headers and body) may take to arrive, and a reply may stall", cxxopts::value<std::string>()->default_value("30"))
@@ -91,7 +91,7 @@ int cmd_serve(int argc, char** argv) {
   o.data_dir = r["data"].as<std::string>();
   o.input_root = r["input-root"].as<std::string>();
   o.token_file = r["token-file"].as<std::string>();
-  const std::string devices = r["devices"].as<std::string>();
+  const std::string devices = r.count("devices") ? r["devices"].as<std::string>() : std::string();
   for (size_t start = 0; !devices.empty();) {
     const size_t comma = devices.find(',', start);
     o.devices.push_back(devices.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
@@ -100,7 +100,7 @@ int cmd_serve(int argc, char** argv) {
   }
   o.max_queue = integer(r, "max-queue");
   o.max_body = static_cast<std::size_t>(byte_count(r, "max-body"));
-  o.max_memory = byte_count(r, "max-memory");
+  o.max_memory = r.count("max-memory") ? byte_count(r, "max-memory") : 0;  // 0: half the machine's
   o.job_timeout = seconds_option(r, "job-timeout");
   o.table_timeout = seconds_option(r, "table-timeout");
   o.io_timeout = seconds_option(r, "io-timeout");

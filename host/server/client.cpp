@@ -118,6 +118,16 @@ Manifest manifest_from_json(const std::string& text, const std::string& output_d
       e.bake = f.value("bake", 0);
       out.files.push_back(std::move(e));
     }
+  if (m.contains("engine") && m["engine"].is_object()) {  // an engine target's file set
+    const json& e = m["engine"];
+    out.target = e.value("target", "");
+    if (e.contains("files") && e["files"].is_array())
+      for (const auto& f : e["files"])
+        if (f.is_string()) out.engine_files.push_back(f.get<std::string>());
+    if (e.contains("delivered") && e["delivered"].is_object())
+      for (const auto& [k, v] : e["delivered"].items())
+        if (v.is_string()) out.engine_delivered.emplace_back(k, v.get<std::string>());
+  }
   for (const char* key : {"notes", "warnings"})
     if (m.contains(key) && m[key].is_array())
       for (const auto& n : m[key])

@@ -38,6 +38,11 @@ json param_json(const ParamDef& d) {
   json p;
   p["name"] = d.name;
   p["option"] = "--" + d.cli_name();
+  if (!d.aliases.empty()) {
+    json a = json::array();
+    for (const std::string& x : d.aliases) a.push_back("--" + x);
+    p["aliases"] = a;  // shorter spellings the command line also accepts
+  }
   p["type"] = param_type_name(d.type);
   p["expects"] = param_expectation(d);
   if (!d.choices.empty()) p["choices"] = d.choices;

@@ -158,10 +158,25 @@ class Result:
         return levels[0] if levels else None
 
     @property
-    def sh(self) -> Optional[Dict[str, Any]]:
-        """irradiance: ``order``, ``radiance`` and ``irradiance_over_pi`` (float64, (order**2, 3)),
-        ``window`` and ``window_weights``."""
-        return self._core.sh()
+    def sh(self):
+        """irradiance: the SH coefficients of E / pi in float64, shape (order**2, 3) (``array`` holds
+        them in float32); read-only. What they mean is in ``meta``: ``order``, ``basis``,
+        ``irradiance_definition``, ``window``, ``window_weights``. None for other kinds."""
+        return self._sh_array("irradiance_over_pi")
+
+    @property
+    def sh_radiance(self):
+        """irradiance: the SH coefficients of the radiance itself, L_lm (float64, (order**2, 3),
+        read-only; ``meta["radiance_definition"]``), before the cosine lobe and the window."""
+        return self._sh_array("radiance")
+
+    def _sh_array(self, key: str):
+        core = self._core.sh()
+        if core is None:
+            return None
+        a = np.asarray(core[key], dtype=np.float64)
+        a.flags.writeable = False
+        return a
 
     @property
     def meta(self) -> Dict[str, Any]:

@@ -292,7 +292,7 @@ TEST(Registry, ValidationNamesTheFieldAsEachFrontEndSpellsIt) {
     validate_table(t, cli);
     ADD_FAILURE() << "sh_order 4 accepted";
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "--sh: must be 3 or 5 (got 4)");
+    EXPECT_STREQ(e.what(), "--sh-order: must be 3 or 5 (got 4)");  // the option by its one spelling (issue 24)
   }
 }
 

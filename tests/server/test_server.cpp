@@ -547,6 +547,28 @@ TEST_F(ServerApi, CommandLineRunDownloadsFolderOutputs) {
   EXPECT_NE(body_json(folder).value("error", "").find("is a folder"), std::string::npos) << folder->body;
 }
 
+// bake --server --target: the engine's files are listed by the job, downloaded and in the summary,
+// byte for byte the local bake's (issue 24, a new user's item 2: every file written is listed).
+TEST_F(ServerApi, EngineFilesComeBackFromTheServer) {
+  const std::string args = " --environment builtin:sun --target gltf --lut-size 16 --cube-size 16 --min-size 4";
+  const std::string remote = (dir_->path / "gltf").string(), local = (dir_->path / "local" / "gltf").string();
+  const CliRun bake = run_cli("bake --server " + server_->url() + args + " -o " + remote);
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  ASSERT_EQ(run_cli("bake" + args + " --quiet -o " + local).code, 0);
+  size_t pngs = 0;
+  for (const auto& e : fs::directory_iterator(local)) {
+    const std::string name = e.path().filename().string();
+    if (name == "manifest.json") continue;
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(fs::exists(fs::path(remote) / name));
+    EXPECT_EQ(read_file(fs::path(remote) / name), read_file(e.path()));
+    if (e.path().extension() == ".png") ++pngs;
+    else EXPECT_NE(bake.out.find("  " + name + " "), std::string::npos) << bake.out;
+  }
+  EXPECT_NE(bake.out.find("gltf.gltf"), std::string::npos) << bake.out;
+  EXPECT_NE(bake.out.find(std::to_string(pngs) + " PNGs: "), std::string::npos) << bake.out;
+}
+
 TEST(ServerLimits, QueueFullGets503AndCancelWorks) {
   TempDir dir("queue");
   ServerProcess server(dir.path, {"--data", (dir.path / "data").string(), "--max-queue", "1", "--no-warm-up"});

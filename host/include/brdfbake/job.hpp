@@ -26,6 +26,9 @@ struct Job {
   // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
   // "khronos-viewer".
   std::string target = "generic";
+  // NAME of the engine's files (NAME.gltf, NAME_ibl.ktx, ...): empty is the output folder's name, as
+  // cmgen names them; `run --server` sets it to the local folder's (the server's folder is a job id).
+  std::string engine_name;
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
@@ -47,7 +50,7 @@ void validate_job(Job& job);
 std::string job_to_json(const Job& job);
 
 struct JobEvent {
-  int bake = 0, bakes = 0;   // which distinct table, of how many
+  int bake = 0, bakes = 0;   // which step, of how many: the distinct tables, then an engine target's file set
   std::string what;          // e.g. "ggx-multiscatter 128", "prefilter ggx 256: level 2/5"
   double fraction = 0.0;     // of this table
 };

@@ -40,7 +40,7 @@ struct ParamDef {
   std::vector<std::string> choices;    // Name: the accepted values
   std::optional<ParamValue> fallback;  // the default; none: absent unless given (see default_text)
   std::string help;                    // one line, for --help, docs and Python docstrings
-  std::string cli;                     // the command-line spelling when it is not the name's
+  std::vector<std::string> aliases;    // shorter command-line spellings also accepted (--sh for --sh-order)
   std::string default_text;            // a default that depends on others, e.g. "size"
   bool lo_open = false;                // Number: lo itself is refused (e.g. max_error > 0)
   bool required = false;
@@ -55,11 +55,11 @@ struct ParamDef {
   ParamDef& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
   ParamDef& def(ParamValue v) { fallback = std::move(v); return *this; }
   ParamDef& defaults_to(std::string text) { default_text = std::move(text); return *this; }
-  ParamDef& spelled(std::string c) { cli = std::move(c); return *this; }
+  ParamDef& alias(std::string a) { aliases.push_back(std::move(a)); return *this; }
   ParamDef& needed() { required = true; return *this; }
   ParamDef& output() { output_only = true; return *this; }
 
-  std::string cli_name() const;  // "sh" for sh_order, "min-size" for min_size
+  std::string cli_name() const;  // the option's one spelling: "sh-order" for sh_order, "min-size" for min_size
 };
 
 // "true", "0.5", "'ggx'", "[1, 2, 3]".

@@ -60,7 +60,7 @@ const std::vector<ParamDef>& bake_option_schema() {
     out.push_back(
         ParamDef("environment", T::Path, "environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun")
             .def(std::string(kDefaultEnvironment))
-            .spelled("env"));
+            .alias("env"));
     out.push_back(ParamDef("sanitize", T::Flag,
                            "replace NaN, infinite and negative environment pixels instead of refusing the input")
                       .def(false));

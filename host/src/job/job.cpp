@@ -211,6 +211,11 @@ Job parse_job(const std::string& text, const std::string& origin) {
       } catch (const Error& e) {
         throw Error(field + ": " + e.what());
       }
+    } else if (key == "engine_name") {
+      job.engine_name = get_string(*it, field);
+      if (job.engine_name.empty() || job.engine_name == "." || job.engine_name == ".." ||
+          job.engine_name.find_first_of("/\\") != std::string::npos)
+        throw Error(field + ": must be a file name without a folder (got '" + job.engine_name + "')");
     } else if (key == "sanitize") {
       if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
       job.sanitize = it->get<bool>();
@@ -233,8 +238,8 @@ Job parse_job(const std::string& text, const std::string& origin) {
       if (!it->is_array()) throw Error(field + ": must be an array of tables (got " + json_excerpt(*it) + ")");
     } else {
       throw Error(origin + ": " + key.substr(0, 60) +
-                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, device, precision, "
-                  "tables, scene, notes, warnings, plan)");
+                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, engine_name, "
+                  "device, precision, tables, scene, notes, warnings, plan)");
     }
   }
   if (!root.contains("tables")) throw Error(origin + ": tables: missing (the list of tables to bake)");
@@ -316,6 +321,7 @@ json job_json(const Job& job) {
   o["environment"] = job.environment;
   if (job.sanitize) o["sanitize"] = true;
   if (job.target != "generic") o["target"] = job.target;
+  if (!job.engine_name.empty()) o["engine_name"] = job.engine_name;
   o["device"] = job.device;
   o["precision"] = precision_name(job.precision);
   json tables = json::array();

@@ -541,11 +541,12 @@ std::string plan_to_json(const Plan& plan) {
 
 namespace {
 
-// A planner option that sets a table parameter: the parameter's definition under the option's name.
-ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help, const char* cli = "") {
+// A planner option that sets a table parameter: the parameter's definition under the option's name
+// (with the parameter's aliases where the name is the parameter's own: --sh for --sh-order).
+ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help) {
   ParamDef d = *find_param_def(table_schema(kind), param);
+  if (d.name != name) d.aliases.clear();
   d.name = name;
-  d.cli = cli;
   d.help = help;
   d.fallback.reset();  // unset: the table's own default
   if (const ParamDef* t = find_param_def(table_schema(kind), param); t && t->fallback)
@@ -571,7 +572,7 @@ const std::vector<ParamDef>& plan_schema() {
           .range(0, 1).def(d.prefilter_max_error),
       from_table(TableKind::Fresnel, "size", "fresnel_size", "Fresnel tables: cells along cos_theta"),
       from_table(TableKind::ThinFilm, "size", "thin_film_size", "thin-film tables: cells along cos_theta and thickness"),
-      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5", "sh"),
+      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
       from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
       ParamDef("target", ParamType::Name,
                "write an engine's file set too (docs/ENGINES.md), with its schedule, sizes and SH window")
