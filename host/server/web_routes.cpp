@@ -215,6 +215,7 @@ void get_view(const WebContext& c, const httplib::Request& req, httplib::Respons
   try {
     ViewOptions options;
     options.title = name;
+    options.relative_to = (c.jobs_dir / id).string();
     const ContactSheet sheet = render_contact_sheet({path}, options);
     write_contact_sheet(sheet, png.string());
     std::ifstream in(png, std::ios::binary);
