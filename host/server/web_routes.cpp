@@ -1,12 +1,14 @@
 #include "server/web_routes.hpp"
 
 #include <httplib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -237,6 +239,116 @@ void get_view(const WebContext& c, const httplib::Request& req, httplib::Respons
   res.set_content(bytes, "image/png");
 }
 
+// ---- GET /v1/jobs/ID/archive: the job's folder as one tar file ---------------------------------
+
+// One file of the archive: its ustar header, then its bytes padded to 512.
+struct TarMember {
+  std::string name;  // inside the job's folder
+  std::string path;  // on disk
+  std::uint64_t size = 0;
+  std::string header;
+};
+
+// The ustar header of a regular file (POSIX.1-1988): names up to 100 characters, or a prefix of up
+// to 155 and a name of up to 100 split at a '/'. Returns "" for a name that does not fit.
+std::string tar_header(const std::string& name, std::uint64_t size, std::int64_t mtime) {
+  std::string h(512, '\0');
+  std::string prefix, base = name;
+  if (name.size() > 100) {
+    const size_t slash = name.rfind('/', 155);
+    if (slash == std::string::npos || name.size() - slash - 1 > 100 || slash == 0) return "";
+    prefix = name.substr(0, slash);
+    base = name.substr(slash + 1);
+  }
+  auto put = [&h](size_t at, const std::string& v) { h.replace(at, v.size(), v); };
+  auto octal = [](std::uint64_t v, int digits) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "%0*llo", digits, static_cast<unsigned long long>(v));
+    return std::string(buf);
+  };
+  put(0, base);
+  put(100, octal(0644, 7));
+  put(108, octal(0, 7));
+  put(116, octal(0, 7));
+  put(124, octal(size, 11));
+  put(136, octal(static_cast<std::uint64_t>(std::max<std::int64_t>(mtime, 0)), 11));
+  put(148, std::string(8, ' '));
+  h[156] = '0';
+  put(257, std::string("ustar\0", 6));  // magic, then version "00"
+  put(263, "00");
+  put(345, prefix);
+  unsigned sum = 0;
+  for (char ch : h) sum += static_cast<unsigned char>(ch);
+  put(148, octal(sum, 6));
+  h[154] = '\0';
+  h[155] = ' ';
+  return h;
+}
+
+constexpr std::uint64_t padded(std::uint64_t n) { return (n + 511) / 512 * 512; }
+
+void get_archive(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
+  const std::string id = req.matches[1];
+  const auto r = c.store->get(id, false);
+  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (r->state != JobState::Done)
+    return reply_error(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
+                       "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
+  // Every regular file of the folder (no symbolic link is followed), by name: a done job's folder
+  // no longer changes (docs/SERVICE.md, "Persistence").
+  const fs::path folder = c.jobs_dir / id;
+  auto members = std::make_shared<std::vector<TarMember>>();
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e2;
+    if (it->is_symlink(e2) || !it->is_regular_file(e2)) continue;
+    TarMember m;
+    m.name = it->path().lexically_relative(folder).generic_string();
+    m.path = it->path().string();
+    m.size = it->file_size(e2);
+    struct stat st {};
+    const std::int64_t mtime = ::stat(m.path.c_str(), &st) == 0 ? static_cast<std::int64_t>(st.st_mtime) : 0;
+    m.header = tar_header(m.name, m.size, mtime);
+    if (m.header.empty())
+      return reply_error(res, 500,
+                         "job " + id + ": '" + m.name.substr(0, 80) + "' is too long a name for a tar archive");
+    members->push_back(std::move(m));
+  }
+  std::sort(members->begin(), members->end(), [](const TarMember& a, const TarMember& b) { return a.name < b.name; });
+  std::uint64_t total = 1024;  // two zero blocks end the archive
+  for (const auto& m : *members) total += 512 + padded(m.size);
+  res.set_header("Content-Disposition", "attachment; filename=\"" + id + ".tar\"");
+  res.set_header("X-Content-Type-Options", "nosniff");
+  // Sequential writes: each call sends the next piece (a header, a chunk of a file, padding).
+  res.set_content_provider(
+      static_cast<size_t>(total), "application/x-tar",
+      [members](size_t offset, size_t length, httplib::DataSink& sink) {
+        std::uint64_t at = 0;
+        for (const auto& m : *members) {
+          if (offset < at + 512)
+            return sink.write(m.header.data() + (offset - at), std::min<size_t>(length, at + 512 - offset));
+          at += 512;
+          if (offset < at + m.size) {
+            std::ifstream in(m.path, std::ios::binary);
+            char buf[1 << 16];
+            const size_t n = static_cast<size_t>(std::min<std::uint64_t>({length, sizeof buf, at + m.size - offset}));
+            in.seekg(static_cast<std::streamoff>(offset - at));
+            if (!in.read(buf, static_cast<std::streamsize>(n))) return false;  // never a short file sent as whole
+            return sink.write(buf, n);
+          }
+          at += m.size;
+          const std::uint64_t pad = padded(m.size) - m.size;
+          if (offset < at + pad) {
+            static const char zeros[512] = {};
+            return sink.write(zeros, std::min<size_t>(length, static_cast<size_t>(at + pad - offset)));
+          }
+          at += pad;
+        }
+        static const char zeros[1024] = {};
+        return sink.write(zeros, std::min<size_t>(length, static_cast<size_t>(1024 - (offset - at))));
+      });
+}
+
 }  // namespace
 
 bool web_public_route(const std::string& method, const std::string& path) {
@@ -281,6 +393,8 @@ void register_web_routes(httplib::Server& http, const WebContext& context) {
     if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
     reply_json(res, 200, json::parse(r->job, nullptr, false));
   });
+  http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/archive)",
+           [c](const httplib::Request& req, httplib::Response& res) { get_archive(c, req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/view/(.+))",
            [c](const httplib::Request& req, httplib::Response& res) { get_view(c, req, res); });
 }

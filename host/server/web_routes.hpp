@@ -2,8 +2,9 @@
 // in the binary at build time (host/server/web/, cmake/EmbedWebAssets.cmake), and the small JSON
 // and picture routes the page needs beside the job API: the schemas (GET /v1/kinds, GET
 // /v1/bake/options), the files a request may read (GET /v1/inputs), a bake's plan without baking
-// (POST /v1/plan), a job's document (GET /v1/jobs/ID/job) and a picture of each file a job wrote,
-// drawn by `brdfbake view`'s code (GET /v1/jobs/ID/view/NAME).
+// (POST /v1/plan), a job's document (GET /v1/jobs/ID/job), its folder as one tar file (GET
+// /v1/jobs/ID/archive) and a picture of each file a job wrote, drawn by `brdfbake view`'s code
+// (GET /v1/jobs/ID/view/NAME).
 #pragma once
 
 #include <cstddef>

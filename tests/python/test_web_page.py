@@ -10,6 +10,7 @@ import pathlib
 import re
 import shutil
 import subprocess
+import tarfile
 import time
 import urllib.error
 import urllib.request
@@ -102,9 +103,27 @@ def browser(browser_paths, tmp_path_factory):
 
 
 def _wait(driver, condition, what):
+    from selenium.common.exceptions import TimeoutException
     from selenium.webdriver.support.ui import WebDriverWait
 
-    return WebDriverWait(driver, WAIT_S, poll_frequency=0.05).until(condition, message=f"{what} within {WAIT_S} s")
+    try:
+        return WebDriverWait(driver, WAIT_S, poll_frequency=0.05).until(condition)
+    except TimeoutException:
+        # What the page showed, to tell why.
+        shown = driver.execute_script(
+            "return ['server-status', 'token-error', 'bake-error', 'job-state', 'job-error']"
+            ".map(id => id + ': ' + document.getElementById(id).textContent).join('; ')")
+        pytest.fail(f"not {what} within {WAIT_S} s; the page showed {shown}")
+
+
+def _shot(driver, name):
+    """With BRDFBAKE_WEB_SCREENSHOTS=DIR, a screenshot of the whole page (docs/SERVICE.md's pictures)."""
+    folder = os.environ.get("BRDFBAKE_WEB_SCREENSHOTS")
+    if folder:
+        height = driver.execute_script("return document.documentElement.scrollHeight")
+        driver.set_window_size(1280, min(max(height, 600), 4000))
+        driver.save_screenshot(os.path.join(folder, f"web_{name}.png"))
+        driver.set_window_size(1400, 1000)
 
 
 def _text(driver, element_id):
@@ -176,6 +195,7 @@ def test_wrong_token_is_refused_with_the_message_shown(server, browser):
     browser.find_element("css selector", "#token-form button[type=submit]").click()
     _wait(browser, lambda d: _text(d, "token-error") != "", "the refusal shown")
     assert "missing or wrong bearer token" in _text(browser, "token-error")
+    _shot(browser, "token")
     assert browser.find_element("id", "bake-section").get_attribute("hidden") is not None
     assert browser.execute_script("return sessionStorage.getItem('brdfbake-token')") is None
     _login(browser, server["url"])  # the right one is taken
@@ -203,6 +223,7 @@ def test_bad_inputs_show_the_api_error_next_to_the_field(server, browser):
     _wait(browser, lambda d: _text(d, "error-cube_size") != "", "the error next to cube_size")
     assert _text(browser, "error-cube_size") == "bake: cube_size: must be an integer in 1..2048 (got -1)"
     assert _text(browser, "error-environment") == ""
+    _shot(browser, "error")
 
 
 PIXELS_JS = """
@@ -243,6 +264,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     seconds = float(browser.execute_script("return document.getElementById('results').dataset.seconds"))
     job_id = _text(browser, "job-id")
     print(f"web page: Bake to every picture shown in {seconds:.2f} s (job {job_id})")
+    _shot(browser, "result")
     # Every bar at 100 %.
     bars = browser.execute_script("return [...document.querySelectorAll('#job-progress progress')].map(p => p.value)")
     assert bars and all(v == 100 for v in bars)
@@ -278,3 +300,34 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
         _wait(browser, lambda d: target.exists() and not (browser.downloads / (name + ".crdownload")).exists(),
               f"the download of {name}")
         assert target.read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    # The whole folder as one archive: every file the job lists, each as its own download.
+    browser.find_element("id", "download-all").click()
+    archive = browser.downloads / f"{job_id}.tar"
+    _wait(browser, lambda d: archive.exists() and not (browser.downloads / f"{job_id}.tar.crdownload").exists(),
+          "the archive's download")
+    with tarfile.open(archive) as tar:
+        names = tar.getnames()
+        assert set(json.loads(body)["files"]) <= set(names)
+        for f in manifest["files"]:
+            assert tar.extractfile(f["path"]).read() == (browser.downloads / f["path"]).read_bytes()
+
+
+def test_progress_moves_and_cancel_stops_the_job(server, browser):
+    _login(browser, server["url"])
+    browser.find_element("id", "preset-production").click()
+    _set(browser, "environment", HDR)
+    _set(browser, "target", "generic")
+    if not browser.find_element("id", "more-options").get_attribute("open"):
+        browser.find_element("css selector", "#more-options summary").click()
+    _set(browser, "cube_size", "512")  # a chain of several seconds: long enough to be caught running
+    browser.find_element("id", "bake-button").click()
+    _wait(browser, lambda d: d.execute_script(
+        "const p = [...document.querySelectorAll('#job-progress progress')].map(p => p.value);"
+        "return p.some(v => v > 0 && v < 100) || p.filter(v => v == 100).length >= 1"), "a bar moving")
+    state = _text(browser, "job-state")
+    assert state.startswith("running"), state
+    assert "left" in _text(browser, "job-eta") or _text(browser, "job-eta") == ""
+    browser.find_element("id", "cancel-button").click()
+    _wait(browser, lambda d: _text(d, "job-state") in ("cancelled", "done", "failed"), "the job stopped")
+    assert _text(browser, "job-state") == "cancelled"
+    assert browser.find_element("id", "results-section").get_attribute("hidden") is not None

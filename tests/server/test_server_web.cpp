@@ -200,6 +200,31 @@ TEST_F(ServerWeb, ViewIsTheContactSheetOfBrdfbakeView) {
   EXPECT_EQ(up->status, 400);
   EXPECT_EQ(c.Get(("/v1/jobs/" + id + "/view/none.exr").c_str())->status, 404);
   EXPECT_EQ(c.Get("/v1/jobs/jnone/view/dfg.exr")->status, 404);
+  // The folder as one tar file: every file, byte for byte what GET .../files/NAME serves.
+  auto tar = c.Get(("/v1/jobs/" + id + "/archive").c_str());
+  ASSERT_TRUE(tar);
+  ASSERT_EQ(tar->status, 200);
+  EXPECT_EQ(tar->get_header_value("Content-Type"), "application/x-tar");
+  std::vector<std::string> names;
+  size_t at = 0;
+  while (at + 512 <= tar->body.size() && tar->body[at] != '\0') {
+    const std::string header = tar->body.substr(at, 512);
+    EXPECT_EQ(header.substr(257, 6), std::string("ustar\0", 6));
+    unsigned sum = 0;
+    for (size_t i = 0; i < 512; ++i)
+      sum += (i >= 148 && i < 156) ? unsigned(' ') : static_cast<unsigned char>(header[i]);
+    EXPECT_EQ(sum, std::stoul(header.substr(148, 6), nullptr, 8));
+    const std::string name = header.substr(0, header.find('\0'));
+    const size_t size = std::stoul(header.substr(124, 11), nullptr, 8);
+    names.push_back(name);
+    auto file = c.Get(("/v1/jobs/" + id + "/files/" + name).c_str());
+    ASSERT_TRUE(file);
+    EXPECT_TRUE(tar->body.substr(at + 512, size) == file->body) << name;
+    at += 512 + (size + 511) / 512 * 512;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"dfg.exr", "f.csv", "manifest.json"}));
+  EXPECT_EQ(tar->body.size(), at + 1024);  // two zero blocks end it
+  EXPECT_EQ(tar->body.find_first_not_of('\0', at), std::string::npos);
   // The job document: what `brdfbake run` reads to make the same files.
   auto doc = c.Get(("/v1/jobs/" + id + "/job").c_str());
   ASSERT_TRUE(doc);

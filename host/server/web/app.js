@@ -301,8 +301,10 @@ async function bake(event) {
   clearErrors();
   $('bake-button').disabled = true;
   try {
-    const reply = await postJson('/v1/bake', bakeOptions());
-    followJob(reply.id, performance.now());
+    const options = bakeOptions();
+    const clickedAt = performance.now();
+    const reply = await postJson('/v1/bake', options);
+    followJob(reply.id, clickedAt, options);
   } catch (e) {
     showError(e.message);
   } finally {
@@ -328,8 +330,10 @@ function progressBars(tables, progress, finished) {
   }
 }
 
-async function followJob(id, clickedAt) {
-  const job = { id, tables: [], finished: false, clickedAt };
+// Follows a job: `clickedAt` and `options` when this page submitted it (for the timing and the
+// command), absent for a job chosen from the list.
+async function followJob(id, clickedAt, options) {
+  const job = { id, tables: [], finished: false, clickedAt, options };
   state.job = job;
   $('job-section').hidden = false;
   $('results-section').hidden = true;
@@ -358,6 +362,7 @@ async function followJob(id, clickedAt) {
     while (!job.finished && state.job === job) {
       try {
         const s = await apiJson(`/v1/jobs/${encodeURIComponent(id)}`);
+        if (job.finished || state.job !== job) return;  // the long poll answered first: this is older
         if (['done', 'failed', 'cancelled'].includes(s.state)) return finish(job, s);
         showState(job, s);
       } catch (e) {
@@ -392,7 +397,7 @@ function finish(job, s) {
   if (s.state === 'done') showResults(job, s);
   else if (s.error) {
     $('job-error').textContent = s.error;
-    showError(s.error, 'job-error');
+    if (s.state === 'failed') showError(s.error, 'job-error');  // by the field it names, if any
   }
   refreshServer();
 }
@@ -407,12 +412,14 @@ async function cancelJob() {
   }
 }
 
+// A file of a job (or, with path null, its folder as one tar file), saved by the browser: fetched
+// with the token, then handed over from memory.
 async function download(id, path) {
   try {
-    const res = await api(fileUrl(id, 'files', path));
+    const res = await api(path === null ? `/v1/jobs/${encodeURIComponent(id)}/archive` : fileUrl(id, 'files', path));
     if (!res.ok) throw new ApiError(res.status, (await res.json()).error);
     const url = URL.createObjectURL(await res.blob());
-    const a = el('a', { href: url, download: path.split('/').pop() });
+    const a = el('a', { href: url, download: path === null ? `${id}.tar` : path.split('/').pop() });
     document.body.append(a);
     a.click();
     a.remove();
@@ -541,8 +548,13 @@ async function start() {
   $('copy-command').addEventListener('click', () => copyText(bakeCommand(bakeOptions())));
   $('copy-job').addEventListener('click', () => copyJob(false));
   $('copy-result-job').addEventListener('click', () => copyJob(true));
-  $('copy-result-command').addEventListener('click', () => copyText(bakeCommand(bakeOptions())));
+  $('copy-result-command').addEventListener('click', () => {
+    const job = state.job;
+    if (job && job.options) copyText(bakeCommand(job.options));
+    else if (job) copyText(`brdfbake run job.json -o out   # job.json: "Copy job JSON" of job ${job.id}`);
+  });
   $('cancel-button').addEventListener('click', cancelJob);
+  $('download-all').addEventListener('click', () => state.job && download(state.job.id, null));
   try {
     connected(await apiJson('/v1/health'));
   } catch (e) {
