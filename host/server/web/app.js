@@ -340,6 +340,7 @@ async function followJob(id, clickedAt, options) {
   $('results').textContent = '';
   delete $('results').dataset.ready;
   delete $('results').dataset.seconds;
+  delete $('results').dataset.firstSeconds;
   $('job-id').textContent = id;
   $('job-error').textContent = '';
   $('job-warnings').textContent = '';
@@ -478,6 +479,10 @@ async function showPicture(job, path, img, note) {
       img.onerror = resolve;
       img.src = url;
     });
+    // From the click on Bake to the first picture shown (the measure).
+    const box = $('results');
+    if (job.clickedAt !== undefined && !box.dataset.firstSeconds)
+      box.dataset.firstSeconds = ((performance.now() - job.clickedAt) / 1000).toFixed(3);
   } catch (e) {
     img.remove();
     note.textContent = 'no picture: ' + e.message;
