@@ -287,7 +287,8 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
             assert bound == "—", shown
 
     # A download is byte for byte the file the command line writes for the same job.
-    browser.find_element("id", "copy-result-job").click()
+    browser.find_element("id", "copy-result-job").click()  # fetched, then shown: wait for it
+    _wait(browser, lambda d: _text(d, "command-text").startswith("{"), "the job JSON shown")
     job = json.loads(_text(browser, "command-text"))
     (tmp_path / "job.json").write_text(json.dumps(job))
     run = subprocess.run([cli, "run", str(tmp_path / "job.json"), "-o", str(tmp_path / "cli"), "--quiet"],
@@ -320,12 +321,12 @@ def test_progress_moves_and_cancel_stops_the_job(server, browser):
     if not browser.find_element("id", "more-options").get_attribute("open"):
         browser.find_element("css selector", "#more-options summary").click()
     _set(browser, "cube_size", "512")  # a chain of several seconds: long enough to be caught running
+    before = _text(browser, "job-id")
     browser.find_element("id", "bake-button").click()
-    _wait(browser, lambda d: d.execute_script(
-        "const p = [...document.querySelectorAll('#job-progress progress')].map(p => p.value);"
-        "return p.some(v => v > 0 && v < 100) || p.filter(v => v == 100).length >= 1"), "a bar moving")
-    state = _text(browser, "job-state")
-    assert state.startswith("running"), state
+    # The new job running, and its bars moving: the DFG table done or the chain under way.
+    _wait(browser, lambda d: _text(d, "job-id") not in ("", before) and _text(d, "job-state").startswith("running")
+          and d.execute_script("return [...document.querySelectorAll('#job-progress progress')].some(p => p.value > 0)"),
+          "the new job running with a bar moving")
     assert "left" in _text(browser, "job-eta") or _text(browser, "job-eta") == ""
     browser.find_element("id", "cancel-button").click()
     _wait(browser, lambda d: _text(d, "job-state") in ("cancelled", "done", "failed"), "the job stopped")

@@ -342,6 +342,8 @@ async function followJob(id, clickedAt, options) {
   delete $('results').dataset.seconds;
   delete $('results').dataset.firstSeconds;
   $('job-id').textContent = id;
+  $('job-state').textContent = 'submitted';
+  $('job-progress').textContent = '';
   $('job-error').textContent = '';
   $('job-warnings').textContent = '';
   $('job-eta').textContent = '';
