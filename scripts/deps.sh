@@ -22,9 +22,11 @@ BRDFBAKE_PACKAGES=(
 # (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output
 # (tests/engines/validate_gltf_ibl.py), oclgrind a second OpenCL implementation for the kernel
 # build test. The tests skip with a message where these are missing. clang-format-14 is the formatter
-# of scripts/check_format.sh (.clang-format; other versions format differently).
+# of scripts/check_format.sh (.clang-format; other versions format differently). chromium and
+# chromium-driver: the web page's browser test (tests/python/test_web_page.py, driven by Selenium).
 BRDFBAKE_TEST_PACKAGES=(
   libfilament-dev libfilament-tools python3-jsonschema oclgrind clang-format-14
+  chromium chromium-driver
 )
 
 # The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).

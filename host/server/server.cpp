@@ -36,6 +36,7 @@
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
 #include "server/scheduler.hpp"
+#include "server/web_routes.hpp"
 
 namespace brdfbake::server {
 
@@ -848,7 +849,7 @@ void Server::Impl::routes() {
     listen_fd = sock;
   });
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (authorized(req)) return httplib::Server::HandlerResponse::Unhandled;
+    if (authorized(req) || web_public_route(req.method, req.path)) return httplib::Server::HandlerResponse::Unhandled;
     res.set_header("WWW-Authenticate", "Bearer realm=\"brdfbake\"");
     fail(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
     return httplib::Server::HandlerResponse::Handled;
@@ -948,6 +949,7 @@ void Server::Impl::routes() {
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { get_job(req, res); });
   http.Delete(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))", [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
+  register_web_routes(http, WebContext{store.get(), roots.get(), jobs_dir(), tmp_dir()});  // GET / (web_routes.hpp)
 }
 
 Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {

@@ -37,6 +37,8 @@ struct ViewOptions {
   int table_size = 160;  // pixels of a table image's longer side
   int max_width = 1400;  // the sheet's width (a file's pictures wrap to the next row)
   std::string title;     // the sheet's first line; empty: "brdfbake view"
+  std::string relative_to;  // non-empty: files inside this folder are named relative to it (on the
+                            // sheet, in `files` and in the PNG's text)
 };
 
 // A rectangle of the sheet and what it shows: tests check pixels against it, tools crop by it.
@@ -55,7 +57,8 @@ struct ContactSheet {
   int width = 0, height = 0;
   std::vector<uint8_t> rgb;  // 8-bit sRGB, row 0 (the top) first
   std::vector<SheetRegion> regions;
-  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files)
+  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files),
+                                   // named as the sheet names it
   std::string tone_map_text;       // the HDR transfer, as printed on the sheet
   std::string colour_scale_text;   // the table colour scale, as printed on the sheet
   std::vector<std::string> skipped;  // what the folders given hold that view does not show, with why

@@ -710,6 +710,14 @@ Block layout_block(const std::string& title, const std::string& subtitle, std::v
   return b;
 }
 
+// A file as the sheet names it: its path, or relative to options.relative_to (the server names a
+// job's file as the job's folder does, not by where the server keeps it).
+std::string shown_name(const std::string& path, const ViewOptions& o) {
+  if (o.relative_to.empty()) return path;
+  const std::string rel = std::filesystem::path(path).lexically_relative(o.relative_to).generic_string();
+  return !rel.empty() && rel.rfind("..", 0) != 0 ? rel : path;
+}
+
 Block item_block(const Item& it, const ViewOptions& o, int width) {
   std::vector<Tile> tiles;
   std::string subtitle = facts(it);
@@ -729,7 +737,7 @@ Block item_block(const Item& it, const ViewOptions& o, int width) {
   } else if (const auto* h = std::get_if<HdrImage>(&it.content)) {
     tiles.push_back(hdr_tile(*h, o));
   }
-  return layout_block(it.path + "  (" + it.kind + ")", subtitle, std::move(tiles), width, it.path);
+  return layout_block(shown_name(it.path, o) + "  (" + it.kind + ")", subtitle, std::move(tiles), width, it.path);
 }
 
 // Every file to show, in order: manifests and folders expand to what they list.
@@ -807,7 +815,7 @@ ContactSheet render_contact_sheet(const std::vector<std::string>& paths, const V
   std::vector<Block> blocks;
   for (const Item& it : items) {
     blocks.push_back(item_block(it, o, inner));
-    sheet.files.push_back(it.path);
+    sheet.files.push_back(shown_name(it.path, o));
   }
   const std::string title = o.title.empty() ? "brdfbake view" : o.title;
   const std::string count =
