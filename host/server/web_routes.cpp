@@ -142,7 +142,7 @@ void post_plan(const WebContext& c, const httplib::Request& req, httplib::Respon
     o["tables"] = tables;
     reply_json(res, 200, o);
   } catch (const Error& e) {
-    reply_error(res, 400, e.what());
+    reply_error(res, 400, c.roots->public_text(e.what()));  // no server path in a message
   }
 }
 
@@ -230,7 +230,7 @@ void get_view(const WebContext& c, const httplib::Request& req, httplib::Respons
     // Name the file as the job's folder does, not by the server's path.
     std::string m = e.what();
     for (size_t at = m.find(path); at != std::string::npos; at = m.find(path, at)) m.replace(at, path.size(), name);
-    return reply_error(res, 422, m);
+    return reply_error(res, 422, c.roots->public_text(m));
   }
   std::error_code ec;
   fs::remove(png, ec);
