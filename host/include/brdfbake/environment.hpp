@@ -87,6 +87,9 @@ std::vector<std::string> environment_files(const std::string& spec);
 // Checks cheaply, without reading pixels, that `spec` names something load_environment can open
 // (a known builtin, existing readable files): commands call it before slow work.
 void check_environment_source(const std::string& spec);
+// A builtin:NAME environment names a builtin (nothing else is checked: no file is touched). Throws
+// Error naming the builtins. Jobs check it when they are validated, before they are accepted.
+void check_builtin_environment(const std::string& spec);
 
 // The built-in environments, as equirects of width x width/2:
 //   studio: soft area lights (three rectangular softboxes and a ring light) over a grey gradient;
