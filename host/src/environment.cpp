@@ -510,14 +510,17 @@ std::vector<std::string> environment_files(const std::string& spec) {
   return files;
 }
 
+void check_builtin_environment(const std::string& spec) {
+  if (spec.rfind("builtin:", 0) != 0) return;
+  const std::string name = spec.substr(8);
+  for (const auto& n : builtin_environment_names())
+    if (n == name) return;
+  throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
+}
+
 void check_environment_source(const std::string& spec) {
   if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
-  if (spec.rfind("builtin:", 0) == 0) {
-    const std::string name = spec.substr(8);
-    for (const auto& n : builtin_environment_names())
-      if (n == name) return;
-    throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
-  }
+  if (spec.rfind("builtin:", 0) == 0) return check_builtin_environment(spec);
   std::vector<std::string> files = face_files(spec);
   if (files.empty()) files.push_back(spec);
   namespace fs = std::filesystem;

@@ -100,28 +100,6 @@ std::string fmt(double v) {
 
 }  // namespace
 
-ShWindow sh_window_from_name(const std::string& n) {
-  if (n == "none") return ShWindow::None;
-  if (n == "hanning") return ShWindow::Hanning;
-  if (n == "lanczos") return ShWindow::Lanczos;
-  throw Error("unknown SH window '" + n + "' (expected none, hanning or lanczos)");
-}
-const char* sh_window_name(ShWindow w) {
-  return w == ShWindow::Hanning ? "hanning" : w == ShWindow::Lanczos ? "lanczos" : "none";
-}
-
-// Sloan 2008, "Stupid Spherical Harmonics (SH) Tricks", sec. "Windowing": windows that taper the
-// higher bands to reduce ringing, here with the band count `order` as the window width.
-std::vector<double> sh_window_weights(ShWindow w, int order) {
-  std::vector<double> out(size_t(order), 1.0);
-  for (int l = 1; l < order; ++l) {
-    const double x = static_cast<double>(l) / order;
-    if (w == ShWindow::Hanning) out[size_t(l)] = 0.5 * (1.0 + std::cos(kPi * x));
-    if (w == ShWindow::Lanczos) out[size_t(l)] = std::sin(kPi * x) / (kPi * x);
-  }
-  return out;
-}
-
 void detail::check_irradiance_spec(const IrradianceSpec& spec) {
   if (spec.sh_order != 3 && spec.sh_order != 5)
     throw Error("SH order must be 3 (9 coefficients) or 5 (25), not " + std::to_string(spec.sh_order));
@@ -136,17 +114,8 @@ void detail::check_irradiance_spec(const IrradianceSpec& spec) {
 ShCoefficients detail::sh_coefficients(const IrradianceSpec& spec, std::vector<double> radiance) {
   ShCoefficients sh;
   sh.order = spec.sh_order;
-  sh.window = spec.window;
-  sh.window_weights = sh_window_weights(spec.window, spec.sh_order);
   sh.radiance = std::move(radiance);
-  sh.irradiance_over_pi.resize(sh.radiance.size());
-  for (int l = 0; l < spec.sh_order; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const size_t k = size_t(math::sh_index(l, m));
-      for (size_t c = 0; c < 3; ++c)
-        sh.irradiance_over_pi[3 * k + c] =
-            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
-    }
+  apply_sh_window(sh, spec.window);
   return sh;
 }
 
@@ -264,6 +233,7 @@ std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
       "E(n) / pi = sum_lm c_lm Y_lm(n): irradiance DIVIDED BY PI, multiply by the albedo only";
   j["window"] = sh_window_name(sh.window);
   j["window_weights"] = sh.window_weights;
+  if (sh.window == ShWindow::Auto) j["window_cutoff"] = sh.window_cutoff;
   auto triples = [](const std::vector<double>& v) {
     nlohmann::ordered_json a = nlohmann::ordered_json::array();
     for (size_t k = 0; k + 2 < v.size(); k += 3) a.push_back({v[k], v[k + 1], v[k + 2]});

@@ -219,17 +219,8 @@ ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window) {
                 " values for its " + std::to_string(env.width) + "x" + std::to_string(env.height) + " layout");
   ShCoefficients sh;
   sh.order = order;
-  sh.window = window;
-  sh.window_weights = sh_window_weights(window, order);
   sh.radiance = cube ? project_cube(env, order) : project_equirect(env, order);
-  sh.irradiance_over_pi.resize(sh.radiance.size());
-  for (int l = 0; l < order; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const size_t k = size_t(l * (l + 1) + m);
-      for (size_t c = 0; c < 3; ++c)
-        sh.irradiance_over_pi[3 * k + c] =
-            sh.radiance[3 * k + c] * math::sh_cosine_lobe(l) / kPi * sh.window_weights[size_t(l)];
-    }
+  apply_sh_window(sh, window);
   sh.projection = cube ? "the " + std::to_string(env.width) + "^2 cube's texels at their centres, each with its "
                                                               "exact solid angle, in double precision on the host"
                        : "exact integral of the " + std::to_string(env.width) + "x" + std::to_string(env.height) +

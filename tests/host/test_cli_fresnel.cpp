@@ -315,3 +315,40 @@ TEST(CliFresnel, BadInputGivesOneLineAndNoFile) {
 }
 
 }  // namespace
+
+// Issue 24, item 8: a thin film over a bright base stores the model's reflectance above 1 (the
+// KHR_materials_iridescence evaluation clamps only below 0), and says so: a warning line, and the
+// file's metadata, naming how many cells, the largest value and where. A dielectric base stays
+// below 1 and gets neither.
+TEST(CliThinFilm, ReflectanceAboveOneIsSaid) {
+  const CliRun bright = run("thin-film --base-f0 0.95,0.64,0.54 --size 32 --format csv -o -");
+  ASSERT_EQ(bright.code, 0) << bright.err;
+  EXPECT_NE(bright.err.find("warning: thin-film: reflectance above 1 in "), std::string::npos) << bright.err;
+  const Csv c = parse_csv(bright.out);
+  double worst = 0.0;
+  for (const auto& row : c.rows)
+    for (size_t k = 2; k < row.size(); ++k) worst = std::max(worst, row[k]);
+  EXPECT_GT(worst, 1.05);  // measured 1.0756 (r at cos_theta 0.0156)
+  EXPECT_TRUE(has_meta(c, "# reflectance_above_1: reflectance above 1 in ")) << bright.out.substr(0, 2000);
+  const CliRun glass = run("thin-film --base-f0 0.04 --size 32 --format csv -o -");
+  ASSERT_EQ(glass.code, 0) << glass.err;
+  EXPECT_EQ(glass.err.find("reflectance above 1"), std::string::npos) << glass.err;
+  EXPECT_FALSE(has_meta(parse_csv(glass.out), "# reflectance_above_1"));
+}
+
+// Issue 24, numbers at the edge: parameters beyond the float range are the model's, not infinities
+// that meet 0 (inf * 0 = NaN, stored as 0): R = clamp(bias + scale (1 - cos)^power, 0, 1) is 1
+// everywhere for 1e308s (the double model: 1e308 + 1e308 w >= 1e308), and 0 for a bias of -1e308
+// under a scale of 1e308 with power 1 (-1e308 cos_theta <= 0, 0 at grazing).
+TEST(CliFresnel, EmpiricalParametersBeyondTheFloatRange) {
+  const CliRun big = run("fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 16 --format csv -o -");
+  ASSERT_EQ(big.code, 0) << big.err;
+  const Csv a = parse_csv(big.out);
+  ASSERT_EQ(a.rows.size(), 16u);
+  for (const auto& row : a.rows) EXPECT_EQ(row.back(), 1.0) << "cos_theta " << row.front();
+  const CliRun neg = run("fresnel --model empirical --bias -1e308 --scale 1e308 --power 1 --size 16 --format csv -o -");
+  ASSERT_EQ(neg.code, 0) << neg.err;
+  for (const auto& row : parse_csv(neg.out).rows) EXPECT_EQ(row.back(), 0.0) << "cos_theta " << row.front();
+  // and the bound the file records is the distance from the double model: 0 here, not 1
+  EXPECT_NE(big.err.find("within 0 of converged"), std::string::npos) << big.err;
+}

@@ -1035,6 +1035,21 @@ void special_files(std::vector<Row>& rows) {
                      .file("dir/x", "").says("it is a folder").no("data"));
   rows.push_back(R("special_client_token_file_dev_zero", "run {d}/job.json -o {d}/out --server http://127.0.0.1:9 --token-file /dev/zero", 2)
                      .file("job.json", job(kLut)).says("--token-file").no("out"));
+  // Rules the bake planner checks, checked once for every front end before anything is accepted
+  // (issue 24): an engine target's chain rules on the one-table command, a builtin's name in a job.
+  rows.push_back(R("planner_prefilter_target_size", "prefilter --env builtin:sun --target babylon --size 100 -o {d}/p.ktx2", 2)
+                     .says("power-of-two").no("p.ktx2"));
+  rows.push_back(R("planner_prefilter_target_schedule", "prefilter --env builtin:sun --target filament --schedule linear --size 16 -o {d}/p.ktx2", 2)
+                     .says("filament reads its levels with the 'filament' schedule").no("p.ktx2"));
+  rows.push_back(R("planner_job_builtin_traversal", "run {d}/job.json -o {d}/out --dry-run", 2)
+                     .file("job.json", R"({"environment": "builtin:../../etc/passwd", "tables": [{"kind": "irradiance", "output": "sh.json"}]})")
+                     .says("unknown builtin environment").no("out"));
+  // Numbers at the edge: parameters beyond the float range are the model's (clamped to 1 here),
+  // not infinities that meet 0; a model that exceeds 1 says so.
+  rows.push_back(R("edge_fresnel_empirical_1e308", "fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 8 -o {d}/f.csv", 0)
+                     .has("f.csv", "# error_bound: 0\n").has("f.csv", ",1\n").lacks("f.csv", ",0\n"));
+  rows.push_back(R("edge_thin_film_above_one", "thin-film --base-f0 0.95,0.64,0.54 --size 16 -o {d}/t.csv", 0)
+                     .says("reflectance above 1").has("t.csv", "# reflectance_above_1: reflectance above 1 in "));
   // An output that is the same file as an input (by device and inode: a hard link, a symbolic
   // link, another spelling) would destroy it: refused before anything is read or written.
   rows.push_back(R("special_eval_output_is_input", "eval --material {d}/m.json -i {d}/p.csv -o {d}/p.csv", 2)

@@ -97,6 +97,9 @@ std::vector<std::string> environment_files(const std::string& spec);
 // Checks cheaply, without reading pixels, that `spec` names something load_environment can open
 // (a known builtin, existing readable files): commands call it before slow work.
 void check_environment_source(const std::string& spec);
+// A builtin:NAME environment names a builtin (nothing else is checked: no file is touched). Throws
+// Error naming the builtins. Jobs check it when they are validated, before they are accepted.
+void check_builtin_environment(const std::string& spec);
 
 // The built-in environments, as equirects of width x width/2:
 //   studio: soft area lights (three rectangular softboxes and a ring light) over a grey gradient;
@@ -308,8 +311,11 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
 
 // ---- Irradiance ---------------------------------------------------------------------------------
 
-enum class ShWindow { None, Hanning, Lanczos };
-ShWindow sh_window_from_name(const std::string& name);  // "none" | "hanning" | "lanczos"
+// None; Sloan's fixed hanning and lanczos windows of width `order`; Auto: cmgen's default deringing
+// (`--sh-window auto`), sinc^4 with the widest cutoff that keeps the irradiance non-negative, chosen
+// from the coefficients (host/src/sh_window.cpp).
+enum class ShWindow { None, Hanning, Lanczos, Auto };
+ShWindow sh_window_from_name(const std::string& name);  // "none" | "hanning" | "lanczos" | "auto"
 const char* sh_window_name(ShWindow w);
 
 // Limits: the largest irradiance cube face and source cube face.
@@ -330,6 +336,7 @@ struct ShCoefficients {
   std::vector<double> irradiance_over_pi; // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
   ShWindow window = ShWindow::None;
   std::vector<double> window_weights;     // w_l per band
+  double window_cutoff = 0.0;             // ShWindow::Auto: the chosen sinc^4 cutoff, in bands
   std::string projection;                 // how L_lm was computed (recorded in the JSON)
 };
 
@@ -362,7 +369,24 @@ inline constexpr double kIrradianceReferenceMaxWork = 4e9;
 IrradianceResult compute_irradiance_reference(const EnvImage& env, const IrradianceSpec& spec,
                                               const EnvProgress& progress = {});
 // The window weights w_l, l < order: hanning 0.5 (1 + cos(pi l / order)), lanczos sinc(l / order).
+// Not for ShWindow::Auto (its weights depend on the coefficients: apply_sh_window).
 std::vector<double> sh_window_weights(ShWindow w, int order);
+// sinc(pi l / cutoff)^4 for l < cutoff, 0 beyond (cmgen's window of `cutoff` bands).
+std::vector<double> sh_sinc4_window_weights(double cutoff, int order);
+// The minimum over the unit sphere of sum c_k Y_k (one channel, order^2 coefficients).
+double sh_minimum(const std::vector<double>& coefficients, int order);
+// Sloan's estimate of that minimum for 3 bands (9 coefficients), as cmgen decides "negative" with
+// it: exact when band 2 is zonal about the linear part's axis; otherwise each band-2 part is taken at
+// its own worst phase, an estimate that may lie below the minimum (cmgen's deringing is stronger).
+double sh_minimum_estimate(const std::vector<double>& coefficients);
+// cmgen's automatic cutoff for unwindowed irradiance coefficients (order^2 x RGB): per channel, the
+// widest cutoff in [order, 4 order + 1] (bisection to 0.1 band) whose windowed function is nowhere
+// negative (by sh_minimum_estimate for 3 bands, as cmgen; by sh_minimum for 5); the smallest over
+// the channels.
+double sh_auto_window_cutoff(const std::vector<double>& irradiance, int order);
+// Fills sh.irradiance_over_pi = (A_l / pi) w_l L_lm from sh.radiance and sh.order, with the weights
+// of `window` (for Auto, chosen from the unwindowed irradiance; the cutoff in sh.window_cutoff).
+void apply_sh_window(ShCoefficients& sh, ShWindow window);
 // JSON text of the coefficients with the basis and conventions, and `metadata`.
 std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata);
 // Writes the JSON atomically.

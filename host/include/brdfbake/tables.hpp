@@ -146,6 +146,9 @@ struct BakeResult {
   std::string error_bound_definition;  // what the bound measures
   Params parameters;                   // as baked: every parameter, resolved defaults included
   Metadata details;                    // what else the family reports (channels, levels, ...)
+  // What the values hold that their user must know (e.g. reflectance above 1): delivered with the
+  // write report's warnings to every front end (deliver_result).
+  std::vector<std::string> warnings;
   std::string device;                  // the backend's name ("reference" for the oracle)
   std::string summary;                 // one line for people: what was baked, how well, how fast
   double seconds = 0.0;                // wall time of the bake

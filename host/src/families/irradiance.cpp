@@ -88,7 +88,7 @@ class IrradianceFamily final : public Family {
       std::vector<ParamDef> v = {
           ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)").range(3, 5).def(double(d.sh_order)).alias("sh"),
           ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
-              .one_of({"none", "hanning", "lanczos"}).def(std::string(sh_window_name(d.window))),
+              .one_of({"none", "hanning", "lanczos", "auto"}).def(std::string(sh_window_name(d.window))),
           ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
               .range(1, kIrradianceMaxCube).alias("cube").defaults_to(fmt_number(d.cube_size) + " for a cube output"),
           ParamDef("source_size", T::Int, "face size the environment is converted to first")

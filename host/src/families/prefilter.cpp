@@ -171,6 +171,18 @@ class PrefilterFamily final : public Family {
       if (!t.was_given("schedule")) t.set("schedule", std::string(roughness_schedule_name(e.schedule)));
       if (!t.was_given("size")) t.set("size", double(e.size));
       if (!t.was_given("min_size")) t.set("min_size", double(e.min_size));
+      // What the engine's files hold, checked here as the bake's engine writer checks its chain
+      // (engine_writers.cpp, check_chain), so that a one-table command, a job and the server refuse
+      // what the file's engine metadata would misdescribe, before anything is baked.
+      const std::string target = t.text("target");
+      const int size = static_cast<int>(t.number("size"));
+      if (e.power_of_two && (size & (size - 1)) != 0)
+        throw FieldError("size", target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
+      if (t.text("schedule") != roughness_schedule_name(e.schedule))
+        throw FieldError("schedule", target + " reads its levels with the '" + roughness_schedule_name(e.schedule) +
+                                         "' schedule (" + e.lod_formula + "), not '" + t.text("schedule") + "'");
+      if (e.min_size == 1 && t.number("min_size") != 1)
+        throw FieldError("min_size", target + " stores the full chain down to 1x1 (got " + fmt_number(t.number("min_size")) + ")");
     }
     if (t.find("samples") && t.text("estimator") != "sampling")
       throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " + name("refinement") +

@@ -11,6 +11,32 @@
 namespace brdfbake::detail {
 namespace {
 
+// The iridescence model is not bounded by 1: KHR_materials_iridescence's evaluation (the glTF
+// Sample Viewer's evalIridescence, which we follow) clamps its result below 0 only, and its Airy
+// sum with Schlick amplitudes and the XYZ to Rec. 709 conversion of the spectral integral exceed 1
+// near grazing angles on bright bases (an F0 of 0.95 gives 1.076). The values are the model's, kept;
+// a renderer must know: "" when every value is at most 1, else where and how much.
+std::string reflectance_above_one(const Table& t) {
+  size_t cells = 0;
+  float worst = 1.0f;
+  int wi = 0, wj = 0, wc = 0;
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) {
+      bool above = false;
+      for (int c = 0; c < t.channel_count(); ++c) {
+        const float v = t.data[(size_t(j) * size_t(t.width) + size_t(i)) * t.channels.size() + size_t(c)];
+        if (v > 1.0f) above = true;
+        if (v > worst) worst = v, wi = i, wj = j, wc = c;
+      }
+      cells += above;
+    }
+  if (!cells) return "";
+  return "reflectance above 1 in " + std::to_string(cells) + " of " + std::to_string(size_t(t.width) * size_t(t.height)) +
+         " cells, at most " + fmt_number(worst, "%.4g") + " (" + t.channels[size_t(wc)] + " at cos_theta " +
+         fmt_number(t.x[size_t(wi)], "%.4g") + (t.y.empty() ? "" : ", thickness " + fmt_number(t.y[size_t(wj)], "%.4g") + " nm") +
+         "): the KHR_materials_iridescence model clamps only below 0; clamp to 1 where a renderer needs a reflectance";
+}
+
 std::string name_number(double v) { return fmt_number(v, "%.6g"); }
 
 class ThinFilmFamily final : public Family {
@@ -88,6 +114,10 @@ class ThinFilmFamily final : public Family {
     }
     table.set_meta("error_bound", fmt_number(*r.error_bound, "%.3g"));
     table.set_meta("error_bound_definition", r.error_bound_definition);
+    if (const std::string above = reflectance_above_one(table); !above.empty()) {
+      table.set_meta("reflectance_above_1", above);
+      r.warnings.push_back("thin-film: " + above);
+    }
     r.device_seconds = timing.device_seconds;
     r.summary = "thin film on " + (spec.base_ior ? "ior " + name_number(*spec.base_ior) : std::string("an F0 base")) + " " +
                 std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "io/json_input.hpp"
@@ -141,6 +142,12 @@ void check_job_path(const std::string& path, const std::string& field) {
 void validate_job(Job& job) {
   const std::string origin = job.source.empty() ? std::string("job") : job.source;
   if (job.environment.empty()) throw Error(origin + ": environment: must not be empty");
+  try {  // a builtin's name is known now: a server refuses the job (400) instead of failing it later
+    check_builtin_environment(job.environment);
+    for (const auto& t : job.tables) check_builtin_environment(t.environment);
+  } catch (const Error& e) {
+    throw Error(origin + ": environment: " + e.what());
+  }
   for (size_t i = 0; i < job.tables.size(); ++i) {
     TableRequest& t = job.tables[i];
     const std::string where = origin + ": tables[" + std::to_string(i) + "]";

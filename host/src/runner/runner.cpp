@@ -164,7 +164,8 @@ Delivery deliver_result(const BakeResult& result, const TableRequest& t, TableDe
   // A file's bound is what it records; values in memory are within the result's own.
   d.error_bound = d.report.error_bound ? d.report.error_bound : result.error_bound;
   if (d.error_bound) d.error_bound_text = error_bound_text(*d.error_bound);
-  d.warnings = d.report.warnings;
+  d.warnings = result.warnings;  // the values' own, then the file's
+  d.warnings.insert(d.warnings.end(), d.report.warnings.begin(), d.report.warnings.end());
   return d;
 }
 
