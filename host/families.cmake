@@ -5,4 +5,5 @@
 set(BRDFBAKE_FAMILIES
   dfg_lut
   fresnel
+  thin_film
 )

@@ -21,10 +21,6 @@ class LockedBackend final : public Backend {
 
   // Every family kernel's call (Backend::create_kernel) runs under this lock.
   std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
-  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->thin_film(s, t);
-  }
   CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
                        const std::function<void()>& source_done = {}) override {
     std::lock_guard<std::mutex> lock(*mutex_);

@@ -16,7 +16,6 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/device.hpp"
 #include "brdfbake/environment.hpp"
-#include "brdfbake/thin_film.hpp"
 
 namespace brdfbake {
 
@@ -69,7 +68,6 @@ class Backend {
   virtual std::unique_lock<std::mutex> lock_calls() { return {}; }
 
   // ---- One entry per family not yet moved to its folder (each family's header documents the spec) ----
-  virtual Table thin_film(const ThinFilmSpec& spec, ThinFilmTiming* timing) = 0;
   // source_done: as prefilter_environment's (the reference never calls it).
   virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
                                const EnvProgress& progress, const std::function<void()>& source_done = {}) = 0;

@@ -1,5 +1,5 @@
-// Internal: what the device path (thin_film.cpp) and the reference backend
-// (reference_backend/thin_film.cpp) of the thin-film table share.
+// Internal: the thin-film family's model (model.cpp), what its descriptor and its two kernels
+// (opencl.cpp, reference.cpp) share.
 #pragma once
 
 #include "brdfbake/math/types.hpp"

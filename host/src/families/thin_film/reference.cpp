@@ -1,11 +1,24 @@
-// The reference backend of the thin-film table: every cell by the scalar double reference
-// (host/reference/src/thin_film.cpp, Belcour & Barla 2017 as KHR_materials_iridescence evaluates it).
+// The thin-film table on the reference backend: every cell by the scalar double reference
+// (host/reference/src/thin_film.cpp, Belcour & Barla 2017 as KHR_materials_iridescence evaluates
+// it), and the family's reference kernel (kernel.hpp).
 #include <chrono>
 
 #include "brdfbake/reference/thin_film.hpp"
-#include "thin_film.hpp"
+#include "families/thin_film/kernel.hpp"
+#include "families/thin_film/model.hpp"
 
 namespace brdfbake {
+
+namespace {
+
+class ReferenceThinFilm final : public detail::ThinFilmKernel {
+ public:
+  Table bake(const ThinFilmSpec& spec, ThinFilmTiming* timing) override { return bake_thin_film_reference(spec, timing); }
+};
+
+}  // namespace
+
+std::unique_ptr<detail::ThinFilmKernel> detail::make_reference_thin_film() { return std::make_unique<ReferenceThinFilm>(); }
 
 Table bake_thin_film_reference(const ThinFilmSpec& in, ThinFilmTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();

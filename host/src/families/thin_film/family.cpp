@@ -1,17 +1,52 @@
 // The thin-film family (kind thin-film): interference Fresnel over (cos_theta, film thickness) for
-// KHR_materials_iridescence (Belcour & Barla 2017).
-// Engine: host/src/thin_film.cpp and kernels/thin_film.cl; reference: host/reference/src/thin_film.cpp;
-// tests: tests/device/test_thin_film.cpp, tests/reference/test_thin_film_reference.cpp.
+// KHR_materials_iridescence (Belcour & Barla 2017). Its descriptor: the schema bound to
+// ThinFilmSpec, the rules across fields, names, the bake with its measured bound, and the
+// registration of its kernels. Model: model.cpp; kernels: opencl.cpp (kernels/thin_film.cl),
+// reference.cpp (host/reference/src/thin_film.cpp); tests: tests/device/test_thin_film.cpp,
+// tests/reference/test_thin_film_reference.cpp.
 #include <algorithm>
 #include <cmath>
 
 #include "brdfbake/thin_film.hpp"
 #include "families/family.hpp"
+#include "families/kernels.hpp"
+#include "families/spec_schema.hpp"
+#include "families/thin_film/kernel.hpp"
 
 namespace brdfbake::detail {
 namespace {
 
 std::string name_number(double v) { return fmt_number(v, "%.6g"); }
+
+// The schema, bound to ThinFilmSpec.
+SpecSchema<ThinFilmSpec> make_thin_film_schema() {
+  static const ThinFilmSpec d;
+  using T = ParamType;
+  using S = ThinFilmSpec;
+  SpecSchema<ThinFilmSpec> s;
+  s.bind(&S::film_ior, "film_ior", ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior))
+      .bind(&S::base_ior, "base_ior", ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10))
+      .bind(&S::base_f0, "base_f0",
+            ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)").range(0, 1))
+      .bind(&S::outside_ior, "outside_ior",
+            ParamDef("outside_ior", T::Number, "the medium above the film").range(1, 10).def(d.outside_ior))
+      .bind(&S::thickness_min, "thickness_min",
+            ParamDef("thickness_min", T::Number, "thinnest film, nm (iridescenceThicknessMinimum)").range(0, 1e5).def(d.thickness_min))
+      .bind(&S::thickness_max, "thickness_max",
+            ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)").range(0, 1e5).def(d.thickness_max))
+      .bind(&S::width, "width", ParamDef("size", T::Int, "cells along cos_theta").range(1, 8192).def(double(d.width)))
+      .bind(&S::height, "height",
+            ParamDef("height", T::Int, "cells along the thickness").range(1, 8192).defaults_to("size, or 1 when thickness_min = thickness_max"))
+      .common("precision", "precision", [](ThinFilmSpec& f, const TableRequest& t) { f.precision = t.precision; });
+  std::vector<ParamDef> output;
+  add_table_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<ThinFilmSpec>& thin_film_schema() {
+  static const SpecSchema<ThinFilmSpec> s = make_thin_film_schema();
+  return s;
+}
 
 class ThinFilmFamily final : public Family {
  public:
@@ -34,24 +69,11 @@ class ThinFilmFamily final : public Family {
     return "thin-film interference Fresnel over (cos_theta, thickness) for KHR_materials_iridescence";
   }
 
-  const std::vector<ParamDef>& schema(TableKind) const override {
-    static const ThinFilmSpec d;
-    using T = ParamType;
-    static const std::vector<ParamDef> s = [] {
-      std::vector<ParamDef> v = {
-        ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior),
-        ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10),
-        ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)").range(0, 1),
-        ParamDef("outside_ior", T::Number, "the medium above the film").range(1, 10).def(d.outside_ior),
-        ParamDef("thickness_min", T::Number, "thinnest film, nm (iridescenceThicknessMinimum)").range(0, 1e5).def(d.thickness_min),
-        ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)").range(0, 1e5).def(d.thickness_max),
-        ParamDef("size", T::Int, "cells along cos_theta").range(1, 8192).def(double(d.width)),
-        ParamDef("height", T::Int, "cells along the thickness").range(1, 8192).defaults_to("size, or 1 when thickness_min = thickness_max"),
-      };
-      add_table_output_params(v);
-      return v;
-    }();
-    return s;
+  const std::vector<ParamDef>& schema(TableKind) const override { return thin_film_schema().schema(); }
+  std::vector<SpecField> spec_fields(TableKind) const override { return thin_film_schema().fields(); }
+  void register_kernels(KernelRegistry& r) const override {
+    r.add<ThinFilmKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_thin_film(*b.device()); });
+    r.add<ThinFilmKernel>(Platform::Reference, [](Backend&) { return make_reference_thin_film(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -83,7 +105,7 @@ class ThinFilmFamily final : public Family {
     const ThinFilmSpec spec = spec_of(t);
     ThinFilmTiming timing;
     BakeResult r;
-    Table table = backend.thin_film(spec, &timing);
+    Table table = bake_thin_film(backend, spec, &timing);
     if (backend.is_reference()) {
       r.error_bound = 0.0;
       r.error_bound_definition = "the scalar double reference itself (stored as float32)";
@@ -111,19 +133,7 @@ class ThinFilmFamily final : public Family {
   }
 
  private:
-  static ThinFilmSpec spec_of(const TableRequest& t) {
-    ThinFilmSpec s;
-    s.film_ior = t.number("film_ior");
-    s.outside_ior = t.number("outside_ior");
-    if (t.find("base_ior")) s.base_ior = t.number("base_ior");
-    if (const ParamValue* v = t.find("base_f0")) s.base_f0 = rgb_of(*v);
-    s.thickness_min = t.number("thickness_min");
-    s.thickness_max = t.number("thickness_max");
-    s.width = static_cast<int>(t.number("size"));
-    s.height = static_cast<int>(t.number("height"));
-    s.precision = t.precision;
-    return s;
-  }
+  static ThinFilmSpec spec_of(const TableRequest& t) { return thin_film_schema().fill(t); }
 };
 
 }  // namespace
