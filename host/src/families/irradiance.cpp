@@ -14,15 +14,6 @@
 
 namespace brdfbake::detail {
 
-// host/src/families/prefilter.cpp
-OutputFormats cube_formats();
-CubeFormat cube_format_of(const TableRequest& t);
-CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string& stem);
-void add_cube_output_params(std::vector<ParamDef>& s);
-void check_cube_output(const TableRequest& t, const FieldName& name);
-WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
-                              const std::string& stem, std::optional<double> bound);
-
 namespace {
 
 bool is_json(const TableRequest& t) { return output_extension(t) == ".json"; }
