@@ -261,9 +261,9 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
   }
   CubeLevels out = cube_out;
   w.error_bound = *bound + s.max_error;
-  out.set_meta("storage_error", fmt_number(s.max_error, "%.3g"));
+  out.set_meta("storage_error", bound_text(s.max_error));
   out.set_meta("storage_encoding", s.encoding);
-  out.set_meta("error_bound", fmt_number(*w.error_bound, "%.3g"));
+  out.set_meta("error_bound", bound_text(*w.error_bound));
   write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
   return w;
 }

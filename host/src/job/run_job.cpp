@@ -214,9 +214,9 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       if (written.error_bound && r.error_bound) {
         f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
                                    "storage error measured on the stored values";
-        f.details.push_back({"integration_error_bound", detail::fmt_number(*r.error_bound, "%.3g")});
+        f.details.push_back({"integration_error_bound", detail::bound_text(*r.error_bound)});
         f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
-        f.details.push_back({"storage_error", detail::fmt_number(written.storage_error, "%.3g")});
+        f.details.push_back({"storage_error", detail::bound_text(written.storage_error)});
         f.details.push_back({"storage_encoding", written.encoding});
       }
       for (const auto& d : written.details) f.details.push_back(d);
