@@ -6,4 +6,5 @@ set(BRDFBAKE_FAMILIES
   dfg_lut
   fresnel
   thin_film
+  prefilter
 )

@@ -62,10 +62,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& source_done = {}) override {
-    return prefilter_environment(opened(), env, s, t, p, source_done);
-  }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
     if (s.cube_size == 0) {  // SH alone: on the host, exact for the input (docs/CONVENTIONS.md)
       IrradianceResult r;
@@ -99,10 +95,6 @@ class ReferenceBackend final : public Backend {
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
 
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& = {}) override {
-    return prefilter_environment_reference(env, s, t, p);
-  }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
     return compute_irradiance_reference(env, s, p);
   }

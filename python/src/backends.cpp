@@ -21,11 +21,6 @@ class LockedBackend final : public Backend {
 
   // Every family kernel's call (Backend::create_kernel) runs under this lock.
   std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& source_done = {}) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->prefilter(env, s, t, p, source_done);
-  }
   IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
     std::lock_guard<std::mutex> lock(*mutex_);
     return inner_->irradiance(env, s, p);

@@ -68,9 +68,6 @@ class Backend {
   virtual std::unique_lock<std::mutex> lock_calls() { return {}; }
 
   // ---- One entry per family not yet moved to its folder (each family's header documents the spec) ----
-  // source_done: as prefilter_environment's (the reference never calls it).
-  virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
-                               const EnvProgress& progress, const std::function<void()>& source_done = {}) = 0;
   virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
   virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                                    const EvalOptions& options) = 0;

@@ -244,11 +244,17 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& spec,
                                  PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
                                  const std::function<void()>& source_done = {});
+class Backend;
+// The whole chain on a backend (brdfbake/backend.hpp): its OpenCL device (as above) or the scalar
+// reference (prefilter_environment_reference; source_done is not called).
+CubeLevels prefilter_environment(Backend& backend, const EnvImage& env, const PrefilterSpec& spec,
+                                 PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
+                                 const std::function<void()>& source_done = {});
 // The same from a source cube already at spec.size (level 0 of `source`).
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
 
-// The same chain by the scalar double reference (host/src/reference_backend/prefilter.cpp): the
+// The same chain by the scalar double reference (host/src/families/prefilter/reference.cpp): the
 // environment converted to a cube by brute force (every texel the solid-angle-weighted mean of the
 // source's bilinear interpolation over q x q sub-cells), and every level l >= 1 the lobe integral
 // over every source texel split into sub-cells (brdfbake/reference/envmap.hpp, prefilter_cube), in

@@ -12,7 +12,7 @@
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "env_internal.hpp"
-#include "reference_backend/environment.hpp"
+#include "env/reference_cube.hpp"
 
 namespace brdfbake {
 namespace {

@@ -1,5 +1,5 @@
-// An environment as the scalar reference sees it (reference_backend/environment.hpp).
-#include "reference_backend/environment.hpp"
+// An environment as the scalar reference sees it (reference_cube.hpp).
+#include "env/reference_cube.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,10 @@
 // The prefilter family (kind prefilter): a GGX or Charlie prefiltered radiance mip chain of the
-// environment.
-// Engine: host/src/prefilter.cpp and kernels/prefilter.cl; reference: host/reference/src/envmap.cpp;
-// tests: tests/device/test_prefilter.cpp, tests/reference/test_envmap_reference.cpp.
+// environment. Its descriptor: the schema bound to PrefilterSpec, the rules across fields (an
+// engine target's conventions), names, the bake (radiance near FLT_MAX scaled into headroom) and
+// the registration of its kernels. Engine: chain.cpp and the files model.hpp lists, with the
+// environment families' shared engine in host/src/env/; kernels: opencl.cpp (kernels/prefilter.cl),
+// reference.cpp (host/reference/src/prefilter.cpp); tests: tests/device/test_prefilter.cpp,
+// tests/reference/test_envmap_reference.cpp.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -11,11 +14,73 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
-#include "io/storage.hpp"
+#include "families/kernels.hpp"
+#include "families/prefilter/kernel.hpp"
+#include "families/spec_schema.hpp"
 
 namespace brdfbake::detail {
 
 namespace {
+
+// The schema, bound to PrefilterSpec.
+SpecSchema<PrefilterSpec> make_prefilter_schema() {
+  static const PrefilterSpec d;
+  using T = ParamType;
+  using S = PrefilterSpec;
+  SpecSchema<PrefilterSpec> s;
+  s.bind(&S::distribution, "distribution",
+         ParamDef("distribution", T::Name, "the lobe each level is filtered with")
+             .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
+         by_name(env_distribution_from_name))
+      .bind(&S::size, "size",
+            ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)))
+      .bind(&S::min_size, "min_size",
+            ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)))
+      .bind(&S::schedule, "schedule",
+            ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
+                .one_of({"linear", "filament", "sqrt", "babylon"}).def(std::string(roughness_schedule_name(d.schedule))),
+            by_name(roughness_schedule_from_name))
+      .bind(&S::estimator, "estimator",
+            ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
+                .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
+            by_name(env_estimator_from_name))
+      .bind(&S::samples, "samples",
+            ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"))
+      .bind(&S::max_error, "max_error",
+            ParamDef("max_error", T::Number,
+                     "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
+                     "(RMS relative luminance)").above(0, 1))
+      .bind(&S::refinement, "refinement",
+            ParamDef("refinement", T::Number,
+                     "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with max_error)")
+                .range(1.5, 64).defaults_to(fmt_number(d.refinement)))
+      .bind("bright_texels", ParamDef("env_sampling", T::Flag, "sum the brightest texels (suns) exactly").def(d.bright_texels != 0),
+            [](PrefilterSpec& p, const TableRequest& t) {
+              if (!t.flag("env_sampling", true)) p.bright_texels = 0;
+            })
+      .bind(&S::filtered_importance_sampling, "filtered_importance_sampling",
+            ParamDef("fis", T::Flag, "sampling: filtered importance sampling (off: every sample reads level 0)")
+                .def(d.filtered_importance_sampling))
+      .bind(&S::clamp_luminance, "clamp_luminance",
+            ParamDef("clamp", T::Number, "BIASED, opt-in: compress source luminance above this value").above(0))
+      .param(ParamDef("target", T::Name,
+                      "an engine's conventions (docs/ENGINES.md): its schedule and sizes unless given; "
+                      "bake --target writes its whole file set")
+                 .one_of(engine_target_names()).def(std::string("generic")))
+      .common("precision", "precision", [](PrefilterSpec& p, const TableRequest& t) { p.precision = t.precision; })
+      .internal("core_refinement", "quadrature shape: measured by the bench")
+      .internal("horizon_texel", "quadrature shape: measured by the bench")
+      .internal("strips", "the per-texel walk: the accuracy reference of the bench and tests")
+      .internal("lod_bias", "measured by the bench (0 is best here)");
+  std::vector<ParamDef> output;
+  add_cube_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<PrefilterSpec>& prefilter_schema() {
+  static const SpecSchema<PrefilterSpec> s = make_prefilter_schema();
+  return s;
+}
 
 class PrefilterFamily final : public Family {
  public:
@@ -49,39 +114,11 @@ class PrefilterFamily final : public Family {
   }
   bool uses_environment() const override { return true; }
 
-  const std::vector<ParamDef>& schema(TableKind) const override {
-    static const PrefilterSpec d;
-    static const std::vector<ParamDef> s = [] {
-      using T = ParamType;
-      std::vector<ParamDef> v = {
-          ParamDef("distribution", T::Name, "the lobe each level is filtered with")
-              .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
-          ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)),
-          ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)),
-          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
-              .one_of({"linear", "filament", "sqrt", "babylon"}).def(std::string(roughness_schedule_name(d.schedule))),
-          ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
-              .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
-          ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"),
-          ParamDef("max_error", T::Number,
-                   "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
-                   "(RMS relative luminance)").above(0, 1),
-          ParamDef("refinement", T::Number,
-                   "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with max_error)")
-              .range(1.5, 64).defaults_to(fmt_number(d.refinement)),
-          ParamDef("env_sampling", T::Flag, "sum the brightest texels (suns) exactly").def(d.bright_texels != 0),
-          ParamDef("fis", T::Flag, "sampling: filtered importance sampling (off: every sample reads level 0)")
-              .def(d.filtered_importance_sampling),
-          ParamDef("clamp", T::Number, "BIASED, opt-in: compress source luminance above this value").above(0),
-          ParamDef("target", T::Name,
-                   "an engine's conventions (docs/ENGINES.md): its schedule and sizes unless given; "
-                   "bake --target writes its whole file set")
-              .one_of(engine_target_names()).def(std::string("generic")),
-      };
-      add_cube_output_params(v);
-      return v;
-    }();
-    return s;
+  const std::vector<ParamDef>& schema(TableKind) const override { return prefilter_schema().schema(); }
+  std::vector<SpecField> spec_fields(TableKind) const override { return prefilter_schema().fields(); }
+  void register_kernels(KernelRegistry& r) const override {
+    r.add<PrefilterKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_prefilter(*b.device()); });
+    r.add<PrefilterKernel>(Platform::Reference, [](Backend&) { return make_reference_prefilter(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -130,7 +167,7 @@ class PrefilterFamily final : public Family {
     double scale = 1.0;
     const EnvImage& env = headroom_environment(*in.environment, scaled, &scale);
     spec.clamp_luminance /= scale;  // the opt-in clamp is a luminance: scaled with the radiance
-    CubeLevels cube = backend.prefilter(env, spec, &timing, progress, in.release_environment);
+    CubeLevels cube = prefilter_environment(backend, env, spec, &timing, progress, in.release_environment);
     spec.clamp_luminance *= scale;
     if (scale != 1.0)
       for (auto& level : cube.levels)
@@ -174,22 +211,7 @@ class PrefilterFamily final : public Family {
   }
 
  private:
-  static PrefilterSpec spec_of(const TableRequest& t) {
-    PrefilterSpec s;
-    s.distribution = env_distribution_from_name(t.text("distribution"));
-    s.size = static_cast<int>(t.number("size"));
-    s.min_size = static_cast<int>(t.number("min_size"));
-    s.schedule = roughness_schedule_from_name(t.text("schedule"));
-    s.estimator = env_estimator_from_name(t.text("estimator"));
-    s.samples = static_cast<int>(t.number("samples", 0));
-    s.max_error = t.number("max_error", 0);
-    s.refinement = t.number("refinement", s.refinement);
-    if (!t.flag("env_sampling", true)) s.bright_texels = 0;
-    s.filtered_importance_sampling = t.flag("fis", true);
-    s.clamp_luminance = t.number("clamp", 0.0);
-    s.precision = t.precision;
-    return s;
-  }
+  static PrefilterSpec spec_of(const TableRequest& t) { return prefilter_schema().fill(t); }
 };
 
 }  // namespace

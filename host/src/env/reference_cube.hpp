@@ -1,5 +1,5 @@
 // Internal: an environment as the scalar reference sees it, shared by the environment families'
-// reference backends (prefilter.cpp, irradiance.cpp here).
+// reference adapters (families/prefilter/reference.cpp, families/irradiance/reference.cpp).
 #pragma once
 
 #include "brdfbake/environment.hpp"

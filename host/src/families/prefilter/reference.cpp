@@ -1,5 +1,6 @@
-// The reference backend of the prefiltered radiance chain: prefilter_environment_reference, every
-// level by the brute-force double reference (host/reference/src/envmap.cpp, prefilter_cube).
+// The prefiltered radiance chain on the reference backend: prefilter_environment_reference, every
+// level by the brute-force double reference (host/reference/src/prefilter.cpp, prefilter_cube),
+// and the family's reference kernel (kernel.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,8 +10,10 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/reference/envmap.hpp"
-#include "env_internal.hpp"
-#include "reference_backend/environment.hpp"
+#include "env/cube.hpp"
+#include "env/reference_cube.hpp"
+#include "families/prefilter/kernel.hpp"
+#include "families/prefilter/model.hpp"
 
 namespace brdfbake {
 namespace {
@@ -35,7 +38,19 @@ std::vector<int> subdivisions(const PrefilterSpec& s, int levels) {
   return q;
 }
 
+class ReferencePrefilter final : public detail::PrefilterKernel {
+ public:
+  CubeLevels bake(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing, const EnvProgress& progress,
+                  const std::function<void()>&) override {
+    return prefilter_environment_reference(env, spec, timing, progress);
+  }
+};
+
 }  // namespace
+
+std::unique_ptr<detail::PrefilterKernel> detail::make_reference_prefilter() {
+  return std::make_unique<ReferencePrefilter>();
+}
 
 double prefilter_reference_work(const PrefilterSpec& in) {
   const PrefilterSpec s = resolve_prefilter_spec(in);

@@ -1,5 +1,5 @@
-// The prefiltered levels' lobes on the host (env_lobes.hpp).
-#include "env_lobes.hpp"
+// The prefiltered levels' lobes on the host (lobes.hpp).
+#include "families/prefilter/lobes.hpp"
 
 #include <algorithm>
 #include <cmath>
