@@ -7,4 +7,5 @@ set(BRDFBAKE_FAMILIES
   fresnel
   thin_film
   prefilter
+  irradiance
 )

@@ -62,15 +62,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    if (s.cube_size == 0) {  // SH alone: on the host, exact for the input (docs/CONVENTIONS.md)
-      IrradianceResult r;
-      r.sh = project_sh(env, s.sh_order, s.window);
-      if (p) p(1.0, "done");
-      return r;
-    }
-    return compute_irradiance(opened(), env, s, p);
-  }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions& options) override {
     return std::make_unique<OpenClEvaluator>(opened(), model, materials, options);
@@ -95,9 +86,6 @@ class ReferenceBackend final : public Backend {
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
 
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    return compute_irradiance_reference(env, s, p);
-  }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions&) override {
     return std::make_unique<ReferenceEvaluator>(model, materials);

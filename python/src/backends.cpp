@@ -21,10 +21,6 @@ class LockedBackend final : public Backend {
 
   // Every family kernel's call (Backend::create_kernel) runs under this lock.
   std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->irradiance(env, s, p);
-  }
   std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                            const EvalOptions& options) override {
     std::lock_guard<std::mutex> lock(*mutex_);

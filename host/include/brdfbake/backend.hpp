@@ -68,7 +68,6 @@ class Backend {
   virtual std::unique_lock<std::mutex> lock_calls() { return {}; }
 
   // ---- One entry per family not yet moved to its folder (each family's header documents the spec) ----
-  virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
   virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
                                                    const EvalOptions& options) = 0;
   virtual MerlTable tabulate_merl(const TabulateSpec& spec, TabulateTiming* timing) = 0;

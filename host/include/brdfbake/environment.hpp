@@ -331,12 +331,17 @@ struct IrradianceResult {
 // device is not used at all.
 IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
                                     const EnvProgress& progress = {});
+class Backend;
+// The same on a backend (brdfbake/backend.hpp): SH on the host and the cube on its OpenCL device
+// (its device opened only for a cube), or the scalar reference (compute_irradiance_reference).
+IrradianceResult compute_irradiance(Backend& backend, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress = {});
 // The SH projection of an environment on the host, in double precision, without a device: an
 // equirect exactly as its pixels define it (each constant over its cell, integrated against the
 // basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
 ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
 
-// The same by the scalar double reference (host/src/reference_backend/irradiance.cpp): the source
+// The same by the scalar double reference (host/src/families/irradiance/reference.cpp): the source
 // cube converted by brute force (as prefilter_environment_reference), the SH coefficients projected
 // over every source sub-cell (brdfbake/reference/envmap.hpp, sh_project), the irradiance cube by
 // direct cosine convolution over every source sub-cell (irradiance_directions). Same result type and

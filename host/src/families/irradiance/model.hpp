@@ -1,6 +1,6 @@
-// Internal: what the irradiance family's device path (irradiance.cpp) and reference backend
-// (reference_backend/irradiance.cpp) share: validation, the SH coefficients' derived values, the
-// cube's metadata. (The environment families' shared engine is env/cube.hpp.)
+// Internal: the irradiance family's model, what its descriptor and its two kernels (opencl.cpp,
+// reference.cpp) share: the limits of a spec, the SH coefficients' derived values (sh.cpp) and the
+// metadata of an irradiance cube (model.cpp).
 #pragma once
 
 #include <string>

@@ -1,13 +1,18 @@
 // The irradiance family (kind irradiance): diffuse irradiance of the environment as spherical
-// harmonics (JSON) and as an irradiance cube.
-// Engine: host/src/irradiance.cpp and kernels/irradiance.cl; reference: host/reference/src/envmap.cpp
-// (sh_project); tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
+// harmonics (JSON) and as an irradiance cube. Its descriptor: the schema bound to IrradianceSpec,
+// the rules across fields (an engine target's window), names, the bake, the SH JSON and cube
+// writes, and the registration of its kernels. Model: model.cpp, sh.cpp, sh_projection.cpp;
+// kernels: opencl.cpp (kernels/irradiance.cl), reference.cpp (host/reference/src/irradiance.cpp);
+// tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
 #include <algorithm>
 #include <cmath>
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/family.hpp"
+#include "families/irradiance/kernel.hpp"
+#include "families/kernels.hpp"
+#include "families/spec_schema.hpp"
 #include "io/atomic_file.hpp"
 
 #include <nlohmann/json.hpp>
@@ -56,6 +61,42 @@ Metadata sh_metadata(const BakeResult& r) {
   return m;
 }
 
+// The schema, bound to IrradianceSpec.
+SpecSchema<IrradianceSpec> make_irradiance_schema() {
+  static const IrradianceSpec d;
+  using T = ParamType;
+  using S = IrradianceSpec;
+  SpecSchema<IrradianceSpec> s;
+  s.bind(&S::sh_order, "sh_order",
+         ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)").range(3, 5).def(double(d.sh_order)).spelled("sh"))
+      .bind(&S::window, "window",
+            ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
+                .one_of({"none", "hanning", "lanczos"}).def(std::string(sh_window_name(d.window))),
+            by_name(sh_window_from_name))
+      // no cube_size: SH alone (a .json output), not the struct's default
+      .bind("cube_size",
+            ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
+                .range(1, kIrradianceMaxCube).spelled("cube").defaults_to(fmt_number(d.cube_size) + " for a cube output"),
+            [](IrradianceSpec& i, const TableRequest& t) { i.cube_size = static_cast<int>(t.number("cube_size", 0)); })
+      .bind(&S::source_size, "source_size",
+            ParamDef("source_size", T::Int, "face size the environment is converted to first")
+                .range(1, kIrradianceMaxSource).def(double(d.source_size)))
+      .param(ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output())
+      .param(ParamDef("target", T::Name,
+                      "an engine's SH conventions (docs/ENGINES.md): its window unless given, and its coefficients "
+                      "added to the JSON")
+                 .one_of(engine_target_names()).def(std::string("generic")))
+      .common("precision", "precision", [](IrradianceSpec& i, const TableRequest& t) { i.precision = t.precision; });
+  std::vector<ParamDef> output;
+  add_cube_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<IrradianceSpec>& irradiance_schema() {
+  static const SpecSchema<IrradianceSpec> s = make_irradiance_schema();
+  return s;
+}
+
 class IrradianceFamily final : public Family {
  public:
   std::vector<TableKind> kinds() const override { return {TableKind::Irradiance}; }
@@ -83,28 +124,11 @@ class IrradianceFamily final : public Family {
   bool uses_environment() const override { return true; }
   bool needs_device(const TableRequest& t) const override { return t.find("cube_size") != nullptr; }
 
-  const std::vector<ParamDef>& schema(TableKind) const override {
-    static const IrradianceSpec d;
-    static const std::vector<ParamDef> s = [] {
-      using T = ParamType;
-      std::vector<ParamDef> v = {
-          ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)").range(3, 5).def(double(d.sh_order)).spelled("sh"),
-          ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
-              .one_of({"none", "hanning", "lanczos"}).def(std::string(sh_window_name(d.window))),
-          ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
-              .range(1, kIrradianceMaxCube).spelled("cube").defaults_to(fmt_number(d.cube_size) + " for a cube output"),
-          ParamDef("source_size", T::Int, "face size the environment is converted to first")
-              .range(1, kIrradianceMaxSource).def(double(d.source_size)),
-          ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output(),
-          ParamDef("target", T::Name,
-                   "an engine's SH conventions (docs/ENGINES.md): its window unless given, and its coefficients "
-                   "added to the JSON")
-              .one_of(engine_target_names()).def(std::string("generic")),
-      };
-      add_cube_output_params(v);
-      return v;
-    }();
-    return s;
+  const std::vector<ParamDef>& schema(TableKind) const override { return irradiance_schema().schema(); }
+  std::vector<SpecField> spec_fields(TableKind) const override { return irradiance_schema().fields(); }
+  void register_kernels(KernelRegistry& r) const override {
+    r.add<IrradianceKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_irradiance(b); });
+    r.add<IrradianceKernel>(Platform::Reference, [](Backend&) { return make_reference_irradiance(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -140,17 +164,12 @@ class IrradianceFamily final : public Family {
   }
 
   BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
-    IrradianceSpec spec;
-    spec.sh_order = static_cast<int>(t.number("sh_order"));
-    spec.window = sh_window_from_name(t.text("sh_window"));
-    spec.cube_size = static_cast<int>(t.number("cube_size", 0));
-    spec.source_size = static_cast<int>(t.number("source_size"));
-    spec.precision = t.precision;
+    const IrradianceSpec spec = irradiance_schema().fill(t);
     BakeResult r;
     EnvImage scaled;
     double scale = 1.0;
     const EnvImage& env = headroom_environment(*in.environment, scaled, &scale);
-    IrradianceResult res = backend.irradiance(env, spec, progress);
+    IrradianceResult res = compute_irradiance(backend, env, spec, progress);
     // SH: scaled back in double (finite for any finite radiance: at most 4 pi 3.4e38 x 0.9); the
     // cube's E / pi is at most the largest radiance, a float.
     for (double& v : res.sh.radiance) v *= scale;

@@ -18,7 +18,8 @@
 // and nothing else to rounding, at any resolution.
 //
 // A cube is projected at its texel centres with each texel's exact solid angle (the device's
-// definition before; the cube's texels already are the samples).
+// definition before; the cube's texels already are the samples). The irradiance family's SH, on
+// every backend's host (the OpenCL kernel's for SH alone and for a cube alike).
 #include <algorithm>
 #include <array>
 #include <cmath>

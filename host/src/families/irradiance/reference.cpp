@@ -1,6 +1,6 @@
-// The reference backend of diffuse irradiance: compute_irradiance_reference, the SH coefficients and
-// the irradiance cube by the brute-force double reference (host/reference/src/envmap.cpp,
-// sh_project and irradiance_directions).
+// Diffuse irradiance on the reference backend: compute_irradiance_reference, the SH coefficients and
+// the irradiance cube by the brute-force double reference (host/reference/src/irradiance.cpp,
+// sh_project and irradiance_directions), and the family's reference kernel (kernel.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,8 +11,9 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
-#include "env_internal.hpp"
 #include "env/reference_cube.hpp"
+#include "families/irradiance/kernel.hpp"
+#include "families/irradiance/model.hpp"
 
 namespace brdfbake {
 namespace {
@@ -27,7 +28,18 @@ std::string fmt(double v) {
 // ceil(128 / size)).
 int cosine_subdivision(int source_size) { return std::max(1, (128 + source_size - 1) / source_size); }
 
+class ReferenceIrradiance final : public detail::IrradianceKernel {
+ public:
+  IrradianceResult bake(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) override {
+    return compute_irradiance_reference(env, spec, progress);
+  }
+};
+
 }  // namespace
+
+std::unique_ptr<detail::IrradianceKernel> detail::make_reference_irradiance() {
+  return std::make_unique<ReferenceIrradiance>();
+}
 
 IrradianceResult compute_irradiance_reference(const EnvImage& env, const IrradianceSpec& spec,
                                               const EnvProgress& progress) {

@@ -1,0 +1,10 @@
+# The irradiance family's sources (host/families.cmake).
+set(BRDFBAKE_FAMILY_SOURCES
+  family.cpp
+  model.cpp
+  sh.cpp
+  sh_projection.cpp
+  kernel.cpp
+  opencl.cpp
+  reference.cpp
+)
