@@ -8,4 +8,5 @@ set(BRDFBAKE_FAMILIES
   thin_film
   prefilter
   irradiance
+  brdf_eval
 )

@@ -86,7 +86,7 @@ std::vector<Variant> fresnel_variants() {
   return v;
 }
 
-// host/src/brdf_eval.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
+// host/src/families/brdf_eval/names.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
 // subsurface and sheen come only with its diffuse lobe (metallic < 1); glTF has a diffuse or a
 // metal lobe or both, its specular colour only with the diffuse lobe; Cook-Torrance uses Beckmann,
 // GGX or both. The lane width (8 or 16) is an option of the evaluator's API.

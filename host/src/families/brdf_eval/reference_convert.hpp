@@ -1,6 +1,6 @@
 // Internal: the public API's BRDF parameters in the scalar reference's own types (the reference
 // keeps separate types so that it depends on nothing of the product; see brdfbake/reference/brdf.hpp).
-// Used by the reference backend (reference_backend/brdf.cpp) and by tests that evaluate the oracle
+// Used by the reference adapter (families/brdf_eval/reference.cpp) and by tests that evaluate the oracle
 // for a public Material.
 #pragma once
 

@@ -1,18 +1,19 @@
-// The reference backend of bulk BRDF evaluation and tabulation: eval_reference, tabulate_reference
-// and tabulate_merl_reference, every value by the scalar double reference
-// (host/reference/src/brdf.cpp, brdf_albedo.cpp) on the public Material converted to the
-// reference's own parameter type.
+// BRDF evaluation and tabulation on the reference backend: eval_reference, tabulate_reference and
+// tabulate_merl_reference, every value by the scalar double reference
+// (host/reference/src/brdf_eval.cpp, brdf_albedo.cpp) on the public Material converted to the
+// reference's own parameter type; and the engine's reference kernel (kernel.hpp).
 #include <chrono>
 #include <cmath>
 #include <vector>
 
-#include "brdf_eval_internal.hpp"
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "io/merl.hpp"
-#include "reference_backend/brdf_convert.hpp"
+#include "families/brdf_eval/kernel.hpp"
+#include "families/brdf_eval/model.hpp"
+#include "families/brdf_eval/reference_convert.hpp"
 
 namespace brdfbake {
 
@@ -182,6 +183,39 @@ Table tabulate_reference(const TabulateSpec& s, TabulateTiming* timing) {
   detail::tabulate_metadata(t.metadata, s, res, "reference (scalar double)", "fp64", "all");
   if (timing) timing->device_seconds = timing->wall_seconds = seconds_since(t0);
   return t;
+}
+
+namespace {
+
+class ReferenceEvaluator final : public PairEvaluator {
+ public:
+  ReferenceEvaluator(BrdfModel model, std::vector<Material> materials) : model_(model), materials_(std::move(materials)) {}
+  void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
+    for (std::size_t m = 0; m < materials_.size(); ++m) eval_reference(model_, materials_[m], pairs, count, out + 3 * m * count);
+    if (timing) *timing = {};
+  }
+
+ private:
+  BrdfModel model_;
+  std::vector<Material> materials_;
+};
+
+class ReferenceBrdfEval final : public detail::BrdfEvalKernel {
+ public:
+  std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
+                                           const EvalOptions&) override {
+    return std::make_unique<ReferenceEvaluator>(model, materials);
+  }
+  MerlTable tabulate_merl(const TabulateSpec& spec, TabulateTiming* timing) override {
+    return tabulate_merl_reference(spec, timing);
+  }
+  Table tabulate(const TabulateSpec& spec, TabulateTiming* timing) override { return tabulate_reference(spec, timing); }
+};
+
+}  // namespace
+
+std::unique_ptr<detail::BrdfEvalKernel> detail::make_reference_brdf_eval() {
+  return std::make_unique<ReferenceBrdfEval>();
 }
 
 }  // namespace brdfbake

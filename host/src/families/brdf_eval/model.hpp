@@ -1,5 +1,7 @@
-// Internal: what the device path (brdf_eval.cpp) and the reference backend
-// (reference_backend/brdf.cpp) of bulk BRDF evaluation and tabulation share.
+// Internal: the BRDF evaluation engine's model, what the eval and tabulate families' files share:
+// names (names.cpp), the materials' parameter blocks (material.cpp), programs and buffers
+// (evaluator.cpp), tables and their metadata (tabulate.cpp), and what the reference adapter
+// (reference.cpp) needs of them.
 #pragma once
 
 #include <algorithm>
@@ -14,8 +16,36 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/table.hpp"
+#include "runtime/program.hpp"
 
 namespace brdfbake::detail {
+
+inline double max3(const Rgb& c) { return std::max(c.r, std::max(c.g, c.b)); }
+inline double mix(double a, double b, double t) { return a + (b - a) * t; }
+inline bool is_gltf(BrdfModel m) { return m == BrdfModel::Gltf || m == BrdfModel::GltfCorrelated; }
+// The model's compile-time switch of kernels/brdf_eval.cl.
+const char* brdf_model_define(BrdfModel model);
+
+// The parameter blocks (BRDF_PARAM_STRIDE per material) and sheen tables (the E(mu) pieces of each
+// distinct sheen roughness) of a set of materials.
+struct PackedMaterials {
+  std::vector<double> params;
+  std::vector<double> sheen;
+};
+PackedMaterials pack_materials(BrdfModel model, const std::vector<Material>& materials);
+// The narrowest lobe of a material, in radians of the half vector's polar angle: the albedo
+// quadrature starts its log-spaced polar nodes 1e-4 of it below it.
+double narrowest_lobe(BrdfModel model, const Material& material);
+
+// The program of a model for the lobes used, in the options' precision, `lanes` directions a
+// work-item; the lane count of the options (8 or 16; 0 the measured best).
+ProgramSpec brdf_program_spec(BrdfModel model, const Lobes& lobes, const EvalOptions& options, int lanes);
+int resolve_lanes(const EvalOptions& options);
+// Device-side copies of a real-valued host array in the program's precision, and back.
+cl::Buffer brdf_real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v,
+                            cl_mem_flags flags = CL_MEM_READ_ONLY);
+size_t real_size(Precision p);
+void read_reals(Device::Impl& dev, Precision p, const cl::Buffer& buffer, size_t n, double* out);
 
 // "direction pair i: <which> is zero or not finite".
 std::string pair_error(std::size_t i, const char* which);

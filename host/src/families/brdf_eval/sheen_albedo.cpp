@@ -1,5 +1,5 @@
 // KHR_materials_sheen's albedo E(mu) for the kernels (sheen_albedo.hpp).
-#include "sheen_albedo.hpp"
+#include "families/brdf_eval/sheen_albedo.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,13 +8,13 @@
 #include <mutex>
 #include <vector>
 
-#include "brdf_eval_internal.hpp"
+#include "families/brdf_eval/model.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/gauss_legendre.hpp"
 
 // The layout of the kernels' table.
-#include "../../kernels/common/brdf_params.clh"
+#include "../../../../kernels/common/brdf_params.clh"
 
 namespace brdfbake::detail {
 

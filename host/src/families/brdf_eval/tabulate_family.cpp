@@ -1,8 +1,11 @@
 // The tabulate family (kind tabulate): a BRDF model tabulated as a MERL binary, a grid over
-// (theta_i, theta_o, phi_d), directional albedo over theta_o, or a (theta_h, theta_d) slice image.
-// Engine: host/src/brdf_eval.cpp, host/src/io/merl.cpp; reference: host/reference/src/brdf.cpp,
-// brdf_albedo.cpp; tests: tests/device/test_brdf_eval.cpp, tests/host/test_merl.cpp.
+// (theta_i, theta_o, phi_d), directional albedo over theta_o, or a (theta_h, theta_d) slice image,
+// by the BRDF evaluation engine's kernel (kernel.hpp, registered by eval_family.cpp). Engine:
+// tabulate.cpp and host/src/io/merl.cpp; reference: reference.cpp (host/reference/src/brdf_eval.cpp,
+// brdf_albedo.cpp); tests: tests/device/test_brdf_eval.cpp, tests/host/test_merl.cpp.
+#include "brdfbake/brdf.hpp"
 #include "families/family.hpp"
+#include "families/spec_schema.hpp"
 
 namespace brdfbake::detail {
 namespace {
@@ -18,6 +21,45 @@ std::vector<std::string> model_names() {
 }
 
 bool is_merl(const TableRequest& t) { return t.text("layout") == "merl"; }
+
+// The schema, bound to TabulateSpec; the materials and model are read by spec_of (the file, the
+// name and the model's rules across them).
+SpecSchema<TabulateSpec> make_tabulate_schema() {
+  using T = ParamType;
+  using S = TabulateSpec;
+  SpecSchema<TabulateSpec> s;
+  s.bind("materials", ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(), {})
+      .param(ParamDef("name", T::Name,
+                      "the material to use (albedo: default every material; the others: needed when the file holds several)"))
+      .bind("model", ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"), {})
+      .bind(&S::layout, "layout",
+            ParamDef("layout", T::Name,
+                     "merl (90x90x180 MERL binary) | grid (theta_i x theta_o x phi_d) | albedo (over theta_o) | slice "
+                     "(theta_h x theta_d image)")
+                .one_of({"merl", "grid", "albedo", "slice"}).needed(),
+            by_name(table_layout_from_name))
+      .bind("res",
+            ParamDef("res", T::IntList, "grid: N or NI,NO,NP (default 32); albedo: N (default 90); slice: N or W,H (default 256); not for merl")
+                .range(1, 4096),
+            [](TabulateSpec& spec, const TableRequest& t) {
+              for (double v : t.numbers("res")) spec.res.push_back(static_cast<int>(v));
+            })
+      .bind(&S::slice_phi_d, "slice_phi_d",
+            ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"))
+      .bind("options", ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
+            [](TabulateSpec& spec, const TableRequest& t) {
+              spec.options.precision = t.precision;
+              spec.options.fast_math = t.flag("fast_math");
+            });
+  std::vector<ParamDef> output;
+  add_table_output_params(output);
+  return s.params(output);
+}
+
+const SpecSchema<TabulateSpec>& tabulate_schema() {
+  static const SpecSchema<TabulateSpec> s = make_tabulate_schema();
+  return s;
+}
 
 class TabulateFamily final : public Family {
  public:
@@ -50,28 +92,8 @@ class TabulateFamily final : public Family {
   }
   std::string default_pixel() const override { return "f32"; }
 
-  const std::vector<ParamDef>& schema(TableKind) const override {
-    using T = ParamType;
-    static const std::vector<ParamDef> s = [] {
-      std::vector<ParamDef> v = {
-        ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(),
-        ParamDef("name", T::Name,
-                 "the material to use (albedo: default every material; the others: needed when the file holds several)"),
-        ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"),
-        ParamDef("layout", T::Name,
-                 "merl (90x90x180 MERL binary) | grid (theta_i x theta_o x phi_d) | albedo (over theta_o) | slice "
-                 "(theta_h x theta_d image)")
-            .one_of({"merl", "grid", "albedo", "slice"}).needed(),
-        ParamDef("res", T::IntList, "grid: N or NI,NO,NP (default 32); albedo: N (default 90); slice: N or W,H (default 256); not for merl")
-            .range(1, 4096),
-        ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"),
-        ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
-      };
-      add_table_output_params(v);
-      return v;
-    }();
-    return s;
-  }
+  const std::vector<ParamDef>& schema(TableKind) const override { return tabulate_schema().schema(); }
+  std::vector<SpecField> spec_fields(TableKind) const override { return tabulate_schema().fields(); }
 
   void check(TableRequest& t, const FieldName& name) const override {
     if (t.find("res") && is_merl(t)) throw FieldError("res", "does not apply to the merl layout (its size is fixed)");
@@ -108,8 +130,8 @@ class TabulateFamily final : public Family {
     const std::vector<int> res = tabulate_resolution(spec);
     TabulateTiming timing;
     BakeResult r;
-    if (is_merl(t)) r.artifact = backend.tabulate_merl(spec, &timing);
-    else r.artifact = backend.tabulate(spec, &timing);
+    if (is_merl(t)) r.artifact = tabulate_merl(backend, spec, &timing);
+    else r.artifact = tabulate(backend, spec, &timing);
     r.error_bound_definition = "not measured (the kernels' agreement with the reference is in docs/BENCHMARKS.md, "
                                "\"Bulk BRDF evaluation\")";
     std::string rs;
@@ -134,8 +156,7 @@ class TabulateFamily final : public Family {
 
  private:
   static TabulateSpec spec_of(const TableRequest& t, const FieldName& name) {
-    TabulateSpec s;
-    s.layout = table_layout_from_name(t.text("layout"));
+    TabulateSpec s = tabulate_schema().fill(t);
     std::optional<BrdfModel> chosen;
     if (t.find("model")) chosen = brdf_model_from_name(t.text("model"));
     const std::string path = t.text("material");
@@ -158,10 +179,6 @@ class TabulateFamily final : public Family {
       if (resolve_model(chosen, m) != s.model)
         throw FieldError("model", "the materials name different models; give " + name("model") + " (or " + name("name") +
                                       " one material)");
-    for (double v : t.numbers("res")) s.res.push_back(static_cast<int>(v));
-    if (t.find("phi_d")) s.slice_phi_d = t.number("phi_d");
-    s.options.precision = t.precision;
-    s.options.fast_math = t.flag("fast_math");
     return s;
   }
 };
