@@ -88,17 +88,9 @@ class Family {
 
 // The family that bakes `kind`.
 const Family& family_of(TableKind kind);
-// Every family, in the order of table_kinds().
+// Every family, in the order of table_kinds() (registry.cpp: the one list of families).
 const std::vector<const Family*>& families();
 
-// The descriptors, one per file in host/src/families/.
-const Family& dfg_lut_family();
-const Family& fresnel_family();
-const Family& thin_film_family();
-const Family& prefilter_family();
-const Family& irradiance_family();
-const Family& eval_family();
-const Family& tabulate_family();
 
 // ---- Helpers the families share ----------------------------------------------------------------
 

@@ -22,6 +22,16 @@ namespace detail {
 
 namespace fs = std::filesystem;
 
+// The families, each defined in its folder (host/src/families/<family>/): adding one adds a line
+// here (docs/ARCHITECTURE.md, "How to add a table family").
+const Family& dfg_lut_family();
+const Family& fresnel_family();
+const Family& thin_film_family();
+const Family& prefilter_family();
+const Family& irradiance_family();
+const Family& eval_family();
+const Family& tabulate_family();
+
 const std::vector<const Family*>& families() {
   static const std::vector<const Family*> all = {&dfg_lut_family(),    &fresnel_family(),    &thin_film_family(),
                                                  &prefilter_family(),  &irradiance_family(), &eval_family(),
