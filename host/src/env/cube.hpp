@@ -49,7 +49,9 @@ cl::Program env_program(Device::Impl& dev, const char* file, Precision p,
 // less in one allocation): a larger one is refused here with its size, not by the driver.
 void check_allocation(const Device::Impl& dev, size_t bytes, const std::string& what);
 // One work-item a texel of a cube of face `size`.
-inline cl::NDRange cube_range(int size) { return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size)); }
+inline cl::NDRange cube_range(int size) {
+  return cl::NDRange(static_cast<size_t>(size), 6u * static_cast<size_t>(size));
+}
 // The total device time of finished kernels.
 double sum_seconds(const std::vector<cl::Event>& events);
 

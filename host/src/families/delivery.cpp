@@ -53,7 +53,8 @@ size_t clamp_to_binary16(std::vector<float>& values) {
 
 std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest) {
   const std::string text = std::to_string(count) + " value" + (count == 1 ? "" : "s") +
-                           " beyond 65504 clamped to 65504 (binary16's largest), the largest " + fmt_number(largest, "%.6g");
+                           " beyond 65504 clamped to 65504 (binary16's largest), the largest " +
+                           fmt_number(largest, "%.6g");
   w.details.push_back({"f16_clamped", std::to_string(count)});
   w.warnings.push_back("'" + path + "': " + text);
   return text;
@@ -115,7 +116,9 @@ void apply_png_range(Table& out, io::StorageReport& s, WriteReport& w, const Tab
 void refuse_out_of_range(const io::StorageReport& s, TableFormat format, PixelType pixel, const std::string& path) {
   if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
     throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
-                fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32), or clamp_f16 (--clamp-f16) to clamp and record them");
+                fmt_number(s.largest, "%.6g") +
+                "), which binary16 cannot hold: give pixel f32 (--pixel f32), or clamp_f16 (--clamp-f16) to clamp and "
+                "record them");
   throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " the format cannot hold (largest |value| " +
               fmt_number(s.largest, "%.6g") + "): no NaN or infinity is written");
 }
@@ -153,8 +156,8 @@ WriteReport write_table_result(const Table& table, const TableRequest& t, const 
   io::StorageReport s = io::measure_storage(out, format, pixel);
   WriteReport w;
   if (format == TableFormat::Png && s.out_of_range > 0) apply_png_range(out, s, w, t, pixel, path);
-  if (s.out_of_range > 0 && (format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16 &&
-      t.flag("clamp_f16") && std::isfinite(s.largest)) {
+  if (s.out_of_range > 0 && (format == TableFormat::Ktx2 || format == TableFormat::CHeader) &&
+      pixel == PixelType::F16 && t.flag("clamp_f16") && std::isfinite(s.largest)) {
     // asked for (the largest value is finite: nothing non-finite to refuse below)
     const double largest = s.largest;
     out.set_meta("f16_clamped", record_f16_clamp(w, path, clamp_to_binary16(out.data), largest));
@@ -204,9 +207,13 @@ CubeWriteOptions cube_write_options_of(const TableRequest& t, const std::string&
 // The output parameters of a cube: folder layout and image format.
 void add_cube_output_params(std::vector<ParamDef>& s) {
   s.push_back(ParamDef("layout", ParamType::Name, "folder output: the images of each level")
-                  .one_of({"faces", "cross", "vcross", "equirect"}).def(std::string("faces")).output());
+                  .one_of({"faces", "cross", "vcross", "equirect"})
+                  .def(std::string("faces"))
+                  .output());
   s.push_back(ParamDef("image_format", ParamType::Name, "folder output: .exr (float) or .hdr (RGBE) images")
-                  .one_of({"exr", "hdr"}).def(std::string("exr")).output());
+                  .one_of({"exr", "hdr"})
+                  .def(std::string("exr"))
+                  .output());
   s.push_back(clamp_f16_param());
 }
 

@@ -105,8 +105,10 @@ class SpecSchema {
  private:
   template <class T>
   static T value_for(const ParamValue& v) {
-    if constexpr (is_optional<T>::value) return param_as<typename T::value_type>(v);
-    else return param_as<T>(v);
+    if constexpr (is_optional<T>::value)
+      return param_as<typename T::value_type>(v);
+    else
+      return param_as<T>(v);
   }
   template <class T>
   struct is_optional : std::false_type {};

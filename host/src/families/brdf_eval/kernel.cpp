@@ -44,8 +44,8 @@ MerlTable tabulate_merl(Backend& backend, const TabulateSpec& spec, TabulateTimi
 }
 
 Table tabulate(Backend& backend, const TabulateSpec& spec, TabulateTiming* timing) {
-  return detail::run_kernel<detail::BrdfEvalKernel>(backend,
-                                                    [&](detail::BrdfEvalKernel& k) { return k.tabulate(spec, timing); });
+  return detail::run_kernel<detail::BrdfEvalKernel>(
+      backend, [&](detail::BrdfEvalKernel& k) { return k.tabulate(spec, timing); });
 }
 
 }  // namespace brdfbake

@@ -38,8 +38,8 @@ class PairInput {
 // Reads every pair of `in` (CSV with the header wi_x,...,wo_z, or float32 with `binary`), evaluates
 // them in chunks and hands each chunk's f (3 a pair) to `sink`; returns the number of pairs. The
 // evaluator is made (its program built) with the first chunk, after its lines were checked.
-std::uint64_t stream_pairs(PairInput& in, bool binary, const std::function<PairEvaluator&()>& ev, double* device_seconds,
-                           const std::function<void(const double* f, size_t count)>& sink,
+std::uint64_t stream_pairs(PairInput& in, bool binary, const std::function<PairEvaluator&()>& ev,
+                           double* device_seconds, const std::function<void(const double* f, size_t count)>& sink,
                            std::uint64_t max_pairs = ~std::uint64_t(0));
 
 // The bytes of `count` results: CSV rows (the header before the first chunk) or float32.

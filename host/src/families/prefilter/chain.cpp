@@ -54,9 +54,9 @@ struct LevelInputs {
   double alpha = 0.0;
   std::vector<double> pts;  // bright points (bright_texel_points' layout)
   int n_pts = 0;
-  double scale = 1.0;       // what the points' L Omega was scaled by
+  double scale = 1.0;  // what the points' L Omega was scaled by
   cl::Buffer pts_buf, core_buf, band_buf, table_buf;
-  int n_padded = 0;         // sampling: lobe samples with padding
+  int n_padded = 0;  // sampling: lobe samples with padding
 };
 
 // One chain being made: the source (pyramid or padded chain), the program, and what every level
@@ -64,7 +64,11 @@ struct LevelInputs {
 class ChainBaker {
  public:
   ChainBaker(Device::Impl& dev, const PrefilterSpec& s, CubeLevels source)
-      : dev_(dev), s_(s), levels_(prefilter_level_count(s)), s0_(s.size), quadrature_(s.estimator == EnvEstimator::Quadrature) {
+      : dev_(dev),
+        s_(s),
+        levels_(prefilter_level_count(s)),
+        s0_(s.size),
+        quadrature_(s.estimator == EnvEstimator::Quadrature) {
     out_.size = s0_;
     out_.metadata = std::move(source.metadata);
     out_.levels.resize(size_t(levels_));
@@ -84,7 +88,8 @@ class ChainBaker {
     rec_.bright = bright_.size();
     for (int l = 0; l < levels_; ++l) {
       rec_.roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels_);
-      if (l > 0 && !quadrature_) rec_.samples[size_t(l)] = s.samples > 0 ? s.samples : default_prefilter_samples(l, levels_);
+      if (l > 0 && !quadrature_)
+        rec_.samples[size_t(l)] = s.samples > 0 ? s.samples : default_prefilter_samples(l, levels_);
     }
   }
 
@@ -129,13 +134,14 @@ class ChainBaker {
       std::vector<uint8_t> skip;
       if (!bright_.empty()) {
         skip.assign(face_texels(s0_), 0);
-        for (const BrightTexel& b : bright_) skip[(size_t(b.face) * size_t(s0_) + size_t(b.j)) * size_t(s0_) + size_t(b.i)] = 1;
+        for (const BrightTexel& b : bright_)
+          skip[(size_t(b.face) * size_t(s0_) + size_t(b.j)) * size_t(s0_) + size_t(b.i)] = 1;
       }
       pyramid_ = build_pyramid(out_.levels[0], s0_, pyramid_base_level(s0_, s_.distribution, alphas, s_), skip);
       check_allocation(dev_, pyramid_.data.size() * sizeof(float), "the quadrature's pyramid");
       // USE_HOST_PTR: a CPU device reads the host's copy (it outlives every level), a GPU uploads it
-      pyramid_buf_ = cl::Buffer(dev_.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, pyramid_.data.size() * sizeof(float),
-                                pyramid_.data.data());
+      pyramid_buf_ = cl::Buffer(dev_.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
+                                pyramid_.data.size() * sizeof(float), pyramid_.data.data());
       pyramid_info_ = cl::Buffer(dev_.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                  pyramid_.info.size() * sizeof(cl_int), pyramid_.info.data());
       return;
@@ -178,9 +184,12 @@ class ChainBaker {
       return t;
     };
     double& sec = rec_.seconds[size_t(l)];
-    if (s_.max_error > 0.0 && quadrature_) sec += search_refinement(l, search_run);
-    else if (s_.max_error > 0.0) sec += search_samples(l, search_run);
-    else sec = run_level(l, rec_.samples[size_t(l)], rec_.refinement[size_t(l)], out_.levels[size_t(l)], stepper);
+    if (s_.max_error > 0.0 && quadrature_)
+      sec += search_refinement(l, search_run);
+    else if (s_.max_error > 0.0)
+      sec += search_samples(l, search_run);
+    else
+      sec = run_level(l, rec_.samples[size_t(l)], rec_.refinement[size_t(l)], out_.levels[size_t(l)], stepper);
     return sec;
   }
 
@@ -326,8 +335,10 @@ class ChainBaker {
         [&](size_t first, size_t count) -> cl::Event {
           const size_t row0 = first * size_t(unit), n_rows = count * size_t(unit);
           const cl::EnqueueArgs range =
-              strips ? cl::EnqueueArgs(dev_.queue, cl::NDRange(0, first), cl::NDRange(size_t(size / 8), count), cl::NDRange(1, 1))
-                     : cl::EnqueueArgs(dev_.queue, cl::NDRange(0, row0), cl::NDRange(size_t(size), n_rows), cl::NullRange);
+              strips
+                  ? cl::EnqueueArgs(dev_.queue, cl::NDRange(0, first), cl::NDRange(size_t(size / 8), count),
+                                    cl::NDRange(1, 1))
+                  : cl::EnqueueArgs(dev_.queue, cl::NDRange(0, row0), cl::NDRange(size_t(size), n_rows), cl::NullRange);
           return launch(size, dst_buf, in, sb, strips, range);
         },
         step, step ? 4 : 1);  // a progress line moves within a level

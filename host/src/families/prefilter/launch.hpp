@@ -26,7 +26,8 @@ template <class Real>
 cl::Event launch_pyramid(cl::Program& prog, const cl::Buffer& out, int size, const cl::Buffer& pyramid,
                          const cl::Buffer& info, int levels, const cl::Buffer& cos_core, const cl::Buffer& band,
                          const cl::Buffer& bright, int n_bright, double alpha, const cl::EnqueueArgs& rows) {
-  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, Real>
+  cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int,
+                    Real>
       level(prog, "prefilter_pyramid");
   return level(rows, out, size, pyramid, info, levels, cos_core, band, bright, n_bright, static_cast<Real>(alpha));
 }

@@ -33,12 +33,12 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
 
 // What a chain measured and chose per level, for its metadata and timing.
 struct ChainRecord {
-  std::vector<double> roughness;   // of each level
-  std::vector<double> seconds;     // device seconds of each level
-  std::vector<double> refinement;  // quadrature: the refinement kept
-  std::vector<int> samples;        // sampling: the samples kept
-  std::vector<double> measured;    // max_error: the last difference of each level's search
-  size_t bright = 0;               // bright texels summed exactly
+  std::vector<double> roughness;                       // of each level
+  std::vector<double> seconds;                         // device seconds of each level
+  std::vector<double> refinement;                      // quadrature: the refinement kept
+  std::vector<int> samples;                            // sampling: the samples kept
+  std::vector<double> measured;                        // max_error: the last difference of each level's search
+  size_t bright = 0;                                   // bright texels summed exactly
   std::vector<std::pair<std::string, double>> stages;  // wall seconds of each step
 };
 
@@ -53,8 +53,8 @@ void chain_metadata(CubeLevels& out, const PrefilterSpec& spec, const ChainRecor
 
 // The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
 // (kernels/prefilter.cl); *kept: the samples above the horizon before padding.
-std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int source_size, bool fis,
-                                 double lod_bias, int* kept);
+std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int source_size, bool fis, double lod_bias,
+                                 int* kept);
 // The sampling estimator's default lobe samples per texel.
 int default_prefilter_samples(int level, int levels);
 
