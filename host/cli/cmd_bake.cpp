@@ -138,24 +138,11 @@ int cmd_bake(int argc, char** argv) {
   if (dry_run && r.count("contact-sheet")) throw UsageError("--contact-sheet draws what a bake wrote: not with --dry-run");
   const bool quiet = quiet_option(r);
 
-  PlanOptions o = plan_options_from_params(schema_params(r, plan_schema()), true);
-  if (r.count("env")) o.environment = r["env"].as<std::string>();
-  if (o.environment.empty()) throw UsageError("--env must not be empty");
-  o.sanitize = r.count("sanitize") > 0;
-  if (r.count("pixel")) {
-    o.pixel = r["pixel"].as<std::string>();
-    if (o.pixel != "f16" && o.pixel != "f32") throw UsageError("--pixel must be f16 or f32 (got '" + o.pixel + "')");
-  }
-  o.precision = precision_option(r);
-  o.device = device_option(r);
-
-  Plan plan;
-  if (r.count("scene")) {
-    const Scene scene = read_scene(r["scene"].as<std::string>());
-    plan = plan_scene(scene, o);
-  } else {
-    plan = plan_default(o);
-  }
+  OptionNaming naming;
+  naming.cli = true;
+  const BakeOptions bake = parse_bake_options(schema_params(r, bake_option_schema()), naming);
+  const PlanOptions& o = bake.plan;
+  Plan plan = plan_bake(bake);
   plan.job.output_dir = r["output"].as<std::string>();
   if (plan.job.output_dir.empty()) throw UsageError("-o must name a folder");
 

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <thread>
 
+#include "brdfbake/cancel.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "io/staging_dir.hpp"
 
 namespace brdfbake::server {
@@ -20,9 +22,13 @@ namespace {
 std::string read_token(const RemoteOptions& o) {
   std::string token;
   if (!o.token_file.empty()) {
-    std::ifstream in(o.token_file);
-    if (!in) throw RemoteError("--token-file: cannot read '" + o.token_file + "'", 2);
-    std::getline(in, token);
+    try {
+      token = io::read_token_file(o.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error& e) {
+      throw RemoteError(e.what(), 2);
+    }
   } else if (const char* env = std::getenv("BRDFBAKE_TOKEN")) {
     token = env;
   }

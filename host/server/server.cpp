@@ -9,6 +9,7 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,9 +23,11 @@
 
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
+#include "brdfbake/runner.hpp"
 #include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
@@ -52,6 +55,10 @@ bool is_loopback(const std::string& host) {
 
 namespace {
 
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
@@ -60,15 +67,6 @@ std::string human_bytes(double b) {
   char buf[48];
   if (b >= double(1ull << 30)) std::snprintf(buf, sizeof buf, "%.1f GiB", b / double(1ull << 30));
   else std::snprintf(buf, sizeof buf, "%.0f MiB", std::ceil(b / double(1ull << 20)));
-  return buf;
-}
-
-std::string random_hex() {
-  static std::mutex m;
-  static std::mt19937_64 g{std::random_device{}()};
-  std::lock_guard<std::mutex> lock(m);
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(g()));
   return buf;
 }
 
@@ -142,7 +140,9 @@ std::uint64_t resident_bytes() {
 // What POST /v1/tables sends back, kept by the result cache.
 struct TableReply {
   std::string bytes, content_type, filename, summary, error_bound;
+  std::vector<std::string> warnings;
   double seconds = 0;
+  std::string timing;  // the device task's part of Server-Timing
 };
 
 // The fast path's results by request, least recently used dropped first.
@@ -224,10 +224,7 @@ void Server::Impl::open(ServerOptions options) {
   if (opt.max_queue < 1) throw Error("--max-queue: must be at least 1");
   if (opt.threads < 2) throw Error("--threads: must be at least 2");
   if (!opt.token_file.empty()) {
-    std::ifstream in(opt.token_file);
-    if (!in) throw Error("--token-file: cannot read '" + opt.token_file + "'");
-    std::getline(in, token);
-    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    token = io::read_token_file(opt.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
     if (token.size() < 16) throw Error("--token-file: the token (its first line) must have at least 16 characters");
   } else if (!is_loopback(opt.host)) {
     throw Error("--listen: refusing to listen on '" + opt.host +
@@ -417,6 +414,17 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
       for (const auto& f : m["files"]) files.push_back(f.value("path", ""));
     files.push_back("manifest.json");
     o["files"] = files;
+    // What was changed on the way to the files (clamp_f16, a sanitized environment), naming them
+    // inside the job's folder as the file list does.
+    const std::string folder = (jobs_dir() / r.id).string() + "/";
+    json warnings = json::array();
+    if (m.is_object() && m.contains("warnings") && m["warnings"].is_array())
+      for (const auto& w : m["warnings"]) {
+        std::string text = w.is_string() ? w.get<std::string>() : w.dump();
+        for (size_t at = text.find(folder); at != std::string::npos; at = text.find(folder, at)) text.erase(at, folder.size());
+        warnings.push_back(text);
+      }
+    o["warnings"] = warnings;
     o["manifest"] = m;
   }
   return o;
@@ -513,57 +521,33 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
   try {
     const json body = io::parse_json(req.body.empty() ? std::string("{}") : req.body, origin);
     if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
-    Params params;
-    std::string scene, environment = kDefaultEnvironment, pixel, precision = "fp32", device;
-    bool sanitize = false;
-    auto text = [&](const json& v, const std::string& key) {
-      if (!v.is_string()) throw Error(origin + ": " + key + ": must be a string (got " + io::json_excerpt(v) + ")");
-      return v.get<std::string>();
-    };
+    // JSON values as the options' types take them; their checks, names and messages are the
+    // parser's, shared with the command line and Python.
+    Params given;
     for (auto it = body.begin(); it != body.end(); ++it) {
-      const std::string& key = it.key();
-      if (key == "scene") scene = text(*it, key);
-      else if (key == "environment" || key == "env") environment = text(*it, key);
-      else if (key == "pixel") pixel = text(*it, key);
-      else if (key == "precision") precision = text(*it, key);
-      else if (key == "device") device = text(*it, key);
-      else if (key == "sanitize") {
-        if (!it->is_boolean()) throw Error(origin + ": sanitize: must be true or false");
-        sanitize = it->get<bool>();
-      } else if (const ParamDef* d = find_param_def(plan_schema(), key)) {
-        ParamValue v;
-        if (it->is_boolean()) v = it->get<bool>();
-        else if (it->is_number()) v = it->get<double>();
-        else if (it->is_string()) v = it->get<std::string>();
-        else throw Error(origin + ": " + key + ": must be a number, a string or a boolean (got " + io::json_excerpt(*it) + ")");
-        check_param(*d, v, origin + ": " + key);
-        params.push_back({key, v});
-      } else {
-        std::string names = "scene, environment, sanitize, pixel, precision, device";
-        for (const auto& def : plan_schema()) names += ", " + def.name;
-        throw Error(origin + ": " + key.substr(0, 60) + ": unknown field (expected " + names + ")");
-      }
+      const std::string key = it.key() == "env" ? std::string("environment") : it.key();
+      ParamValue v;
+      if (it->is_boolean()) v = it->get<bool>();
+      else if (it->is_number()) v = it->get<double>();
+      else if (it->is_string()) v = it->get<std::string>();
+      else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
+        v = it->get<std::vector<double>>();
+      else throw Error(origin + ": " + key.substr(0, 60) + ": must be a number, a string, a boolean or a list of numbers (got " +
+                       io::json_excerpt(*it) + ")");
+      given.push_back({key, v});
     }
-    PlanOptions po = plan_options_from_params(params, false);
-    po.environment = environment;
-    po.sanitize = sanitize;
-    if (!pixel.empty() && pixel != "f16" && pixel != "f32") throw Error(origin + ": pixel: must be f16 or f32 (got '" + pixel.substr(0, 20) + "')");
-    po.pixel = pixel;
-    try {
-      po.precision = precision_from_name(precision);
-    } catch (const Error& e) {
-      throw Error(origin + ": precision: " + e.what());
-    }
-    po.device = device;
-    if (!scene.empty()) {
-      const std::string path = roots->input_file(scene, origin + ": scene");
+    OptionNaming naming;
+    naming.prefix = origin;
+    const BakeOptions options = parse_bake_options(given, naming);
+    if (!options.scene.empty()) {
+      const std::string path = roots->input_file(options.scene, origin + ": scene");
       const std::string bytes = io::read_text_file(path, "scene");
       // Parsed from memory with no base folder: the server looks at no file the scene refers to.
       const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-      const Scene s = glb ? parse_glb(bytes, scene, "") : parse_scene_json(bytes, scene, "");
-      plan = plan_scene(s, po);
+      const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
+      plan = plan_scene(s, options.plan);
     } else {
-      plan = plan_default(po);
+      plan = plan_default(options.plan);
     }
     doc = json::parse(job_to_json(plan.job));
   } catch (const Error& e) {
@@ -573,6 +557,7 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
 }
 
 void Server::Impl::post_table(const httplib::Request& req, httplib::Response& res) {
+  const auto received = std::chrono::steady_clock::now();
   const std::string origin = "table";
   // Messages name the fields as "table.size", not as the job a table is wrapped in.
   auto local = [](std::string m) {
@@ -632,16 +617,30 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
                       std::to_string(st.st_mtim.tv_nsec);
     }
   }
+  // How the file is written is part of the key too: every output parameter (symbol, png_range,
+  // clamp_f16: a request without clamp_f16 must not get a clamped file).
+  std::string outputs_key;
+  for (const auto& d : table_schema(t.kind))
+    if (d.output_only && t.find(d.name)) outputs_key += "|" + d.name + "=" + param_value_text(*t.find(d.name));
   const std::string cache_key = table_bake_key(t) + inputs_key + "|format=" + t.format + "|pixel=" + t.pixel + "|output=" +
-                                fs::path(t.output).filename().string() + "|symbol=" + t.text("symbol") +
-                                "|sanitize=" + (sanitize ? "1" : "0");
+                                fs::path(t.output).filename().string() + outputs_key + "|sanitize=" + (sanitize ? "1" : "0");
+  const auto checked = std::chrono::steady_clock::now();
   auto send = [&](const TableReply& r, bool hit) {
     metrics.count_table(hit);
     res.status = 200;
     res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(r.filename) + "\"");
     res.set_header("X-Brdfbake-Summary", header_text(r.summary));
     if (!r.error_bound.empty()) res.set_header("X-Brdfbake-Error-Bound", r.error_bound);
+    for (const auto& w : r.warnings) res.set_header("X-Brdfbake-Warning", header_text(w));
     res.set_header("X-Brdfbake-Cache", hit ? "hit" : "miss");
+    // Where the time went (docs/SERVICE.md): checking the request, then on a miss the device task's
+    // steps, and the whole handler; what a client measures beyond it is HTTP.
+    char total[96];
+    std::snprintf(total, sizeof total, "request;dur=%.3f", ms_between(received, checked));
+    std::string timing = total;
+    if (!hit && !r.timing.empty()) timing += ", " + r.timing;
+    std::snprintf(total, sizeof total, ", handler;dur=%.3f", ms_between(received, std::chrono::steady_clock::now()));
+    res.set_header("Server-Timing", timing + total);
     res.set_header("X-Content-Type-Options", "nosniff");
     res.set_content(r.bytes, r.content_type);
   };
@@ -650,51 +649,38 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
 
   auto reply = std::make_shared<TableReply>();
   auto abandoned = std::make_shared<std::atomic<bool>>(false);
-  const fs::path tmp = tmp_dir() / random_hex();
   std::future<void> done;
   try {
-    done = scheduler->run_now(key, [this, t, environment, sanitize, reply, abandoned, tmp](Backend& backend) {
+    const auto queued = std::chrono::steady_clock::now();
+    done = scheduler->run_now(key, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
       if (*abandoned) return;  // the client stopped waiting before the device was free
-      std::optional<EnvImage> env;
-      BakeInputs inputs;
-      if (!environment.empty()) {
-        EnvLoadOptions lo;
-        lo.sanitize = sanitize;
-        env = load_environment(environment, lo);
-        inputs.environment = &*env;
-      }
-      const BakeResult r = bake_table(t, backend, inputs);
-      metrics.observe_bake(table_kind_name(t.kind), r.seconds);
-      std::error_code ec;
-      struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-          std::error_code e;
-          fs::remove_all(dir, e);
-        }
-      } cleanup{tmp};
-      fs::create_directories(tmp, ec);
-      TableRequest w = t;
-      w.output = (tmp / fs::path(t.output).filename()).string();
-      write_result(r, w, w.output);
-      int files = 0;
-      for (const auto& e : fs::directory_iterator(tmp, ec)) (void)e, ++files;
-      if (files != 1)
-        throw Error("table.output: '" + t.output + "' is written as " + std::to_string(files) +
+      const auto began = std::chrono::steady_clock::now();
+      TableRequest request = t;
+      request.environment = environment;
+      TableRunOptions o;
+      o.delivery = TableDelivery::Bytes;
+      o.backend = &backend;
+      o.load.sanitize = sanitize;
+      o.scratch_dir = tmp_dir().string();
+      o.stop_requested = [abandoned] { return abandoned->load(); };  // a 504 stops the bake at its next step
+      TableRun run = run_table(request, o);
+      metrics.observe_bake(table_kind_name(t.kind), run.result.seconds);
+      std::vector<DeliveredFile>& files = run.delivery.files;
+      if (files.size() != 1)
+        throw Error("table.output: '" + t.output + "' is written as " + std::to_string(files.size()) +
                     " files (a sidecar); POST /v1/tables returns one: submit a job, or choose another format");
-      std::ifstream in(w.output, std::ios::binary);
-      std::ostringstream bytes;
-      bytes << in.rdbuf();
-      reply->bytes = bytes.str();
-      reply->content_type = content_type(w.output);
+      reply->bytes = std::move(files.front().bytes);
+      reply->content_type = content_type(t.output);
       reply->filename = fs::path(t.output).filename().string();
-      reply->summary = r.summary;
-      if (r.error_bound) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.3g", *r.error_bound);
-        reply->error_bound = b;
-      }
-      reply->seconds = r.seconds;
+      reply->summary = run.result.summary;
+      reply->error_bound = run.delivery.error_bound_text;  // what the file records
+      reply->warnings = run.warnings;
+      reply->seconds = run.result.seconds;
+      char timing[160];
+      std::snprintf(timing, sizeof timing, "queue;dur=%.3f, inputs;dur=%.3f, bake;dur=%.3f, device;dur=%.3f, deliver;dur=%.3f",
+                    ms_between(queued, began), run.input_seconds * 1e3, run.bake_seconds * 1e3,
+                    run.result.device_seconds * 1e3, run.deliver_seconds * 1e3);
+      reply->timing = timing;
     });
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));

@@ -30,7 +30,7 @@ if _os.path.isfile(_oiio):
     _os.environ.setdefault("BRDFBAKE_OIIO_MODULE", _oiio)
 del _oiio
 
-from ._errors import ArgumentError, DeviceError, Error, InputError, NotAvailableError
+from ._errors import ArgumentError, BakeWarning, DeviceError, Error, InputError, NotAvailableError
 from . import _brdfbake
 from ._api import (
     Environment,
@@ -55,7 +55,7 @@ globals().update(_FUNCTIONS)
 
 # `eval` stays out of the star-import, which would shadow the builtin: use brdfbake.eval.
 __all__ = [
-    "ArgumentError", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
+    "ArgumentError", "BakeWarning", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
     "bake", "bake_scene", "devices", "function_of", "kinds", "load_environment", "plan_options", "run", "schema", "validate",
     *sorted(name for name in _FUNCTIONS if name != "eval"),
 ]

@@ -16,12 +16,23 @@ import json
 import math
 import numbers
 import os
+import warnings
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
 import numpy as np
 
 from . import _brdfbake as _core
-from ._errors import ArgumentError, InputError
+from ._errors import ArgumentError, BakeWarning, InputError
+
+# Every kind's schema as ``brdfbake kinds --json`` prints it: one serialisation, the library's.
+_KINDS_JSON = {k["kind"]: k for k in json.loads(_core.kinds_json())["kinds"]}
+
+
+def _schema_of(kind: str) -> List[Dict[str, Any]]:
+    if kind not in _KINDS_JSON:
+        _core.validate(kind, [], {}, "schema")  # raises the library's message naming the kinds
+    return json.loads(json.dumps(_KINDS_JSON[kind]["parameters"]))  # a copy the caller may change
+
 
 # ---- Results -------------------------------------------------------------------------------------
 
@@ -92,6 +103,20 @@ class Result:
     def error_bound(self) -> Optional[float]:
         """The measured error bound, or None where the family measures none."""
         return self._core.error_bound
+
+    @property
+    def warnings(self) -> List[str]:
+        """What was changed on the way to the files written from this result (``output=`` and every
+        ``save()``), e.g. values clamped by ``clamp_f16``; each was also emitted as a
+        :class:`brdfbake.BakeWarning`."""
+        return self._core.warnings
+
+    @property
+    def files(self) -> List[Dict[str, Any]]:
+        """The files written from this result, in order: ``path``, ``error_bound`` (what the file
+        records: the integration bound plus ``storage_error``, what its ``encoding`` adds) and
+        ``warnings``."""
+        return self._core.files
 
     @property
     def details(self) -> Dict[str, str]:
@@ -167,13 +192,19 @@ class Result:
         """
         path = _text_path(path, "save.path")
         params = [(k, _param_value(k, v, "save")) for k, v in output_params.items() if v is not None]
-        self._core.save(path, format or "", pixel or "", params)
+        _warn(self._core.save(path, format or "", pixel or "", params))
         return path
 
     def __repr__(self) -> str:
         a = self.array
         shape = [x.shape for x in a] if isinstance(a, list) else a.shape
         return f"<brdfbake.Result {self.kind}: {shape}, error bound {self.error_bound}>"
+
+
+def _warn(messages: List[str]) -> None:
+    """Emits what a write changed on the way to the file, at the caller of the public function."""
+    for m in messages:
+        warnings.warn(m, BakeWarning, stacklevel=3)
 
 
 # ---- Environments --------------------------------------------------------------------------------
@@ -382,7 +413,7 @@ class _Family:
         self.kinds = [k["name"] for k in kinds]
         self.summaries = {k["name"]: k["summary"] for k in kinds}
         self.uses_environment = kinds[0]["uses_environment"]
-        self.schemas = {k: _core.schema(k) for k in self.kinds}
+        self.schemas = {k: _schema_of(k) for k in self.kinds}
         merged: Dict[str, Dict[str, Any]] = {}
         for k in self.kinds:
             for d in self.schemas[k]:
@@ -417,7 +448,7 @@ class _Family:
         for d in self.params:
             if d["name"] in positional:
                 continue
-            default = P.empty if d["required"] else d["default"]
+            default = P.empty if d["required"] else d.get("default")
             out.append(P(d["name"], P.KEYWORD_ONLY, default=default))
         if self.uses_environment:
             out.append(P("sanitize", P.KEYWORD_ONLY, default=False))
@@ -446,10 +477,10 @@ class _Family:
         if len(self.kinds) > 1:
             lines.append(f"  kind: {' | '.join(self.kinds)} (default {self.kinds[0]})")
         for d in self.params:
-            what = d["expectation"]
-            if d["default"] is not None:
+            what = d["expects"]
+            if d.get("default") is not None:
                 what += f", default {d['default']!r}"
-            elif d["default_text"]:
+            elif d.get("default_text"):
                 what += f", default {d['default_text']}"
             if d["required"]:
                 what += ", required"
@@ -570,7 +601,9 @@ def _make_function(family: _Family) -> Callable[..., Result]:
         if family.is_eval:
             pairs = _pairs(inputs["wi"], inputs["wo"], where)
             params.append(("input", f"array of {len(pairs)} pairs"))
-        return Result(_core.bake(kind, params, common, where, env, pairs, progress))
+        result = Result(_core.bake(kind, params, common, where, env, pairs, progress))
+        _warn(result.warnings)
+        return result
 
     bake.__name__ = bake.__qualname__ = family.function
     bake.__signature__ = sig  # type: ignore[attr-defined]
@@ -644,7 +677,9 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
     ``job`` is a dict, a path to a job file, or the JSON text. ``output_dir`` overrides the job's own.
     Every file and manifest.json are written into a temporary folder beside ``output_dir`` and moved
     in at the end: a failure leaves the folder as it was. ``progress``, if given, is called with
-    ``{"bake", "bakes", "what", "fraction"}``.
+    ``{"bake", "bakes", "what", "fraction"}``. What the writes changed on request (``clamp_f16``) is
+    emitted as :class:`brdfbake.BakeWarning`, as ``brdfbake run`` prints it, and is in the
+    manifest's ``"warnings"``.
 
     >>> manifest = brdfbake.run({"brdfbake_job": 1, "tables": [{"kind": "ggx", "size": 64}]}, "out")
     >>> manifest["files"][0]["path"], manifest["files"][0]["error_bound"]
@@ -661,7 +696,8 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
         origin = "job"
     else:
         raise InputError(f"run.job: expected a job dict, a job file or JSON text (got {type(job).__name__})")
-    manifest = _core.run(text, is_path, origin, out, bool(sanitize), progress)
+    manifest, warned = _core.run(text, is_path, origin, out, bool(sanitize), progress)
+    _warn(warned)
     return json.loads(manifest)
 
 
@@ -703,9 +739,9 @@ def bake_scene(scene: "os.PathLike[str] | str | None" = None, output_dir: "os.Pa
 
 
 def plan_options() -> List[Dict[str, Any]]:
-    """The options of :func:`bake_scene` (the planner's, those of ``brdfbake bake``): name, type,
-    choices, default, help and the command-line option."""
-    return _core.plan_schema()
+    """The options of :func:`bake_scene` (the planner's, those of ``brdfbake bake``), described as
+    :func:`schema` describes a kind's parameters."""
+    return json.loads(_core.plan_schema_json())
 
 
 def devices() -> List[Dict[str, Any]]:
@@ -721,8 +757,11 @@ def kinds() -> List[Dict[str, Any]]:
 
 
 def schema(kind: str) -> List[Dict[str, Any]]:
-    """The parameters of a kind as the library declares them: name, type, range (lo, hi), choices,
-    default, help, required, output_only; the job fields, CLI options and function arguments."""
+    """The parameters of a kind as the library declares them, spelled as ``brdfbake kinds --json``
+    spells them: ``name``, ``option`` (the command line's), ``type`` (``integer``, ``number``,
+    ``name``, ``path``, ``flag``, ``rgb``, ``range``, ``integers``), ``expects`` (in words),
+    ``required``, ``output_only``, ``help``, and where they apply ``choices``, ``default``,
+    ``default_text``, ``min``, ``min_exclusive``, ``max``, ``max_items``."""
     if not isinstance(kind, str):
         raise InputError(f"schema.kind: must be a table kind name (got {type(kind).__name__})")
-    return _core.schema(kind)
+    return _schema_of(kind)

@@ -18,6 +18,7 @@
 #include "support/cli_runner.hpp"
 #include "families/family.hpp"
 #include "support/field_count.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
@@ -205,7 +206,7 @@ TEST(Registry, EveryFresnelModelAndTheTwoDimensionalTablesRunAsJobs) {
     const auto at = text.find("# error_bound: ");
     ASSERT_NE(at, std::string::npos) << f;
     const double bound = std::stod(text.substr(at + 15));
-    EXPECT_LT(bound, 1e-6) << f << ": fp32 Fresnel against the reference";
+    EXPECT_LT(bound, test::kFresnelFp32) << f << ": fp32 Fresnel against the reference";
   }
   // empirical at normal incidence: clamp(bias + scale * 0^power) = bias; the first cell is cos = 1/32
   const std::string emp = read_file(dir / "out" / "emp.csv");
@@ -215,7 +216,7 @@ TEST(Registry, EveryFresnelModelAndTheTwoDimensionalTablesRunAsJobs) {
   const std::string sm = read_file(dir / "out" / "sm.csv");
   const auto last = sm.rfind('\n', sm.size() - 2);
   const std::string row = sm.substr(last + 1);
-  EXPECT_NEAR(std::stod(row.substr(row.find(',') + 1)), 0.47 + 0.53 * std::pow(1.0 / 32, 5), 1e-6) << row;
+  EXPECT_NEAR(std::stod(row.substr(row.find(',') + 1)), 0.47 + 0.53 * std::pow(1.0 / 32, 5), test::kFresnelFp32) << row;
   fs::remove_all(dir.parent_path());
 }
 

@@ -19,6 +19,7 @@
 #include "brdfbake/view.hpp"
 #include "io/png_image.hpp"
 #include "support/cli_runner.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -178,8 +179,8 @@ TEST(View, TableColourScaleMapsMinimumAndMaximumToItsEnds) {
   EXPECT_NE(mid, (Rgb8{255, 255, 255}));
   // bias: log10, its ends at log10 of its extremes; the extremes' texels at the scale's ends.
   EXPECT_TRUE(images[1].log_scale);
-  EXPECT_NEAR(images[1].lo, -2.0, 1e-6);
-  EXPECT_NEAR(images[1].hi, 1.0, 1e-6);
+  EXPECT_NEAR(images[1].lo, -2.0, test::kFloatLog10);
+  EXPECT_NEAR(images[1].hi, 1.0, test::kFloatLog10);
   EXPECT_EQ(pixel(s, images[1].x + 1, images[1].y + images[1].height - 2), (Rgb8{0, 0, 0}));
   EXPECT_EQ(pixel(s, images[1].x + images[1].width - 2, images[1].y + 1), (Rgb8{255, 255, 255}));
   // Labels: the axes' ends and the scale's ends are written below the image.
@@ -239,7 +240,7 @@ TEST(View, ConstantEnvironmentShIsAUniformSphere) {
   }
   const auto bands = regions(s, "band plot");
   ASSERT_EQ(bands.size(), 1u);
-  EXPECT_NEAR(bands[0].hi, 2.0 * std::sqrt(3.14159265358979323846), 1e-12) << "band 0 holds everything";
+  EXPECT_NEAR(bands[0].hi, 2.0 * std::sqrt(3.14159265358979323846), test::kRoundingFewOps) << "band 0 holds everything";
 }
 
 TEST(View, BadInputIsAClearError) {

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import brdfbake
-from tolerances import BRDF_FP32, ENV_FURNACE, FRESNEL_FP32, PREFILTER_FURNACE
+from tolerances import BRDF_ALBEDO, BRDF_FP32, ENV_FURNACE, FRESNEL_FP32, MERL_READBACK, PREFILTER_FURNACE
 
 
 def test_lut_is_a_view_of_the_result_with_its_metadata():
@@ -117,7 +117,7 @@ def test_tabulate_merl_layout(red, tmp_path):
     above = a[..., 0] >= 0
     for c in range(3):
         back = (stored[c] * scales[c])[above]
-        np.testing.assert_allclose(a[..., c][above], back, rtol=2e-7, atol=0)
+        np.testing.assert_allclose(a[..., c][above], back, rtol=MERL_READBACK, atol=0)
     assert (path.parent / "red.binary.json").exists()
 
 
@@ -128,8 +128,8 @@ def test_tabulate_albedo_of_several_materials(tmp_path):
     a = r.array
     assert a.shape == (2, 16, 3)  # one row per material
     # Lambert's directional albedo is its albedo at every angle.
-    np.testing.assert_allclose(a[0], 0.5, rtol=2e-5)
-    np.testing.assert_allclose(a[1], 1.0, rtol=2e-5)
+    np.testing.assert_allclose(a[0], 0.5, rtol=BRDF_ALBEDO)
+    np.testing.assert_allclose(a[1], 1.0, rtol=BRDF_ALBEDO)
 
 
 @pytest.mark.parametrize("fmt", [".exr", ".csv", ".ktx2", ".h"])

@@ -40,6 +40,9 @@ struct EnvImage {
   std::string source;      // the file, files or builtin:NAME it came from
   std::string description; // e.g. "equirect 1024x512 (OpenEXR, tiled, mip-mapped: level 0 read)"
   EnvSanitizeReport sanitize;
+  // What reading changed or assumed that the user should hear of, one line each, e.g. "'sky.png':
+  // 8-bit sRGB (its sRGB chunk) decoded to linear" (the commands print them, jobs record them).
+  std::vector<std::string> notes;
 };
 
 struct EnvLoadOptions {
@@ -58,8 +61,10 @@ std::uint64_t default_memory_budget();
 std::uint64_t parse_byte_size(const std::string& text);
 
 // Loads an environment:
-//   FILE.hdr / FILE.exr (read directly; any other format OpenImageIO reads through the lazily
-//     loaded OpenImageIO module, brdfbake_oiio.so): equirect if 2:1, horizontal cross if 4:3,
+//   FILE.hdr / FILE.exr / FILE.png (read directly; any other format OpenImageIO reads through the
+//     lazily loaded OpenImageIO module, brdfbake_oiio.so; integer-coded values decoded to linear
+//     from the file's colour encoding, said in EnvImage::notes; a FIFO or a device is refused,
+//     docs/RELIABILITY.md, "Special files"): equirect if 2:1, horizontal cross if 4:3,
 //     vertical cross if 3:4 (docs/CONVENTIONS.md); tiled and mip-mapped files read level 0;
 //   FILE.ktx2: a cubemap (faceCount 6, RGBA16F/32F, level 0);
 //   "PX,NX,PY,NY,PZ,NZ" (six files, comma separated) or a path holding "{face}" (replaced by px,
@@ -74,6 +79,10 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
 // load_environment checks a file; `source` names it in messages and metadata.
 EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
                                    const EnvLoadOptions& options = {});
+
+// The files an environment spec names: one, or six faces; none for builtin:NAME. Throws Error for
+// a list of face files that is not six.
+std::vector<std::string> environment_files(const std::string& spec);
 
 // Checks cheaply, without reading pixels, that `spec` names something load_environment can open
 // (a known builtin, existing readable files): commands call it before slow work.

@@ -76,4 +76,12 @@ ParamValue parse_param_text(const ParamDef& def, const std::string& text, const 
 
 const ParamDef* find_param_def(const std::vector<ParamDef>& schema, const std::string& name);
 
+// The one serialisation of schemas, shared by `brdfbake kinds --json` and the Python package:
+// a type's name ("integer", "number", "name", "path", "flag", "rgb", "range", "integers"), and a
+// schema as a JSON array, one object a parameter: name, option, type, expects, choices, default,
+// default_text (the last three when there are any), required, output_only, help, and for numbers
+// min, min_exclusive, max (finite ends only) and max_items (integers). `indent` as nlohmann's dump.
+const char* param_type_name(ParamType type);
+std::string schema_json(const std::vector<ParamDef>& schema, int indent = -1);
+
 }  // namespace brdfbake

@@ -11,6 +11,19 @@
 #include "families/family.hpp"
 #include "io/storage.hpp"
 
+namespace brdfbake {
+
+// ---- Bounds ----------------------------------------------------------------------------------------
+
+// Rounded up to three significant digits: the recorded text is never below the bound.
+std::string error_bound_text(double v) {
+  if (!(v > 0) || !std::isfinite(v)) return detail::fmt_number(v, "%.3g");
+  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
+  return detail::fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
+}
+
+}  // namespace brdfbake
+
 namespace brdfbake::detail {
 
 namespace {
@@ -19,13 +32,7 @@ std::string count_text(size_t n, const char* what) { return std::to_string(n) + 
 
 }  // namespace
 
-// ---- Bounds ----------------------------------------------------------------------------------------
-
-std::string bound_text(double v) {
-  if (!(v > 0) || !std::isfinite(v)) return fmt_number(v, "%.3g");
-  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
-  return fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
-}
+std::string bound_text(double v) { return error_bound_text(v); }
 
 // ---- Tables ----------------------------------------------------------------------------------------
 

@@ -23,7 +23,8 @@ struct OutputFormats {
   std::string description;              // "table formats (.exr .png .hdr .ktx2 .csv .h)"
 };
 
-// A bound as text, rounded up to three significant digits: the recorded text is never below it.
+// A bound as text, rounded up to three significant digits: the recorded text is never below it
+// (error_bound_text, brdfbake/tables.hpp, the same for the library's users).
 std::string bound_text(double v);
 
 // clamp_f16, shared by the table and cube writers: finite values beyond 65504 become +-65504

@@ -16,7 +16,7 @@
 extern "C" {
 
 // Bumped whenever a struct or a signature below changes; the loader refuses another version.
-#define BRDFBAKE_OIIO_ABI_VERSION 2
+#define BRDFBAKE_OIIO_ABI_VERSION 3
 
 struct brdfbake_oiio_image {
   int width;
@@ -25,16 +25,29 @@ struct brdfbake_oiio_image {
   float* pixels;          // width x height x channels, row 0 first (allocated by the module)
   char* channel_names;    // comma-separated, in OpenImageIO's order (allocated by the module)
   char* description;      // e.g. "tiff 640x480, 3 channel(s), uint8" (allocated by the module)
+  // What was done to integer-coded values, e.g. "8-bit sRGB (oiio:ColorSpace) decoded to linear",
+  // or empty (float data, or data stated linear); allocated by the module.
+  char* transfer_note;
 };
+
+// Returns non-zero when the read should stop (a stop request: brdfbake/cancel.hpp).
+typedef int (*brdfbake_oiio_stop_fn)(void);
 
 // int brdfbake_oiio_abi_version(void): BRDFBAKE_OIIO_ABI_VERSION of the module.
 typedef int (*brdfbake_oiio_abi_version_fn)(void);
-// Reads level 0 of subimage 0 of `path` as float into `out`; images of more than max_pixels
+// Reads level 0 of subimage 0 of `path` as linear float into `out`; images of more than max_pixels
 // pixels, or whose decoding takes more than max_bytes (0: no limit; io/image_limits.hpp, counting
-// the module's buffer and the caller's copy), are refused before decoding. Returns 0 on success; otherwise a one-line reason (without
-// the path) in `error` (NUL-terminated, at most error_size bytes) and `out` untouched.
+// the module's buffer and the caller's copy), are refused before decoding. Integer-coded colour
+// channels are decoded to linear from the file's colour space (oiio:ColorSpace: sRGB, linear,
+// GammaN; none stated: sRGB for 8-bit data, the convention for untagged images, as stored for
+// 16-bit; any other is refused); alpha
+// stays as stored. `should_stop` (may be null) is asked between parts of the read; when it says
+// stop, the read ends with 2 and the reason "cancelled". Returns 0 on success; otherwise a
+// one-line reason (without the path) in `error` (NUL-terminated, at most error_size bytes) and
+// `out` untouched.
 typedef int (*brdfbake_oiio_read_fn)(const char* path, unsigned long long max_pixels, unsigned long long max_bytes,
-                                     brdfbake_oiio_image* out, char* error, size_t error_size);
+                                     brdfbake_oiio_stop_fn should_stop, brdfbake_oiio_image* out, char* error,
+                                     size_t error_size);
 // Frees what brdfbake_oiio_read allocated in `image`.
 typedef void (*brdfbake_oiio_free_fn)(brdfbake_oiio_image* image);
 

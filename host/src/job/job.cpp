@@ -7,6 +7,7 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
 
@@ -180,6 +181,9 @@ void validate_job(Job& job) {
     for (const auto& r : t.requested_by) first.requested_by.push_back(r);
   }
   job.tables = std::move(merged);
+  // Across fields and tables: a table's sh_json on another's output, an output inside another's
+  // folder output or under another's file (brdfbake/output_checks.hpp).
+  check_job_output_set(job, false);
 }
 
 // ---- Parsing -------------------------------------------------------------------------------------

@@ -632,36 +632,4 @@ const std::vector<ParamDef>& plan_schema() {
   return s;
 }
 
-PlanOptions plan_options_from_params(const Params& params, bool cli) {
-  PlanOptions o;
-  const auto& schema = plan_schema();
-  for (const auto& p : params) {
-    const ParamDef* d = find_param_def(schema, p.name);
-    if (!d) throw Error("unknown plan option '" + p.name.substr(0, 60) + "'");
-    check_param(*d, p.value, cli ? "--" + d->cli_name() : p.name);
-    auto integer = [&] { return static_cast<int>(std::get<double>(p.value)); };
-    if (p.name == "energy_compensation") o.energy_compensation = std::get<bool>(p.value);
-    else if (p.name == "lut_size") o.lut_size = integer();
-    else if (p.name == "cube_size") o.cube_size = integer();
-    else if (p.name == "min_size") o.cube_min_size = integer();
-    else if (p.name == "schedule") o.schedule = std::get<std::string>(p.value);
-    else if (p.name == "prefilter_max_error") o.prefilter_max_error = std::get<double>(p.value);
-    else if (p.name == "fresnel_size") o.fresnel_size = integer();
-    else if (p.name == "thin_film_size") o.thin_film_size = integer();
-    else if (p.name == "sh_order") o.sh_order = integer();
-    else if (p.name == "sheen_visibility") o.sheen_visibility = std::get<std::string>(p.value);
-    else if (p.name == "table_format") o.table_format = std::get<std::string>(p.value);
-    else if (p.name == "target") o.target = std::get<std::string>(p.value);
-    else if (p.name == "cube_format") o.cube_format = std::get<std::string>(p.value);
-    else if (p.name == "clamp_f16") o.clamp_f16 = std::get<bool>(p.value);
-  }
-  if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
-    throw Error(std::string(cli ? "--sh" : "sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");
-  const int size = o.cube_size.value_or(static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "size")->fallback)));
-  if (o.cube_min_size && *o.cube_min_size > size)
-    throw Error(std::string(cli ? "--min-size" : "min_size") + ": must be at most " + (cli ? "--cube-size" : "cube_size") +
-                " (got " + std::to_string(*o.cube_min_size) + " > " + std::to_string(size) + ")");
-  return o;
-}
-
 }  // namespace brdfbake

@@ -1,5 +1,6 @@
-// The job runner: each distinct table baked once through the family registry, every file written
-// into a temporary folder beside the output folder and moved in at the end, manifest.json last.
+// The job runner: each distinct table baked once through the table runner (brdfbake/runner.hpp) and
+// delivered to each of its outputs, every file written into a temporary folder beside the output
+// folder and moved in at the end, manifest.json last.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -10,7 +11,9 @@
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
+#include "brdfbake/runner.hpp"
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
@@ -164,6 +167,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
+  check_job_files(job, target);  // outputs as a set, against the folder and the inputs, before any work
   // One run at a time per folder; then what killed runs left beside it can go.
   OutputLock lock(target, options.wait_for_lock, options.on_wait);
   remove_stale_temporaries(target);
@@ -199,10 +203,9 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   manifest.warnings = job.warnings;
   manifest.bakes = static_cast<int>(groups.size());
   for (const auto& [name, env] : environments)
-    if (env.sanitize.replaced)
-      manifest.warnings.push_back("environment '" + name + "' sanitized: replaced " + std::to_string(env.sanitize.nan) +
-                                  " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
-                                  std::to_string(env.sanitize.negative) + " negative values");
+    for (const auto& note : env.notes) manifest.notes.push_back("environment " + note);  // e.g. sRGB decoded
+  for (const auto& [name, env] : environments)
+    if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
 
   const EngineTarget engine = engine_target_from_name(job.target);
   std::optional<BakeResult> ggx_chain, irradiance;
@@ -228,7 +231,12 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       }
       if (!read_later) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
     }
-    const BakeResult r = bake_table(t, backend, inputs, report);
+    TableRunOptions bake;
+    bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
+    bake.backend = &backend;
+    bake.inputs = inputs;
+    bake.progress = report;
+    const BakeResult r = run_table(t, bake).result;
     report(1.0, "");
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
@@ -245,9 +253,9 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
           text.replace(at, s.output.size(), final_path);
         return text;
       };
-      WriteReport written;
+      Delivery delivered;
       try {
-        written = write_result(r, s, s.output);
+        delivered = deliver_result(r, s, TableDelivery::File);
       } catch (const Cancelled&) {
         throw;
       } catch (const RuntimeFailure&) {
@@ -255,8 +263,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       } catch (const Error& e) {
         throw Error(final_name(e.what()));  // a value the format cannot hold
       }
-      ManifestFile f = manifest_entry(o, r, written, backend.result_precision(o.precision));
-      for (const auto& w : written.warnings) {
+      ManifestFile f = manifest_entry(o, r, delivered.report, backend.result_precision(o.precision));
+      for (const auto& w : delivered.warnings) {
         manifest.warnings.push_back(final_name(w));
         if (options.on_warning) options.on_warning(final_name(w));
       }

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "brdfbake/device.hpp"
+#include "runtime/cache_dirs.hpp"
 #include "runtime/device_impl.hpp"
 
 namespace brdfbake {
@@ -71,6 +72,7 @@ void apply_test_limits(DeviceInfo& info) {
 }
 
 std::vector<Found> enumerate() {
+  detail::check_implementation_cache();  // an unwritable PoCL cache would hide every device
   std::vector<Found> out;
   std::vector<cl::Platform> platforms;
   try {

@@ -18,6 +18,7 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake::detail {
 
@@ -40,7 +41,11 @@ struct PairInput::Impl {
     }
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // A FIFO or a device is a stream (its open does not wait for a writer: fill() does, cancellably);
+    // a block device or a socket is refused (io/special_files.hpp).
+    if (const std::string p = io::input_problem(path, io::Streams::Yes); !p.empty() && p != "no such file")
+      throw Error("cannot read '" + path + "': " + p);
+    fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd_ < 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
     owned_ = true;
   }
@@ -51,17 +56,22 @@ struct PairInput::Impl {
   Impl& operator=(const Impl&) = delete;
   const std::string& name() const { return name_; }
 
-  // The next line without its end-of-line; false at the end. Lines longer than 4096 bytes are cut
-  // there (no pair needs that many; the field check then names the line).
+  // The next line without its end-of-line; false at the end. A line longer than 4096 bytes is
+  // refused when its 4097th byte arrives (no pair needs that many): an input without line ends
+  // (/dev/zero) is not read forever.
   bool line(std::string& out) {
     out.clear();
     bool any = false;
+    ++lines_;
     for (;;) {
       if (at_ == size_ && !fill()) break;
       any = true;
       const char c = buffer_[at_++];
       if (c == '\n') break;
-      if (out.size() < 4096) out.push_back(c);
+      if (out.size() >= kMaxLineBytes)
+        throw Error(name_ + ": line " + std::to_string(lines_) + ": longer than " + std::to_string(kMaxLineBytes) +
+                    " bytes (a pair takes six numbers)");
+      out.push_back(c);
     }
     if (!out.empty() && out.back() == '\r') out.pop_back();
     return any;
@@ -99,9 +109,11 @@ struct PairInput::Impl {
     }
   }
 
+  static constexpr size_t kMaxLineBytes = 4096;
   std::string name_;
   int fd_ = -1;
   bool owned_ = false;
+  long lines_ = 0;
   std::vector<char> buffer_ = std::vector<char>(size_t(1) << 16);
   size_t at_ = 0, size_ = 0;
 };
