@@ -28,6 +28,7 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/tables.hpp"
+#include "support/result_values.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -104,21 +105,7 @@ class StderrCapture {
   int saved_ = -1;
 };
 
-// Every value a result holds, in one list.
-std::vector<double> values_of(const BakeResult& r) {
-  std::vector<double> v;
-  auto add = [&](const auto& list) { v.insert(v.end(), list.begin(), list.end()); };
-  if (const Table* t = r.table()) add(t->data);
-  if (const CubeLevels* c = r.cube())
-    for (const auto& level : c->levels) add(level);
-  if (const IrradianceResult* i = r.irradiance()) {
-    add(i->sh.radiance);
-    for (const auto& level : i->cube.levels) add(level);
-  }
-  if (const MerlTable* m = r.merl()) add(m->values);
-  if (const EvalResult* e = r.eval()) add(e->values);
-  return v;
-}
+using test::values_of;
 
 struct Case {
   std::string name;
