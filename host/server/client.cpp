@@ -129,7 +129,17 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
                     const RemoteOptions& o, const JobProgress& progress) {
   Connection c(o);
   const std::string path = "/v1/jobs?source=" + url_encode(source);
-  const httplib::Result posted = c->Post(path.c_str(), job_text, "application/json");
+  // The output folder goes with the job: the server names an engine target's files after it, as a
+  // local run does (it writes nothing there).
+  std::string body = job_text;
+  {
+    json doc = io::parse_json(job_text, source);
+    if (doc.is_object() && !output_dir.empty()) {
+      doc["output_dir"] = output_dir;
+      body = doc.dump();
+    }
+  }
+  const httplib::Result posted = c->Post(path.c_str(), body, "application/json");
   c.check(posted);
   if (posted->status == 400) throw RemoteError(server_message(posted), 2);
   if (posted->status != 202)

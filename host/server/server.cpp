@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -11,8 +12,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <list>
 #include <map>
@@ -29,6 +32,7 @@
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
 #include "server/confine.hpp"
+#include "server/connections.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
 #include "server/scheduler.hpp"
@@ -84,6 +88,14 @@ std::string content_type(const std::string& name) {
   if (ext == ".ktx") return "image/ktx";
   if (ext == ".dds") return "image/vnd-ms.dds";
   return "application/octet-stream";
+}
+
+// A failure of the server's storage (a full disk or quota, a file size limit, SQLite's "full"), as
+// the system's or the library's words say it: the server answers 507, not 500 or 400.
+bool storage_full(const std::string& message) {
+  for (int e : {ENOSPC, EDQUOT, EFBIG})
+    if (message.find(std::strerror(e)) != std::string::npos) return true;
+  return message.find("database or disk is full") != std::string::npos;
 }
 
 // A header value: printable ASCII, one line, at most 300 characters.
@@ -189,7 +201,7 @@ struct Server::Impl {
   Metrics metrics;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<ResultCache> cache;
-  httplib::Server http;
+  GuardedServer http;
   int listen_fd = -1;
   int port = 0;
   std::vector<std::string> notes;
@@ -210,12 +222,17 @@ struct Server::Impl {
   void submit_document(json doc, const std::string& origin, const httplib::Request& req, httplib::Response& res);
   void check_memory(const Job& job, const std::string& origin);
   json job_json(const JobRecord& r, bool full);
+  json job_files(const std::string& id, const json& manifest) const;
   void get_job(const httplib::Request& req, httplib::Response& res);
   void delete_job(const httplib::Request& req, httplib::Response& res);
   void get_file(const httplib::Request& req, httplib::Response& res);
   void post_bake(const httplib::Request& req, httplib::Response& res);
   void post_table(const httplib::Request& req, httplib::Response& res);
   std::string metrics_text();
+  // An error reply; the message without the server's own paths (Roots::public_text).
+  void fail(httplib::Response& res, int status, const std::string& message) const {
+    reply_error(res, status, roots ? roots->public_text(message) : message);
+  }
 };
 
 void Server::Impl::open(ServerOptions options) {
@@ -223,6 +240,25 @@ void Server::Impl::open(ServerOptions options) {
   if (opt.data_dir.empty()) throw Error("--data: the data directory is required");
   if (opt.max_queue < 1) throw Error("--max-queue: must be at least 1");
   if (opt.threads < 2) throw Error("--threads: must be at least 2");
+  if (opt.max_connections < 1) throw Error("--max-connections: must be at least 1");
+  if (opt.max_client_connections < 1) throw Error("--max-client-connections: must be at least 1");
+  // Every connection is a file: the process may need more than the usual soft limit of 1024.
+  {
+    const rlim_t want = static_cast<rlim_t>(opt.max_connections) + 64 + 256;  // the reserve, SQLite, files, OpenCL
+    rlimit files{};
+    if (::getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < want) {
+      files.rlim_cur = std::min(want, files.rlim_max);
+      (void)::setrlimit(RLIMIT_NOFILE, &files);
+      (void)::getrlimit(RLIMIT_NOFILE, &files);
+      if (files.rlim_cur < want) {
+        const int fit = std::max(1, static_cast<int>(files.rlim_cur) - 64 - 256);
+        notes.push_back("--max-connections " + std::to_string(opt.max_connections) + " lowered to " + std::to_string(fit) +
+                        ": the process may open " + std::to_string(files.rlim_cur) + " files (ulimit -n)");
+        opt.max_connections = fit;
+        opt.max_client_connections = std::min(opt.max_client_connections, fit);
+      }
+    }
+  }
   if (!opt.token_file.empty()) {
     token = io::read_token_file(opt.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
     if (token.size() < 16) throw Error("--token-file: the token (its first line) must have at least 16 characters");
@@ -251,6 +287,7 @@ void Server::Impl::open(ServerOptions options) {
   so.jobs_dir = jobs_dir();
   so.max_queue = opt.max_queue;
   so.warm_up = opt.warm_up;
+  so.public_text = [this](const std::string& m) { return roots->public_text(m); };
   scheduler = std::make_unique<Scheduler>(*store, metrics, so);
   recover();
   routes();
@@ -270,7 +307,12 @@ void Server::Impl::recover() {
   const auto running_before = store->list(JobState::Running, 1 << 30);
   const auto failed = store->recover(2, now_seconds());
   for (const auto& r : failed) notes.push_back("job " + r.id + " failed: the server stopped while running it twice");
-  int requeued = static_cast<int>(running_before.size() - failed.size());
+  int cancelled = 0;
+  for (const auto& r : running_before) cancelled += r.cancel_requested ? 1 : 0;
+  if (cancelled)
+    notes.push_back("cancelled " + std::to_string(cancelled) +
+                    " job(s) that were asked to stop (DELETE) before the server stopped; not run again");
+  int requeued = static_cast<int>(running_before.size() - failed.size()) - cancelled;
   if (requeued) notes.push_back("re-queued " + std::to_string(requeued) + " job(s) that were running when the server stopped");
   const auto queued = store->queued();
   for (const auto& r : queued) scheduler->resume(r);
@@ -352,13 +394,20 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     check_memory(job, origin);
     r.timeout = number_param(req, "timeout", opt.job_timeout, 0.01, opt.job_timeout);
   } catch (const NotAvailableError& e) {
-    reply_error(res, 501, e.what());
+    fail(res, 501, e.what());
     return;
   } catch (const Error& e) {
-    reply_error(res, 400, e.what());
+    fail(res, 400, e.what());
     return;
   }
-  job.output_dir.clear();  // the server chooses where files go: DATA/jobs/<id>/
+  // The server chooses where files go (DATA/jobs/<id>/); of the client's folder only its name is
+  // kept: an engine target names its files after it, as a local run does.
+  {
+    std::string folder = job.output_dir;
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    const std::string name = fs::path(folder).filename().string();
+    job.output_dir = name == "." || name == ".." || name.size() > 200 ? std::string() : name;
+  }
   r.source = origin;
   r.job = job_to_json(job);
   r.submitted = now_seconds();
@@ -366,10 +415,10 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     scheduler->submit(r);
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
-    reply_error(res, 503, e.what());
+    fail(res, 503, e.what());
     return;
   } catch (const Error& e) {
-    reply_error(res, 500, e.what());
+    fail(res, storage_full(e.what()) ? 507 : 500, e.what());  // the store could not record it
     return;
   }
   json body;
@@ -379,6 +428,41 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   body["tables"] = job.tables.size();
   res.set_header("Location", "/v1/jobs/" + r.id);
   reply_json(res, 202, body);
+}
+
+json Server::Impl::job_files(const std::string& id, const json& manifest) const {
+  // Every file of the job's folder by its own path, so that a client fetches each as it is: the
+  // manifest's outputs in its order (a folder output, a cube written as images, by each of its
+  // files), then what else the job wrote (an engine target's files), manifest.json last.
+  const fs::path dir = jobs_dir() / id;
+  std::vector<std::string> out;
+  std::set<std::string> listed = {"manifest.json"};
+  auto files_below = [&](const fs::path& folder) {
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      if (it->symlink_status(ec).type() == fs::file_type::regular)
+        found.push_back(it->path().lexically_relative(dir).generic_string());
+    std::sort(found.begin(), found.end());
+    return found;
+  };
+  auto add = [&](const std::string& name) {
+    if (listed.insert(name).second) out.push_back(name);
+  };
+  if (manifest.is_object() && manifest.contains("files") && manifest["files"].is_array())
+    for (const auto& f : manifest["files"]) {
+      const std::string path = f.is_object() ? f.value("path", "") : "";
+      if (path.empty()) continue;
+      std::error_code ec;
+      if (fs::symlink_status(dir / path, ec).type() == fs::file_type::directory) {
+        for (const auto& name : files_below(dir / path)) add(name);
+      } else {
+        add(path);
+      }
+    }
+  for (const auto& name : files_below(dir)) add(name);
+  out.push_back("manifest.json");
+  return json(out);
 }
 
 json Server::Impl::job_json(const JobRecord& r, bool full) {
@@ -409,11 +493,7 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
   }
   if (r.state == JobState::Done && !r.manifest.empty()) {
     const json m = json::parse(r.manifest, nullptr, false);
-    json files = json::array();
-    if (m.is_object() && m.contains("files"))
-      for (const auto& f : m["files"]) files.push_back(f.value("path", ""));
-    files.push_back("manifest.json");
-    o["files"] = files;
+    o["files"] = job_files(r.id, m);
     // What was changed on the way to the files (clamp_f16, a sanitized environment), naming them
     // inside the job's folder as the file list does.
     const std::string folder = (jobs_dir() / r.id).string() + "/";
@@ -436,11 +516,11 @@ void Server::Impl::get_job(const httplib::Request& req, httplib::Response& res) 
   try {
     wait = number_param(req, "wait", 0, 0, 60);
   } catch (const Error& e) {
-    return reply_error(res, 400, e.what());
+    return fail(res, 400, e.what());
   }
   if (wait > 0) scheduler->wait_finished(id, wait);
   const auto r = store->get(id);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   reply_json(res, 200, job_json(*r, true));
 }
 
@@ -448,7 +528,7 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
   const std::string id = req.matches[1];
   const bool purge = req.has_param("purge") && req.get_param_value("purge") != "0" && req.get_param_value("purge") != "false";
   switch (scheduler->cancel(id)) {
-    case CancelResult::Unknown: return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+    case CancelResult::Unknown: return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
     case CancelResult::Cancelled: {
       json o;
       o["id"] = id;
@@ -466,9 +546,9 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
     case CancelResult::Finished: break;
   }
   const auto r = store->get(id, false);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (!purge)
-    return reply_error(res, 409, "job " + id + " already finished (" + job_state_name(r->state) +
+    return fail(res, 409, "job " + id + " already finished (" + job_state_name(r->state) +
                                      "); DELETE /v1/jobs/" + id + "?purge=1 removes it and its files");
   std::error_code ec;
   fs::remove_all(jobs_dir() / id, ec);
@@ -482,22 +562,28 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
 void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1], name = req.matches[2];
   const auto r = store->get(id, false);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (r->state != JobState::Done)
-    return reply_error(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
+    return fail(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
                        "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
   const fs::path given(name);
   bool up = false;
   for (const auto& part : given) up |= part == "..";
   if (given.is_absolute() || up)
-    return reply_error(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
+    return fail(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
   const std::string path = roots->data_file(jobs_dir() / id, name);
-  if (path.empty()) return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+  if (path.empty()) {
+    std::error_code ec;
+    if (fs::symlink_status((jobs_dir() / id / given).lexically_normal(), ec).type() == fs::file_type::directory)
+      return fail(res, 404, "job " + id + ": '" + name.substr(0, 80) +
+                                "' is a folder; its files are listed one by one in the job's \"files\" (GET /v1/jobs/" + id + ")");
+    return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+  }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   struct stat st {};
   if (fd < 0 || ::fstat(fd, &st) != 0) {
     if (fd >= 0) ::close(fd);
-    return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+    return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
   }
   const auto size = static_cast<size_t>(st.st_size);
   res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(fs::path(name).filename().string()) + "\"");
@@ -551,7 +637,7 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
     }
     doc = json::parse(job_to_json(plan.job));
   } catch (const Error& e) {
-    return reply_error(res, 400, e.what());
+    return fail(res, 400, e.what());
   }
   submit_document(std::move(doc), origin, req, res);
 }
@@ -598,7 +684,7 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
                   human_bytes(double(opt.table_max_bytes)) + "); submit it as a job (POST /v1/jobs)");
     environment = table_kind_uses_environment(t.kind) ? (t.environment.empty() ? job.environment : t.environment) : "";
   } catch (const Error& e) {
-    return reply_error(res, 400, local(e.what()));
+    return fail(res, 400, local(e.what()));
   }
   // The files the table reads are part of its key: their size and modification time.
   std::string inputs_key;
@@ -652,7 +738,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   std::future<void> done;
   try {
     const auto queued = std::chrono::steady_clock::now();
-    done = scheduler->run_now(key, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
+    const std::string label = table_kind_name(t.kind) + (t.find("size") ? " " + param_value_text(*t.find("size")) : std::string());
+    done = scheduler->run_now(key, label, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
       if (*abandoned) return;  // the client stopped waiting before the device was free
       const auto began = std::chrono::steady_clock::now();
       TableRequest request = t;
@@ -684,25 +771,26 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
     });
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
-    return reply_error(res, 503, e.what());
+    return fail(res, 503, e.what());
   }
   if (done.wait_for(std::chrono::duration<double>(opt.table_timeout)) != std::future_status::ready) {
     *abandoned = true;
     char m[160];
     std::snprintf(m, sizeof m, "table: not ready within %g s (--table-timeout); the device is busy or the table is large: "
                   "submit it as a job", opt.table_timeout);
-    return reply_error(res, 504, m);
+    return fail(res, 504, m);
   }
   try {
     done.get();
   } catch (const std::future_error&) {
-    return reply_error(res, 503, "the server is shutting down");
-  } catch (const ClError& e) {
-    return reply_error(res, 500, local(e.what()));
+    return fail(res, 503, "the server is shutting down");
+  } catch (const RuntimeFailure& e) {
+    // The server failed, not the request: its storage is full (507), or the device (500).
+    return fail(res, storage_full(e.what()) ? 507 : 500, local(e.what()));
   } catch (const Error& e) {
-    return reply_error(res, 400, local(e.what()));
+    return fail(res, 400, local(e.what()));
   } catch (const std::exception& e) {
-    return reply_error(res, 500, e.what());
+    return fail(res, 500, e.what());
   }
   if (cache) cache->put(cache_key, reply);
   send(*reply, false);
@@ -733,7 +821,18 @@ std::string Server::Impl::metrics_text() {
 }
 
 void Server::Impl::routes() {
-  http.new_task_queue = [n = opt.threads] { return new httplib::ThreadPool(static_cast<size_t>(n)); };
+  // Slow and heavy clients (docs/SERVICE.md): requests are received whole before a worker takes
+  // them, within --io-timeout each; connections are capped; a reserve answers health and status.
+  ConnectionLimits limits;
+  limits.request_seconds = opt.io_timeout;
+  limits.write_stall_seconds = opt.io_timeout;
+  limits.idle_seconds = 5;
+  limits.max_body = opt.max_body;
+  limits.workers = opt.threads;
+  limits.max_connections = opt.max_connections;
+  limits.max_client_connections = opt.max_client_connections;
+  http.set_limits(limits);
+  http.set_on_refused([this](int status) { metrics.count_request(status); });
   http.set_payload_max_length(opt.max_body);
   http.set_tcp_nodelay(true);
   http.set_keep_alive_max_count(1000);
@@ -751,27 +850,27 @@ void Server::Impl::routes() {
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (authorized(req)) return httplib::Server::HandlerResponse::Unhandled;
     res.set_header("WWW-Authenticate", "Bearer realm=\"brdfbake\"");
-    reply_error(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
+    fail(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
     return httplib::Server::HandlerResponse::Handled;
   });
   http.set_error_handler([this](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     if (res.status == 413)
-      reply_error(res, 413, "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
+      fail(res, 413, "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
     else if (res.status == 404)
-      reply_error(res, 404, "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
+      fail(res, 404, "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
     else if (res.status == 400)
-      reply_error(res, 400, "malformed HTTP request");
+      fail(res, 400, "malformed HTTP request");
     else
-      reply_error(res, res.status, "HTTP error " + std::to_string(res.status));
+      fail(res, res.status, "HTTP error " + std::to_string(res.status));
   });
-  http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+  http.set_exception_handler([this](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
     try {
       std::rethrow_exception(ep);
     } catch (const std::exception& e) {
-      reply_error(res, 500, e.what());
+      fail(res, 500, e.what());
     } catch (...) {
-      reply_error(res, 500, "internal error");
+      fail(res, 500, "internal error");
     }
   });
   http.set_logger([this](const httplib::Request&, const httplib::Response& res) { metrics.count_request(res.status); });
@@ -783,6 +882,7 @@ void Server::Impl::routes() {
     h["uptime_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     h["queued"] = scheduler->queued_total();
     h["running"] = scheduler->running_total();
+    h["tables_running"] = scheduler->tables_running();
     bool warm = true;
     const auto devices = scheduler->devices();
     for (const auto& d : devices) warm = warm && d.warm;
@@ -801,6 +901,7 @@ void Server::Impl::routes() {
       e["warm"] = d.warm;
       e["busy"] = d.busy;
       e["running"] = d.running.empty() ? json(nullptr) : json(d.running);
+      e["table"] = d.table.empty() ? json(nullptr) : json(d.table);
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
       a.push_back(e);
@@ -820,7 +921,7 @@ void Server::Impl::routes() {
       doc = io::parse_json(req.body, origin);
       if (!doc.is_object()) throw Error(origin + ": a job is a JSON object with a \"tables\" array");
     } catch (const Error& e) {
-      return reply_error(res, 400, e.what());
+      return fail(res, 400, e.what());
     }
     submit_document(std::move(doc), origin, req, res);
   });
@@ -836,7 +937,7 @@ void Server::Impl::routes() {
       }
       limit = static_cast<int>(number_param(req, "limit", 100, 1, 1000000));
     } catch (const Error& e) {
-      return reply_error(res, 400, e.what());
+      return fail(res, 400, e.what());
     }
     json a = json::array();
     for (const auto& r : store->list(state, limit)) a.push_back(job_json(r, false));

@@ -36,9 +36,6 @@ struct RgbImage {
   std::vector<std::string> notes;  // EnvImage::notes
 };
 
-// The largest environment read, in pixels (16384 x 16384).
-constexpr uint64_t kMaxEnvironmentPixels = uint64_t(1) << 28;
-
 uint64_t budget_of(const EnvLoadOptions& o) { return o.memory_budget > 0 ? o.memory_budget : default_memory_budget(); }
 
 // Which channels of an image hold R, G and B (the same for grey). Channels are found by name (R, G,
@@ -474,11 +471,24 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   return env;
 }
 
+void check_environment_size(uint64_t width, uint64_t height, const std::string& source, const EnvLoadOptions& options) {
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  if (width > kMaxEnvironmentPixels || height > kMaxEnvironmentPixels || width * height > kMaxEnvironmentPixels)
+    throw Error("environment '" + source + "' is " + size + " (" + std::to_string(width * height) +
+                " pixels): more than the limit of " + std::to_string(kMaxEnvironmentPixels) +
+                " pixels (16384x16384); scale it down first");
+  const uint64_t need = width * height * 3 * sizeof(float) * 2, budget = budget_of(options);
+  if (need > budget)
+    throw Error("environment '" + source + "' is " + size + ": taking it in needs " + io::mib_text(need) +
+                ", above the memory budget of " + io::mib_text(budget) + " (half the memory this process may use); scale it down first");
+}
+
 EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
                                    const EnvLoadOptions& options) {
   if (height < 1 || width != 2 * height)
     throw Error("environment '" + source + "' is " + std::to_string(width) + "x" + std::to_string(height) +
                 ": an equirect must be twice as wide as it is high");
+  check_environment_size(static_cast<uint64_t>(width), static_cast<uint64_t>(height), source, options);
   if (rgb.size() != 3u * static_cast<size_t>(width) * static_cast<size_t>(height))
     throw Error("environment '" + source + "': " + std::to_string(rgb.size()) + " values for " +
                 std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");

@@ -23,8 +23,8 @@ without the GIL (calls from several threads share a device one call at a time). 
 
 import os as _os
 
-# The OpenImageIO module installed beside the extension (PNG, TIFF, JPEG... environments): the library
-# looks for it beside the executable (here the interpreter) unless BRDFBAKE_OIIO_MODULE names it.
+# The OpenImageIO module installed beside the extension (TIFF, JPEG, PFM... environments): named
+# explicitly (the library, inside the extension, would look in this folder too, and nowhere else).
 _oiio = _os.path.join(_os.path.dirname(__file__), "brdfbake_oiio.so")
 if _os.path.isfile(_oiio):
     _os.environ.setdefault("BRDFBAKE_OIIO_MODULE", _oiio)

@@ -269,6 +269,9 @@ def _equirect_array(a: np.ndarray, where: str) -> np.ndarray:
     if h < 1 or w != 2 * h:
         raise InputError(f"{where}.env: an equirect array must be twice as wide as it is high "
                          f"(got {w}x{h}, shape {a.shape})")
+    # The pixel limit and the memory budget, on the shape: before the array (perhaps a broadcast view
+    # of one value, which takes no memory yet) is converted and copied.
+    _core.check_environment_size(w, h, f"{where}.env: array {w}x{h}")
     with np.errstate(over="ignore"):  # float64 beyond float32's range becomes inf: refused (or sanitized) as such
         return np.ascontiguousarray(a, dtype=np.float32)
 
@@ -522,11 +525,21 @@ def _pairs(wi: Any, wo: Any, where: str) -> np.ndarray:
             raise InputError(f"{where}.{name}: expected real numbers (got dtype {a.dtype})")
         if a.ndim not in (1, 2) or a.shape[-1] != 3:
             raise InputError(f"{where}.{name}: expected shape (n, 3) or (3,) (got {a.shape})")
-        arrays.append(a.astype(np.float64, copy=False))
+        arrays.append(a)
     try:
-        wi64, wo64 = np.broadcast_arrays(np.atleast_2d(arrays[0]), np.atleast_2d(arrays[1]))
+        shape = np.broadcast_shapes(np.atleast_2d(arrays[0]).shape, np.atleast_2d(arrays[1]).shape)
     except ValueError:
         raise InputError(f"{where}: wi {arrays[0].shape} and wo {arrays[1].shape} do not broadcast") from None
+    # The memory the pairs and their values take, on the broadcast shape: before a view (perhaps of
+    # one direction against a broadcast of billions) is converted and joined.
+    need = shape[0] * (6 * 8 + 3 * 8)
+    budget = _core.default_memory_budget()
+    if need > budget:
+        raise InputError(f"{where}: {shape[0]} pairs need {need / 2**30:.1f} GiB (float64 pairs and their values), "
+                         f"above the memory budget of {budget / 2**30:.1f} GiB (half the memory this process may "
+                         "use); evaluate them in parts")
+    arrays = [a.astype(np.float64, copy=False) for a in arrays]
+    wi64, wo64 = np.broadcast_arrays(np.atleast_2d(arrays[0]), np.atleast_2d(arrays[1]))
     pairs = np.ascontiguousarray(np.concatenate([wi64, wo64], axis=1))
     bad = ~np.isfinite(pairs).all(axis=1)
     if bad.any():

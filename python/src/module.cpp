@@ -9,9 +9,11 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 #include "backends.hpp"
+#include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/runner.hpp"
@@ -131,12 +133,14 @@ PyEnvironment env_from_array(const py::array& a, bool sanitize, const std::strin
   // The Python layer has already refused other dtypes and shapes with a message; this is the guard.
   if (!py::isinstance<py::array_t<float>>(a) || a.ndim() != 3 || a.shape(2) != 3)
     throw Error("environment: expected a float32 array of shape (height, width, 3)");
-  if (a.shape(0) > (1 << 16) || a.shape(1) > (1 << 17)) throw Error("environment: the array is too large");
+  // On the shape, before the array is made contiguous or copied (a broadcast view takes no memory
+  // until it is).
+  EnvLoadOptions o;
+  o.sanitize = sanitize;
+  check_environment_size(static_cast<std::uint64_t>(a.shape(1)), static_cast<std::uint64_t>(a.shape(0)), source, o);
   const auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
   const int h = static_cast<int>(a.shape(0)), w = static_cast<int>(a.shape(1));
   std::vector<float> rgb(c.data(), c.data() + c.size());
-  EnvLoadOptions o;
-  o.sanitize = sanitize;
   const py::gil_scoped_release release;
   return {std::make_shared<const EnvImage>(environment_from_equirect(w, h, std::move(rgb), source, o))};
 }
@@ -291,6 +295,10 @@ PYBIND11_MODULE(_brdfbake, m) {
 
   bind_results(m);
 
+  m.def("default_memory_budget", [] { return default_memory_budget(); });
+  m.def("check_environment_size", [](std::uint64_t width, std::uint64_t height, const std::string& source) {
+    check_environment_size(width, height, source);
+  });
   m.def("validate", &validate, py::arg("kind"), py::arg("params"), py::arg("common"), py::arg("prefix"));
   m.def("bake", &bake, py::arg("kind"), py::arg("params"), py::arg("common"), py::arg("prefix"),
         py::arg("environment") = py::none(), py::arg("pairs") = py::none(), py::arg("progress") = py::none());

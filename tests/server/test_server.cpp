@@ -509,6 +509,44 @@ TEST_F(ServerApi, CommandLineRunAndBakeThroughTheServer) {
   EXPECT_NE(none.err.find("cannot reach the server"), std::string::npos) << none.err;
 }
 
+// A folder output (a cube written as face images) and an engine target's files: the job's "files"
+// names each file, so that a client downloads the folder as a local run writes it.
+TEST_F(ServerApi, CommandLineRunDownloadsFolderOutputs) {
+  const json job = json::parse(R"({"brdfbake_job": 1, "target": "filament", "tables": [
+      {"kind": "prefilter", "size": 16, "output": "faces"},
+      {"kind": "irradiance", "output": "sh.json"},
+      {"kind": "ggx", "size": 8, "output": "dfg.exr"}]})");
+  write_file(dir_->path / "folder.json", job.dump());
+  // One folder name in two places: engine files are named after it.
+  const std::string out = (dir_->path / "remote" / "ibl").string(), local = (dir_->path / "local" / "ibl").string();
+  const CliRun remote = run_cli("run " + (dir_->path / "folder.json").string() + " --quiet --server " + server_->url() + " -o " + out);
+  ASSERT_EQ(remote.code, 0) << remote.err;
+  ASSERT_EQ(run_cli("run " + (dir_->path / "folder.json").string() + " --quiet -o " + local).code, 0);
+  auto tree = [](const fs::path& root) {
+    std::map<std::string, std::uintmax_t> files;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+      if (e.is_regular_file()) files[e.path().lexically_relative(root).string()] = e.file_size();
+    return files;
+  };
+  const auto got = tree(out), want = tree(local);
+  EXPECT_GT(want.size(), 10u);  // six faces and level.json, the tables, the engine files, the manifest
+  EXPECT_TRUE(want.count("faces/level0_px.exr"));
+  std::vector<std::string> got_names, want_names;
+  for (const auto& [name, size] : got) got_names.push_back(name);
+  for (const auto& [name, size] : want) want_names.push_back(name);
+  EXPECT_EQ(got_names, want_names);
+  for (const char* f : {"faces/level0_px.exr", "faces/level.json", "dfg.exr"})
+    EXPECT_EQ(read_file(fs::path(out) / f), read_file(fs::path(local) / f)) << f;
+  // Asking for the folder itself says where its files are.
+  auto c = server_->client();
+  const json jobs = body_json(c.Get("/v1/jobs?limit=1"));
+  const std::string id = jobs["jobs"][0]["id"];
+  auto folder = c.Get(("/v1/jobs/" + id + "/files/faces").c_str());
+  ASSERT_TRUE(folder);
+  EXPECT_EQ(folder->status, 404);
+  EXPECT_NE(body_json(folder).value("error", "").find("is a folder"), std::string::npos) << folder->body;
+}
+
 TEST(ServerLimits, QueueFullGets503AndCancelWorks) {
   TempDir dir("queue");
   ServerProcess server(dir.path, {"--data", (dir.path / "data").string(), "--max-queue", "1", "--no-warm-up"});
@@ -693,9 +731,32 @@ TEST(ServerFaults, FullDiskFailsTheJobNotTheDatabase) {
     const std::string error = s.value("error", "");
     EXPECT_TRUE(error.find("No space left on device") != std::string::npos || error.find("File too large") != std::string::npos)
         << error;
+    // The server failed, not the request: exit code 1 (not 2, bad input), and the message names
+    // the file as the job does, not the server's folders.
+    EXPECT_EQ(s.value("exit_code", 0), 1) << s.dump();
+    EXPECT_EQ(error.find(dir.path.string()), std::string::npos) << error;
+    EXPECT_NE(error.find("'big.ktx2'"), std::string::npos) << error;
     EXPECT_FALSE(fs::exists(data / "jobs" / id));
+    // The same through POST /v1/tables: 507 Insufficient Storage, not 400.
+    auto t = c.Post("/v1/tables", R"({"kind": "prefilter", "size": 256, "pixel": "f32", "output": "big.ktx2"})", "application/json");
+    ASSERT_TRUE(t);
+    EXPECT_EQ(t->status, 507) << t->body;
+    EXPECT_EQ(t->body.find(dir.path.string()), std::string::npos) << t->body;
     // The space was given back: the next job runs.
     EXPECT_EQ(wait_job(c, submit(c, small_job()))["state"], "done");
+    if (mounted) {
+      // A disk so full that the job database cannot record a submission: 507, no server path.
+      {
+        std::ofstream filler(data / "filler", std::ios::binary);
+        const std::string block(1 << 16, '\0');
+        for (int i = 0; i < 64 && filler; ++i) filler.write(block.data(), static_cast<std::streamsize>(block.size()));
+      }
+      auto full = c.Post("/v1/jobs", small_job().dump(), "application/json");
+      ASSERT_TRUE(full);
+      EXPECT_EQ(full->status, 507) << full->body;
+      EXPECT_EQ(full->body.find(dir.path.string()), std::string::npos) << full->body;
+      fs::remove(data / "filler");
+    }
     server.signal(SIGTERM);
     EXPECT_EQ(server.wait_exit(30), 0);
   }

@@ -56,6 +56,16 @@ struct EnvLoadOptions {
 // The default memory budget for input images: half of the memory this process may use (the
 // machine's physical memory, or the cgroup's memory.max where that is lower).
 std::uint64_t default_memory_budget();
+
+// The largest environment, in pixels (16384 x 16384), files and in-memory arrays alike.
+constexpr std::uint64_t kMaxEnvironmentPixels = std::uint64_t(1) << 28;
+// Throws Error naming the limit when an equirect of width x height from `source` has more pixels than
+// kMaxEnvironmentPixels, or when its float32 RGB pixels, held twice while they are taken in, pass
+// the memory budget (options.memory_budget, else default_memory_budget()). For callers that hold
+// the pixels in another form first (a NumPy array, which may be a broadcast view of one value):
+// checked on the shape, before anything is allocated.
+void check_environment_size(std::uint64_t width, std::uint64_t height, const std::string& source,
+                            const EnvLoadOptions& options = {});
 // "512MiB", "8GiB", "1.5G", "1000000" (bytes); K, M, G, T and KiB..TiB are powers of 1024, KB..TB
 // of 1000. Throws Error naming the value for anything else, zero or more than 2^60.
 std::uint64_t parse_byte_size(const std::string& text);

@@ -67,9 +67,15 @@ struct RunOptions {
   // Called on the calling thread before each bake and before the files are moved in; may throw to
   // stop the job (cancelled, timed out); the folder is then left as it was.
   std::function<void()> checkpoint;
+  // Asked at each step of a bake (between device launches, rows of a reference table, levels); true
+  // stops the job there with Cancelled (the server's cancel, timeout and shutdown of one job).
+  std::function<bool()> stop_requested;
   // Called with each warning a write gives (values clamped on request, clamp_f16), as it happens;
   // the manifest's warnings hold them too.
   std::function<void(const std::string& warning)> on_warning;
+  // The base name of an engine target's files ("" = the output folder's name, as cmgen -x names
+  // them); the server passes the name of the folder its client writes into.
+  std::string engine_name;
   // The memory an environment image may take decoded (EnvLoadOptions::memory_budget; 0: the default).
   std::uint64_t memory_budget = 0;
 };

@@ -4,8 +4,12 @@
 // for the ~250 libraries Debian's build pulls in and their initialisers, even `--help`. The module
 // is loaded with dlopen the first time such a file is read.
 //
-// Found, in order: the file $BRDFBAKE_OIIO_MODULE names (only it, when set); brdfbake_oiio.so
-// beside the running executable; ../lib/brdfbake/brdfbake_oiio.so from it; the build tree's copy.
+// Found, in order: the file $BRDFBAKE_OIIO_MODULE names (only it, when set); else, when this code
+// is in a shared object (the Python package's extension), brdfbake_oiio.so in that object's own
+// folder only; else brdfbake_oiio.so beside the running executable, ../lib/brdfbake/brdfbake_oiio.so
+// from it, and the build tree's copy for an executable inside the build tree (tests, benchmarks).
+// Never a build-time path for anything else: pip builds in a temporary folder that is deleted and
+// whose path any local user could create again with a module of their own.
 //
 // The interface is plain C, versioned, so that the module and the program need not share C++
 // types across the boundary.
@@ -54,6 +58,7 @@ typedef void (*brdfbake_oiio_free_fn)(brdfbake_oiio_image* image);
 }  // extern "C"
 
 #include <string>
+#include <vector>
 
 namespace brdfbake::io {
 
@@ -65,6 +70,9 @@ struct OiioModule {
   std::string path;  // the file loaded
 };
 const OiioModule& oiio_module();
+
+// Where oiio_module() looks, in order (above).
+std::vector<std::string> oiio_module_candidates();
 
 // Whether the module is loaded in this process (for tests of laziness).
 bool oiio_module_loaded();

@@ -133,11 +133,12 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
   return f;
 }
 
-// The engine's files beside the tables (bake --target), named after the folder (as cmgen -x names
-// them), from the job's first GGX chain and first SH, staged in `staged`.
+// The engine's files beside the tables (bake --target), named `name` (the folder's name, as cmgen -x
+// names them, unless the run names them), from the job's first GGX chain and first SH, staged in
+// `staged`.
 void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
                       const std::optional<BakeResult>& ggx_chain, const std::optional<BakeResult>& irradiance,
-                      const std::string& target, const fs::path& staged) {
+                      const std::string& name, const fs::path& staged) {
   if (!ggx_chain || !irradiance)
     throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
                 "job (the plan of brdfbake bake --target " + job.target + " has both)");
@@ -146,7 +147,7 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   eb.sh = &irradiance->irradiance()->sh;
   if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
   EngineWriteOptions wo;
-  wo.name = fs::path(target).filename().string();
+  wo.name = name;
   const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
   manifest.target = job.target;
   for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
@@ -240,6 +241,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     bake.backend = &backend;
     bake.inputs = inputs;
     bake.progress = report;
+    bake.stop_requested = options.stop_requested;
     const BakeResult r = run_table(t, bake).result;
     report(1.0, "");
     // What an engine's file set is made of: the first GGX chain and the first SH.
@@ -279,8 +281,10 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     }
   }
 
-  if (engine != EngineTarget::Generic)
-    add_engine_files(manifest, engine, job, origin, ggx_chain, irradiance, target, staging.path());
+  if (engine != EngineTarget::Generic) {
+    const std::string name = options.engine_name.empty() ? fs::path(target).filename().string() : options.engine_name;
+    add_engine_files(manifest, engine, job, origin, ggx_chain, irradiance, name, staging.path());
+  }
 
   if (options.checkpoint) options.checkpoint();
   manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
