@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "brdfbake/backend.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/tables.hpp"
 
 namespace fs = std::filesystem;

@@ -5,8 +5,9 @@
 //   lut_accuracy [--quick] [--only-quadrature] [--size N] [--kind K] [--out DIR]
 //
 // Writes DIR/lut_accuracy.md (the tables for docs/BENCHMARKS.md), DIR/lut_accuracy.csv (one row a
-// run, for gnuplot), DIR/lut_sizes.md and DIR/dfg_lut_calibration.inc (the calibration that
-// host/src/dfg_lut.cpp embeds: the max error of each estimator, precision and sample count).
+// run, for gnuplot), DIR/lut_sizes.md and DIR/dfg_lut_calibration.inc (the calibration, copied to
+// host/src/families/dfg_lut/calibration.inc: the max error of each estimator, precision and sample
+// count).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,8 +20,8 @@
 #include <vector>
 
 #include "brdfbake/accuracy.hpp"
-#include "brdfbake/lut.hpp"
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/dfg_lut.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 
 using namespace brdfbake;
 

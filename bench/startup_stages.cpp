@@ -22,7 +22,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 
 using namespace brdfbake;
 

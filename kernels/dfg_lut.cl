@@ -1,6 +1,6 @@
 // Split-sum DFG lookup tables over (n_dot_v, perceptual roughness).
 //
-// Compile-time choices (host/src/dfg_lut.cpp defines exactly one of each group):
+// Compile-time choices (host/src/families/dfg_lut/opencl.cpp defines exactly one of each group):
 //   table:     BRDFBAKE_LUT_GGX            -> scale, bias, burley_albedo
 //              BRDFBAKE_LUT_GGX_MULTISCATTER -> bias (sum Fc V), albedo (sum V), burley_albedo
 //              BRDFBAKE_LUT_CHARLIE        -> sheen albedo

@@ -1,7 +1,7 @@
 // Fresnel reflectance tables: 1-D over cos_theta (channels r, g, b) or 2-D over cos_theta x one
 // material parameter (F0 or IOR, one channel).
 //
-// Compile-time choices (host/src/fresnel.cpp defines exactly one model, the chunk and lane counts,
+// Compile-time choices (host/src/families/fresnel/opencl.cpp defines exactly one model, the chunk and lane counts,
 // and BRDFBAKE_FRESNEL_2D for 2-D tables). Per channel the model reads FRESNEL_NPARAMS parameters:
 //   BRDFBAKE_FRESNEL_SCHLICK           f0, f90
 //   BRDFBAKE_FRESNEL_SCHLICK_METALLIC  base_color, metallic, dielectric_f0

@@ -13,6 +13,7 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/diagnostics.hpp"
+#include "brdfbake/tables.hpp"
 #include "brdfbake/version.hpp"
 #include "cli_table.hpp"
 
@@ -84,15 +85,10 @@ void usage(std::ostream& out) {
       << "  run       run a job file (JSON: the tables to bake, with every parameter)\n"
       << "  serve     serve the job API over HTTP: warm devices, a persistent queue (docs/SERVICE.md)\n"
       << "  devices   list OpenCL platforms and devices\n"
-      << "  kinds     every table kind with its parameters (the job format's reference)\n"
-      << "  lut       bake a split-sum DFG lookup table (ggx, ggx-multiscatter, charlie)\n"
-      << "  fresnel   bake a Fresnel table (exact and approximate models), compare the models\n"
-      << "  thin-film bake a thin-film interference Fresnel table (KHR_materials_iridescence)\n"
-      << "  prefilter prefilter an environment into a GGX or Charlie radiance mip chain\n"
-      << "  irradiance diffuse irradiance of an environment: spherical harmonics and a cube\n"
-      << "  eval      evaluate a BRDF model at (wi, wo) pairs, streaming CSV or float32\n"
-      << "  tabulate  tabulate a BRDF model: MERL binary, grid, directional albedo, slice image\n"
-      << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
+      << "  kinds     every table kind with its parameters (the job format's reference)\n";
+  for (const auto& c : brdfbake::table_commands())  // one per family, from the registry
+    out << "  " << c.name << std::string(c.name.size() < 10 ? 10 - c.name.size() : 1, ' ') << c.usage << "\n";
+  out << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
       << "  report    measure accuracy against time on a device: an HTML page of plots and a JSON\n\n"
       << "Every command also takes --verbose: one line per OpenCL program built or loaded from the cache,\n"
       << "with the compiler's build log (which is otherwise never shown unless a build fails).\n";

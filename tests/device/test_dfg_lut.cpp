@@ -1,13 +1,15 @@
 // The DFG lookup-table kernels against the scalar double reference, every kind, fp32 and fp64, and
-// the DFG identities (tests/identities/dfg_identities.hpp) on the device's own outputs.
+// the DFG identities (tests/identities/dfg_identities.hpp) on the outputs of both backends (the
+// device in fp32 and fp64, and the product's reference backend).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <tuple>
 
+#include "brdfbake/backend.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "identities/dfg_identities.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -16,10 +18,12 @@ namespace brdfbake {
 namespace test {
 namespace {
 
-// bake_lut at explicit points, default sample count.
-class DeviceDfg : public DfgBackend {
+// bake_lut at explicit points, default sample count, on a brdfbake::Backend: the OpenCL device or the
+// product's reference backend (the family's two kernels, host/src/families/dfg_lut/).
+class BackendDfg : public DfgBackend {
  public:
-  DeviceDfg(Device& device, Precision precision) : device_(device), precision_(precision) {}
+  BackendDfg(std::shared_ptr<brdfbake::Backend> backend, Precision precision)
+      : backend_(std::move(backend)), precision_(precision) {}
   std::vector<DfgTexel> ggx(const std::vector<double>& n_dot_v, double roughness) override {
     const Table t = bake(LutKind::Ggx, n_dot_v, roughness, SheenVisibility::EstevezKulla);
     std::vector<DfgTexel> out;
@@ -42,25 +46,30 @@ class DeviceDfg : public DfgBackend {
     s.roughness = {roughness};
     s.precision = precision_;
     s.sheen_visibility = visibility;
-    return bake_lut(device_, s);
+    return bake_lut(*backend_, s);
   }
-  Device& device_;
+  std::shared_ptr<brdfbake::Backend> backend_;
   Precision precision_;
 };
 
 }  // namespace
 
 void make_dfg_backend(Backend b, std::unique_ptr<DfgBackend>& out) {
+  if (b == Backend::ReferenceBackend) {
+    out = std::make_unique<BackendDfg>(brdfbake::Backend::open("reference"), Precision::Fp64);
+    return;
+  }
   Device* dev = test_device();
   if (!dev) {
     if (allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";
     FAIL() << "this test needs an OpenCL device and found none";
   }
   if (b == Backend::Fp64 && !dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
-  out = std::make_unique<DeviceDfg>(*dev, b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
+  out = std::make_unique<BackendDfg>(brdfbake::Backend::open(*dev), b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
 }
 
 INSTANTIATE_TEST_SUITE_P(Device, DfgIdentities, ::testing::Values(Backend::Fp32, Backend::Fp64), BackendName());
+INSTANTIATE_TEST_SUITE_P(ReferenceBackend, DfgIdentities, ::testing::Values(Backend::ReferenceBackend), BackendName());
 
 }  // namespace test
 

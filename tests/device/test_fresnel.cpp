@@ -1,6 +1,7 @@
 // The Fresnel kernels against the scalar double reference (every model, every preset, fp32 and
-// fp64), and the Fresnel identities (tests/identities/fresnel_identities.hpp) on the device's own
-// outputs in fp32 and fp64: the same body the reference passes in tests/reference.
+// fp64), and the Fresnel identities (tests/identities/fresnel_identities.hpp) through
+// brdfbake::Backend on the device's outputs in fp32 and fp64 and on the reference backend's: the
+// same body the scalar reference passes in tests/reference.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,10 +10,11 @@
 #include <tuple>
 #include <vector>
 
+#include "brdfbake/backend.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/fresnel.hpp"
 #include "brdfbake/reference/fresnel.hpp"
-#include "fresnel_internal.hpp"
+#include "families/fresnel/model.hpp"
 #include "identities/fresnel_identities.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -21,10 +23,13 @@ namespace brdfbake {
 namespace test {
 namespace {
 
-// A grey curve as a FresnelSpec, evaluated by bake_fresnel at explicit cosines.
-class DeviceFresnel : public FresnelBackend {
+// A grey curve as a FresnelSpec, evaluated by bake_fresnel at explicit cosines on a
+// brdfbake::Backend: the OpenCL device or the product's reference backend (the family's two kernels,
+// host/src/families/fresnel/).
+class BackendFresnel : public FresnelBackend {
  public:
-  DeviceFresnel(Device& device, Precision precision) : device_(device), precision_(precision) {}
+  BackendFresnel(std::shared_ptr<brdfbake::Backend> backend, Precision precision)
+      : backend_(std::move(backend)), precision_(precision) {}
   std::vector<double> eval(const FresnelCurve& c, const std::vector<double>& cosines) override {
     const auto grey = [](double v) { return Rgb{v, v, v}; };
     FresnelSpec s;
@@ -66,30 +71,37 @@ class DeviceFresnel : public FresnelBackend {
     }
     s.cos_theta = cosines;
     s.precision = precision_;
-    const Table t = bake_fresnel(device_, s);
+    const Table t = bake_fresnel(*backend_, s);
     std::vector<double> out;
     for (int i = 0; i < t.width; ++i) out.push_back(t.at(i, 0, 0));
     return out;
   }
 
  private:
-  Device& device_;
+  std::shared_ptr<brdfbake::Backend> backend_;
   Precision precision_;
 };
 
 }  // namespace
 
 void make_fresnel_backend(Backend b, std::unique_ptr<FresnelBackend>& out) {
+  if (b == Backend::ReferenceBackend) {
+    out = std::make_unique<BackendFresnel>(brdfbake::Backend::open("reference"), Precision::Fp64);
+    return;
+  }
   Device* dev = test_device();
   if (!dev) {
     if (allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";
     FAIL() << "this test needs an OpenCL device and found none";
   }
   if (b == Backend::Fp64 && !dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
-  out = std::make_unique<DeviceFresnel>(*dev, b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
+  out = std::make_unique<BackendFresnel>(brdfbake::Backend::open(*dev),
+                                         b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
 }
 
 INSTANTIATE_TEST_SUITE_P(Device, FresnelIdentities, ::testing::Values(Backend::Fp32, Backend::Fp64), BackendName());
+INSTANTIATE_TEST_SUITE_P(ReferenceBackend, FresnelIdentities, ::testing::Values(Backend::ReferenceBackend),
+                         BackendName());
 
 }  // namespace test
 
@@ -602,7 +614,7 @@ TEST(FresnelCompare, ApproximationsAgainstTheExactModel) {
   EXPECT_THROW(compare_fresnel_models("unobtainium", nullptr, o), Error);
 }
 
-// fit_conductor ships the engine's own fits (host/src/fresnel.cpp); they must agree with the
+// fit_conductor ships the engine's own fits (host/src/families/fresnel/conductor.cpp); they must agree with the
 // reference's (host/reference/src/fresnel.cpp), and with what a table from the preset receives.
 TEST(FresnelConversions, ConductorFitAndHardCodedF0) {
   const MaterialPreset& chromium = *find_material_preset("chromium");

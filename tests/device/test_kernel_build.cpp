@@ -59,7 +59,7 @@ Defines join(Defines a, const Defines& b) {
   return a;
 }
 
-// host/src/dfg_lut.cpp: one table kind, one estimator (resolve_lut_spec: GGX takes quadrature, vndf
+// host/src/families/dfg_lut/opencl.cpp: one table kind, one estimator (resolve_lut_spec: GGX takes quadrature, vndf
 // or ndf; Charlie quadrature, ndf or uniform), and for Charlie the sheen visibility.
 std::vector<Variant> dfg_variants() {
   std::vector<Variant> v;
@@ -75,7 +75,7 @@ std::vector<Variant> dfg_variants() {
   return v;
 }
 
-// host/src/fresnel.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
+// host/src/families/fresnel/opencl.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
 std::vector<Variant> fresnel_variants() {
   std::vector<Variant> v;
   for (const char* model : {"BRDFBAKE_FRESNEL_SCHLICK", "BRDFBAKE_FRESNEL_SCHLICK_METALLIC",
@@ -90,7 +90,7 @@ std::vector<Variant> fresnel_variants() {
   return v;
 }
 
-// host/src/brdf_eval.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
+// host/src/families/brdf_eval/names.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
 // subsurface and sheen come only with its diffuse lobe (metallic < 1); glTF has a diffuse or a
 // metal lobe or both, its specular colour only with the diffuse lobe; Cook-Torrance uses Beckmann,
 // GGX or both. The lane width (8 or 16) is an option of the evaluator's API.

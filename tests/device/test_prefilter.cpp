@@ -15,7 +15,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
-#include "env_lobes.hpp"
+#include "families/prefilter/lobes.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
 
@@ -114,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(AllLobes, Furnace,
                                             ::testing::Values(EnvEstimator::Quadrature, EnvEstimator::Sampling)));
 
 // fp64 kernels: the furnace, and the same values as fp32 to fp32's rounding.
-// The engine's host-side lobes (host/src/env_lobes.cpp: D for the sample tables, the Charlie profile
+// The engine's host-side lobes (host/src/families/prefilter/lobes.cpp: D for the sample tables, the Charlie profile
 // for the pyramid's thresholds, W in closed form for the bright texels) against the reference's
 // (kernel by its own D, W by adaptive quadrature).
 TEST(EnvLobes, EngineMatchesTheReference) {

@@ -14,7 +14,7 @@
 #include <regex>
 #include <sstream>
 
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/tables.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"

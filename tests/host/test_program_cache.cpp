@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "runtime/program.hpp"
 #include "support/device_fixture.hpp"
 

@@ -11,10 +11,12 @@
 #include <sstream>
 
 #include "brdfbake/job.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
+#include "brdfbake/fresnel.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/thin_film.hpp"
 #include "support/cli_runner.hpp"
+#include "families/family.hpp"
 #include "support/field_count.hpp"
 #include "support/tolerances.hpp"
 
@@ -41,71 +43,39 @@ std::string read_file(const fs::path& p) {
 
 // ---- Every spec field has a schema entry -----------------------------------------------------------
 
-// For each spec struct: its fields, each with the parameter that sets it ("" when the field is
-// internal, with the reason). When a field is added to a spec, field_count changes and this test
-// fails until the field is given a parameter (or listed as internal here).
-struct FieldMap {
-  const char* field;
-  const char* parameter;  // a schema parameter, a common table field ("precision"), or "" (internal)
-};
-
-void expect_covered(TableKind kind, size_t fields, const std::vector<FieldMap>& map, const char* spec) {
-  EXPECT_EQ(fields, map.size()) << spec << " has " << fields << " fields but " << map.size()
-                                << " are mapped: give the new field a parameter in its family's schema";
+// For each spec struct: its fields, each with the parameter that sets it, or the reason none does, as
+// the family's schema binds them (families/spec_schema.hpp). When a field is added to a spec,
+// field_count changes and this test fails until the field is bound (or listed as internal).
+void expect_bound(TableKind kind, size_t fields, const char* spec) {
+  const std::vector<detail::SpecField> bound = detail::family_of(kind).spec_fields(kind);
+  EXPECT_EQ(fields, bound.size()) << spec << " has " << fields << " fields but " << table_kind_name(kind)
+                                  << "'s schema binds " << bound.size()
+                                  << ": bind the new field to a parameter in its family's schema";
   const auto& schema = table_schema(kind);
   const std::set<std::string> common = {"precision", "kind"};
-  for (const auto& m : map) {
-    if (std::string(m.parameter).empty() || common.count(m.parameter)) continue;
-    EXPECT_NE(find_param_def(schema, m.parameter), nullptr)
-        << spec << "." << m.field << " maps to '" << m.parameter << "', which " << table_kind_name(kind) << " lacks";
+  std::set<std::string> seen;
+  for (const auto& f : bound) {
+    EXPECT_TRUE(seen.insert(f.field).second) << spec << "." << f.field << " is bound twice";
+    if (f.parameter.empty()) {
+      EXPECT_FALSE(f.reason.empty()) << spec << "." << f.field << " has no parameter and no reason";
+      continue;
+    }
+    if (common.count(f.parameter)) continue;
+    EXPECT_NE(find_param_def(schema, f.parameter), nullptr)
+        << spec << "." << f.field << " maps to '" << f.parameter << "', which " << table_kind_name(kind) << " lacks";
   }
 }
 
 TEST(Registry, EverySpecFieldHasASchemaEntry) {
-  expect_covered(TableKind::Ggx, field_count<LutSpec>(),
-                 {{"kind", "kind"}, {"width", "size"}, {"height", "height"}, {"samples", "samples"},
-                  {"max_error", "max_error"}, {"estimator", "estimator"}, {"precision", "precision"},
-                  {"sheen_visibility", ""},  // charlie's schema has it (checked below)
-                  {"n_dot_v_axis", "n_dot_v_axis"},
-                  {"roughness_axis", ""},  // measured: no separable mapping beats uniform (docs/BENCHMARKS.md)
-                  {"n_dot_v", ""}, {"roughness", ""}},  // explicit coordinates: tests and benches only
-                 "LutSpec");
+  for (TableKind kind : {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie})
+    expect_bound(kind, field_count<LutSpec>(), "LutSpec");
   EXPECT_NE(find_param_def(table_schema(TableKind::Charlie), "sheen_visibility"), nullptr);
-  expect_covered(TableKind::Fresnel, field_count<FresnelSpec>(),
-                 {{"model", "model"}, {"material", "material"}, {"f0", "f0"}, {"f90", "f90"}, {"f82_tint", "f82"},
-                  {"base_color", "base_color"}, {"metallic", "metallic"}, {"dielectric_f0", "dielectric_f0"},
-                  {"ior", "ior"}, {"ior_outside", "ior_outside"}, {"n", "n"}, {"k", "k"}, {"bias", "bias"},
-                  {"scale", "scale"}, {"power", "power"}, {"table", "table"}, {"size", "size"}, {"height", "height"},
-                  {"endpoints", "endpoints"}, {"range", "range"}, {"precision", "precision"},
-                  {"cos_theta", ""}},  // explicit cosines: tests only
-                 "FresnelSpec");
-  expect_covered(TableKind::ThinFilm, field_count<ThinFilmSpec>(),
-                 {{"film_ior", "film_ior"}, {"outside_ior", "outside_ior"}, {"base_ior", "base_ior"},
-                  {"base_f0", "base_f0"}, {"thickness_min", "thickness_min"}, {"thickness_max", "thickness_max"},
-                  {"width", "size"}, {"height", "height"}, {"precision", "precision"}},
-                 "ThinFilmSpec");
-  expect_covered(TableKind::Prefilter, field_count<PrefilterSpec>(),
-                 {{"size", "size"}, {"min_size", "min_size"}, {"distribution", "distribution"},
-                  {"schedule", "schedule"}, {"estimator", "estimator"}, {"samples", "samples"},
-                  {"max_error", "max_error"}, {"precision", "precision"}, {"refinement", "refinement"},
-                  {"core_refinement", ""}, {"horizon_texel", ""},  // quadrature shape: measured by the bench
-                  {"strips", ""},  // the per-texel walk: the accuracy reference of the bench and tests
-                  {"filtered_importance_sampling", "fis"},
-                  {"lod_bias", ""},  // measured by the bench (0 is best here)
-                  {"bright_texels", "env_sampling"}, {"clamp_luminance", "clamp"}},
-                 "PrefilterSpec");
-  expect_covered(TableKind::Irradiance, field_count<IrradianceSpec>(),
-                 {{"sh_order", "sh_order"}, {"window", "sh_window"}, {"cube_size", "cube_size"},
-                  {"source_size", "source_size"}, {"precision", "precision"}},
-                 "IrradianceSpec");
-  expect_covered(TableKind::Tabulate, field_count<TabulateSpec>(),
-                 {{"model", "model"}, {"materials", "material"}, {"layout", "layout"}, {"res", "res"},
-                  {"slice_phi_d", "phi_d"}, {"options", "fast_math"}},
-                 "TabulateSpec");
-  expect_covered(TableKind::Eval, field_count<EvalOptions>(),
-                 {{"precision", "precision"}, {"fast_math", "fast_math"},
-                  {"specialize", ""}, {"lanes", ""}},  // measured by the bench
-                 "EvalOptions");
+  expect_bound(TableKind::Fresnel, field_count<FresnelSpec>(), "FresnelSpec");
+  expect_bound(TableKind::ThinFilm, field_count<ThinFilmSpec>(), "ThinFilmSpec");
+  expect_bound(TableKind::Prefilter, field_count<PrefilterSpec>(), "PrefilterSpec");
+  expect_bound(TableKind::Irradiance, field_count<IrradianceSpec>(), "IrradianceSpec");
+  expect_bound(TableKind::Tabulate, field_count<TabulateSpec>(), "TabulateSpec");
+  expect_bound(TableKind::Eval, field_count<EvalOptions>(), "EvalOptions");
 }
 
 // ---- Every parameter is a job field and a command-line option -------------------------------------

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "brdfbake/accuracy.hpp"
-#include "brdfbake/lut.hpp"
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/dfg_lut.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"

@@ -1,4 +1,4 @@
-// The SH projection on the host (project_sh, host/src/sh_projection.cpp): an equirect's exact
+// The SH projection on the host (project_sh, host/src/families/irradiance/sh_projection.cpp): an equirect's exact
 // projection against an independent quadrature of the definition over every pixel, the white
 // furnace at any resolution, a cube at its texel centres against the scalar reference.
 #include <gtest/gtest.h>

@@ -3,9 +3,10 @@
 // the split sum.
 //
 // tests/reference/test_dfg_reference.cpp instantiates it on the scalar double reference
-// (host/reference/src/dfg.cpp), tests/device/test_dfg_lut.cpp on the OpenCL kernels
-// (kernels/dfg_lut.cl, default sample counts) in fp32 and fp64, each with its tolerances
-// (tests/support/tolerances.hpp). Each executable defines make_dfg_backend for its backends.
+// (host/reference/src/dfg_lut.cpp), tests/device/test_dfg_lut.cpp through brdfbake::Backend on the
+// OpenCL kernels (kernels/dfg_lut.cl, default sample counts) in fp32 and fp64 and on the reference
+// backend, each with its tolerances (tests/support/tolerances.hpp). Each executable defines
+// make_dfg_backend for its backends.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -48,6 +49,9 @@ inline DfgTolerances dfg_tolerances(Backend b) {
     case Backend::Reference: return {kMirrorLimit, kRounding, kAnalytic, kRounding};
     case Backend::Fp32: return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
     case Backend::Fp64: return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
+    // the reference's own, plus float32 storage of values up to ~1 (kLutFp32Rounding)
+    case Backend::ReferenceBackend:
+      return {kMirrorLimit + kLutFp32Rounding, kLutFp32Rounding, kLutFp32Rounding, kLutFp32Rounding};
   }
   return {};
 }

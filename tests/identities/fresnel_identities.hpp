@@ -87,6 +87,8 @@ inline FresnelTolerances fresnel_tolerances(Backend b) {
       return {kFresnelReferenceRounding, kFresnelReferenceRounding, kFresnelReferenceRounding, kFresnelSpotValue};
     case Backend::Fp32: return {kFresnelFp32, kFresnelGrazingOne, kFresnelCriticalAngleFp32, kFresnelSpotValue};
     case Backend::Fp64: return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
+    // the reference in double, stored as float32 like an fp64 table
+    case Backend::ReferenceBackend: return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
   }
   return {};
 }

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "brdfbake/reference/brdf.hpp"
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/fresnel.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"

@@ -1,4 +1,4 @@
-// The scalar reference's DFG integrals (host/reference/src/dfg.cpp) against limits, closed forms,
+// The scalar reference's DFG integrals (host/reference/src/dfg_lut.cpp) against limits, closed forms,
 // an independent brute-force quadrature over l, and their own doubled resolution.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "brdfbake/reference/dfg.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/ggx.hpp"

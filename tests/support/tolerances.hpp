@@ -113,7 +113,7 @@ inline constexpr double kBrdfTableFp32 = 2e-5;
 // 1/n.l, 1/n.v of the visibilities turn into ~1e-7 / cos relative (measured 1.7e-8 / cos).
 inline constexpr double kBrdfTableDirection = 1e-7;
 // fp64: rounding, and the sheen albedo E(mu): the kernels' cubic pieces (built by the engine from its
-// own quadrature, host/src/sheen_albedo.cpp) against the reference's Chebyshev series (from
+// own quadrature, host/src/families/brdf_eval/sheen_albedo.cpp) against the reference's Chebyshev series (from
 // charlie_albedo): the pieces are within 1e-12 of the true E except on the upper panel next to the
 // Lambda fit's seam at mu = 1/2 (1.05e-9 at sheen roughness 0.3, as the pieces of the reference's own
 // series were), the series within 1.8e-10; measured worst 7.6e-10 (gltf, random inputs). Worst
@@ -277,7 +277,7 @@ inline constexpr double kBrdfAlbedoReference = 2e-6;
 // The sheen albedo's Chebyshev series against charlie_albedo at twice the order and refinement:
 // measured 7e-10; the series' nodes carry charlie_albedo's own 1e-9.
 inline constexpr double kSheenAlbedoSeries = 1e-8;
-// The engine's own quadrature of the same integral (over l, adaptive, host/src/sheen_albedo.cpp)
+// The engine's own quadrature of the same integral (over l, adaptive, host/src/families/brdf_eval/sheen_albedo.cpp)
 // against charlie_albedo at twice the order and refinement: two converged quadratures by different
 // routes, relative above 1 (measured 5e-13 at the series' nodes).
 inline constexpr double kSheenAlbedoEngine = 1e-11;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "brdfbake/device.hpp"
-#include "brdfbake/lut.hpp"
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/table.hpp"
 
 namespace brdfbake {

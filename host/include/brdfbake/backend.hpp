@@ -1,29 +1,27 @@
-// Backends: where a family's numbers are computed. Two implement the same interface: an OpenCL
-// device (the product's engine) and the scalar double reference (the oracle, slow but converged).
-// Backend::open() is the one factory that turns a selector into either (model: OpenMM's platforms
-// and kernel factories); families call the backend and never branch on which one it is.
+// Backends: where a family's numbers are computed. Two platforms: an OpenCL device (the product's
+// engine) and the scalar double reference (the oracle, slow but converged). Backend::open() is the
+// one factory that turns a selector into either. The backend knows no family (model: OpenMM's
+// platforms and kernel factories, openmmapi/include/openmm/Kernel.h): each family declares the
+// interface of its kernel and registers an implementation per platform from its own folder
+// (host/src/families/<family>/); the backend creates them by name (create_kernel), and the family's
+// public header bakes on any backend (e.g. bake_lut(Backend&, ...), brdfbake/dfg_lut.hpp).
 #pragma once
 
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
-#include "brdfbake/brdf.hpp"
 #include "brdfbake/device.hpp"
-#include "brdfbake/environment.hpp"
-#include "brdfbake/fresnel.hpp"
-#include "brdfbake/lut.hpp"
-#include "brdfbake/thin_film.hpp"
 
 namespace brdfbake {
 
-// Evaluates one model for a set of materials at batches of direction pairs (see BrdfEvaluator).
-class PairEvaluator {
+// One family's calculation on one platform (OpenMM's KernelImpl): the family declares the
+// interface (host/src/families/<family>/kernel.hpp) and registers its implementations.
+class BackendKernel {
  public:
-  virtual ~PairEvaluator() = default;
-  // pairs: 6 values a pair; out: 3 values a pair a material, material-major.
-  virtual void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr) = 0;
+  virtual ~BackendKernel() = default;
 };
 
 class Backend {
@@ -51,18 +49,13 @@ class Backend {
   // The precision results carry (the reference computes in double whatever is asked).
   virtual Precision result_precision(Precision requested) const = 0;
 
-  // ---- One entry per family (each family's header documents the spec) ----
-  virtual Table lut(const LutSpec& spec, LutTiming* timing, const Progress& progress) = 0;
-  virtual Table fresnel(const FresnelSpec& spec, FresnelTiming* timing) = 0;
-  virtual Table thin_film(const ThinFilmSpec& spec, ThinFilmTiming* timing) = 0;
-  // source_done: as prefilter_environment's (the reference never calls it).
-  virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
-                               const EnvProgress& progress, const std::function<void()>& source_done = {}) = 0;
-  virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
-  virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
-                                                   const EvalOptions& options) = 0;
-  virtual MerlTable tabulate_merl(const TabulateSpec& spec, TabulateTiming* timing) = 0;
-  virtual Table tabulate(const TabulateSpec& spec, TabulateTiming* timing) = 0;
+  // The kernel of `family` ("dfg_lut") on this backend's platform, made by the factory the family
+  // registered for it. Throws Error when the family registered none.
+  std::unique_ptr<BackendKernel> create_kernel(const std::string& family);
+  // Held around every call into a kernel of this backend, and every batch of an evaluator it made:
+  // nothing by default. A backend that threads share returns a held lock, so that calls into one
+  // device never overlap (the Python package's backends).
+  virtual std::unique_lock<std::mutex> lock_calls() { return {}; }
 };
 
 }  // namespace brdfbake

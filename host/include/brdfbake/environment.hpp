@@ -266,11 +266,17 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& spec,
                                  PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
                                  const std::function<void()>& source_done = {});
+class Backend;
+// The whole chain on a backend (brdfbake/backend.hpp): its OpenCL device (as above) or the scalar
+// reference (prefilter_environment_reference; source_done is not called).
+CubeLevels prefilter_environment(Backend& backend, const EnvImage& env, const PrefilterSpec& spec,
+                                 PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
+                                 const std::function<void()>& source_done = {});
 // The same from a source cube already at spec.size (level 0 of `source`).
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
 
-// The same chain by the scalar double reference (host/src/reference_backend/prefilter.cpp): the
+// The same chain by the scalar double reference (host/src/families/prefilter/reference.cpp): the
 // environment converted to a cube by brute force (every texel the solid-angle-weighted mean of the
 // source's bilinear interpolation over q x q sub-cells), and every level l >= 1 the lobe integral
 // over every source texel split into sub-cells (brdfbake/reference/envmap.hpp, prefilter_cube), in
@@ -351,12 +357,17 @@ struct IrradianceResult {
 // device is not used at all.
 IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
                                     const EnvProgress& progress = {});
+class Backend;
+// The same on a backend (brdfbake/backend.hpp): SH on the host and the cube on its OpenCL device
+// (its device opened only for a cube), or the scalar reference (compute_irradiance_reference).
+IrradianceResult compute_irradiance(Backend& backend, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress = {});
 // The SH projection of an environment on the host, in double precision, without a device: an
 // equirect exactly as its pixels define it (each constant over its cell, integrated against the
 // basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
 ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
 
-// The same by the scalar double reference (host/src/reference_backend/irradiance.cpp): the source
+// The same by the scalar double reference (host/src/families/irradiance/reference.cpp): the source
 // cube converted by brute force (as prefilter_environment_reference), the SH coefficients projected
 // over every source sub-cell (brdfbake/reference/envmap.hpp, sh_project), the irradiance cube by
 // direct cosine convolution over every source sub-cell (irradiance_directions). Same result type and

@@ -1,6 +1,7 @@
 // Fresnel reflectance tables: every model a renderer uses, exact and approximate, baked on an
 // OpenCL device (kernels/fresnel.cl) or by the scalar double reference, with what each
-// approximation costs in error against the exact equations.
+// approximation costs in error against the exact equations (the family fresnel:
+// host/src/families/fresnel/, host/reference/src/fresnel.cpp).
 //
 // Tables (docs/CONVENTIONS.md, "Fresnel tables"):
 //   1-D: width cells over cos_theta, one row, channels r, g, b.
@@ -104,6 +105,10 @@ struct FresnelTiming {
   double wall_seconds = 0.0;    // the whole call: program build, transfers, fill, kernel
 };
 
+class Backend;
+
+// Bakes on a backend (brdfbake/backend.hpp): its OpenCL device or the scalar reference.
+Table bake_fresnel(Backend& backend, const FresnelSpec& spec, FresnelTiming* timing = nullptr);
 // Bakes on an OpenCL device in spec.precision.
 Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timing = nullptr);
 // Evaluates the scalar double reference at the same cells (spec.precision is ignored).

@@ -24,7 +24,7 @@ namespace brdfbake {
 // ---- Kinds ---------------------------------------------------------------------------------------
 
 enum class TableKind {
-  Ggx,              // DFG: scale, bias, diffuse (brdfbake/lut.hpp)
+  Ggx,              // DFG: scale, bias, diffuse (brdfbake/dfg_lut.hpp)
   GgxMultiscatter,  // DFG: bias, albedo, diffuse (energy compensation)
   Charlie,          // DFG: Charlie sheen albedo
   Fresnel,          // a Fresnel reflectance table (brdfbake/fresnel.hpp)
@@ -41,6 +41,13 @@ const char* table_kind_name(TableKind kind);
 const std::vector<TableKind>& table_kinds();
 // The command-line command that bakes one table of the kind ("lut" for the DFG kinds, "fresnel", ...).
 std::string table_kind_command(TableKind kind);
+// The one-table commands of the command-line tool, one per family, in the order of table_kinds():
+// its name ("lut"), its line in `brdfbake --help`, and the description and example of
+// `brdfbake <name> --help`.
+struct TableCommandText {
+  std::string name, usage, description, example;
+};
+const std::vector<TableCommandText>& table_commands();
 // One line: what the kind bakes.
 std::string table_kind_summary(TableKind kind);
 // Whether this build bakes `kind`; when not, *why says what is missing.
@@ -94,6 +101,15 @@ struct TableRequest {
   // The materials of every request, in order of first appearance, without repeats.
   std::vector<std::string> materials() const;
 };
+
+// A small, fast request of a kind that validates, and what it reads beside its parameters: the
+// device tests, the parity tests and the server's warm-up bake it, so that a new family is covered
+// by them without a new case.
+struct TableExample {
+  TableRequest request;       // validated; environment kinds name "builtin:sun" (load_environment)
+  std::vector<double> pairs;  // eval: 6 values a pair (BakeInputs::pairs); empty otherwise
+};
+TableExample table_kind_example(TableKind kind);
 
 // ---- Schemas and validation ----------------------------------------------------------------------
 

@@ -11,36 +11,39 @@
 #include <vector>
 
 #include "brdfbake/tables.hpp"
+#include "families/delivery.hpp"
+#include "families/field_error.hpp"
 
 namespace brdfbake::detail {
 
-// A problem with one field: the registry prefixes the field as the front end spells it.
-class FieldError : public Error {
- public:
-  FieldError(std::string field, const std::string& message) : Error(message), field_(std::move(field)) {}
-  const std::string& field() const { return field_; }
-
- private:
-  std::string field_;
+// A family's command-line command as the help shows it.
+struct CommandText {
+  std::string usage;        // its line in `brdfbake --help`
+  std::string description;  // the first line of `brdfbake <command> --help`
+  std::string example;      // one example command line for `brdfbake <command> --help`
 };
 
-// Names another field inside a message, as the front end spells it ("base_ior" in a job,
-// "--base-ior" on the command line).
-using FieldName = std::function<std::string(const std::string& field)>;
-
-// What a family's output may be.
-struct OutputFormats {
-  std::vector<std::string> extensions;  // lower case with the dot, e.g. ".exr"; the first is the default
-  std::string description;              // "table formats (.exr .png .hdr .ktx2 .csv .h)"
+// One field of a family's spec struct and what sets it (families/spec_schema.hpp).
+struct SpecField {
+  std::string field;      // the struct's member, e.g. "width"
+  std::string parameter;  // the schema parameter, or the field every table has ("precision", "kind"),
+                          // that sets it; empty when none does (`reason` says why)
+  std::string reason;
 };
+
+class KernelRegistry;
 
 class Family {
  public:
   virtual ~Family() = default;
 
   virtual std::vector<TableKind> kinds() const = 0;
+  // A kind's name in jobs, requests and options ("ggx-multiscatter"); a family of one kind is named
+  // as its command.
+  virtual std::string kind_name(TableKind) const { return command(); }
   // The command-line command that bakes one request of the family ("lut", "fresnel", ...).
   virtual std::string command() const = 0;
+  virtual CommandText command_text() const = 0;
   virtual std::string summary(TableKind kind) const = 0;
   virtual const std::vector<ParamDef>& schema(TableKind kind) const = 0;
   // The pixel type written when the request names none.
@@ -62,6 +65,16 @@ class Family {
   // "format", ...).
   virtual void check_output(const TableRequest& t, const FieldName& name) const;
 
+  // Every field of the spec struct a kind bakes from, with the parameter that sets it (the spec's
+  // SpecSchema): a field added to the struct without one fails a test. Empty for a family without a
+  // SpecSchema yet.
+  virtual std::vector<SpecField> spec_fields(TableKind) const { return {}; }
+  // A small, fast, valid request of the kind (not yet validated), with what it reads beside its
+  // parameters: the device tests, the parity tests and the server's warm-up bake it.
+  virtual TableExample example(TableKind kind) const = 0;
+  // Registers the family's kernel implementations, one per platform (families/kernels.hpp).
+  virtual void register_kernels(KernelRegistry&) const {}
+
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;
   virtual WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
@@ -75,17 +88,9 @@ class Family {
 
 // The family that bakes `kind`.
 const Family& family_of(TableKind kind);
-// Every family, in the order of table_kinds().
+// Every family, in the order of table_kinds() (registry.cpp: the one list of families).
 const std::vector<const Family*>& families();
 
-// The descriptors, one per file in host/src/families/.
-const Family& dfg_lut_family();
-const Family& fresnel_family();
-const Family& thin_film_family();
-const Family& prefilter_family();
-const Family& irradiance_family();
-const Family& eval_family();
-const Family& tabulate_family();
 
 // ---- Helpers the families share ----------------------------------------------------------------
 
@@ -112,25 +117,6 @@ LookupError bilinear_lookup_error(const Table& table, const std::vector<double>&
 // (i / n) and points closing in on both edges.
 std::vector<double> probe_coordinates(int n);
 
-// The formats every 2-D table family writes.
-OutputFormats table_formats();
-// The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
-void add_table_output_params(std::vector<ParamDef>& schema);
-// clamp_f16: binary16 outputs clamp values beyond 65504 and record it instead of refusing them.
-ParamDef clamp_f16_param();
-// clamp_f16, shared by the table and cube writers: finite values beyond 65504 become +-65504
-// (returns how many; NaN and infinity are left for the writer to refuse); record_f16_clamp adds the
-// count to `w`'s details and a warning naming `path`, and returns the f16_clamped metadata text;
-// with_f16_clamp_error is the storage error measured on the clamped values with the clamping itself
-// (relative to the largest value) included.
-size_t clamp_to_binary16(std::vector<float>& values);
-std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest);
-double with_f16_clamp_error(double measured, double largest);
-// Writes a Table result with the request's format and pixel type; `bound` is the table's own
-// (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
-// request's max_error) is refused before anything is written.
-WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound, std::optional<double> limit = std::nullopt);
 // The peak bytes of a float grid of `cells` cells and `channels` channels: the host table, its
 // device buffer and the writer's copy (4 bytes a value each), and the cells' coordinates.
 std::uint64_t grid_bytes(double cells, double channels);

@@ -60,16 +60,8 @@ std::uint64_t bytes_of(const fs::path& p) {
   return static_cast<std::uint64_t>(fs::file_size(p, ec));
 }
 
-}  // namespace
-
-Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Job job = in;
-  validate_job(job);
-  const std::string origin = job.source.empty() ? std::string("job") : job.source;
-  if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
-
-  // Every kind must be bakeable before anything starts.
+// The tables whose kind this build cannot bake, each named with why; empty when every one can.
+std::vector<std::string> unavailable_tables(const Job& job) {
   std::vector<std::string> missing;
   for (size_t i = 0; i < job.tables.size(); ++i) {
     std::string why;
@@ -80,28 +72,103 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
                         job.tables[i].output + "'" + who + "): " + why);
     }
   }
-  if (!missing.empty())
-    throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
+  return missing;
+}
 
-  // The job's defaults made explicit, then identical tables grouped: each group is baked once.
+// The job's defaults made explicit in its tables, then identical tables grouped: each group (the
+// indices of its tables, in the job's order) is baked once.
+std::vector<std::vector<size_t>> group_tables(Job& job) {
   for (auto& t : job.tables) {
     if (t.device.empty()) t.device = job.device;
     if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
   }
   std::vector<std::vector<size_t>> groups;
-  {
-    std::map<std::string, size_t> by_key;
-    for (size_t i = 0; i < job.tables.size(); ++i) {
-      const std::string k = table_bake_key(job.tables[i]);
-      auto it = by_key.find(k);
-      if (it == by_key.end()) {
-        by_key[k] = groups.size();
-        groups.push_back({i});
-      } else {
-        groups[it->second].push_back(i);
-      }
+  std::map<std::string, size_t> by_key;
+  for (size_t i = 0; i < job.tables.size(); ++i) {
+    const std::string k = table_bake_key(job.tables[i]);
+    auto it = by_key.find(k);
+    if (it == by_key.end()) {
+      by_key[k] = groups.size();
+      groups.push_back({i});
+    } else {
+      groups[it->second].push_back(i);
     }
   }
+  return groups;
+}
+
+// The manifest's entry of the file `o` asks for: the parameters as baked (the request's, with what
+// the family resolved; output parameters as asked), the device, the bound the file records with its
+// parts (each rounded up as the file records them), and what writing it added.
+ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const WriteReport& written, Precision precision) {
+  ManifestFile f;
+  f.path = fs::path(o.output).lexically_normal().string();
+  f.kind = o.kind;
+  f.params = o.params;
+  for (const auto& p : r.parameters) {
+    const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
+    if (!(d && d->output_only)) {
+      auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
+      if (it != f.params.end()) it->value = p.value;
+      else f.params.push_back(p);
+    }
+  }
+  f.precision = precision;
+  f.device = r.device;
+  if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
+  f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
+  f.error_bound_definition = r.error_bound_definition;
+  f.details = r.details;
+  if (written.error_bound && r.error_bound) {
+    f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
+                               "storage error measured on the stored values";
+    f.details.push_back({"integration_error_bound", detail::bound_text(*r.error_bound)});
+    f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
+    f.details.push_back({"storage_error", detail::bound_text(written.storage_error)});
+    f.details.push_back({"storage_encoding", written.encoding});
+  }
+  for (const auto& d : written.details) f.details.push_back(d);
+  f.requested_by = o.requested_by;
+  f.materials = o.materials();
+  return f;
+}
+
+// The engine's files beside the tables (bake --target), named `name` (the folder's name, as cmgen -x
+// names them, unless the run names them), from the job's first GGX chain and first SH, staged in
+// `staged`.
+void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
+                      const std::optional<BakeResult>& ggx_chain, const std::optional<BakeResult>& irradiance,
+                      const std::string& name, const fs::path& staged) {
+  if (!ggx_chain || !irradiance)
+    throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
+                "job (the plan of brdfbake bake --target " + job.target + " has both)");
+  EngineBake eb;
+  eb.prefiltered = ggx_chain->cube();
+  eb.sh = &irradiance->irradiance()->sh;
+  if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
+  EngineWriteOptions wo;
+  wo.name = name;
+  const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
+  manifest.target = job.target;
+  for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
+  manifest.engine_delivered = w.delivered;
+}
+
+}  // namespace
+
+Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Job job = in;
+  validate_job(job);
+  const std::string origin = job.source.empty() ? std::string("job") : job.source;
+  if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
+
+  // Every kind must be bakeable before anything starts.
+  const std::vector<std::string> missing = unavailable_tables(job);
+  if (!missing.empty())
+    throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
+
+  const std::vector<std::vector<size_t>> groups = group_tables(job);
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
@@ -208,40 +275,11 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       } catch (const Error& e) {
         throw Error(final_name(e.what()));  // a value the format cannot hold
       }
-      ManifestFile f;
-      f.path = fs::path(o.output).lexically_normal().string();
-      f.kind = o.kind;
-      f.params = o.params;
-      for (const auto& p : r.parameters) {
-        const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
-        if (!(d && d->output_only)) {
-          auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
-          if (it != f.params.end()) it->value = p.value;
-          else f.params.push_back(p);
-        }
-      }
-      f.precision = backend.result_precision(o.precision);
-      f.device = r.device;
-      if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
-      const WriteReport& written = delivered.report;
-      f.error_bound = delivered.error_bound;
-      f.error_bound_definition = r.error_bound_definition;
-      f.details = r.details;
-      if (written.error_bound && r.error_bound) {
-        f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
-                                   "storage error measured on the stored values";
-        f.details.push_back({"integration_error_bound", detail::fmt_number(*r.error_bound, "%.3g")});
-        f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
-        f.details.push_back({"storage_error", detail::fmt_number(written.storage_error, "%.3g")});
-        f.details.push_back({"storage_encoding", written.encoding});
-      }
-      for (const auto& d : written.details) f.details.push_back(d);
+      ManifestFile f = manifest_entry(o, r, delivered.report, backend.result_precision(o.precision));
       for (const auto& w : delivered.warnings) {
         manifest.warnings.push_back(final_name(w));
         if (options.on_warning) options.on_warning(final_name(w));
       }
-      f.requested_by = o.requested_by;
-      f.materials = o.materials();
       f.bytes = bytes_of(s.output);
       f.seconds = k == 0 ? r.seconds : 0.0;
       f.bake = static_cast<int>(g);
@@ -253,22 +291,10 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   if (engine != EngineTarget::Generic && progress)
     progress({steps - 1, steps, "writing the " + job.target + " files", 0.0});
   if (engine != EngineTarget::Generic) {
-    // The engine's files beside the tables, named after the folder (as cmgen -x names them).
-    if (!ggx_chain || !irradiance)
-      throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
-                  "job (the plan of brdfbake bake --target " + job.target + " has both)");
-    EngineBake eb;
-    eb.prefiltered = ggx_chain->cube();
-    eb.sh = &irradiance->irradiance()->sh;
-    if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
-    EngineWriteOptions wo;
-    wo.name = !options.engine_name.empty() ? options.engine_name
-              : !job.engine_name.empty() ? job.engine_name
-                                         : fs::path(target).filename().string();
-    const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
-    manifest.target = job.target;
-    for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
-    manifest.engine_delivered = w.delivered;
+    const std::string name = !options.engine_name.empty() ? options.engine_name
+                             : !job.engine_name.empty()    ? job.engine_name
+                                                           : fs::path(target).filename().string();
+    add_engine_files(manifest, engine, job, origin, ggx_chain, irradiance, name, staging.path());
     if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 1.0});
   }
 
