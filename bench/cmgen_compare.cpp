@@ -161,7 +161,7 @@ std::string dfg_error(const fs::path& exr) {
 // The radiance SH of the equirect as its pixels define it, each pixel constant over its cell,
 // integrated over the cell's (u, v) square with 2 x 2 Gauss-Legendre nodes (error O(h^4): ~1e-11
 // at 1k), dl = 2 pi^2 cos(latitude) du dv, the reference's basis: independent of
-// host/src/sh_projection.cpp's separable integrals.
+// host/src/families/irradiance/sh_projection.cpp's separable integrals.
 std::vector<double> equirect_sh(const EnvImage& env, int order) {
   const double node[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
   std::vector<double> sum(size_t(order * order) * 3, 0.0);

@@ -1,6 +1,11 @@
 // Benchmarks of `brdfbake serve` (docs/BENCHMARKS.md, "The server"); not tests. Three modes:
 //   server_bench tables URL N [BODY]      N x POST /v1/tables (default: a 128^2 GGX DFG table), after
 //                                         10 warm-up requests: latency p50/p90/p99/max
+//   server_bench misses URL N [BODY]      N x POST /v1/tables the result cache does not hold (default:
+//                                         a 128^2 ggx-multiscatter DFG table, each request naming
+//                                         another output file), after 10 warm-up requests: latency
+//                                         p50/p90/p99/max, and the server's own split of each request
+//                                         (its Server-Timing header) at the median
 //   server_bench process N CMD ARGS...    N runs of a whole process (e.g. cmgen), wall time p50/p99
 //   server_bench load URL CLIENTS SECONDS CLIENTS threads submit small jobs for SECONDS, each waiting
 //                                         for its job before the next; then every job is checked:
@@ -73,6 +78,71 @@ int tables(const std::string& url, int n, const std::string& body) {
   }
   std::printf("POST /v1/tables %s -> %zu bytes, cache %s\n", body.c_str(), bytes, cache.c_str());
   report("latency", ms);
+  return 0;
+}
+
+// The server's split of a request: Server-Timing "name;dur=MS, ..." as name -> milliseconds.
+std::map<std::string, double> server_timing(const std::string& header) {
+  std::map<std::string, double> out;
+  size_t at = 0;
+  while (at < header.size()) {
+    size_t end = header.find(',', at);
+    if (end == std::string::npos) end = header.size();
+    const std::string part = header.substr(at, end - at);
+    const size_t semi = part.find(";dur=");
+    if (semi != std::string::npos) {
+      std::string name = part.substr(0, semi);
+      name.erase(0, name.find_first_not_of(' '));
+      out[name] = std::atof(part.c_str() + semi + 5);
+    }
+    at = end + 1;
+  }
+  return out;
+}
+
+int misses(const std::string& url, int n, const std::string& body_text) {
+  httplib::Client c(url);
+  c.set_read_timeout(60, 0);
+  json body = json::parse(body_text);
+  std::string ext = ".exr";
+  if (body.contains("output")) {
+    const std::string o = body["output"];
+    if (o.rfind('.') != std::string::npos) ext = o.substr(o.rfind('.'));
+  }
+  std::vector<double> ms;
+  std::map<std::string, std::vector<double>> parts;
+  std::string cache, summary;
+  size_t bytes = 0;
+  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(Clock::now().time_since_epoch().count());
+  for (int i = -10; i < n; ++i) {
+    body["output"] = "miss_" + tag + "_" + std::to_string(i + 10) + ext;  // a new file name: not in the cache
+    const std::string b = body.dump();
+    const auto t0 = Clock::now();
+    auto r = c.Post("/v1/tables", b, "application/json");
+    const double t = ms_since(t0);
+    if (!r || r->status != 200) {
+      std::fprintf(stderr, "request %d failed: %s\n", i, r ? r->body.c_str() : httplib::to_string(r.error()).c_str());
+      return 1;
+    }
+    cache = r->get_header_value("X-Brdfbake-Cache");
+    if (cache != "miss") {
+      std::fprintf(stderr, "request %d: X-Brdfbake-Cache %s (expected miss)\n", i, cache.c_str());
+      return 1;
+    }
+    bytes = r->body.size();
+    summary = r->get_header_value("X-Brdfbake-Summary");
+    if (i < 0) continue;
+    ms.push_back(t);
+    for (const auto& [name, d] : server_timing(r->get_header_value("Server-Timing"))) parts[name].push_back(d);
+  }
+  std::printf("POST /v1/tables %s, a new output name each -> %zu bytes, cache %s\n%s\n", body_text.c_str(), bytes,
+              cache.c_str(), summary.c_str());
+  report("latency", ms);
+  if (!parts.empty()) {
+    std::printf("server's split (Server-Timing), p50 each:");
+    for (const auto& [name, v] : parts) std::printf(" %s %.2f ms", name.c_str(), percentile(v, 0.5));
+    std::printf("\n");
+  }
   return 0;
 }
 
@@ -210,9 +280,12 @@ int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode == "tables" && argc >= 4)
     return tables(argv[2], std::atoi(argv[3]), argc > 4 ? argv[4] : R"({"kind": "ggx", "size": 128})");
+  if (mode == "misses" && argc >= 4)
+    return misses(argv[2], std::atoi(argv[3]), argc > 4 ? argv[4] : R"({"kind": "ggx-multiscatter", "size": 128})");
   if (mode == "process" && argc >= 4) return process(std::atoi(argv[2]), argv + 3);
   if (mode == "load" && argc >= 5) return load(argv[2], std::atoi(argv[3]), std::atof(argv[4]));
   std::fprintf(stderr,
-               "usage: server_bench tables URL N [BODY] | process N CMD ARGS... | load URL CLIENTS SECONDS\n");
+               "usage: server_bench tables URL N [BODY] | misses URL N [BODY] | process N CMD ARGS... | load URL CLIENTS "
+               "SECONDS\n");
   return 2;
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The server's benchmarks (docs/BENCHMARKS.md, "The server"): POST /v1/tables latency for a 128^2
-# GGX DFG table on a warm server (no result cache, then with it), beside cmgen's and brdfbake's
+# GGX DFG table on a warm server (no result cache, then with it, then 128^2 ggx-multiscatter tables
+# the cache does not hold), beside cmgen's and brdfbake's
 # whole process for the same table, then 50 clients submitting small jobs for 60 s.
 # usage: bench/server_bench.sh [BUILD_DIR] [LOAD_SECONDS]
 set -euo pipefail
@@ -26,6 +27,9 @@ start nocache --table-cache 0
 stop
 start cache
 "$bench" tables "$url" 200
+# the warm path of a table the result cache does not hold: a 128^2 ggx-multiscatter table, a new
+# output name each request (docs/BENCHMARKS.md, "POST /v1/tables: a table not in the result cache")
+"$bench" misses "$url" 200
 stop
 "$bench" process 20 cmgen --ibl-dfg="$work/cmgen_dfg.png" --size=128
 "$bench" process 20 "$cli" lut --kind ggx --size 128 --quiet -o "$work/dfg.exr"

@@ -84,6 +84,11 @@ def main() -> int:
         ap.error("--count must be at least 1")
 
     materials = sweep(args.count)
+    # What it will write, before anything is baked (brdfbake.dask also refuses a batch larger than
+    # the free space under --output, and warns above 1 GiB).
+    per_table = bdask._table_bytes("tabulate", {"parameters": {"layout": "merl"}}, "npy" if args.npy_shards else None)
+    print(f"merl_sweep: {args.count} MERL tables, about {bdask._gib(per_table * args.count)} to write under "
+          f"{args.output}", file=sys.stderr)
     mode = "single process" if args.single_process else (args.scheduler or f"LocalCluster({args.workers})")
     started = time.perf_counter()
     setup = 0.0

@@ -2,11 +2,21 @@
 // one input to a reader through its public entry point; brdfbake::Error (a clear refusal) is the
 // expected outcome of most inputs, anything else escaping (another exception, a crash, a sanitizer
 // report, a hang) is a finding.
+//
+// Only the reader's own call may refuse: what a harness then checks on an accepted input (it
+// validates, prints, round-trips) runs outside the refusal wrapper, through `invariant` and
+// `require`, so that a broken invariant aborts, brdfbake::Error included, rather than passing as
+// one more refused input.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "brdfbake/error.hpp"
 
@@ -14,7 +24,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 namespace brdfbake::fuzz {
 
-inline std::string text(const uint8_t* data, size_t size) { return std::string(reinterpret_cast<const char*>(data), size); }
+inline std::string text(const uint8_t* data, size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
 
 // Runs `f`, treating brdfbake::Error as the reader's answer; any other exception escapes (libFuzzer
 // reports it as a crash with its input).
@@ -23,6 +35,42 @@ void expect_answer(F&& f) {
   try {
     f();
   } catch (const brdfbake::Error&) {
+  }
+}
+
+// Runs the reader `f`: its result when it accepts the input, nothing when it refuses it with
+// brdfbake::Error; any other exception escapes.
+template <class F>
+auto accepted(F&& f) -> std::optional<decltype(f())> {
+  try {
+    return f();
+  } catch (const brdfbake::Error&) {
+    return std::nullopt;
+  }
+}
+
+// A finding: names the broken invariant on stderr and aborts (libFuzzer saves the input; the
+// replay's ctest fails).
+[[noreturn]] inline void broken(const char* what, const std::string& detail = {}) {
+  std::fprintf(stderr, "fuzz invariant broken: %s%s%s\n", what, detail.empty() ? "" : ": ", detail.c_str());
+  std::abort();
+}
+
+// A check on an accepted input.
+inline void require(bool ok, const char* what) {
+  if (!ok) broken(what);
+}
+
+// Runs `f`, a step that must succeed on an accepted input: any exception, brdfbake::Error
+// included, is a finding.
+template <class F>
+void invariant(const char* what, F&& f) {
+  try {
+    std::forward<F>(f)();
+  } catch (const std::exception& e) {
+    broken(what, e.what());
+  } catch (...) {
+    broken(what, "a non-standard exception");
   }
 }
 

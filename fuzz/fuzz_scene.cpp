@@ -8,15 +8,13 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace brdfbake;
   const std::string bytes = fuzz::text(data, size);
-  Scene scene;
-  bool read = false;
-  fuzz::expect_answer([&] {
-    scene = bytes.rfind("glTF", 0) == 0 ? parse_glb(bytes, "fuzz.glb", "") : parse_scene_json(bytes, "fuzz.gltf", "");
-    read = true;
+  const auto scene = fuzz::accepted([&] {
+    return bytes.rfind("glTF", 0) == 0 ? parse_glb(bytes, "fuzz.glb", "") : parse_scene_json(bytes, "fuzz.gltf", "");
   });
-  if (read) {
-    const Plan plan = plan_scene(scene, PlanOptions{});  // no Error expected: the scene was accepted
+  if (!scene) return 0;
+  fuzz::invariant("the planner accepts a scene the reader accepted", [&] {
+    const Plan plan = plan_scene(*scene, PlanOptions{});
     (void)plan_to_json(plan);
-  }
+  });
   return 0;
 }

@@ -5,5 +5,9 @@
 set(BRDFBAKE_FAMILIES
   dfg_lut
   fresnel
+  thin_film
+  prefilter
+  irradiance
+  brdf_eval
   preview
 )

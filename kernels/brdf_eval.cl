@@ -1,7 +1,7 @@
 // Bulk BRDF evaluation: f(wi, wo) of one model for many materials and directions, and the tables
 // built from it (MERL, theta_i x theta_o x phi_d grid, half/difference slice, directional albedo).
 //
-// Compile-time choices (host/src/brdf_eval.cpp defines them from the materials):
+// Compile-time choices (host/src/families/brdf_eval/evaluator.cpp defines them from the materials):
 //   model: exactly one of BRDFBAKE_MODEL_DISNEY, _GLTF, _GLTF_CORRELATED, _LAMBERT, _PHONG,
 //          _BLINN_PHONG, _COOK_TORRANCE, _BLINN_PHONG_FROM_PBR
 //   lobes: only those some material uses are compiled in:

@@ -21,9 +21,12 @@ BRDFBAKE_PACKAGES=(
 # Used only by the test suite: Filament's own KtxBundle and cmgen check the Filament target
 # (tests/device/test_engine_filament.cpp), python3-jsonschema the glTF EXT_lights_image_based output
 # (tests/engines/validate_gltf_ibl.py), oclgrind a second OpenCL implementation for the kernel
-# build test. The tests skip with a message where these are missing.
+# build test. The tests skip with a message where these are missing. clang-format-14 is the formatter
+# of scripts/check_format.sh (.clang-format; other versions format differently). chromium and
+# chromium-driver: the web page's browser test (tests/python/test_web_page.py, driven by Selenium).
 BRDFBAKE_TEST_PACKAGES=(
-  libfilament-dev libfilament-tools python3-jsonschema oclgrind
+  libfilament-dev libfilament-tools python3-jsonschema oclgrind clang-format-14
+  chromium chromium-driver
 )
 
 # The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).
@@ -45,6 +48,9 @@ fi
 if [[ ${BRDFBAKE_DEPS_ONLY:-0} == 1 ]]; then return 0 2>/dev/null || exit 0; fi
 
 BUILD_DIR=${BRDFBAKE_BUILD_DIR:-build}
-# The test command builds with warnings as errors (BRDFBAKE_WARNINGS_AS_ERRORS=ON from test.sh).
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBRDFBAKE_WARNINGS_AS_ERRORS="${BRDFBAKE_WARNINGS_AS_ERRORS:-OFF}" >&2
+# One build for both scripts, with the test command's settings: warnings are errors in run.sh's build
+# too, so that test.sh after run.sh configures nothing new and compiles nothing (a different flag
+# would recompile the whole tree). BRDFBAKE_WARNINGS_AS_ERRORS=OFF scripts/run.sh builds without
+# (test.sh always sets ON).
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBRDFBAKE_WARNINGS_AS_ERRORS="${BRDFBAKE_WARNINGS_AS_ERRORS:-ON}" >&2
 cmake --build "$BUILD_DIR" -j "$(nproc)" >&2

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,9 +16,85 @@
 
 namespace brdfbake::cli {
 
+namespace {
+
+// The optimal string alignment distance (Levenshtein with adjacent transpositions) of a and b.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i)
+    for (size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// Every long option name of `options`, aliases included.
+std::vector<std::string> long_option_names(const cxxopts::Options& options) {
+  std::vector<std::string> names;
+  for (const std::string& g : options.groups())
+    for (const auto& o : options.group_help(g).options)
+      for (const std::string& l : o.l) names.push_back(l);
+  return names;
+}
+
+// The argument that names no option of `known`, as typed ("--sise"), or "".
+std::string unknown_argument(int argc, char** argv, const std::vector<std::string>& known, const std::string& what) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.size() < 2 || a[0] != '-' || a == "--") continue;
+    const size_t dashes = a[1] == '-' ? 2 : 1;
+    const std::string name = a.substr(dashes, a.find('=') == std::string::npos ? std::string::npos : a.find('=') - dashes);
+    if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || name[0] == '.') continue;  // -8, -.5
+    if (dashes == 1 && name.size() == 1) continue;  // a short option: cxxopts names it itself
+    if (std::find(known.begin(), known.end(), name) == known.end() && what.find(name) != std::string::npos)
+      return a.substr(0, dashes + name.size());
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string closest_name(const std::string& given, const std::vector<std::string>& names) {
+  std::string best;
+  size_t best_distance = std::string::npos;
+  for (const std::string& n : names) {
+    if (n.size() < 2) continue;
+    const size_t d = edit_distance(given, n);
+    if (d < best_distance) {
+      best_distance = d;
+      best = n;
+    }
+  }
+  // Close enough to be a slip: a third of the word (at least one edit, at most three).
+  const size_t allowed = std::clamp<size_t>(given.size() / 3, 1, 3);
+  if (best_distance <= allowed) return best;
+  // Or the start of one to three names (--sh-ord, --cube: --cube-size or --cube-format).
+  std::vector<std::string> starting;
+  for (const std::string& n : names)
+    if (given.size() >= 3 && n.size() > given.size() && n.compare(0, given.size(), given) == 0 &&
+        std::find(starting.begin(), starting.end(), n) == starting.end())
+      starting.push_back(n);
+  if (starting.empty() || starting.size() > 3) return "";
+  std::string s;
+  for (size_t k = 0; k < starting.size(); ++k)
+    s += (k == 0 ? "" : k + 1 == starting.size() ? " or --" : ", --") + starting[k];
+  return s;
+}
+
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv) {
   try {
     return options.parse(argc, argv);
+  } catch (const cxxopts::exceptions::no_such_option& e) {
+    const std::vector<std::string> names = long_option_names(options);
+    const std::string typed = unknown_argument(argc, argv, names, e.what());
+    if (typed.empty()) throw UsageError(e.what());
+    const std::string name = typed.substr(typed[1] == '-' ? 2 : 1);
+    const std::string close = closest_name(name, names);
+    throw UsageError("unknown option '" + typed + "' (" + (close.empty() ? "see --help" : "did you mean --" + close + "?") +
+                     ")");
   } catch (const cxxopts::exceptions::exception& e) {
     throw UsageError(e.what());
   }

@@ -4,6 +4,7 @@
 #include <cxxopts.hpp>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "brdfbake/device.hpp"
 #include "brdfbake/error.hpp"
@@ -60,8 +61,12 @@ int cmd_serve(int argc, char** argv);
 // How bake and run share their output folder: --wait, and a note on stderr when waiting.
 RunOptions run_options(bool wait, bool quiet);
 
-// Parses, turning cxxopts' exceptions into UsageError with the command's name.
+// Parses, turning cxxopts' exceptions into UsageError with the command's name; an unknown option
+// says which known one is closest ("unknown option '--sise' (did you mean --size?)").
 cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);
+// The name among `names` that `given` is most likely a slip for (a third of its letters wrong at
+// most), else the names it is the start of ("cube-size or --cube-format", at most three), or "".
+std::string closest_name(const std::string& given, const std::vector<std::string>& names);
 
 // The process ends with _exit once the command has returned and the streams are flushed (main.cpp):
 // tearing down the OpenCL implementation's and LLVM's state (~5-10 ms) serves no one then. Sanitizer

@@ -6,17 +6,27 @@
 #include <set>
 
 #include "brdfbake/job.hpp"
-#include "brdfbake/output_lock.hpp"
+#include "brdfbake/output_checks.hpp"
+#include "brdfbake/runner.hpp"
 
 namespace brdfbake::cli {
 
 namespace {
 
-// Options whose one-letter alias users expect.
+// The option's names for cxxopts: its one spelling (the job field's), then its aliases, and the
+// one-letter alias users expect of --input.
 std::string option_spec(const ParamDef& d) {
-  const std::string name = d.cli_name();
-  if (name == "input") return "i,input";
-  return name;
+  std::string spec = d.cli_name();
+  if (spec == "input") spec = "i,input";
+  for (const std::string& a : d.aliases) spec += "," + a;
+  return spec;
+}
+
+// " (alias: --sh)" for the help of an option with aliases.
+std::string aliases_text(const ParamDef& d) {
+  std::string s;
+  for (const std::string& a : d.aliases) s += (s.empty() ? " (alias: --" : ", --") + a;
+  return s.empty() ? s : s + ")";
 }
 
 bool negated_flag(const ParamDef& d) {
@@ -35,8 +45,8 @@ std::string default_text(const ParamDef& d) {
 
 std::string help_of(const ParamDef& d) {
   std::string h = d.help;
-  if (negated_flag(d)) return "turn off: " + h;
-  if (d.type == ParamType::Flag) return h;
+  if (negated_flag(d)) return "turn off: " + h + aliases_text(d);
+  if (d.type == ParamType::Flag) return h + aliases_text(d);
   if (!d.choices.empty()) {
     std::string c;
     for (const auto& x : d.choices) c += (c.empty() ? "" : " | ") + x;
@@ -47,7 +57,7 @@ std::string help_of(const ParamDef& d) {
   const std::string def = default_text(d);
   if (!def.empty()) h += " (default: " + def + ")";
   if (d.required) h += " (required)";
-  return h;
+  return h + aliases_text(d);
 }
 
 std::vector<TableKind> kinds_of(const std::string& command) {
@@ -64,27 +74,6 @@ std::vector<ParamDef> union_schema(const std::vector<TableKind>& kinds) {
     for (const auto& d : table_schema(k))
       if (!find_param_def(out, d.name)) out.push_back(d);
   return out;
-}
-
-// A path whose writability stands for the output: a folder output is probed where it will be made.
-std::string output_probe(const std::string& path, TableKind kind) {
-  if (!table_kind_uses_environment(kind)) return path;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".json" || ext == ".ktx2" || ext == ".ktx" || ext == ".dds") return path;
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return (std::filesystem::path(path) / "probe").string();
-  std::string d = path;
-  while (d.size() > 1 && d.back() == '/') d.pop_back();
-  return d;
-}
-
-// An environment kind's output that validation accepted as a folder of images (not a container or
-// the SH JSON).
-bool is_folder_output(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return !(ext == ".json" || ext == ".ktx2" || ext == ".ktx" || ext == ".dds");
 }
 
 }  // namespace
@@ -149,9 +138,9 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
       }
   add_schema_options(options, shown);
   if (env)
-    options.add_options()("env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
+    options.add_options()("environment,env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
                                              "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
-                                     kDefaultEnvironment + ")",
+                                     kDefaultEnvironment + ") (alias: --env)",
                           cxxopts::value<std::string>())(
         "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")(
         "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
@@ -199,8 +188,9 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   t.device = device_option(r);
   if (r.count("format")) t.format = r["format"].as<std::string>();
   if (r.count("pixel")) t.pixel = r["pixel"].as<std::string>();
-  if (env) t.environment = r.count("env") ? r["env"].as<std::string>() : std::string(kDefaultEnvironment);
-  if (env && t.environment.empty()) throw UsageError("--env must not be empty");
+  if (env)
+    t.environment = r.count("environment") ? r["environment"].as<std::string>() : std::string(kDefaultEnvironment);
+  if (env && t.environment.empty()) throw UsageError("--environment must not be empty");
   if (r.count("output")) t.output = r["output"].as<std::string>();
   if (eval) {
     if (t.output.empty()) t.output = "-";
@@ -213,63 +203,61 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   FieldNaming naming;
   naming.cli = true;
   validate_table(t, naming);  // everything checked before any slow work
-  if (t.output != "-") check_output_path(output_probe(t.output, t.kind));
+  // The outputs that stream (eval, CSV tables) may be a FIFO, a device or /dev/stdout; no output
+  // may be a file the request reads (brdfbake/output_checks.hpp).
+  std::string ext = std::filesystem::path(t.output).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool streams = eval || t.format == "csv" || (t.format.empty() && ext == ".csv");
+  check_table_files(t, naming, streams);
   const bool quiet = quiet_option(r);
-  // Once the request is known to be good, the OpenCL platform opens on a second thread (PoCL loads
-  // LLVM: ~15 ms) while the output folder is locked and the inputs are read; usage errors and work
-  // that needs no device (SH alone) load no OpenCL at all.
-  const std::shared_ptr<Backend> backend = open_backend_kept(t.device);
-  if (!eval && table_needs_device(t)) backend->prepare();
 
-  // A cube written as a folder of images is one output of many files: one run at a time writes it
-  // (docs/RELIABILITY.md, "Outputs"), and what killed runs left beside it goes.
-  std::optional<OutputLock> lock;
-  if (env && is_folder_output(t.output)) {
-    const RunOptions o = run_options(r.count("wait") > 0, quiet);
-    lock.emplace(t.output, o.wait_for_lock, o.on_wait);
-    remove_stale_temporaries(t.output);
-  }
-  check_backend(t, *backend);  // before the environment is read
-
-  BakeInputs inputs;
-  EnvImage environment;
+  TableRunOptions run;
+  run.open_backend = open_backend_kept;  // kept until the process ends (keep_until_exit)
+  run.lock_folder_output = true;
+  const RunOptions lock = run_options(r.count("wait") > 0, quiet);
+  run.wait_for_lock = lock.wait_for_lock;
+  run.on_wait = lock.on_wait;
+  run.stream = eval;
+  run.output_may_stream = streams;
   if (env) {
-    EnvLoadOptions lo;
-    lo.sanitize = r.count("sanitize") > 0;
-    lo.memory_budget = memory_budget_option(r);
-    environment = load_environment(t.environment, lo);
-    if (!quiet && environment.sanitize.replaced)
-      std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
-                   environment.source.c_str(), environment.sanitize.nan, environment.sanitize.infinite,
-                   environment.sanitize.negative);
-    inputs.environment = &environment;
-    // the pixels go once the bake has its cube (metadata stays): a 4k map holds 96 MiB
-    inputs.release_environment = [&environment] { std::vector<float>().swap(environment.rgb); };
-  }
-
-  if (eval) {
-    const EvalStreamResult res = eval_stream(t, *backend, t.text("input"), t.output);
-    if (!quiet) std::fprintf(stderr, "%s\n", res.summary.c_str());
-    return 0;
+    run.load.sanitize = r.count("sanitize") > 0;
+    run.load.memory_budget = memory_budget_option(r);
+    run.on_environment = [quiet](const EnvImage& e) {
+      if (!quiet)
+        for (const auto& note : e.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+      if (!quiet && e.sanitize.replaced)
+        std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n", e.source.c_str(),
+                     e.sanitize.nan, e.sanitize.infinite, e.sanitize.negative);
+    };
   }
   ProgressLine line(quiet);
   const std::string title = "baking " + std::string(table_kind_name(t.kind));
-  const BakeResult result = bake_table(t, *backend, inputs, [&](double fraction, const std::string& step) {
+  run.progress = [&](double fraction, const std::string& step) {
     line.update(step.empty() ? title : title + ", " + step, fraction);
-  });
+  };
+  TableRun done;
+  try {
+    done = run_table(t, run);
+  } catch (...) {
+    line.finish();
+    throw;
+  }
   line.finish();
-  environment = EnvImage{};  // the input's pixels are no longer needed (a 4k map holds 96 MiB)
-  const WriteReport written = write_result(result, t, t.output);
-  for (const auto& w : written.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (eval) {  // streamed: no result in memory, no report
+    if (!quiet) std::fprintf(stderr, "%s\n", done.result.summary.c_str());
+    return 0;
+  }
+  for (const auto& w : done.delivery.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   std::string stored;
-  if (written.error_bound) {
+  if (const WriteReport& written = done.delivery.report; written.error_bound) {
     char b[160];
     std::snprintf(b, sizeof b, "; stored values within %.2g of converged (%s adds %.2g)", *written.error_bound,
                   written.encoding.c_str(), written.storage_error);
     stored = b;
   }
   if (!quiet)
-    std::fprintf(stderr, "%s: %s%s\n", t.output == "-" ? "stdout" : t.output.c_str(), result.summary.c_str(), stored.c_str());
+    std::fprintf(stderr, "%s: %s%s\n", t.output == "-" ? "stdout" : t.output.c_str(), done.result.summary.c_str(),
+                 stored.c_str());
   return 0;
 }
 

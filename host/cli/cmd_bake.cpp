@@ -1,6 +1,7 @@
 // brdfbake bake [--scene FILE.gltf|FILE.glb|FILE.json] [--env FILE|builtin:NAME] [-o DIR]
 //               [--dry-run [--json]] [--no-energy-compensation] [...]
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -20,9 +21,15 @@ std::string list_materials(const std::vector<std::string>& m, size_t shown = 4) 
   return s;
 }
 
-std::string params_text(const TableRequest& t) {
+// The table's parameters; a job with an engine target prints that target in place of the table's
+// own `target` (generic: the planner applies the engine's schedule and SH window itself).
+std::string params_text(const TableRequest& t, const std::string& job_target = "generic") {
   std::string s;
   for (const auto& p : t.params) {
+    if (p.name == "target" && job_target != "generic") {
+      s += (s.empty() ? "" : ", ") + std::string("target ") + job_target;
+      continue;
+    }
     s += (s.empty() ? "" : ", ") + p.name + " ";
     if (auto b = std::get_if<bool>(&p.value)) s += *b ? "true" : "false";
     else if (auto d = std::get_if<double>(&p.value)) {
@@ -59,6 +66,8 @@ void print_plan(const Plan& plan, std::ostream& out) {
   out << (job.scene.empty() ? std::string("no scene") : "scene " + job.scene) << ", environment " << job.environment
       << (plan.options.energy_compensation ? ", energy compensation on" : ", energy compensation off") << "\n";
   for (const auto& n : job.notes) out << "  " << n << "\n";
+  if (!job.target.empty() && job.target != "generic")
+    out << "target " << job.target << ": its engine file set is written beside the tables (docs/ENGINES.md)\n";
   if (!plan.rules_fired.empty()) {
     out << "rules fired:";
     for (const auto& r : plan.rules_fired) out << " " << r;
@@ -66,7 +75,7 @@ void print_plan(const Plan& plan, std::ostream& out) {
   }
   out << job.tables.size() << (job.tables.size() == 1 ? " table" : " tables") << ":\n";
   for (const auto& t : job.tables) {
-    out << "  " << t.output << "  (" << table_kind_name(t.kind) << ": " << params_text(t) << ")\n";
+    out << "  " << t.output << "  (" << table_kind_name(t.kind) << ": " << params_text(t, job.target) << ")\n";
     for (const auto& r : t.requested_by) {
       out << "      " << r.rule << ": " << r.purpose;
       if (!r.materials.empty()) out << " [" << list_materials(r.materials) << "]";
@@ -84,10 +93,25 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
     total += f.bytes;
     width = std::max(width, f.path.size());
   }
-  char head[256];
-  std::snprintf(head, sizeof head, "wrote %s: %zu file%s from %d bake%s, %s, in %.1f s\n", m.output_dir.c_str(),
-                m.files.size(), m.files.size() == 1 ? "" : "s", m.bakes, m.bakes == 1 ? "" : "s",
-                human_bytes(total).c_str(), m.seconds);
+  // The engine's file set (docs/ENGINES.md), written beside the tables: sizes from the folder.
+  std::vector<std::uint64_t> engine_bytes;
+  bool has_gltf = false;
+  for (const auto& f : m.engine_files) {
+    std::error_code ec;
+    const std::uintmax_t b = std::filesystem::file_size(std::filesystem::path(m.output_dir) / f, ec);
+    engine_bytes.push_back(ec ? 0 : static_cast<std::uint64_t>(b));
+    total += engine_bytes.back();
+    has_gltf |= std::filesystem::path(f).extension() == ".gltf";
+    width = std::max(width, f.size());
+  }
+  const std::string engine_count =
+      m.engine_files.empty() ? std::string()
+                             : " + " + std::to_string(m.engine_files.size()) + " engine file" +
+                                   (m.engine_files.size() == 1 ? "" : "s") + " (" + m.target + ")";
+  char head[384];
+  std::snprintf(head, sizeof head, "wrote %s: %zu file%s%s from %d bake%s, %s, in %.1f s\n", m.output_dir.c_str(),
+                m.files.size(), m.files.size() == 1 ? "" : "s", engine_count.c_str(), m.bakes,
+                m.bakes == 1 ? "" : "s", human_bytes(total).c_str(), m.seconds);
   out << head;
   for (const auto& f : m.files) {
     std::string bound = "error bound not measured";
@@ -106,6 +130,35 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
     for (const auto& [key, value] : f.details)
       if (key == "runtime") out << "    " << std::string(width, ' ') << "runtime: " << value << "\n";
   }
+  if (!m.engine_files.empty()) {
+    out << "  engine files, target " << m.target << " (docs/ENGINES.md):\n";
+    // Each file with its format; a glTF document's RGBD face PNGs as one line.
+    std::vector<size_t> faces;
+    std::uint64_t face_bytes = 0;
+    for (size_t k = 0; k < m.engine_files.size(); ++k) {
+      const std::string& f = m.engine_files[k];
+      if (has_gltf && std::filesystem::path(f).extension() == ".png") {
+        faces.push_back(k);
+        face_bytes += engine_bytes[k];
+        continue;
+      }
+      std::string format;
+      for (const auto& [key, value] : m.engine_delivered)
+        if (key == f + ": format") format = value;
+      char line[512];
+      std::snprintf(line, sizeof line, "  %-*s  %-16s %9s%s\n", int(width), f.c_str(), "engine file",
+                    human_bytes(engine_bytes[k]).c_str(), format.empty() ? "" : ("  " + format).c_str());
+      out << line;
+    }
+    if (!faces.empty()) {
+      const std::string what = std::to_string(faces.size()) + " PNGs: " + m.engine_files[faces.front()] + " ... " +
+                               m.engine_files[faces.back()];
+      char line[768];
+      std::snprintf(line, sizeof line, "  %-*s  %-16s %9s  RGBD faces the .gltf names\n", int(width), what.c_str(),
+                    "engine file", human_bytes(face_bytes).c_str());
+      out << line;
+    }
+  }
   out << "  manifest.json\n";
 }
 
@@ -114,7 +167,7 @@ int cmd_bake(int argc, char** argv) {
                            "Read a glTF scene's materials and bake the tables they call for (docs/SCENES.md)");
   options.add_options()
       ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
-      ("env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ")", cxxopts::value<std::string>())
+      ("environment,env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ") (alias: --env)", cxxopts::value<std::string>())
       ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
       ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
       ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
@@ -140,24 +193,11 @@ int cmd_bake(int argc, char** argv) {
   if (dry_run && r.count("preview")) throw UsageError("--preview renders what a bake wrote: not with --dry-run");
   const bool quiet = quiet_option(r);
 
-  PlanOptions o = plan_options_from_params(schema_params(r, plan_schema()), true);
-  if (r.count("env")) o.environment = r["env"].as<std::string>();
-  if (o.environment.empty()) throw UsageError("--env must not be empty");
-  o.sanitize = r.count("sanitize") > 0;
-  if (r.count("pixel")) {
-    o.pixel = r["pixel"].as<std::string>();
-    if (o.pixel != "f16" && o.pixel != "f32") throw UsageError("--pixel must be f16 or f32 (got '" + o.pixel + "')");
-  }
-  o.precision = precision_option(r);
-  o.device = device_option(r);
-
-  Plan plan;
-  if (r.count("scene")) {
-    const Scene scene = read_scene(r["scene"].as<std::string>());
-    plan = plan_scene(scene, o);
-  } else {
-    plan = plan_default(o);
-  }
+  OptionNaming naming;
+  naming.cli = true;
+  const BakeOptions bake = parse_bake_options(schema_params(r, bake_option_schema()), naming);
+  const PlanOptions& o = bake.plan;
+  Plan plan = plan_bake(bake);
   plan.job.output_dir = r["output"].as<std::string>();
   plan.job.preview = r.count("preview") > 0;
   if (plan.job.output_dir.empty()) throw UsageError("-o must name a folder");

@@ -48,7 +48,7 @@ int cmd_report(int argc, char** argv) {
       ("precisions", "fp32, fp64 (default: fp32)", cxxopts::value<std::string>())
       ("max-seconds", "DFG tables: after a bake slower than this, larger counts of its estimator are skipped (default: 1.5; 0: none)", cxxopts::value<std::string>())
       ("materials", "fresnel: measured materials (default: gold,copper,aluminium,water)", cxxopts::value<std::string>())
-      ("env", "prefilter: the environment (default: builtin:studio)", cxxopts::value<std::string>())
+      ("environment,env", "prefilter: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
       ("cube-size", "prefilter: face size of the chain's first level (default: 32)", cxxopts::value<std::string>())
       ("device", "P:D, cpu, gpu or a name substring (default: BRDFBAKE_DEVICE, else the first GPU, else the first CPU)", cxxopts::value<std::string>())
       ("o,output", "the page (.html); the JSON goes beside it with .json (default: report.html)", cxxopts::value<std::string>())
@@ -81,7 +81,7 @@ int cmd_report(int argc, char** argv) {
     if (o.dfg.max_seconds_per_bake < 0) throw UsageError("--max-seconds must be >= 0");
   }
   if (r.count("materials")) o.materials = list(r["materials"].as<std::string>(), "materials");
-  if (r.count("env")) o.environment = r["env"].as<std::string>();
+  if (r.count("environment")) o.environment = r["environment"].as<std::string>();
   if (r.count("cube-size")) o.prefilter_size = integer(r, "cube-size");
   if (o.prefilter_size < 4 || o.prefilter_size > 256) throw UsageError("--cube-size must be 4 to 256");
   if (r.count("device")) o.device = r["device"].as<std::string>();

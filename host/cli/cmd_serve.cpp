@@ -48,16 +48,21 @@ int cmd_serve(int argc, char** argv) {
        cxxopts::value<std::string>()->default_value(""))
       ("token-file", "a file whose first line is the bearer token every request must send", cxxopts::value<std::string>()->default_value(""))
       ("devices", "comma-separated device selectors to serve (default: the default device); reference is always served",
-       cxxopts::value<std::string>()->default_value(""))
+       cxxopts::value<std::string>())
       ("max-queue", "jobs waiting before submissions get 503 with Retry-After", cxxopts::value<std::string>()->default_value("64"))
       ("max-body", "largest request body (bytes, or 64K, 1M); larger gets 413", cxxopts::value<std::string>()->default_value("1M"))
-      ("max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's", cxxopts::value<std::string>()->default_value("0"))
+      ("max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's", cxxopts::value<std::string>())
       ("job-timeout", "seconds a job may run (a request's ?timeout= may ask for less)", cxxopts::value<std::string>()->default_value("3600"))
       ("table-timeout", "seconds POST /v1/tables waits for its table before 504", cxxopts::value<std::string>()->default_value("30"))
-      ("io-timeout", "seconds a connection may stall while reading a request or sending a reply", cxxopts::value<std::string>()->default_value("30"))
+      ("io-timeout", "seconds a whole request (headers and body) may take to arrive, and a reply may stall", cxxopts::value<std::string>()->default_value("30"))
       ("table-max", "largest table POST /v1/tables bakes (estimated bytes)", cxxopts::value<std::string>()->default_value("64M"))
       ("table-cache", "bytes of POST /v1/tables results kept for identical requests; 0: none", cxxopts::value<std::string>()->default_value("64M"))
-      ("threads", "connections served at once", cxxopts::value<std::string>()->default_value("64"))
+      ("threads", "requests handled at once (a client still sending holds none; two more answer only health and status)",
+       cxxopts::value<std::string>()->default_value("64"))
+      ("max-connections", "connections open at once, all clients together (beyond: 503, but health and status)",
+       cxxopts::value<std::string>()->default_value("512"))
+      ("max-client-connections", "connections open at once from one address (beyond: 503, but health and status)",
+       cxxopts::value<std::string>()->default_value("128"))
       ("shutdown-grace", "seconds running jobs get to finish on SIGTERM before they are stopped and re-queued",
        cxxopts::value<std::string>()->default_value("10"))
       ("url-file", "write the URL here once listening (for scripts, with port 0)", cxxopts::value<std::string>()->default_value(""))
@@ -86,7 +91,7 @@ int cmd_serve(int argc, char** argv) {
   o.data_dir = r["data"].as<std::string>();
   o.input_root = r["input-root"].as<std::string>();
   o.token_file = r["token-file"].as<std::string>();
-  const std::string devices = r["devices"].as<std::string>();
+  const std::string devices = r.count("devices") ? r["devices"].as<std::string>() : std::string();
   for (size_t start = 0; !devices.empty();) {
     const size_t comma = devices.find(',', start);
     o.devices.push_back(devices.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
@@ -95,18 +100,23 @@ int cmd_serve(int argc, char** argv) {
   }
   o.max_queue = integer(r, "max-queue");
   o.max_body = static_cast<std::size_t>(byte_count(r, "max-body"));
-  o.max_memory = byte_count(r, "max-memory");
+  o.max_memory = r.count("max-memory") ? byte_count(r, "max-memory") : 0;  // 0: half the machine's
   o.job_timeout = seconds_option(r, "job-timeout");
   o.table_timeout = seconds_option(r, "table-timeout");
   o.io_timeout = seconds_option(r, "io-timeout");
   o.table_max_bytes = byte_count(r, "table-max");
   o.table_cache_bytes = byte_count(r, "table-cache");
   o.threads = integer(r, "threads");
+  o.max_connections = integer(r, "max-connections");
+  o.max_client_connections = integer(r, "max-client-connections");
   o.shutdown_grace = seconds_option(r, "shutdown-grace");
   o.url_file = r["url-file"].as<std::string>();
   o.warm_up = r.count("no-warm-up") == 0;
   if (o.max_queue < 1) throw UsageError("--max-queue must be at least 1");
   if (o.threads < 2 || o.threads > 1024) throw UsageError("--threads must be in 2..1024");
+  if (o.max_connections < 1 || o.max_connections > 1000000) throw UsageError("--max-connections must be in 1..1000000");
+  if (o.max_client_connections < 1 || o.max_client_connections > 1000000)
+    throw UsageError("--max-client-connections must be in 1..1000000");
   if (o.max_body < 1024) throw UsageError("--max-body must be at least 1K");
 
   // SIGTERM and SIGINT are taken by one thread (sigwait), so that shutdown runs outside a signal

@@ -15,7 +15,7 @@ int cmd_view(int argc, char** argv) {
   options.add_options()
       ("files", "files or folders to show", cxxopts::value<std::vector<std::string>>())
       ("o,output", "the contact sheet (.png)", cxxopts::value<std::string>())
-      ("exposure", "EV: HDR radiance is multiplied by 2^EV before the tone map (default: 0)", cxxopts::value<std::string>())
+      ("exposure", "EV: HDR radiance is multiplied by 2^EV before the tone map (default: chosen per picture, its log-average luminance shown at 0.18 and its 99th percentile at most 1; each caption says the EV)", cxxopts::value<std::string>())
       ("tonemap", "aces | reinhard | clamp: the curve from radiance to display (default: aces)", cxxopts::value<std::string>())
       ("face-size", "pixels a cube face is shown at, every level alike (default: 64)", cxxopts::value<std::string>())
       ("table-size", "pixels of a table image's longer side (default: 160)", cxxopts::value<std::string>())
@@ -56,9 +56,11 @@ int cmd_view(int argc, char** argv) {
   check_output_path(out);
   const ContactSheet sheet = render_contact_sheet(r["files"].as<std::vector<std::string>>(), o);
   write_contact_sheet(sheet, out);
-  if (!r.count("quiet"))
+  if (!r.count("quiet")) {
     std::fprintf(stderr, "%s: %dx%d, %zu file%s; %s\n", out.c_str(), sheet.width, sheet.height, sheet.files.size(),
                  sheet.files.size() == 1 ? "" : "s", sheet.tone_map_text.c_str());
+    for (const auto& s : sheet.skipped) std::fprintf(stderr, "skipped %s\n", s.c_str());
+  }
   return 0;
 }
 

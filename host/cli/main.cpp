@@ -1,5 +1,6 @@
 // brdfbake: the command-line tool. The only place that prints errors and chooses exit codes
 // (docs/RELIABILITY.md, "What each failure returns").
+#include <time.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -18,19 +19,62 @@
 
 namespace {
 
-// SIGINT and SIGTERM ask the run to stop at its next check (between device launches, tables and
-// stream chunks); what it was writing is removed as the Cancelled exception unwinds. The handler is
-// one-shot (SA_RESETHAND): a second signal ends the process at once, and the next run into that
-// folder removes what it left. No SA_RESTART, so that a read blocked on standard input returns.
-extern "C" void on_stop_signal(int signal) { brdfbake::request_cancel(signal); }
+// SIGINT, SIGTERM and SIGHUP (the terminal closed) ask the run to stop at its next check (between
+// device launches, tables, stream chunks and the reads of a file); what it was writing, its lock and
+// its staging folder are removed as the Cancelled exception unwinds, and it exits 128 + the signal.
+// A second stop signal more than half a second after the first ends the process at once (the next
+// run into that folder removes what it left); one within half a second is the same request
+// delivered twice (`timeout` sends its signal to the command and to its process group) and is
+// ignored. No SA_RESTART, so that a read blocked on standard input returns. SIGPIPE (the reader of
+// standard output, standard error or a FIFO went away) stops the run the same way, however often it
+// comes: the write that met it fails with EPIPE, and the run ends with 141. `serve` takes its own
+// signals (cmd_serve.cpp): SIGHUP and SIGPIPE are left to it.
+volatile std::sig_atomic_t g_first_stop_ms = 0;  // when the first stop signal came (monotonic ms, low bits)
 
-void install_stop_handlers() {
+long monotonic_ms() {  // async-signal-safe (clock_gettime)
+  timespec t{};
+  ::clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<long>(t.tv_sec % 1000000) * 1000 + t.tv_nsec / 1000000;
+}
+
+extern "C" void on_stop_signal(int signal) {
+  if (signal == SIGPIPE) {
+    if (!brdfbake::cancel_requested()) brdfbake::request_cancel(signal);
+    return;
+  }
+  if (!brdfbake::cancel_requested()) {
+    g_first_stop_ms = static_cast<std::sig_atomic_t>(monotonic_ms());
+    brdfbake::request_cancel(signal);
+    return;
+  }
+  if (monotonic_ms() - static_cast<long>(g_first_stop_ms) < 500) return;  // the same request again
+  ::signal(signal, SIG_DFL);  // a second request: end now
+  ::raise(signal);
+}
+
+void install_stop_handlers(bool all) {
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = static_cast<int>(SA_RESETHAND);
+  action.sa_flags = 0;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  if (!all) return;
+  sigaction(SIGHUP, &action, nullptr);
+  sigaction(SIGPIPE, &action, nullptr);
+}
+
+// Once a stop signal arrived, whatever failed after it (a read it interrupted, a write to the pipe
+// that closed) ends as the stop: 128 + the signal, with the stop's one line (0: no stop requested).
+int stopped(const std::string& command) {
+  const int signal = brdfbake::cancel_signal();
+  if (signal <= 0) return 0;
+  try {
+    brdfbake::throw_if_cancelled();
+  } catch (const brdfbake::Cancelled& e) {
+    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+  }
+  return 128 + signal;
 }
 
 void usage(std::ostream& out) {
@@ -83,7 +127,7 @@ int run(int argc, char** argv) {
     return cli::kExitUsage;
   }
   const std::string command = argv[1];
-  install_stop_handlers();
+  install_stop_handlers(command != "serve");
   // --verbose is taken by every command: it is removed here before the command parses its options.
   std::vector<char*> args;
   bool verbose = false, quiet = false;
@@ -99,6 +143,8 @@ int run(int argc, char** argv) {
   argc = static_cast<int>(args.size()) - 1;
   argv = args.data();
   observe_program_builds(verbose, quiet);
+  // A kernel cache folder that cannot be written: said, and the run goes on without it.
+  set_runtime_warning_observer([](const std::string& w) { std::fprintf(stderr, "brdfbake: warning: %s\n", w.c_str()); });
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
@@ -120,21 +166,25 @@ int run(int argc, char** argv) {
     std::cerr << "brdfbake: unknown command '" << command << "' (see brdfbake --help)\n";
     return cli::kExitUsage;
   } catch (const cli::UsageError& e) {
+    if (const int code = stopped(command)) return code;
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitUsage;
   } catch (const Cancelled& e) {
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return e.signal() > 0 ? 128 + e.signal() : cli::kExitFailure;  // 130 for SIGINT, 143 for SIGTERM
   } catch (const RuntimeFailure& e) {  // I/O, OpenCL, a locked output, a result that is not finite
+    if (const int code = stopped(command)) return code;
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitFailure;
   } catch (const Error& e) {  // bad input
+    if (const int code = stopped(command)) return code;
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitUsage;
   } catch (const std::bad_alloc&) {
     std::cerr << "brdfbake " << command << ": out of memory\n";
     return cli::kExitFailure;
   } catch (const std::exception& e) {
+    if (const int code = stopped(command)) return code;
     std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
     return cli::kExitFailure;
   }
@@ -145,7 +195,9 @@ int run(int argc, char** argv) {
 // Every output is complete (committed or removed) when run returns: the process ends without
 // tearing down the OpenCL implementation (cli_common.hpp; not in BRDFBAKE_ASAN builds).
 int main(int argc, char** argv) {
-  const int code = run(argc, argv);
+  int code = run(argc, argv);
+  // What it printed met a closed pipe (`brdfbake kinds | head -1`): the shell's convention, 141.
+  if (code == 0 && brdfbake::cancel_signal() == SIGPIPE) code = 128 + SIGPIPE;
 #ifndef BRDFBAKE_ASAN
   std::cout.flush();
   std::cerr.flush();

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <thread>
 
+#include "brdfbake/cancel.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "io/staging_dir.hpp"
 
 namespace brdfbake::server {
@@ -20,9 +22,13 @@ namespace {
 std::string read_token(const RemoteOptions& o) {
   std::string token;
   if (!o.token_file.empty()) {
-    std::ifstream in(o.token_file);
-    if (!in) throw RemoteError("--token-file: cannot read '" + o.token_file + "'", 2);
-    std::getline(in, token);
+    try {
+      token = io::read_token_file(o.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error& e) {
+      throw RemoteError(e.what(), 2);
+    }
   } else if (const char* env = std::getenv("BRDFBAKE_TOKEN")) {
     token = env;
   }
@@ -112,6 +118,16 @@ Manifest manifest_from_json(const std::string& text, const std::string& output_d
       e.bake = f.value("bake", 0);
       out.files.push_back(std::move(e));
     }
+  if (m.contains("engine") && m["engine"].is_object()) {  // an engine target's file set
+    const json& e = m["engine"];
+    out.target = e.value("target", "");
+    if (e.contains("files") && e["files"].is_array())
+      for (const auto& f : e["files"])
+        if (f.is_string()) out.engine_files.push_back(f.get<std::string>());
+    if (e.contains("delivered") && e["delivered"].is_object())
+      for (const auto& [k, v] : e["delivered"].items())
+        if (v.is_string()) out.engine_delivered.emplace_back(k, v.get<std::string>());
+  }
   for (const char* key : {"notes", "warnings"})
     if (m.contains(key) && m[key].is_array())
       for (const auto& n : m[key])
@@ -123,7 +139,17 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
                     const RemoteOptions& o, const JobProgress& progress) {
   Connection c(o);
   const std::string path = "/v1/jobs?source=" + url_encode(source);
-  const httplib::Result posted = c->Post(path.c_str(), job_text, "application/json");
+  // The output folder goes with the job: the server names an engine target's files after it, as a
+  // local run does (it writes nothing there).
+  std::string body = job_text;
+  {
+    json doc = io::parse_json(job_text, source);
+    if (doc.is_object() && !output_dir.empty()) {
+      doc["output_dir"] = output_dir;
+      body = doc.dump();
+    }
+  }
+  const httplib::Result posted = c->Post(path.c_str(), body, "application/json");
   c.check(posted);
   if (posted->status == 400) throw RemoteError(server_message(posted), 2);
   if (posted->status != 202)

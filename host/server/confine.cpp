@@ -123,6 +123,63 @@ void Roots::confine_job_document(nlohmann::ordered_json& doc, const std::string&
   if (env != doc.end() && env->is_string()) *env = environment(env->get<std::string>(), origin + ": environment");
 }
 
+namespace {
+
+// ".big.exr.tmp-31149-a329520719de9ae8" (io's temporaries, staging folders) -> "big.exr"
+std::string without_temporary(const std::string& name) {
+  if (name.size() < 2 || name[0] != '.') return name;
+  const size_t tmp = name.rfind(".tmp-");
+  if (tmp == std::string::npos || tmp < 2) return name;
+  return name.substr(1, tmp - 1);
+}
+
+bool ends_path(const std::string& s, size_t i) {
+  const char c = s[i];
+  if (c == '\'' || c == '"' || c == '\n' || c == ' ' || c == ',' || c == ';' || c == ')') return true;
+  return c == ':' && (i + 1 == s.size() || s[i + 1] == ' ');
+}
+
+// Every path below `root` in `text` replaced by rename(the path relative to root).
+template <class Rename>
+void replace_paths(std::string& text, const fs::path& root, Rename rename) {
+  if (root.empty()) return;
+  const std::string prefix = root.string() + "/";
+  for (size_t at = text.find(prefix); at != std::string::npos; at = text.find(prefix, at)) {
+    size_t end = at + prefix.size();
+    while (end < text.size() && !ends_path(text, end)) ++end;
+    const std::string shown = rename(text.substr(at + prefix.size(), end - at - prefix.size()));
+    text.replace(at, end - at, shown);
+    at += shown.size();
+  }
+}
+
+}  // namespace
+
+std::string Roots::public_text(const std::string& text) const {
+  std::string out = text;
+  auto data = [](const std::string& rel) {
+    std::vector<std::string> parts;
+    for (const auto& p : fs::path(rel)) parts.push_back(p.string());
+    size_t first = 0;
+    // jobs/<id>/..., jobs/.<id>.tmp-<pid>-<n>/... (staging), tmp/.brdfbake-run-<pid>-<n>/... (scratch)
+    if (parts.size() >= 2 && (parts[0] == "jobs" || parts[0] == "tmp")) first = 2;
+    std::string shown;
+    for (size_t i = first; i < parts.size(); ++i)
+      if (!parts[i].empty()) shown += (shown.empty() ? "" : "/") + without_temporary(parts[i]);
+    return shown.empty() ? std::string("the job's folder") : shown;
+  };
+  auto input = [](const std::string& rel) { return rel; };
+  // The more specific root first, when one lies inside the other.
+  if (input_.string().size() > data_.string().size()) {
+    replace_paths(out, input_, input);
+    replace_paths(out, data_, data);
+  } else {
+    replace_paths(out, data_, data);
+    replace_paths(out, input_, input);
+  }
+  return out;
+}
+
 std::string Roots::data_file(const fs::path& dir, const std::string& name) const {
   if (name.empty() || name.find('\0') != std::string::npos) return {};
   const fs::path given(name);

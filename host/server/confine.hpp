@@ -39,6 +39,12 @@ class Roots {
   // symbolic link on the way, a regular file. Returns "" when it does not exist.
   std::string data_file(const std::filesystem::path& dir, const std::string& name) const;
 
+  // A message as a client may read it, without the server's own folders: a path under the data
+  // directory becomes the name inside its job's folder (the job and staging folders, the runner's
+  // scratch folder and the writers' temporaries taken out: 'big.ktx2'), or inside the data
+  // directory ('jobs.db'); a path under the input root becomes the path a request names it by.
+  std::string public_text(const std::string& text) const;
+
   // Whether `p` (absolute, normal) is `root` or lies below it, component by component.
   static bool inside(const std::filesystem::path& p, const std::filesystem::path& root);
 

@@ -62,14 +62,15 @@ class Statement {
   void check(int rc) {
     if (rc != SQLITE_OK) fail();
   }
-  [[noreturn]] void fail() { throw Error("job database '" + path_ + "': " + sqlite3_errmsg(db_)); }
+  // The database failing is the server's failure (a full disk), not the request's.
+  [[noreturn]] void fail() { throw RuntimeFailure("job database '" + path_ + "': " + sqlite3_errmsg(db_)); }
   sqlite3* db_;
   std::string path_;
   sqlite3_stmt* st_ = nullptr;
 };
 
 constexpr const char* kColumns =
-    "id, seq, state, device, source, submitted, started, finished, attempts, timeout, error, exit_code";
+    "id, seq, state, device, source, submitted, started, finished, attempts, timeout, error, exit_code, cancel_requested";
 
 JobRecord read_row(const Statement& s, bool documents) {
   JobRecord r;
@@ -85,9 +86,10 @@ JobRecord read_row(const Statement& s, bool documents) {
   r.timeout = s.real(9);
   r.error = s.text(10);
   r.exit_code = static_cast<int>(s.integer(11));
+  r.cancel_requested = s.integer(12) != 0;
   if (documents) {
-    r.job = s.text(12);
-    r.manifest = s.text(13);
+    r.job = s.text(13);
+    r.manifest = s.text(14);
   }
   return r;
 }
@@ -130,6 +132,13 @@ JobStore::JobStore(const std::string& path) : path_(path) {
        " job TEXT NOT NULL,"
        " manifest TEXT NOT NULL DEFAULT '')");
   exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state)");
+  // Added after version 0.2.0's first schema: a database written before it gets the column.
+  bool has_cancel = false;
+  {
+    Statement info(db_, path_, "PRAGMA table_info(jobs)");
+    while (info.step()) has_cancel = has_cancel || info.text(1) == "cancel_requested";
+  }
+  if (!has_cancel) exec("ALTER TABLE jobs ADD COLUMN cancel_requested INTEGER NOT NULL DEFAULT 0");
 }
 
 JobStore::~JobStore() { sqlite3_close(db_); }
@@ -178,11 +187,28 @@ void JobStore::finish(const std::string& id, JobState state, double finished, co
   s.step();
 }
 
-void JobStore::requeue(const std::string& id) {
+void JobStore::request_cancel(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement s(db_, path_, "UPDATE jobs SET state = 'queued', started = 0 WHERE id = ?");
+  Statement s(db_, path_, "UPDATE jobs SET cancel_requested = 1 WHERE id = ? AND state = 'running'");
   s.bind(1, id);
   s.step();
+}
+
+bool JobStore::requeue(const std::string& id, double now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  {
+    Statement s(db_, path_, "UPDATE jobs SET state = 'queued', started = 0 WHERE id = ? AND cancel_requested = 0");
+    s.bind(1, id);
+    s.step();
+  }
+  if (sqlite3_changes(db_) > 0) return true;
+  const std::string why = "cancelled (DELETE /v1/jobs/" + id +
+                          ") while running; the server stopped before the job did, and does not run it again";
+  Statement s(db_, path_,
+              "UPDATE jobs SET state = 'cancelled', finished = ?, error = ?, exit_code = 1 WHERE id = ? AND cancel_requested = 1");
+  s.bind(1, now).bind(2, why).bind(3, id);
+  s.step();
+  return false;
 }
 
 bool JobStore::remove(const std::string& id) {
@@ -228,8 +254,8 @@ std::map<std::string, std::int64_t> JobStore::count_by_state() {
 std::vector<JobRecord> JobStore::recover(int max_attempts, double now) {
   std::vector<JobRecord> failed;
   for (const JobRecord& r : list(JobState::Running, 1 << 30)) {
-    if (r.attempts < max_attempts) {
-      requeue(r.id);
+    if (r.cancel_requested || r.attempts < max_attempts) {
+      (void)requeue(r.id, now);  // cancelled instead when its cancel was recorded before the stop
     } else {
       const std::string why = "the server stopped while running it " + std::to_string(r.attempts) +
                               " times (a crash or kill); not started again";

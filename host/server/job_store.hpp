@@ -34,6 +34,7 @@ struct JobRecord {
   std::string error;             // failed, cancelled: one line
   int exit_code = 0;             // what the command line exits with for it: 0, 1 runtime, 2 bad input
   std::string manifest;          // done: manifest.json
+  bool cancel_requested = false; // DELETE while running: never run again, whatever stops it
 };
 
 class JobStore {
@@ -49,8 +50,11 @@ class JobStore {
   void mark_running(const std::string& id, double started, int attempts);
   void finish(const std::string& id, JobState state, double finished, const std::string& error, int exit_code,
               const std::string& manifest);
-  // Back to queued (a shutdown interrupted it).
-  void requeue(const std::string& id);
+  // A running job was asked to stop (DELETE): recorded, so that a restart does not run it again.
+  void request_cancel(const std::string& id);
+  // Back to queued (a shutdown interrupted it); cancelled instead when a cancel was recorded.
+  // True when it was queued.
+  bool requeue(const std::string& id, double now);
   bool remove(const std::string& id);
 
   std::optional<JobRecord> get(const std::string& id, bool with_documents = true);
@@ -58,9 +62,9 @@ class JobStore {
   std::vector<JobRecord> list(std::optional<JobState> state, int limit);
   std::map<std::string, std::int64_t> count_by_state();
 
-  // After a restart: jobs left running are re-queued when they have started fewer than
-  // `max_attempts` times, else failed; returns those it failed. Queued jobs are returned by
-  // queued() in submission order.
+  // After a restart: jobs left running are cancelled when a cancel was recorded for them, else
+  // re-queued when they have started fewer than `max_attempts` times, else failed; returns those
+  // it failed. Queued jobs are returned by queued() in submission order.
   std::vector<JobRecord> recover(int max_attempts, double now);
   std::vector<JobRecord> queued();
 

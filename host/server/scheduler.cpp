@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/manifest.hpp"
 
@@ -39,6 +40,7 @@ struct Scheduler::Slot {
   std::deque<std::packaged_task<void()>> tasks;  // fast path, first
   std::deque<std::string> jobs;
   std::string running;
+  std::string table;  // the fast-path table being baked
   bool warm = false;
   double busy_seconds = 0;
   std::thread thread;
@@ -161,21 +163,31 @@ void Scheduler::resume(const JobRecord& r) {
   work_cv_.notify_all();
 }
 
-std::future<void> Scheduler::run_now(const std::string& key, std::function<void(Backend&)> work) {
+std::future<void> Scheduler::run_now(const std::string& key, const std::string& label,
+                                     std::function<void(Backend&)> work) {
   Slot* s = slot(key);
   if (!s) throw Error("device '" + key + "' is not served");
-  std::packaged_task<void()> task([this, s, work = std::move(work)] {
+  std::packaged_task<void()> task([this, s, label, work = std::move(work)] {
     std::lock_guard<std::mutex> use(s->use);
     const auto t0 = std::chrono::steady_clock::now();
+    // GET /v1/devices says what the device does while the table bakes (busy, and which table).
     struct Busy {
       Scheduler* self;
       Slot* slot;
       std::chrono::steady_clock::time_point t0;
+      Busy(Scheduler* sch, Slot* sl, const std::string& what, std::chrono::steady_clock::time_point start)
+          : self(sch), slot(sl), t0(start) {
+        std::lock_guard<std::mutex> lock(self->queue_mutex_);
+        slot->table = what;
+      }
       ~Busy() {
         std::lock_guard<std::mutex> lock(self->queue_mutex_);
+        slot->table.clear();
         slot->busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       }
-    } busy{this, s, t0};
+      Busy(const Busy&) = delete;
+      Busy& operator=(const Busy&) = delete;
+    } busy{this, s, label, t0};
     work(*s->backend);
   });
   std::future<void> f = task.get_future();
@@ -255,6 +267,7 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
     return;
   }
   if (!rec || rec->state != JobState::Queued) return;  // cancelled while it waited
+  auto public_text = [this](const std::string& m) { return options_.public_text ? options_.public_text(m) : m; };
   const auto t0 = std::chrono::steady_clock::now();
   auto steady = [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
   if (rec->timeout > 0) control->deadline = steady() + rec->timeout;
@@ -276,6 +289,8 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
   }
   try {
     Job job = parse_job(rec->job, rec->source);
+    // The name of the client's output folder (kept from the submission), for an engine's files.
+    const std::string engine_name = fs::path(job.output_dir).filename().string();
     const fs::path out = options_.jobs_dir / id;
     std::error_code ec;
     fs::remove_all(out, ec);  // what an interrupted earlier attempt may have left
@@ -290,6 +305,7 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
     for (const auto& k : keys) locks.emplace_back(slot(k)->use);
 
     RunHooks hooks;
+    if (!engine_name.empty() && engine_name != "." && engine_name != "..") hooks.engine_name = engine_name;
     hooks.backend = [&](const std::string& selector) {
       return slot(device_key(selector.empty() ? job.device : selector))->backend;
     };
@@ -298,13 +314,24 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
       if (why >= 0) throw Stopped{static_cast<Stopped::Why>(why)};
       if (control->deadline > 0 && steady() > control->deadline) throw Stopped{Stopped::Timeout};
     };
+    // The same reasons stop a bake at its next step (a launch, a row, a level), not only between
+    // tables: a cancel, a timeout or a shutdown frees the device within a step.
+    hooks.stop_requested = [&] {
+      return control->stop.load() >= 0 || (control->deadline > 0 && steady() > control->deadline);
+    };
     auto on_progress = [&](const JobEvent& e) {
       std::lock_guard<std::mutex> lock(control->mutex);
       control->progress = {e.bake, e.bakes, e.what, e.fraction};
     };
     Manifest m;
     try {
-      m = brdfbake::run_job(job, on_progress, hooks);
+      try {
+        m = brdfbake::run_job(job, on_progress, hooks);
+      } catch (const Cancelled&) {
+        // stop_requested said stop: why, as the checkpoint would have
+        hooks.checkpoint();
+        throw;
+      }
     } catch (...) {
       const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(queue_mutex_);
@@ -327,7 +354,7 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
   } catch (const Stopped& st) {
     if (st.why == Stopped::Shutdown) {
       try {
-        store_.requeue(id);
+        (void)store_.requeue(id, now_seconds());  // or cancelled, when a DELETE came first
       } catch (const std::exception& e) {
         log_line("job " + id + ": cannot re-queue it: " + e.what());
       }
@@ -338,14 +365,15 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
       std::snprintf(buf, sizeof buf, "timed out: still running after its timeout of %g s; nothing was written", rec->timeout);
       finish(JobState::Failed, buf, 1, "");
     }
-  } catch (const NotAvailableError& e) {
-    finish(JobState::Failed, e.what(), 1, "");
-  } catch (const ClError& e) {
-    finish(JobState::Failed, e.what(), 1, "");
+  } catch (const Cancelled& e) {
+    finish(JobState::Failed, public_text(e.what()), 1, "");
+  } catch (const RuntimeFailure& e) {
+    // The server failed, not the request (a full disk, the device, a kind this build lacks): exit 1.
+    finish(JobState::Failed, public_text(e.what()), 1, "");
   } catch (const Error& e) {
-    finish(JobState::Failed, e.what(), 2, "");
+    finish(JobState::Failed, public_text(e.what()), 2, "");
   } catch (const std::exception& e) {
-    finish(JobState::Failed, e.what(), 1, "");
+    finish(JobState::Failed, public_text(e.what()), 1, "");
   }
 }
 
@@ -365,6 +393,12 @@ CancelResult Scheduler::cancel(const std::string& id) {
   if (r != running_.end()) {
     int none = -1;
     r->second->stop.compare_exchange_strong(none, Stopped::Cancel);
+    // Recorded, so that a server stopped (or killed) before the job stops does not run it again.
+    try {
+      store_.request_cancel(id);
+    } catch (const std::exception& e) {
+      log_line("job " + id + ": cannot record its cancellation: " + e.what());
+    }
     return CancelResult::Stopping;
   }
   lock.unlock();
@@ -408,7 +442,8 @@ std::vector<DeviceStatus> Scheduler::devices() const {
     d.global_memory = s->global_memory;
     d.warm = s->warm;
     d.running = s->running;
-    d.busy = !s->running.empty();
+    d.table = s->table;
+    d.busy = !s->running.empty() || !s->table.empty();
     d.queued = static_cast<int>(s->jobs.size());
     d.busy_seconds = s->busy_seconds;
     out.push_back(d);
@@ -426,6 +461,13 @@ int Scheduler::queued_total() const {
 int Scheduler::running_total() const {
   std::lock_guard<std::mutex> lock(queue_mutex_);
   return static_cast<int>(running_.size());
+}
+
+int Scheduler::tables_running() const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  int n = 0;
+  for (const auto& s : slots_) n += s->table.empty() ? 0 : 1;
+  return n;
 }
 
 bool Scheduler::shutdown(double grace, double hard) {

@@ -32,6 +32,8 @@ struct SchedulerOptions {
   int max_queue = 64;                 // queued jobs (all devices) before submissions get 503
   int max_attempts = 2;               // a job the server stopped under this many times is failed
   bool warm_up = true;                // build the DFG and Fresnel programs at start
+  // What a job's error says to clients: the server's own paths taken out (Roots::public_text).
+  std::function<std::string(const std::string&)> public_text;
 };
 
 // The queue is full: the caller answers 503 with Retry-After.
@@ -54,7 +56,8 @@ struct DeviceStatus {
   std::uint64_t global_memory = 0;  // 0 for the reference
   bool warm = false;      // programs built
   std::string running;    // the job id it runs, "" when idle
-  bool busy = false;
+  std::string table;      // the POST /v1/tables request it bakes ("ggx 1024"), "" when none
+  bool busy = false;      // running a job or a table
   int queued = 0;         // jobs waiting for it
   double busy_seconds = 0;
 };
@@ -82,8 +85,9 @@ class Scheduler {
   // After a restart: queues a stored job again, whatever the limit.
   void resume(const JobRecord& record);
 
-  // Runs `work` on a device before its queued jobs; the future carries its exceptions.
-  std::future<void> run_now(const std::string& key, std::function<void(Backend&)> work);
+  // Runs `work` on a device before its queued jobs; the future carries its exceptions. `label`
+  // says what it bakes while it runs (DeviceStatus::table).
+  std::future<void> run_now(const std::string& key, const std::string& label, std::function<void(Backend&)> work);
 
   CancelResult cancel(const std::string& id);
   std::optional<JobProgressInfo> progress(const std::string& id) const;
@@ -93,6 +97,8 @@ class Scheduler {
   std::vector<DeviceStatus> devices() const;
   int queued_total() const;
   int running_total() const;
+  // POST /v1/tables requests being baked, all devices.
+  int tables_running() const;
 
   // Stops taking work; lets running jobs finish for `grace` seconds, then stops them at their next
   // checkpoint (re-queued for the next start) and waits `hard` more seconds. True when every worker

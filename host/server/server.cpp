@@ -3,15 +3,19 @@
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <list>
 #include <map>
@@ -22,13 +26,17 @@
 
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
+#include "brdfbake/runner.hpp"
 #include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 #include "server/confine.hpp"
+#include "server/connections.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
 #include "server/scheduler.hpp"
+#include "server/web_routes.hpp"
 
 namespace brdfbake::server {
 
@@ -52,6 +60,10 @@ bool is_loopback(const std::string& host) {
 
 namespace {
 
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
@@ -60,15 +72,6 @@ std::string human_bytes(double b) {
   char buf[48];
   if (b >= double(1ull << 30)) std::snprintf(buf, sizeof buf, "%.1f GiB", b / double(1ull << 30));
   else std::snprintf(buf, sizeof buf, "%.0f MiB", std::ceil(b / double(1ull << 20)));
-  return buf;
-}
-
-std::string random_hex() {
-  static std::mutex m;
-  static std::mt19937_64 g{std::random_device{}()};
-  std::lock_guard<std::mutex> lock(m);
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(g()));
   return buf;
 }
 
@@ -86,6 +89,14 @@ std::string content_type(const std::string& name) {
   if (ext == ".ktx") return "image/ktx";
   if (ext == ".dds") return "image/vnd-ms.dds";
   return "application/octet-stream";
+}
+
+// A failure of the server's storage (a full disk or quota, a file size limit, SQLite's "full"), as
+// the system's or the library's words say it: the server answers 507, not 500 or 400.
+bool storage_full(const std::string& message) {
+  for (int e : {ENOSPC, EDQUOT, EFBIG})
+    if (message.find(std::strerror(e)) != std::string::npos) return true;
+  return message.find("database or disk is full") != std::string::npos;
 }
 
 // A header value: printable ASCII, one line, at most 300 characters.
@@ -142,7 +153,9 @@ std::uint64_t resident_bytes() {
 // What POST /v1/tables sends back, kept by the result cache.
 struct TableReply {
   std::string bytes, content_type, filename, summary, error_bound;
+  std::vector<std::string> warnings;
   double seconds = 0;
+  std::string timing;  // the device task's part of Server-Timing
 };
 
 // The fast path's results by request, least recently used dropped first.
@@ -189,7 +202,7 @@ struct Server::Impl {
   Metrics metrics;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<ResultCache> cache;
-  httplib::Server http;
+  GuardedServer http;
   int listen_fd = -1;
   int port = 0;
   std::vector<std::string> notes;
@@ -210,12 +223,17 @@ struct Server::Impl {
   void submit_document(json doc, const std::string& origin, const httplib::Request& req, httplib::Response& res);
   void check_memory(const Job& job, const std::string& origin);
   json job_json(const JobRecord& r, bool full);
+  json job_files(const std::string& id, const json& manifest) const;
   void get_job(const httplib::Request& req, httplib::Response& res);
   void delete_job(const httplib::Request& req, httplib::Response& res);
   void get_file(const httplib::Request& req, httplib::Response& res);
   void post_bake(const httplib::Request& req, httplib::Response& res);
   void post_table(const httplib::Request& req, httplib::Response& res);
   std::string metrics_text();
+  // An error reply; the message without the server's own paths (Roots::public_text).
+  void fail(httplib::Response& res, int status, const std::string& message) const {
+    reply_error(res, status, roots ? roots->public_text(message) : message);
+  }
 };
 
 void Server::Impl::open(ServerOptions options) {
@@ -223,11 +241,27 @@ void Server::Impl::open(ServerOptions options) {
   if (opt.data_dir.empty()) throw Error("--data: the data directory is required");
   if (opt.max_queue < 1) throw Error("--max-queue: must be at least 1");
   if (opt.threads < 2) throw Error("--threads: must be at least 2");
+  if (opt.max_connections < 1) throw Error("--max-connections: must be at least 1");
+  if (opt.max_client_connections < 1) throw Error("--max-client-connections: must be at least 1");
+  // Every connection is a file: the process may need more than the usual soft limit of 1024.
+  {
+    const rlim_t want = static_cast<rlim_t>(opt.max_connections) + 64 + 256;  // the reserve, SQLite, files, OpenCL
+    rlimit files{};
+    if (::getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < want) {
+      files.rlim_cur = std::min(want, files.rlim_max);
+      (void)::setrlimit(RLIMIT_NOFILE, &files);
+      (void)::getrlimit(RLIMIT_NOFILE, &files);
+      if (files.rlim_cur < want) {
+        const int fit = std::max(1, static_cast<int>(files.rlim_cur) - 64 - 256);
+        notes.push_back("--max-connections " + std::to_string(opt.max_connections) + " lowered to " + std::to_string(fit) +
+                        ": the process may open " + std::to_string(files.rlim_cur) + " files (ulimit -n)");
+        opt.max_connections = fit;
+        opt.max_client_connections = std::min(opt.max_client_connections, fit);
+      }
+    }
+  }
   if (!opt.token_file.empty()) {
-    std::ifstream in(opt.token_file);
-    if (!in) throw Error("--token-file: cannot read '" + opt.token_file + "'");
-    std::getline(in, token);
-    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    token = io::read_token_file(opt.token_file, "--token-file");  // bounded, printable (io/special_files.hpp)
     if (token.size() < 16) throw Error("--token-file: the token (its first line) must have at least 16 characters");
   } else if (!is_loopback(opt.host)) {
     throw Error("--listen: refusing to listen on '" + opt.host +
@@ -254,6 +288,7 @@ void Server::Impl::open(ServerOptions options) {
   so.jobs_dir = jobs_dir();
   so.max_queue = opt.max_queue;
   so.warm_up = opt.warm_up;
+  so.public_text = [this](const std::string& m) { return roots->public_text(m); };
   scheduler = std::make_unique<Scheduler>(*store, metrics, so);
   recover();
   routes();
@@ -273,7 +308,12 @@ void Server::Impl::recover() {
   const auto running_before = store->list(JobState::Running, 1 << 30);
   const auto failed = store->recover(2, now_seconds());
   for (const auto& r : failed) notes.push_back("job " + r.id + " failed: the server stopped while running it twice");
-  int requeued = static_cast<int>(running_before.size() - failed.size());
+  int cancelled = 0;
+  for (const auto& r : running_before) cancelled += r.cancel_requested ? 1 : 0;
+  if (cancelled)
+    notes.push_back("cancelled " + std::to_string(cancelled) +
+                    " job(s) that were asked to stop (DELETE) before the server stopped; not run again");
+  int requeued = static_cast<int>(running_before.size() - failed.size()) - cancelled;
   if (requeued) notes.push_back("re-queued " + std::to_string(requeued) + " job(s) that were running when the server stopped");
   const auto queued = store->queued();
   for (const auto& r : queued) scheduler->resume(r);
@@ -355,13 +395,20 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     check_memory(job, origin);
     r.timeout = number_param(req, "timeout", opt.job_timeout, 0.01, opt.job_timeout);
   } catch (const NotAvailableError& e) {
-    reply_error(res, 501, e.what());
+    fail(res, 501, e.what());
     return;
   } catch (const Error& e) {
-    reply_error(res, 400, e.what());
+    fail(res, 400, e.what());
     return;
   }
-  job.output_dir.clear();  // the server chooses where files go: DATA/jobs/<id>/
+  // The server chooses where files go (DATA/jobs/<id>/); of the client's folder only its name is
+  // kept: an engine target names its files after it, as a local run does.
+  {
+    std::string folder = job.output_dir;
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    const std::string name = fs::path(folder).filename().string();
+    job.output_dir = name == "." || name == ".." || name.size() > 200 ? std::string() : name;
+  }
   r.source = origin;
   r.job = job_to_json(job);
   r.submitted = now_seconds();
@@ -369,10 +416,10 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     scheduler->submit(r);
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
-    reply_error(res, 503, e.what());
+    fail(res, 503, e.what());
     return;
   } catch (const Error& e) {
-    reply_error(res, 500, e.what());
+    fail(res, storage_full(e.what()) ? 507 : 500, e.what());  // the store could not record it
     return;
   }
   json body;
@@ -382,6 +429,41 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   body["tables"] = job.tables.size();
   res.set_header("Location", "/v1/jobs/" + r.id);
   reply_json(res, 202, body);
+}
+
+json Server::Impl::job_files(const std::string& id, const json& manifest) const {
+  // Every file of the job's folder by its own path, so that a client fetches each as it is: the
+  // manifest's outputs in its order (a folder output, a cube written as images, by each of its
+  // files), then what else the job wrote (an engine target's files), manifest.json last.
+  const fs::path dir = jobs_dir() / id;
+  std::vector<std::string> out;
+  std::set<std::string> listed = {"manifest.json"};
+  auto files_below = [&](const fs::path& folder) {
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      if (it->symlink_status(ec).type() == fs::file_type::regular)
+        found.push_back(it->path().lexically_relative(dir).generic_string());
+    std::sort(found.begin(), found.end());
+    return found;
+  };
+  auto add = [&](const std::string& name) {
+    if (listed.insert(name).second) out.push_back(name);
+  };
+  if (manifest.is_object() && manifest.contains("files") && manifest["files"].is_array())
+    for (const auto& f : manifest["files"]) {
+      const std::string path = f.is_object() ? f.value("path", "") : "";
+      if (path.empty()) continue;
+      std::error_code ec;
+      if (fs::symlink_status(dir / path, ec).type() == fs::file_type::directory) {
+        for (const auto& name : files_below(dir / path)) add(name);
+      } else {
+        add(path);
+      }
+    }
+  for (const auto& name : files_below(dir)) add(name);
+  out.push_back("manifest.json");
+  return json(out);
 }
 
 json Server::Impl::job_json(const JobRecord& r, bool full) {
@@ -412,11 +494,18 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
   }
   if (r.state == JobState::Done && !r.manifest.empty()) {
     const json m = json::parse(r.manifest, nullptr, false);
-    json files = json::array();
-    if (m.is_object() && m.contains("files"))
-      for (const auto& f : m["files"]) files.push_back(f.value("path", ""));
-    files.push_back("manifest.json");
-    o["files"] = files;
+    o["files"] = job_files(r.id, m);
+    // What was changed on the way to the files (clamp_f16, a sanitized environment), naming them
+    // inside the job's folder as the file list does.
+    const std::string folder = (jobs_dir() / r.id).string() + "/";
+    json warnings = json::array();
+    if (m.is_object() && m.contains("warnings") && m["warnings"].is_array())
+      for (const auto& w : m["warnings"]) {
+        std::string text = w.is_string() ? w.get<std::string>() : w.dump();
+        for (size_t at = text.find(folder); at != std::string::npos; at = text.find(folder, at)) text.erase(at, folder.size());
+        warnings.push_back(text);
+      }
+    o["warnings"] = warnings;
     o["manifest"] = m;
   }
   return o;
@@ -428,11 +517,11 @@ void Server::Impl::get_job(const httplib::Request& req, httplib::Response& res) 
   try {
     wait = number_param(req, "wait", 0, 0, 60);
   } catch (const Error& e) {
-    return reply_error(res, 400, e.what());
+    return fail(res, 400, e.what());
   }
   if (wait > 0) scheduler->wait_finished(id, wait);
   const auto r = store->get(id);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   reply_json(res, 200, job_json(*r, true));
 }
 
@@ -440,7 +529,7 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
   const std::string id = req.matches[1];
   const bool purge = req.has_param("purge") && req.get_param_value("purge") != "0" && req.get_param_value("purge") != "false";
   switch (scheduler->cancel(id)) {
-    case CancelResult::Unknown: return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+    case CancelResult::Unknown: return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
     case CancelResult::Cancelled: {
       json o;
       o["id"] = id;
@@ -458,9 +547,9 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
     case CancelResult::Finished: break;
   }
   const auto r = store->get(id, false);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (!purge)
-    return reply_error(res, 409, "job " + id + " already finished (" + job_state_name(r->state) +
+    return fail(res, 409, "job " + id + " already finished (" + job_state_name(r->state) +
                                      "); DELETE /v1/jobs/" + id + "?purge=1 removes it and its files");
   std::error_code ec;
   fs::remove_all(jobs_dir() / id, ec);
@@ -474,22 +563,28 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
 void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1], name = req.matches[2];
   const auto r = store->get(id, false);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
+  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (r->state != JobState::Done)
-    return reply_error(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
+    return fail(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
                        "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
   const fs::path given(name);
   bool up = false;
   for (const auto& part : given) up |= part == "..";
   if (given.is_absolute() || up)
-    return reply_error(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
+    return fail(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
   const std::string path = roots->data_file(jobs_dir() / id, name);
-  if (path.empty()) return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+  if (path.empty()) {
+    std::error_code ec;
+    if (fs::symlink_status((jobs_dir() / id / given).lexically_normal(), ec).type() == fs::file_type::directory)
+      return fail(res, 404, "job " + id + ": '" + name.substr(0, 80) +
+                                "' is a folder; its files are listed one by one in the job's \"files\" (GET /v1/jobs/" + id + ")");
+    return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+  }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   struct stat st {};
   if (fd < 0 || ::fstat(fd, &st) != 0) {
     if (fd >= 0) ::close(fd);
-    return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+    return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
   }
   const auto size = static_cast<size_t>(st.st_size);
   res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(fs::path(name).filename().string()) + "\"");
@@ -513,66 +608,43 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
   try {
     const json body = io::parse_json(req.body.empty() ? std::string("{}") : req.body, origin);
     if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
-    Params params;
-    std::string scene, environment = kDefaultEnvironment, pixel, precision = "fp32", device;
-    bool sanitize = false;
-    auto text = [&](const json& v, const std::string& key) {
-      if (!v.is_string()) throw Error(origin + ": " + key + ": must be a string (got " + io::json_excerpt(v) + ")");
-      return v.get<std::string>();
-    };
+    // JSON values as the options' types take them; their checks, names and messages are the
+    // parser's, shared with the command line and Python.
+    Params given;
     for (auto it = body.begin(); it != body.end(); ++it) {
-      const std::string& key = it.key();
-      if (key == "scene") scene = text(*it, key);
-      else if (key == "environment" || key == "env") environment = text(*it, key);
-      else if (key == "pixel") pixel = text(*it, key);
-      else if (key == "precision") precision = text(*it, key);
-      else if (key == "device") device = text(*it, key);
-      else if (key == "sanitize") {
-        if (!it->is_boolean()) throw Error(origin + ": sanitize: must be true or false");
-        sanitize = it->get<bool>();
-      } else if (const ParamDef* d = find_param_def(plan_schema(), key)) {
-        ParamValue v;
-        if (it->is_boolean()) v = it->get<bool>();
-        else if (it->is_number()) v = it->get<double>();
-        else if (it->is_string()) v = it->get<std::string>();
-        else throw Error(origin + ": " + key + ": must be a number, a string or a boolean (got " + io::json_excerpt(*it) + ")");
-        check_param(*d, v, origin + ": " + key);
-        params.push_back({key, v});
-      } else {
-        std::string names = "scene, environment, sanitize, pixel, precision, device";
-        for (const auto& def : plan_schema()) names += ", " + def.name;
-        throw Error(origin + ": " + key.substr(0, 60) + ": unknown field (expected " + names + ")");
-      }
+      const std::string key = it.key() == "env" ? std::string("environment") : it.key();
+      ParamValue v;
+      if (it->is_boolean()) v = it->get<bool>();
+      else if (it->is_number()) v = it->get<double>();
+      else if (it->is_string()) v = it->get<std::string>();
+      else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
+        v = it->get<std::vector<double>>();
+      else throw Error(origin + ": " + key.substr(0, 60) + ": must be a number, a string, a boolean or a list of numbers (got " +
+                       io::json_excerpt(*it) + ")");
+      given.push_back({key, v});
     }
-    PlanOptions po = plan_options_from_params(params, false);
-    po.environment = environment;
-    po.sanitize = sanitize;
-    if (!pixel.empty() && pixel != "f16" && pixel != "f32") throw Error(origin + ": pixel: must be f16 or f32 (got '" + pixel.substr(0, 20) + "')");
-    po.pixel = pixel;
-    try {
-      po.precision = precision_from_name(precision);
-    } catch (const Error& e) {
-      throw Error(origin + ": precision: " + e.what());
-    }
-    po.device = device;
-    if (!scene.empty()) {
-      const std::string path = roots->input_file(scene, origin + ": scene");
+    OptionNaming naming;
+    naming.prefix = origin;
+    const BakeOptions options = parse_bake_options(given, naming);
+    if (!options.scene.empty()) {
+      const std::string path = roots->input_file(options.scene, origin + ": scene");
       const std::string bytes = io::read_text_file(path, "scene");
       // Parsed from memory with no base folder: the server looks at no file the scene refers to.
       const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-      const Scene s = glb ? parse_glb(bytes, scene, "") : parse_scene_json(bytes, scene, "");
-      plan = plan_scene(s, po);
+      const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
+      plan = plan_scene(s, options.plan);
     } else {
-      plan = plan_default(po);
+      plan = plan_default(options.plan);
     }
     doc = json::parse(job_to_json(plan.job));
   } catch (const Error& e) {
-    return reply_error(res, 400, e.what());
+    return fail(res, 400, e.what());
   }
   submit_document(std::move(doc), origin, req, res);
 }
 
 void Server::Impl::post_table(const httplib::Request& req, httplib::Response& res) {
+  const auto received = std::chrono::steady_clock::now();
   const std::string origin = "table";
   // Messages name the fields as "table.size", not as the job a table is wrapped in.
   auto local = [](std::string m) {
@@ -613,7 +685,7 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
                   human_bytes(double(opt.table_max_bytes)) + "); submit it as a job (POST /v1/jobs)");
     environment = table_kind_uses_environment(t.kind) ? (t.environment.empty() ? job.environment : t.environment) : "";
   } catch (const Error& e) {
-    return reply_error(res, 400, local(e.what()));
+    return fail(res, 400, local(e.what()));
   }
   // The files the table reads are part of its key: their size and modification time.
   std::string inputs_key;
@@ -632,16 +704,30 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
                       std::to_string(st.st_mtim.tv_nsec);
     }
   }
+  // How the file is written is part of the key too: every output parameter (symbol, png_range,
+  // clamp_f16: a request without clamp_f16 must not get a clamped file).
+  std::string outputs_key;
+  for (const auto& d : table_schema(t.kind))
+    if (d.output_only && t.find(d.name)) outputs_key += "|" + d.name + "=" + param_value_text(*t.find(d.name));
   const std::string cache_key = table_bake_key(t) + inputs_key + "|format=" + t.format + "|pixel=" + t.pixel + "|output=" +
-                                fs::path(t.output).filename().string() + "|symbol=" + t.text("symbol") +
-                                "|sanitize=" + (sanitize ? "1" : "0");
+                                fs::path(t.output).filename().string() + outputs_key + "|sanitize=" + (sanitize ? "1" : "0");
+  const auto checked = std::chrono::steady_clock::now();
   auto send = [&](const TableReply& r, bool hit) {
     metrics.count_table(hit);
     res.status = 200;
     res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(r.filename) + "\"");
     res.set_header("X-Brdfbake-Summary", header_text(r.summary));
     if (!r.error_bound.empty()) res.set_header("X-Brdfbake-Error-Bound", r.error_bound);
+    for (const auto& w : r.warnings) res.set_header("X-Brdfbake-Warning", header_text(w));
     res.set_header("X-Brdfbake-Cache", hit ? "hit" : "miss");
+    // Where the time went (docs/SERVICE.md): checking the request, then on a miss the device task's
+    // steps, and the whole handler; what a client measures beyond it is HTTP.
+    char total[96];
+    std::snprintf(total, sizeof total, "request;dur=%.3f", ms_between(received, checked));
+    std::string timing = total;
+    if (!hit && !r.timing.empty()) timing += ", " + r.timing;
+    std::snprintf(total, sizeof total, ", handler;dur=%.3f", ms_between(received, std::chrono::steady_clock::now()));
+    res.set_header("Server-Timing", timing + total);
     res.set_header("X-Content-Type-Options", "nosniff");
     res.set_content(r.bytes, r.content_type);
   };
@@ -650,73 +736,62 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
 
   auto reply = std::make_shared<TableReply>();
   auto abandoned = std::make_shared<std::atomic<bool>>(false);
-  const fs::path tmp = tmp_dir() / random_hex();
   std::future<void> done;
   try {
-    done = scheduler->run_now(key, [this, t, environment, sanitize, reply, abandoned, tmp](Backend& backend) {
+    const auto queued = std::chrono::steady_clock::now();
+    const std::string label = table_kind_name(t.kind) + (t.find("size") ? " " + param_value_text(*t.find("size")) : std::string());
+    done = scheduler->run_now(key, label, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
       if (*abandoned) return;  // the client stopped waiting before the device was free
-      std::optional<EnvImage> env;
-      BakeInputs inputs;
-      if (!environment.empty()) {
-        EnvLoadOptions lo;
-        lo.sanitize = sanitize;
-        env = load_environment(environment, lo);
-        inputs.environment = &*env;
-      }
-      const BakeResult r = bake_table(t, backend, inputs);
-      metrics.observe_bake(table_kind_name(t.kind), r.seconds);
-      std::error_code ec;
-      struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-          std::error_code e;
-          fs::remove_all(dir, e);
-        }
-      } cleanup{tmp};
-      fs::create_directories(tmp, ec);
-      TableRequest w = t;
-      w.output = (tmp / fs::path(t.output).filename()).string();
-      write_result(r, w, w.output);
-      int files = 0;
-      for (const auto& e : fs::directory_iterator(tmp, ec)) (void)e, ++files;
-      if (files != 1)
-        throw Error("table.output: '" + t.output + "' is written as " + std::to_string(files) +
+      const auto began = std::chrono::steady_clock::now();
+      TableRequest request = t;
+      request.environment = environment;
+      TableRunOptions o;
+      o.delivery = TableDelivery::Bytes;
+      o.backend = &backend;
+      o.load.sanitize = sanitize;
+      o.scratch_dir = tmp_dir().string();
+      o.stop_requested = [abandoned] { return abandoned->load(); };  // a 504 stops the bake at its next step
+      TableRun run = run_table(request, o);
+      metrics.observe_bake(table_kind_name(t.kind), run.result.seconds);
+      std::vector<DeliveredFile>& files = run.delivery.files;
+      if (files.size() != 1)
+        throw Error("table.output: '" + t.output + "' is written as " + std::to_string(files.size()) +
                     " files (a sidecar); POST /v1/tables returns one: submit a job, or choose another format");
-      std::ifstream in(w.output, std::ios::binary);
-      std::ostringstream bytes;
-      bytes << in.rdbuf();
-      reply->bytes = bytes.str();
-      reply->content_type = content_type(w.output);
+      reply->bytes = std::move(files.front().bytes);
+      reply->content_type = content_type(t.output);
       reply->filename = fs::path(t.output).filename().string();
-      reply->summary = r.summary;
-      if (r.error_bound) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.3g", *r.error_bound);
-        reply->error_bound = b;
-      }
-      reply->seconds = r.seconds;
+      reply->summary = run.result.summary;
+      reply->error_bound = run.delivery.error_bound_text;  // what the file records
+      reply->warnings = run.warnings;
+      reply->seconds = run.result.seconds;
+      char timing[160];
+      std::snprintf(timing, sizeof timing, "queue;dur=%.3f, inputs;dur=%.3f, bake;dur=%.3f, device;dur=%.3f, deliver;dur=%.3f",
+                    ms_between(queued, began), run.input_seconds * 1e3, run.bake_seconds * 1e3,
+                    run.result.device_seconds * 1e3, run.deliver_seconds * 1e3);
+      reply->timing = timing;
     });
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
-    return reply_error(res, 503, e.what());
+    return fail(res, 503, e.what());
   }
   if (done.wait_for(std::chrono::duration<double>(opt.table_timeout)) != std::future_status::ready) {
     *abandoned = true;
     char m[160];
     std::snprintf(m, sizeof m, "table: not ready within %g s (--table-timeout); the device is busy or the table is large: "
                   "submit it as a job", opt.table_timeout);
-    return reply_error(res, 504, m);
+    return fail(res, 504, m);
   }
   try {
     done.get();
   } catch (const std::future_error&) {
-    return reply_error(res, 503, "the server is shutting down");
-  } catch (const ClError& e) {
-    return reply_error(res, 500, local(e.what()));
+    return fail(res, 503, "the server is shutting down");
+  } catch (const RuntimeFailure& e) {
+    // The server failed, not the request: its storage is full (507), or the device (500).
+    return fail(res, storage_full(e.what()) ? 507 : 500, local(e.what()));
   } catch (const Error& e) {
-    return reply_error(res, 400, local(e.what()));
+    return fail(res, 400, local(e.what()));
   } catch (const std::exception& e) {
-    return reply_error(res, 500, e.what());
+    return fail(res, 500, e.what());
   }
   if (cache) cache->put(cache_key, reply);
   send(*reply, false);
@@ -747,7 +822,18 @@ std::string Server::Impl::metrics_text() {
 }
 
 void Server::Impl::routes() {
-  http.new_task_queue = [n = opt.threads] { return new httplib::ThreadPool(static_cast<size_t>(n)); };
+  // Slow and heavy clients (docs/SERVICE.md): requests are received whole before a worker takes
+  // them, within --io-timeout each; connections are capped; a reserve answers health and status.
+  ConnectionLimits limits;
+  limits.request_seconds = opt.io_timeout;
+  limits.write_stall_seconds = opt.io_timeout;
+  limits.idle_seconds = 5;
+  limits.max_body = opt.max_body;
+  limits.workers = opt.threads;
+  limits.max_connections = opt.max_connections;
+  limits.max_client_connections = opt.max_client_connections;
+  http.set_limits(limits);
+  http.set_on_refused([this](int status) { metrics.count_request(status); });
   http.set_payload_max_length(opt.max_body);
   http.set_tcp_nodelay(true);
   http.set_keep_alive_max_count(1000);
@@ -763,29 +849,29 @@ void Server::Impl::routes() {
     listen_fd = sock;
   });
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (authorized(req)) return httplib::Server::HandlerResponse::Unhandled;
+    if (authorized(req) || web_public_route(req.method, req.path)) return httplib::Server::HandlerResponse::Unhandled;
     res.set_header("WWW-Authenticate", "Bearer realm=\"brdfbake\"");
-    reply_error(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
+    fail(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
     return httplib::Server::HandlerResponse::Handled;
   });
   http.set_error_handler([this](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     if (res.status == 413)
-      reply_error(res, 413, "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
+      fail(res, 413, "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
     else if (res.status == 404)
-      reply_error(res, 404, "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
+      fail(res, 404, "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
     else if (res.status == 400)
-      reply_error(res, 400, "malformed HTTP request");
+      fail(res, 400, "malformed HTTP request");
     else
-      reply_error(res, res.status, "HTTP error " + std::to_string(res.status));
+      fail(res, res.status, "HTTP error " + std::to_string(res.status));
   });
-  http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+  http.set_exception_handler([this](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
     try {
       std::rethrow_exception(ep);
     } catch (const std::exception& e) {
-      reply_error(res, 500, e.what());
+      fail(res, 500, e.what());
     } catch (...) {
-      reply_error(res, 500, "internal error");
+      fail(res, 500, "internal error");
     }
   });
   http.set_logger([this](const httplib::Request&, const httplib::Response& res) { metrics.count_request(res.status); });
@@ -797,6 +883,7 @@ void Server::Impl::routes() {
     h["uptime_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     h["queued"] = scheduler->queued_total();
     h["running"] = scheduler->running_total();
+    h["tables_running"] = scheduler->tables_running();
     bool warm = true;
     const auto devices = scheduler->devices();
     for (const auto& d : devices) warm = warm && d.warm;
@@ -815,6 +902,7 @@ void Server::Impl::routes() {
       e["warm"] = d.warm;
       e["busy"] = d.busy;
       e["running"] = d.running.empty() ? json(nullptr) : json(d.running);
+      e["table"] = d.table.empty() ? json(nullptr) : json(d.table);
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
       a.push_back(e);
@@ -834,7 +922,7 @@ void Server::Impl::routes() {
       doc = io::parse_json(req.body, origin);
       if (!doc.is_object()) throw Error(origin + ": a job is a JSON object with a \"tables\" array");
     } catch (const Error& e) {
-      return reply_error(res, 400, e.what());
+      return fail(res, 400, e.what());
     }
     submit_document(std::move(doc), origin, req, res);
   });
@@ -850,7 +938,7 @@ void Server::Impl::routes() {
       }
       limit = static_cast<int>(number_param(req, "limit", 100, 1, 1000000));
     } catch (const Error& e) {
-      return reply_error(res, 400, e.what());
+      return fail(res, 400, e.what());
     }
     json a = json::array();
     for (const auto& r : store->list(state, limit)) a.push_back(job_json(r, false));
@@ -861,6 +949,7 @@ void Server::Impl::routes() {
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { get_job(req, res); });
   http.Delete(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))", [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
+  register_web_routes(http, WebContext{store.get(), roots.get(), jobs_dir(), tmp_dir()});  // GET / (web_routes.hpp)
 }
 
 Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {

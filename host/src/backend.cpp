@@ -19,31 +19,6 @@ namespace brdfbake {
 
 namespace {
 
-class OpenClEvaluator final : public PairEvaluator {
- public:
-  OpenClEvaluator(Device& device, BrdfModel model, const std::vector<Material>& materials, const EvalOptions& options)
-      : evaluator_(device, model, materials, options) {}
-  void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
-    evaluator_.eval(pairs, count, out, timing);
-  }
-
- private:
-  BrdfEvaluator evaluator_;
-};
-
-class ReferenceEvaluator final : public PairEvaluator {
- public:
-  ReferenceEvaluator(BrdfModel model, std::vector<Material> materials) : model_(model), materials_(std::move(materials)) {}
-  void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
-    for (std::size_t m = 0; m < materials_.size(); ++m) eval_reference(model_, materials_[m], pairs, count, out + 3 * m * count);
-    if (timing) *timing = {};
-  }
-
- private:
-  BrdfModel model_;
-  std::vector<Material> materials_;
-};
-
 // The device is opened on first use: work that needs none (SH of an environment, which is computed
 // on the host) opens no OpenCL platform at all.
 class OpenClBackend final : public Backend {
@@ -62,26 +37,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film(opened(), s, t); }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& source_done = {}) override {
-    return prefilter_environment(opened(), env, s, t, p, source_done);
-  }
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    if (s.cube_size == 0) {  // SH alone: on the host, exact for the input (docs/CONVENTIONS.md)
-      IrradianceResult r;
-      r.sh = project_sh(env, s.sh_order, s.window);
-      if (p) p(1.0, "done");
-      return r;
-    }
-    return compute_irradiance(opened(), env, s, p);
-  }
-  std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
-                                           const EvalOptions& options) override {
-    return std::make_unique<OpenClEvaluator>(opened(), model, materials, options);
-  }
-  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate_merl(opened(), s, t); }
-  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override { return brdfbake::tabulate(opened(), s, t); }
 
  private:
   Device& opened() {
@@ -100,20 +55,6 @@ class ReferenceBackend final : public Backend {
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
 
-  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override { return bake_thin_film_reference(s, t); }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& = {}) override {
-    return prefilter_environment_reference(env, s, t, p);
-  }
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    return compute_irradiance_reference(env, s, p);
-  }
-  std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
-                                           const EvalOptions&) override {
-    return std::make_unique<ReferenceEvaluator>(model, materials);
-  }
-  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override { return tabulate_merl_reference(s, t); }
-  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override { return tabulate_reference(s, t); }
 };
 
 }  // namespace

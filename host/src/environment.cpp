@@ -12,10 +12,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "io/image_file.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake {
 namespace {
@@ -31,35 +33,82 @@ struct RgbImage {
   int width = 0, height = 0;
   std::vector<float> rgb;
   std::string description;
+  std::vector<std::string> notes;  // EnvImage::notes
 };
 
-// The largest environment read, in pixels (16384 x 16384).
-constexpr uint64_t kMaxEnvironmentPixels = uint64_t(1) << 28;
-
-// Level 0 of the first image of a file (io::read_image), as RGB float: R, G, B found by name, else
-// the first three channels; one channel is grey.
 uint64_t budget_of(const EnvLoadOptions& o) { return o.memory_budget > 0 ? o.memory_budget : default_memory_budget(); }
 
+// Which channels of an image hold R, G and B (the same for grey). Channels are found by name (R, G,
+// B, or Y for grey; a layer's "diffuse.R" counts as R); an image without names (or with
+// OpenImageIO's defaults for data that has none) is grey, grey and alpha, or RGB by its count. An
+// image with names but no colour channel (only alpha, depth, ...) is refused naming what it holds:
+// using alpha as grey radiance would be a silent wrong value.
+void colour_channels(const io::FloatImage& image, const std::string& path, int ch[3]) {
+  const int nch = image.channels;
+  auto name_of = [&](int c) { return size_t(c) < image.channel_names.size() ? image.channel_names[size_t(c)] : std::string(); };
+  auto base_of = [](std::string n) {
+    const size_t dot = n.rfind('.');
+    if (dot != std::string::npos) n = n.substr(dot + 1);
+    for (char& x : n) x = static_cast<char>(std::toupper(static_cast<unsigned char>(x)));
+    return n;
+  };
+  bool named = false;
+  for (int c = 0; c < nch; ++c) {
+    const std::string n = name_of(c);
+    // OpenImageIO's names for channels a file leaves unnamed beyond the fourth: channelN
+    if (!n.empty() && n.rfind("channel", 0) != 0) named = true;
+  }
+  if (!named) {
+    ch[0] = 0;
+    ch[1] = nch >= 3 ? 1 : 0;
+    ch[2] = nch >= 3 ? 2 : 0;
+    return;
+  }
+  int r = -1, g = -1, b = -1, y = -1;
+  for (int c = 0; c < nch; ++c) {
+    const std::string n = base_of(name_of(c));
+    if (n == "R" && r < 0) r = c;
+    if (n == "G" && g < 0) g = c;
+    if (n == "B" && b < 0) b = c;
+    if ((n == "Y" || n == "L") && y < 0) y = c;
+  }
+  if (r >= 0 && g >= 0 && b >= 0) {
+    ch[0] = r;
+    ch[1] = g;
+    ch[2] = b;
+    return;
+  }
+  if (y >= 0 && r < 0 && g < 0 && b < 0) {
+    ch[0] = ch[1] = ch[2] = y;
+    return;
+  }
+  std::string found;
+  for (int c = 0; c < nch && c < 12; ++c) found += (c ? ", " : "") + name_of(c).substr(0, 24);
+  if (nch > 12) found += ", ...";
+  throw Error("environment '" + path + "' has no colour channels (it holds " + found +
+              "): expected R, G and B, or Y for grey");
+}
+
+// Level 0 of the first image of a file (io::read_image), as RGB float: R, G, B found by name,
+// else by their count (colour_channels).
 RgbImage read_rgb_image(const std::string& path, uint64_t memory_budget) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("cannot read environment '" + path + "': no such file");
-  if (fs::is_directory(path, ec)) throw Error("cannot read environment '" + path + "': it is a folder");
+  // A FIFO or a device is refused here without opening it: decoders need a file (special_files.hpp).
+  if (const std::string problem = io::input_problem(path, io::Streams::No); !problem.empty())
+    throw Error("cannot read environment '" + path + "': " + problem);
   io::FloatImage image;
   try {
     image = io::read_image(path, io::ImageLimits{kMaxEnvironmentPixels, memory_budget});
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const RuntimeFailure& e) {
+    throw IoError("cannot read environment '" + path + "': " + e.what());
   } catch (const Error& e) {
     throw Error("cannot read environment '" + path + "': " + e.what());
   }
   const int w = image.width, h = image.height, nch = image.channels;
   if (w < 1 || h < 1 || nch < 1) throw Error("environment '" + path + "' has no pixels");
-  int ch[3] = {0, nch > 1 ? 1 : 0, nch > 2 ? 2 : 0};
-  if (nch == 2) ch[1] = ch[2] = 0;
-  for (int c = 0; c < nch; ++c) {
-    const std::string& name = image.channel_names.size() > size_t(c) ? image.channel_names[size_t(c)] : "";
-    if (name == "R" || name == "r") ch[0] = c;
-    if (name == "G" || name == "g") ch[1] = c;
-    if (name == "B" || name == "b") ch[2] = c;
-  }
+  int ch[3] = {0, 0, 0};
+  colour_channels(image, path, ch);
   RgbImage out;
   out.width = w;
   out.height = h;
@@ -72,6 +121,7 @@ RgbImage read_rgb_image(const std::string& path, uint64_t memory_budget) {
         out.rgb[3 * p + c] = image.pixels[p * static_cast<size_t>(nch) + static_cast<size_t>(ch[c])];
   }
   out.description = image.description;
+  if (!image.transfer_note.empty()) out.notes.push_back("'" + path + "': " + image.transfer_note);
   return out;
 }
 
@@ -162,6 +212,7 @@ EnvImage load_faces(const std::vector<std::string>& files, const std::string& sp
                   " but '" + files[0] + "' is " + std::to_string(s) + "x" + std::to_string(s));
     }
     env.rgb.insert(env.rgb.end(), img.rgb.begin(), img.rgb.end());
+    env.notes.insert(env.notes.end(), img.notes.begin(), img.notes.end());
   }
   env.description = "six faces of " + std::to_string(s) + "x" + std::to_string(s);
   return env;
@@ -382,6 +433,8 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   if (!faces.empty()) {
     env = load_faces(faces, spec, budget_of(options));
   } else if (ends_with(spec, ".ktx2")) {
+    if (const std::string problem = io::input_problem(spec, io::Streams::No); !problem.empty())
+      throw Error("cannot read environment '" + spec + "': " + problem);
     // The reader holds the file (its sizes checked against the file's length) and level 0 as RGB
     // floats: at most 3 times the file's size (binary16 RGB, 6 bytes a texel, becomes 12).
     std::error_code ec;
@@ -393,6 +446,7 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
     env = read_ktx2_cube(spec, 0);
   } else {
     RgbImage img = read_rgb_image(spec, budget_of(options));
+    env.notes = img.notes;
     if (img.width == 2 * img.height) {
       env.layout = EnvImage::Layout::Equirect;
       env.width = img.width;
@@ -401,9 +455,11 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
       env.description = "equirect: " + img.description;
     } else if (3 * img.width == 4 * img.height && img.width % 4 == 0) {
       env = cube_from_cross(img, true);
+      env.notes = img.notes;
       env.description = "horizontal cross: " + img.description;
     } else if (4 * img.width == 3 * img.height && img.width % 3 == 0) {
       env = cube_from_cross(img, false);
+      env.notes = img.notes;
       env.description = "vertical cross: " + img.description;
     } else {
       throw Error("environment '" + spec + "' is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
@@ -415,11 +471,24 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
   return env;
 }
 
+void check_environment_size(uint64_t width, uint64_t height, const std::string& source, const EnvLoadOptions& options) {
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  if (width > kMaxEnvironmentPixels || height > kMaxEnvironmentPixels || width * height > kMaxEnvironmentPixels)
+    throw Error("environment '" + source + "' is " + size + " (" + std::to_string(width * height) +
+                " pixels): more than the limit of " + std::to_string(kMaxEnvironmentPixels) +
+                " pixels (16384x16384); scale it down first");
+  const uint64_t need = width * height * 3 * sizeof(float) * 2, budget = budget_of(options);
+  if (need > budget)
+    throw Error("environment '" + source + "' is " + size + ": taking it in needs " + io::mib_text(need) +
+                ", above the memory budget of " + io::mib_text(budget) + " (half the memory this process may use); scale it down first");
+}
+
 EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
                                    const EnvLoadOptions& options) {
   if (height < 1 || width != 2 * height)
     throw Error("environment '" + source + "' is " + std::to_string(width) + "x" + std::to_string(height) +
                 ": an equirect must be twice as wide as it is high");
+  check_environment_size(static_cast<uint64_t>(width), static_cast<uint64_t>(height), source, options);
   if (rgb.size() != 3u * static_cast<size_t>(width) * static_cast<size_t>(height))
     throw Error("environment '" + source + "': " + std::to_string(rgb.size()) + " values for " +
                 std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");
@@ -434,14 +503,24 @@ EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb
   return env;
 }
 
+std::vector<std::string> environment_files(const std::string& spec) {
+  if (spec.empty() || spec.rfind("builtin:", 0) == 0) return {};
+  std::vector<std::string> files = face_files(spec);
+  if (files.empty()) files.push_back(spec);
+  return files;
+}
+
+void check_builtin_environment(const std::string& spec) {
+  if (spec.rfind("builtin:", 0) != 0) return;
+  const std::string name = spec.substr(8);
+  for (const auto& n : builtin_environment_names())
+    if (n == name) return;
+  throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
+}
+
 void check_environment_source(const std::string& spec) {
   if (spec.empty()) throw Error("no environment given (a file, six files, or builtin:studio / builtin:sun)");
-  if (spec.rfind("builtin:", 0) == 0) {
-    const std::string name = spec.substr(8);
-    for (const auto& n : builtin_environment_names())
-      if (n == name) return;
-    throw Error("unknown builtin environment '" + spec.substr(0, 80) + "' (expected builtin:studio or builtin:sun)");
-  }
+  if (spec.rfind("builtin:", 0) == 0) return check_builtin_environment(spec);
   std::vector<std::string> files = face_files(spec);
   if (files.empty()) files.push_back(spec);
   namespace fs = std::filesystem;
@@ -449,6 +528,8 @@ void check_environment_source(const std::string& spec) {
     std::error_code ec;
     if (!fs::exists(f, ec)) throw Error("cannot read environment '" + f + "': no such file");
     if (fs::is_directory(f, ec)) throw Error("cannot read environment '" + f + "': it is a folder");
+    if (const std::string problem = io::input_problem(f, io::Streams::No); !problem.empty())
+      throw Error("cannot read environment '" + f + "': " + problem);
     if (::access(f.c_str(), R_OK) != 0) throw Error("cannot read environment '" + f + "': permission denied");
   }
 }

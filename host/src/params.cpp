@@ -63,7 +63,6 @@ using detail::split;  // text.hpp
 }  // namespace
 
 std::string ParamDef::cli_name() const {
-  if (!cli.empty()) return cli;
   std::string s = name;
   std::replace(s.begin(), s.end(), '_', '-');
   return s;

@@ -23,14 +23,14 @@ without the GIL (calls from several threads share a device one call at a time). 
 
 import os as _os
 
-# The OpenImageIO module installed beside the extension (PNG, TIFF, JPEG... environments): the library
-# looks for it beside the executable (here the interpreter) unless BRDFBAKE_OIIO_MODULE names it.
+# The OpenImageIO module installed beside the extension (TIFF, JPEG, PFM... environments): named
+# explicitly (the library, inside the extension, would look in this folder too, and nowhere else).
 _oiio = _os.path.join(_os.path.dirname(__file__), "brdfbake_oiio.so")
 if _os.path.isfile(_oiio):
     _os.environ.setdefault("BRDFBAKE_OIIO_MODULE", _oiio)
 del _oiio
 
-from ._errors import ArgumentError, DeviceError, Error, InputError, NotAvailableError
+from ._errors import ArgumentError, BakeWarning, DeviceError, Error, InputError, NotAvailableError
 from . import _brdfbake
 from ._api import (
     Environment,
@@ -55,7 +55,7 @@ globals().update(_FUNCTIONS)
 
 # `eval` stays out of the star-import, which would shadow the builtin: use brdfbake.eval.
 __all__ = [
-    "ArgumentError", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
+    "ArgumentError", "BakeWarning", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
     "bake", "bake_scene", "devices", "function_of", "kinds", "load_environment", "plan_options", "run", "schema", "validate",
     *sorted(name for name in _FUNCTIONS if name != "eval"),
 ]

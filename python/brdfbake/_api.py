@@ -16,12 +16,23 @@ import json
 import math
 import numbers
 import os
+import warnings
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
 import numpy as np
 
 from . import _brdfbake as _core
-from ._errors import ArgumentError, InputError
+from ._errors import ArgumentError, BakeWarning, InputError
+
+# Every kind's schema as ``brdfbake kinds --json`` prints it: one serialisation, the library's.
+_KINDS_JSON = {k["kind"]: k for k in json.loads(_core.kinds_json())["kinds"]}
+
+
+def _schema_of(kind: str) -> List[Dict[str, Any]]:
+    if kind not in _KINDS_JSON:
+        _core.validate(kind, [], {}, "schema")  # raises the library's message naming the kinds
+    return json.loads(json.dumps(_KINDS_JSON[kind]["parameters"]))  # a copy the caller may change
+
 
 # ---- Results -------------------------------------------------------------------------------------
 
@@ -96,6 +107,20 @@ class Result:
         return self._core.error_bound
 
     @property
+    def warnings(self) -> List[str]:
+        """What was changed on the way to the files written from this result (``output=`` and every
+        ``save()``), e.g. values clamped by ``clamp_f16``; each was also emitted as a
+        :class:`brdfbake.BakeWarning`."""
+        return self._core.warnings
+
+    @property
+    def files(self) -> List[Dict[str, Any]]:
+        """The files written from this result, in order: ``path``, ``error_bound`` (what the file
+        records: the integration bound plus ``storage_error``, what its ``encoding`` adds) and
+        ``warnings``."""
+        return self._core.files
+
+    @property
     def details(self) -> Dict[str, str]:
         """What else the family reports (channels, levels, error against exact, ...)."""
         return self._core.details
@@ -137,10 +162,25 @@ class Result:
         return levels[0] if levels else None
 
     @property
-    def sh(self) -> Optional[Dict[str, Any]]:
-        """irradiance: ``order``, ``radiance`` and ``irradiance_over_pi`` (float64, (order**2, 3)),
-        ``window`` and ``window_weights``."""
-        return self._core.sh()
+    def sh(self):
+        """irradiance: the SH coefficients of E / pi in float64, shape (order**2, 3) (``array`` holds
+        them in float32); read-only. What they mean is in ``meta``: ``order``, ``basis``,
+        ``irradiance_definition``, ``window``, ``window_weights``. None for other kinds."""
+        return self._sh_array("irradiance_over_pi")
+
+    @property
+    def sh_radiance(self):
+        """irradiance: the SH coefficients of the radiance itself, L_lm (float64, (order**2, 3),
+        read-only; ``meta["radiance_definition"]``), before the cosine lobe and the window."""
+        return self._sh_array("radiance")
+
+    def _sh_array(self, key: str):
+        core = self._core.sh()
+        if core is None:
+            return None
+        a = np.asarray(core[key], dtype=np.float64)
+        a.flags.writeable = False
+        return a
 
     @property
     def preview(self) -> Optional[Dict[str, Any]]:
@@ -207,13 +247,19 @@ class Result:
         """
         path = _text_path(path, "save.path")
         params = [(k, _param_value(k, v, "save")) for k, v in output_params.items() if v is not None]
-        self._core.save(path, format or "", pixel or "", params)
+        _warn(self._core.save(path, format or "", pixel or "", params))
         return path
 
     def __repr__(self) -> str:
         a = self.array
         shape = [x.shape for x in a] if isinstance(a, list) else a.shape
         return f"<brdfbake.Result {self.kind}: {shape}, error bound {self.error_bound}>"
+
+
+def _warn(messages: List[str]) -> None:
+    """Emits what a write changed on the way to the file, at the caller of the public function."""
+    for m in messages:
+        warnings.warn(m, BakeWarning, stacklevel=3)
 
 
 # ---- Environments --------------------------------------------------------------------------------
@@ -278,6 +324,9 @@ def _equirect_array(a: np.ndarray, where: str) -> np.ndarray:
     if h < 1 or w != 2 * h:
         raise InputError(f"{where}.env: an equirect array must be twice as wide as it is high "
                          f"(got {w}x{h}, shape {a.shape})")
+    # The pixel limit and the memory budget, on the shape: before the array (perhaps a broadcast view
+    # of one value, which takes no memory yet) is converted and copied.
+    _core.check_environment_size(w, h, f"{where}.env: array {w}x{h}")
     with np.errstate(over="ignore"):  # float64 beyond float32's range becomes inf: refused (or sanitized) as such
         return np.ascontiguousarray(a, dtype=np.float32)
 
@@ -422,7 +471,7 @@ class _Family:
         self.kinds = [k["name"] for k in kinds]
         self.summaries = {k["name"]: k["summary"] for k in kinds}
         self.uses_environment = kinds[0]["uses_environment"]
-        self.schemas = {k: _core.schema(k) for k in self.kinds}
+        self.schemas = {k: _schema_of(k) for k in self.kinds}
         merged: Dict[str, Dict[str, Any]] = {}
         for k in self.kinds:
             for d in self.schemas[k]:
@@ -457,7 +506,7 @@ class _Family:
         for d in self.params:
             if d["name"] in positional:
                 continue
-            default = P.empty if d["required"] else d["default"]
+            default = P.empty if d["required"] else d.get("default")
             out.append(P(d["name"], P.KEYWORD_ONLY, default=default))
         if self.uses_environment:
             out.append(P("sanitize", P.KEYWORD_ONLY, default=False))
@@ -486,10 +535,10 @@ class _Family:
         if len(self.kinds) > 1:
             lines.append(f"  kind: {' | '.join(self.kinds)} (default {self.kinds[0]})")
         for d in self.params:
-            what = d["expectation"]
-            if d["default"] is not None:
+            what = d["expects"]
+            if d.get("default") is not None:
                 what += f", default {d['default']!r}"
-            elif d["default_text"]:
+            elif d.get("default_text"):
                 what += f", default {d['default_text']}"
             if d["required"]:
                 what += ", required"
@@ -531,11 +580,21 @@ def _pairs(wi: Any, wo: Any, where: str) -> np.ndarray:
             raise InputError(f"{where}.{name}: expected real numbers (got dtype {a.dtype})")
         if a.ndim not in (1, 2) or a.shape[-1] != 3:
             raise InputError(f"{where}.{name}: expected shape (n, 3) or (3,) (got {a.shape})")
-        arrays.append(a.astype(np.float64, copy=False))
+        arrays.append(a)
     try:
-        wi64, wo64 = np.broadcast_arrays(np.atleast_2d(arrays[0]), np.atleast_2d(arrays[1]))
+        shape = np.broadcast_shapes(np.atleast_2d(arrays[0]).shape, np.atleast_2d(arrays[1]).shape)
     except ValueError:
         raise InputError(f"{where}: wi {arrays[0].shape} and wo {arrays[1].shape} do not broadcast") from None
+    # The memory the pairs and their values take, on the broadcast shape: before a view (perhaps of
+    # one direction against a broadcast of billions) is converted and joined.
+    need = shape[0] * (6 * 8 + 3 * 8)
+    budget = _core.default_memory_budget()
+    if need > budget:
+        raise InputError(f"{where}: {shape[0]} pairs need {need / 2**30:.1f} GiB (float64 pairs and their values), "
+                         f"above the memory budget of {budget / 2**30:.1f} GiB (half the memory this process may "
+                         "use); evaluate them in parts")
+    arrays = [a.astype(np.float64, copy=False) for a in arrays]
+    wi64, wo64 = np.broadcast_arrays(np.atleast_2d(arrays[0]), np.atleast_2d(arrays[1]))
     pairs = np.ascontiguousarray(np.concatenate([wi64, wo64], axis=1))
     bad = ~np.isfinite(pairs).all(axis=1)
     if bad.any():
@@ -610,7 +669,9 @@ def _make_function(family: _Family) -> Callable[..., Result]:
         if family.is_eval:
             pairs = _pairs(inputs["wi"], inputs["wo"], where)
             params.append(("input", f"array of {len(pairs)} pairs"))
-        return Result(_core.bake(kind, params, common, where, env, pairs, progress))
+        result = Result(_core.bake(kind, params, common, where, env, pairs, progress))
+        _warn(result.warnings)
+        return result
 
     bake.__name__ = bake.__qualname__ = family.function
     bake.__signature__ = sig  # type: ignore[attr-defined]
@@ -684,7 +745,9 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
     ``job`` is a dict, a path to a job file, or the JSON text. ``output_dir`` overrides the job's own.
     Every file and manifest.json are written into a temporary folder beside ``output_dir`` and moved
     in at the end: a failure leaves the folder as it was. ``progress``, if given, is called with
-    ``{"bake", "bakes", "what", "fraction"}``.
+    ``{"bake", "bakes", "what", "fraction"}``. What the writes changed on request (``clamp_f16``) is
+    emitted as :class:`brdfbake.BakeWarning`, as ``brdfbake run`` prints it, and is in the
+    manifest's ``"warnings"``.
 
     >>> manifest = brdfbake.run({"brdfbake_job": 1, "tables": [{"kind": "ggx", "size": 64}]}, "out")
     >>> manifest["files"][0]["path"], manifest["files"][0]["error_bound"]
@@ -701,7 +764,8 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
         origin = "job"
     else:
         raise InputError(f"run.job: expected a job dict, a job file or JSON text (got {type(job).__name__})")
-    manifest = _core.run(text, is_path, origin, out, bool(sanitize), progress)
+    manifest, warned = _core.run(text, is_path, origin, out, bool(sanitize), progress)
+    _warn(warned)
     return json.loads(manifest)
 
 
@@ -743,9 +807,9 @@ def bake_scene(scene: "os.PathLike[str] | str | None" = None, output_dir: "os.Pa
 
 
 def plan_options() -> List[Dict[str, Any]]:
-    """The options of :func:`bake_scene` (the planner's, those of ``brdfbake bake``): name, type,
-    choices, default, help and the command-line option."""
-    return _core.plan_schema()
+    """The options of :func:`bake_scene` (the planner's, those of ``brdfbake bake``), described as
+    :func:`schema` describes a kind's parameters."""
+    return json.loads(_core.plan_schema_json())
 
 
 def devices() -> List[Dict[str, Any]]:
@@ -761,8 +825,11 @@ def kinds() -> List[Dict[str, Any]]:
 
 
 def schema(kind: str) -> List[Dict[str, Any]]:
-    """The parameters of a kind as the library declares them: name, type, range (lo, hi), choices,
-    default, help, required, output_only; the job fields, CLI options and function arguments."""
+    """The parameters of a kind as the library declares them, spelled as ``brdfbake kinds --json``
+    spells them: ``name``, ``option`` (the command line's), ``type`` (``integer``, ``number``,
+    ``name``, ``path``, ``flag``, ``rgb``, ``range``, ``integers``), ``expects`` (in words),
+    ``required``, ``output_only``, ``help``, and where they apply ``choices``, ``default``,
+    ``default_text``, ``min``, ``min_exclusive``, ``max``, ``max_items``."""
     if not isinstance(kind, str):
         raise InputError(f"schema.kind: must be a table kind name (got {type(kind).__name__})")
-    return _core.schema(kind)
+    return _schema_of(kind)

@@ -31,6 +31,13 @@ class NotAvailableError(Error, RuntimeError):
     """A table kind this build cannot bake."""
 
 
-for _cls in (Error, InputError, ArgumentError, DeviceError, NotAvailableError):
+class BakeWarning(UserWarning):
+    """Something was changed on the way to a file, on request: values beyond binary16's 65504
+    clamped (``clamp_f16=True``), an environment's NaN, infinite or negative pixels replaced. The
+    command-line tool prints the same line after ``warning:``; the result lists them too
+    (``Result.warnings``)."""
+
+
+for _cls in (Error, InputError, ArgumentError, DeviceError, NotAvailableError, BakeWarning):
     _cls.__module__ = "brdfbake"  # shown as brdfbake.InputError in tracebacks; pickled by that name
 del _cls

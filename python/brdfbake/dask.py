@@ -26,9 +26,11 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import socket
 import tempfile
 import time
+import warnings
 from typing import Any, Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
@@ -36,7 +38,7 @@ import numpy as np
 import brdfbake
 
 from ._api import _FAMILY_OF_KIND, _to_json
-from ._errors import InputError
+from ._errors import BakeWarning, InputError
 
 __all__ = ["Outcome", "Batch", "bake", "submit", "collect", "DevicePlugin"]
 
@@ -228,6 +230,40 @@ def _check_names(names: List[str]) -> None:
         seen.add(n)
 
 
+# A batch that will write more than this is announced with its estimate (a BakeWarning) before it
+# starts: 64 MERL tables are 2.1 GiB, 1000 are 33 GiB.
+LARGE_OUTPUT_BYTES = 1 << 30
+_MERL_VALUES = 90 * 90 * 180 * 3
+
+
+def _table_bytes(kind: str, resolved: Dict[str, Any], output_format: Optional[str]) -> Optional[int]:
+    """The bytes one table of the batch writes (`resolved`: the request brdfbake.validate returns), where the kind's size is known before baking (MERL
+    tables: 90 x 90 x 180 x 3 doubles after MERL's three int32 dimensions, floats in .npy); None
+    otherwise."""
+    if kind == "tabulate" and resolved.get("parameters", {}).get("layout") == "merl":
+        return _MERL_VALUES * 4 + 128 if output_format == "npy" else _MERL_VALUES * 8 + 12  # + the headers
+    return None
+
+
+def _gib(n: float) -> str:
+    return f"{n / (1 << 30):.1f} GiB" if n >= (1 << 30) else f"{n / (1 << 20):.0f} MiB"
+
+
+def _check_output_size(per_table: Optional[int], count: int, output_root: str) -> None:
+    """Refuses a batch whose estimated output exceeds the free space under output_root, and warns
+    (BakeWarning) above LARGE_OUTPUT_BYTES, before anything is baked."""
+    if per_table is None or count == 0:
+        return
+    total = per_table * count
+    free = shutil.disk_usage(output_root).free
+    what = f"{count} tables of {_gib(per_table)}, about {_gib(total)} under {output_root}"
+    if total > free:
+        raise InputError(f"brdfbake.dask: {what}, but only {_gib(free)} is free there: bake fewer items, or "
+                         f"write to a larger disk")
+    if total > LARGE_OUTPUT_BYTES:
+        warnings.warn(f"brdfbake.dask: {what} ({_gib(free)} free)", BakeWarning, stacklevel=4)
+
+
 def submit(client, items: Iterable[Any], *, kind: Optional[str] = None, output_root: Optional[str] = None,
            names: Optional[Sequence[str]] = None, output_format: Optional[str] = None,
            suffix: Optional[str] = None, batch_size: int = 1, shard_size: Optional[int] = None,
@@ -272,6 +308,8 @@ def submit(client, items: Iterable[Any], *, kind: Optional[str] = None, output_r
     if output_root is not None:
         output_root = os.path.abspath(os.fspath(output_root))
         os.makedirs(output_root, exist_ok=True)
+        if kind is not None:
+            _check_output_size(_table_bytes(kind, resolved, output_format), len(items), output_root)
     label = "job" if kind is None else kind
     groups = [list(zip(names[i:i + batch_size], items[i:i + batch_size])) for i in range(0, len(items), batch_size)]
     if client is None:

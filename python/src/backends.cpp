@@ -7,9 +7,9 @@ namespace brdfbake::python {
 
 namespace {
 
-// Serialises every call into one backend. Each family entry is one call, so a lock is never held
-// across two backends (no ordering between devices, no deadlock); an evaluator made by the backend
-// takes the same lock for each batch.
+// Serialises every call into one backend: every family kernel's call (Backend::create_kernel and the
+// call itself) and every batch of an evaluator it made hold this lock. Each is one call into one
+// backend, so a lock is never held across two backends (no ordering between devices, no deadlock).
 class LockedBackend final : public Backend {
  public:
   explicit LockedBackend(std::shared_ptr<Backend> inner) : inner_(std::move(inner)) {}
@@ -19,54 +19,9 @@ class LockedBackend final : public Backend {
   Device* device() override { return inner_->device(); }
   Precision result_precision(Precision requested) const override { return inner_->result_precision(requested); }
 
-  // Every family kernel's call (Backend::create_kernel) runs under this lock.
   std::unique_lock<std::mutex> lock_calls() override { return std::unique_lock<std::mutex>(*mutex_); }
-  Table thin_film(const ThinFilmSpec& s, ThinFilmTiming* t) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->thin_film(s, t);
-  }
-  CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& s, PrefilterTiming* t, const EnvProgress& p,
-                       const std::function<void()>& source_done = {}) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->prefilter(env, s, t, p, source_done);
-  }
-  IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& s, const EnvProgress& p) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->irradiance(env, s, p);
-  }
-  std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
-                                           const EvalOptions& options) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return std::make_unique<LockedEvaluator>(inner_->evaluator(model, materials, options), mutex_);
-  }
-  MerlTable tabulate_merl(const TabulateSpec& s, TabulateTiming* t) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->tabulate_merl(s, t);
-  }
-  Table tabulate(const TabulateSpec& s, TabulateTiming* t) override {
-    std::lock_guard<std::mutex> lock(*mutex_);
-    return inner_->tabulate(s, t);
-  }
 
  private:
-  class LockedEvaluator final : public PairEvaluator {
-   public:
-    LockedEvaluator(std::unique_ptr<PairEvaluator> inner, std::shared_ptr<std::mutex> mutex)
-        : inner_(std::move(inner)), mutex_(std::move(mutex)) {}
-    ~LockedEvaluator() override {
-      std::lock_guard<std::mutex> lock(*mutex_);  // its device buffers are released under the lock too
-      inner_.reset();
-    }
-    void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
-      std::lock_guard<std::mutex> lock(*mutex_);
-      inner_->eval(pairs, count, out, timing);
-    }
-
-   private:
-    std::unique_ptr<PairEvaluator> inner_;
-    std::shared_ptr<std::mutex> mutex_;
-  };
-
   std::shared_ptr<Backend> inner_;
   std::shared_ptr<std::mutex> mutex_ = std::make_shared<std::mutex>();
 };

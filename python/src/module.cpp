@@ -9,11 +9,14 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 #include "backends.hpp"
+#include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
+#include "brdfbake/runner.hpp"
 #include "brdfbake/scene.hpp"
 #include "brdfbake/version.hpp"
 #include "convert.hpp"
@@ -70,44 +73,6 @@ BakeProgress python_progress(const py::object& callback) {
 }
 
 // ---- Schemas -------------------------------------------------------------------------------------
-
-const char* type_name(ParamType t) {
-  switch (t) {
-    case ParamType::Int: return "int";
-    case ParamType::Number: return "number";
-    case ParamType::Name: return "name";
-    case ParamType::Path: return "path";
-    case ParamType::Flag: return "flag";
-    case ParamType::Color: return "color";
-    case ParamType::Range: return "range";
-    case ParamType::IntList: return "int_list";
-  }
-  return "?";
-}
-
-py::list schema_of(const std::string& kind) {
-  const TableKind k = table_kind_from_name(kind);
-  py::list out;
-  for (const ParamDef& d : table_schema(k)) {
-    py::dict p;
-    p["name"] = d.name;
-    p["type"] = type_name(d.type);
-    p["lo"] = d.lo;
-    p["hi"] = d.hi;
-    p["lo_open"] = d.lo_open;
-    p["choices"] = d.choices;
-    p["default"] = d.fallback ? from_param(*d.fallback, &d) : py::none();
-    p["default_text"] = d.default_text;
-    p["help"] = d.help;
-    p["expectation"] = param_expectation(d);
-    p["required"] = d.required;
-    p["output_only"] = d.output_only;
-    p["max_items"] = d.max_items;
-    p["cli"] = "--" + d.cli_name();
-    out.append(p);
-  }
-  return out;
-}
 
 py::list kinds() {
   py::list out;
@@ -168,12 +133,14 @@ PyEnvironment env_from_array(const py::array& a, bool sanitize, const std::strin
   // The Python layer has already refused other dtypes and shapes with a message; this is the guard.
   if (!py::isinstance<py::array_t<float>>(a) || a.ndim() != 3 || a.shape(2) != 3)
     throw Error("environment: expected a float32 array of shape (height, width, 3)");
-  if (a.shape(0) > (1 << 16) || a.shape(1) > (1 << 17)) throw Error("environment: the array is too large");
+  // On the shape, before the array is made contiguous or copied (a broadcast view takes no memory
+  // until it is).
+  EnvLoadOptions o;
+  o.sanitize = sanitize;
+  check_environment_size(static_cast<std::uint64_t>(a.shape(1)), static_cast<std::uint64_t>(a.shape(0)), source, o);
   const auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
   const int h = static_cast<int>(a.shape(0)), w = static_cast<int>(a.shape(1));
   std::vector<float> rgb(c.data(), c.data() + c.size());
-  EnvLoadOptions o;
-  o.sanitize = sanitize;
   const py::gil_scoped_release release;
   return {std::make_shared<const EnvImage>(environment_from_equirect(w, h, std::move(rgb), source, o))};
 }
@@ -192,35 +159,40 @@ std::shared_ptr<PyResult> bake(const std::string& kind, const py::list& params, 
   r->request = make_request(kind, params, common, prefix);
   const TableRequest& t = r->request;
   const bool write_now = common.contains("output") && !common["output"].is_none();
-  if (write_now && !std::filesystem::path(t.output).extension().empty()) check_output_path(t.output);
 
-  BakeInputs inputs;
+  TableRunOptions o;
+  o.delivery = write_now ? TableDelivery::File : TableDelivery::Memory;
+  o.open_backend = shared_backend;  // the process's devices, opened once and reused
   std::shared_ptr<const EnvImage> env;
   if (table_kind_uses_environment(t.kind)) {
     if (environment.is_none()) throw Error(prefix + ": needs an environment");
     env = environment.cast<const PyEnvironment&>().image;
-    inputs.environment = env.get();
+    o.inputs.environment = env.get();
   }
   py::array_t<double> pair_array;
   if (t.kind == TableKind::Eval) {
     pair_array = py::array_t<double, py::array::c_style>::ensure(pairs);
     if (!pair_array || pair_array.ndim() != 2 || pair_array.shape(1) != 6)
       throw Error(prefix + ": expected the pairs as a float64 array of shape (n, 6)");
-    inputs.pairs = pair_array.data();
-    inputs.pair_count = static_cast<size_t>(pair_array.shape(0));
+    o.inputs.pairs = pair_array.data();
+    o.inputs.pair_count = static_cast<size_t>(pair_array.shape(0));
   }
-  const BakeProgress report = python_progress(progress);
+  o.progress = python_progress(progress);
+  TableRun run;
   {
     const py::gil_scoped_release release;
-    std::shared_ptr<Backend> backend = shared_backend(t.device);
-    r->result = bake_table(t, *backend, inputs, report);
-    if (write_now) write_result(r->result, t, t.output);
+    run = run_table(t, o);
   }
+  r->result = std::move(run.result);
+  r->warnings = run.warnings;
+  if (write_now) r->files.push_back(written_file(t.output, run.delivery));
   return r;
 }
 
-std::string run(const std::string& job_text, bool is_path, const std::string& origin, const std::string& output_dir,
-                bool sanitize, const py::object& progress) {
+// Returns the manifest as JSON and the warnings the writes gave (the package emits each as a
+// brdfbake.BakeWarning, as `brdfbake run` prints them).
+std::pair<std::string, std::vector<std::string>> run(const std::string& job_text, bool is_path, const std::string& origin,
+                                                     const std::string& output_dir, bool sanitize, const py::object& progress) {
   Job job = is_path ? read_job(job_text) : parse_job(job_text, origin);
   if (!output_dir.empty()) job.output_dir = output_dir;
   if (sanitize) job.sanitize = true;
@@ -238,13 +210,15 @@ std::string run(const std::string& job_text, bool is_path, const std::string& or
     }
   };
   Manifest m;
+  std::vector<std::string> warnings;
   {
     const py::gil_scoped_release release;
     RunHooks hooks;
     hooks.backend = shared_backend;  // the process's devices, opened once and reused
+    hooks.on_warning = [&warnings](const std::string& w) { warnings.push_back(w); };
     m = run_job(job, job_progress, hooks);
   }
-  return manifest_to_json(m);
+  return {manifest_to_json(m), warnings};
 }
 
 // The scene planner (`brdfbake bake`): the job that bakes what `scene`'s materials call for (the
@@ -252,34 +226,25 @@ std::string run(const std::string& job_text, bool is_path, const std::string& or
 // [(name, value), ...] of plan_schema(), checked as the command line and the server check them.
 std::string plan(const std::string& scene, const py::list& options, const std::string& environment, bool sanitize,
                  const std::string& pixel, const std::string& precision, const std::string& device) {
-  Params params;
+  Params given;
+  if (!scene.empty()) given.push_back({"scene", scene});
+  given.push_back({"environment", environment});
+  given.push_back({"sanitize", sanitize});
+  if (!pixel.empty()) given.push_back({"pixel", pixel});
+  given.push_back({"precision", precision});
+  if (!device.empty()) given.push_back({"device", device});
   for (const py::handle item : options) {
     const auto pair = item.cast<py::tuple>();
     const std::string name = pair[0].cast<std::string>();
-    const ParamDef* d = find_param_def(plan_schema(), name);
-    if (!d) {
-      std::string names;
-      for (const auto& def : plan_schema()) names += (names.empty() ? "" : ", ") + def.name;
-      throw Error("bake_scene: " + name.substr(0, 60) + ": unknown option (expected " + names + ")");
-    }
-    const ParamValue v = to_param(pair[1], "bake_scene." + name);
-    check_param(*d, v, "bake_scene." + name);
-    params.push_back({name, v});
+    given.push_back({name, to_param(pair[1], "bake_scene." + name)});
   }
-  PlanOptions o = plan_options_from_params(params, false);
-  o.environment = environment;
-  o.sanitize = sanitize;
-  if (!pixel.empty() && pixel != "f16" && pixel != "f32")
-    throw Error("bake_scene.pixel: must be f16 or f32 (got '" + pixel.substr(0, 20) + "')");
-  o.pixel = pixel;
-  try {
-    o.precision = precision_from_name(precision);
-  } catch (const Error& e) {
-    throw Error("bake_scene.precision: " + std::string(e.what()));
-  }
-  o.device = device;
+  OptionNaming naming;
+  naming.prefix = "bake_scene";
+  naming.dotted = true;
+  naming.unknown = "unknown option";
+  const BakeOptions o = parse_bake_options(given, naming);
   const py::gil_scoped_release release;  // reading a large .glb
-  return plan_to_json(scene.empty() ? plan_default(o) : plan_scene(read_scene(scene), o));
+  return plan_to_json(plan_bake(o));
 }
 
 }  // namespace
@@ -298,7 +263,8 @@ PYBIND11_MODULE(_brdfbake, m) {
   py::register_exception_translator(&translate);
 
   m.def("kinds", &kinds);
-  m.def("schema", &schema_of, py::arg("kind"));
+  // The schemas as `brdfbake kinds --json` writes them (one serialisation, brdfbake/params.hpp).
+  m.def("kinds_json", [] { return table_kinds_json(); });
   m.def("common_fields", [] { return table_common_fields(); });
   m.def("devices", &devices);
   m.def("opened_backends", &opened_backends);
@@ -329,6 +295,10 @@ PYBIND11_MODULE(_brdfbake, m) {
 
   bind_results(m);
 
+  m.def("default_memory_budget", [] { return default_memory_budget(); });
+  m.def("check_environment_size", [](std::uint64_t width, std::uint64_t height, const std::string& source) {
+    check_environment_size(width, height, source);
+  });
   m.def("validate", &validate, py::arg("kind"), py::arg("params"), py::arg("common"), py::arg("prefix"));
   m.def("bake", &bake, py::arg("kind"), py::arg("params"), py::arg("common"), py::arg("prefix"),
         py::arg("environment") = py::none(), py::arg("pairs") = py::none(), py::arg("progress") = py::none());
@@ -336,18 +306,5 @@ PYBIND11_MODULE(_brdfbake, m) {
         py::arg("sanitize") = false, py::arg("progress") = py::none());
   m.def("plan", &plan, py::arg("scene"), py::arg("options"), py::arg("environment"), py::arg("sanitize"),
         py::arg("pixel"), py::arg("precision"), py::arg("device"));
-  m.def("plan_schema", [] {
-    py::list out;
-    for (const ParamDef& d : plan_schema()) {
-      py::dict p;
-      p["name"] = d.name;
-      p["type"] = type_name(d.type);
-      p["choices"] = d.choices;
-      p["default"] = d.fallback ? from_param(*d.fallback, &d) : py::none();
-      p["help"] = d.help;
-      p["cli"] = "--" + d.cli_name();
-      out.append(p);
-    }
-    return out;
-  });
+  m.def("plan_schema_json", [] { return schema_json(plan_schema()); });
 }

@@ -138,8 +138,9 @@ void convert(PyResult& r) {
   });
 }
 
-void save(PyResult& r, const std::string& path, const std::string& format, const std::string& pixel,
-          const py::list& output_params) {
+// Writes the result as the runner delivers it; returns the warnings of this write.
+std::vector<std::string> save(PyResult& r, const std::string& path, const std::string& format, const std::string& pixel,
+                              const py::list& output_params) {
   TableRequest t = r.request;
   const std::string prefix = r.prefix + ".save";
   const FieldNaming naming{prefix, false};
@@ -182,11 +183,38 @@ void save(PyResult& r, const std::string& path, const std::string& format, const
     throw Error(prefix + ": '" + path + "' needs a table baked with " + (what.empty() ? "other parameters" : what) +
                 "; bake it with them (or save to another format)");
   }
-  const py::gil_scoped_release release;
-  write_result(r.result, t, path);
+  t.output = path;  // written where asked, even where validation named a default ("" is refused there)
+  Delivery d;
+  {
+    const py::gil_scoped_release release;
+    d = deliver_result(r.result, t, TableDelivery::File);
+  }
+  r.files.push_back(written_file(path, d));
+  for (const auto& w : d.warnings) r.warnings.push_back(w);
+  return d.warnings;
+}
+
+py::dict file_dict(const WrittenFile& f) {
+  py::dict d;
+  d["path"] = f.path;
+  d["error_bound"] = f.error_bound ? py::object(py::float_(*f.error_bound)) : py::object(py::none());
+  d["storage_error"] = f.storage_error;
+  d["encoding"] = f.encoding;
+  d["warnings"] = f.warnings;
+  return d;
 }
 
 }  // namespace
+
+WrittenFile written_file(const std::string& path, const Delivery& delivery) {
+  WrittenFile f;
+  f.path = path;
+  f.error_bound = delivery.error_bound;
+  f.storage_error = delivery.report.storage_error;
+  f.encoding = delivery.report.encoding;
+  f.warnings = delivery.warnings;
+  return f;
+}
 
 void bind_results(py::module_& module) {
   py::class_<PyResult, std::shared_ptr<PyResult>>(module, "Result", "A baked table (see brdfbake.Result)")
@@ -277,6 +305,12 @@ void bind_results(py::module_& module) {
         const PyResult& r = self.cast<const PyResult&>();
         if (const PreviewResult* p = r.result.preview()) return preview_dict(self, *p);
         return py::none();
+      })
+      .def_property_readonly("warnings", [](const PyResult& r) { return r.warnings; })
+      .def_property_readonly("files", [](const PyResult& r) {
+        py::list out;
+        for (const auto& f : r.files) out.append(file_dict(f));
+        return out;
       })
       .def("save", &save, py::arg("path"), py::arg("format") = "", py::arg("pixel") = "",
            py::arg("output_params") = py::list());

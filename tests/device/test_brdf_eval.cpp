@@ -17,8 +17,8 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
-#include "reference_backend/brdf_convert.hpp"
-#include "sheen_albedo.hpp"
+#include "families/brdf_eval/reference_convert.hpp"
+#include "families/brdf_eval/sheen_albedo.hpp"
 #include "support/brdf_cases.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -33,7 +33,7 @@ using test::random_pairs;
 using detail::to_reference;
 
 // What the device sees of a direction: normalised in double, then (fp32) rounded to float with
-// components below FLT_MIN flushed to zero (host/src/brdf_eval.cpp).
+// components below FLT_MIN flushed to zero (host/src/families/brdf_eval/evaluator.cpp).
 Vec3 device_view(const Vec3& v, Precision p) {
   const double m = std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z)));
   const double x = v.x / m, y = v.y / m, z = v.z / m;
@@ -562,7 +562,7 @@ TEST(BrdfConversion, EveryFieldReachesTheReference) {
   EXPECT_EQ(to_reference(BrdfModel::GltfCorrelated), reference::BrdfModel::GltfCorrelated);
 }
 
-// KHR_materials_sheen's E(mu): the engine's own quadrature over l (host/src/sheen_albedo.cpp), which
+// KHR_materials_sheen's E(mu): the engine's own quadrature over l (host/src/families/brdf_eval/sheen_albedo.cpp), which
 // the kernels' table is built from, against the reference's charlie_albedo over h at twice its order
 // and refinement.
 TEST(SheenAlbedo, EngineQuadratureMatchesTheReference) {

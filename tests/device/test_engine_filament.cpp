@@ -2,7 +2,8 @@
 // filament_ktx_check, linked against Debian's libfilament-dev) loads our NAME_ibl.ktx with
 // image::KtxBundle, reads the 9 SH coefficients with getSphericalHarmonics() and every blob of every
 // level; the coefficients must match those cmgen (Debian libfilament-tools) writes for the same
-// input with the same windowing choice (none: cmgen --sh-window=no) within 1%. Skips with a message
+// input with the same windowing choice within 1%: the target's default (cmgen's default, its automatic
+// deringing window) and none (cmgen --sh-window=no). Skips with a message
 // when Filament's package or cmgen is missing.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -83,10 +85,10 @@ TEST(FilamentTarget, KtxBundleReadsOurFileAndShMatchesCmgen) {
   fs::create_directories(dir);
   const fs::path input = write_input(dir);
 
-  // cmgen: 64^2 (levels 64, 32, 16), no SH window
+  // cmgen: 64^2 (levels 64, 32, 16), its default SH window (auto)
   int rc = 0;
   const fs::path cm = dir / "cm";
-  run("cmgen -q -x '" + cm.string() + "' -f ktx --sh-window=no -s 64 '" + input.string() + "' 2>&1", &rc);
+  run("cmgen -q -x '" + cm.string() + "' -f ktx -s 64 '" + input.string() + "' 2>&1", &rc);
   ASSERT_EQ(rc, 0) << "cmgen failed";
   ASSERT_TRUE(fs::exists(cm / "cm_ibl.ktx"));
 
@@ -121,19 +123,38 @@ TEST(FilamentTarget, KtxBundleReadsOurFileAndShMatchesCmgen) {
   EXPECT_EQ(a.at("pixel_data_format"), b.at("pixel_data_format"));
   ASSERT_TRUE(a.at("sh").is_array()) << "KtxBundle::getSphericalHarmonics() found no sh key";
   ASSERT_EQ(a.at("sh").size(), 27u);
-  const nlohmann::json& sa = a.at("sh");
-  const nlohmann::json& sb = b.at("sh");
+  EXPECT_EQ(fs_.sh_window, ShWindow::Auto);  // the target's default is cmgen's default
+
   // Within 1%: of each coefficient's own magnitude, or, for a coefficient that is itself near zero,
   // of the channel's band-0 term (the SH's scale; 1% of it is a 1% change of the lit result).
-  double worst = 0.0;
-  for (size_t k = 0; k < 9; ++k)
-    for (size_t c = 0; c < 3; ++c) {
-      const double x = sa[3 * k + c], y = sb[3 * k + c], scale = sb[c];
-      worst = std::max(worst, std::fabs(x - y) / std::max(std::fabs(y), std::fabs(scale)));
-      EXPECT_NEAR(x, y, 0.01 * std::max(std::fabs(y), std::fabs(scale)))
-          << "coefficient " << k << " channel " << c << " (ours " << x << ", cmgen " << y << ")";
-    }
-  std::printf("largest SH difference from cmgen: %.3g%%\n", 100.0 * worst);
+  auto compare_sh = [](const nlohmann::json& sa, const nlohmann::json& sb, const char* what) {
+    double worst = 0.0;
+    for (size_t k = 0; k < 9; ++k)
+      for (size_t c = 0; c < 3; ++c) {
+        const double x = sa[3 * k + c], y = sb[3 * k + c], scale = sb[c];
+        worst = std::max(worst, std::fabs(x - y) / std::max(std::fabs(y), std::fabs(scale)));
+        EXPECT_NEAR(x, y, test::kCmgenSh * std::max(std::fabs(y), std::fabs(scale)))
+            << what << ": coefficient " << k << " channel " << c << " (ours " << x << ", cmgen " << y << ")";
+      }
+    std::printf("largest SH difference from cmgen (%s): %.3g%%\n", what, 100.0 * worst);
+    return worst;
+  };
+  // The default: ours (auto) against cmgen's default (auto).
+  compare_sh(a.at("sh"), b.at("sh"), "window auto");
+  // No window on both sides.
+  run("cmgen -q -x '" + (dir / "cm_no").string() + "' -f ktx --sh-window=no -s 64 '" + input.string() + "' 2>&1", &rc);
+  ASSERT_EQ(rc, 0) << "cmgen --sh-window=no failed";
+  is.window = ShWindow::None;
+  const IrradianceResult raw = compute_irradiance(*dev, env, is);
+  bake.sh = &raw.sh;
+  write_engine_files(EngineTarget::Filament, bake, (dir / "ours_no").string());
+  const nlohmann::json ours_no = filament_check(dir / "ours_no" / "ours_no_ibl.ktx").at("sh");
+  compare_sh(ours_no, filament_check(dir / "cm_no" / "cm_no_ibl.ktx").at("sh"), "window none");
+  // and the window matters here: auto and none differ by more than the comparison's tolerance
+  double apart = 0.0;
+  for (size_t i = 3; i < 27; ++i)
+    apart = std::max(apart, std::fabs(double(a.at("sh")[i]) - double(ours_no[i])) / std::fabs(double(ours_no[i % 3])));
+  EXPECT_GT(apart, test::kCmgenSh) << "the auto window changed nothing: the comparison above would not see it";
   if (!HasFailure()) fs::remove_all(dir);  // kept for inspection when the comparison fails
 }
 

@@ -100,8 +100,8 @@ TEST(Irradiance, WindowsAndCoefficients) {
   const auto lanczos = sh_window_weights(ShWindow::Lanczos, 5);
   EXPECT_EQ(none, (std::vector<double>{1, 1, 1}));
   EXPECT_DOUBLE_EQ(hann[0], 1.0);
-  EXPECT_NEAR(hann[1], 0.5 * (1 + std::cos(kPi / 3)), 1e-15);
-  EXPECT_NEAR(lanczos[2], std::sin(0.4 * kPi) / (0.4 * kPi), 1e-15);
+  EXPECT_NEAR(hann[1], 0.5 * (1 + std::cos(kPi / 3)), test::kUlpsOfOne);
+  EXPECT_NEAR(lanczos[2], std::sin(0.4 * kPi) / (0.4 * kPi), test::kUlpsOfOne);
   BRDFBAKE_REQUIRE_DEVICE(dev);
   IrradianceSpec s;
   s.sh_order = 3;
@@ -114,7 +114,8 @@ TEST(Irradiance, WindowsAndCoefficients) {
     for (int m = -l; m <= l; ++m)
       for (size_t c = 0; c < 3; ++c) {
         const size_t k = size_t(l * (l + 1) + m);
-        EXPECT_NEAR(r.sh.irradiance_over_pi[3 * k + c], a[l] * hann[size_t(l)] * r.sh.radiance[3 * k + c], 1e-12);
+        EXPECT_NEAR(r.sh.irradiance_over_pi[3 * k + c], a[l] * hann[size_t(l)] * r.sh.radiance[3 * k + c],
+                    test::kRoundingFewOps);
       }
   EXPECT_TRUE(r.cube.levels.empty());
   const auto j = nlohmann::json::parse(sh_to_json(r.sh, {{"source", "builtin:sun"}}));

@@ -2,9 +2,10 @@
 //
 // The variants: each kernel family with each combination of #defines its host code (the planner,
 // the evaluator, the bake commands) can produce, in fp32 and fp64, with and without
-// -cl-fast-relaxed-math. The enumeration below mirrors the host's choices; KernelBuild.
-// EveryKernelSwitchIsEnumerated guards it against drift by scanning the kernel sources for the
-// BRDFBAKE_* switches they test and requiring each to be covered here.
+// -cl-fast-relaxed-math. The enumeration below mirrors the host's choices;
+// KernelBuild.EveryKernelSwitchIsEnumerated guards it against drift by scanning the kernel sources
+// for the BRDFBAKE_* switches they test, and the host sources for the ones they set, and requiring
+// each to be covered here.
 //
 // Builds go through the product's one build path (detail::build_program) with the on-disk cache
 // off, so each is a real build from source whose log the driver fills.
@@ -13,8 +14,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -86,7 +90,7 @@ std::vector<Variant> fresnel_variants() {
   return v;
 }
 
-// host/src/brdf_eval.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
+// host/src/families/brdf_eval/names.cpp (lobes_used): the lobes a set of materials can switch on. Disney's
 // subsurface and sheen come only with its diffuse lobe (metallic < 1); glTF has a diffuse or a
 // metal lobe or both, its specular colour only with the diffuse lobe; Cook-Torrance uses Beckmann,
 // GGX or both. The lane width (8 or 16) is an option of the evaluator's API.
@@ -117,11 +121,12 @@ std::vector<Variant> brdf_variants() {
   return v;
 }
 
-// host/src/prefilter.cpp, environment.cpp, irradiance.cpp, thin_film.cpp.
+// host/src/prefilter.cpp (the lobe, and kStripRows = 4 rows per strip), environment.cpp,
+// irradiance.cpp, thin_film.cpp.
 std::vector<Variant> environment_variants() {
   return {{"cubemap.cl", {}},
-          {"prefilter.cl", {{"BRDFBAKE_ENV_GGX", "1"}}},
-          {"prefilter.cl", {{"BRDFBAKE_ENV_CHARLIE", "1"}}},
+          {"prefilter.cl", {{"BRDFBAKE_ENV_GGX", "1"}, {"BRDFBAKE_STRIP_ROWS", "4"}}},
+          {"prefilter.cl", {{"BRDFBAKE_ENV_CHARLIE", "1"}, {"BRDFBAKE_STRIP_ROWS", "4"}}},
           {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "3"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
           {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "5"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
           {"thin_film.cl", {}}};
@@ -174,6 +179,102 @@ TEST(KernelBuild, BrdfEvalVariantsAreWarningFree) {
   expect_warning_free(brdf_variants(), {{{"BRDFBAKE_LANES", "8"}}, {{"BRDFBAKE_LANES", "16"}}});
 }
 TEST(KernelBuild, EnvironmentVariantsAreWarningFree) { expect_warning_free(environment_variants()); }
+
+// ---- The enumeration against the sources --------------------------------------------------------
+
+#ifndef BRDFBAKE_SOURCE_DIR
+#define BRDFBAKE_SOURCE_DIR "."
+#endif
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The files under `dir` (recursively) whose extension is one of `exts`.
+std::vector<std::filesystem::path> sources(const std::filesystem::path& dir, const std::set<std::string>& exts) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && exts.count(e.path().extension().string())) out.push_back(e.path());
+  return out;
+}
+
+struct KernelNames {
+  std::set<std::string> tested;     // in #if, #ifdef, #ifndef, #elif lines: the switches
+  std::set<std::string> defined;    // given a value by a #define of the kernels themselves
+  std::set<std::string> mentioned;  // anywhere in the kernel sources
+};
+
+KernelNames kernel_names() {
+  KernelNames k;
+  const std::regex name(R"(BRDFBAKE_[A-Z0-9_]*[A-Z0-9])");
+  const std::regex conditional(R"(^\s*#\s*(if|ifdef|ifndef|elif)\b)");
+  const std::regex define(R"(^\s*#\s*define\s+(BRDFBAKE_[A-Z0-9_]+))");
+  for (const auto& file : sources(std::filesystem::path(BRDFBAKE_SOURCE_DIR) / "kernels", {".cl", ".clh"})) {
+    std::istringstream in(read_text(file));
+    for (std::string line; std::getline(in, line);) {
+      const bool tests = std::regex_search(line, conditional);
+      for (auto it = std::sregex_iterator(line.begin(), line.end(), name); it != std::sregex_iterator(); ++it) {
+        k.mentioned.insert(it->str());
+        if (tests) k.tested.insert(it->str());
+      }
+      std::smatch m;
+      if (std::regex_search(line, m, define)) k.defined.insert(m[1].str());
+    }
+  }
+  return k;
+}
+
+// The BRDFBAKE_* names the host code writes as string literals and the kernels mention: the
+// switches it can set (environment variables such as BRDFBAKE_CACHE_DIR are never in a kernel).
+std::set<std::string> host_switches(const std::set<std::string>& in_kernels) {
+  std::set<std::string> out;
+  auto name_char = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_'; };
+  for (const auto& file :
+       sources(std::filesystem::path(BRDFBAKE_SOURCE_DIR) / "host" / "src", {".cpp", ".hpp", ".inc"})) {
+    const std::string text = read_text(file);
+    for (size_t at = text.find("\"BRDFBAKE_"); at != std::string::npos; at = text.find("\"BRDFBAKE_", at + 1)) {
+      size_t end = at + 1;
+      while (end < text.size() && name_char(text[end])) ++end;
+      const std::string s = text.substr(at + 1, end - at - 1);
+      if (end < text.size() && text[end] == '"' && in_kernels.count(s)) out.insert(s);
+    }
+  }
+  return out;
+}
+
+// What the builds above cover: every define of every variant, the lane counts they pass, and
+// BRDFBAKE_FP64, which build_program sets for Precision::Fp64 (both precisions are built).
+std::set<std::string> enumerated_switches() {
+  std::set<std::string> out = {"BRDFBAKE_FP64", "BRDFBAKE_LANES"};
+  for (const auto& variants : {dfg_variants(), fresnel_variants(), brdf_variants(), environment_variants()})
+    for (const Variant& v : variants)
+      for (const auto& d : v.defines) out.insert(d.first);
+  return out;
+}
+
+// Every switch a kernel tests is built here, unless the kernels give it a default (#ifndef X /
+// #define X) and the host never sets it: then the product only ever builds that default, which the
+// builds above do too. And every switch the host sets is built here. A new #ifdef in a kernel, or
+// a new define in the host, fails this test until the enumeration names it.
+TEST(KernelBuild, EveryKernelSwitchIsEnumerated) {
+  const KernelNames k = kernel_names();
+  const std::set<std::string> host = host_switches(k.mentioned);
+  const std::set<std::string> enumerated = enumerated_switches();
+  // the scans found the sources (a wrong folder would find nothing and pass)
+  ASSERT_TRUE(k.tested.count("BRDFBAKE_LUT_CHARLIE")) << "no kernel sources under " << BRDFBAKE_SOURCE_DIR;
+  ASSERT_TRUE(host.count("BRDFBAKE_FRESNEL_2D")) << "no host sources under " << BRDFBAKE_SOURCE_DIR;
+  ASSERT_TRUE(k.defined.count("BRDFBAKE_PYRAMID_CAPACITY"));
+  for (const std::string& s : k.tested) {
+    const bool default_only = k.defined.count(s) && !host.count(s);
+    EXPECT_TRUE(enumerated.count(s) || default_only)
+        << s << " is tested by a kernel but built by no variant of this file";
+  }
+  for (const std::string& s : host)
+    EXPECT_TRUE(enumerated.count(s)) << s << " is set by the host but built by no variant of this file";
+}
 
 }  // namespace
 }  // namespace brdfbake

@@ -5,14 +5,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
-#include "env_lobes.hpp"
+#include "families/prefilter/lobes.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
 
@@ -111,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(AllLobes, Furnace,
                                             ::testing::Values(EnvEstimator::Quadrature, EnvEstimator::Sampling)));
 
 // fp64 kernels: the furnace, and the same values as fp32 to fp32's rounding.
-// The engine's host-side lobes (host/src/env_lobes.cpp: D for the sample tables, the Charlie profile
+// The engine's host-side lobes (host/src/families/prefilter/lobes.cpp: D for the sample tables, the Charlie profile
 // for the pyramid's thresholds, W in closed form for the bright texels) against the reference's
 // (kernel by its own D, W by adaptive quadrature).
 TEST(EnvLobes, EngineMatchesTheReference) {
@@ -338,26 +341,119 @@ TEST(Prefilter, SchedulesAndTheirInverse) {
         const double r = schedule_roughness(s, l, levels);
         EXPECT_GE(r, 0.0);
         EXPECT_LE(r, 1.0);
-        EXPECT_NEAR(schedule_lod(s, r, levels), l, 1e-12) << roughness_schedule_name(s);
+        EXPECT_NEAR(schedule_lod(s, r, levels), l, test::kRoundingFewOps) << roughness_schedule_name(s);
       }
   EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Linear, 1, 5), 0.25);
   EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Filament, 1, 5), 1.0 - std::sqrt(0.75));
   EXPECT_DOUBLE_EQ(schedule_roughness(RoughnessSchedule::Sqrt, 1, 5), 0.0625);
 }
 
+// The numbers of a comma-separated metadata list ("0,4,3", "0, 128, 512").
+std::vector<double> meta_numbers(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::stod(item));
+  return out;
+}
+
+// The RMS relative luminance difference of two levels: --max-error's measure (prefilter.cpp).
+double rms_luminance_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  auto lum = [](const float* t) { return 0.2126 * double(t[0]) + 0.7152 * double(t[1]) + 0.0722 * double(t[2]); };
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t t = 0; t + 3 < a.size() && t + 3 < b.size(); t += 4, ++n) {
+    const double d = std::fabs(lum(&a[t]) - lum(&b[t])) / std::max(std::fabs(lum(&b[t])), 1e-30);
+    sum += d * d;
+  }
+  return std::sqrt(sum / double(std::max<size_t>(n, 1)));
+}
+
+// --max-error chooses each level's refinement (quadrature) or sample count (sampling) from its own
+// measurement: the recorded choices are steps of the search, the recorded measurements are those of
+// the kept results and within the target, and a target just below the worst level's measurement
+// moves that level alone to a finer step, leaving every other level's choice and texels as they
+// were. Sizes where the choices differ between levels: quadrature on 64^2 .. 8^2 (the refinement
+// matters on level 1 only; below it, every texel is refined at the first step), sampling on
+// 16^2 .. 4^2.
 TEST(Prefilter, MaxErrorChoosesPerLevel) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
-  const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), 16);
-  PrefilterSpec s;
-  s.size = 16;
-  s.min_size = 4;
-  s.max_error = 0.01;
-  const CubeLevels q = prefilter_cube(*dev, source, s);
-  EXPECT_NE(q.meta("refinement_per_level"), "");
-  EXPECT_NE(q.meta("max_error"), "");
-  s.estimator = EnvEstimator::Sampling;
-  const CubeLevels m = prefilter_cube(*dev, source, s);
-  EXPECT_NE(m.meta("samples_per_level"), "");
+  const std::vector<double> steps = {3.0, 4.0, 6.0, 8.0, 12.0, 16.0};  // after the first, 2
+  for (EnvEstimator estimator : {EnvEstimator::Quadrature, EnvEstimator::Sampling}) {
+    const bool quadrature = estimator == EnvEstimator::Quadrature;
+    SCOPED_TRACE(env_estimator_name(estimator));
+    PrefilterSpec s;
+    s.size = quadrature ? 64 : 16;
+    s.min_size = quadrature ? 8 : 4;
+    s.estimator = estimator;
+    s.max_error = quadrature ? 0.002 : 0.02;
+    const size_t levels = quadrature ? 4 : 3;
+    const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), s.size);
+    const char* choice_key = quadrature ? "refinement_per_level" : "samples_per_level";
+    PrefilterTiming timing;
+    const CubeLevels a = prefilter_cube(*dev, source, s, &timing);
+    const std::vector<double> choice = meta_numbers(a.meta(choice_key));
+    const std::vector<double>& measured = timing.measured_error_per_level;
+    ASSERT_EQ(choice.size(), levels);
+    ASSERT_EQ(measured.size(), levels);
+    EXPECT_EQ(choice[0], 0.0) << "level 0 is the source";
+    EXPECT_EQ(measured[0], 0.0);
+    for (size_t l = 1; l < levels; ++l) {
+      if (quadrature) {
+        EXPECT_NE(std::find(steps.begin(), steps.end(), choice[l]), steps.end()) << "level " << l << ": " << choice[l];
+      } else {  // 4 n, n = 32, 64, ... (the 4n result of the pair (n, 4n) is kept)
+        const double n = choice[l] / 4.0;
+        EXPECT_TRUE(n >= 32 && n <= 2048 && std::exp2(std::round(std::log2(n))) == n)
+            << "level " << l << ": " << choice[l];
+      }
+      EXPECT_GE(measured[l], 0.0) << "level " << l;
+      EXPECT_LE(measured[l], s.max_error) << "level " << l;
+    }
+    // the file records what was measured
+    std::string text;
+    for (size_t l = 0; l < levels; ++l) {
+      char v[32];
+      std::snprintf(v, sizeof v, "%.3g", measured[l]);
+      text += (l ? "," : "") + std::string(v);
+    }
+    EXPECT_EQ(a.meta("measured_error_per_level"), text);
+    const size_t worst = size_t(std::max_element(measured.begin(), measured.end()) - measured.begin());
+    EXPECT_EQ(timing.measured_error, measured[worst]);
+    ASSERT_GT(measured[worst], 0.0) << "no level was measured: the search compared nothing";
+
+    // A target just below the worst level's measurement: that level goes on to a finer step; the
+    // others meet it where they stopped, with the same measurement and the same texels.
+    PrefilterSpec tighter = s;
+    tighter.max_error = measured[worst] * 0.99;
+    PrefilterTiming t2;
+    if (choice[worst] == (quadrature ? steps.back() : 8192.0)) {  // the last step: nothing finer to go to
+      EXPECT_THROW(prefilter_cube(*dev, source, tighter, &t2), Error);
+      continue;
+    }
+    const CubeLevels b = prefilter_cube(*dev, source, tighter, &t2);
+    const std::vector<double> choice2 = meta_numbers(b.meta(choice_key));
+    ASSERT_EQ(choice2.size(), levels);
+    ASSERT_EQ(t2.measured_error_per_level.size(), levels);
+    EXPECT_GT(choice2[worst], choice[worst]) << "level " << worst << " kept its choice above the target";
+    EXPECT_LE(t2.measured_error_per_level[worst], tighter.max_error);
+    EXPECT_EQ(b.levels[0], a.levels[0]);
+    int kept = 0;
+    for (size_t l = 1; l < levels; ++l) {
+      if (l == worst || measured[l] > tighter.max_error) continue;
+      ++kept;
+      EXPECT_EQ(choice2[l], choice[l]) << "level " << l;
+      EXPECT_EQ(t2.measured_error_per_level[l], measured[l]) << "level " << l;
+      EXPECT_EQ(b.levels[l], a.levels[l]) << "level " << l;
+    }
+    EXPECT_GT(kept, 0) << "no other level to hold still";
+    // Quadrature, one step further: the search compared the two kept results, so its measurement
+    // is their difference, recomputed here from the texels.
+    const auto at = std::find(steps.begin(), steps.end(), choice[worst]);
+    if (quadrature && at != steps.end() && at + 1 != steps.end() && *(at + 1) == choice2[worst])
+      EXPECT_DOUBLE_EQ(rms_luminance_difference(a.levels[worst], b.levels[worst]), t2.measured_error_per_level[worst]);
+    else if (quadrature)
+      std::printf("level %zu went from refinement %g to %g: the measurement is not recomputed\n", worst, choice[worst],
+                  choice2[worst]);
+  }
 }
 
 // Progress follows the rows of each level (the first levels hold most of the work: a progress line

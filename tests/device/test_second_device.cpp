@@ -1,7 +1,9 @@
 // Every kernel family on a second OpenCL implementation (issue 17, docs/RELIABILITY.md "Devices"):
 // Oclgrind, an interpreter that checks every memory access and API call (--check-api) and, with
 // --data-races, every access that work-items share. Each case bakes a small table of one family on
-// Oclgrind and on the first other device (PoCL on the development machines) and asserts
+// Oclgrind and on the first other device (PoCL on the development machines): the hand-written cases
+// below (estimators and layouts), and every kind's example request (table_kind_example), so that a
+// new family is covered without a new case. Each case asserts
 //   - Oclgrind reported nothing (no invalid access, API error or race: its words on stderr), and
 //   - the two results agree within the family's stated tolerance: the bound the result records
 //     where the family measures one, else the fp32 tolerance of its device tests
@@ -26,6 +28,7 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/tables.hpp"
+#include "support/result_values.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -102,27 +105,31 @@ class StderrCapture {
   int saved_ = -1;
 };
 
-// Every value a result holds, in one list.
-std::vector<double> values_of(const BakeResult& r) {
-  std::vector<double> v;
-  auto add = [&](const auto& list) { v.insert(v.end(), list.begin(), list.end()); };
-  if (const Table* t = r.table()) add(t->data);
-  if (const CubeLevels* c = r.cube())
-    for (const auto& level : c->levels) add(level);
-  if (const IrradianceResult* i = r.irradiance()) {
-    add(i->sh.radiance);
-    for (const auto& level : i->cube.levels) add(level);
-  }
-  if (const MerlTable* m = r.merl()) add(m->values);
-  if (const EvalResult* e = r.eval()) add(e->values);
-  return v;
-}
+using test::values_of;
 
 struct Case {
   std::string name;
-  std::string table;      // the job's table, JSON
+  std::string table;      // the job's table, JSON; empty: the example request of `kind`
   double tolerance = 0;   // when the result records no bound
+  TableKind kind = TableKind::Ggx;
 };
+
+// The fp32 tolerance of a kind's device tests (tests/support/tolerances.hpp), for results that
+// record no bound of their own; 0 for the kinds that record one.
+double example_tolerance(TableKind kind) {
+  switch (kind) {
+    case TableKind::Ggx:
+    case TableKind::GgxMultiscatter:
+    case TableKind::Charlie: return 0;  // the calibrated bound the result records
+    case TableKind::Fresnel:
+    case TableKind::ThinFilm: return test::kFresnelFp32;
+    case TableKind::Prefilter:
+    case TableKind::Irradiance: return test::kEnvFp32VsFp64;
+    case TableKind::Eval: return test::kBrdfFp32;
+    case TableKind::Tabulate: return test::kBrdfTableFp32;
+  }
+  return 0;
+}
 
 std::string source_path(const char* relative) { return std::string(BRDFBAKE_SOURCE_DIR) + "/" + relative; }
 
@@ -132,7 +139,7 @@ std::vector<Case> cases() {
   using test::kBrdfTableFp32;
   using test::kEnvFp32VsFp64;
   using test::kFresnelFp32;
-  return {
+  std::vector<Case> list = {
       {"lut_ggx_quadrature", R"({"kind": "ggx", "size": 4, "samples": 256})", 0},
       {"lut_ggx_vndf", R"({"kind": "ggx", "size": 4, "estimator": "vndf", "samples": 256})", 0},
       {"lut_ggx_ndf_fp64", R"({"kind": "ggx", "size": 4, "estimator": "ndf", "samples": 128, "precision": "fp64"})", 0},
@@ -158,6 +165,12 @@ std::vector<Case> cases() {
       {"tabulate_albedo", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "velvet", "layout": "albedo",
                               "res": [4]})", kBrdfTableFp32},
   };
+  for (TableKind kind : table_kinds()) {
+    std::string name = std::string("example_") + table_kind_name(kind);
+    std::replace(name.begin(), name.end(), '-', '_');
+    list.push_back({name, "", example_tolerance(kind), kind});
+  }
+  return list;
 }
 
 class SecondDevice : public ::testing::TestWithParam<Case> {};
@@ -166,14 +179,25 @@ TEST_P(SecondDevice, AgreesWithTheFirstAndOclgrindReportsNothing) {
   const Pair& b = backends();
   if (!b.oclgrind) GTEST_SKIP() << b.why_not;
   const Case& c = GetParam();
-  const Job job = parse_job(R"({"brdfbake_job": 1, "output_dir": "unused", "tables": [)" + c.table + "]}", c.name);
-  ASSERT_EQ(job.tables.size(), 1u);
-  const TableRequest& t = job.tables[0];
+  TableExample example;
+  if (c.table.empty()) {
+    example = table_kind_example(c.kind);
+  } else {
+    const Job job = parse_job(R"({"brdfbake_job": 1, "output_dir": "unused", "tables": [)" + c.table + "]}", c.name);
+    ASSERT_EQ(job.tables.size(), 1u);
+    example.request = job.tables[0];
+    if (example.request.environment.empty()) example.request.environment = job.environment;
+  }
+  const TableRequest& t = example.request;
   EnvImage env;
   BakeInputs inputs;
   if (table_kind_uses_environment(t.kind)) {
-    env = load_environment(t.environment.empty() ? job.environment : t.environment);
+    env = load_environment(t.environment);
     inputs.environment = &env;
+  }
+  if (!example.pairs.empty()) {
+    inputs.pairs = example.pairs.data();
+    inputs.pair_count = example.pairs.size() / 6;
   }
 
   const BakeResult first = bake_table(t, *b.other, inputs);

@@ -5,19 +5,17 @@
 #include <cstdio>
 
 #include "brdfbake/reference/thin_film.hpp"
-#include "support/device_fixture.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/thin_film.hpp"
+#include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
 using namespace brdfbake;
 
-// fp32: the phases reach pos * phase ~ 2.2e6 * 2 pi * 4320e-9 ~ 60 rad, where a float keeps
-// 4e-6 rad; the series multiplies that by amplitudes below 1. Measured worst: 6e-7.
-constexpr double kThinFilmFp32 = 1e-5;
-// fp64: rounding of the same arithmetic.
-constexpr double kThinFilmFp64 = 1e-10;
+using test::kThinFilmFp32;
+using test::kThinFilmFp64;
 
 std::string detail_format(double v) {
   char b[32];

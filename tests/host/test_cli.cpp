@@ -9,7 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/table.hpp"
+#include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
+#include "support/table_readback.hpp"
 
 namespace {
 
@@ -26,10 +29,11 @@ fs::path temp_dir() {
   return d;
 }
 
-// Each bad input: non-zero exit, exactly one line on stderr naming the problem, no file.
+// Each bad input: exit 2 (bad input; 1 is a runtime failure, -1 a crash), exactly one line on
+// stderr naming the problem, no file.
 void expect_clean_failure(const std::string& args, const fs::path& out, const std::string& needle) {
   const CliRun r = run(args + " --quiet -o " + out.string());
-  EXPECT_NE(r.code, 0) << args;
+  EXPECT_EQ(r.code, 2) << args << " -> " << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << args << " -> " << r.err;
   EXPECT_NE(r.err.find(needle), std::string::npos) << args << " -> " << r.err;
   EXPECT_FALSE(fs::exists(out)) << args;
@@ -56,7 +60,7 @@ TEST(Cli, BadInputGivesOneLineAndNoFile) {
   // unwritable: a path through a regular file (fails for root too)
   std::ofstream(dir / "plain") << "x";
   const CliRun r = run("lut --kind ggx --size 4 --quiet -o " + (dir / "plain" / "t.exr").string());
-  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(r.code, 1) << "an output that cannot be written is a runtime failure: " << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("plain/t.exr"), std::string::npos) << r.err;
   fs::remove_all(dir);
@@ -85,15 +89,23 @@ TEST(Cli, CsvToStandardOutput) {
   EXPECT_NE(r.out.find("0.125,0.166666"), std::string::npos) << "first cell centre (0.5/4, 0.5/3)";
 }
 
+// Every format holds the table the CSV holds (read back: values within the format's step, the
+// shape, the channels and the metadata).
 TEST(Cli, ReferenceDeviceAndEveryFormat) {
   const fs::path dir = temp_dir() / "formats";
   fs::create_directories(dir);
-  for (const char* ext : {"exr", "png", "hdr", "ktx2", "csv", "h"}) {
+  brdfbake::Table want;
+  for (const char* ext : {"csv", "exr", "png", "hdr", "ktx2", "h"}) {
     const fs::path out = dir / (std::string("lut.") + ext);
     const CliRun r = run("lut --kind charlie --size 4 --quiet -o " + out.string());
-    EXPECT_EQ(r.code, 0) << ext << ": " << r.err;
-    EXPECT_TRUE(fs::exists(out)) << ext;
-    EXPECT_GT(fs::file_size(out), 16u) << ext;
+    ASSERT_EQ(r.code, 0) << ext << ": " << r.err;
+    if (std::string(ext) == "csv") {
+      want = brdfbake::io::read_table(out.string());
+      ASSERT_EQ(want.width, 4);
+      ASSERT_EQ(want.height, 4);
+      continue;
+    }
+    brdfbake::test::expect_table_file(out.string(), want, {"kind", "device", "precision", "x_axis", "y_axis"});
   }
   const CliRun r = run("lut --kind ggx --size 2 --device reference -o - --format csv --quiet");
   EXPECT_EQ(r.code, 0) << r.err;

@@ -18,7 +18,11 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
+#include "brdfbake/table.hpp"
+#include "io/ktx2.hpp"
+#include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
@@ -106,6 +110,26 @@ TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   for (const char* f : {"dfg_ggx_multiscatter_8.exr", "prefilter_ggx_16.ktx2", "irradiance_sh3.json", "manifest.json",
                         "contact_sheet.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  // ... and each holds what the one-table command writes for the parameters the manifest records
+  const fs::path one = temp_dir() / "default-one";
+  fs::create_directories(one);
+  ASSERT_EQ(run("lut --kind ggx-multiscatter --size 8 --quiet -o " + (one / "dfg.exr").string()).code, 0);
+  ASSERT_EQ(run("prefilter --env builtin:studio --size 16 --min-size 8 --quiet -o " + (one / "p.ktx2").string()).code,
+            0);
+  ASSERT_EQ(run("irradiance --env builtin:studio --quiet -o " + (one / "sh.json").string()).code, 0);
+  const brdfbake::Table dfg = brdfbake::io::read_table((out / "dfg_ggx_multiscatter_8.exr").string());
+  EXPECT_EQ(dfg.meta("kind"), "ggx-multiscatter");
+  EXPECT_EQ(dfg.width, 8);
+  EXPECT_EQ(dfg.data, brdfbake::io::read_table((one / "dfg.exr").string()).data);
+  const brdfbake::io::Ktx2Image chain = brdfbake::io::read_ktx2((out / "prefilter_ggx_16.ktx2").string());
+  EXPECT_EQ(chain.faces, 6u);
+  EXPECT_EQ(chain.levels, 2u);
+  EXPECT_EQ(chain.level_data, brdfbake::io::read_ktx2((one / "p.ktx2").string()).level_data);
+  const json sh = json::parse(std::ifstream(out / "irradiance_sh3.json")),
+             sh_one = json::parse(std::ifstream(one / "sh.json"));
+  EXPECT_EQ(sh["order"], 3);
+  EXPECT_EQ(sh["irradiance_over_pi"], sh_one["irradiance_over_pi"]);
+  EXPECT_EQ(sh["radiance"], sh_one["radiance"]);
   EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
   // The DFG kind's runtime formula: ggx-multiscatter needs a different shader from ggx.
@@ -174,7 +198,7 @@ TEST(CliBake, BadInputIsOneLineNonZeroAndNothingWritten) {
                        size.string() + ": tables[1].size: must be an integer", out);
   const fs::path env = write_file("env.json", R"({"environment": "/no/such.hdr", "tables": [{"kind": "irradiance"}]})");
   const CliRun e = run("run " + env.string() + " -o " + out.string());
-  EXPECT_NE(e.code, 0);
+  EXPECT_EQ(e.code, 2) << "a missing environment is bad input: " << e.err;
   EXPECT_FALSE(fs::exists(out));
   expect_clean_failure(run("bake --dry-run --json --lut-size 0"), 2, "--lut-size", out);
   expect_clean_failure(run("bake --json"), 2, "--dry-run", out);
@@ -238,7 +262,9 @@ TEST(CliBake, IrradianceTargetAddsTheEnginesCoefficients) {
       const double sign = (k == 1 || k == 3 || k == 5 || k == 7) ? -1.0 : 1.0;
       for (size_t c = 0; c < 3; ++c) {
         const double want = sign * 3.14159265358979323846 * j["irradiance_over_pi"][k][c].get<double>();
-        EXPECT_NEAR(j["engine"]["coefficients"][k][c].get<double>(), want, 1e-12 * (1.0 + std::fabs(want))) << k;
+        EXPECT_NEAR(j["engine"]["coefficients"][k][c].get<double>(), want,
+                    brdfbake::test::kRoundingFewOps * (1.0 + std::fabs(want)))
+            << k;
       }
     }
   }
@@ -288,7 +314,7 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
   // a job with a target but no irradiance table: refused, nothing written
   std::ofstream(dir / "job.json") << R"({"target": "filament", "tables": [{"kind": "prefilter", "size": 16, "min_size": 4}]})";
   const CliRun bad = run("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "bad").string());
-  EXPECT_NE(bad.code, 0);
+  EXPECT_EQ(bad.code, 2) << bad.err;
   EXPECT_NE(bad.err.find("needs a GGX prefiltered chain and an irradiance table"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "bad"));
   fs::remove_all(dir);

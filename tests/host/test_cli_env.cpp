@@ -6,7 +6,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,11 +16,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "brdfbake/environment.hpp"
 #include "io/ktx2.hpp"
-
 #include "support/cli_runner.hpp"
+#include "support/tolerances.hpp"
+#include "view/load.hpp"
 
 namespace {
 
@@ -61,6 +66,41 @@ void write_exr(const fs::path& p, int w, int h, const std::vector<float>& rgb) {
   out->open(p.string(), spec);
   out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
   out->close();
+}
+
+// A cube output read back as `brdfbake view` reads it (KTX2, KTX1, DDS, folders of images).
+brdfbake::CubeLevels cube_of(const fs::path& path) {
+  try {
+    const brdfbake::view::Item it = brdfbake::view::load(path.string());
+    if (const auto* c = std::get_if<brdfbake::CubeLevels>(&it.content)) return *c;
+    ADD_FAILURE() << path << " is not a cube: " << it.kind;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  return {};
+}
+
+// `got` holds `want`'s levels: RGB within binary16's rounding (every container here stores half or
+// float), or within RGBE's shared-exponent step of the texel's largest channel.
+void expect_same_cube(const brdfbake::CubeLevels& got, const brdfbake::CubeLevels& want, const std::string& what,
+                      bool rgbe) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(got.size, want.size);
+  ASSERT_EQ(got.level_count(), want.level_count());
+  for (int l = 0; l < want.level_count(); ++l) {
+    const auto& g = got.levels[size_t(l)];
+    const auto& w = want.levels[size_t(l)];
+    ASSERT_EQ(g.size(), w.size()) << "level " << l;
+    for (size_t t = 0; t < w.size(); t += 4) {
+      const double largest = double(std::max({w[t], w[t + 1], w[t + 2]}));
+      for (size_t c = 0; c < 3; ++c) {
+        const double tol =
+            rgbe ? brdfbake::test::kRgbeStepOfLargest * largest
+                 : brdfbake::test::kBinary16Rounding * std::fabs(double(w[t + c])) + brdfbake::test::kBinary16Subnormal;
+        ASSERT_NEAR(g[t + c], w[t + c], tol) << "level " << l << " texel " << t / 4 << " channel " << c;
+      }
+    }
+  }
 }
 
 // A small equirect with some structure (cheaper to load than a builtin at 1024 x 512).
@@ -107,6 +147,42 @@ TEST(CliEnv, PrefilterEveryContainer) {
   EXPECT_TRUE(fs::exists(dir / "eq" / "level0.exr"));
   EXPECT_TRUE(fs::exists(dir / "faces" / "level1_nz.exr"));
   EXPECT_TRUE(fs::exists(dir / "faces" / "level.json"));
+  // Every container read back holds the chain: the same texels as the float32 KTX2 of the same
+  // bake, within what the container keeps.
+  ASSERT_EQ(run(base + "--pixel f32 -o " + (dir / "ref.ktx2").string()).code, 0);
+  const brdfbake::CubeLevels want = cube_of(dir / "ref.ktx2");
+  ASSERT_EQ(want.level_count(), 3);
+  for (const char* file : {"c.ktx2", "c.ktx", "c.dds", "legacy.dds", "cross", "faces"})
+    expect_same_cube(cube_of(dir / file), want, file, std::string(file) == "cross");
+  // the equirect folder, sampled back onto the cube, stays within each level's range (a resampling
+  // averages texels); the other estimators record what they did, on the same level 0
+  const brdfbake::CubeLevels eq = cube_of(dir / "eq");
+  ASSERT_EQ(eq.level_count(), 3);
+  for (int l = 0; l < 3; ++l) {
+    const auto& w = want.levels[size_t(l)];
+    float lo = w[0], hi = w[0];
+    for (size_t t = 0; t < w.size(); ++t)
+      if (t % 4 != 3) lo = std::min(lo, w[t]), hi = std::max(hi, w[t]);
+    for (size_t t = 0; t < eq.levels[size_t(l)].size(); ++t)
+      if (t % 4 != 3) {
+        EXPECT_GE(double(eq.levels[size_t(l)][t]), double(lo) * (1 - brdfbake::test::kBinary16Rounding))
+            << "eq level " << l;
+        EXPECT_LE(double(eq.levels[size_t(l)][t]), double(hi) * (1 + brdfbake::test::kBinary16Rounding))
+            << "eq level " << l;
+      }
+  }
+  const brdfbake::CubeLevels sampled = cube_of(dir / "s.ktx2"), searched = cube_of(dir / "m.ktx2");
+  EXPECT_EQ(sampled.meta("estimator"), "sampling");
+  EXPECT_EQ(sampled.meta("samples_per_level"), "0,64,64");
+  EXPECT_NE(searched.meta("measured_error_per_level"), "");
+  EXPECT_LE(std::stod(searched.meta("measured_error")), 0.02);
+  for (const brdfbake::CubeLevels* c : {&sampled, &searched}) {
+    ASSERT_EQ(c->level_count(), 3);
+    brdfbake::CubeLevels level0 = *c, want0 = want;
+    level0.levels.resize(1);
+    want0.levels.resize(1);
+    expect_same_cube(level0, want0, c == &sampled ? "s.ktx2 level 0" : "m.ktx2 level 0", false);
+  }
   // without --quiet: a summary line (the progress line shows on terminals only)
   const CliRun loud = run("prefilter --env builtin:sun --size 8 --min-size 4 -o " + (dir / "loud.ktx2").string());
   EXPECT_EQ(loud.code, 0) << loud.err;

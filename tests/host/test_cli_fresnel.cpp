@@ -14,7 +14,11 @@
 #include <vector>
 
 #include "brdfbake/reference/fresnel.hpp"
+#include "brdfbake/table.hpp"
+#include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
+#include "support/table_readback.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
@@ -73,7 +77,7 @@ TEST(CliFresnel, CsvHeaderAndCellCentres) {
   for (size_t i = 0; i < 4; ++i) {
     ASSERT_EQ(c.rows[i].size(), 4u);
     EXPECT_DOUBLE_EQ(c.rows[i][0], (static_cast<double>(i) + 0.5) / 4.0);
-    EXPECT_NEAR(c.rows[i][1], brdfbake::reference::fresnel_schlick(c.rows[i][0], 0.04), 1e-6);
+    EXPECT_NEAR(c.rows[i][1], brdfbake::reference::fresnel_schlick(c.rows[i][0], 0.04), brdfbake::test::kFresnelFp32);
   }
   for (const char* key : {"# generator: brdfbake", "# model: schlick", "# parameters: f0 = 0.04, f90 = 1",
                           "# material: none", "# x_axis: cos_theta = (i + 0.5) / width", "# precision: fp32",
@@ -88,9 +92,11 @@ TEST(CliFresnel, EndpointsIncludeGrazingAndNormalIncidence) {
   ASSERT_EQ(c.rows.size(), 5u);
   EXPECT_EQ(c.rows.front()[0], 0.0);
   EXPECT_EQ(c.rows.back()[0], 1.0);
-  for (int ch = 1; ch <= 3; ++ch) EXPECT_NEAR(c.rows.front()[size_t(ch)], 1.0, 1.2e-7) << "grazing";
+  for (int ch = 1; ch <= 3; ++ch)
+    EXPECT_NEAR(c.rows.front()[size_t(ch)], 1.0, brdfbake::test::kFresnelGrazingOne) << "grazing";
   // Normal incidence: ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2), gold red n = 0.188, k = 3.403.
-  EXPECT_NEAR(c.rows.back()[1], brdfbake::reference::schlick_f0_from_conductor(0.188, 3.403), 1e-6);
+  EXPECT_NEAR(c.rows.back()[1], brdfbake::reference::schlick_f0_from_conductor(0.188, 3.403),
+              brdfbake::test::kFresnelFp32);
   EXPECT_TRUE(has_meta(c, "# x_axis: cos_theta = i / (width - 1)"));
   EXPECT_TRUE(has_meta(c, "# material: gold"));
   EXPECT_TRUE(has_meta(c, "# material_source: Johnson & Christy 1972"));
@@ -127,7 +133,7 @@ TEST(CliFresnel, VsExactAddsSignedErrorColumns) {
   for (const auto& row : c.rows)
     for (int ch = 0; ch < 3; ++ch) {
       const double exact = brdfbake::reference::fresnel_conductor(row[0], n[ch], k[ch]);
-      EXPECT_NEAR(row[size_t(4 + ch)], row[size_t(1 + ch)] - exact, 1e-6) << "cos " << row[0];
+      EXPECT_NEAR(row[size_t(4 + ch)], row[size_t(1 + ch)] - exact, brdfbake::test::kFresnelFp32) << "cos " << row[0];
       worst = std::max(worst, std::fabs(row[size_t(4 + ch)]));
     }
   EXPECT_GT(worst, 0.01) << "Schlick misses gold by ~0.02";
@@ -149,8 +155,8 @@ TEST(CliFresnel, TwoDimensionalTableHasAYColumn) {
   EXPECT_EQ(c.header, "cos_theta,ior,f");
   ASSERT_EQ(c.rows.size(), 12u);
   // cell centres of the default [1, 3]; CSV keeps 9 significant digits
-  EXPECT_NEAR(c.rows[0][1], 1.0 + 2.0 * 0.5 / 3.0, 1e-8);
-  EXPECT_NEAR(c.rows[11][1], 1.0 + 2.0 * 2.5 / 3.0, 1e-8);
+  EXPECT_NEAR(c.rows[0][1], 1.0 + 2.0 * 0.5 / 3.0, brdfbake::test::kTextNineDigits);
+  EXPECT_NEAR(c.rows[11][1], 1.0 + 2.0 * 2.5 / 3.0, brdfbake::test::kTextNineDigits);
   EXPECT_TRUE(has_meta(c, "# y_range: 1,3"));
   const CliRun f = run("fresnel --model schlick --table 2d --size 3 --height 5 --range 0,0.5 --endpoints --quiet "
                        "-o - --format csv");
@@ -160,22 +166,40 @@ TEST(CliFresnel, TwoDimensionalTableHasAYColumn) {
   ASSERT_EQ(g.rows.size(), 15u);
   EXPECT_EQ(g.rows.front()[1], 0.0);
   EXPECT_EQ(g.rows.back()[1], 0.5);
-  EXPECT_NEAR(g.rows.back()[2], 0.5, 1e-7) << "cos 1, F0 0.5";
+  EXPECT_NEAR(g.rows.back()[2], 0.5, brdfbake::test::kFresnelFp32Exact) << "cos 1, F0 0.5";
 }
 
+// Every format holds the table the CSV holds (read back: values within the format's step, the
+// shape, the channels and the metadata); so do a 2-D table and the error columns of --vs exact.
 TEST(CliFresnel, EveryFormatAndTheReferenceDevice) {
   const fs::path dir = temp_dir("formats");
-  for (const char* ext : {"exr", "png", "hdr", "ktx2", "csv", "h"}) {
+  const std::vector<std::string> keys = {"model", "material", "device", "precision", "x_axis"};
+  brdfbake::Table want;
+  for (const char* ext : {"csv", "exr", "png", "hdr", "ktx2", "h"}) {
     const fs::path out = dir / (std::string("gold.") + ext);
     const CliRun r = run("fresnel --model conductor --material gold --size 16 --quiet -o " + out.string());
-    EXPECT_EQ(r.code, 0) << ext << ": " << r.err;
-    EXPECT_TRUE(fs::exists(out)) << ext;
+    ASSERT_EQ(r.code, 0) << ext << ": " << r.err;
+    if (std::string(ext) == "csv") {
+      want = brdfbake::io::read_table(out.string());
+      ASSERT_EQ(want.width, 16);
+      ASSERT_EQ(want.channels.size(), 3u);
+      continue;
+    }
+    brdfbake::test::expect_table_file(out.string(), want, keys);
   }
-  const fs::path two_d = dir / "f0.exr";
-  EXPECT_EQ(run("fresnel --model f82-tint --f82 0.9 --table 2d --size 8 --quiet -o " + two_d.string()).code, 0);
-  EXPECT_TRUE(fs::exists(two_d));
-  const fs::path header = dir / "err.h";
-  EXPECT_EQ(run("fresnel --model f82-tint --material iron --size 8 --vs exact --quiet -o " + header.string()).code, 0);
+  const std::string two_d = "fresnel --model f82-tint --f82 0.9 --table 2d --size 8 --quiet -o ";
+  ASSERT_EQ(run(two_d + (dir / "f0.csv").string()).code, 0);
+  ASSERT_EQ(run(two_d + (dir / "f0.exr").string()).code, 0);
+  const brdfbake::Table want_2d = brdfbake::io::read_table((dir / "f0.csv").string());
+  EXPECT_EQ(want_2d.width, 8);
+  EXPECT_GT(want_2d.height, 1);
+  brdfbake::test::expect_table_file((dir / "f0.exr").string(), want_2d, {"model", "table", "x_axis", "y_axis"});
+  const std::string vs = "fresnel --model f82-tint --material iron --size 8 --vs exact --quiet -o ";
+  ASSERT_EQ(run(vs + (dir / "err.csv").string()).code, 0);
+  ASSERT_EQ(run(vs + (dir / "err.h").string()).code, 0);
+  const brdfbake::Table want_vs = brdfbake::io::read_table((dir / "err.csv").string());
+  EXPECT_EQ(want_vs.channels.size(), 6u) << "F and its error against the exact conductor, per channel";
+  brdfbake::test::expect_table_file((dir / "err.h").string(), want_vs, {"model", "material", "error_columns"});
   const CliRun ref = run("fresnel --model dielectric --material water --size 4 --device reference --quiet -o - --format csv");
   EXPECT_EQ(ref.code, 0) << ref.err;
   EXPECT_NE(ref.out.find("# device: reference"), std::string::npos);
@@ -291,3 +315,40 @@ TEST(CliFresnel, BadInputGivesOneLineAndNoFile) {
 }
 
 }  // namespace
+
+// Issue 24, item 8: a thin film over a bright base stores the model's reflectance above 1 (the
+// KHR_materials_iridescence evaluation clamps only below 0), and says so: a warning line, and the
+// file's metadata, naming how many cells, the largest value and where. A dielectric base stays
+// below 1 and gets neither.
+TEST(CliThinFilm, ReflectanceAboveOneIsSaid) {
+  const CliRun bright = run("thin-film --base-f0 0.95,0.64,0.54 --size 32 --format csv -o -");
+  ASSERT_EQ(bright.code, 0) << bright.err;
+  EXPECT_NE(bright.err.find("warning: thin-film: reflectance above 1 in "), std::string::npos) << bright.err;
+  const Csv c = parse_csv(bright.out);
+  double worst = 0.0;
+  for (const auto& row : c.rows)
+    for (size_t k = 2; k < row.size(); ++k) worst = std::max(worst, row[k]);
+  EXPECT_GT(worst, 1.05);  // measured 1.0756 (r at cos_theta 0.0156)
+  EXPECT_TRUE(has_meta(c, "# reflectance_above_1: reflectance above 1 in ")) << bright.out.substr(0, 2000);
+  const CliRun glass = run("thin-film --base-f0 0.04 --size 32 --format csv -o -");
+  ASSERT_EQ(glass.code, 0) << glass.err;
+  EXPECT_EQ(glass.err.find("reflectance above 1"), std::string::npos) << glass.err;
+  EXPECT_FALSE(has_meta(parse_csv(glass.out), "# reflectance_above_1"));
+}
+
+// Issue 24, numbers at the edge: parameters beyond the float range are the model's, not infinities
+// that meet 0 (inf * 0 = NaN, stored as 0): R = clamp(bias + scale (1 - cos)^power, 0, 1) is 1
+// everywhere for 1e308s (the double model: 1e308 + 1e308 w >= 1e308), and 0 for a bias of -1e308
+// under a scale of 1e308 with power 1 (-1e308 cos_theta <= 0, 0 at grazing).
+TEST(CliFresnel, EmpiricalParametersBeyondTheFloatRange) {
+  const CliRun big = run("fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 16 --format csv -o -");
+  ASSERT_EQ(big.code, 0) << big.err;
+  const Csv a = parse_csv(big.out);
+  ASSERT_EQ(a.rows.size(), 16u);
+  for (const auto& row : a.rows) EXPECT_EQ(row.back(), 1.0) << "cos_theta " << row.front();
+  const CliRun neg = run("fresnel --model empirical --bias -1e308 --scale 1e308 --power 1 --size 16 --format csv -o -");
+  ASSERT_EQ(neg.code, 0) << neg.err;
+  for (const auto& row : parse_csv(neg.out).rows) EXPECT_EQ(row.back(), 0.0) << "cos_theta " << row.front();
+  // and the bound the file records is the distance from the double model: 0 here, not 1
+  EXPECT_NE(big.err.find("within 0 of converged"), std::string::npos) << big.err;
+}

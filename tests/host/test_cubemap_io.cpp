@@ -18,6 +18,7 @@
 #include "io/cubemap_io.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -253,9 +254,9 @@ TEST(CubeIo, FoldersOfImages) {
     EXPECT_EQ(h, 12);
     // -Z is the fourth cell of the middle row; RGBE keeps these values to ~1%
     const size_t at = 3 * (size_t(4 + 2) * 16 + 12 + 3);
-    EXPECT_NEAR(px[at], 5.0 / 8.0, 0.01);
-    EXPECT_NEAR(px[at + 1], 3.0, 0.03);
-    EXPECT_NEAR(px[at + 2], 2.0, 0.02);
+    EXPECT_NEAR(px[at], 5.0 / 8.0, test::kRgbeStepOfLargest * 3.0);
+    EXPECT_NEAR(px[at + 1], 3.0, test::kRgbeStepOfLargest * 3.0);
+    EXPECT_NEAR(px[at + 2], 2.0, test::kRgbeStepOfLargest * 3.0);
   }
   {
     CubeWriteOptions o;
@@ -279,7 +280,7 @@ TEST(CubeIo, FoldersOfImages) {
     EXPECT_EQ(h, 8);
     // the centre of the image looks along +Z (face 4)
     const size_t at = 3 * (size_t(4) * 16 + 8);
-    EXPECT_NEAR(px[at], 4.0 / 8.0, 1e-6);
+    EXPECT_NEAR(px[at], 4.0 / 8.0, test::kFloatResampling);
   }
   fs::remove_all(dir);
 }

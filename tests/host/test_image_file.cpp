@@ -23,15 +23,14 @@
 #include "io/image_file.hpp"
 #include "io/oiio_module.hpp"
 #include "io/rgbe.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-// RGBE keeps 8 mantissa bits under the exponent of the pixel's largest channel, truncating: a
-// channel reads back within one step 2^e / 256 <= largest / 128 below its value, never above.
-constexpr double kRgbeStepOfLargest = 1.0 / 128.0;
+using test::kRgbeStepOfLargest;
 const io::ImageLimits kMaxPixels{uint64_t(1) << 28, 0};
 
 // The folder of this process's files, removed when the test program exits.
@@ -410,8 +409,9 @@ TEST(ExrReader, TruncatedAndOversizedFilesAreErrors) {
 
 // ---- The OpenImageIO module ---------------------------------------------------------------------
 
-// A format neither focused reader takes (PNG, TIFF) goes through the module; the values match
-// OpenImageIO's own reading.
+// A format no focused reader takes (TIFF) goes through the module; the values match OpenImageIO's
+// own reading. PNG is read with libpng since issue 24 (png_image.cpp): the same values (16-bit
+// without a colour chunk is read as stored).
 TEST(OiioModule, ReadsOtherFormats) {
   const fs::path dir = temp_dir("module");
   for (const char* ext : {".png", ".tif"}) {
@@ -425,7 +425,9 @@ TEST(OiioModule, ReadsOtherFormats) {
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
     out->close();
     const io::FloatImage img = io::read_image(p.string(), kMaxPixels);
-    EXPECT_TRUE(io::oiio_module_loaded());
+    if (std::string(ext) == ".tif") {
+      EXPECT_TRUE(io::oiio_module_loaded());
+    }
     ASSERT_EQ(img.width, 6);
     ASSERT_EQ(img.channels, 3);
     EXPECT_EQ(img.channel_names, (std::vector<std::string>{"R", "G", "B"}));

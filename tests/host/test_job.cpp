@@ -15,6 +15,7 @@
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 #include "support/device_fixture.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
@@ -201,7 +202,8 @@ TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
   const json& fres = j["files"][2];
   EXPECT_EQ(fres["kind"], "fresnel");
   ASSERT_TRUE(fres["error_bound"].is_number());
-  EXPECT_LT(fres["error_bound"].get<double>(), 1e-5) << "fp32 exact dielectric against the double reference";
+  EXPECT_LT(fres["error_bound"].get<double>(), test::kFresnelFp32)
+      << "fp32 exact dielectric against the double reference";
   EXPECT_TRUE(j["files"][3].contains("error_vs_exact_max_abs"));
   EXPECT_EQ(j["files"][4]["device"], "reference");
   EXPECT_EQ(j["files"][5]["environment"], "builtin:studio");
@@ -234,10 +236,17 @@ TEST(RunJob, IntoAnExistingFolderReplacesOnlyItsOwnFiles) {
 
 TEST(RunJob, AFailureLeavesNothingHalfWritten) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
-  // The second table's output runs through the first one's file: it fails after the first bake.
+  // The second table's pairs are read when it bakes, and one of them is not a number: the job fails
+  // after the first bake. (An output through another's file, which this test used, is refused
+  // before any bake since issue 24: rows collide_* of the hostile table.)
   const fs::path dir = temp_dir("fail/deeper/out");
+  const fs::path inputs = temp_dir("fail_inputs");
+  fs::create_directories(inputs);
+  std::ofstream(inputs / "m.json") << R"({"materials": [{"name": "a", "model": "gltf"}]})";
+  std::ofstream(inputs / "p.csv") << "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,x,0,1\n";
   Job job = parse_job(R"({"tables": [{"kind": "ggx", "size": 4, "output": "a.exr"},
-                                     {"kind": "ggx", "size": 8, "output": "a.exr/b.exr"}]})",
+                                     {"kind": "eval", "material": ")" + (inputs / "m.json").string() + R"(", "input": ")" +
+                          (inputs / "p.csv").string() + R"(", "output": "b.csv"}]})",
                       "job.json");
   job.output_dir = dir.string();
   EXPECT_THROW(run_job(job), Error);
@@ -256,6 +265,7 @@ TEST(RunJob, AFailureLeavesNothingHalfWritten) {
   EXPECT_THROW(run_job(env), Error);
   expect_nothing_written(dir.parent_path() / "env");
   fs::remove_all(temp_dir("fail"));
+  fs::remove_all(inputs);
 }
 
 TEST(RunJob, AKindNotAvailableStopsBeforeAnything) {

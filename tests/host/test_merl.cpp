@@ -16,6 +16,7 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
 #include "io/merl.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -67,7 +68,7 @@ TEST(Merl, ByteLayoutIsMerls) {
       if (f < 0.0) {
         EXPECT_EQ(stored, -1.0) << bin;  // the marker, before scaling
       } else {
-        EXPECT_NEAR(stored * scale[c], f, 1e-13 * f) << bin << " " << c;
+        EXPECT_NEAR(stored * scale[c], f, test::kRounding * f) << bin << " " << c;
       }
     }
   }
@@ -83,7 +84,7 @@ TEST(Merl, RoundTrip) {
     if (t.values[k] == kMerlBelowHorizon) {
       ASSERT_EQ(back.values[k], kMerlBelowHorizon) << k;
     } else {
-      ASSERT_NEAR(back.values[k], t.values[k], 4e-16 * t.values[k]) << k;  // f / s * s: two roundings
+      ASSERT_NEAR(back.values[k], t.values[k], test::kTwoRoundings * t.values[k]) << k;  // f / s * s
     }
   }
   EXPECT_NE(std::find(back.metadata.begin(), back.metadata.end(), std::pair<std::string, std::string>{"model", "synthetic"}),
@@ -136,8 +137,8 @@ TEST(Merl, ReferenceTableAndLookup) {
           EXPECT_EQ(t.values[b], kMerlBelowHorizon);
           EXPECT_EQ(f.r, kMerlBelowHorizon);
         } else {
-          EXPECT_NEAR(t.values[kMerlBins + b], 0.25 / M_PI, 1e-15);
-          EXPECT_NEAR(f.b, 1.0 / M_PI, 1e-15);
+          EXPECT_NEAR(t.values[kMerlBins + b], 0.25 / M_PI, test::kUlpsOfOne);
+          EXPECT_NEAR(f.b, 1.0 / M_PI, test::kUlpsOfOne);
         }
       }
   EXPECT_GT(below, 0u);

@@ -1,4 +1,4 @@
-// The SH projection on the host (project_sh, host/src/sh_projection.cpp): an equirect's exact
+// The SH projection on the host (project_sh, host/src/families/irradiance/sh_projection.cpp): an equirect's exact
 // projection against an independent quadrature of the definition over every pixel, the white
 // furnace at any resolution, a cube at its texel centres against the scalar reference.
 #include <gtest/gtest.h>
@@ -147,6 +147,106 @@ TEST(ShProjection, WindowAndBadInput) {
     EXPECT_DOUBLE_EQ(sh.irradiance_over_pi[c], sh.radiance[c]);
   EXPECT_THROW(project_sh(e, 4), Error);
   EXPECT_THROW(project_sh(equirect(8, 4, std::vector<float>(10, 1.0f)), 3), Error);
+}
+
+
+// cmgen's automatic deringing window (host/src/sh_window.cpp), piece by piece against closed forms.
+TEST(ShWindowAuto, MinimumOfALinearFunctionIsItsClosedForm) {
+  // f = a Y_00 + b Y_10 = a / (2 sqrt(pi)) + b sqrt(3 / 4pi) z: the minimum is at z = -sign(b).
+  const double a = 1.3, b = 0.9;
+  std::vector<double> c(9, 0.0);
+  c[0] = a;
+  c[2] = b;
+  const double want = a * 0.5 / std::sqrt(kPi) - std::fabs(b) * std::sqrt(0.75 / kPi);
+  // The search ends on a step of 1e-9 rad: the value is then within ~1e-17 of the minimum.
+  EXPECT_NEAR(sh_minimum(c, 3), want, 1e-12);
+  // a tilted linear function: the same minimum wherever its direction points
+  std::vector<double> t(9, 0.0);
+  t[0] = a;
+  t[1] = b * 0.6;
+  t[3] = b * 0.8;
+  EXPECT_NEAR(sh_minimum(t, 3), want, 1e-12);
+}
+
+TEST(ShWindowAuto, MinimumOfBandTwoIsItsClosedForm) {
+  // f = Y_20 = sqrt(5 / 16pi) (3 z^2 - 1): minimum -sqrt(5 / 16pi) on the equator.
+  std::vector<double> c(25, 0.0);
+  c[6] = 1.0;
+  EXPECT_NEAR(sh_minimum(c, 5), -std::sqrt(5.0 / (16.0 * kPi)), 1e-12);
+}
+
+TEST(ShWindowAuto, EstimateIsExactForZonalFunctions) {
+  // zonal about a tilted axis (linear + band 2 zonal about the same axis): the estimate is exact
+  const Vec3 u{0.48, 0.6, 0.64};  // unit
+  const std::vector<double> y1 = math::sh_basis(3, u);
+  std::vector<double> c(9, 0.0);
+  c[0] = 2.0;
+  // the zonal functions about u: P1(u.n) and P2(u.n) in the basis are sums of Y_1m(u) Y_1m(n), ...
+  for (int k = 1; k < 4; ++k) c[size_t(k)] = 0.7 * y1[size_t(k)];
+  for (int k = 4; k < 9; ++k) c[size_t(k)] = -0.9 * y1[size_t(k)];
+  EXPECT_NEAR(sh_minimum_estimate(c), sh_minimum(c, 3), 1e-6);
+}
+
+TEST(ShWindowAuto, SincWeights) {
+  const std::vector<double> w = sh_sinc4_window_weights(2.5, 5);
+  EXPECT_EQ(w[0], 1.0);
+  EXPECT_NEAR(w[1], std::pow(std::sin(kPi / 2.5) / (kPi / 2.5), 4), 1e-15);
+  EXPECT_NEAR(w[2], std::pow(std::sin(2 * kPi / 2.5) / (2 * kPi / 2.5), 4), 1e-15);
+  EXPECT_EQ(w[3], 0.0);  // l >= cutoff
+  EXPECT_EQ(w[4], 0.0);
+  EXPECT_THROW(sh_window_weights(ShWindow::Auto, 3), Error);
+  EXPECT_EQ(sh_window_from_name("auto"), ShWindow::Auto);
+  EXPECT_STREQ(sh_window_name(ShWindow::Auto), "auto");
+}
+
+TEST(ShWindowAuto, CutoffIsTheWidestThatKeepsTheIrradianceNonNegative) {
+  // A non-negative function keeps nearly the widest cutoff the search allows (4 order + 1 = 13):
+  // each channel's search ends within 0.1 band below where it started, and starts where the
+  // previous one ended, so the three channels end at 12.92, 12.84 and 12.7675 bands (cmgen
+  // writes the same cutoff for every map that needs no deringing).
+  std::vector<double> flat(27, 0.0);
+  flat[0] = flat[1] = flat[2] = 1.0;
+  const double wide = sh_auto_window_cutoff(flat, 3);
+  EXPECT_NEAR(wide, 12.7675, 1e-3);
+  // The irradiance of a small bright source (a sun) rings negative on the far side: the chosen
+  // cutoff makes it non-negative, and a cutoff 0.2 band wider does not (the search's resolution
+  // is 0.1 band). Green has half the source's strength over the same base, so it rings less;
+  // the cutoff is the smallest over the channels (red's).
+  const Vec3 sun{0.3, 0.4, std::sqrt(1.0 - 0.25)};
+  const std::vector<double> y = math::sh_basis(3, sun);
+  std::vector<double> irr(27, 0.0);
+  for (int l = 0; l < 3; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const size_t k = size_t(math::sh_index(l, m));
+      const double lobe = math::sh_cosine_lobe(l) / kPi;
+      irr[3 * k + 0] = 100.0 * y[k] * lobe + (k == 0 ? 0.01 : 0.0);
+      irr[3 * k + 1] = 50.0 * y[k] * lobe + (k == 0 ? 0.01 : 0.0);
+      irr[3 * k + 2] = (k == 0 ? 1.0 : 0.0);
+    }
+  const double cut = sh_auto_window_cutoff(irr, 3);
+  EXPECT_GE(cut, 3.0);
+  EXPECT_LT(cut, 12.7);
+  auto windowed_min = [&](double cutoff, size_t channel) {
+    const std::vector<double> w = sh_sinc4_window_weights(cutoff, 3);
+    std::vector<double> c(9);
+    for (int l = 0; l < 3; ++l)
+      for (int m = -l; m <= l; ++m) c[size_t(math::sh_index(l, m))] = irr[3 * size_t(math::sh_index(l, m)) + channel] * w[size_t(l)];
+    return sh_minimum_estimate(c);  // as the search decides, for 3 bands
+  };
+  EXPECT_GE(windowed_min(cut, 0), 0.0);
+  EXPECT_GE(windowed_min(cut, 1), 0.0);
+  EXPECT_LT(windowed_min(cut + 0.2, 0), 0.0);
+  // The unwindowed irradiance of that source is negative somewhere (why the window exists).
+  EXPECT_LT(windowed_min(1e9, 0), 0.0);
+}
+
+TEST(ShWindowAuto, AppliedToAProjection) {
+  const EnvImage e = equirect(8, 4, std::vector<float>(96, 1.0f));
+  const ShCoefficients sh = project_sh(e, 3, ShWindow::Auto);
+  EXPECT_EQ(sh.window, ShWindow::Auto);
+  EXPECT_NEAR(sh.window_cutoff, 12.7675, 1e-3);  // a uniform environment: nothing rings (see above)
+  EXPECT_EQ(sh.window_weights, sh_sinc4_window_weights(sh.window_cutoff, 3));
+  for (size_t c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(sh.irradiance_over_pi[c], sh.radiance[c]);  // band 0 untouched
 }
 
 }  // namespace

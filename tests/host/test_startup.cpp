@@ -5,9 +5,13 @@
 // (LD_TRACE_LOADED_OBJECTS, LD_DEBUG=files), never through timings.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -56,7 +60,8 @@ std::vector<std::string> dynamically_loaded(const std::string& err) {
   return out;
 }
 
-void write_png_equirect(const fs::path& p) {
+// An 8-bit equirect in a format only OpenImageIO reads (TIFF; PNG is read with libpng since issue 24).
+void write_tiff_equirect(const fs::path& p) {
   auto out = OIIO::ImageOutput::create(p.string());
   ASSERT_TRUE(out);
   OIIO::ImageSpec spec(16, 8, 3, OIIO::TypeDesc::UINT8);
@@ -117,9 +122,9 @@ TEST(Startup, HotFormatsNeedNoOpenImageIoModule) {
 
 TEST(Startup, OtherFormatsLoadTheModuleOnDemand) {
   const fs::path dir = temp_dir("other");
-  const fs::path png = dir / "env.png";
-  write_png_equirect(png);
-  const std::string args = "irradiance --env " + png.string() + " --source-size 8 --quiet -o ";
+  const fs::path tif = dir / "env.tif";
+  write_tiff_equirect(tif);
+  const std::string args = "irradiance --env " + tif.string() + " --source-size 8 --quiet -o ";
   // with the module (found beside the executable): it is loaded, and the job runs
   const CliRun ok = run_cli(args + (dir / "sh.json").string(), "", "LD_DEBUG=files");
   EXPECT_EQ(ok.code, 0) << ok.err;
@@ -128,12 +133,47 @@ TEST(Startup, OtherFormatsLoadTheModuleOnDemand) {
   EXPECT_TRUE(loaded);
   // without it: one line that names the module and how to point at it, and no output
   const CliRun missing = run_cli(args + (dir / "sh2.json").string(), "", kNoModule);
-  EXPECT_NE(missing.code, 0);
+  EXPECT_EQ(missing.code, 2) << missing.err;
   EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
-  EXPECT_TRUE(contains(missing.err, "env.png")) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "env.tif")) << missing.err;
   EXPECT_TRUE(contains(missing.err, "brdfbake_oiio.so")) << missing.err;
   EXPECT_TRUE(contains(missing.err, "BRDFBAKE_OIIO_MODULE")) << missing.err;
   EXPECT_FALSE(fs::exists(dir / "sh2.json"));
+}
+
+// The command line's module search (issue 24): an installed copy of the program, outside the build
+// tree, looks beside itself and in ../lib/brdfbake/ only, never at the build tree's path compiled
+// into it (for a package built in a temporary folder, a path anyone could create again). Before,
+// the moved program loaded the build tree's module.
+TEST(Startup, AMovedProgramDoesNotLoadTheBuildTreesModule) {
+  const fs::path dir = temp_dir("moved");
+  const fs::path bin = dir / "bin", program = bin / "brdfbake";
+  fs::create_directories(bin);
+  const char* under_test = std::getenv("BRDFBAKE_CLI_UNDER_TEST");
+  fs::copy_file(under_test ? under_test : BRDFBAKE_CLI, program);
+  const fs::path tif = dir / "env.tif";
+  write_tiff_equirect(tif);
+  auto run = [&](const std::string& out) {
+    const fs::path err = dir / "err.txt";
+    const std::string cmd = "env -u BRDFBAKE_OIIO_MODULE " + program.string() + " irradiance --env " + tif.string() +
+                            " --source-size 8 --quiet -o " + (dir / out).string() + " 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, text);
+  };
+  const auto [code, err] = run("sh.json");
+  EXPECT_EQ(code, 2) << err;
+  EXPECT_TRUE(contains(err, "is not installed (looked for " + (bin / "brdfbake_oiio.so").string() + ", " +
+                                (dir / "lib" / "brdfbake" / "brdfbake_oiio.so").string() + ";"))
+      << err;
+  EXPECT_FALSE(contains(err, fs::path(BRDFBAKE_CLI).parent_path().string())) << err;
+  EXPECT_FALSE(fs::exists(dir / "sh.json"));
+  // Installed beside it, the module is found there.
+  fs::copy_file(fs::path(BRDFBAKE_CLI).parent_path() / "brdfbake_oiio.so", bin / "brdfbake_oiio.so");
+  const auto [code2, err2] = run("sh2.json");
+  EXPECT_EQ(code2, 0) << err2;
+  EXPECT_TRUE(fs::exists(dir / "sh2.json"));
 }
 
 }  // namespace

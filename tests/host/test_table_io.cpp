@@ -24,16 +24,14 @@
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Radiance RGBE keeps 8 mantissa bits under an exponent shared by the pixel's three channels:
-// frexp puts the largest channel in [2^(e-1), 2^e), so every channel is quantised in steps of
-// 2^e / 256 <= largest / 128.
-constexpr double kRgbeStepOfLargest = 1.0 / 128.0;
+using test::kRgbeStepOfLargest;
 
 // Values exact in binary16 (multiples of 1/256 below 8): channel c of texel (i, j) is
 // (i + width * j + 1 + c / 4) / 64, distinct for every texel and channel, all in (0, 1).

@@ -18,13 +18,18 @@
 #include "brdfbake/io.hpp"
 #include "brdfbake/view.hpp"
 #include "io/png_image.hpp"
+#include "view/canvas.hpp"
+#include "view/exposure.hpp"
 #include "support/cli_runner.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 using Rgb8 = std::array<int, 3>;
+using test::CliRun;
+using test::run_cli;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-view-" + std::to_string(::getpid())) / name;
@@ -178,8 +183,8 @@ TEST(View, TableColourScaleMapsMinimumAndMaximumToItsEnds) {
   EXPECT_NE(mid, (Rgb8{255, 255, 255}));
   // bias: log10, its ends at log10 of its extremes; the extremes' texels at the scale's ends.
   EXPECT_TRUE(images[1].log_scale);
-  EXPECT_NEAR(images[1].lo, -2.0, 1e-6);
-  EXPECT_NEAR(images[1].hi, 1.0, 1e-6);
+  EXPECT_NEAR(images[1].lo, -2.0, test::kFloatLog10);
+  EXPECT_NEAR(images[1].hi, 1.0, test::kFloatLog10);
   EXPECT_EQ(pixel(s, images[1].x + 1, images[1].y + images[1].height - 2), (Rgb8{0, 0, 0}));
   EXPECT_EQ(pixel(s, images[1].x + images[1].width - 2, images[1].y + 1), (Rgb8{255, 255, 255}));
   // Labels: the axes' ends and the scale's ends are written below the image.
@@ -227,7 +232,9 @@ TEST(View, ConstantEnvironmentShIsAUniformSphere) {
   }
   const std::string path = (dir / "sh.json").string();
   write_sh_json(sh, {{"kind", "irradiance"}}, path);
-  const ContactSheet s = render_contact_sheet({path});
+  ViewOptions o;
+  o.exposure = 0.0;  // the pixel asserted below is the tone map of 1.0 itself
+  const ContactSheet s = render_contact_sheet({path}, o);
   const auto spheres = regions(s, "sphere");
   ASSERT_EQ(spheres.size(), 2u);
   const int v = aces_srgb8(1.0);
@@ -239,7 +246,7 @@ TEST(View, ConstantEnvironmentShIsAUniformSphere) {
   }
   const auto bands = regions(s, "band plot");
   ASSERT_EQ(bands.size(), 1u);
-  EXPECT_NEAR(bands[0].hi, 2.0 * std::sqrt(3.14159265358979323846), 1e-12) << "band 0 holds everything";
+  EXPECT_NEAR(bands[0].hi, 2.0 * std::sqrt(3.14159265358979323846), test::kRoundingFewOps) << "band 0 holds everything";
 }
 
 TEST(View, BadInputIsAClearError) {
@@ -262,10 +269,208 @@ TEST(View, BadInputIsAClearError) {
   EXPECT_NE(error_of({}).find("nothing to view"), std::string::npos);
 }
 
-// ---- Every output the tool writes, through the command line -----------------------------------
+// ---- The exposure chosen from the content (issue 24, a new user's item 6) -----------------------
 
-using test::CliRun;
-using test::run_cli;
+// The automatic exposure, against its rule written out (view/exposure.hpp): the log-average
+// luminance at 0.18, the 99th percentile at most 1.0, rounded down to a tenth of an EV.
+TEST(ViewExposure, AutomaticExposureFollowsItsRule) {
+  auto ev = [](const std::vector<float>& rgb) { return view::auto_exposure(rgb.data(), rgb.size() / 3, 3); };
+  // Uniform luminance L: the key alone, log2(0.18 / L) (below log2(2 / L)).
+  for (float level : {1.0f, 100.0f, 65000.0f, 1e-3f}) {
+    const std::vector<float> flat(3 * 1000, level);
+    EXPECT_DOUBLE_EQ(ev(flat), std::floor(10 * std::log2(0.18 / double(level))) / 10) << level;
+  }
+  // A sky of 1 with a sun of 65000 on 4 texels in 1000 (below the top percent): the key of the
+  // log-average exp(4 ln 65000 / 1000), the sun left to clip as in a photograph.
+  std::vector<float> sun(3 * 1000, 1.0f);
+  for (size_t t = 0; t < 4 * 3; ++t) sun[t] = 65000.0f;
+  EXPECT_DOUBLE_EQ(ev(sun), std::floor(10 * std::log2(0.18 / std::exp(4 * std::log(65000.0) / 1000))) / 10);
+  // A glow: 5 % of texels at 1000 over a floor of 0.01: the key would put the top percent at
+  // 1000 * 0.18 / exp(0.05 ln 1000 + 0.95 ln 0.01), far above 1; the exposure brings it to 1.
+  std::vector<float> glow(3 * 1000, 0.01f);
+  for (size_t t = 0; t < 50 * 3; ++t) glow[t] = 1000.0f;
+  EXPECT_DOUBLE_EQ(ev(glow), std::floor(10 * std::log2(1.0 / 1000.0)) / 10);
+  // Nothing bright: 0 EV, not a division by zero.
+  EXPECT_EQ(ev(std::vector<float>(30, 0.0f)), 0.0);
+}
+
+// A blurred level of a sun map (radiance ~100 everywhere) and its SH sphere were white at 0 EV:
+// by default each picture is drawn at its own exposure, which the sheet records and the caption
+// states; --exposure still overrides it.
+TEST(ViewExposure, BrightCubesAndSpheresAreNotWhiteByDefault) {
+  const fs::path dir = temp_dir("bright");
+  const CubeLevels cube = constant_cube(16, 3, 96.0f);
+  const std::string cube_path = (dir / "c.ktx2").string();
+  write_cubemap(cube, cube_path, cube_format_from_path(cube_path));
+  ShCoefficients sh;
+  sh.order = 3;
+  sh.radiance.assign(27, 0.0);
+  sh.irradiance_over_pi.assign(27, 0.0);
+  for (int c = 0; c < 3; ++c) sh.irradiance_over_pi[size_t(c)] = sh.radiance[size_t(c)] = 96.0 * 2.0 * std::sqrt(M_PI);
+  const std::string sh_path = (dir / "sh.json").string();
+  write_sh_json(sh, {{"kind", "irradiance"}}, sh_path);
+  ViewOptions o;
+  o.face_size = 16;
+  const ContactSheet s = render_contact_sheet({cube_path, sh_path}, o);
+  const double expected_ev = std::floor(10 * std::log2(0.18 / 96.0)) / 10;
+  const int v = aces_srgb8(96.0 * std::exp2(expected_ev));
+  EXPECT_LT(v, 200) << "middle grey, not white";
+  const auto levels = regions(s, "cube level");
+  ASSERT_EQ(levels.size(), 3u);
+  for (const auto& r : levels) {
+    EXPECT_DOUBLE_EQ(r.exposure, expected_ev) << r.label;
+    EXPECT_EQ(pixel(s, r.x + 16 + 8, r.y + 16 + 8), (Rgb8{v, v, v})) << r.label;  // +Z's centre
+  }
+  const auto spheres = regions(s, "sphere");
+  ASSERT_EQ(spheres.size(), 2u);
+  for (const auto& r : spheres) {
+    EXPECT_NEAR(r.exposure, expected_ev, 0.1 + 1e-9) << "the sphere's E/pi is 96 up to float rounding";
+    const int sv = aces_srgb8(96.0 * std::exp2(r.exposure));
+    EXPECT_EQ(pixel(s, r.x + r.width / 2, r.y + r.height / 2), (Rgb8{sv, sv, sv}));
+  }
+  EXPECT_NE(s.tone_map_text.find("chosen per picture"), std::string::npos) << s.tone_map_text;
+  // An exposure asked for is the one used, everywhere (0 EV paints this cube white).
+  o.exposure = 0.0;
+  const ContactSheet fixed = render_contact_sheet({cube_path}, o);
+  for (const auto& r : regions(fixed, "cube level")) {
+    EXPECT_EQ(r.exposure, 0.0);
+    EXPECT_EQ(pixel(fixed, r.x + 16 + 8, r.y + 16 + 8), (Rgb8{255, 255, 255}));
+  }
+}
+
+// The map of the report: rooitou_park (a sun of luminance ~65 000 over a sky near 1). Every level
+// of its chain and its SH sphere show mostly not-white pixels by default.
+TEST(ViewExposure, SunMapChainIsNotBlownOut) {
+  const fs::path map = fs::path(BRDFBAKE_SHARED_DIR) / "envmaps" / "rooitou_park_1k.hdr";
+  if (!fs::exists(map)) GTEST_SKIP() << "the shared maps (../shared) are absent: " << map;
+  const fs::path dir = temp_dir("sun");
+  const CliRun chain = run_cli("prefilter --environment " + map.string() + " --size 16 --min-size 4 --quiet -o " +
+                               (dir / "p.ktx2").string());
+  ASSERT_EQ(chain.code, 0) << chain.err;
+  const CliRun sh = run_cli("irradiance --environment " + map.string() + " --quiet -o " + (dir / "sh.json").string());
+  ASSERT_EQ(sh.code, 0) << sh.err;
+  ViewOptions o;
+  o.face_size = 16;
+  const ContactSheet s = render_contact_sheet({(dir / "p.ktx2").string(), (dir / "sh.json").string()}, o);
+  auto white_fraction = [&](const SheetRegion& r, bool disc) {
+    int white = 0, all = 0;
+    for (int y = 0; y < r.height; ++y)
+      for (int x = 0; x < r.width; ++x) {
+        const double u = (x + 0.5) / r.width * 2 - 1, w = (y + 0.5) / r.height * 2 - 1;
+        if (disc && u * u + w * w > 0.9) continue;
+        ++all;
+        white += pixel(s, r.x + x, r.y + y) == Rgb8{255, 255, 255};
+      }
+    return double(white) / all;
+  };
+  const auto levels = regions(s, "cube level");
+  ASSERT_EQ(levels.size(), 3u);
+  for (const auto& r : levels) EXPECT_LT(white_fraction(r, false), 0.05) << r.label << " at " << r.exposure << " EV";
+  for (const auto& r : regions(s, "sphere")) EXPECT_LT(white_fraction(r, true), 0.05) << r.label;
+}
+
+// ---- Labels: material rows, scale values, folders inside folders (item 10) ----------------------
+
+// Whether `text` is drawn at (x, y) in colour c: every pixel the font sets is c on the sheet.
+bool text_at(const ContactSheet& s, int x, int y, const std::string& text, view::Rgb8 c) {
+  view::Canvas probe(view::text_width(text) + 2, view::kLineHeight, {0, 0, 0});
+  probe.text(0, 0, text, c);
+  int lit = 0;
+  for (int j = 0; j < probe.height(); ++j)
+    for (int i = 0; i < probe.width(); ++i)
+      if (probe.get(i, j) == c) {
+        ++lit;
+        if (x + i >= s.width || y + j >= s.height) return false;
+        if (pixel(s, x + i, y + j) != (Rgb8{c[0], c[1], c[2]})) return false;
+      }
+  return lit > 0;
+}
+
+// A log scale from 0.01 to 10 is labelled with values ("0.01", "10"), not exponents ("1e-2").
+TEST(ViewLabels, LogScaleEndsAreValues) {
+  const fs::path dir = temp_dir("log-labels");
+  Table t;
+  t.width = 16;
+  t.height = 16;
+  t.channels = {"v"};
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) t.data.push_back(i == 15 && j == 15 ? 10.0f : i == 0 && j == 0 ? 0.01f : 0.1f);
+  const std::string path = (dir / "t.exr").string();
+  write_table(t, path, TableFormat::Exr);
+  const ContactSheet s = render_contact_sheet({path});
+  const auto scales = regions(s, "colour scale");
+  ASSERT_EQ(scales.size(), 1u);
+  const SheetRegion& bar = scales[0];
+  ASSERT_TRUE(bar.log_scale);
+  const int y = bar.y + bar.height + 2;
+  EXPECT_TRUE(text_at(s, bar.x, y, "0.01", view::kAxis)) << "the left end, as a value";
+  EXPECT_TRUE(text_at(s, bar.x + bar.width - view::text_width("10"), y, "10", view::kAxis)) << "the right end";
+  EXPECT_FALSE(text_at(s, bar.x, y, "1e-2", view::kAxis));
+}
+
+// A table whose median sits in the darkest tenth of a linear scale (the 32^2 Charlie table: a
+// median of 0.19 under grazing texels of 3.2, all within 5x of the 99th percentile) is drawn on a
+// log scale rather than black.
+TEST(ViewLabels, MostlyDarkTableGetsALogScale) {
+  const fs::path dir = temp_dir("dark");
+  Table t;
+  t.width = 32;
+  t.height = 32;
+  t.channels = {"v"};
+  for (int j = 0; j < t.height; ++j)
+    for (int i = 0; i < t.width; ++i) t.data.push_back(i < 24 ? 0.1f + 0.1f * float(j) / 31 : 0.2f + 3.0f * float(i - 24) / 7);
+  const std::string path = (dir / "c.exr").string();
+  write_table(t, path, TableFormat::Exr);
+  const ContactSheet s = render_contact_sheet({path});
+  const auto images = regions(s, "table channel");
+  ASSERT_EQ(images.size(), 1u);
+  EXPECT_TRUE(images[0].log_scale);
+  EXPECT_NEAR(images[0].hi, std::log10(3.2), test::kFloatLog10);
+  EXPECT_NEAR(images[0].lo, std::log10(0.1), test::kFloatLog10);
+}
+
+// An albedo table of three materials names its rows from material_names.
+TEST(ViewLabels, AlbedoRowsAreNamedFromTheMetadata) {
+  const fs::path dir = temp_dir("albedo");
+  std::ofstream(dir / "m.json") << R"({"materials": [
+      {"name": "gold", "model": "gltf", "baseColor": [1.0, 0.78, 0.34], "metallic": 1, "roughness": 0.3},
+      {"name": "blue", "model": "gltf", "baseColor": [0.1, 0.2, 0.8], "metallic": 0, "roughness": 0.5},
+      {"name": "chalk", "model": "gltf", "baseColor": [0.9, 0.9, 0.9], "metallic": 0, "roughness": 0.9}]})";
+  const CliRun r = run_cli("tabulate --material " + (dir / "m.json").string() + " --layout albedo --res 8 --quiet -o " +
+                           (dir / "albedo.exr").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const ContactSheet s = render_contact_sheet({(dir / "albedo.exr").string()});
+  const auto images = regions(s, "table channel");
+  ASSERT_FALSE(images.empty());
+  const SheetRegion& im = images[0];
+  const char* names[3] = {"gold", "blue", "chalk"};
+  for (int j = 0; j < 3; ++j) {  // row 0 at the bottom
+    const int band_top = im.y + (2 - j) * im.height / 3, band_h = im.height / 3;
+    const int x = im.x - 4 - view::text_width(names[j]);
+    EXPECT_TRUE(text_at(s, x, band_top + (band_h - 8) / 2, names[j], view::kAxis)) << names[j];
+  }
+}
+
+// A folder holding folders: what they hold is shown, and what view cannot show is named as skipped.
+TEST(ViewLabels, FoldersInsideFoldersAreShownAndSkippedFilesNamed) {
+  const fs::path dir = temp_dir("nested");
+  fs::create_directories(dir / "top" / "inner" / "deeper");
+  const CubeLevels cube = constant_cube(4, 1, 0.25f);
+  write_cubemap(cube, (dir / "top" / "a.ktx2").string(), CubeFormat::Ktx2);
+  write_cubemap(cube, (dir / "top" / "inner" / "deeper" / "b.ktx2").string(), CubeFormat::Ktx2);
+  std::ofstream(dir / "top" / "inner" / "notes.md") << "# notes\n";
+  const ContactSheet s = render_contact_sheet({(dir / "top").string()});
+  ASSERT_EQ(s.files.size(), 2u);
+  EXPECT_NE(s.files[1].find("deeper/b.ktx2"), std::string::npos) << s.files[1];
+  ASSERT_EQ(s.skipped.size(), 1u);
+  EXPECT_NE(s.skipped[0].find("notes.md"), std::string::npos) << s.skipped[0];
+  const CliRun cli = run_cli("view " + (dir / "top").string() + " -o " + (dir / "s.png").string());
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  EXPECT_NE(cli.err.find("2 files"), std::string::npos) << cli.err;
+  EXPECT_NE(cli.err.find("skipped " + (dir / "top" / "inner" / "notes.md").string()), std::string::npos) << cli.err;
+}
+
+// ---- Every output the tool writes, through the command line -----------------------------------
 
 TEST(CliView, EveryOutputKindCanBeViewed) {
   const fs::path dir = temp_dir("every");

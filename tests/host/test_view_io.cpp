@@ -21,6 +21,7 @@
 #include "io/ktx1.hpp"
 #include "io/png_image.hpp"
 #include "io/table_read.hpp"
+#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -188,11 +189,12 @@ TEST(ViewIo, TableReaderReadsWhatEveryWriterWrote) {
         EXPECT_EQ(r.x_name, "n_dot_v");
         EXPECT_EQ(r.y_name, "roughness");
         ASSERT_EQ(r.x.size(), t.x.size());
-        for (size_t k = 0; k < t.x.size(); ++k) EXPECT_NEAR(r.x[k], t.x[k], 1e-9);
-        for (size_t k = 0; k < t.y.size(); ++k) EXPECT_NEAR(r.y[k], t.y[k], 1e-9);
+        for (size_t k = 0; k < t.x.size(); ++k) EXPECT_NEAR(r.x[k], t.x[k], test::kTextNineDigitsBelowOne);
+        for (size_t k = 0; k < t.y.size(); ++k) EXPECT_NEAR(r.y[k], t.y[k], test::kTextNineDigitsBelowOne);
         ASSERT_EQ(r.data.size(), t.data.size());
         const double tol = format_tolerance(ext);
-        for (size_t k = 0; k < t.data.size(); ++k) EXPECT_NEAR(r.data[k], t.data[k], tol + 1e-9) << "value " << k;
+        for (size_t k = 0; k < t.data.size(); ++k)
+          EXPECT_NEAR(r.data[k], t.data[k], tol + test::kTextNineDigitsBelowOne) << "value " << k;
       }
   }
 }
@@ -227,7 +229,7 @@ TEST(ViewIo, AxisRulesOfTheMetadata) {
   EXPECT_EQ(v, (std::vector<double>{200.0, 400.0}));
   ASSERT_TRUE(io::axis_from_rule("column j: theta_o = (j + 0.5) / 2 pi/2", 2, &name, &v));
   EXPECT_EQ(name, "theta_o");
-  EXPECT_NEAR(v[1], 0.75 * 1.5707963267948966, 1e-15);
+  EXPECT_NEAR(v[1], 0.75 * 1.5707963267948966, test::kUlpsOfOne);
   EXPECT_FALSE(io::axis_from_rule("cos_theta at explicit points (the x column)", 2, &name, &v));
   EXPECT_FALSE(io::axis_from_rule("row k * 16 + i: theta_i = (i + 0.5) / 16 pi/2, phi_d = ...", 2, &name, &v) &&
                name != "theta_i");

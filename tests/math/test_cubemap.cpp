@@ -59,11 +59,11 @@ TEST(CubeGeometry, SolidAnglesTileTheSphere) {
     double sum = 0;
     for (int j = 0; j < size; ++j)
       for (int i = 0; i < size; ++i) sum += cube_texel_solid_angle(size, i, j);
-    EXPECT_NEAR(6.0 * sum, 4.0 * kPi, test::kRounding * 10) << size;
+    EXPECT_NEAR(6.0 * sum, 4.0 * kPi, test::kRoundingFewOps) << size;
   }
   // the whole face is a sixth of the sphere; the centre texel of a large face is (2/S)^2
   EXPECT_NEAR(cube_rect_solid_angle(-1, -1, 1, 1), 4.0 * kPi / 6.0, test::kRounding);
-  EXPECT_NEAR(cube_texel_solid_angle(1000, 500, 500) / (4e-6), 1.0, 1e-5);
+  EXPECT_NEAR(cube_texel_solid_angle(1000, 500, 500) / (4e-6), 1.0, test::kSmallTexelSolidAngle);
   // symmetric under the face's symmetries
   EXPECT_NEAR(cube_texel_solid_angle(7, 1, 2), cube_texel_solid_angle(7, 5, 4), test::kRounding);
   EXPECT_NEAR(cube_texel_solid_angle(7, 1, 2), cube_texel_solid_angle(7, 2, 1), test::kRounding);
@@ -117,8 +117,8 @@ TEST(EquirectGeometry, DocumentedAxesAndInverse) {
       const Vec3 d = equirect_direction(u, v);
       EXPECT_NEAR(dot(d, d), 1.0, test::kRounding);
       equirect_coords({3.0 * d.x, 3.0 * d.y, 3.0 * d.z}, ru, rv);
-      EXPECT_NEAR(ru, u, 1e-12);
-      EXPECT_NEAR(rv, v, 1e-12);
+      EXPECT_NEAR(ru, u, test::kRoundingFewOps);
+      EXPECT_NEAR(rv, v, test::kRoundingFewOps);
     }
   }
 }

@@ -37,13 +37,13 @@ TEST(ShBasis, DocumentedValuesAndSigns) {
   // Y11 = 0.488603 x, Y2-2 = 1.092548 xy, Y20 = 0.315392 (3z^2 - 1), Y22 = 0.546274 (x^2 - y^2)
   const double s = 1.0 / std::sqrt(3.0);
   const auto y = sh_basis(3, {s, s, s});
-  EXPECT_NEAR(y[0], 0.282095, 1e-6);
-  EXPECT_NEAR(y[size_t(sh_index(1, -1))], 0.488603 * s, 1e-6);
-  EXPECT_NEAR(y[size_t(sh_index(1, 0))], 0.488603 * s, 1e-6);
-  EXPECT_NEAR(y[size_t(sh_index(1, 1))], 0.488603 * s, 1e-6);
-  EXPECT_NEAR(y[size_t(sh_index(2, -2))], 1.092548 / 3.0, 1e-6);
-  EXPECT_NEAR(y[size_t(sh_index(2, 0))], 0.0, 1e-12);  // 3 z^2 - 1 = 0
-  EXPECT_NEAR(y[size_t(sh_index(2, 2))], 0.0, 1e-12);
+  EXPECT_NEAR(y[0], 0.282095, test::kSixDecimals);
+  EXPECT_NEAR(y[size_t(sh_index(1, -1))], 0.488603 * s, test::kSixDecimals);
+  EXPECT_NEAR(y[size_t(sh_index(1, 0))], 0.488603 * s, test::kSixDecimals);
+  EXPECT_NEAR(y[size_t(sh_index(1, 1))], 0.488603 * s, test::kSixDecimals);
+  EXPECT_NEAR(y[size_t(sh_index(2, -2))], 1.092548 / 3.0, test::kSixDecimals);
+  EXPECT_NEAR(y[size_t(sh_index(2, 0))], 0.0, test::kRoundingFewOps);  // 3 z^2 - 1 = 0
+  EXPECT_NEAR(y[size_t(sh_index(2, 2))], 0.0, test::kRoundingFewOps);
   // the Condon-Shortley-free signs: Y_1,-1 ~ +y, Y_10 ~ +z, Y_11 ~ +x
   EXPECT_GT(sh_basis(2, {0.0, 1.0, 0.0})[1], 0.0);
   EXPECT_GT(sh_basis(2, {0.0, 0.0, 1.0})[2], 0.0);

@@ -61,7 +61,7 @@ def test_plan_options_are_the_commands(cli):
     options = brdfbake.plan_options()
     assert {"target", "cube_size", "lut_size", "table_format"} <= {o["name"] for o in options}
     for o in options:
-        flag = o["cli"] if not (o["type"] == "flag" and o["default"] is True) else "--no-" + o["cli"][2:]
+        flag = o["option"] if not (o["type"] == "flag" and o.get("default") is True) else "--no-" + o["option"][2:]
         assert flag in help_text, flag
 
 

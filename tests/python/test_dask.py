@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import brdfbake
+from tolerances import ENV_FURNACE
 
 distributed = pytest.importorskip("distributed", reason="dask.distributed is not installed (pip install dask[distributed])")
 import brdfbake.dask as bdask  # noqa: E402
@@ -86,7 +87,7 @@ def test_environments_written_under_the_output_root(client, tmp_path):
     assert [o.name for o in batch.failed] == ["nope"]
     sh = json.loads((tmp_path / "white.json").read_text())
     assert sh["order"] == 5
-    np.testing.assert_allclose(sh["irradiance_over_pi"][0], 2 * np.sqrt(np.pi), rtol=1e-5)
+    np.testing.assert_allclose(sh["irradiance_over_pi"][0], 2 * np.sqrt(np.pi), rtol=ENV_FURNACE)
     assert batch.by_name()["studio"].value["path"] == str(tmp_path / "studio.json")
     assert sorted(os.listdir(tmp_path)) == ["studio.json", "white.json"]  # nothing partial
 
@@ -108,3 +109,36 @@ def test_without_a_client_the_same_tasks_run_in_this_process(tmp_path):
     assert [o.name for o in batch.succeeded] == ["a"] and "baseColor" in batch.failed[0].error
     assert batch[0].value["path"] == str(tmp_path / "a.csv") and sorted(os.listdir(tmp_path)) == ["a.csv"]
     assert batch[0].worker.endswith(":" + str(os.getpid()))
+
+
+# MERL batches are large (33 MiB a table: the docs' 64 write 2.1 GiB, 1000 write 33 GiB): the batch
+# says how much before baking, and one that cannot fit the free space is refused before anything
+# is written (issue 24, a new user's item 10).
+MERL_BINARY_BYTES = 90 * 90 * 180 * 3 * 8 + 12  # MERL's header: three int32 dimensions
+
+
+def merl_materials(n):
+    return [{"name": f"m{k}", "model": "gltf", "roughness": 0.2 + 0.1 * k} for k in range(n)]
+
+
+def test_a_large_batch_is_announced_before_it_bakes(tmp_path, monkeypatch):
+    monkeypatch.setattr(bdask, "LARGE_OUTPUT_BYTES", MERL_BINARY_BYTES)  # two tables are "large" here
+    with pytest.warns(brdfbake.BakeWarning, match=r"2 tables of 33 MiB, about 67 MiB under .*GiB free\)"):
+        batch = bdask.bake(None, merl_materials(2), kind="tabulate", layout="merl", output_root=tmp_path / "m")
+    assert not batch.failed
+    assert sum(os.path.getsize(o.value["path"]) for o in batch) == 2 * MERL_BINARY_BYTES  # the estimate is exact
+
+
+def test_a_batch_larger_than_the_free_space_is_refused_before_baking(tmp_path, monkeypatch):
+    import shutil
+
+    free = 3 * MERL_BINARY_BYTES  # room for three tables, not for four
+    monkeypatch.setattr(bdask.shutil, "disk_usage", lambda path: shutil._ntuple_diskusage(10 * free, 9 * free, free))
+    with pytest.raises(brdfbake.InputError, match=r"4 tables of 33 MiB, about 133 MiB under .* but only 100 MiB is "
+                                                  r"free there: bake fewer items"):
+        bdask.bake(None, merl_materials(4), kind="tabulate", layout="merl", output_root=tmp_path / "m")
+    assert os.listdir(tmp_path / "m") == []
+    # npy halves it: four float32 tables fit.
+    batch = bdask.bake(None, merl_materials(4)[:1], kind="tabulate", layout="merl", output_root=tmp_path / "n",
+                       output_format="npy")
+    assert not batch.failed

@@ -3,6 +3,8 @@ argument of the Python function of its kind (or is listed with what replaces it)
 a function is a schema parameter or one of the fields every table shares, and both are accepted."""
 
 import inspect
+import json
+import math
 import subprocess
 
 import pytest
@@ -50,22 +52,22 @@ def test_schema_and_signature_agree(kind):
     sig = inspect.signature(f)
     for name, d in schema.items():
         if name in sig.parameters and not d["required"]:
-            assert sig.parameters[name].default == d["default"], name
+            assert sig.parameters[name].default == d.get("default"), name
 
 
 def example_value(d):
     """A valid value of a parameter: its default, else one taken from its range or choices."""
-    if d["default"] is not None:
+    if d.get("default") is not None:
         return d["default"]
-    if d["choices"]:
+    if d.get("choices"):
         return d["choices"][0]
-    t, lo, hi = d["type"], d["lo"], d["hi"]
+    t, lo, hi = d["type"], d.get("min", -math.inf), d.get("max", math.inf)
     if t == "flag":
         return True
-    if t in ("int", "int_list"):
-        return int(max(lo, 1)) if t == "int" else [int(max(lo, 1))]
-    if t in ("number", "color"):
-        return min(max(lo, 0.5), hi) if not d["lo_open"] else min(lo + 0.5, hi)
+    if t in ("integer", "integers"):
+        return int(max(lo, 1)) if t == "integer" else [int(max(lo, 1))]
+    if t in ("number", "rgb"):
+        return min(max(lo, 0.5), hi) if not d.get("min_exclusive") else min(lo + 0.5, hi)
     if t == "range":
         return [lo, hi] if hi < 1e300 else [lo, lo + 1]
     return None  # paths and free names depend on the kind
@@ -143,5 +145,19 @@ def test_cli_options_are_the_schema(cli, kind):
     command = brdfbake.kinds()[ALL_KINDS.index(kind)]["command"]
     help_text = subprocess.run([cli, command, "--help"], capture_output=True, text=True).stdout
     for d in brdfbake.schema(kind):
-        flag = d["cli"] if not (d["type"] == "flag" and d["default"] is True) else "--no-" + d["cli"][2:]
+        flag = d["option"] if not (d["type"] == "flag" and d.get("default") is True) else "--no-" + d["option"][2:]
         assert flag in help_text, (kind, flag)
+
+
+def test_schema_is_the_command_lines_serialisation(cli):
+    # One serialisation of the schemas (the library's): `brdfbake kinds --json` and brdfbake.schema()
+    # give the same objects, with the same type names.
+    doc = json.loads(subprocess.run([cli, "kinds", "--json"], capture_output=True, text=True, check=True).stdout)
+    for k in doc["kinds"]:
+        assert brdfbake.schema(k["kind"]) == k["parameters"], k["kind"]
+    types = {d["type"] for k in doc["kinds"] for d in k["parameters"]}
+    assert types <= {"integer", "number", "name", "path", "flag", "rgb", "range", "integers"}, types
+    assert {"integer", "rgb"} <= types
+    size = next(d for d in brdfbake.schema("ggx") if d["name"] == "size")
+    assert size["type"] == "integer" and size["default"] == 128 and isinstance(size["default"], int)
+    assert size["min"] == 1 and size["option"] == "--size"

@@ -18,6 +18,10 @@ PREFILTER_FURNACE = 1e-5
 # (kBrdfFp32, measured worst 3.5e-6).
 BRDF_FP32 = 1e-5
 
+# The device albedo's fixed quadrature in float table storage against a closed form
+# (tests/support/tolerances.hpp kBrdfAlbedoQuadrature, measured worst 5.3e-6).
+BRDF_ALBEDO = 2e-5
+
 # MERL binaries store f divided by the channel scale in double: reading back multiplies by it, which
 # can move the last bit of a double; the float32 array rounds that (one float32 ulp, 6e-8 relative).
 MERL_READBACK = 2e-7

@@ -86,7 +86,7 @@ TEST(CharlieReference, FittedLambdaIsContinuousAtOneHalf) {
     const double slope_below = (at - ref::Lambda_CharlieEstevezKulla(0.5 - h, alpha)) / h;
     const double slope_above = (ref::Lambda_CharlieEstevezKulla(0.5 + h, alpha) - at) / h;
     // One-sided differences differ by O(h |Lambda''|); Lambda'' jumps at 1/2 but is O(10).
-    EXPECT_NEAR(slope_below, slope_above, 1e-4 * std::fabs(slope_below)) << alpha;
+    EXPECT_NEAR(slope_below, slope_above, test::kOneSidedSlopes * std::fabs(slope_below)) << alpha;
   }
 }
 

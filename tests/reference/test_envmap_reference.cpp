@@ -64,7 +64,7 @@ TEST(EnvmapBilinear, TexelCentresAndSeams) {
   // continuous across an edge: just either side of the +X / +Z edge
   const double e = 1e-9;
   const auto left = cube_bilinear(c, {1.0, 0.3, 1.0 - e}), right = cube_bilinear(c, {1.0 - e, 0.3, 1.0});
-  EXPECT_NEAR(left[0], right[0], 1e-6);
+  EXPECT_NEAR(left[0], right[0], test::kEdgeContinuity);
   // a border position takes the neighbouring face's edge texel: left of +Z is -X's right column
   const auto b = cube_fetch_extended(c, 4, -1, 3);
   EXPECT_DOUBLE_EQ(b[0], c.at(1, 7, 3, 0));
@@ -96,7 +96,7 @@ TEST(EnvmapConversion, ConstantAndSmoothSources) {
   g.height = 8;
   for (int k = 0; k < 16 * 8; ++k) g.rgb.insert(g.rgb.end(), {double(k), 0.0, 1.0});
   const auto v = equirect_bilinear(g, math::equirect_direction(5.5 / 16.0, 3.5 / 8.0));
-  EXPECT_NEAR(v[0], 3.0 * 16.0 + 5.0, test::kRounding * 100);
+  EXPECT_NEAR(v[0], 3.0 * 16.0 + 5.0, test::kRoundingLong);
 }
 
 TEST(EnvmapLobe, NormalisationInClosedForm) {
@@ -186,7 +186,7 @@ TEST(EnvmapPrefilter, SingleTexelSpreadsIntoTheLobe) {
     const double want = 1000.0 * omega * env_lobe_kernel(EnvLobe::Ggx, alpha, dot(dirs[k], l)) /
                         env_lobe_normalization(EnvLobe::Ggx, alpha);
     // the bilinear tent spreads the texel over its neighbours: a second-order change here
-    EXPECT_NEAR(p[3 * k] / want, 1.0, 0.02) << k;
+    EXPECT_NEAR(p[3 * k] / want, 1.0, test::kBilinearTent) << k;
   }
 }
 

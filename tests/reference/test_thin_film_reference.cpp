@@ -4,19 +4,16 @@
 #include <cmath>
 
 #include "brdfbake/reference/thin_film.hpp"
+#include "support/tolerances.hpp"
 
 namespace {
 
 using namespace brdfbake::reference;
 using brdfbake::Rgb;
 
-// Closed forms evaluated by the reference in double: rounding only.
-constexpr double kClosedForm = 1e-12;
-// The fits of Belcour & Barla are normalised by 1.0685e-7, the integral of y-bar to 4 digits, and
-// their x and z integrals match it to 1e-3: the white point of the sensor is (1, 1, 1) to 2e-3.
-constexpr double kSensorWhite = 2e-3;
-// A film 20 um thick: exp(-var phase^2) of every Gaussian is below 1e-30, so only C0 remains.
-constexpr double kIncoherent = 1e-12;
+using brdfbake::test::kSensorWhite;
+constexpr double kClosedForm = brdfbake::test::kThinFilmClosedForm;
+constexpr double kIncoherent = brdfbake::test::kThinFilmIncoherent;
 
 double max3(const Rgb& c) { return std::max(c.r, std::max(c.g, c.b)); }
 

@@ -1,6 +1,7 @@
 // The server's parts on their own: the job store's recovery policy, path confinement, the loopback
 // rule. (test_server.cpp tests them again through HTTP.)
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
@@ -58,6 +59,98 @@ TEST(ServerParts, StoreRecoveryRequeuesOnceThenFails) {
   EXPECT_EQ(q[1].id, queued);
   EXPECT_EQ(store.count_by_state()["failed"], 1);
   EXPECT_EQ(store.integrity_check(), "ok");
+}
+
+// A DELETE of a running job is recorded: whatever stops the server before the job stops, the next
+// start cancels it instead of running it again; a database from before the record existed opens.
+TEST(ServerParts, StoreKeepsACancelAcrossRestarts) {
+  TempDir dir("store-cancel");
+  const std::string db = (dir.path / "jobs.db").string();
+  std::string killed, stopped, running;
+  {
+    JobStore store(db);
+    auto add = [&](std::string& id) {
+      JobRecord r;
+      r.device = "0:0";
+      r.source = "test";
+      r.job = "{}";
+      store.insert(r);
+      id = r.id;
+      store.mark_running(id, 2.0, 1);
+    };
+    add(killed);
+    add(stopped);
+    add(running);
+    store.request_cancel(killed);
+    store.request_cancel(stopped);
+    EXPECT_TRUE(store.get(killed)->cancel_requested);
+    EXPECT_FALSE(store.get(running)->cancel_requested);
+    // A shutdown stops `stopped` before it honours the cancel: not re-queued, cancelled.
+    EXPECT_FALSE(store.requeue(stopped, 5.0));
+    EXPECT_EQ(store.get(stopped)->state, JobState::Cancelled);
+    // The process dies here with `killed` and `running` running.
+  }
+  JobStore store(db);
+  EXPECT_TRUE(store.recover(2, 10.0).empty());
+  const auto k = store.get(killed);
+  EXPECT_EQ(k->state, JobState::Cancelled);
+  EXPECT_EQ(k->exit_code, 1);
+  EXPECT_EQ(k->finished, 10.0);
+  EXPECT_NE(k->error.find("does not run it again"), std::string::npos) << k->error;
+  EXPECT_EQ(store.get(running)->state, JobState::Queued);
+  const auto q = store.queued();
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0].id, running);
+}
+
+TEST(ServerParts, StoreOpensADatabaseWithoutTheCancelColumn) {
+  TempDir dir("store-old");
+  const std::string db = (dir.path / "jobs.db").string();
+  {
+    // The schema as version 0.2.0 first wrote it.
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(h,
+                           "CREATE TABLE jobs(seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE, state TEXT NOT NULL,"
+                           " device TEXT NOT NULL, source TEXT NOT NULL, submitted REAL NOT NULL, started REAL NOT NULL DEFAULT 0,"
+                           " finished REAL NOT NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, timeout REAL NOT NULL DEFAULT 0,"
+                           " error TEXT NOT NULL DEFAULT '', exit_code INTEGER NOT NULL DEFAULT 0, job TEXT NOT NULL,"
+                           " manifest TEXT NOT NULL DEFAULT '');"
+                           "INSERT INTO jobs(id, state, device, source, submitted, attempts, job) VALUES('jold', 'running', '0:0', 't', 1, 1, '{}');",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(h);
+  }
+  JobStore store(db);
+  ASSERT_TRUE(store.get("jold"));
+  EXPECT_FALSE(store.get("jold")->cancel_requested);
+  store.request_cancel("jold");
+  EXPECT_TRUE(store.recover(2, 3.0).empty());
+  EXPECT_EQ(store.get("jold")->state, JobState::Cancelled);
+}
+
+// Messages leave the server without its folders: what a job wrote is named inside the job's
+// folder (staging folders and temporaries taken out), inputs as requests name them.
+TEST(ServerParts, PublicTextHidesServerPaths) {
+  TempDir dir("public");
+  fs::create_directories(dir.path / "data");
+  fs::create_directories(dir.path / "in" / "maps");
+  const Roots roots((dir.path / "in").string(), (dir.path / "data").string());
+  const std::string data = roots.data_dir().string(), in = roots.input_root().string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"cannot write '" + data + "/jobs/.j1b129630c90fc23c.tmp-31149-170841627/big.ktx2': No space left on device",
+       "cannot write 'big.ktx2': No space left on device"},
+      {"cannot write '" + data + "/tmp/.brdfbake-run-31149-1/big.exr': Failed to write pixel data to image file \"" + data +
+           "/tmp/.brdfbake-run-31149-1/.big.exr.tmp-31149-a329520719de9ae8\". No space left on device.",
+       "cannot write 'big.exr': Failed to write pixel data to image file \"big.exr\". No space left on device."},
+      {"cannot write '" + data + "/jobs/.jX.tmp-1-2/cube/.level0_px.exr.tmp-1-ff': File too large",
+       "cannot write 'cube/level0_px.exr': File too large"},
+      {"job database '" + data + "/jobs.db': database or disk is full", "job database 'jobs.db': database or disk is full"},
+      {in + "/maps/sky.hdr: truncated (3 of 512 scanlines)", "maps/sky.hdr: truncated (3 of 512 scanlines)"},
+      {"'" + data + "' is busy", "'" + data + "' is busy"},  // the folder alone names nothing inside it
+      {"nothing of the server here", "nothing of the server here"},
+  };
+  for (const auto& [given, want] : cases) EXPECT_EQ(roots.public_text(given), want) << given;
 }
 
 TEST(ServerParts, RootsConfineEveryKindOfPath) {

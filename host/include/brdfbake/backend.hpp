@@ -13,20 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "brdfbake/brdf.hpp"
 #include "brdfbake/device.hpp"
-#include "brdfbake/environment.hpp"
-#include "brdfbake/thin_film.hpp"
 
 namespace brdfbake {
-
-// Evaluates one model for a set of materials at batches of direction pairs (see BrdfEvaluator).
-class PairEvaluator {
- public:
-  virtual ~PairEvaluator() = default;
-  // pairs: 6 values a pair; out: 3 values a pair a material, material-major.
-  virtual void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr) = 0;
-};
 
 // One family's calculation on one platform (OpenMM's KernelImpl): the family declares the
 // interface (host/src/families/<family>/kernel.hpp) and registers its implementations.
@@ -67,17 +56,6 @@ class Backend {
   // nothing by default. A backend that threads share returns a held lock, so that calls into one
   // device never overlap (the Python package's backends).
   virtual std::unique_lock<std::mutex> lock_calls() { return {}; }
-
-  // ---- One entry per family not yet moved to its folder (each family's header documents the spec) ----
-  virtual Table thin_film(const ThinFilmSpec& spec, ThinFilmTiming* timing) = 0;
-  // source_done: as prefilter_environment's (the reference never calls it).
-  virtual CubeLevels prefilter(const EnvImage& env, const PrefilterSpec& spec, PrefilterTiming* timing,
-                               const EnvProgress& progress, const std::function<void()>& source_done = {}) = 0;
-  virtual IrradianceResult irradiance(const EnvImage& env, const IrradianceSpec& spec, const EnvProgress& progress) = 0;
-  virtual std::unique_ptr<PairEvaluator> evaluator(BrdfModel model, const std::vector<Material>& materials,
-                                                   const EvalOptions& options) = 0;
-  virtual MerlTable tabulate_merl(const TabulateSpec& spec, TabulateTiming* timing) = 0;
-  virtual Table tabulate(const TabulateSpec& spec, TabulateTiming* timing) = 0;
 };
 
 }  // namespace brdfbake

@@ -1,7 +1,7 @@
 // Bulk BRDF evaluation and tabulation: the Disney principled BRDF, the glTF 2.0 metallic-roughness
 // BRDF (with KHR_materials_sheen, _clearcoat, _specular, _ior) and the classic models, evaluated for
 // many materials and direction pairs at once on an OpenCL device (kernels/brdf_eval.cl), or by the
-// scalar double reference (the *_reference functions; host/src/reference_backend/brdf.cpp).
+// scalar double reference (the *_reference functions; host/src/families/brdf_eval/reference.cpp).
 //
 // Conventions (docs/CONVENTIONS.md, "BRDF evaluation"): f is the BRDF without the cosine;
 // directions are in tangent space, normal +z, tangent +x; f = 0 at and below the horizon.
@@ -162,6 +162,21 @@ class BrdfEvaluator {
   std::unique_ptr<Impl> impl_;
 };
 
+class Backend;
+
+// Evaluates one model for a set of materials at batches of direction pairs (see BrdfEvaluator).
+class PairEvaluator {
+ public:
+  virtual ~PairEvaluator() = default;
+  // pairs: 6 values a pair; out: 3 values a pair a material, material-major.
+  virtual void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr) = 0;
+};
+// An evaluator on a backend (brdfbake/backend.hpp): a BrdfEvaluator on its OpenCL device, or the
+// scalar reference (eval_reference); each batch holds the backend's call lock. The backend outlives
+// it.
+std::unique_ptr<PairEvaluator> make_evaluator(Backend& backend, BrdfModel model, const std::vector<Material>& materials,
+                                              const EvalOptions& options = {});
+
 // The same with the scalar reference, one material (pairs and out as above, count pairs).
 void eval_reference(BrdfModel model, const Material& material, const double* pairs, std::size_t count, double* out);
 
@@ -212,6 +227,9 @@ MerlTable tabulate_merl_reference(const TabulateSpec& spec, TabulateTiming* timi
 // grid, albedo and slice (channels r, g, b), on the device / by the reference.
 Table tabulate(Device& device, const TabulateSpec& spec, TabulateTiming* timing = nullptr);
 Table tabulate_reference(const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+// Both on a backend (brdfbake/backend.hpp): its OpenCL device or the scalar reference.
+MerlTable tabulate_merl(Backend& backend, const TabulateSpec& spec, TabulateTiming* timing = nullptr);
+Table tabulate(Backend& backend, const TabulateSpec& spec, TabulateTiming* timing = nullptr);
 
 // The MERL binary (three int32 dims 90, 90, 180, then 3 * kMerlBins doubles, channel-major, each f
 // divided by the channel scale MERL's BRDFRead multiplies by: 1/1500, 1.15/1500, 1.66/1500; -1 in

@@ -26,4 +26,11 @@ using ProgramBuildObserver = std::function<void(const ProgramBuild&)>;
 // Process-wide; pass {} to remove. The observers may be called from any thread, one call at a time.
 void set_program_build_observers(ProgramBuildStartObserver on_start, ProgramBuildObserver on_done);
 
+// Problems of the machine's set-up that the runtime works around and the user should hear of, one
+// line each, at most once a process: a kernel cache folder that cannot be written (the OpenCL
+// implementation's or brdfbake's), with what was done instead. Process-wide; {} removes it; called
+// from any thread, one call at a time; without an observer the warnings are dropped.
+using RuntimeWarningObserver = std::function<void(const std::string& warning)>;
+void set_runtime_warning_observer(RuntimeWarningObserver on_warning);
+
 }  // namespace brdfbake

@@ -40,6 +40,9 @@ struct EnvImage {
   std::string source;      // the file, files or builtin:NAME it came from
   std::string description; // e.g. "equirect 1024x512 (OpenEXR, tiled, mip-mapped: level 0 read)"
   EnvSanitizeReport sanitize;
+  // What reading changed or assumed that the user should hear of, one line each, e.g. "'sky.png':
+  // 8-bit sRGB (its sRGB chunk) decoded to linear" (the commands print them, jobs record them).
+  std::vector<std::string> notes;
 };
 
 struct EnvLoadOptions {
@@ -53,13 +56,25 @@ struct EnvLoadOptions {
 // The default memory budget for input images: half of the memory this process may use (the
 // machine's physical memory, or the cgroup's memory.max where that is lower).
 std::uint64_t default_memory_budget();
+
+// The largest environment, in pixels (16384 x 16384), files and in-memory arrays alike.
+constexpr std::uint64_t kMaxEnvironmentPixels = std::uint64_t(1) << 28;
+// Throws Error naming the limit when an equirect of width x height from `source` has more pixels than
+// kMaxEnvironmentPixels, or when its float32 RGB pixels, held twice while they are taken in, pass
+// the memory budget (options.memory_budget, else default_memory_budget()). For callers that hold
+// the pixels in another form first (a NumPy array, which may be a broadcast view of one value):
+// checked on the shape, before anything is allocated.
+void check_environment_size(std::uint64_t width, std::uint64_t height, const std::string& source,
+                            const EnvLoadOptions& options = {});
 // "512MiB", "8GiB", "1.5G", "1000000" (bytes); K, M, G, T and KiB..TiB are powers of 1024, KB..TB
 // of 1000. Throws Error naming the value for anything else, zero or more than 2^60.
 std::uint64_t parse_byte_size(const std::string& text);
 
 // Loads an environment:
-//   FILE.hdr / FILE.exr (read directly; any other format OpenImageIO reads through the lazily
-//     loaded OpenImageIO module, brdfbake_oiio.so): equirect if 2:1, horizontal cross if 4:3,
+//   FILE.hdr / FILE.exr / FILE.png (read directly; any other format OpenImageIO reads through the
+//     lazily loaded OpenImageIO module, brdfbake_oiio.so; integer-coded values decoded to linear
+//     from the file's colour encoding, said in EnvImage::notes; a FIFO or a device is refused,
+//     docs/RELIABILITY.md, "Special files"): equirect if 2:1, horizontal cross if 4:3,
 //     vertical cross if 3:4 (docs/CONVENTIONS.md); tiled and mip-mapped files read level 0;
 //   FILE.ktx2: a cubemap (faceCount 6, RGBA16F/32F, level 0);
 //   "PX,NX,PY,NY,PZ,NZ" (six files, comma separated) or a path holding "{face}" (replaced by px,
@@ -75,9 +90,16 @@ EnvImage load_environment(const std::string& spec, const EnvLoadOptions& options
 EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
                                    const EnvLoadOptions& options = {});
 
+// The files an environment spec names: one, or six faces; none for builtin:NAME. Throws Error for
+// a list of face files that is not six.
+std::vector<std::string> environment_files(const std::string& spec);
+
 // Checks cheaply, without reading pixels, that `spec` names something load_environment can open
 // (a known builtin, existing readable files): commands call it before slow work.
 void check_environment_source(const std::string& spec);
+// A builtin:NAME environment names a builtin (nothing else is checked: no file is touched). Throws
+// Error naming the builtins. Jobs check it when they are validated, before they are accepted.
+void check_builtin_environment(const std::string& spec);
 
 // The built-in environments, as equirects of width x width/2:
 //   studio: soft area lights (three rectangular softboxes and a ring light) over a grey gradient;
@@ -244,11 +266,17 @@ CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, do
 CubeLevels prefilter_environment(Device& device, const EnvImage& env, const PrefilterSpec& spec,
                                  PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
                                  const std::function<void()>& source_done = {});
+class Backend;
+// The whole chain on a backend (brdfbake/backend.hpp): its OpenCL device (as above) or the scalar
+// reference (prefilter_environment_reference; source_done is not called).
+CubeLevels prefilter_environment(Backend& backend, const EnvImage& env, const PrefilterSpec& spec,
+                                 PrefilterTiming* timing = nullptr, const EnvProgress& progress = {},
+                                 const std::function<void()>& source_done = {});
 // The same from a source cube already at spec.size (level 0 of `source`).
 CubeLevels prefilter_cube(Device& device, const CubeLevels& source, const PrefilterSpec& spec,
                           PrefilterTiming* timing = nullptr, const EnvProgress& progress = {});
 
-// The same chain by the scalar double reference (host/src/reference_backend/prefilter.cpp): the
+// The same chain by the scalar double reference (host/src/families/prefilter/reference.cpp): the
 // environment converted to a cube by brute force (every texel the solid-angle-weighted mean of the
 // source's bilinear interpolation over q x q sub-cells), and every level l >= 1 the lobe integral
 // over every source texel split into sub-cells (brdfbake/reference/envmap.hpp, prefilter_cube), in
@@ -289,8 +317,11 @@ std::vector<double> bright_texel_points(const std::vector<BrightTexel>& bright, 
 
 // ---- Irradiance ---------------------------------------------------------------------------------
 
-enum class ShWindow { None, Hanning, Lanczos };
-ShWindow sh_window_from_name(const std::string& name);  // "none" | "hanning" | "lanczos"
+// None; Sloan's fixed hanning and lanczos windows of width `order`; Auto: cmgen's default deringing
+// (`--sh-window auto`), sinc^4 with the widest cutoff that keeps the irradiance non-negative, chosen
+// from the coefficients (host/src/sh_window.cpp).
+enum class ShWindow { None, Hanning, Lanczos, Auto };
+ShWindow sh_window_from_name(const std::string& name);  // "none" | "hanning" | "lanczos" | "auto"
 const char* sh_window_name(ShWindow w);
 
 // Limits: the largest irradiance cube face and source cube face.
@@ -311,6 +342,7 @@ struct ShCoefficients {
   std::vector<double> irradiance_over_pi; // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
   ShWindow window = ShWindow::None;
   std::vector<double> window_weights;     // w_l per band
+  double window_cutoff = 0.0;             // ShWindow::Auto: the chosen sinc^4 cutoff, in bands
   std::string projection;                 // how L_lm was computed (recorded in the JSON)
 };
 
@@ -325,12 +357,17 @@ struct IrradianceResult {
 // device is not used at all.
 IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const IrradianceSpec& spec,
                                     const EnvProgress& progress = {});
+class Backend;
+// The same on a backend (brdfbake/backend.hpp): SH on the host and the cube on its OpenCL device
+// (its device opened only for a cube), or the scalar reference (compute_irradiance_reference).
+IrradianceResult compute_irradiance(Backend& backend, const EnvImage& env, const IrradianceSpec& spec,
+                                    const EnvProgress& progress = {});
 // The SH projection of an environment on the host, in double precision, without a device: an
 // equirect exactly as its pixels define it (each constant over its cell, integrated against the
 // basis), a cube at its texel centres with their exact solid angles. order 3 or 5.
 ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window = ShWindow::None);
 
-// The same by the scalar double reference (host/src/reference_backend/irradiance.cpp): the source
+// The same by the scalar double reference (host/src/families/irradiance/reference.cpp): the source
 // cube converted by brute force (as prefilter_environment_reference), the SH coefficients projected
 // over every source sub-cell (brdfbake/reference/envmap.hpp, sh_project), the irradiance cube by
 // direct cosine convolution over every source sub-cell (irradiance_directions). Same result type and
@@ -343,7 +380,24 @@ inline constexpr double kIrradianceReferenceMaxWork = 4e9;
 IrradianceResult compute_irradiance_reference(const EnvImage& env, const IrradianceSpec& spec,
                                               const EnvProgress& progress = {});
 // The window weights w_l, l < order: hanning 0.5 (1 + cos(pi l / order)), lanczos sinc(l / order).
+// Not for ShWindow::Auto (its weights depend on the coefficients: apply_sh_window).
 std::vector<double> sh_window_weights(ShWindow w, int order);
+// sinc(pi l / cutoff)^4 for l < cutoff, 0 beyond (cmgen's window of `cutoff` bands).
+std::vector<double> sh_sinc4_window_weights(double cutoff, int order);
+// The minimum over the unit sphere of sum c_k Y_k (one channel, order^2 coefficients).
+double sh_minimum(const std::vector<double>& coefficients, int order);
+// Sloan's estimate of that minimum for 3 bands (9 coefficients), as cmgen decides "negative" with
+// it: exact when band 2 is zonal about the linear part's axis; otherwise each band-2 part is taken at
+// its own worst phase, an estimate that may lie below the minimum (cmgen's deringing is stronger).
+double sh_minimum_estimate(const std::vector<double>& coefficients);
+// cmgen's automatic cutoff for unwindowed irradiance coefficients (order^2 x RGB): per channel, the
+// widest cutoff in [order, 4 order + 1] (bisection to 0.1 band) whose windowed function is nowhere
+// negative (by sh_minimum_estimate for 3 bands, as cmgen; by sh_minimum for 5); the smallest over
+// the channels.
+double sh_auto_window_cutoff(const std::vector<double>& irradiance, int order);
+// Fills sh.irradiance_over_pi = (A_l / pi) w_l L_lm from sh.radiance and sh.order, with the weights
+// of `window` (for Auto, chosen from the unwindowed irradiance; the cutoff in sh.window_cutoff).
+void apply_sh_window(ShCoefficients& sh, ShWindow window);
 // JSON text of the coefficients with the basis and conventions, and `metadata`.
 std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata);
 // Writes the JSON atomically.

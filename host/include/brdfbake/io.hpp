@@ -30,8 +30,10 @@ void write_table(const Table& table, const std::string& path, TableFormat format
                  const TableWriteOptions& options = {});
 // Throws the Error a write to `path` would give (missing folder, no permission, a path through a
 // regular file), by creating and removing a temporary file beside it: commands call it before
-// slow work so that a bad output path fails at once.
-void check_output_path(const std::string& path);
+// slow work so that a bad output path fails at once. A FIFO, a device or standard output named as
+// a file (/dev/stdout) is refused (bad input: the write would replace it) unless the output
+// `streams` (CSV tables, eval's output), which writes it in place (docs/RELIABILITY.md, "Special files").
+void check_output_path(const std::string& path, bool streams = false);
 
 // CSV to a stream (for `-o -`): '#' metadata lines, a header row naming every column, one row per cell.
 void write_table_csv(const Table& table, std::ostream& out);

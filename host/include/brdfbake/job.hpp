@@ -26,6 +26,9 @@ struct Job {
   // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
   // "khronos-viewer".
   std::string target = "generic";
+  // NAME of the engine's files (NAME.gltf, NAME_ibl.ktx, ...): empty is the output folder's name, as
+  // cmgen names them; `run --server` sets it to the local folder's (the server's folder is a job id).
+  std::string engine_name;
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
@@ -50,7 +53,7 @@ void validate_job(Job& job);
 std::string job_to_json(const Job& job);
 
 struct JobEvent {
-  int bake = 0, bakes = 0;   // which distinct table, of how many
+  int bake = 0, bakes = 0;   // which step, of how many: the distinct tables, then an engine target's file set
   std::string what;          // e.g. "ggx-multiscatter 128", "prefilter ggx 256: level 2/5"
   double fraction = 0.0;     // of this table
 };
@@ -70,9 +73,15 @@ struct RunOptions {
   // Called on the calling thread before each bake and before the files are moved in; may throw to
   // stop the job (cancelled, timed out); the folder is then left as it was.
   std::function<void()> checkpoint;
+  // Asked at each step of a bake (between device launches, rows of a reference table, levels); true
+  // stops the job there with Cancelled (the server's cancel, timeout and shutdown of one job).
+  std::function<bool()> stop_requested;
   // Called with each warning a write gives (values clamped on request, clamp_f16), as it happens;
   // the manifest's warnings hold them too.
   std::function<void(const std::string& warning)> on_warning;
+  // The base name of an engine target's files ("" = the output folder's name, as cmgen -x names
+  // them); the server passes the name of the folder its client writes into.
+  std::string engine_name;
   // The memory an environment image may take decoded (EnvLoadOptions::memory_budget; 0: the default).
   std::uint64_t memory_budget = 0;
 };

@@ -40,7 +40,7 @@ struct ParamDef {
   std::vector<std::string> choices;    // Name: the accepted values
   std::optional<ParamValue> fallback;  // the default; none: absent unless given (see default_text)
   std::string help;                    // one line, for --help, docs and Python docstrings
-  std::string cli;                     // the command-line spelling when it is not the name's
+  std::vector<std::string> aliases;    // shorter command-line spellings also accepted (--sh for --sh-order)
   std::string default_text;            // a default that depends on others, e.g. "size"
   bool lo_open = false;                // Number: lo itself is refused (e.g. max_error > 0)
   bool required = false;
@@ -55,11 +55,11 @@ struct ParamDef {
   ParamDef& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
   ParamDef& def(ParamValue v) { fallback = std::move(v); return *this; }
   ParamDef& defaults_to(std::string text) { default_text = std::move(text); return *this; }
-  ParamDef& spelled(std::string c) { cli = std::move(c); return *this; }
+  ParamDef& alias(std::string a) { aliases.push_back(std::move(a)); return *this; }
   ParamDef& needed() { required = true; return *this; }
   ParamDef& output() { output_only = true; return *this; }
 
-  std::string cli_name() const;  // "sh" for sh_order, "min-size" for min_size
+  std::string cli_name() const;  // the option's one spelling: "sh-order" for sh_order, "min-size" for min_size
 };
 
 // "true", "0.5", "'ggx'", "[1, 2, 3]".
@@ -75,5 +75,13 @@ void check_param(const ParamDef& def, const ParamValue& value, const std::string
 ParamValue parse_param_text(const ParamDef& def, const std::string& text, const std::string& field);
 
 const ParamDef* find_param_def(const std::vector<ParamDef>& schema, const std::string& name);
+
+// The one serialisation of schemas, shared by `brdfbake kinds --json` and the Python package:
+// a type's name ("integer", "number", "name", "path", "flag", "rgb", "range", "integers"), and a
+// schema as a JSON array, one object a parameter: name, option, type, expects, choices, default,
+// default_text (the last three when there are any), required, output_only, help, and for numbers
+// min, min_exclusive, max (finite ends only) and max_items (integers). `indent` as nlohmann's dump.
+const char* param_type_name(ParamType type);
+std::string schema_json(const std::vector<ParamDef>& schema, int indent = -1);
 
 }  // namespace brdfbake

@@ -41,8 +41,6 @@ struct PlanOptions {
 // The planner's options as parameters (for `brdfbake bake`, the server and the bindings): types,
 // ranges and help come from the table parameter each sets.
 const std::vector<ParamDef>& plan_schema();
-// Options from parameters checked against plan_schema (errors name the field as `naming` says).
-PlanOptions plan_options_from_params(const Params& params, bool cli);
 
 // What the planner decided about one material.
 struct MaterialPlan {
@@ -66,5 +64,33 @@ Plan plan_default(const PlanOptions& options = {});
 // The plan as a job document (parse_job reads it back) with a "plan" section: options, materials
 // and the rules that fired.
 std::string plan_to_json(const Plan& plan);
+
+// ---- Bake options: one parser for `brdfbake bake`, POST /v1/bake and brdfbake.bake_scene ----------
+
+// Every option of a scene bake: plan_schema()'s, then scene, environment (--env), sanitize, pixel,
+// precision and device.
+const std::vector<ParamDef>& bake_option_schema();
+
+// How a front end names an option in its messages.
+struct OptionNaming {
+  bool cli = false;      // "--cube-size"
+  std::string prefix;    // "bake_scene" (Python), "bake" (the server)
+  bool dotted = false;   // "bake_scene.cube_size" (true) or "bake: cube_size"
+  std::string unknown = "unknown field";  // what an unknown name is called
+  std::string field(const ParamDef& d) const;
+};
+
+struct BakeOptions {
+  std::string scene;  // "" = no scene: the standard set for metallic-roughness materials
+  PlanOptions plan;
+};
+
+// Reads the options given, each a field of bake_option_schema() with a typed value (command-line
+// text through parse_param_text; JSON and Python values as they come): refuses unknown names,
+// options given twice, wrong types, values out of range and options that contradict each other,
+// with one line naming the option as `naming` says.
+BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming);
+// The plan of the options: the scene read (read_scene) and planned, or the standard set.
+Plan plan_bake(const BakeOptions& options);
 
 }  // namespace brdfbake

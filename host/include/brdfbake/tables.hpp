@@ -119,6 +119,10 @@ TableExample table_kind_example(TableKind kind);
 const std::vector<ParamDef>& table_schema(TableKind kind);
 // The fields every table has beside its parameters, in job spelling.
 const std::vector<std::string>& table_common_fields();
+// Every kind with its schema (schema_json's objects) as `brdfbake kinds --json` prints it:
+// {"kinds": [{"kind", "command", "summary", "environment", "default_pixel", "parameters"}, ...],
+//  "common_fields": [...]}.
+std::string table_kinds_json(int indent = -1);
 
 // How validation names a field in its messages: in a job "<prefix>.<field>" (e.g.
 // "job.json: tables[0].size: ..."), on the command line the option as the user types it
@@ -160,6 +164,9 @@ struct BakeResult {
   std::string error_bound_definition;  // what the bound measures
   Params parameters;                   // as baked: every parameter, resolved defaults included
   Metadata details;                    // what else the family reports (channels, levels, ...)
+  // What the values hold that their user must know (e.g. reflectance above 1): delivered with the
+  // write report's warnings to every front end (deliver_result).
+  std::vector<std::string> warnings;
   std::string device;                  // the backend's name ("reference" for the oracle)
   std::string summary;                 // one line for people: what was baked, how well, how fast
   double seconds = 0.0;                // wall time of the bake
@@ -212,6 +219,10 @@ struct WriteReport {
   Metadata details;                   // e.g. png_scale, clamped values
   std::vector<std::string> warnings;  // what was changed on the way to the file (clamp_f16): front ends show them
 };
+
+// A bound as files record it: rounded up to three significant digits, so that the text is never
+// below the bound ("1.74e-05" for 1.7301e-05). The server's X-Brdfbake-Error-Bound says the same.
+std::string error_bound_text(double bound);
 
 // Writes a result to `path` in the request's format, atomically (a failure leaves nothing); "-"
 // writes a table as CSV to standard output. A value the format cannot hold is refused with a

@@ -30,6 +30,10 @@ struct ThinFilmTiming {
   double wall_seconds = 0.0;
 };
 
+class Backend;
+
+// Bakes on a backend (brdfbake/backend.hpp): its OpenCL device or the scalar reference.
+Table bake_thin_film(Backend& backend, const ThinFilmSpec& spec, ThinFilmTiming* timing = nullptr);
 // Bakes on an OpenCL device; the metadata's error_bound is max |table - reference| over every cell,
 // measured at bake time.
 Table bake_thin_film(Device& device, const ThinFilmSpec& spec, ThinFilmTiming* timing = nullptr);

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,12 +28,17 @@ ToneMap tone_map_from_name(const std::string& name);  // "aces" | "reinhard" | "
 const char* tone_map_name(ToneMap map);
 
 struct ViewOptions {
-  double exposure = 0.0;  // EV: radiance is multiplied by 2^exposure before the tone map
+  // EV: radiance is multiplied by 2^exposure before the tone map. None: chosen per picture from its
+  // content (its log-average luminance at middle grey, its 99th percentile at most 1.0;
+  // host/src/view/exposure.hpp), each picture's caption saying the EV it was drawn at.
+  std::optional<double> exposure;
   ToneMap tone_map = ToneMap::Aces;
   int face_size = 64;    // pixels a cube face is shown at, every level alike
   int table_size = 160;  // pixels of a table image's longer side
   int max_width = 1400;  // the sheet's width (a file's pictures wrap to the next row)
   std::string title;     // the sheet's first line; empty: "brdfbake view"
+  std::string relative_to;  // non-empty: files inside this folder are named relative to it (on the
+                            // sheet, in `files` and in the PNG's text)
 };
 
 // A rectangle of the sheet and what it shows: tests check pixels against it, tools crop by it.
@@ -45,15 +51,18 @@ struct SheetRegion {
   int x = 0, y = 0, width = 0, height = 0;
   double lo = 0.0, hi = 0.0;  // "colour scale" and "table channel": the values mapped to its ends
   bool log_scale = false;     // the scale is over log10 of the values
+  double exposure = 0.0;      // "cube level", "sphere", "image": the EV its radiance was drawn at
 };
 
 struct ContactSheet {
   int width = 0, height = 0;
   std::vector<uint8_t> rgb;  // 8-bit sRGB, row 0 (the top) first
   std::vector<SheetRegion> regions;
-  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files)
+  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files),
+                                   // named as the sheet names it
   std::string tone_map_text;       // the HDR transfer, as printed on the sheet
   std::string colour_scale_text;   // the table colour scale, as printed on the sheet
+  std::vector<std::string> skipped;  // what the folders given hold that view does not show, with why
 };
 
 // What `view` makes of a file (e.g. "cube (KTX2)", "table (OpenEXR)", "manifest"); throws Error

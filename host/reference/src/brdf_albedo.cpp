@@ -40,7 +40,7 @@ constexpr double kPi = 3.14159265358979323846;
 // within ~1e-6 of mu = 1 (v at the normal, where Lambda's cusp at l = n meets the lobe) are off by
 // up to 4.4e-9 (sheen roughness 1; 2e-9 at 0.5), which the series carries to E(1) and the glTF sheen's
 // albedo scaling to f; at refinement 2 the nodes are within 1.1e-10 (against an independent
-// quadrature over l, host/src/sheen_albedo.cpp), at 2.5 times the cost of those 64 nodes. The lower
+// quadrature over l, host/src/families/brdf_eval/sheen_albedo.cpp), at 2.5 times the cost of those 64 nodes. The lower
 // panels' nodes are within 1e-9 relative at the default (measured at sheen roughness 0 to 1).
 // ---------------------------------------------------------------------------------------------
 constexpr Quadrature kSheenUpperQuadrature{10, 2};

@@ -7,6 +7,10 @@
 // the antiderivative of the face's area element (1 + a^2 + b^2)^(-3/2) da db. The sub-cells tile
 // the sphere exactly, so the sum is the midpoint rule of the integral on the sphere: it converges
 // like 1/q^2 wherever f is smooth on the scale of a sub-cell, and q is chosen to resolve the lobe.
+//
+// This file: the sub-cells and the environment function (bilinear on a cube or an equirect), and
+// the conversion of an environment to a cube, which both environment families use; the prefilter's
+// lobes are prefilter.cpp's, the SH and irradiance irradiance.cpp's.
 #include "brdfbake/reference/envmap.hpp"
 
 #include <algorithm>
@@ -19,28 +23,21 @@
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
-#include "brdfbake/math/sh.hpp"
-#include "brdfbake/reference/charlie.hpp"
-#include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
+#include "envmap_internal.hpp"
 
 namespace brdfbake::reference {
-namespace {
 
+using detail::check_cube;
+using detail::normalized;
+using detail::parallel_ranges;
 using math::cube_face_coords;
 using math::cube_plane_point;
 using math::cube_rect_solid_angle;
 using math::cube_texel_direction;
 using math::kPi;
 
-Vec3 normalized(const Vec3& d) {
-  const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  return {d.x / n, d.y / n, d.z / n};
-}
-
-using math::dot;
-
-void check_cube(const EnvCube& cube) {
+void detail::check_cube(const EnvCube& cube) {
   if (cube.size < 1) throw std::invalid_argument("envmap reference: cube size must be at least 1");
   const size_t want = 18u * static_cast<size_t>(cube.size) * static_cast<size_t>(cube.size);
   if (cube.rgb.size() != want)
@@ -48,8 +45,7 @@ void check_cube(const EnvCube& cube) {
                                 " values, expected " + std::to_string(want));
 }
 
-// Runs body(begin, end) over [0, n) split into contiguous ranges, one per thread.
-void parallel_ranges(size_t n, unsigned threads, const std::function<void(size_t, size_t)>& body) {
+void detail::parallel_ranges(size_t n, unsigned threads, const std::function<void(size_t, size_t)>& body) {
   unsigned t = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
   t = static_cast<unsigned>(std::min<size_t>(t, std::max<size_t>(n, 1)));
   if (t <= 1) {
@@ -64,14 +60,7 @@ void parallel_ranges(size_t n, unsigned threads, const std::function<void(size_t
   for (auto& th : pool) th.join();
 }
 
-// One sub-cell of the sphere: unit centre direction and exact solid angle.
-struct Cell {
-  Vec3 d;
-  double omega;
-};
-
-// The q x q sub-cells of every texel of one face of `size`.
-std::vector<Cell> face_cells(int face, int size, int q) {
+std::vector<detail::Cell> detail::face_cells(int face, int size, int q) {
   std::vector<Cell> cells;
   cells.reserve(static_cast<size_t>(size) * static_cast<size_t>(size) * static_cast<size_t>(q) *
                 static_cast<size_t>(q));
@@ -87,15 +76,11 @@ std::vector<Cell> face_cells(int face, int size, int q) {
   return cells;
 }
 
-// q for the smooth integrands (SH, cosine): the given one, or ceil(128 / size).
-int auto_subdivision(int subdivision, int size) {
+int detail::auto_subdivision(int subdivision, int size) {
   return subdivision > 0 ? subdivision : std::max(1, (128 + size - 1) / size);
 }
 
-// Integral of f over [a, b] by adaptive bisection of a 20-point Gauss-Legendre rule, to `tol`
-// absolute.
-double adaptive_integral(const std::function<double(double)>& f, double a, double b, double tol,
-                         int depth = 0) {
+double detail::adaptive_integral(const std::function<double(double)>& f, double a, double b, double tol, int depth) {
   const auto& rule = gauss_legendre(20);
   auto gl = [&](double lo, double hi) {
     double s = 0.0;
@@ -111,8 +96,6 @@ double adaptive_integral(const std::function<double(double)>& f, double a, doubl
   if (std::fabs(whole - halves) <= std::max(tol, 1e-11 * std::fabs(halves)) || depth >= 24) return halves;
   return adaptive_integral(f, a, m, 0.5 * tol, depth + 1) + adaptive_integral(f, m, b, 0.5 * tol, depth + 1);
 }
-
-}  // namespace
 
 // ---- The environment function --------------------------------------------------------------------
 
@@ -235,153 +218,6 @@ EnvCube cube_resample(const EnvCube& source, int size, int subdivision, unsigned
   check_cube(source);
   const int q = conversion_subdivision(subdivision, static_cast<double>(source.size) / size);
   return texel_means(size, q, threads, [&](const Vec3& d) { return cube_bilinear(source, d); });
-}
-
-// ---- Lobes -----------------------------------------------------------------------------------------
-
-// With n = v = R, h bisects R and l: n.h = cos(theta_l / 2) = sqrt((1 + c) / 2).
-double env_lobe_kernel(EnvLobe lobe, double alpha, double cos_rl) {
-  if (!(cos_rl > 0.0)) return 0.0;
-  const double c = std::min(cos_rl, 1.0);
-  const double n_dot_h = std::sqrt(0.5 * (1.0 + c));
-  const double d = lobe == EnvLobe::Ggx ? D_GGX(n_dot_h, alpha) : D_Charlie(n_dot_h, alpha);
-  return d * c;
-}
-
-// W = 2 pi int_0^(pi/2) K(cos theta) sin theta d theta. GGX's kernel peaks at theta ~ 2 alpha and
-// Charlie's just below pi/2 with a width ~ alpha; geometric breakpoints towards both ends let the
-// adaptive rule find either peak at any alpha.
-double env_lobe_normalization(EnvLobe lobe, double alpha) {
-  const double a = std::max(alpha, kMinAlpha);
-  auto f = [&](double theta) { return 2.0 * kPi * env_lobe_kernel(lobe, a, std::cos(theta)) * std::sin(theta); };
-  std::vector<double> breaks = {0.0, 0.5 * kPi};
-  for (double s = a / 64.0; s < 0.5 * kPi; s *= 4.0) {
-    breaks.push_back(s);
-    breaks.push_back(0.5 * kPi - s);
-  }
-  std::sort(breaks.begin(), breaks.end());
-  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
-  // a first pass fixes the absolute tolerance, the second meets it
-  double rough = 0.0;
-  for (size_t k = 0; k + 1 < breaks.size(); ++k)
-    if (breaks[k] >= 0.0 && breaks[k + 1] <= 0.5 * kPi) rough += adaptive_integral(f, breaks[k], breaks[k + 1], 1e-6);
-  double total = 0.0;
-  for (size_t k = 0; k + 1 < breaks.size(); ++k)
-    if (breaks[k] >= 0.0 && breaks[k + 1] <= 0.5 * kPi)
-      total += adaptive_integral(f, breaks[k], breaks[k + 1], 1e-14 * std::fabs(rough));
-  return total;
-}
-
-int env_default_subdivision(EnvLobe lobe, double alpha, int source_size) {
-  const double width = lobe == EnvLobe::Ggx ? 2.0 * std::max(alpha, kMinAlpha) : 1.0;
-  // resolve the lobe, and on small sources the bilinear interpolation itself (a bright texel's
-  // tent, cut by the horizon): at least 64 sub-cells per face side
-  const double q = std::max(std::ceil(8.0 * (2.0 / source_size) / width), std::ceil(64.0 / source_size));
-  return static_cast<int>(std::clamp(q, 1.0, 32.0));
-}
-
-// ---- Prefiltered radiance ---------------------------------------------------------------------------
-
-std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, double roughness,
-                                         const std::vector<Vec3>& dirs, int subdivision, unsigned threads) {
-  check_cube(source);
-  if (!(roughness >= 0.0 && roughness <= 1.0))
-    throw std::invalid_argument("envmap reference: roughness must be in [0, 1]");
-  std::vector<double> out(3 * dirs.size(), 0.0);
-  if (roughness == 0.0) {  // the mirror: the environment itself
-    for (size_t k = 0; k < dirs.size(); ++k) {
-      const auto l = cube_bilinear(source, dirs[k]);
-      for (size_t c = 0; c < 3; ++c) out[3 * k + c] = l[c];
-    }
-    return out;
-  }
-  const double alpha = roughness * roughness;
-  const int q = subdivision > 0 ? subdivision : env_default_subdivision(lobe, alpha, source.size);
-  std::vector<double> num(3 * dirs.size(), 0.0), den(dirs.size(), 0.0);
-  for (int face = 0; face < 6; ++face) {
-    const std::vector<Cell> cells = face_cells(face, source.size, q);
-    std::vector<std::array<double, 3>> radiance(cells.size());
-    for (size_t k = 0; k < cells.size(); ++k) radiance[k] = cube_bilinear(source, cells[k].d);
-    parallel_ranges(dirs.size(), threads, [&](size_t begin, size_t end) {
-      for (size_t k = begin; k < end; ++k) {
-        double n0 = 0, n1 = 0, n2 = 0, w = 0;
-        for (size_t m = 0; m < cells.size(); ++m) {
-          const double c = dot(dirs[k], cells[m].d);
-          if (c <= 0.0) continue;
-          const double kw = env_lobe_kernel(lobe, alpha, c) * cells[m].omega;
-          n0 += kw * radiance[m][0];
-          n1 += kw * radiance[m][1];
-          n2 += kw * radiance[m][2];
-          w += kw;
-        }
-        num[3 * k] += n0;
-        num[3 * k + 1] += n1;
-        num[3 * k + 2] += n2;
-        den[k] += w;
-      }
-    });
-  }
-  for (size_t k = 0; k < dirs.size(); ++k)
-    for (size_t c = 0; c < 3; ++c) out[3 * k + c] = den[k] > 0.0 ? num[3 * k + c] / den[k] : 0.0;
-  return out;
-}
-
-EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size, int subdivision,
-                       unsigned threads) {
-  if (out_size < 1) throw std::invalid_argument("envmap reference: output size must be at least 1");
-  std::vector<Vec3> dirs;
-  for (int f = 0; f < 6; ++f)
-    for (int j = 0; j < out_size; ++j)
-      for (int i = 0; i < out_size; ++i) dirs.push_back(cube_texel_direction(f, out_size, i, j));
-  EnvCube out;
-  out.size = out_size;
-  out.rgb = prefilter_directions(source, lobe, roughness, dirs, subdivision, threads);
-  return out;
-}
-
-// ---- Spherical harmonics and irradiance ----------------------------------------------------------
-
-std::vector<double> sh_project(const EnvCube& source, int order, int subdivision) {
-  check_cube(source);
-  const size_t n = static_cast<size_t>(order * order);
-  std::vector<double> out(3 * n, 0.0);
-  for (int face = 0; face < 6; ++face) {
-    for (const Cell& cell : face_cells(face, source.size, auto_subdivision(subdivision, source.size))) {
-      const auto l = cube_bilinear(source, cell.d);
-      const auto y = math::sh_basis(order, cell.d);
-      for (size_t k = 0; k < n; ++k)
-        for (size_t c = 0; c < 3; ++c) out[3 * k + c] += l[c] * y[k] * cell.omega;
-    }
-  }
-  return out;
-}
-
-std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals,
-                                          int subdivision, unsigned threads) {
-  check_cube(source);
-  std::vector<double> out(3 * normals.size(), 0.0);
-  for (int face = 0; face < 6; ++face) {
-    const std::vector<Cell> cells = face_cells(face, source.size, auto_subdivision(subdivision, source.size));
-    std::vector<std::array<double, 3>> radiance(cells.size());
-    for (size_t k = 0; k < cells.size(); ++k) radiance[k] = cube_bilinear(source, cells[k].d);
-    parallel_ranges(normals.size(), threads, [&](size_t begin, size_t end) {
-      for (size_t k = begin; k < end; ++k) {
-        double e0 = 0, e1 = 0, e2 = 0;
-        for (size_t m = 0; m < cells.size(); ++m) {
-          const double c = dot(normals[k], cells[m].d);
-          if (c <= 0.0) continue;
-          const double w = c * cells[m].omega;
-          e0 += w * radiance[m][0];
-          e1 += w * radiance[m][1];
-          e2 += w * radiance[m][2];
-        }
-        out[3 * k] += e0 / kPi;
-        out[3 * k + 1] += e1 / kPi;
-        out[3 * k + 2] += e2 / kPi;
-      }
-    });
-  }
-  return out;
 }
 
 }  // namespace brdfbake::reference

@@ -91,12 +91,14 @@ EngineSettings engine_settings(EngineTarget target) {
       s.power_of_two = true;  // cmgen refuses other sizes
       s.pixel = PixelType::R11G11B10;
       s.pixel_format = "KTX1 GL_R11F_G11F_B10F (glType 0x8C3A as Filament's KtxUtility reads it)";
-      s.sh_window = ShWindow::None;
+      s.sh_window = ShWindow::Auto;  // cmgen's default, so that swapping cmgen keeps the look
       s.sh_convention = ShConvention::FilamentPrescaled;
       s.sh_description =
           "KTX1 key \"sh\": 9 lines \"r g b\" (bands 0..2, index l(l+1)+m), each the irradiance SH with the basis "
           "constant and 1/pi folded in (CubemapSH::preprocessSHForShader): E(n)/pi = sh0 + sh1 y + sh2 z + sh3 x + "
-          "sh4 xy + sh5 yz + sh6 (3z^2 - 1) + sh7 xz + sh8 (x^2 - y^2); no window (cmgen --sh-window=no)";
+          "sh4 xy + sh5 yz + sh6 (3z^2 - 1) + sh7 xz + sh8 (x^2 - y^2); windowed as cmgen does by default "
+          "(--sh-window auto: sinc^4 with the widest cutoff that keeps the irradiance non-negative; "
+          "--sh-window none gives cmgen --sh-window=no)";
       s.orientation = faces + " (for an equirect source the same cube cmgen makes: its mirrored lat-long "
                               "lookup and its mirrorCubemap cancel); KTXorientation S=r,T=d";
       s.files = {"NAME_ibl.ktx", "NAME_skybox.ktx", "sh.txt"};

@@ -11,22 +11,10 @@
 #include <vector>
 
 #include "brdfbake/tables.hpp"
+#include "families/delivery.hpp"
+#include "families/field_error.hpp"
 
 namespace brdfbake::detail {
-
-// A problem with one field: the registry prefixes the field as the front end spells it.
-class FieldError : public Error {
- public:
-  FieldError(std::string field, const std::string& message) : Error(message), field_(std::move(field)) {}
-  const std::string& field() const { return field_; }
-
- private:
-  std::string field_;
-};
-
-// Names another field inside a message, as the front end spells it ("base_ior" in a job,
-// "--base-ior" on the command line).
-using FieldName = std::function<std::string(const std::string& field)>;
 
 // A family's command-line command as the help shows it.
 struct CommandText {
@@ -44,12 +32,6 @@ struct SpecField {
 };
 
 class KernelRegistry;
-
-// What a family's output may be.
-struct OutputFormats {
-  std::vector<std::string> extensions;  // lower case with the dot, e.g. ".exr"; the first is the default
-  std::string description;              // "table formats (.exr .png .hdr .ktx2 .csv .h)"
-};
 
 class Family {
  public:
@@ -106,18 +88,9 @@ class Family {
 
 // The family that bakes `kind`.
 const Family& family_of(TableKind kind);
-// Every family, in the order of table_kinds().
+// Every family, in the order of table_kinds() (registry.cpp: the one list of families).
 const std::vector<const Family*>& families();
 
-// The descriptors, one per file in host/src/families/.
-const Family& dfg_lut_family();
-const Family& fresnel_family();
-const Family& thin_film_family();
-const Family& prefilter_family();
-const Family& irradiance_family();
-const Family& eval_family();
-const Family& tabulate_family();
-const Family& preview_family();
 
 // ---- Helpers the families share ----------------------------------------------------------------
 
@@ -144,25 +117,6 @@ LookupError bilinear_lookup_error(const Table& table, const std::vector<double>&
 // (i / n) and points closing in on both edges.
 std::vector<double> probe_coordinates(int n);
 
-// The formats every 2-D table family writes.
-OutputFormats table_formats();
-// The output parameters of table families (symbol for .h, png_range for .png), appended to a schema.
-void add_table_output_params(std::vector<ParamDef>& schema);
-// clamp_f16: binary16 outputs clamp values beyond 65504 and record it instead of refusing them.
-ParamDef clamp_f16_param();
-// clamp_f16, shared by the table and cube writers: finite values beyond 65504 become +-65504
-// (returns how many; NaN and infinity are left for the writer to refuse); record_f16_clamp adds the
-// count to `w`'s details and a warning naming `path`, and returns the f16_clamped metadata text;
-// with_f16_clamp_error is the storage error measured on the clamped values with the clamping itself
-// (relative to the largest value) included.
-size_t clamp_to_binary16(std::vector<float>& values);
-std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest);
-double with_f16_clamp_error(double measured, double largest);
-// Writes a Table result with the request's format and pixel type; `bound` is the table's own
-// (integration) bound, to which the storage error is added; a delivered bound above `limit` (the
-// request's max_error) is refused before anything is written.
-WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound, std::optional<double> limit = std::nullopt);
 // The peak bytes of a float grid of `cells` cells and `channels` channels: the host table, its
 // device buffer and the writer's copy (4 bytes a value each), and the cells' coordinates.
 std::uint64_t grid_bytes(double cells, double channels);

@@ -22,6 +22,16 @@ namespace detail {
 
 namespace fs = std::filesystem;
 
+// The families, each defined in its folder (host/src/families/<family>/): adding one adds a line
+// here (docs/ARCHITECTURE.md, "How to add a table family").
+const Family& dfg_lut_family();
+const Family& fresnel_family();
+const Family& thin_film_family();
+const Family& prefilter_family();
+const Family& irradiance_family();
+const Family& eval_family();
+const Family& tabulate_family();
+
 const std::vector<const Family*>& families() {
   static const std::vector<const Family*> all = {&dfg_lut_family(),    &fresnel_family(),    &thin_film_family(),
                                                  &prefilter_family(),  &irradiance_family(), &eval_family(),
@@ -126,149 +136,6 @@ LookupError bilinear_lookup_error(const Table& t, const std::vector<double>& us,
 
 std::uint64_t grid_bytes(double cells, double channels) {
   return static_cast<std::uint64_t>(cells * channels * 4 * 3 + cells * 16) + (std::uint64_t(1) << 20);
-}
-
-OutputFormats table_formats() {
-  return {{".exr", ".png", ".hdr", ".ktx2", ".csv", ".h"}, "a table format (.exr .png .hdr .ktx2 .csv .h)"};
-}
-
-ParamDef clamp_f16_param() {
-  return ParamDef("clamp_f16", ParamType::Flag,
-                  "f16 outputs: clamp values beyond 65504 to 65504 (counted, recorded as f16_clamped, and warned "
-                  "about) instead of refusing them")
-      .def(false)
-      .output();
-}
-
-size_t clamp_to_binary16(std::vector<float>& values) {
-  size_t count = 0;
-  for (float& v : values)
-    if (std::isfinite(v) && std::fabs(v) > 65504.0f) {
-      v = std::copysign(65504.0f, v);
-      ++count;
-    }
-  return count;
-}
-
-std::string record_f16_clamp(WriteReport& w, const std::string& path, size_t count, double largest) {
-  const std::string text = std::to_string(count) + " value" + (count == 1 ? "" : "s") +
-                           " beyond 65504 clamped to 65504 (binary16's largest), the largest " + fmt_number(largest, "%.6g");
-  w.details.push_back({"f16_clamped", std::to_string(count)});
-  w.warnings.push_back("'" + path + "': " + text);
-  return text;
-}
-
-double with_f16_clamp_error(double measured, double largest) {
-  return std::max(measured, (largest - 65504.0) / largest);  // the clamping, relative
-}
-
-void add_table_output_params(std::vector<ParamDef>& s) {
-  s.push_back(ParamDef("symbol", ParamType::Name, "C identifier of the array in a .h output").output());
-  s.push_back(clamp_f16_param());
-  s.push_back(ParamDef("png_range", ParamType::Name,
-                       "16-bit .png holds [0, 1]: refuse other values, scale each channel by its largest value "
-                       "(recorded as png_scale), or clamp them (recorded)")
-                  .one_of({"refuse", "scale", "clamp"})
-                  .def(std::string("refuse"))
-                  .output());
-}
-
-namespace {
-
-// A bound as text, rounded up to three significant digits: the recorded text is never below it.
-std::string bound_text(double v) {
-  if (!(v > 0) || !std::isfinite(v)) return fmt_number(v, "%.3g");
-  const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
-  return fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
-}
-
-std::string count_text(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
-
-}  // namespace
-
-WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound, std::optional<double> limit) {
-  const TableFormat format = path == "-" && t.format.empty() ? TableFormat::Csv : table_output_format(t);
-  const PixelType pixel = pixel_of(t);
-  Table out = table;
-  io::StorageReport s = io::measure_storage(out, format, pixel);
-  WriteReport w;
-  if (format == TableFormat::Png && s.out_of_range > 0) {
-    const std::string policy = t.text("png_range", "refuse");
-    if (policy == "refuse")
-      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " outside [0, 1] (largest " +
-                  fmt_number(s.largest, "%.4g") +
-                  "), which a 16-bit PNG cannot hold: write .exr or .ktx2, or give png_range scale (or clamp)");
-    if (policy == "scale") {
-      // Each channel divided by its largest value (at least 1): stored = value / scale.
-      const size_t channels = out.channels.size();
-      std::vector<double> scale(channels, 1.0);
-      for (size_t k = 0; k < out.data.size(); ++k)
-        scale[k % channels] = std::max(scale[k % channels], std::fabs(double(out.data[k])));
-      std::string text;
-      for (size_t c = 0; c < channels; ++c) text += (c ? "," : "") + fmt_number(scale[c], "%.9g");
-      for (size_t k = 0; k < out.data.size(); ++k) out.data[k] = float(double(out.data[k]) / scale[k % channels]);
-      out.set_meta("png_scale", text);
-      out.set_meta("png_scale_definition", "value = stored * png_scale (per channel, in the order of channels)");
-      w.details.push_back({"png_scale", text});
-      const io::StorageReport scaled = io::measure_storage(out, format, pixel);
-      // the scaled error, back in the table's units
-      double worst = 0.0;
-      for (double k : scale) worst = std::max(worst, k);
-      s.max_error = scaled.max_error * worst;
-      s.out_of_range = scaled.out_of_range;
-    } else {
-      out.set_meta("png_clamped", count_text(s.out_of_range, "value") + " clamped to [0, 1], the largest " +
-                                      fmt_number(s.largest, "%.6g"));
-      w.details.push_back({"png_clamped", std::to_string(s.out_of_range)});
-      s.out_of_range = 0;  // asked for: the error is measured (it includes the clamping)
-    }
-  }
-  if (s.out_of_range > 0 && (format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16 &&
-      t.flag("clamp_f16") && std::isfinite(s.largest)) {
-    // asked for (the largest value is finite: nothing non-finite to refuse below)
-    const double largest = s.largest;
-    out.set_meta("f16_clamped", record_f16_clamp(w, path, clamp_to_binary16(out.data), largest));
-    s = io::measure_storage(out, format, pixel);
-    s.max_error = with_f16_clamp_error(s.max_error, largest);
-  }
-  if (s.out_of_range > 0) {
-    if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
-      throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
-                  fmt_number(s.largest, "%.6g") + "), which binary16 cannot hold: give pixel f32 (--pixel f32), or clamp_f16 (--clamp-f16) to clamp and record them");
-    throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " the format cannot hold (largest |value| " +
-                fmt_number(s.largest, "%.6g") + "): no NaN or infinity is written");
-  }
-  w.storage_error = s.max_error;
-  w.encoding = s.encoding;
-  if (bound) {
-    w.error_bound = *bound + s.max_error;
-    if (limit && *w.error_bound > *limit)
-      throw Error("'" + path + "': the stored values would be within " + bound_text(*w.error_bound) +
-                  " of converged (integration " + bound_text(*bound) + " + " + s.encoding + " " + bound_text(s.max_error) +
-                  "), above max_error " + fmt_number(*limit) + ": " +
-                  (format == TableFormat::Png || format == TableFormat::Hdr ? "write .exr, .csv or a .ktx2 with pixel f32"
-                                                                            : "give pixel f32 (--pixel f32)"));
-    out.set_meta("integration_error_bound", bound_text(*bound));
-    const std::string definition = out.meta("error_bound_definition");
-    if (!definition.empty()) out.set_meta("integration_error_bound_definition", definition);
-    out.set_meta("storage_error", bound_text(s.max_error));
-    out.set_meta("storage_encoding", s.encoding);
-    out.set_meta("error_bound", bound_text(*w.error_bound));
-    out.set_meta("error_bound_definition",
-                 "bound on |stored value - converged value| (abs below 1, relative above) of every value this "
-                 "file stores: integration_error_bound plus storage_error, the encoding's error measured on the "
-                 "stored values");
-  }
-  if (path == "-") {
-    write_table_csv(out, std::cout);
-    return w;
-  }
-  TableWriteOptions o;
-  o.pixel = pixel;
-  o.symbol = t.text("symbol");
-  write_table(out, path, format, o);
-  return w;
 }
 
 const EnvImage& headroom_environment(const EnvImage& in, EnvImage& storage, double* scale) {

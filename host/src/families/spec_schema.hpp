@@ -62,7 +62,8 @@ class SpecSchema {
       if (const ParamValue* v = t.find(name)) s.*member = convert(*v);
     });
   }
-  // A parameter whose field takes more than its value (fill reads the request).
+  // A parameter whose field takes more than its value (fill reads the request; an empty fill: the
+  // family sets the field itself, from rules across fields).
   SpecSchema& bind(const char* field, ParamDef def, Fill fill) {
     fields_.push_back({field, def.name, ""});
     fills_.push_back(std::move(fill));
@@ -96,15 +97,18 @@ class SpecSchema {
   // The spec of a validated request: the struct's own defaults, each field set by its entry.
   Spec fill(const TableRequest& t) const {
     Spec s;
-    for (const Fill& f : fills_) f(s, t);
+    for (const Fill& f : fills_)
+      if (f) f(s, t);
     return s;
   }
 
  private:
   template <class T>
   static T value_for(const ParamValue& v) {
-    if constexpr (is_optional<T>::value) return param_as<typename T::value_type>(v);
-    else return param_as<T>(v);
+    if constexpr (is_optional<T>::value)
+      return param_as<typename T::value_type>(v);
+    else
+      return param_as<T>(v);
   }
   template <class T>
   struct is_optional : std::false_type {};

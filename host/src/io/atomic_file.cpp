@@ -12,6 +12,7 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/output_lock.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake::io {
 namespace {
@@ -50,6 +51,12 @@ TempFile::TempFile(std::string destination) : destination_(std::move(destination
   if (name.empty() || name == "." || name == "..") {
     throw_write_error(destination_, "not a file name");
   }
+  // A device node, a FIFO or standard output named as a file would be replaced by the rename:
+  // refused (bad input) before anything is created (io/special_files.hpp).
+  if (const OutputTargetInfo info = output_target(destination_); info.target != OutputTarget::File)
+    throw Error("cannot write '" + destination_ + "': it is " + info.what +
+                ", and this output is written to a temporary file renamed over its name, which would replace it: "
+                "name a regular file" + (info.target == OutputTarget::Stream ? " (only CSV tables and eval's output are written to a stream)" : ""));
   ::brdfbake::remove_stale_temporaries(destination_);
   const std::string prefix = (target.parent_path() / temp_name_prefix(name, ::getpid())).string();
   // Retry only on a name collision with another writer's temporary.
@@ -103,6 +110,10 @@ OutputStream::OutputStream(const std::string& path) : path_(path) {
     file_ = stdout;
     return;
   }
+  if (output_target(path_).target == OutputTarget::Stream) {  // a FIFO, a device, /dev/stdout: in place
+    fd_ = open_output_stream(path_);
+    return;
+  }
   temp_ = std::make_unique<TempFile>(path_);
   file_ = std::fopen(temp_->path().c_str(), "wb");
   if (!file_) throw_write_error(path_, os_reason(errno));
@@ -110,14 +121,25 @@ OutputStream::OutputStream(const std::string& path) : path_(path) {
 
 OutputStream::~OutputStream() {
   if (temp_ && file_) std::fclose(file_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 void OutputStream::write(const void* data, size_t bytes) {
+  if (fd_ >= 0) {
+    write_fd(fd_, static_cast<const char*>(data), bytes, path_);
+    return;
+  }
   if (bytes > 0 && std::fwrite(data, 1, bytes, file_) != bytes)
     throw_write_error(temp_ ? path_ : std::string("standard output"), os_reason(errno));
 }
 
 void OutputStream::commit() {
+  if (fd_ >= 0) {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) throw_write_error(path_, os_reason(errno));
+    return;
+  }
   if (std::fflush(file_) != 0) throw_write_error(temp_ ? path_ : std::string("standard output"), os_reason(errno));
   if (!temp_) return;
   const bool closed = std::fclose(file_) == 0;
@@ -146,6 +168,16 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
   TempFile temp(path);
   write_bytes(temp, bytes);
   temp.commit();
+}
+
+void write_file_or_stream(const std::string& path, std::string_view bytes) {
+  if (output_target(path).target != OutputTarget::Stream) {
+    write_file_atomically(path, bytes);
+    return;
+  }
+  OutputStream out(path);
+  out.write(bytes.data(), bytes.size());
+  out.commit();
 }
 
 }  // namespace brdfbake::io

@@ -20,7 +20,8 @@ namespace brdfbake::io {
 class TempFile {
  public:
   // Throws Error("cannot write '<destination>': <OS reason>") when the folder does not take it
-  // (missing folder, a path through a regular file, no permission, ...).
+  // (missing folder, a path through a regular file, no permission, ...), and (bad input) when the
+  // destination is a device, a FIFO or standard output named as a file: the rename would replace it.
   explicit TempFile(std::string destination);
   ~TempFile();
   TempFile(const TempFile&) = delete;
@@ -43,6 +44,9 @@ void write_bytes(const TempFile& temp, std::string_view bytes);
 
 // Writes `bytes` to `path` atomically.
 void write_file_atomically(const std::string& path, std::string_view bytes);
+// The same for an output that streams (a CSV table): a FIFO, a character device or standard output
+// named as a file (/dev/stdout) is written in place (io/special_files.hpp), anything else atomically.
+void write_file_or_stream(const std::string& path, std::string_view bytes);
 
 // Creates the folders missing above `path` (a file to be written), and removes them again when
 // destroyed unless keep() was called: a failed write leaves no empty folders behind.
@@ -58,8 +62,9 @@ class ParentFolders {
   std::vector<std::string> created_;  // outermost first
 };
 
-// A stream written in pieces: standard output for "-", else a temporary beside `path` renamed over
-// it by commit() (a failure, or destruction without commit, leaves no file).
+// A stream written in pieces: standard output for "-", a FIFO, a character device or standard
+// output named as a file (/dev/stdout) written in place, else a temporary beside `path` renamed
+// over it by commit() (a failure, or destruction without commit, leaves no file).
 class OutputStream {
  public:
   explicit OutputStream(const std::string& path);
@@ -73,6 +78,7 @@ class OutputStream {
   std::string path_;
   std::unique_ptr<TempFile> temp_;
   std::FILE* file_ = nullptr;
+  int fd_ = -1;  // a stream target written in place
 };
 
 // Throws the IoError of a failed write: "cannot write '<path>': <reason>" (exit code 1).

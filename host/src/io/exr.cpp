@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
 #include "io/image_file.hpp"
 
@@ -130,17 +131,31 @@ bool read_exr(const std::string& path, const ImageLimits& limits, FloatImage& ou
     bool tiled = false, deep = false, multi_part = false;
     if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multi_part)) throw Error("not an OpenEXR file");
     if (deep) return false;
+    // Read in parts (rows of tiles, blocks of scanlines) with a check for a stop request between
+    // them: a 16k file stops within one part. The parts are large enough to keep OpenEXR's thread
+    // pool busy (a ZIP block is 16 scanlines, PIZ 32).
     if (tiled && !multi_part) {
       Imf::TiledInputFile file(path.c_str());
       return read_level0(file, limits, out, [](Imf::TiledInputFile& f, const Imath::Box2i&) {
-        f.readTiles(0, f.numXTiles(0) - 1, 0, f.numYTiles(0) - 1, 0, 0);
+        const int rows = f.numYTiles(0), step = std::max(1, 256 / std::max(1, int(f.tileYSize())));
+        for (int y = 0; y < rows; y += step) {
+          throw_if_cancelled();
+          f.readTiles(0, f.numXTiles(0) - 1, y, std::min(rows, y + step) - 1, 0, 0);
+        }
       });
     }
     // Scanline files, and the first part of multi-part files.
     Imf::InputFile file(path.c_str());
     if (file.header().hasType() && Imf::isDeepData(file.header().type())) return false;
-    return read_level0(file, limits, out,
-                       [](Imf::InputFile& f, const Imath::Box2i& window) { f.readPixels(window.min.y, window.max.y); });
+    return read_level0(file, limits, out, [](Imf::InputFile& f, const Imath::Box2i& window) {
+      constexpr int64_t kLines = 256;
+      for (int64_t y = window.min.y; y <= window.max.y; y += kLines) {
+        throw_if_cancelled();
+        f.readPixels(int(y), int(std::min<int64_t>(window.max.y, y + kLines - 1)));
+      }
+    });
+  } catch (const Cancelled&) {
+    throw;
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {  // Iex::BaseExc and std::bad_alloc

@@ -1,6 +1,6 @@
 // Image files. The formats on the hot path go through focused libraries, linked into the program:
 //   OpenEXR (.exr, read and write)       OpenEXR 3.1 (Imf), float32 written uncompressed below 1 MiB, ZIP above
-//   PNG (.png, 16-bit write)             libpng
+//   PNG (.png, 16-bit write; read)       libpng (read: decoded to linear, read_png_linear)
 //   Radiance RGBE (.hdr, read and write) io/rgbe (a small codec: stb_image hangs or returns black
 //                                        on truncated files, see rgbe.hpp)
 // Every other format is read through OpenImageIO, which lives in a separate module
@@ -32,12 +32,16 @@ struct FloatImage {
   std::string description;
   // The file's string attributes (OpenEXR; empty for the other formats), in the file's order.
   std::vector<std::pair<std::string, std::string>> attributes;
+  // What the reader did to the values that the user should hear of, e.g. "8-bit sRGB (untagged PNG:
+  // sRGB assumed) decoded to linear". Empty for files that hold linear values.
+  std::string transfer_note;
 };
 
 // Reads an image, choosing the reader by the file's signature (its first bytes): OpenEXR
 // (scanline or tiled, mip-mapped or not, half, float or uint; not subsampled luminance/chroma or
-// deep data, which go to OpenImageIO) and Radiance RGBE here, any other format through the
-// OpenImageIO module. An image beyond `limits` (pixels, or the memory its decoding takes) is refused
+// deep data, which go to OpenImageIO), Radiance RGBE and PNG here, any other format through the
+// OpenImageIO module. A FIFO or a device is refused (decoders seek); every read stops on a stop
+// request (brdfbake/cancel.hpp) between parts of the file. An image beyond `limits` (pixels, or the memory its decoding takes) is refused
 // from its header, before any pixel buffer is allocated.
 // Throws Error with a one-line reason that does not repeat the path (callers say what the file
 // was for), e.g. "truncated: the data ends in scanline 17", or, for a format only OpenImageIO
@@ -49,6 +53,17 @@ FloatImage read_image(const std::string& path, const ImageLimits& limits);
 // left to OpenImageIO (deep data, subsampled channels); throws Error(reason) for a bad file.
 bool is_exr(std::string_view head);
 bool read_exr(const std::string& path, const ImageLimits& limits, FloatImage& out);
+
+// The PNG reader behind read_image (libpng, png_image.cpp): any PNG as linear float. The transfer
+// the file states is undone: the sRGB chunk (or an ICC profile libpng recognises as sRGB), an iCCP
+// profile named sRGB or linear, else gAMA; an 8-bit PNG without any of them is sRGB (the convention
+// for untagged images), a 16-bit one is read as stored (tables and measurements are linear), and
+// FloatImage::transfer_note says which. An ICC profile it cannot tell, without gAMA, is refused.
+// Alpha stays as stored.
+// Checked against `limits` from the header, read row by row (a stop request ends it between rows);
+// libpng's messages become the Error's reason, never stderr lines.
+bool is_png(std::string_view head);
+FloatImage read_png_linear(const std::string& path, const ImageLimits& limits);
 
 // Writers: each fills the temporary `temp` (the caller commits it) and throws
 // Error("cannot write '<destination>': <reason>").

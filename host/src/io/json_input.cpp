@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "brdfbake/error.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake::io {
 
@@ -159,29 +160,9 @@ std::string json_text(const nlohmann::ordered_json& document, int indent) {
 }
 
 std::string read_text_file(const std::string& path, const std::string& what) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (path.empty()) throw Error("no " + what + " file given");
-  if (fs::is_directory(path, ec)) throw Error("cannot read " + what + " '" + path + "': it is a folder");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw Error("cannot read " + what + " '" + path + "': " +
-                (fs::exists(path, ec) ? std::string(std::strerror(err ? err : EACCES)) : "no such file"));
-  }
-  const auto size = fs::file_size(path, ec);
-  if (!ec && size > kJsonMaxBytes)
-    throw Error("cannot read " + what + " '" + path + "': larger than " + std::to_string(kJsonMaxBytes >> 20) + " MiB");
-  // Read at most one byte more than the limit: a FIFO or a device has no size to check first.
-  std::string text;
-  char buf[65536];
-  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-    text.append(buf, static_cast<size_t>(in.gcount()));
-    if (text.size() > kJsonMaxBytes)
-      throw Error("cannot read " + what + " '" + path + "': larger than " + std::to_string(kJsonMaxBytes >> 20) + " MiB");
-  }
-  if (in.bad()) throw IoError("cannot read " + what + " '" + path + "': read error");
-  return text;
+  // A FIFO or a character device (a pipe, /dev/stdin) is read as a stream: at most one byte more
+  // than the limit, cancellable while it waits for data (io/special_files.hpp).
+  return read_input(path, what, kJsonMaxBytes, std::to_string(kJsonMaxBytes >> 20) + " MiB", Streams::Yes);
 }
 
 }  // namespace brdfbake::io

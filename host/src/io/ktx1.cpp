@@ -92,6 +92,8 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
     if (image_size != face_bytes * (k.faces == 6 ? 1 : k.faces))
       throw fail("level " + std::to_string(l) + " has imageSize " + std::to_string(image_size) + ", expected " +
                  std::to_string(face_bytes));
+    // every face of the level in the file before its bytes are reserved (a header is not a promise)
+    if (face_bytes > (size - at) / k.faces) throw fail("level " + std::to_string(l) + " is truncated");
     std::vector<uint8_t> level;
     level.reserve(k.faces * row * h);
     for (uint32_t f = 0; f < k.faces; ++f) {

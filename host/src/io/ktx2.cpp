@@ -31,7 +31,9 @@
 #include <string_view>
 #include <system_error>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
+#include "io/special_files.hpp"
 #include "io/atomic_file.hpp"
 
 namespace brdfbake::io {
@@ -770,17 +772,22 @@ Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes) {
 }
 
 Ktx2Image read_ktx2(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw Error("cannot read '" + path +
-                "': " + std::error_code(errno, std::system_category()).message());
+  // A regular file of at most 4 GiB (io/special_files.hpp); every size inside is checked against it.
+  if (file_type(path) == FileType::Missing)
+    throw Error("cannot read '" + path + "': " + std::error_code(ENOENT, std::system_category()).message());
+  std::string bytes;
+  try {
+    bytes = read_input(path, "KTX2 file", std::uint64_t(4) << 30, "4 GiB", Streams::No);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const IoError&) {
+    throw;
+  } catch (const Error& e) {
+    // "cannot read KTX2 file 'p': it is a folder" keeps the words callers and users know
+    const std::string what = e.what(), head = "cannot read KTX2 file '" + path + "': ";
+    throw Error("cannot read '" + path + "': " + (what.rfind(head, 0) == 0 ? what.substr(head.size()) : what));
   }
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError("cannot read '" + path + "': read error");
-  return Decoder(bytes.data(), bytes.size(), "invalid KTX2 file '" + path + "'").decode();
+  return Decoder(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), "invalid KTX2 file '" + path + "'").decode();
 }
 
 }  // namespace brdfbake::io

@@ -14,6 +14,7 @@
 #include "brdfbake/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake {
 namespace {
@@ -160,6 +161,9 @@ MerlTable read_merl(const std::string& path) {
   std::error_code ec;
   namespace fs = std::filesystem;
   if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
+  // A MERL file's size is fixed by its header: a FIFO or a device is refused, never read.
+  if (const std::string problem = io::input_problem(path, io::Streams::No); !problem.empty() && problem != "no such file")
+    throw Error("cannot read '" + path + "': " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read '" + path + "': " + (fs::exists(path, ec) ? "permission denied" : "no such file"));
   const std::uint64_t size = fs::file_size(path, ec);

@@ -13,6 +13,7 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake {
 
@@ -35,18 +36,38 @@ std::string clean(std::string target) {
   return target;
 }
 
+// The output as the file system knows it: symbolic links of its existing part resolved (the output
+// itself too, when it is a link to a folder), so that every name of one folder gives one lock.
+fs::path resolved(const std::string& target) {
+  std::error_code ec;
+  fs::path abs = fs::absolute(target, ec);
+  if (ec) return fs::path(target);
+  fs::path r = fs::weakly_canonical(abs, ec);
+  if (ec) return abs.lexically_normal();
+  return r;
+}
+
 }  // namespace
 
 std::string output_lock_path(const std::string& target_in) {
-  const fs::path t(clean(target_in));
-  return (t.parent_path() / ("." + t.filename().string() + ".lock")).string();
+  const std::string target = clean(target_in);
+  const fs::path t(target);
+  if (t.filename().empty() || t.filename() == "." || t.filename() == "..")
+    return (t.parent_path() / ("." + t.filename().string() + ".lock")).string();
+  const fs::path r = resolved(target);
+  return (r.parent_path() / ("." + r.filename().string() + ".lock")).string();
 }
 
 OutputLock::OutputLock(const std::string& target_in, bool wait, const OnWait& on_wait) {
   const std::string target = clean(target_in);
-  const fs::path t(target);
-  if (t.filename().empty() || t.filename() == "." || t.filename() == "..")
+  if (fs::path(target).filename().empty() || fs::path(target).filename() == "." || fs::path(target).filename() == "..")
     throw Error("cannot lock '" + target + "': not a file or folder name");
+  // A device or a FIFO is not a folder to write into (and its lock file would land beside it, in /dev).
+  if (const io::OutputTargetInfo info = io::output_target(target); info.target != io::OutputTarget::File)
+    throw Error("cannot write '" + target + "': it is " + info.what + ", not a folder brdfbake can write into");
+  // Locked by the folder's identity, not its name: through a symbolic link, another name of the same
+  // folder, or a relative path, two runs find the same lock file.
+  const fs::path t = resolved(target);
   // The lock file lives in the output's parent folder: create the missing ones (removed again on release).
   std::error_code ec;
   std::vector<fs::path> missing;
@@ -56,7 +77,7 @@ OutputLock::OutputLock(const std::string& target_in, bool wait, const OnWait& on
       throw IoError("cannot write '" + target + "': cannot create the folder '" + it->string() + "': " + ec.message());
     created_parents_.push_back(it->string());
   }
-  path_ = output_lock_path(target);
+  path_ = (t.parent_path() / ("." + t.filename().string() + ".lock")).string();
   bool noted = false;
   for (;;) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);

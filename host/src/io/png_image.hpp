@@ -41,7 +41,7 @@ std::vector<uint8_t> encode_png_rgb8(int width, int height, const std::vector<ui
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb,
                     const std::vector<std::pair<std::string, std::string>>& text, int level = 9);
 
-// The bytes of a file (no size limit beyond memory); throws Error naming `what` and the path.
+// The bytes of a regular file of at most 4 GiB (io/special_files.hpp); throws Error naming `what` and the path.
 std::vector<uint8_t> read_binary_file(const std::string& path, const std::string& what);
 
 }  // namespace brdfbake::io

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdlib>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
 
 namespace brdfbake::io {
@@ -40,17 +41,44 @@ struct Axis {
   int count = 0;
 };
 
-// "-Y 512 +X 1024": two axes, each a sign, a letter and a positive count.
-bool parse_resolution(const std::string& line, Axis& first, Axis& second) {
-  char s1 = 0, a1 = 0, s2 = 0, a2 = 0;
-  int n1 = 0, n2 = 0, used = 0;
-  if (std::sscanf(line.c_str(), " %c%c %d %c%c %d %n", &s1, &a1, &n1, &s2, &a2, &n2, &used) != 6) return false;
-  if (static_cast<size_t>(used) != line.size()) return false;
-  auto valid = [](char s, char a, int n) { return (s == '+' || s == '-') && (a == 'X' || a == 'Y') && n > 0; };
-  if (!valid(s1, a1, n1) || !valid(s2, a2, n2) || a1 == a2) return false;
-  first = {s1, a1, n1};
-  second = {s2, a2, n2};
-  return true;
+// The largest count a resolution line may state: larger ones are refused before any arithmetic
+// (a count that does not fit 32 bits must not wrap into a small image).
+constexpr long long kMaxAxisCount = 0x7fffffffLL;
+
+// "-Y 512 +X 1024": two axes, each a sign, a letter and a positive count of at most kMaxAxisCount.
+// Empty on success, else what is wrong.
+std::string parse_resolution(const std::string& line, Axis& first, Axis& second) {
+  size_t at = 0;
+  auto skip_spaces = [&] {
+    while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+  };
+  auto axis = [&](Axis& a) -> std::string {
+    skip_spaces();
+    if (at + 2 > line.size()) return "expected a sign and an axis";
+    a.sign = line[at];
+    a.name = line[at + 1];
+    at += 2;
+    if ((a.sign != '+' && a.sign != '-') || (a.name != 'X' && a.name != 'Y')) return "expected +X, -X, +Y or -Y";
+    skip_spaces();
+    const size_t digits = at;
+    long long n = 0;
+    while (at < line.size() && std::isdigit(static_cast<unsigned char>(line[at]))) {
+      n = n * 10 + (line[at] - '0');
+      ++at;
+      if (n > kMaxAxisCount)
+        return "the count " + line.substr(digits, 20) + " is out of range (at most " + std::to_string(kMaxAxisCount) + ")";
+    }
+    if (at == digits) return "expected a count after " + std::string{a.sign, a.name};
+    if (n < 1) return "the count of " + std::string{a.sign, a.name} + " must be at least 1";
+    a.count = static_cast<int>(n);
+    return "";
+  };
+  if (std::string e = axis(first); !e.empty()) return e;
+  if (std::string e = axis(second); !e.empty()) return e;
+  skip_spaces();
+  if (at != line.size()) return "unexpected text after the second axis";
+  if (first.name == second.name) return "both axes are " + std::string(1, first.name);
+  return "";
 }
 
 // The header's lines, then the pixel data from data() on.
@@ -71,6 +99,7 @@ class Reader {
   const uint8_t* data() const { return reinterpret_cast<const uint8_t*>(bytes_.data() + pos_); }
   const uint8_t* end() const { return reinterpret_cast<const uint8_t*>(bytes_.data() + bytes_.size()); }
   size_t remaining() const { return bytes_.size() - pos_; }
+  size_t offset() const { return pos_; }
 
  private:
   std::string_view bytes_;
@@ -190,14 +219,40 @@ void rgbe_to_float(const uint8_t rgbe[4], float out[3]) {
 
 bool is_rgbe(std::string_view bytes) { return bytes.size() >= 2 && bytes[0] == '#' && bytes[1] == '?'; }
 
+std::uint64_t rgbe_file_bound(std::string_view head) {
+  Reader in(head);
+  std::string line;
+  in.line(line);
+  for (;;) {
+    if (!in.line(line)) return head.size();  // no end of the header in `head`: decode_rgbe says what is wrong
+    if (in.offset() > kRgbeMaxHeaderBytes) return head.size();
+    if (line.empty()) break;
+  }
+  Axis first, second;
+  if (!in.line(line) || !parse_resolution(line, first, second).empty()) return head.size();
+  // Every scanline: a 4-byte run-length header, then each of its 4 components in at worst 2 bytes a
+  // value (a dump of one byte); flat pixels take 4 bytes each.
+  return in.offset() + uint64_t(first.count) * (4 + 8 * uint64_t(second.count));
+}
+
 RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   if (!is_rgbe(bytes)) throw Error("not a Radiance picture (it does not start with '#?')");
   Reader in(bytes);
   std::string line;
+  double exposure = 1.0;
   in.line(line);  // the "#?PROGRAM" line
   for (;;) {
-    if (!in.line(line)) throw Error("truncated: the header has no end (an empty line)");
+    if (!in.line(line) || in.offset() > kRgbeMaxHeaderBytes)
+      throw Error(in.offset() > kRgbeMaxHeaderBytes
+                      ? "the header is longer than " + std::to_string(kRgbeMaxHeaderBytes >> 10) + " KiB"
+                      : std::string("truncated: the header has no end (an empty line)"));
     if (line.empty()) break;
+    if (line.rfind("EXPOSURE=", 0) == 0) {
+      // Radiance multiplies: the values were scaled by every EXPOSURE. Kept for the note the
+      // reader gives; a value that is not a positive finite number is left out.
+      const double e = std::strtod(line.c_str() + 9, nullptr);
+      if (std::isfinite(e) && e > 0.0) exposure *= e;
+    }
     if (line.rfind("FORMAT=", 0) == 0) {
       std::string format = line.substr(7);
       while (!format.empty() && std::isspace(static_cast<unsigned char>(format.back()))) format.pop_back();
@@ -208,8 +263,8 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   }
   if (!in.line(line)) throw Error("truncated: no resolution line after the header");
   Axis first, second;
-  if (!parse_resolution(line, first, second))
-    throw Error("bad resolution line '" + line.substr(0, 40) + "' (expected e.g. '-Y 512 +X 1024')");
+  if (const std::string why = parse_resolution(line, first, second); !why.empty())
+    throw Error("bad resolution line '" + line.substr(0, 40) + "': " + why + " (expected e.g. '-Y 512 +X 1024')");
   const Axis& x_axis = first.name == 'X' ? first : second;
   const Axis& y_axis = first.name == 'Y' ? first : second;
   const std::string problem = image_limits_problem(uint64_t(x_axis.count), uint64_t(y_axis.count), 3, 1, limits);
@@ -226,6 +281,7 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   image.width = x_axis.count;
   image.height = y_axis.count;
   image.orientation = std::string{first.sign, first.name, ' ', second.sign, second.name};
+  image.exposure = std::isfinite(exposure) ? exposure : 1.0;
   image.rgb.resize(size_t(image.width) * size_t(image.height) * 3);
   // Where the k-th value along an axis lands: X runs left to right, Y points up (row 0 the top).
   auto place = [](const Axis& a, int k) {
@@ -240,6 +296,7 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
   std::vector<uint8_t> scanline(4 * size_t(second.count));
   const uint8_t* data = in.data();
   for (int k = 0; k < first.count; ++k) {
+    if (k % 256 == 0) throw_if_cancelled();  // a 16k picture stops within a few milliseconds
     image.run_length_encoded |= decode_scanline(data, in.end(), second.count, k, scanline.data());
     float* out = image.rgb.data() + place(first, k) * across + (second_reversed ? (second.count - 1) * along : 0);
     for (size_t p = 0; p < size_t(second.count); ++p, out += step) rgbe_to_float(&scanline[4 * p], out);

@@ -26,6 +26,7 @@
 // exponent e of frexp(max(R, G, B)) (Ward's float2rgbe).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -44,10 +45,21 @@ struct RgbeImage {
   std::vector<float> rgb;  // width x height x 3, row 0 the top row
   std::string orientation;  // the resolution line's order, e.g. "-Y +X"
   bool run_length_encoded = false;  // some scanline used new run-length encoding
+  double exposure = 1.0;            // the product of the header's EXPOSURE= lines (not applied)
 };
+
+// The longest header read (Radiance headers hold a few lines of history and options).
+inline constexpr std::size_t kRgbeMaxHeaderBytes = std::size_t(64) << 10;
 
 // Whether `bytes` start with the "#?" signature of a Radiance picture.
 bool is_rgbe(std::string_view bytes);
+
+// The most bytes a picture whose file starts with `head` (at least its header and resolution line,
+// up to kRgbeMaxHeaderBytes) can take: its header and the worst encoding of every scanline. What
+// follows is never read. When `head` does not hold a valid header, head.size() (decode_rgbe then
+// says what is wrong). Counts are checked before any arithmetic: a width that does not fit 32 bits
+// is refused, never wrapped.
+std::uint64_t rgbe_file_bound(std::string_view head);
 
 // Decodes a whole picture. Throws Error(reason) for a bad header, a truncated or corrupt file,
 // or an image beyond `limits`; the reason does not name the file. A header promising more

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "io/special_files.hpp"
+
 namespace brdfbake::io {
 
 class StagingDir {
@@ -21,7 +23,8 @@ class StagingDir {
 
   // Moves what the temporary folder holds into the target: the whole folder when the target does
   // not exist yet, else entry by entry (sub-folders merged, existing files replaced), `last` (the
-  // manifest) after all the others.
+  // manifest) after all the others; then checks that every file arrived (check_moved_in). A device,
+  // a FIFO or a socket in the way is refused before anything moves.
   void commit(const std::string& last);
 
  private:
@@ -30,5 +33,19 @@ class StagingDir {
   std::vector<std::filesystem::path> created_parents_;
   bool committed_ = false;
 };
+
+// A file of a staging folder as it is moved in: its path relative to the folder, and its identity
+// (io/special_files.hpp) to find it again in the target.
+struct MovedFile {
+  std::filesystem::path rel;
+  FileId id;
+};
+// The files below `staging` (relative), `last` at the end; IoError naming `target` when the folder
+// cannot be listed or a file vanishes meanwhile (removed while the run wrote it).
+std::vector<MovedFile> files_to_move(const std::filesystem::path& staging, const std::filesystem::path& target,
+                                     const std::string& last);
+// Every file of `moved` is in `target` and is the file moved (its identity): else IoError naming the
+// first that is not ("the folder was removed or replaced while this run wrote it").
+void check_moved_in(const std::filesystem::path& target, const std::vector<MovedFile>& moved);
 
 }  // namespace brdfbake::io

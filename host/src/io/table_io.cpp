@@ -22,6 +22,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/io.hpp"
 #include "io/atomic_file.hpp"
+#include "io/special_files.hpp"
 #include "io/half.hpp"
 #include "io/image_file.hpp"
 #include "io/ktx2.hpp"
@@ -486,7 +487,7 @@ void write_table(const Table& table, const std::string& path, TableFormat format
       check_coordinates(table, path);
       std::ostringstream text;
       write_csv_to(table, text);
-      io::write_file_atomically(path, text.str());
+      io::write_file_or_stream(path, text.str());  // CSV also goes to a FIFO, a device, /dev/stdout
       return;
     }
     case TableFormat::CHeader:
@@ -503,7 +504,9 @@ void write_table_csv(const Table& table, std::ostream& out) {
   if (!out) throw Error("cannot write CSV: the output stream failed");
 }
 
-void check_output_path(const std::string& path) {
+void check_output_path(const std::string& path, bool streams) {
+  io::check_output_target(path, streams, "output");
+  if (io::output_target(path).target == io::OutputTarget::Stream) return;  // written in place
   // A missing folder is created when the output is written: probe the nearest folder that exists.
   namespace fs = std::filesystem;
   std::error_code ec;

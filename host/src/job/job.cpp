@@ -6,7 +6,9 @@
 #include <map>
 
 #include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
 
@@ -140,6 +142,12 @@ void check_job_path(const std::string& path, const std::string& field) {
 void validate_job(Job& job) {
   const std::string origin = job.source.empty() ? std::string("job") : job.source;
   if (job.environment.empty()) throw Error(origin + ": environment: must not be empty");
+  try {  // a builtin's name is known now: a server refuses the job (400) instead of failing it later
+    check_builtin_environment(job.environment);
+    for (const auto& t : job.tables) check_builtin_environment(t.environment);
+  } catch (const Error& e) {
+    throw Error(origin + ": environment: " + e.what());
+  }
   for (size_t i = 0; i < job.tables.size(); ++i) {
     TableRequest& t = job.tables[i];
     const std::string where = origin + ": tables[" + std::to_string(i) + "]";
@@ -180,6 +188,9 @@ void validate_job(Job& job) {
     for (const auto& r : t.requested_by) first.requested_by.push_back(r);
   }
   job.tables = std::move(merged);
+  // Across fields and tables: a table's sh_json on another's output, an output inside another's
+  // folder output or under another's file (brdfbake/output_checks.hpp).
+  check_job_output_set(job, false);
 }
 
 // ---- Parsing -------------------------------------------------------------------------------------
@@ -207,6 +218,11 @@ Job parse_job(const std::string& text, const std::string& origin) {
       } catch (const Error& e) {
         throw Error(field + ": " + e.what());
       }
+    } else if (key == "engine_name") {
+      job.engine_name = get_string(*it, field);
+      if (job.engine_name.empty() || job.engine_name == "." || job.engine_name == ".." ||
+          job.engine_name.find_first_of("/\\") != std::string::npos)
+        throw Error(field + ": must be a file name without a folder (got '" + job.engine_name + "')");
     } else if (key == "sanitize") {
       if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
       job.sanitize = it->get<bool>();
@@ -229,8 +245,8 @@ Job parse_job(const std::string& text, const std::string& origin) {
       if (!it->is_array()) throw Error(field + ": must be an array of tables (got " + json_excerpt(*it) + ")");
     } else {
       throw Error(origin + ": " + key.substr(0, 60) +
-                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, device, precision, "
-                  "tables, scene, notes, warnings, plan)");
+                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, engine_name, "
+                  "device, precision, tables, scene, notes, warnings, plan)");
     }
   }
   if (!root.contains("tables")) throw Error(origin + ": tables: missing (the list of tables to bake)");
@@ -312,6 +328,7 @@ json job_json(const Job& job) {
   o["environment"] = job.environment;
   if (job.sanitize) o["sanitize"] = true;
   if (job.target != "generic") o["target"] = job.target;
+  if (!job.engine_name.empty()) o["engine_name"] = job.engine_name;
   o["device"] = job.device;
   o["precision"] = precision_name(job.precision);
   json tables = json::array();

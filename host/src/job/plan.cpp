@@ -234,191 +234,236 @@ bool emissive_only(const SceneMaterial& m) {
   return emits && black && !lobes;
 }
 
-void apply_rules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& clearcoat_range, Range& sheen_range,
-                 Range& anisotropy_range,
-                 std::map<std::pair<double, std::string>, std::pair<Range, std::vector<std::string>>>& films) {
-  const std::string& who = m.label;
-  auto fire = [&](const char* rule) {
-    if (std::find(mp.rules.begin(), mp.rules.end(), rule) == mp.rules.end()) mp.rules.push_back(rule);
-    p.fired(rule);
-  };
-  auto zero = [&](const std::string& ext, const std::string& why) {
-    mp.notes.push_back(ext + ": " + why + ", does not fire");
-  };
+// The rules of docs/SCENES.md applied to one material: what it fires, the tables each rule asks for,
+// the notes on what does not fire, and the ranges (clearcoat, sheen, anisotropy, films) the plan
+// reports. One method per extension.
+class MaterialRules {
+ public:
+  using Films = std::map<std::pair<double, std::string>, std::pair<Range, std::vector<std::string>>>;
+  MaterialRules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& clearcoat_range, Range& sheen_range,
+                Range& anisotropy_range, Films& films)
+      : p_(p), m_(m), mp_(mp), who_(m.label), clearcoat_range_(clearcoat_range), sheen_range_(sheen_range),
+        anisotropy_range_(anisotropy_range), films_(films),
+        fully_metallic_(m.metallic >= 1.0 && !m.metallic_roughness_texture),
+        iors_(channel_iors(m, dispersion_fires(m))), no_reflection_(m.ior == 1.0), full_reflection_(m.ior == 0.0) {}
 
-  if (m.unlit) {
-    fire(kUnlit);
-    mp.notes.push_back(std::string(kUnlit) + ": shaded by its base colour alone, nothing to bake");
-    return;
+  void apply() {
+    if (m_.unlit) {
+      fire(kUnlit);
+      mp_.notes.push_back(std::string(kUnlit) + ": shaded by its base colour alone, nothing to bake");
+      return;
+    }
+    if (emissive_only(m_)) {
+      fire(kEmissiveOnly);
+      mp_.notes.push_back("emissive-only: black base colour and no other lobe, nothing to bake for its emission");
+      return;
+    }
+    core();
+    clearcoat();
+    sheen();
+    anisotropy();
+    ior_specular_dispersion();
+    transmission();
+    iridescence();
   }
-  if (emissive_only(m)) {
-    fire(kEmissiveOnly);
-    mp.notes.push_back("emissive-only: black base colour and no other lobe, nothing to bake for its emission");
-    return;
+
+ private:
+  void fire(const char* rule) {
+    if (std::find(mp_.rules.begin(), mp_.rules.end(), rule) == mp_.rules.end()) mp_.rules.push_back(rule);
+    p_.fired(rule);
   }
+  void zero(const std::string& ext, const std::string& why) { mp_.notes.push_back(ext + ": " + why + ", does not fire"); }
 
   // metallic-roughness core
-  fire(kCore);
-  p.ask(p.specular_dfg(), kCore, "specular split-sum DFG (F0 scale and F90 bias)", who);
-  p.ask(p.prefilter("ggx"), kCore, "GGX-prefiltered radiance of the specular lobe", who);
-  const bool fully_metallic = m.metallic >= 1.0 && !m.metallic_roughness_texture;
-  const bool fully_transmissive = m.transmission >= 1.0 && !m.transmission_texture;
-  if (!fully_metallic && !fully_transmissive)
-    p.ask(p.irradiance(), kCore, "diffuse irradiance (the material is not fully metallic)", who);
-  else if (!fully_metallic)
-    mp.notes.push_back("fully transmissive (transmissionFactor 1, no texture): no diffuse lobe, no irradiance");
+  void core() {
+    fire(kCore);
+    p_.ask(p_.specular_dfg(), kCore, "specular split-sum DFG (F0 scale and F90 bias)", who_);
+    p_.ask(p_.prefilter("ggx"), kCore, "GGX-prefiltered radiance of the specular lobe", who_);
+    const bool fully_transmissive = m_.transmission >= 1.0 && !m_.transmission_texture;
+    if (!fully_metallic_ && !fully_transmissive)
+      p_.ask(p_.irradiance(), kCore, "diffuse irradiance (the material is not fully metallic)", who_);
+    else if (!fully_metallic_)
+      mp_.notes.push_back("fully transmissive (transmissionFactor 1, no texture): no diffuse lobe, no irradiance");
+  }
 
-  if (m.clearcoat_ext) {
-    if (m.clearcoat > 0) {
-      fire(kClearcoat);
-      const double lo = m.clearcoat_roughness_texture ? 0.0 : m.clearcoat_roughness;
-      clearcoat_range.add(lo, m.clearcoat_roughness);
-      p.ask(p.specular_dfg(), kClearcoat, "clearcoat layer: GGX DFG at the clearcoat roughness, F0 0.04", who);
-      p.ask(p.prefilter("ggx"), kClearcoat, "clearcoat layer: GGX-prefiltered radiance at the clearcoat roughness",
-            who);
-    } else {
+  void clearcoat() {
+    if (!m_.clearcoat_ext) return;
+    if (!(m_.clearcoat > 0)) {
       zero(kClearcoat, "clearcoatFactor 0");
+      return;
     }
+    fire(kClearcoat);
+    const double lo = m_.clearcoat_roughness_texture ? 0.0 : m_.clearcoat_roughness;
+    clearcoat_range_.add(lo, m_.clearcoat_roughness);
+    p_.ask(p_.specular_dfg(), kClearcoat, "clearcoat layer: GGX DFG at the clearcoat roughness, F0 0.04", who_);
+    p_.ask(p_.prefilter("ggx"), kClearcoat, "clearcoat layer: GGX-prefiltered radiance at the clearcoat roughness",
+           who_);
   }
 
-  if (m.sheen) {
-    if (max3(m.sheen_color) > 0) {
-      fire(kSheen);
-      const double lo = m.sheen_roughness_texture ? 0.0 : m.sheen_roughness;
-      sheen_range.add(lo, m.sheen_roughness);
-      p.ask(p.dfg(TableKind::Charlie, p.plan().options.sheen_visibility.value_or("")), kSheen,
-            "sheen DFG: scales the Charlie-prefiltered radiance", who);
-      p.ask(p.dfg(TableKind::Charlie, "estevez-kulla"), kSheen,
-            "sheen albedo E(n.v): the base layer's albedo scaling 1 - max(sheenColor) E", who);
-      p.ask(p.prefilter("charlie"), kSheen, "Charlie-prefiltered radiance of the sheen lobe", who);
-    } else {
+  void sheen() {
+    if (!m_.sheen) return;
+    if (!(max3(m_.sheen_color) > 0)) {
       zero(kSheen, "sheenColorFactor 0");
+      return;
     }
+    fire(kSheen);
+    const double lo = m_.sheen_roughness_texture ? 0.0 : m_.sheen_roughness;
+    sheen_range_.add(lo, m_.sheen_roughness);
+    p_.ask(p_.dfg(TableKind::Charlie, p_.plan().options.sheen_visibility.value_or("")), kSheen,
+           "sheen DFG: scales the Charlie-prefiltered radiance", who_);
+    p_.ask(p_.dfg(TableKind::Charlie, "estevez-kulla"), kSheen,
+           "sheen albedo E(n.v): the base layer's albedo scaling 1 - max(sheenColor) E", who_);
+    p_.ask(p_.prefilter("charlie"), kSheen, "Charlie-prefiltered radiance of the sheen lobe", who_);
   }
 
-  if (m.anisotropy_ext) {
-    if (m.anisotropy_strength > 0) {
-      fire(kAnisotropy);
-      anisotropy_range.add(m.anisotropy_texture ? 0.0 : m.anisotropy_strength, m.anisotropy_strength);
-      p.ask(p.specular_dfg(), kAnisotropy, "anisotropic GGX through the isotropic DFG (bent normal)", who);
-      p.ask(p.prefilter("ggx"), kAnisotropy,
-            "anisotropic GGX through the isotropic chain: the bent reflection vector", who);
-    } else {
+  void anisotropy() {
+    if (!m_.anisotropy_ext) return;
+    if (!(m_.anisotropy_strength > 0)) {
       zero(kAnisotropy, "anisotropyStrength 0");
+      return;
     }
+    fire(kAnisotropy);
+    anisotropy_range_.add(m_.anisotropy_texture ? 0.0 : m_.anisotropy_strength, m_.anisotropy_strength);
+    p_.ask(p_.specular_dfg(), kAnisotropy, "anisotropic GGX through the isotropic DFG (bent normal)", who_);
+    p_.ask(p_.prefilter("ggx"), kAnisotropy, "anisotropic GGX through the isotropic chain: the bent reflection vector",
+           who_);
   }
 
   // Fresnel tables for the IORs in use.
-  const bool dispersive = dispersion_fires(m);
-  const std::vector<double> iors = channel_iors(m, dispersive);
-  const bool no_reflection = m.ior == 1.0;  // F = 0 everywhere
-  const bool full_reflection = m.ior == 0.0;  // the extension's special value: F = 1
-  auto fresnel_pair = [&](const char* rule, const std::string& why) {
-    p.ask(p.fresnel("dielectric", iors, 1.0, false), rule,
-          "exact dielectric Fresnel at IOR " + ior_text(iors) + why, who);
-    p.ask(p.fresnel("schlick-ior", iors, 1.0, true), rule,
-          "Schlick's approximation at IOR " + ior_text(iors) + " and its error against the exact dielectric", who);
-  };
-  auto trivial_ior_note = [&](const std::string& ext) {
-    if (no_reflection) zero(ext, "ior 1: F = 0 everywhere, no table needed");
-    else if (full_reflection) zero(ext, "ior 0: F = 1 everywhere, no table needed");
-  };
-  if (m.ior_ext) {
-    if (no_reflection || full_reflection) {
-      trivial_ior_note(kIor);
-    } else {
-      fire(kIor);
-      fresnel_pair(kIor, "");
-    }
+  void fresnel_pair(const char* rule, const std::string& why) {
+    p_.ask(p_.fresnel("dielectric", iors_, 1.0, false), rule, "exact dielectric Fresnel at IOR " + ior_text(iors_) + why,
+           who_);
+    p_.ask(p_.fresnel("schlick-ior", iors_, 1.0, true), rule,
+           "Schlick's approximation at IOR " + ior_text(iors_) + " and its error against the exact dielectric", who_);
   }
-  if (m.specular_ext) {
-    if (m.specular <= 0) zero(kSpecular, "specularFactor 0");
-    else if (max3(m.specular_color) <= 0) zero(kSpecular, "specularColorFactor 0");
-    else if (no_reflection || full_reflection) trivial_ior_note(kSpecular);
-    else {
-      fire(kSpecular);
-      fresnel_pair(kSpecular, ", scaled by specularColor and specularFactor");
-    }
+  void trivial_ior_note(const std::string& ext) {
+    if (no_reflection_) zero(ext, "ior 1: F = 0 everywhere, no table needed");
+    else if (full_reflection_) zero(ext, "ior 0: F = 1 everywhere, no table needed");
   }
-  if (m.dispersion_ext) {
-    if (m.dispersion <= 0) zero(kDispersion, "dispersion 0");
-    else if (m.transmission <= 0 || !m.volume_ext || m.thickness <= 0)
-      zero(kDispersion, "no volumetric transmission (it needs transmission and a volume)");
-    else if (no_reflection) zero(kDispersion, "ior 1: no spread, F = 0");
-    else if (full_reflection) zero(kDispersion, "ior 0: F = 1, no refraction");
-    else {
-      fire(kDispersion);
-      fresnel_pair(kDispersion, " (red, green, blue)");
+
+  void ior_specular_dispersion() {
+    const SceneMaterial& m = m_;
+    if (m.ior_ext) {
+      if (no_reflection_ || full_reflection_) {
+        trivial_ior_note(kIor);
+      } else {
+        fire(kIor);
+        fresnel_pair(kIor, "");
+      }
+    }
+    if (m.specular_ext) {
+      if (m.specular <= 0) zero(kSpecular, "specularFactor 0");
+      else if (max3(m.specular_color) <= 0) zero(kSpecular, "specularColorFactor 0");
+      else if (no_reflection_ || full_reflection_) trivial_ior_note(kSpecular);
+      else {
+        fire(kSpecular);
+        fresnel_pair(kSpecular, ", scaled by specularColor and specularFactor");
+      }
+    }
+    if (m.dispersion_ext) {
+      if (m.dispersion <= 0) zero(kDispersion, "dispersion 0");
+      else if (m.transmission <= 0 || !m.volume_ext || m.thickness <= 0)
+        zero(kDispersion, "no volumetric transmission (it needs transmission and a volume)");
+      else if (no_reflection_) zero(kDispersion, "ior 1: no spread, F = 0");
+      else if (full_reflection_) zero(kDispersion, "ior 0: F = 1, no refraction");
+      else {
+        fire(kDispersion);
+        fresnel_pair(kDispersion, " (red, green, blue)");
+      }
     }
   }
 
-  if (m.transmission_ext) {
+  void transmission() {
+    const SceneMaterial& m = m_;
+    if (!m.transmission_ext) {
+      if (m.volume_ext) zero(kVolume, "no KHR_materials_transmission");
+      return;
+    }
     if (m.transmission <= 0) {
       zero(kTransmission, "transmissionFactor 0");
       if (m.volume_ext) zero(kVolume, "no transmission");
-    } else {
-      fire(kTransmission);
-      p.ask(p.specular_dfg(), kTransmission, "transmitted fraction 1 - (F0 scale + F90 bias)", who);
-      p.ask(p.prefilter("ggx"), kTransmission,
-            "refracted radiance: the chain sampled along the refracted direction at the IOR-scaled roughness", who);
-      if (no_reflection || full_reflection) {
-        trivial_ior_note(kTransmission);
-      } else {
-        p.ask(p.fresnel("dielectric", iors, 1.0, false), kTransmission,
-              "entering the surface: transmittance 1 - F at IOR " + ior_text(iors), who);
-        if (m.volume_ext && (m.thickness > 0)) {
-          fire(kVolume);
-          if (iors.size() == 1) {
-            p.ask(p.fresnel("dielectric", {1.0}, iors[0], false), kVolume,
-                  "leaving the volume: F from inside (IOR " + num(iors[0]) +
-                      " to air), total internal reflection past the critical angle",
-                  who);
-          } else {
-            // Per channel the relative index is 1 / n (the outside index of a table is one number).
-            std::vector<double> inverse;
-            for (double n : iors) inverse.push_back(round_ior(1.0 / n));
-            p.ask(p.fresnel("dielectric", inverse, 1.0, false), kVolume,
-                  "leaving the volume: F from inside (IOR " + ior_text(iors) +
-                      " to air, as relative indices 1/n), total internal reflection past each channel's critical angle",
-                  who);
-          }
-        } else if (m.volume_ext) {
-          zero(kVolume, "thicknessFactor 0 (thin-walled)");
-        }
-      }
+      return;
     }
-  } else if (m.volume_ext) {
-    zero(kVolume, "no KHR_materials_transmission");
+    fire(kTransmission);
+    p_.ask(p_.specular_dfg(), kTransmission, "transmitted fraction 1 - (F0 scale + F90 bias)", who_);
+    p_.ask(p_.prefilter("ggx"), kTransmission,
+           "refracted radiance: the chain sampled along the refracted direction at the IOR-scaled roughness", who_);
+    if (no_reflection_ || full_reflection_) {
+      trivial_ior_note(kTransmission);
+      return;
+    }
+    p_.ask(p_.fresnel("dielectric", iors_, 1.0, false), kTransmission,
+           "entering the surface: transmittance 1 - F at IOR " + ior_text(iors_), who_);
+    if (m.volume_ext && (m.thickness > 0)) volume();
+    else if (m.volume_ext) zero(kVolume, "thicknessFactor 0 (thin-walled)");
   }
 
-  if (m.iridescence_ext) {
+  void volume() {
+    fire(kVolume);
+    if (iors_.size() == 1) {
+      p_.ask(p_.fresnel("dielectric", {1.0}, iors_[0], false), kVolume,
+             "leaving the volume: F from inside (IOR " + num(iors_[0]) +
+                 " to air), total internal reflection past the critical angle",
+             who_);
+      return;
+    }
+    // Per channel the relative index is 1 / n (the outside index of a table is one number).
+    std::vector<double> inverse;
+    for (double n : iors_) inverse.push_back(round_ior(1.0 / n));
+    p_.ask(p_.fresnel("dielectric", inverse, 1.0, false), kVolume,
+           "leaving the volume: F from inside (IOR " + ior_text(iors_) +
+               " to air, as relative indices 1/n), total internal reflection past each channel's critical angle",
+           who_);
+  }
+
+  void iridescence() {
+    const SceneMaterial& m = m_;
+    if (!m.iridescence_ext) return;
     // Without a thickness texture the film is iridescenceThicknessMaximum thick.
     const double lo = m.iridescence_thickness_texture ? m.iridescence_thickness_min : m.iridescence_thickness_max;
     const double hi = m.iridescence_thickness_max;
     if (m.iridescence <= 0) {
       zero(kIridescence, "iridescenceFactor 0");
-    } else if (std::max(lo, hi) <= 0) {
+      return;
+    }
+    if (std::max(lo, hi) <= 0) {
       zero(kIridescence, "film thickness 0");
-    } else {
-      fire(kIridescence);
-      const double film = round_ior(m.iridescence_ior);
-      auto add = [&](const std::string& base) {
-        auto& f = films[{film, base}];
-        f.first.add(std::min(lo, hi), std::max(lo, hi));
-        if (std::find(f.second.begin(), f.second.end(), who) == f.second.end()) f.second.push_back(who);
-      };
-      if (!fully_metallic) add("base_ior=" + num(m.ior == 0.0 ? 1.5 : round_ior(m.ior)));
-      if (m.metallic > 0 || m.metallic_roughness_texture) {
-        if (m.base_color_texture) {
-          mp.notes.push_back(std::string(kIridescence) +
-                             ": metallic part over a base colour texture: the film over the metal depends on the "
-                             "texel's F0, evaluated at run time (not tabulated)");
-        } else {
-          add("base_f0=" + num(m.base_color[0]) + "," + num(m.base_color[1]) + "," + num(m.base_color[2]));
-        }
+      return;
+    }
+    fire(kIridescence);
+    const double film = round_ior(m.iridescence_ior);
+    auto add = [&](const std::string& base) {
+      auto& f = films_[{film, base}];
+      f.first.add(std::min(lo, hi), std::max(lo, hi));
+      if (std::find(f.second.begin(), f.second.end(), who_) == f.second.end()) f.second.push_back(who_);
+    };
+    if (!fully_metallic_) add("base_ior=" + num(m.ior == 0.0 ? 1.5 : round_ior(m.ior)));
+    if (m.metallic > 0 || m.metallic_roughness_texture) {
+      if (m.base_color_texture) {
+        mp_.notes.push_back(std::string(kIridescence) +
+                            ": metallic part over a base colour texture: the film over the metal depends on the "
+                            "texel's F0, evaluated at run time (not tabulated)");
+      } else {
+        add("base_f0=" + num(m.base_color[0]) + "," + num(m.base_color[1]) + "," + num(m.base_color[2]));
       }
     }
   }
+
+  Planner& p_;
+  const SceneMaterial& m_;
+  MaterialPlan& mp_;
+  const std::string& who_;
+  Range &clearcoat_range_, &sheen_range_, &anisotropy_range_;
+  Films& films_;
+  const bool fully_metallic_;
+  const std::vector<double> iors_;
+  const bool no_reflection_;   // ior 1: F = 0 everywhere
+  const bool full_reflection_;  // the extension's special value 0: F = 1
+};
+
+void apply_rules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& clearcoat_range, Range& sheen_range,
+                 Range& anisotropy_range, MaterialRules::Films& films) {
+  MaterialRules(p, m, mp, clearcoat_range, sheen_range, anisotropy_range, films).apply();
 }
 
 MaterialPlan describe(const SceneMaterial& m, bool counted) {
@@ -541,11 +586,12 @@ std::string plan_to_json(const Plan& plan) {
 
 namespace {
 
-// A planner option that sets a table parameter: the parameter's definition under the option's name.
-ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help, const char* cli = "") {
+// A planner option that sets a table parameter: the parameter's definition under the option's name
+// (with the parameter's aliases where the name is the parameter's own: --sh for --sh-order).
+ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help) {
   ParamDef d = *find_param_def(table_schema(kind), param);
+  if (d.name != name) d.aliases.clear();
   d.name = name;
-  d.cli = cli;
   d.help = help;
   d.fallback.reset();  // unset: the table's own default
   if (const ParamDef* t = find_param_def(table_schema(kind), param); t && t->fallback)
@@ -571,7 +617,7 @@ const std::vector<ParamDef>& plan_schema() {
           .range(0, 1).def(d.prefilter_max_error),
       from_table(TableKind::Fresnel, "size", "fresnel_size", "Fresnel tables: cells along cos_theta"),
       from_table(TableKind::ThinFilm, "size", "thin_film_size", "thin-film tables: cells along cos_theta and thickness"),
-      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5", "sh"),
+      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
       from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
       ParamDef("target", ParamType::Name,
                "write an engine's file set too (docs/ENGINES.md), with its schedule, sizes and SH window")
@@ -585,38 +631,6 @@ const std::vector<ParamDef>& plan_schema() {
           .def(d.clamp_f16),
   };
   return s;
-}
-
-PlanOptions plan_options_from_params(const Params& params, bool cli) {
-  PlanOptions o;
-  const auto& schema = plan_schema();
-  for (const auto& p : params) {
-    const ParamDef* d = find_param_def(schema, p.name);
-    if (!d) throw Error("unknown plan option '" + p.name.substr(0, 60) + "'");
-    check_param(*d, p.value, cli ? "--" + d->cli_name() : p.name);
-    auto integer = [&] { return static_cast<int>(std::get<double>(p.value)); };
-    if (p.name == "energy_compensation") o.energy_compensation = std::get<bool>(p.value);
-    else if (p.name == "lut_size") o.lut_size = integer();
-    else if (p.name == "cube_size") o.cube_size = integer();
-    else if (p.name == "min_size") o.cube_min_size = integer();
-    else if (p.name == "schedule") o.schedule = std::get<std::string>(p.value);
-    else if (p.name == "prefilter_max_error") o.prefilter_max_error = std::get<double>(p.value);
-    else if (p.name == "fresnel_size") o.fresnel_size = integer();
-    else if (p.name == "thin_film_size") o.thin_film_size = integer();
-    else if (p.name == "sh_order") o.sh_order = integer();
-    else if (p.name == "sheen_visibility") o.sheen_visibility = std::get<std::string>(p.value);
-    else if (p.name == "table_format") o.table_format = std::get<std::string>(p.value);
-    else if (p.name == "target") o.target = std::get<std::string>(p.value);
-    else if (p.name == "cube_format") o.cube_format = std::get<std::string>(p.value);
-    else if (p.name == "clamp_f16") o.clamp_f16 = std::get<bool>(p.value);
-  }
-  if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
-    throw Error(std::string(cli ? "--sh" : "sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");
-  const int size = o.cube_size.value_or(static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "size")->fallback)));
-  if (o.cube_min_size && *o.cube_min_size > size)
-    throw Error(std::string(cli ? "--min-size" : "min_size") + ": must be at most " + (cli ? "--cube-size" : "cube_size") +
-                " (got " + std::to_string(*o.cube_min_size) + " > " + std::to_string(size) + ")");
-  return o;
 }
 
 }  // namespace brdfbake

@@ -1,5 +1,6 @@
-// The job runner: each distinct table baked once through the family registry, every file written
-// into a temporary folder beside the output folder and moved in at the end, manifest.json last.
+// The job runner: each distinct table baked once through the table runner (brdfbake/runner.hpp) and
+// delivered to each of its outputs, every file written into a temporary folder beside the output
+// folder and moved in at the end, manifest.json last.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -10,7 +11,9 @@
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/engines.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
+#include "brdfbake/runner.hpp"
 #include "families/family.hpp"
 #include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
@@ -58,6 +61,100 @@ std::uint64_t bytes_of(const fs::path& p) {
   return static_cast<std::uint64_t>(fs::file_size(p, ec));
 }
 
+// The tables whose kind this build cannot bake, each named with why; empty when every one can.
+std::vector<std::string> unavailable_tables(const Job& job) {
+  std::vector<std::string> missing;
+  for (size_t i = 0; i < job.tables.size(); ++i) {
+    std::string why;
+    if (!table_kind_available(job.tables[i].kind, &why)) {
+      std::string who;
+      for (const auto& r : job.tables[i].requested_by) who += (who.empty() ? ", requested by " : " and ") + r.rule;
+      missing.push_back("tables[" + std::to_string(i) + "] (" + table_kind_name(job.tables[i].kind) + " '" +
+                        job.tables[i].output + "'" + who + "): " + why);
+    }
+  }
+  return missing;
+}
+
+// The job's defaults made explicit in its tables, then identical tables grouped: each group (the
+// indices of its tables, in the job's order) is baked once.
+std::vector<std::vector<size_t>> group_tables(Job& job) {
+  for (auto& t : job.tables) {
+    if (t.device.empty()) t.device = job.device;
+    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
+  }
+  std::vector<std::vector<size_t>> groups;
+  std::map<std::string, size_t> by_key;
+  for (size_t i = 0; i < job.tables.size(); ++i) {
+    const std::string k = table_bake_key(job.tables[i]);
+    auto it = by_key.find(k);
+    if (it == by_key.end()) {
+      by_key[k] = groups.size();
+      groups.push_back({i});
+    } else {
+      groups[it->second].push_back(i);
+    }
+  }
+  return groups;
+}
+
+// The manifest's entry of the file `o` asks for: the parameters as baked (the request's, with what
+// the family resolved; output parameters as asked), the device, the bound the file records with its
+// parts (each rounded up as the file records them), and what writing it added.
+ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const WriteReport& written, Precision precision) {
+  ManifestFile f;
+  f.path = fs::path(o.output).lexically_normal().string();
+  f.kind = o.kind;
+  f.params = o.params;
+  for (const auto& p : r.parameters) {
+    const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
+    if (!(d && d->output_only)) {
+      auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
+      if (it != f.params.end()) it->value = p.value;
+      else f.params.push_back(p);
+    }
+  }
+  f.precision = precision;
+  f.device = r.device;
+  if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
+  f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
+  f.error_bound_definition = r.error_bound_definition;
+  f.details = r.details;
+  if (written.error_bound && r.error_bound) {
+    f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
+                               "storage error measured on the stored values";
+    f.details.push_back({"integration_error_bound", detail::bound_text(*r.error_bound)});
+    f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
+    f.details.push_back({"storage_error", detail::bound_text(written.storage_error)});
+    f.details.push_back({"storage_encoding", written.encoding});
+  }
+  for (const auto& d : written.details) f.details.push_back(d);
+  f.requested_by = o.requested_by;
+  f.materials = o.materials();
+  return f;
+}
+
+// The engine's files beside the tables (bake --target), named `name` (the folder's name, as cmgen -x
+// names them, unless the run names them), from the job's first GGX chain and first SH, staged in
+// `staged`.
+void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
+                      const std::optional<BakeResult>& ggx_chain, const std::optional<BakeResult>& irradiance,
+                      const std::string& name, const fs::path& staged) {
+  if (!ggx_chain || !irradiance)
+    throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
+                "job (the plan of brdfbake bake --target " + job.target + " has both)");
+  EngineBake eb;
+  eb.prefiltered = ggx_chain->cube();
+  eb.sh = &irradiance->irradiance()->sh;
+  if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
+  EngineWriteOptions wo;
+  wo.name = name;
+  const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
+  manifest.target = job.target;
+  for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
+  manifest.engine_delivered = w.delivered;
+}
+
 }  // namespace
 
 Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& options) {
@@ -69,41 +166,15 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
 
   // Every kind must be bakeable before anything starts.
-  std::vector<std::string> missing;
-  for (size_t i = 0; i < job.tables.size(); ++i) {
-    std::string why;
-    if (!table_kind_available(job.tables[i].kind, &why)) {
-      std::string who;
-      for (const auto& r : job.tables[i].requested_by) who += (who.empty() ? ", requested by " : " and ") + r.rule;
-      missing.push_back("tables[" + std::to_string(i) + "] (" + table_kind_name(job.tables[i].kind) + " '" +
-                        job.tables[i].output + "'" + who + "): " + why);
-    }
-  }
+  const std::vector<std::string> missing = unavailable_tables(job);
   if (!missing.empty())
     throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
 
-  // The job's defaults made explicit, then identical tables grouped: each group is baked once.
-  for (auto& t : job.tables) {
-    if (t.device.empty()) t.device = job.device;
-    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
-  }
-  std::vector<std::vector<size_t>> groups;
-  {
-    std::map<std::string, size_t> by_key;
-    for (size_t i = 0; i < job.tables.size(); ++i) {
-      const std::string k = table_bake_key(job.tables[i]);
-      auto it = by_key.find(k);
-      if (it == by_key.end()) {
-        by_key[k] = groups.size();
-        groups.push_back({i});
-      } else {
-        groups[it->second].push_back(i);
-      }
-    }
-  }
+  const std::vector<std::vector<size_t>> groups = group_tables(job);
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
+  check_job_files(job, target);  // outputs as a set, against the folder and the inputs, before any work
   // One run at a time per folder; then what killed runs left beside it can go.
   OutputLock lock(target, options.wait_for_lock, options.on_wait);
   remove_stale_temporaries(target);
@@ -139,19 +210,24 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   manifest.warnings = job.warnings;
   manifest.bakes = static_cast<int>(groups.size());
   for (const auto& [name, env] : environments)
-    if (env.sanitize.replaced)
-      manifest.warnings.push_back("environment '" + name + "' sanitized: replaced " + std::to_string(env.sanitize.nan) +
-                                  " NaN, " + std::to_string(env.sanitize.infinite) + " infinite and " +
-                                  std::to_string(env.sanitize.negative) + " negative values");
+    for (const auto& note : env.notes) manifest.notes.push_back("environment " + note);  // e.g. sRGB decoded
+  for (const auto& [name, env] : environments)
+    if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
 
   const EngineTarget engine = engine_target_from_name(job.target);
   std::optional<BakeResult> ggx_chain, irradiance;
+  // Progress: each table's bake reports [0, kBakeShare) and the writing of its files the rest, so
+  // that 100 % means its files are written (encoding and the storage error measurement took up to a
+  // second a table, measured); an engine's file set is one more step of its own, after the tables
+  // (Babylon's .env: 1.5 s of PNG encoding under SheenChair at 256^2).
+  constexpr double kBakeShare = 0.9;
+  const int steps = static_cast<int>(groups.size()) + (engine != EngineTarget::Generic ? 1 : 0);
   for (size_t g = 0; g < groups.size(); ++g) {
     const TableRequest& t = job.tables[groups[g].front()];
     const std::string what = bake_label(t);
     auto report = [&](double fraction, const std::string& step) {
       throw_if_cancelled();
-      if (progress) progress({int(g), int(groups.size()), step.empty() ? what : what + ": " + step, fraction});
+      if (progress) progress({int(g), steps, step.empty() ? what : what + ": " + step, fraction});
     };
     if (options.checkpoint) options.checkpoint();
     report(0.0, "");
@@ -168,8 +244,13 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       }
       if (!read_later && !job.preview) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
     }
-    const BakeResult r = bake_table(t, backend, inputs, report);
-    report(1.0, "");
+    TableRunOptions bake;
+    bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
+    bake.backend = &backend;
+    bake.inputs = inputs;
+    bake.progress = [&](double fraction, const std::string& step) { report(kBakeShare * fraction, step); };
+    bake.stop_requested = options.stop_requested;
+    const BakeResult r = run_table(t, bake).result;
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
       if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
@@ -177,6 +258,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     }
     for (size_t k = 0; k < groups[g].size(); ++k) {
       const TableRequest& o = job.tables[groups[g][k]];
+      report(kBakeShare + (1.0 - kBakeShare) * double(k) / double(groups[g].size()), "writing " + o.output);
       const TableRequest s = staged(o, staging.path());
       // messages about the file name the one the user asked for, not its staged copy
       const auto final_name = [&](std::string text) {
@@ -185,9 +267,9 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
           text.replace(at, s.output.size(), final_path);
         return text;
       };
-      WriteReport written;
+      Delivery delivered;
       try {
-        written = write_result(r, s, s.output);
+        delivered = deliver_result(r, s, TableDelivery::File);
       } catch (const Cancelled&) {
         throw;
       } catch (const RuntimeFailure&) {
@@ -195,65 +277,31 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
       } catch (const Error& e) {
         throw Error(final_name(e.what()));  // a value the format cannot hold
       }
-      ManifestFile f;
-      f.path = fs::path(o.output).lexically_normal().string();
-      f.kind = o.kind;
-      f.params = o.params;
-      for (const auto& p : r.parameters) {
-        const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
-        if (!(d && d->output_only)) {
-          auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
-          if (it != f.params.end()) it->value = p.value;
-          else f.params.push_back(p);
-        }
-      }
-      f.precision = backend.result_precision(o.precision);
-      f.device = r.device;
-      if (table_kind_uses_environment(o.kind)) f.environment = o.environment;
-      f.error_bound = written.error_bound ? written.error_bound : r.error_bound;
-      f.error_bound_definition = r.error_bound_definition;
-      f.details = r.details;
-      if (written.error_bound && r.error_bound) {
-        f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
-                                   "storage error measured on the stored values";
-        f.details.push_back({"integration_error_bound", detail::fmt_number(*r.error_bound, "%.3g")});
-        f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
-        f.details.push_back({"storage_error", detail::fmt_number(written.storage_error, "%.3g")});
-        f.details.push_back({"storage_encoding", written.encoding});
-      }
-      for (const auto& d : written.details) f.details.push_back(d);
-      for (const auto& w : written.warnings) {
+      ManifestFile f = manifest_entry(o, r, delivered.report, backend.result_precision(o.precision));
+      for (const auto& w : delivered.warnings) {
         manifest.warnings.push_back(final_name(w));
         if (options.on_warning) options.on_warning(final_name(w));
       }
-      f.requested_by = o.requested_by;
-      f.materials = o.materials();
       f.bytes = bytes_of(s.output);
       f.seconds = k == 0 ? r.seconds : 0.0;
       f.bake = static_cast<int>(g);
       manifest.files.push_back(std::move(f));
     }
+    report(1.0, "");  // its files are written
   }
 
+  if (engine != EngineTarget::Generic && progress)
+    progress({steps - 1, steps, "writing the " + job.target + " files", 0.0});
   if (engine != EngineTarget::Generic) {
-    // The engine's files beside the tables, named after the folder (as cmgen -x names them).
-    if (!ggx_chain || !irradiance)
-      throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
-                  "job (the plan of brdfbake bake --target " + job.target + " has both)");
-    EngineBake eb;
-    eb.prefiltered = ggx_chain->cube();
-    eb.sh = &irradiance->irradiance()->sh;
-    if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
-    EngineWriteOptions wo;
-    wo.name = fs::path(target).filename().string();
-    const EngineWriteResult w = write_engine_files(engine, eb, staging.path().string(), wo);
-    manifest.target = job.target;
-    for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staging.path()).string());
-    manifest.engine_delivered = w.delivered;
+    const std::string name = !options.engine_name.empty() ? options.engine_name
+                             : !job.engine_name.empty()    ? job.engine_name
+                                                           : fs::path(target).filename().string();
+    add_engine_files(manifest, engine, job, origin, ggx_chain, irradiance, name, staging.path());
+    if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 1.0});
   }
 
   if (job.preview) {
-    if (progress) progress({int(groups.size()) - 1, int(groups.size()), "preview", 0.0});
+    if (progress) progress({steps - 1, steps, "preview", 0.0});
     const TableRequest& chain = detail::preview::bake_preview_chain(job);
     detail::preview::write_bake_preview(job, staging.path().string(), manifest, backend_for(chain.device),
                                         environments.at(chain.environment));

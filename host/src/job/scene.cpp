@@ -21,6 +21,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/scene.hpp"
 #include "io/json_input.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake {
 
@@ -488,14 +489,29 @@ Scene read_scene(const std::string& path) {
   std::error_code ec;
   if (path.empty()) throw Error("no scene file given");
   if (fs::is_directory(path, ec)) throw Error("cannot read scene '" + path + "': it is a folder");
+  std::string base_dir = fs::path(path).parent_path().string();
+  if (base_dir.empty()) base_dir = ".";
+  if (const std::string problem = io::input_problem(path, io::Streams::Yes); !problem.empty())
+    throw Error("cannot read scene '" + path + "': " + problem);
+  if (io::file_type(path) != io::FileType::Regular) {
+    // A stream (a pipe, /dev/stdin): read whole, at most the JSON limit, then .gltf or .glb by its bytes.
+    const std::string text = io::read_text_file(path, "scene");
+    if (text.size() >= 4 && le32(text, 0) == kGlbMagic) {
+      const std::string json = glb_json_chunk(text.size(), path, [&](std::uint64_t at, std::uint64_t n) {
+        return text.substr(static_cast<size_t>(at), static_cast<size_t>(n));
+      });
+      Scene scene = parse_scene_json(json, path, base_dir);
+      scene.container = "glb";
+      return scene;
+    }
+    return parse_scene_json(text, path, base_dir);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     const int err = errno;
     const bool exists = fs::exists(path, ec);
     throw Error("cannot read scene '" + path + "': " + (exists ? std::strerror(err ? err : EACCES) : "no such file"));
   }
-  std::string base_dir = fs::path(path).parent_path().string();
-  if (base_dir.empty()) base_dir = ".";
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   char magic[4] = {0, 0, 0, 0};

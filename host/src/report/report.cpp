@@ -15,7 +15,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/material_presets.hpp"
 #include "brdfbake/math/cubemap.hpp"
-#include "env_internal.hpp"
+#include "families/prefilter/model.hpp"
 #include "brdfbake/version.hpp"
 #include "io/atomic_file.hpp"
 

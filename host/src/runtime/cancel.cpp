@@ -25,7 +25,12 @@ void reset_cancel() noexcept { g_requested.store(0, std::memory_order_relaxed); 
 void throw_if_cancelled() {
   if (!cancel_requested()) return;
   const int s = cancel_signal();
-  const std::string name = s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : s ? "signal " + std::to_string(s) : "";
+  const std::string name = s == SIGINT    ? "SIGINT"
+                           : s == SIGTERM ? "SIGTERM"
+                           : s == SIGHUP  ? "SIGHUP"
+                           : s == SIGPIPE ? "SIGPIPE (the reader of the output went away)"
+                           : s            ? "signal " + std::to_string(s)
+                                          : "";
   throw Cancelled((name.empty() ? std::string("cancelled") : "interrupted by " + name) +
                       " (unfinished outputs were removed)",
                   s);

@@ -1,9 +1,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <mutex>
 #include <sstream>
 
 #include "brdfbake/device.hpp"
+#include "runtime/cache_dirs.hpp"
 #include "runtime/device_impl.hpp"
 
 namespace brdfbake {
@@ -70,7 +72,17 @@ void apply_test_limits(DeviceInfo& info) {
   }
 }
 
+// Finding and opening devices is serialised: the OpenCL ICD loader and PoCL initialise on the first
+// call, which is not safe to make from several threads at once (a crash, or no platform found), and
+// the cache check may set POCL_CACHE_DIR. Held by every entry point below (recursive: they nest).
+std::recursive_mutex& discovery_mutex() {
+  static std::recursive_mutex m;
+  return m;
+}
+
 std::vector<Found> enumerate() {
+  std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
+  detail::check_implementation_cache();  // an unwritable PoCL cache would hide every device
   std::vector<Found> out;
   std::vector<cl::Platform> platforms;
   try {
@@ -148,6 +160,7 @@ std::string describe(const std::vector<Found>& all) {
 }
 
 Found find(const std::string& selector_in) {
+  std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
   std::string selector = selector_in;
   if (selector.empty()) {
     if (const char* env = std::getenv("BRDFBAKE_DEVICE")) selector = env;
@@ -186,14 +199,19 @@ Found find(const std::string& selector_in) {
 }  // namespace
 
 std::vector<DeviceInfo> list_devices() {
+  std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
   std::vector<DeviceInfo> out;
   for (auto& f : enumerate()) out.push_back(full_info(f));
   return out;
 }
 
-DeviceInfo select_device(const std::string& selector) { return full_info(find(selector)); }
+DeviceInfo select_device(const std::string& selector) {
+  std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
+  return full_info(find(selector));
+}
 
 Device Device::open(const std::string& selector) {
+  std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
   Found f = find(selector);
   auto impl = std::make_shared<Impl>();
   impl->info = full_info(f);

@@ -12,6 +12,7 @@
 
 #include "brdfbake/diagnostics.hpp"
 #include "io/atomic_file.hpp"
+#include "runtime/cache_dirs.hpp"
 #include "runtime/stderr_capture.hpp"
 
 namespace brdfbake::detail {
@@ -180,11 +181,22 @@ void store_binary(const std::string& file, const std::string& key, const std::st
   blob.append(reinterpret_cast<const char*>(&bin_len), 8);
   blob.append(reinterpret_cast<const char*>(&checksum), 8);
   blob.append(binary);
+  // A cache that cannot be written only costs time: said once a process.
+  const std::string dir = fs::path(file).parent_path().string();
+  auto failed = [&](const std::string& why) {
+    ++g_write_failures;
+    runtime_warning("brdfbake's kernel cache folder '" + dir + "' cannot be written (" + why +
+                    "): kernels are compiled on every run (set BRDFBAKE_CACHE_DIR to choose another)");
+  };
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return failed(ec.message());
   try {
-    fs::create_directories(fs::path(file).parent_path());
     io::write_file_atomically(file, blob);
-  } catch (const std::exception&) {
-    ++g_write_failures;  // a cache that cannot be written only costs time
+  } catch (const std::exception& e) {
+    std::string why = e.what();
+    const std::string head = "cannot write '" + file + "': ";
+    failed(why.rfind(head, 0) == 0 ? why.substr(head.size()) : why);
   }
 }
 

@@ -108,7 +108,7 @@ double tone_curve(double x, ToneMap map) {
 
 Rgb8 tone_map(const float rgb[3], const ViewOptions& o) {
   if (std::isnan(rgb[0]) || std::isnan(rgb[1]) || std::isnan(rgb[2])) return kNoData;
-  const double k = std::exp2(o.exposure);
+  const double k = std::exp2(o.exposure.value_or(0.0));
   return {srgb8(tone_curve(k * double(rgb[0]), o.tone_map)), srgb8(tone_curve(k * double(rgb[1]), o.tone_map)),
           srgb8(tone_curve(k * double(rgb[2]), o.tone_map))};
 }

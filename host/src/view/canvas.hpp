@@ -52,8 +52,8 @@ inline constexpr int kLineHeight = 12;  // of text at scale 1
 
 // ---- Value to colour -----------------------------------------------------------------------------
 
-// The display transfer of HDR radiance: x = 2^exposure v, then the tone map per channel, then the
-// sRGB encoding (IEC 61966-2-1) to 8 bits. NaN shows as kNoData's colour.
+// The display transfer of HDR radiance: x = 2^exposure v (0 EV when none is set), then the tone
+// map per channel, then the sRGB encoding (IEC 61966-2-1) to 8 bits. NaN shows as kNoData's colour.
 Rgb8 tone_map(const float rgb[3], const ViewOptions& options);
 double tone_curve(double x, ToneMap map);
 uint8_t srgb8(double linear);  // [0, 1] linear -> 8-bit sRGB, rounded

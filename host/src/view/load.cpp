@@ -8,18 +8,24 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <set>
+#include <sstream>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
+#include "io/babylon_env.hpp"
 #include "io/dds.hpp"
+#include "io/gpu_cube_read.hpp"
 #include "io/half.hpp"
 #include "io/image_file.hpp"
 #include "io/json_input.hpp"
 #include "io/ktx1.hpp"
 #include "io/ktx2.hpp"
 #include "io/png_image.hpp"
+#include "io/png_rgbd.hpp"
 #include "io/table_read.hpp"
 
 namespace brdfbake::view {
@@ -40,6 +46,9 @@ bool is_dir(const std::string& path) {
   std::error_code ec;
   return fs::is_directory(path, ec);
 }
+
+// The RGBD faces an EXT_lights_image_based document in `dir` names (defined with the engine readers).
+std::set<std::string> gltf_faces_in(const fs::path& dir);
 
 Metadata our_metadata(const std::vector<std::pair<std::string, std::string>>& kv) {
   Metadata m;
@@ -85,50 +94,113 @@ CubeLevels cube_from_levels(uint32_t size, const std::vector<std::vector<uint8_t
 
 // ---- The readers ---------------------------------------------------------------------------------
 
+// Our E/pi coefficients (3 bands) from an engine's 9 RGB coefficients: the engine's own conversion
+// (brdfbake/engines.hpp, linear in our coefficients) probed with unit coefficients into a 9 x 9
+// matrix, then solved per channel (Gaussian elimination, partial pivoting). So the sphere view
+// draws is what the engine file holds, through the code that wrote it.
+ShView sh_from_engine(const std::array<Rgb3, 9>& given, std::array<Rgb3, 9> (*forward)(const ShCoefficients&),
+                      const std::string& window, Metadata metadata) {
+  double m[9][10];
+  for (size_t j = 0; j < 9; ++j) {
+    ShCoefficients unit;
+    unit.order = 3;
+    unit.irradiance_over_pi.assign(27, 0.0);
+    unit.radiance.assign(27, 0.0);
+    unit.irradiance_over_pi[3 * j] = 1.0;
+    const std::array<Rgb3, 9> column = forward(unit);
+    for (size_t i = 0; i < 9; ++i) m[i][j] = column[i][0];
+  }
+  ShView sh;
+  sh.order = 3;
+  sh.irradiance_over_pi.assign(27, 0.0);
+  for (size_t c = 0; c < 3; ++c) {
+    double a[9][10];
+    for (size_t i = 0; i < 9; ++i) {
+      for (size_t j = 0; j < 9; ++j) a[i][j] = m[i][j];
+      a[i][9] = given[i][c];
+    }
+    for (size_t col = 0; col < 9; ++col) {
+      size_t pivot = col;
+      for (size_t r = col + 1; r < 9; ++r)
+        if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
+      if (!(std::fabs(a[pivot][col]) > 0)) throw Error("an engine's SH conversion is not invertible");
+      for (size_t j = 0; j < 10; ++j) std::swap(a[col][j], a[pivot][j]);
+      for (size_t r = 0; r < 9; ++r)
+        if (r != col) {
+          const double f = a[r][col] / a[col][col];
+          for (size_t j = col; j < 10; ++j) a[r][j] -= f * a[col][j];
+        }
+    }
+    for (size_t k = 0; k < 9; ++k) sh.irradiance_over_pi[3 * k + c] = a[k][9] / a[k][k];
+  }
+  sh.window = window;
+  sh.metadata = std::move(metadata);
+  return sh;
+}
+
+// "r g b" numbers, nine triples, from text (Filament's "sh" key: one triple a line; sh.txt:
+// "( r, g, b); // L00, ..." lines).
+bool nine_triples(const std::string& text, std::array<Rgb3, 9>* out) {
+  std::vector<double> v;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const size_t comment = line.find("//");
+    if (comment != std::string::npos) line = line.substr(0, comment);
+    for (char& ch : line)
+      if (ch == '(' || ch == ')' || ch == ',' || ch == ';') ch = ' ';
+    std::istringstream in(line);
+    double x = 0;
+    while (in >> x) v.push_back(x);
+    if (!in.eof()) return false;
+  }
+  if (v.size() != 27) return false;
+  for (size_t k = 0; k < 27; ++k) {
+    if (!std::isfinite(v[k])) return false;
+    (*out)[k / 3][k % 3] = v[k];
+  }
+  return true;
+}
+
+// A cube container read as a GPU samples it (io/gpu_cube_read.hpp): half, float, Filament's packed
+// R11F_G11F_B10F, ASTC HDR.
+Item gpu_cube_item(const std::string& path, const std::string& container) {
+  std::string format;
+  std::vector<std::pair<std::string, std::string>> kv;
+  Item it;
+  CubeLevels cube = io::read_gpu_cube(path, &format, &kv);
+  cube.metadata = our_metadata(kv);
+  it.kind = "cube (" + container + ", " + format + ")";
+  for (const auto& [k, v] : kv) {
+    std::array<Rgb3, 9> sh{};
+    if (k == "sh" && nine_triples(v, &sh))  // Filament's irradiance, pre-scaled (docs/ENGINES.md)
+      it.irradiance = sh_from_engine(sh, filament_sh, "as written", {{"sh_convention", "Filament (KTX1 sh key)"}});
+  }
+  it.content = std::move(cube);
+  return it;
+}
+
 Item read_ktx2_file(const std::string& path) {
   const io::Ktx2Image k = io::read_ktx2(path);
-  Item it;
   if (k.faces != 6) {
+    Item it;
     it.kind = "table (KTX2)";
     it.content = io::read_table(path);
     return it;
   }
-  uint32_t components = 0, bytes = 0;
-  switch (k.vk_format) {
-    case 90:
-      components = 3;
-      bytes = 2;
-      break;
-    case 97:
-      components = 4;
-      bytes = 2;
-      break;
-    case 106:
-      components = 3;
-      bytes = 4;
-      break;
-    case 109:
-      components = 4;
-      bytes = 4;
-      break;
-    default:
-      throw Error("cannot view '" + path + "': vkFormat " + std::to_string(k.vk_format) +
-                  " is not a float RGB(A) format");
-  }
-  it.kind = "cube (KTX2)";
-  it.content = cube_from_levels(k.width, k.level_data, components, bytes, our_metadata(k.key_values), path);
-  return it;
+  return gpu_cube_item(path, "KTX2");
 }
 
 Item read_ktx1_file(const std::string& path) {
+  // A cube (faceCount at byte 52) in any format a GPU samples, Filament's packed one included.
+  {
+    std::ifstream in(path, std::ios::binary);
+    uint8_t head[64] = {};
+    if (in.read(reinterpret_cast<char*>(head), 64) && head[52] == 6 && head[53] == 0 && head[54] == 0 && head[55] == 0)
+      return gpu_cube_item(path, "KTX1");
+  }
   const io::Ktx1Image k = io::read_ktx1(path);
   Item it;
-  if (k.faces == 6) {
-    it.kind = "cube (KTX1)";
-    it.content =
-        cube_from_levels(k.width, k.level_data, k.components(), k.component_bytes(), our_metadata(k.key_values), path);
-    return it;
-  }
   // A 2-D texture: a table of its channels (level 0).
   Table t;
   t.width = static_cast<int>(k.width);
@@ -337,6 +409,20 @@ Item read_manifest(const json& j, const std::string& path) {
         list.notes.emplace_back();
       }
   }
+  // An engine target's file set (docs/ENGINES.md), as written beside the tables: each file, the
+  // RGBD faces of an EXT_lights_image_based document drawn as its chain.
+  if (j.contains("engine") && j["engine"].is_object() && j["engine"].contains("files") &&
+      j["engine"]["files"].is_array()) {
+    const std::set<std::string> faces = gltf_faces_in(dir);
+    const std::string target = j["engine"].value("target", "");
+    for (const auto& f : j["engine"]["files"]) {
+      if (!f.is_string()) continue;
+      const std::string p = (dir / f.get<std::string>()).string();
+      if (faces.count(fs::path(p).lexically_normal().string())) continue;
+      list.paths.push_back(p);
+      list.notes.push_back({{"kind", "engine file (" + target + ")"}});
+    }
+  }
   Item it;
   it.kind = "manifest";
   it.content = std::move(list);
@@ -411,6 +497,149 @@ Item read_json_file(const std::string& path) {
               "description or a sidecar)");
 }
 
+// ---- Engine files (docs/ENGINES.md) ----------------------------------------------------------------
+
+// Babylon.js's .env: its RGBD PNG faces decoded as Babylon.js does, and its irradiance polynomial.
+Item read_babylon_env_file(const std::string& path) {
+  const io::BabylonEnv env = io::decode_babylon_env(io::read_binary_file(path, "Babylon .env file"));
+  std::vector<std::vector<std::vector<uint8_t>>> levels;
+  for (size_t k = 0; k < env.images.size(); ++k) {
+    if (k % 6 == 0) levels.emplace_back();
+    levels.back().push_back(env.images[k]);
+  }
+  Item it;
+  it.kind = "cube (Babylon.js .env, RGBD PNG faces)";
+  CubeLevels cube = io::decode_rgbd_cube(levels, env.width, "cannot view '" + path + "'");
+  if (env.extra.contains("brdfbake")) cube.metadata = metadata_object(env.extra["brdfbake"]);
+  it.irradiance = sh_from_engine(env.polynomial, babylon_polynomial, "as written",
+                                 {{"sh_convention", "Babylon.js spherical polynomial (.env irradiance)"}});
+  it.content = std::move(cube);
+  return it;
+}
+
+// The EXT_lights_image_based light of a glTF document: {face PNG paths per level, face size,
+// coefficients}, or nothing when the document has none.
+struct GltfLight {
+  std::vector<std::vector<std::string>> faces;
+  int size = 0;
+  std::array<Rgb3, 9> coefficients{};
+  Metadata metadata;
+};
+
+std::optional<GltfLight> gltf_light(const std::string& path) {
+  const json j = io::parse_json(io::read_text_file(path, "glTF document"), path);
+  const json* light = nullptr;
+  if (j.is_object() && j.contains("extensions") && j["extensions"].is_object() &&
+      j["extensions"].contains("EXT_lights_image_based")) {
+    const json& ext = j["extensions"]["EXT_lights_image_based"];
+    if (ext.is_object() && ext.contains("lights") && ext["lights"].is_array() && !ext["lights"].empty())
+      light = &ext["lights"][0];
+  }
+  if (!light) return std::nullopt;
+  GltfLight out;
+  try {
+    const fs::path dir = fs::path(path).parent_path();
+    out.size = light->at("specularImageSize").get<int>();
+    for (const json& level : light->at("specularImages")) {
+      out.faces.emplace_back();
+      for (const json& index : level)
+        out.faces.back().push_back((dir / j.at("images").at(index.get<size_t>()).at("uri").get<std::string>()).string());
+    }
+    const json& c = light->at("irradianceCoefficients");
+    if (c.size() != 9) throw Error("irradianceCoefficients does not hold 9 triples");
+    for (size_t k = 0; k < 9; ++k)
+      for (size_t ch = 0; ch < 3; ++ch) out.coefficients[k][ch] = c.at(k).at(ch).get<double>();
+    if (j.contains("asset") && j["asset"].contains("extras") && j["asset"]["extras"].contains("brdfbake"))
+      out.metadata = metadata_object(j["asset"]["extras"]["brdfbake"]);
+  } catch (const json::exception& e) {
+    throw Error("cannot view '" + path + "': a malformed EXT_lights_image_based light (" + e.what() + ")");
+  }
+  return out;
+}
+
+// A glTF document with an EXT_lights_image_based light: its specular chain from the RGBD PNGs it
+// names, and its irradiance coefficients.
+Item read_gltf_file(const std::string& path) {
+  const std::optional<GltfLight> light = gltf_light(path);
+  if (!light)
+    throw Error("cannot view '" + path +
+                "': a glTF document without an EXT_lights_image_based light (view shows the lights brdfbake "
+                "writes, not scenes)");
+  std::vector<std::vector<std::vector<uint8_t>>> levels;
+  for (const auto& faces : light->faces) {
+    levels.emplace_back();
+    for (const std::string& f : faces) levels.back().push_back(io::read_binary_file(f, "RGBD face"));
+  }
+  Item it;
+  it.kind = "cube (glTF EXT_lights_image_based, RGBD PNG faces)";
+  CubeLevels cube = io::decode_rgbd_cube(levels, light->size, "cannot view '" + path + "'");
+  cube.metadata = light->metadata;
+  it.irradiance = sh_from_engine(light->coefficients, gltf_irradiance_coefficients, "as written",
+                                 {{"sh_convention", "EXT_lights_image_based irradianceCoefficients"}});
+  it.content = std::move(cube);
+  return it;
+}
+
+// Filament's sh.txt (cmgen's layout): nine "(r, g, b); // Lnn" lines of pre-scaled coefficients.
+Item read_sh_txt_file(const std::string& path) {
+  std::array<Rgb3, 9> sh{};
+  if (!nine_triples(io::read_text_file(path, "text file"), &sh))
+    throw Error("cannot view '" + path + "': not nine lines of r, g, b coefficients (Filament's sh.txt)");
+  Item it;
+  it.kind = "SH coefficients (Filament sh.txt)";
+  it.content = sh_from_engine(sh, filament_sh, "as written", {{"sh_convention", "Filament, pre-scaled (sh.txt)"}});
+  return it;
+}
+
+// The PNGs an EXT_lights_image_based document in `dir` names (its RGBD faces), by full path.
+std::set<std::string> gltf_faces_in(const fs::path& dir) {
+  std::set<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_regular_file(ec) || lower_ext(e.path().string()) != ".gltf") continue;
+    try {
+      if (const std::optional<GltfLight> light = gltf_light(e.path().string()))
+        for (const auto& level : light->faces)
+          for (const auto& f : level) out.insert(fs::path(f).lexically_normal().string());
+    } catch (const Error&) {
+    }
+  }
+  return out;
+}
+
+// An 8-bit PNG that is not a brdfbake table: an RGBD face of an EXT_lights_image_based document
+// beside it (decoded to radiance as the extension's loader does), else a picture (a contact sheet),
+// shown as stored.
+std::optional<Item> read_png_picture(const std::string& path) {
+  const io::PngImage im = io::read_png(path);
+  if (im.bit_depth != 8) return std::nullopt;
+  for (const auto& [k, v] : im.text)
+    if (k.rfind(kKeyPrefix, 0) == 0 && k != "brdfbake:files") return std::nullopt;  // a table
+  HdrImage h;
+  h.width = im.width;
+  h.height = im.height;
+  const size_t n = size_t(im.width) * size_t(im.height), nc = size_t(im.channels);
+  Item it;
+  const std::string key = fs::path(path).lexically_normal().string();
+  if (nc == 4 && gltf_faces_in(fs::path(path).parent_path()).count(key)) {
+    for (size_t t = 0; t < n; ++t) {
+      uint8_t px[4];
+      for (size_t c = 0; c < 4; ++c) px[c] = static_cast<uint8_t>(im.samples[4 * t + c]);
+      double rgb[3];
+      io::rgbd_decode(px, rgb);
+      for (double v : rgb) h.rgb.push_back(static_cast<float>(v));
+    }
+    it.kind = "RGBD face (EXT_lights_image_based)";
+  } else {
+    for (size_t t = 0; t < n; ++t)
+      for (size_t c = 0; c < 3; ++c) h.rgb.push_back(float(im.samples[t * nc + (nc >= 3 ? c : 0)]) / 255.0f);
+    h.display_referred = true;
+    it.kind = "picture (8-bit PNG)";
+  }
+  it.content = std::move(h);
+  return it;
+}
+
 Item read_table_file(const std::string& path) {
   Item it;
   const std::string ext = lower_ext(path);
@@ -454,6 +683,8 @@ Item read_table_file(const std::string& path) {
       return it;
     }
   }
+  if (ext == ".png")
+    if (std::optional<Item> picture = read_png_picture(path)) return std::move(*picture);
   Table t = io::read_table(path);
   it.kind = ext == ".csv" && t.x_name == "pair" && t.meta("kind").empty() ? "BRDF values (eval CSV)"
                                                                           : std::string("table (") + container + ")";
@@ -490,6 +721,55 @@ Item read_merl_file(const std::string& path) {
   return it;
 }
 
+// Folders inside folders are shown too, this deep at most (a bake's folder inside a project).
+constexpr int kMaxFolderDepth = 4;
+
+FileList list_folder(const std::string& path, int depth) {
+  FileList list;
+  std::error_code ec;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(path, ec)) {
+    // Hidden entries are the tool's own temporaries, locks and staging folders.
+    if (e.path().filename().string().rfind('.', 0) == 0) continue;
+    names.push_back(e.path().string());
+  }
+  std::sort(names.begin(), names.end());
+  const std::set<std::string> all(names.begin(), names.end());
+  const std::set<std::string> faces = gltf_faces_in(path);
+  for (const auto& n : names) {
+    if (is_dir(n)) {
+      const bool shown = fs::exists(fs::path(n) / "manifest.json", ec) || !cube_folder_description(n).empty();
+      if (shown) {
+        list.paths.push_back(n);
+        list.notes.emplace_back();
+        continue;
+      }
+      if (depth + 1 > kMaxFolderDepth) {
+        list.skipped.push_back(n + " (a folder nested more than " + std::to_string(kMaxFolderDepth) + " deep)");
+        continue;
+      }
+      FileList inner = list_folder(n, depth + 1);
+      for (size_t k = 0; k < inner.paths.size(); ++k) {
+        list.paths.push_back(inner.paths[k]);
+        list.notes.push_back(inner.notes[k]);
+      }
+      for (auto& w : inner.skipped) list.skipped.push_back(std::move(w));
+      continue;
+    }
+    if (lower_ext(n) == ".json" && all.count(n.substr(0, n.size() - 5))) continue;  // a sidecar
+    if (faces.count(fs::path(n).lexically_normal().string())) continue;             // drawn by its .gltf
+    try {
+      kind_of(n);
+    } catch (const Error&) {
+      list.skipped.push_back(n + " (not a kind of file view shows)");
+      continue;
+    }
+    list.paths.push_back(n);
+    list.notes.emplace_back();
+  }
+  return list;
+}
+
 Item read_folder(const std::string& path) {
   Item it;
   std::error_code ec;
@@ -499,24 +779,12 @@ Item read_folder(const std::string& path) {
   }
   const std::string description = cube_folder_description(path);
   if (!description.empty()) return read_json_file(description);
-  // Any other folder: the files in it that some reader claims (sidecars aside), in name order.
-  FileList list;
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(path, ec))
-    if (e.is_regular_file(ec)) names.push_back(e.path().string());
-  std::sort(names.begin(), names.end());
-  const std::set<std::string> all(names.begin(), names.end());
-  for (const auto& n : names) {
-    if (lower_ext(n) == ".json" && all.count(n.substr(0, n.size() - 5))) continue;  // a sidecar
-    try {
-      kind_of(n);
-    } catch (const Error&) {
-      continue;
-    }
-    list.paths.push_back(n);
-    list.notes.emplace_back();
-  }
-  if (list.paths.empty()) throw Error("cannot view '" + path + "': the folder holds nothing view can show");
+  // Any other folder: the files in it that some reader claims (sidecars aside), in name order, and
+  // those of the folders inside it; what no reader claims is listed as skipped.
+  FileList list = list_folder(path, 0);
+  if (list.paths.empty())
+    throw Error("cannot view '" + path + "': the folder holds nothing view can show" +
+                (list.skipped.empty() ? std::string() : " (" + std::to_string(list.skipped.size()) + " files skipped)"));
   it.kind = "folder";
   it.content = std::move(list);
   return it;
@@ -543,6 +811,15 @@ const Reader kReaders[] = {
     {"float32",
      [](const std::string&, const std::string& e, bool) { return e == ".f32" || e == ".bin" || e == ".raw"; },
      read_eval_binary},
+    {"Babylon.js .env", [](const std::string&, const std::string& e, bool) { return e == ".env"; },
+     read_babylon_env_file},
+    {"glTF EXT_lights_image_based", [](const std::string&, const std::string& e, bool) { return e == ".gltf"; },
+     read_gltf_file},
+    {"Filament sh.txt",
+     [](const std::string& p, const std::string& e, bool) {
+       return e == ".txt" && fs::path(p).filename().string().find("sh") != std::string::npos;
+     },
+     read_sh_txt_file},
 };
 
 const Reader* reader_for(const std::string& path) {
@@ -554,7 +831,7 @@ const Reader* reader_for(const std::string& path) {
     if (r.claims(path, ext, dir)) return &r;
   throw Error("cannot view '" + path +
               "': unknown kind of file (view shows .ktx2 .ktx .dds .exr .png .hdr .csv .h .json "
-              ".binary .f32 and output folders)");
+              ".binary .f32, the engine files .env .gltf sh.txt, and output folders)");
 }
 
 }  // namespace

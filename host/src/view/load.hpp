@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -22,11 +23,13 @@ struct ShView {
   Metadata metadata;
 };
 
-// An HDR image that is neither a table nor a cube (e.g. an equirect environment), RGB.
+// An HDR image that is neither a table nor a cube (e.g. an equirect environment, an RGBD face of
+// EXT_lights_image_based), RGB; or an 8-bit picture (a contact sheet), shown as it is stored.
 struct HdrImage {
   int width = 0, height = 0;
   std::vector<float> rgb;
   Metadata metadata;
+  bool display_referred = false;  // sRGB-encoded values in [0, 1]: no exposure or tone map
 };
 
 // A picture drawn already, shown as it is (8-bit sRGB, row 0 first), with a caption: a preview's
@@ -40,13 +43,17 @@ struct Picture {
 // The files a manifest or a folder lists, with what the manifest says of each.
 struct FileList {
   std::vector<std::string> paths;
-  std::vector<Metadata> notes;  // per path: kind, error bound, runtime, ... (may be empty)
+  std::vector<Metadata> notes;       // per path: kind, error bound, runtime, ... (may be empty)
+  std::vector<std::string> skipped;  // what a folder holds that view does not show, each with why
 };
 
 struct Item {
   std::string path;
   std::string kind;  // "cube (KTX2)", "table (OpenEXR)", ... as view_kind says
   std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList, Picture> content;
+  // An engine file's irradiance beside its chain: a .env's polynomial, an EXT_lights_image_based
+  // light's coefficients, a Filament KTX1's "sh" key (converted back to E/pi coefficients).
+  std::optional<ShView> irradiance;
   Metadata notes;  // from a manifest: what it records about this file
 };
 

@@ -25,6 +25,7 @@
 #include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
 #include "view/canvas.hpp"
+#include "view/exposure.hpp"
 #include "view/load.hpp"
 
 namespace brdfbake {
@@ -60,7 +61,7 @@ struct Tile {
 };
 
 void add_region(Tile& t, const std::string& role, const std::string& label, int x, int y, int w, int h, double lo = 0,
-                double hi = 0, bool log_scale = false) {
+                double hi = 0, bool log_scale = false, double exposure = 0) {
   SheetRegion r;
   r.role = role;
   r.label = label;
@@ -71,6 +72,7 @@ void add_region(Tile& t, const std::string& role, const std::string& label, int 
   r.lo = lo;
   r.hi = hi;
   r.log_scale = log_scale;
+  r.exposure = exposure;
   t.regions.push_back(r);
 }
 
@@ -110,6 +112,18 @@ void resample(int sw, int sh, int dw, int dh, const Sample& sample, const Put& p
     }
 }
 
+// ---- Exposure ------------------------------------------------------------------------------------
+
+// The options a picture of radiance is drawn with: the exposure asked for, else the picture's own
+// (view/exposure.hpp) from its texels (`stride` floats apart).
+ViewOptions exposed(const ViewOptions& o, const float* rgb, size_t texels, size_t stride) {
+  ViewOptions p = o;
+  if (!p.exposure) p.exposure = auto_exposure(rgb, texels, stride);
+  return p;
+}
+
+std::string ev_text(const ViewOptions& o) { return fmt(*o.exposure, "%+.1f") + " EV"; }
+
 // ---- Cubes ---------------------------------------------------------------------------------------
 
 // Where each face goes in the horizontal cross (docs/CONVENTIONS.md): -X +Z +X -Z in the middle
@@ -137,6 +151,7 @@ std::vector<Tile> cube_tiles(const CubeLevels& cube, const ViewOptions& o) {
     t.canvas = Canvas(4 * f, 3 * f + 2 * kCaption, kBackground);
     t.canvas.fill_rect(0, 0, 4 * f, 3 * f, kPanel);
     const int s = cube.level_size(l);
+    const ViewOptions lo = exposed(o, cube.levels[size_t(l)].data(), 6 * size_t(s) * size_t(s), 4);
     for (int face = 0; face < 6; ++face) {
       const int ox = kCross[face].col * f, oy = kCross[face].row * f;
       resample(
@@ -147,11 +162,11 @@ std::vector<Tile> cube_tiles(const CubeLevels& cube, const ViewOptions& o) {
           },
           [&](int x, int y, const double* v) {
             const float rgb[3] = {float(v[0]), float(v[1]), float(v[2])};
-            t.canvas.set(ox + x, oy + y, tone_map(rgb, o));
+            t.canvas.set(ox + x, oy + y, tone_map(rgb, lo));
           },
           3);
     }
-    std::string label = "level " + std::to_string(l) + ": " + std::to_string(s) + "^2";
+    std::string label = "level " + std::to_string(l) + ": " + std::to_string(s) + "^2, " + ev_text(lo);
     std::string second;
     if (!roughness.empty())
       second = "roughness " + fmt(roughness[size_t(l)], "%.3f");
@@ -159,7 +174,7 @@ std::vector<Tile> cube_tiles(const CubeLevels& cube, const ViewOptions& o) {
       second = "E / pi";
     t.canvas.text(2, 3 * f + 2, label);
     if (!second.empty()) t.canvas.text(2, 3 * f + 2 + 12, second, kDim);
-    add_region(t, "cube level", "level " + std::to_string(l), 0, 0, 4 * f, 3 * f);
+    add_region(t, "cube level", "level " + std::to_string(l), 0, 0, 4 * f, 3 * f, 0, 0, false, *lo.exposure);
     tiles.push_back(std::move(t));
   }
   return tiles;
@@ -173,10 +188,12 @@ struct Range {
 };
 
 // The colour scale of a channel: linear from its minimum to its maximum, or log10 when the values
-// are not negative and a few texels dwarf the rest (the maximum above 5 times the 99th percentile,
-// or above 1000 times the median: a grazing peak, a specular spike), which a linear scale would
-// paint as one dark colour. A log scale spans at most four decades below the maximum; values at or
-// below its left end (zeros included) take the left end's colour.
+// are not negative and a linear scale would paint most of them one dark colour: a few texels dwarf
+// the rest (the maximum above 5 times the 99th percentile, or above 1000 times the median: a
+// grazing peak, a specular spike), or more than half the texels would fall in the darkest tenth of
+// the scale (the median below a tenth of the range: the 32^2 Charlie table, whose grazing texels
+// reach 3.2 over a median of 0.19). A log scale spans at most four decades below the maximum;
+// values at or below its left end (zeros included) take the left end's colour.
 Range channel_range(const Table& t, int c) {
   std::vector<double> v;
   for (size_t k = static_cast<size_t>(c); k < t.data.size(); k += t.channels.size())
@@ -187,13 +204,48 @@ Range channel_range(const Table& t, int c) {
   r.lo = v.front();
   r.hi = v.back();
   const double p99 = v[(v.size() - 1) * 99 / 100], median = v[(v.size() - 1) / 2];
-  if (r.lo >= 0 && r.hi > 0 && (r.hi > 5 * p99 || r.hi > 1e3 * median)) {
+  const bool dark = median - r.lo < 0.1 * (r.hi - r.lo);
+  if (r.lo >= 0 && r.hi > 0 && (r.hi > 5 * p99 || r.hi > 1e3 * median || dark)) {
     const auto first_positive = std::upper_bound(v.begin(), v.end(), 0.0);
     r.log_scale = true;
     r.hi = std::log10(v.back());
     r.lo = std::max(std::log10(*first_positive), r.hi - 4.0);
   }
   return r;
+}
+
+// A value for a scale's label: 3 significant digits, without an exponent between 1e-4 and 1e5.
+std::string value_label(double v) {
+  const double a = std::fabs(v);
+  if (a != 0 && (a < 1e-4 || a >= 1e5)) return fmt(v, "%.2e");
+  return fmt(v, "%.4g");
+}
+
+// The labels under a colour scale of `width` pixels at x: its ends as values (a log scale's too,
+// not as exponents), and on a log scale a tick and a label at each decade inside it where there is
+// room ("0.01", "1", "1e+06").
+void scale_labels(Tile& t, int x, int y, int width, const Range& r, const char* log_name) {
+  const std::string lo = value_label(r.log_scale ? std::pow(10.0, r.lo) : r.lo);
+  const std::string hi = value_label(r.log_scale ? std::pow(10.0, r.hi) : r.hi);
+  t.canvas.text(x, y, lo, kAxis);
+  t.canvas.text(x + width - text_width(hi), y, hi, kAxis);
+  if (!r.log_scale || !(r.hi > r.lo)) return;
+  int free_from = x + text_width(lo) + 6;
+  const int free_to = x + width - text_width(hi) - 6;
+  bool labelled = false;
+  for (double d = std::ceil(r.lo); d <= std::floor(r.hi); d += 1.0) {
+    const int at = x + static_cast<int>(std::lround((d - r.lo) / (r.hi - r.lo) * (width - 1)));
+    t.canvas.fill_rect(at, y - 3, 1, 3, kAxis);
+    const std::string label = value_label(std::pow(10.0, d));
+    const int lx = at - text_width(label) / 2;
+    if (lx >= free_from && lx + text_width(label) <= free_to) {
+      t.canvas.text(lx, y, label, kDim);
+      free_from = lx + text_width(label) + 6;
+      labelled = true;
+    }
+  }
+  const std::string name = std::string(log_name) + ", decades marked";
+  t.canvas.text(x + (width - text_width(name)) / 2, y + kCaption - 2, labelled ? name : std::string(log_name), kDim);
 }
 
 double scale_position(double v, const Range& r) {
@@ -234,17 +286,29 @@ void x_axis_labels(Tile& t, int x, int y, int w, const std::string& name, const 
   t.canvas.text(nx, y, n, kDim);
 }
 
+// The name of each row when the table's rows are materials (tabulate's albedo layout records them
+// in material_names), else nothing.
+std::vector<std::string> row_names(const Table& t) {
+  const std::vector<std::string> names = split(t.meta("material_names"), ',');
+  return static_cast<int>(names.size()) == t.height ? names : std::vector<std::string>{};
+}
+
 Tile table_channel_tile(const Table& t, int c, const ViewOptions& o) {
   int dw = 0, dh = 0;
   display_size(t.width, t.height, o.table_size, &dw, &dh);
   const Range r = channel_range(t, c);
-  const std::string y_lo = !t.y.empty() && monotonic(t.y) ? fmt(t.y.front()) : "";
-  const std::string y_hi = !t.y.empty() && monotonic(t.y) ? fmt(t.y.back()) : "";
-  const int left = std::max({text_width(y_lo), text_width(y_hi), 18}) + 4;
+  const std::vector<std::string> rows = row_names(t);
+  const bool named_rows = !rows.empty() && dh / t.height >= 9;  // a line of text a row
+  const std::string y_lo = !named_rows && !t.y.empty() && monotonic(t.y) ? fmt(t.y.front()) : "";
+  const std::string y_hi = !named_rows && !t.y.empty() && monotonic(t.y) ? fmt(t.y.back()) : "";
+  int names_w = 0;
+  if (named_rows)
+    for (const auto& n : rows) names_w = std::max(names_w, text_width(n));
+  const int left = std::max({text_width(y_lo), text_width(y_hi), names_w, 18}) + 4;
   const int top = kCaption + 12;  // channel name, then the y axis name
   const int bar_h = 8;
   const int width = left + std::max(dw, 120) + 4;
-  const int height = top + dh + 4 + 12 + 6 + bar_h + 2 + 12;
+  const int height = top + dh + 4 + 12 + 6 + bar_h + 2 + 12 + (r.log_scale ? kCaption : 0);
   Tile tile;
   tile.canvas = Canvas(width, height, kBackground);
   tile.canvas.text(left, 1, t.channels[size_t(c)], kText);
@@ -257,6 +321,11 @@ Tile table_channel_tile(const Table& t, int c, const ViewOptions& o) {
   add_region(tile, "table channel", t.channels[size_t(c)], left, top, dw, dh, r.lo, r.hi, r.log_scale);
   tile.canvas.text(1, top, y_hi, kAxis);
   tile.canvas.text(1, top + dh - 9, y_lo, kAxis);
+  if (named_rows)  // row j's name beside its band (row 0 at the bottom)
+    for (int j = 0; j < t.height; ++j) {
+      const int band_top = top + (t.height - 1 - j) * dh / t.height, band_h = dh / t.height;
+      tile.canvas.text(left - 4 - text_width(rows[size_t(j)]), band_top + (band_h - 8) / 2, rows[size_t(j)], kAxis);
+    }
   x_axis_labels(tile, left, top + dh + 3, dw, t.x_name, t.x);
   // The colour scale: its left end is the minimum, its right end the maximum.
   const int by = top + dh + 4 + 12 + 4;
@@ -265,11 +334,7 @@ Tile table_channel_tile(const Table& t, int c, const ViewOptions& o) {
     tile.canvas.fill_rect(left + x, by, 1, bar_h, col);
   }
   add_region(tile, "colour scale", t.channels[size_t(c)], left, by, dw, bar_h, r.lo, r.hi, r.log_scale);
-  const std::string lo = r.log_scale ? "1e" + fmt(r.lo, "%.2g") : fmt(r.lo, "%.4g");
-  const std::string hi = r.log_scale ? "1e" + fmt(r.hi, "%.2g") : fmt(r.hi, "%.4g");
-  tile.canvas.text(left, by + bar_h + 2, lo, kAxis);
-  tile.canvas.text(left + dw - text_width(hi), by + bar_h + 2, hi, kAxis);
-  if (r.log_scale) tile.canvas.text(left + (dw - text_width("log10")) / 2, by + bar_h + 2, "log10", kDim);
+  scale_labels(tile, left, by + bar_h + 2, dw, r, "log10");
   return tile;
 }
 
@@ -395,11 +460,10 @@ std::vector<Tile> sh_tiles(const ShView& sh, const ViewOptions& o) {
   // Two spheres: seen from +Z and from -Z (orthographic, +Y up), each pixel E(n) / pi at its normal:
   // the radiance a white Lambertian sphere reflects.
   const int d = 128;
-  Tile spheres;
-  spheres.canvas = Canvas(2 * d + kGap, d + 2 * kCaption + 4, kBackground);
-  spheres.canvas.text(0, 1, "E(n) / pi on a white sphere", kText);
+  // E(n) / pi at each pixel's normal, both spheres, then one exposure for the pair.
+  std::vector<float> values(2 * size_t(d) * size_t(d) * 3, 0.0f);
+  std::vector<float> inside;
   for (int view_index = 0; view_index < 2; ++view_index) {
-    const int ox = view_index * (d + kGap), oy = kCaption + 2;
     const double sign = view_index == 0 ? 1.0 : -1.0;
     for (int y = 0; y < d; ++y)
       for (int x = 0; x < d; ++x) {
@@ -408,10 +472,28 @@ std::vector<Tile> sh_tiles(const ShView& sh, const ViewOptions& o) {
         if (r2 > 1) continue;
         const Vec3 n = {sign * u, v, sign * std::sqrt(1 - r2)};
         const auto e = sh_eval(sh.irradiance_over_pi, sh.order, n);
-        const float rgb[3] = {float(e[0]), float(e[1]), float(e[2])};
-        spheres.canvas.set(ox + x, oy + y, tone_map(rgb, o));
+        float* out = &values[3 * ((size_t(view_index) * size_t(d) + size_t(y)) * size_t(d) + size_t(x))];
+        for (int c = 0; c < 3; ++c) {
+          out[c] = float(e[size_t(c)]);
+          inside.push_back(out[c]);
+        }
       }
-    add_region(spheres, "sphere", view_index == 0 ? "seen from +Z" : "seen from -Z", ox, oy, d, d);
+  }
+  const ViewOptions so = exposed(o, inside.data(), inside.size() / 3, 3);
+  Tile spheres;
+  spheres.canvas = Canvas(2 * d + kGap, d + 2 * kCaption + 4, kBackground);
+  spheres.canvas.text(0, 1, "E(n) / pi on a white sphere, " + ev_text(so), kText);
+  for (int view_index = 0; view_index < 2; ++view_index) {
+    const int ox = view_index * (d + kGap), oy = kCaption + 2;
+    for (int y = 0; y < d; ++y)
+      for (int x = 0; x < d; ++x) {
+        const double u = (x + 0.5) / d * 2 - 1, v = 1 - (y + 0.5) / d * 2;
+        if (u * u + v * v > 1) continue;  // outside the disc
+        const float* rgb = &values[3 * ((size_t(view_index) * size_t(d) + size_t(y)) * size_t(d) + size_t(x))];
+        spheres.canvas.set(ox + x, oy + y, tone_map(rgb, so));
+      }
+    add_region(spheres, "sphere", view_index == 0 ? "seen from +Z" : "seen from -Z", ox, oy, d, d, 0, 0, false,
+               *so.exposure);
     spheres.canvas.text(ox, oy + d + 2, view_index == 0 ? "from +Z" : "from -Z", kDim);
   }
   tiles.push_back(std::move(spheres));
@@ -482,7 +564,8 @@ std::vector<Tile> merl_tiles(const MerlTable& m) {
   for (int s = 0; s < 3; ++s) {
     const int k = ks[s];
     Tile t;
-    t.canvas = Canvas(left + z * kMerlThetaH + 6, top + z * kMerlThetaD + 4 + 12 + 6 + 8 + 2 + 12, kBackground);
+    t.canvas = Canvas(left + z * kMerlThetaH + 6, top + z * kMerlThetaD + 4 + 12 + 6 + 8 + 2 + 12 + kCaption,
+                      kBackground);
     const std::string label = "phi_d = " + fmt((k + 0.5) / 180.0 * 180.0, "%.1f") + " deg";
     t.canvas.text(left, 1, label, kText);
     t.canvas.text(2, kCaption, "^ theta_d", kDim);
@@ -501,10 +584,7 @@ std::vector<Tile> merl_tiles(const MerlTable& m) {
     for (int x = 0; x < z * kMerlThetaH; ++x)
       t.canvas.fill_rect(left + x, by, 1, 8, cubehelix(double(x) / (z * kMerlThetaH - 1)));
     add_region(t, "colour scale", label, left, by, z * kMerlThetaH, 8, r.lo, r.hi, true);
-    const std::string a = "1e" + fmt(r.lo, "%.2g"), b = "1e" + fmt(r.hi, "%.2g");
-    t.canvas.text(left, by + 10, a, kAxis);
-    t.canvas.text(left + z * kMerlThetaH - text_width(b), by + 10, b, kAxis);
-    t.canvas.text(left + (z * kMerlThetaH - text_width("log10 lum")) / 2, by + 10, "log10 lum", kDim);
+    scale_labels(t, left, by + 10, z * kMerlThetaH, r, "log10 luminance");
     tiles.push_back(std::move(t));
   }
   return tiles;
@@ -516,7 +596,8 @@ Tile hdr_tile(const HdrImage& im, const ViewOptions& o) {
   int dw = 0, dh = 0;
   display_size(im.width, im.height, 2 * o.table_size, &dw, &dh);
   Tile t;
-  t.canvas = Canvas(dw, dh + kCaption, kBackground);
+  t.canvas = Canvas(std::max(dw, 160), dh + kCaption, kBackground);
+  const ViewOptions io = im.display_referred ? o : exposed(o, im.rgb.data(), im.rgb.size() / 3, 3);
   resample(
       im.width, im.height, dw, dh,
       [&](int i, int j, double* acc) {
@@ -525,11 +606,20 @@ Tile hdr_tile(const HdrImage& im, const ViewOptions& o) {
       },
       [&](int x, int y, const double* v) {
         const float rgb[3] = {float(v[0]), float(v[1]), float(v[2])};
-        t.canvas.set(x, y, tone_map(rgb, o));
+        if (im.display_referred)  // stored sRGB values, shown as they are
+          t.canvas.set(x, y,
+                       {uint8_t(std::lround(std::clamp(v[0], 0.0, 1.0) * 255)),
+                        uint8_t(std::lround(std::clamp(v[1], 0.0, 1.0) * 255)),
+                        uint8_t(std::lround(std::clamp(v[2], 0.0, 1.0) * 255))});
+        else
+          t.canvas.set(x, y, tone_map(rgb, io));
       },
       3);
-  add_region(t, "image", "image", 0, 0, dw, dh);
-  t.canvas.text(0, dh + 2, std::to_string(im.width) + "x" + std::to_string(im.height), kDim);
+  add_region(t, "image", "image", 0, 0, dw, dh, 0, 0, false, io.exposure.value_or(0.0));
+  t.canvas.text(0, dh + 2,
+                std::to_string(im.width) + "x" + std::to_string(im.height) +
+                    (im.display_referred ? ", as stored (sRGB)" : ", " + ev_text(io)),
+                kDim);
   return t;
 }
 
@@ -646,6 +736,14 @@ Block layout_block(const std::string& title, const std::string& subtitle, std::v
   return b;
 }
 
+// A file as the sheet names it: its path, or relative to options.relative_to (the server names a
+// job's file as the job's folder does, not by where the server keeps it).
+std::string shown_name(const std::string& path, const ViewOptions& o) {
+  if (o.relative_to.empty()) return path;
+  const std::string rel = std::filesystem::path(path).lexically_relative(o.relative_to).generic_string();
+  return !rel.empty() && rel.rfind("..", 0) != 0 ? rel : path;
+}
+
 Block item_block(const Item& it, const ViewOptions& o, int width) {
   std::vector<Tile> tiles;
   std::string subtitle = facts(it);
@@ -654,6 +752,10 @@ Block item_block(const Item& it, const ViewOptions& o, int width) {
   } else if (const auto* c = std::get_if<CubeLevels>(&it.content)) {
     tiles = cube_tiles(*c, o);
     subtitle += (subtitle.empty() ? "" : "; ") + std::string("cross: -X +Z +X -Z, +Y above, -Y below");
+    if (it.irradiance) {  // an engine file's irradiance, beside its chain
+      for (Tile& sh : sh_tiles(*it.irradiance, o)) tiles.push_back(std::move(sh));
+      subtitle += "; irradiance: " + meta_of(it.irradiance->metadata, "sh_convention");
+    }
   } else if (const auto* s = std::get_if<ShView>(&it.content)) {
     tiles = sh_tiles(*s, o);
   } else if (const auto* m = std::get_if<MerlTable>(&it.content)) {
@@ -663,12 +765,12 @@ Block item_block(const Item& it, const ViewOptions& o, int width) {
   } else if (const auto* p = std::get_if<Picture>(&it.content)) {
     tiles.push_back(picture_tile(*p, width));
   }
-  return layout_block(it.path + "  (" + it.kind + ")", subtitle, std::move(tiles), width, it.path);
+  return layout_block(shown_name(it.path, o) + "  (" + it.kind + ")", subtitle, std::move(tiles), width, it.path);
 }
 
 // Every file to show, in order: manifests and folders expand to what they list.
 void collect(const std::string& given, std::vector<Item>& items, std::set<std::string>& seen, const Metadata& notes,
-             int depth) {
+             int depth, std::vector<std::string>& skipped) {
   std::error_code ec;
   // A sidecar (FILE.json beside FILE) stands for its file.
   std::string path = given;
@@ -680,8 +782,10 @@ void collect(const std::string& given, std::vector<Item>& items, std::set<std::s
   seen.insert(key);
   Item it = load(path);
   if (auto* list = std::get_if<FileList>(&it.content)) {
-    if (depth > 2) throw Error("cannot view '" + path + "': manifests nested too deep");
-    for (size_t k = 0; k < list->paths.size(); ++k) collect(list->paths[k], items, seen, list->notes[k], depth + 1);
+    if (depth > 4) throw Error("cannot view '" + path + "': manifests nested too deep");
+    for (auto& s : list->skipped) skipped.push_back(std::move(s));
+    for (size_t k = 0; k < list->paths.size(); ++k)
+      collect(list->paths[k], items, seen, list->notes[k], depth + 1, skipped);
     return;
   }
   it.notes = notes;
@@ -715,29 +819,31 @@ std::string view_kind(const std::string& path) { return view::load(path).kind; }
 ContactSheet render_contact_sheet(const std::vector<std::string>& paths, const ViewOptions& o) {
   using namespace view;
   if (paths.empty()) throw Error("nothing to view: give one or more files or folders");
-  if (!std::isfinite(o.exposure) || std::fabs(o.exposure) > 64)
+  if (o.exposure && (!std::isfinite(*o.exposure) || std::fabs(*o.exposure) > 64))
     throw Error("exposure must be a number of EV in [-64, 64]");
   if (o.face_size < 4 || o.face_size > 1024) throw Error("face size must be 4 to 1024 pixels");
   if (o.table_size < 32 || o.table_size > 2048) throw Error("table size must be 32 to 2048 pixels");
   if (o.max_width < 320 || o.max_width > 16384) throw Error("sheet width must be 320 to 16384 pixels");
   std::vector<Item> items;
   std::set<std::string> seen;
-  for (const auto& p : paths) collect(p, items, seen, {}, 0);
-
   ContactSheet sheet;
+  for (const auto& p : paths) collect(p, items, seen, {}, 0, sheet.skipped);
+
   const char* curve = o.tone_map == ToneMap::Aces       ? "ACES filmic fit (Narkowicz 2015)"
                       : o.tone_map == ToneMap::Reinhard ? "Reinhard x / (1 + x)"
                                                         : "clamp to [0, 1]";
-  char exposure[32];
-  std::snprintf(exposure, sizeof exposure, "%+.1f", o.exposure);
-  sheet.tone_map_text = std::string("HDR: exposure ") + exposure + " EV, " + curve + ", sRGB";
+  const std::string exposure =
+      o.exposure ? fmt(*o.exposure, "%+.1f") + " EV"
+                 : "chosen per picture (log-average luminance at 0.18, 99th percentile at most 1; each caption "
+                   "says its EV)";
+  sheet.tone_map_text = "HDR: exposure " + exposure + ", " + curve + ", sRGB";
   sheet.colour_scale_text =
       "tables: cubehelix (Green 2011), minimum at the left end of each scale, maximum at the right; log10 where marked";
   const int inner = o.max_width - 2 * kMargin;
   std::vector<Block> blocks;
   for (const Item& it : items) {
     blocks.push_back(item_block(it, o, inner));
-    sheet.files.push_back(it.path);
+    sheet.files.push_back(shown_name(it.path, o));
   }
   const std::string title = o.title.empty() ? "brdfbake view" : o.title;
   const std::string count =

@@ -5,6 +5,8 @@
 // tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include "brdfbake/dfg_lut.hpp"
 #include "families/dfg_lut/kernel.hpp"
@@ -100,11 +102,9 @@ const SpecSchema<LutSpec>& lut_schema_of(TableKind k) {
   return k == TableKind::Charlie ? charlie : ggx;
 }
 
-// What a shader's bilinear lookup of `table` misses between texel centres: the table looked up at
-// the lines between centres (and at both edges) against the backend's own evaluation there; both
-// are within the integration bound `bound` of the converged values. Recorded in the table's
-// metadata and `r`'s details; returns the summary's clause.
-std::string add_lookup_error(Table& table, const LutSpec& resolved, Backend& backend, double bound, BakeResult& r) {
+// What a shader's bilinear lookup of `table` misses: the table looked up at the lines between
+// texel centres (and at both edges) against the backend's own evaluation there.
+LookupError measure_lookup_error(const LutSpec& resolved, const Table& table, Backend& backend) {
   const std::vector<double> us = probe_coordinates(table.width), vs = probe_coordinates(table.height);
   LutSpec probe = resolved;  // the same estimator and sample count
   probe.max_error = 0.0;
@@ -113,7 +113,40 @@ std::string add_lookup_error(Table& table, const LutSpec& resolved, Backend& bac
   for (double u : us) probe.n_dot_v.push_back(lut_axis_value(resolved.n_dot_v_axis, u));
   for (double v : vs) probe.roughness.push_back(lut_axis_value(resolved.roughness_axis, v));
   const Table truth = bake_lut(backend, probe);
-  const LookupError e = bilinear_lookup_error(table, us, vs, truth);
+  return bilinear_lookup_error(table, us, vs, truth);
+}
+
+// The measurement depends only on what is baked (the resolved spec) and where (the backend's
+// device and precision), and the bake is deterministic: it is made once per process for each and
+// remembered, since its probe is a second bake of about the table's size (on a warm server, half
+// of a new table's device time; docs/BENCHMARKS.md, "POST /v1/tables"). The numbers, and so every
+// byte written, are those a fresh measurement gives. (A request's table is always at the cell
+// centres of its axes: the resolved spec's coordinates follow from the fields in the key.)
+LookupError lookup_error_once(const LutSpec& resolved, const Table& table, Backend& backend) {
+  const std::string key = backend.name() + "|" + precision_name(backend.result_precision(resolved.precision)) + "|" +
+                          std::to_string(int(resolved.kind)) + "|" + std::to_string(resolved.width) + "x" +
+                          std::to_string(resolved.height) + "|" + std::to_string(resolved.samples) + "|" +
+                          std::to_string(int(resolved.estimator)) + "|" + std::to_string(int(resolved.sheen_visibility)) +
+                          "|" + std::to_string(int(resolved.n_dot_v_axis)) + "|" + std::to_string(int(resolved.roughness_axis));
+  static std::mutex mutex;
+  static std::map<std::string, LookupError> measured;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = measured.find(key); it != measured.end()) return it->second;
+  }
+  const LookupError e = measure_lookup_error(resolved, table, backend);
+  std::lock_guard<std::mutex> lock(mutex);
+  if (measured.size() >= 4096) measured.clear();  // a few dozen bytes each: a bound, not a policy
+  measured.emplace(key, e);
+  return e;
+}
+
+// What a shader's bilinear lookup of `table` misses between texel centres: the table looked up at
+// the lines between centres (and at both edges) against the backend's own evaluation there; both
+// are within the integration bound `bound` of the converged values. Recorded in the table's
+// metadata and `r`'s details; returns the summary's clause.
+std::string add_lookup_error(Table& table, const LutSpec& resolved, Backend& backend, double bound, BakeResult& r) {
+  const LookupError e = lookup_error_once(resolved, table, backend);
   const double margin = 2.0 * bound;
   const std::string interior = fmt_number(e.interior + margin, "%.3g"), edge = fmt_number(e.edge + margin, "%.3g");
   r.details.push_back({"interpolation_error", interior});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -67,8 +68,17 @@ Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& p
                                                    static_cast<unsigned>(s.height)));
   std::vector<std::thread> pool;
   for (unsigned k = 1; k < n_threads; ++k) pool.emplace_back(worker);
-  worker();
+  // The calling thread works too, and its progress reports may throw (a run's stop: the server's
+  // abandoned request): the others stop at their next row and are joined before it propagates.
+  std::exception_ptr stopped;
+  try {
+    worker();
+  } catch (...) {
+    stopped = std::current_exception();
+    next_row = s.height;
+  }
   for (auto& th : pool) th.join();
+  if (stopped) std::rethrow_exception(stopped);
   throw_if_cancelled();  // the workers stop at the next row (they may not throw themselves)
   t.set_meta("device", "reference (scalar double, converged quadrature)");
   t.set_meta("precision", "fp64");

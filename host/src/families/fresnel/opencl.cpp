@@ -2,6 +2,7 @@
 // to whole work-items, and the family's OpenCL kernel (kernel.hpp).
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,13 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
         return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(double),
                           const_cast<double*>(v.data()));
       std::vector<float> f(v.size());
-      std::transform(v.begin(), v.end(), f.begin(), [](double d) { return static_cast<float>(d); });
+      // Saturated to the float range: a parameter beyond it (--bias 1e308) would be infinite on the
+      // device, and inf * 0 is NaN where the double model gives a finite product (issue 24, numbers
+      // at the edge); FLT_MAX keeps every product and sum the model clamps to [0, 1] on its side.
+      std::transform(v.begin(), v.end(), f.begin(), [](double d) {
+        return static_cast<float>(std::clamp(d, -double(std::numeric_limits<float>::max()),
+                                             double(std::numeric_limits<float>::max())));
+      });
       return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
     };
     cl::Buffer xb = real_buffer(xs, CL_MEM_READ_ONLY), yb = real_buffer(ys, CL_MEM_READ_ONLY),

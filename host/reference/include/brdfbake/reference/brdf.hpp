@@ -40,7 +40,7 @@ using math::kMaxShininess;
 // Material) field for field, but are separate types: the oracle states what each model reads
 // without depending on the product's headers, and the product's API can grow (or the oracle
 // change) without the other following. The product's reference backend converts
-// (host/src/reference_backend/brdf.cpp).
+// (host/src/families/brdf_eval/reference.cpp).
 enum class BrdfModel {
   Disney,             // Burley 2012, in the BRDF Explorer's disney.brdf formulation
   Gltf,               // glTF 2.0 Appendix B, separable Smith G

@@ -1,0 +1,50 @@
+// The web page of `brdfbake serve` (docs/SERVICE.md, "The web page"): GET / and its files, embedded
+// in the binary at build time (host/server/web/, cmake/EmbedWebAssets.cmake), and the small JSON
+// and picture routes the page needs beside the job API: the schemas (GET /v1/kinds, GET
+// /v1/bake/options), the files a request may read (GET /v1/inputs), a bake's plan without baking
+// (POST /v1/plan), a job's document (GET /v1/jobs/ID/job), its folder as one tar file (GET
+// /v1/jobs/ID/archive) and a picture of each file a job wrote, drawn by `brdfbake view`'s code
+// (GET /v1/jobs/ID/view/NAME).
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace httplib {
+class Server;
+}
+
+namespace brdfbake::server {
+
+class JobStore;
+class Roots;
+
+namespace detail {
+struct WebAsset {
+  const char* path;  // relative to host/server/web/
+  const unsigned char* data;
+  std::size_t size;
+};
+// Generated at build time (web_assets.cpp in the build tree).
+const std::vector<WebAsset>& web_assets();
+}  // namespace detail
+
+// What the routes read: the job records and the roots (inputs under --input-root, outputs under
+// DATA/jobs/<id>/, scratch files in DATA/tmp/).
+struct WebContext {
+  JobStore* store = nullptr;
+  const Roots* roots = nullptr;
+  std::filesystem::path jobs_dir, tmp_dir;
+};
+
+// The page's own files, served without a token: they hold no data (the page asks for the token and
+// sends it with every API call it makes).
+bool web_public_route(const std::string& method, const std::string& path);
+
+// Registers the page's files and its routes on `http`; the token check (the server's pre-routing
+// handler) applies to every /v1/ route as to the rest of the API.
+void register_web_routes(httplib::Server& http, const WebContext& context);
+
+}  // namespace brdfbake::server

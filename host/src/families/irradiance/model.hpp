@@ -1,0 +1,23 @@
+// Internal: the irradiance family's model, what its descriptor and its two kernels (opencl.cpp,
+// reference.cpp) share: the limits of a spec, the SH coefficients' derived values (sh.cpp) and the
+// metadata of an irradiance cube (model.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdfbake/environment.hpp"
+
+namespace brdfbake::detail {
+
+// Throws Error for an SH order other than 3 or 5, or sizes out of range.
+void check_irradiance_spec(const IrradianceSpec& spec);
+// The coefficients from the radiance coefficients L_lm (order^2 x RGB): window weights and
+// irradiance_over_pi = (A_l / pi) w_l L_lm.
+ShCoefficients sh_coefficients(const IrradianceSpec& spec, std::vector<double> radiance);
+// The metadata of an irradiance cube.
+void irradiance_cube_metadata(CubeLevels& cube, const EnvImage& env, const IrradianceSpec& spec,
+                              const ShCoefficients& sh, const std::string& definition, const std::string& precision,
+                              const std::string& device);
+
+}  // namespace brdfbake::detail

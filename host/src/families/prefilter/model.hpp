@@ -1,0 +1,97 @@
+// Internal: the prefilter family's engine, what its files share. The chain (chain.cpp) turns a
+// source cube into the prefiltered levels: the bright texels leave the source (env/bright_texels.cpp,
+// bright.cpp), the rest is read through the quadrature's pyramid (pyramid.cpp) or the sampling
+// estimator's lobe samples (samples.cpp) and padded mip chain (env/device.cpp), each level launched
+// by launch.hpp's kernels and recorded by metadata.cpp. The roughness schedules and names are
+// schedule.cpp's, the spec's limits spec.cpp's.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "brdfbake/environment.hpp"
+#include "brdfbake/math/types.hpp"
+#include "runtime/program.hpp"
+
+namespace brdfbake::detail {
+
+// BRDFBAKE_STRIP_ROWS (kernels/prefilter.cl): the strips kernel's blocks of 8 x 8 texels.
+inline constexpr int kStripRows = 4;
+// max_error with the sampling estimator: the sample counts a level's search starts at and stops at.
+inline constexpr int kPrefilterSearchStart = 32;
+inline constexpr int kPrefilterSearchMax = 8192;
+
+// ---- The chain (chain.cpp) and its record (metadata.cpp) ----------------------------------------
+
+// The filter's program (kernels/prefilter.cl) for a spec's lobe and precision.
+cl::Program filter_program(Device::Impl& dev, const PrefilterSpec& spec);
+// The chain from a source cube it owns (level 0 moves into the output: no copy).
+CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& spec, PrefilterTiming* timing,
+                           const EnvProgress& progress);
+
+// What a chain measured and chose per level, for its metadata and timing.
+struct ChainRecord {
+  std::vector<double> roughness;                       // of each level
+  std::vector<double> seconds;                         // device seconds of each level
+  std::vector<double> refinement;                      // quadrature: the refinement kept
+  std::vector<int> samples;                            // sampling: the samples kept
+  std::vector<double> measured;                        // max_error: the last difference of each level's search
+  size_t bright = 0;                                   // bright texels summed exactly
+  std::vector<std::pair<std::string, double>> stages;  // wall seconds of each step
+};
+
+// The metadata of a prefiltered chain common to every estimator: conventions, what a level holds,
+// sizes, the roughness schedule and the roughness of each level (roughness.size() levels).
+void prefilter_metadata(CubeLevels& out, const PrefilterSpec& spec, const std::vector<double>& roughness);
+// The metadata of the chain's estimator and, with max_error, its measured error; throws Error when
+// a level did not reach max_error (no file may claim a bound it does not meet).
+void chain_metadata(CubeLevels& out, const PrefilterSpec& spec, const ChainRecord& record);
+
+// ---- The sampling estimator (samples.cpp) ---------------------------------------------------------
+
+// The lobe samples of one level in the frame (t, b, R), as the arrays x, y, z, weight, lod_k
+// (kernels/prefilter.cl); *kept: the samples above the horizon before padding.
+std::vector<double> lobe_samples(EnvDistribution dist, double alpha, int n, int source_size, bool fis, double lod_bias,
+                                 int* kept);
+// The sampling estimator's default lobe samples per texel.
+int default_prefilter_samples(int level, int levels);
+
+// ---- Bright texels in the filter (bright.cpp) -----------------------------------------------------
+
+// Sub-cells per texel side of the bright texels' footprints: the lobe's part alone (away from a
+// texel's horizon), and the full subdivision (near it) for `bright` texels.
+int bright_lobe_subdivision(EnvDistribution dist, double alpha, int source_size);
+int bright_subdivision(EnvDistribution dist, double alpha, int source_size, size_t bright);
+// Whether one point a bright texel resolves the lobe.
+bool bright_single_point(EnvDistribution dist, double alpha, int source_size);
+// Groups of `per` points (one bright texel's, with SoA stride `stride`) merged into one each.
+std::vector<double> merge_bright_points(const std::vector<double>& pts, size_t stride, size_t per, size_t texels);
+
+// ---- The quadrature's pyramid (pyramid.cpp; kernels/common/env_sampling.clh) ----------------------
+
+struct Pyramid {
+  std::vector<float> data;   // every level's ten arrays (gx gy gz mx my mz omega r g b)
+  std::vector<cl_int> info;  // offset (floats) and face size per level
+  std::vector<int> sizes;
+  int levels = 0;
+};
+// The pyramid of an RGBA cube of face s0 from level `base` of the full pyramid up; texels marked in
+// `skip` (the bright ones) add their solid angle but no radiance.
+Pyramid build_pyramid(const std::vector<float>& rgba, int s0, int base, const std::vector<uint8_t>& skip);
+// The refinement thresholds of one output level: cos_core per pyramid level and band (lo, hi) pairs.
+void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s, double refinement,
+                        std::vector<double>& cos_core, std::vector<double>& band);
+// The finest level of the full pyramid that the quadrature visits for any of the lobes `alphas`.
+int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas, const PrefilterSpec& s);
+
+// ---- The reference (reference.cpp) -----------------------------------------------------------------
+
+// The reference's prefiltered radiance (RGB per direction) of a source cube (level 0 of `source`,
+// RGBA) at unit directions, one lobe of `roughness`: for measurements at probe directions
+// (brdfbake report).
+std::vector<double> prefilter_reference_directions(const CubeLevels& source, EnvDistribution distribution,
+                                                   double roughness, const std::vector<Vec3>& directions);
+
+}  // namespace brdfbake::detail

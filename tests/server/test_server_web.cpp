@@ -1,0 +1,236 @@
+// The web page's routes (host/server/web_routes.cpp, docs/SERVICE.md "The web page"), as a client
+// sees them: the page's files served without the token, byte for byte the sources, with their
+// content types and security headers; every API route the page calls refused without the token;
+// the schemas as the command line prints them; the plan as `bake --dry-run --json` prints it; a
+// file's picture as `brdfbake view` draws it. The browser test is tests/python/test_web_page.py.
+#include <gtest/gtest.h>
+
+#include "server/server_process.hpp"
+#include "support/cli_runner.hpp"
+
+namespace brdfbake::test {
+namespace {
+
+const std::string kToken = "web-routes-token-0123456789";
+
+class ServerWeb : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("web");
+    write_file(dir_->path / "inputs" / "maps" / "sky.hdr", "not really an image: only listed");
+    write_file(dir_->path / "inputs" / "scene.gltf", "{}");
+    write_file(dir_->path / "inputs" / ".hidden" / "secret.hdr", "x");
+    write_file(dir_->path / "inputs" / "notes.txt", "x");
+    write_file(dir_->path / "outside" / "far.hdr", "x");
+    fs::create_symlink(dir_->path / "outside" / "far.hdr", dir_->path / "inputs" / "link.hdr");
+    write_file(dir_->path / "token", kToken + "\n");
+    server_ = new ServerProcess(
+        dir_->path, {"--data", (dir_->path / "data").string(), "--input-root", (dir_->path / "inputs").string(),
+                     "--token-file", (dir_->path / "token").string()});
+    started_ = server_->start();
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    delete dir_;
+  }
+  void SetUp() override { ASSERT_TRUE(started_) << server_->error(); }
+
+  static TempDir* dir_;
+  static ServerProcess* server_;
+  static bool started_;
+};
+TempDir* ServerWeb::dir_ = nullptr;
+ServerProcess* ServerWeb::server_ = nullptr;
+bool ServerWeb::started_ = false;
+
+TEST_F(ServerWeb, PageFilesAreServedWithoutTheTokenAsTheSourcesAre) {
+  auto anonymous = server_->client();
+  const fs::path web = fs::path(BRDFBAKE_SOURCE_DIR) / "host" / "server" / "web";
+  struct Asset {
+    const char* route;
+    const char* file;
+    const char* type;
+  };
+  for (const Asset& a : {Asset{"/", "index.html", "text/html; charset=utf-8"},
+                         Asset{"/index.html", "index.html", "text/html; charset=utf-8"},
+                         Asset{"/app.js", "app.js", "text/javascript; charset=utf-8"},
+                         Asset{"/app.css", "app.css", "text/css; charset=utf-8"}}) {
+    auto r = anonymous.Get(a.route);
+    ASSERT_TRUE(r) << a.route;
+    EXPECT_EQ(r->status, 200) << a.route;
+    EXPECT_EQ(r->body, read_file(web / a.file)) << a.route;  // embedded at build time, byte for byte
+    EXPECT_EQ(r->get_header_value("Content-Type"), a.type);
+    const std::string csp = r->get_header_value("Content-Security-Policy");
+    EXPECT_EQ(csp.rfind("default-src 'self';", 0), 0u) << csp;
+    EXPECT_EQ(csp.find("http"), std::string::npos) << csp;  // nothing loaded from elsewhere
+    EXPECT_EQ(r->get_header_value("X-Content-Type-Options"), "nosniff");
+    EXPECT_EQ(r->get_header_value("Cache-Control"), "no-cache");
+    // No data in the page: no token, no input, no job.
+    EXPECT_EQ(r->body.find(kToken), std::string::npos);
+    EXPECT_EQ(r->body.find("sky.hdr"), std::string::npos);
+    // Revalidation: the same bytes answer 304.
+    const std::string etag = r->get_header_value("ETag");
+    ASSERT_FALSE(etag.empty());
+    auto again = anonymous.Get(a.route, httplib::Headers{{"If-None-Match", etag}});
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 304) << a.route;
+    EXPECT_TRUE(again->body.empty());
+  }
+  // Only those: other methods and names need the token like the API, and unknown names are 404.
+  EXPECT_EQ(anonymous.Post("/", "x", "text/plain")->status, 401);
+  EXPECT_EQ(anonymous.Get("/app.js/x")->status, 401);
+  EXPECT_EQ(anonymous.Get("/secret.html")->status, 401);
+  EXPECT_EQ(server_->client(kToken).Get("/secret.html")->status, 404);
+}
+
+TEST_F(ServerWeb, EveryRouteThePageCallsNeedsTheToken) {
+  auto anonymous = server_->client();
+  for (const char* path : {"/v1/health", "/v1/kinds", "/v1/bake/options", "/v1/inputs", "/v1/devices", "/v1/jobs",
+                           "/v1/jobs/j0/job", "/v1/jobs/j0/view/a.exr", "/v1/jobs/j0/files/a.exr"}) {
+    auto r = anonymous.Get(path);
+    ASSERT_TRUE(r) << path;
+    EXPECT_EQ(r->status, 401) << path;
+    EXPECT_EQ(body_json(r).value("error", ""),
+              "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");
+  }
+  EXPECT_EQ(anonymous.Post("/v1/plan", "{}", "application/json")->status, 401);
+  EXPECT_EQ(anonymous.Post("/v1/bake", "{}", "application/json")->status, 401);
+  EXPECT_EQ(anonymous.Delete("/v1/jobs/j0")->status, 401);
+}
+
+TEST_F(ServerWeb, SchemasAreTheCommandLines) {
+  auto c = server_->client(kToken);
+  auto kinds = c.Get("/v1/kinds");
+  ASSERT_TRUE(kinds);
+  EXPECT_EQ(kinds->status, 200);
+  EXPECT_EQ(kinds->get_header_value("Content-Type"), "application/json");
+  const CliRun cli = run_cli("kinds --json");
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  EXPECT_EQ(kinds->body, cli.out);  // the one serialisation, byte for byte
+  auto options = c.Get("/v1/bake/options");
+  ASSERT_TRUE(options);
+  EXPECT_EQ(options->status, 200);
+  const json o = body_json(options)["options"];
+  ASSERT_TRUE(o.is_array());
+  // Every option of `brdfbake bake --help` that the schema makes, with its type and range.
+  const CliRun help = run_cli("bake --help");
+  std::map<std::string, json> by_name;
+  for (const auto& d : o) {
+    by_name[d["name"]] = d;
+    // A flag on by default is spelled --no-NAME on the command line.
+    const std::string option = d["option"], negated = "--no-" + option.substr(2);
+    EXPECT_TRUE(help.out.find(option + " ") != std::string::npos || help.out.find(negated + " ") != std::string::npos)
+        << option;
+  }
+  ASSERT_TRUE(by_name.count("cube_size") && by_name.count("environment") && by_name.count("target"));
+  EXPECT_EQ(by_name["cube_size"]["type"], "integer");
+  EXPECT_EQ(by_name["cube_size"]["min"], 1);
+  EXPECT_EQ(by_name["environment"]["default"], "builtin:studio");
+  EXPECT_NE(std::find(by_name["target"]["choices"].begin(), by_name["target"]["choices"].end(), "filament"),
+            by_name["target"]["choices"].end());
+}
+
+TEST_F(ServerWeb, InputsListsWhatARequestMayReadAndNothingElse) {
+  auto r = server_->client(kToken).Get("/v1/inputs");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  const json o = body_json(r);
+  EXPECT_EQ(o["input_root"], true);
+  std::vector<std::string> envs, scenes;
+  for (const auto& e : o["environments"]) envs.push_back(e["path"]);
+  for (const auto& e : o["scenes"]) scenes.push_back(e["path"]);
+  // The builtins, then the root's files by relative path: no hidden folder, no link out of the root,
+  // no file of another kind.
+  EXPECT_EQ(envs, (std::vector<std::string>{"builtin:studio", "builtin:sun", "maps/sky.hdr"}));
+  EXPECT_EQ(scenes, (std::vector<std::string>{"scene.gltf"}));
+  EXPECT_EQ(o["environments"][2]["bytes"], 32);
+}
+
+TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
+  auto c = server_->client(kToken);
+  auto r = c.Post("/v1/plan", R"({"cube_size": 32, "target": "filament"})", "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json plan = body_json(r);
+  const CliRun cli = run_cli("bake --dry-run --json --cube-size 32 --target filament");
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  const json want = json::parse(cli.out);
+  EXPECT_EQ(plan["job"]["tables"], want["tables"]);
+  ASSERT_EQ(plan["tables"].size(), want["tables"].size());
+  for (const auto& t : plan["tables"]) EXPECT_GT(t["estimated_bytes"].get<double>(), 0);
+  // Refusals are the submission's, one line naming the option.
+  auto bad = c.Post("/v1/plan", R"({"cube_size": -1})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_EQ(body_json(bad).value("error", ""), "bake: cube_size: must be an integer in 1..2048 (got -1)");
+  auto outside = c.Post("/v1/plan", R"({"environment": "../token"})", "application/json");
+  ASSERT_TRUE(outside);
+  EXPECT_EQ(outside->status, 400);
+  EXPECT_EQ(body_json(outside).value("error", ""),
+            "bake: environment: '../token' must stay inside the input root (no '..')");
+}
+
+TEST_F(ServerWeb, ViewIsTheContactSheetOfBrdfbakeView) {
+  auto c = server_->client(kToken);
+  const std::string id = submit(c, json::parse(R"({"brdfbake_job": 1, "tables": [
+      {"kind": "ggx", "size": 16, "output": "dfg.exr"},
+      {"kind": "fresnel", "model": "schlick", "f0": 0.04, "size": 8, "output": "f.csv"}]})"));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_job(c, id).value("state", ""), "done");
+  auto r = c.Get(("/v1/jobs/" + id + "/view/dfg.exr").c_str());
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
+  EXPECT_EQ(r->body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  // The same sheet as `brdfbake view dfg.exr --title dfg.exr` in the job's folder: the file named as
+  // the job names it, not by where the server keeps it.
+  TempDir out("web-view");
+  const fs::path folder = dir_->path / "data" / "jobs" / id;
+  const CliRun cli = run_cli("view dfg.exr --title dfg.exr --quiet -o " + (out.path / "sheet.png").string(), {},
+                             "cd '" + folder.string() + "' &&");
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  EXPECT_TRUE(r->body == read_file(out.path / "sheet.png")) << "the server's picture differs from brdfbake view's";
+  EXPECT_EQ(r->body.find(folder.string()), std::string::npos);
+  // What view cannot show, names that leave the folder, and files that are not there.
+  auto manifest = c.Get(("/v1/jobs/" + id + "/view/manifest.json").c_str());
+  ASSERT_TRUE(manifest);
+  EXPECT_EQ(manifest->status, 200);  // a manifest is every file it lists
+  auto up = c.Get(("/v1/jobs/" + id + "/view/..%2Fjobs.db").c_str());
+  ASSERT_TRUE(up);
+  EXPECT_EQ(up->status, 400);
+  EXPECT_EQ(c.Get(("/v1/jobs/" + id + "/view/none.exr").c_str())->status, 404);
+  EXPECT_EQ(c.Get("/v1/jobs/jnone/view/dfg.exr")->status, 404);
+  // The folder as one tar file: every file, byte for byte what GET .../files/NAME serves.
+  auto tar = c.Get(("/v1/jobs/" + id + "/archive").c_str());
+  ASSERT_TRUE(tar);
+  ASSERT_EQ(tar->status, 200);
+  EXPECT_EQ(tar->get_header_value("Content-Type"), "application/x-tar");
+  std::vector<std::string> names;
+  size_t at = 0;
+  while (at + 512 <= tar->body.size() && tar->body[at] != '\0') {
+    const std::string header = tar->body.substr(at, 512);
+    EXPECT_EQ(header.substr(257, 6), std::string("ustar\0", 6));
+    unsigned sum = 0;
+    for (size_t i = 0; i < 512; ++i)
+      sum += (i >= 148 && i < 156) ? unsigned(' ') : static_cast<unsigned char>(header[i]);
+    EXPECT_EQ(sum, std::stoul(header.substr(148, 6), nullptr, 8));
+    const std::string name = header.substr(0, header.find('\0'));
+    const size_t size = std::stoul(header.substr(124, 11), nullptr, 8);
+    names.push_back(name);
+    auto file = c.Get(("/v1/jobs/" + id + "/files/" + name).c_str());
+    ASSERT_TRUE(file);
+    EXPECT_TRUE(tar->body.substr(at + 512, size) == file->body) << name;
+    at += 512 + (size + 511) / 512 * 512;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"dfg.exr", "f.csv", "manifest.json"}));
+  EXPECT_EQ(tar->body.size(), at + 1024);  // two zero blocks end it
+  EXPECT_EQ(tar->body.find_first_not_of('\0', at), std::string::npos);
+  // The job document: what `brdfbake run` reads to make the same files.
+  auto doc = c.Get(("/v1/jobs/" + id + "/job").c_str());
+  ASSERT_TRUE(doc);
+  EXPECT_EQ(doc->status, 200);
+  EXPECT_EQ(body_json(doc)["tables"][0]["output"], "dfg.exr");
+}
+
+}  // namespace
+}  // namespace brdfbake::test
