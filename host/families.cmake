@@ -9,4 +9,5 @@ set(BRDFBAKE_FAMILIES
   prefilter
   irradiance
   brdf_eval
+  preview
 )

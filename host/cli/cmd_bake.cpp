@@ -175,7 +175,8 @@ int cmd_bake(int argc, char** argv) {
       ("dry-run", "print the plan and bake nothing")
       ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
       ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>())
-      ("contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)");
+      ("contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)")
+      ("preview", "also render the target's preview of the files: OUTPUT/preview.png, preview_splitsum.exr, preview_reference.exr, preview.json (brdfbake preview, docs/PREVIEW.md)");
   add_schema_options(options, plan_schema());
   add_common_options(options);
   add_remote_options(options);
@@ -189,6 +190,7 @@ int cmd_bake(int argc, char** argv) {
   const bool as_json = r.count("json") > 0;
   if (as_json && !dry_run) throw UsageError("--json prints the plan: it goes with --dry-run");
   if (dry_run && r.count("contact-sheet")) throw UsageError("--contact-sheet draws what a bake wrote: not with --dry-run");
+  if (dry_run && r.count("preview")) throw UsageError("--preview renders what a bake wrote: not with --dry-run");
   const bool quiet = quiet_option(r);
 
   OptionNaming naming;
@@ -197,6 +199,7 @@ int cmd_bake(int argc, char** argv) {
   const PlanOptions& o = bake.plan;
   Plan plan = plan_bake(bake);
   plan.job.output_dir = r["output"].as<std::string>();
+  plan.job.preview = r.count("preview") > 0;
   if (plan.job.output_dir.empty()) throw UsageError("-o must name a folder");
 
   if (!quiet || as_json)
@@ -207,6 +210,7 @@ int cmd_bake(int argc, char** argv) {
     return 0;
   }
   if (remote_requested(r)) {  // the server reads the environment under its input root
+    if (plan.job.preview) throw UsageError("--preview is not sent to a server: bake there, then run brdfbake preview --bake on the folder");
     if (!quiet) print_plan(plan, std::cout);
     std::cout.flush();
     return run_remote("bake", r, "bake plan", job_to_json(plan.job), plan.job.output_dir, false, quiet);
@@ -235,6 +239,14 @@ int cmd_bake(int argc, char** argv) {
   }
   line.finish();
   if (!quiet) print_manifest_summary(manifest, std::cout);
+  if (!quiet && !manifest.preview_files.empty()) {
+    std::string median, worst;
+    for (const auto& [k, v] : manifest.preview)
+      if (k == "error_rms_median") median = v;
+      else if (k == "error_rms_max") worst = v;
+    std::cout << "preview: " << plan.job.output_dir << "/preview.png (split-sum against the reference, relative RMS per "
+              << "sphere: median " << median << ", worst " << worst << ")\n";
+  }
   if (r.count("contact-sheet")) {
     const std::string sheet = plan.job.output_dir + "/contact_sheet.png";
     ViewOptions view;

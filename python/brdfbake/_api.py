@@ -51,6 +51,8 @@ class Result:
     - tabulate layout merl: shape (90, 90, 180, 3): theta_h, theta_d, phi_d bins, then r, g, b; f
       itself (not divided by MERL's channel scales), -1 in bins below the horizon;
     - eval: shape (n, 3), f (without the cosine) at each pair.
+    - preview: shape (height, width, 3): the split-sum render, linear radiance, row 0 at the top;
+      ``.preview`` holds both renders, the error image and every number.
 
     ``meta`` is the metadata the file would carry, as a dict of strings, with ``error_bound`` as a
     number (None where the family measures none) and its definition. ``save(path)`` writes the
@@ -133,6 +135,8 @@ class Result:
                 self._array = self._core.table_array()
             elif artifact == "cube":
                 self._array = self._core.cube_levels()
+            elif artifact == "preview":
+                self._array = self._core.preview()["splitsum"]
             elif artifact == "irradiance":
                 a = self._core.sh()["irradiance_over_pi"].astype(np.float32)
                 a.flags.writeable = False
@@ -177,6 +181,42 @@ class Result:
         a = np.asarray(core[key], dtype=np.float64)
         a.flags.writeable = False
         return a
+
+    @property
+    def preview(self) -> Optional[Dict[str, Any]]:
+        """preview: the two renders and every number of NAME.json (docs/PREVIEW.md), or None.
+
+        ``splitsum`` and ``reference`` (float32 (height, width, 3), linear radiance, row 0 at the top;
+        ``reference`` None with ``reference=False``), ``error`` (float32 (height, width): per pixel
+        |split-sum - reference| / |reference| of the RGB triples' norms, NaN off the spheres), and
+        ``spheres``: per sphere its material (``name``, ``base_color``, ``metallic``, ``roughness``,
+        ``f0``, ``diffuse_color``), ``row``, ``column``, ``centre`` (x, y) and ``radius`` in pixels,
+        ``pixels``, ``linear`` and ``srgb8`` (``rms``, ``p99``, ``max``) and ``reference_bound``
+        (``rms``, ``max``, ``pixels``); ``camera`` (``view_direction``, ``up``, ``right`` in the
+        environment's frame), ``target``, ``brdf``, ``multiscatter``, ``exposure``, ``bake``,
+        ``shading`` (each step of the target's shader) and ``times``.
+        """
+        doc = self._core.preview()
+        if doc is None:
+            return None
+        ref = doc["reference"]
+        if ref is None:
+            doc["error"] = None
+            return doc
+        split = doc["splitsum"]
+        h, w = split.shape[:2]
+        error = np.full((h, w), np.nan, dtype=np.float32)
+        ys, xs = np.mgrid[0:h, 0:w]
+        norm_s = np.linalg.norm(split.astype(np.float64) - ref, axis=2)
+        norm_r = np.linalg.norm(ref.astype(np.float64), axis=2)
+        for sphere in doc["spheres"]:
+            cx, cy = sphere["centre"]
+            inside = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < sphere["radius"] ** 2
+            with np.errstate(divide="ignore", invalid="ignore"):
+                error[inside] = (norm_s[inside] / norm_r[inside]).astype(np.float32)
+        error.flags.writeable = False
+        doc["error"] = error
+        return doc
 
     @property
     def meta(self) -> Dict[str, Any]:

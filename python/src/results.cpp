@@ -27,6 +27,7 @@ const char* artifact_name(const BakeResult& r) {
   if (r.irradiance()) return "irradiance";
   if (r.merl()) return "merl";
   if (r.eval()) return "eval";
+  if (r.preview()) return "preview";
   return "none";
 }
 
@@ -44,6 +45,84 @@ py::array sh_array(const std::vector<double>& values, int order) {
   py::array_t<double> a({static_cast<py::ssize_t>(order) * order, py::ssize_t(3)});
   std::copy(values.begin(), values.end(), a.mutable_data());
   return std::move(a);
+}
+
+py::dict error_stats(const PreviewErrorStats& e) {
+  py::dict d;
+  d["rms"] = e.rms;
+  d["p99"] = e.p99;
+  d["max"] = e.max;
+  return d;
+}
+
+py::tuple vec3(const Vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+py::tuple rgb(const Rgb& c) { return py::make_tuple(c.r, c.g, c.b); }
+
+// A preview's renders as (height, width, 3) views, and every number of its JSON.
+py::dict preview_dict(const py::handle& owner, const PreviewResult& p) {
+  py::dict d;
+  const auto image = [&](const PreviewImage& i) -> py::object {
+    if (i.rgb.empty()) return py::none();
+    const py::ssize_t w = i.width, h = i.height;
+    return view(owner, i.rgb.data(), {h, w, 3}, {w * 3, 3, 1});
+  };
+  d["splitsum"] = image(p.splitsum);
+  d["reference"] = image(p.reference);
+  py::list spheres;
+  for (size_t s = 0; s < p.spheres.size(); ++s) {
+    const PreviewSphere& sp = p.spheres[s];
+    py::dict e;
+    e["name"] = sp.material.name;
+    e["base_color"] = rgb(sp.material.base_color);
+    e["metallic"] = sp.material.metallic;
+    e["roughness"] = sp.material.roughness;
+    e["f0"] = rgb(preview_f0(sp.material));
+    e["diffuse_color"] = rgb(preview_diffuse_color(sp.material));
+    e["row"] = sp.row;
+    e["column"] = sp.column;
+    e["centre"] = py::make_tuple(sp.centre_x, sp.centre_y);
+    e["radius"] = sp.radius;
+    if (s < p.stats.size()) {
+      const PreviewSphereStats& st = p.stats[s];
+      e["pixels"] = st.pixels;
+      e["linear"] = error_stats(st.linear);
+      e["srgb8"] = error_stats(st.srgb8);
+      py::dict b;
+      b["rms"] = st.reference_rms_bound;
+      b["max"] = st.reference_max_bound;
+      b["pixels"] = st.bound_pixels;
+      e["reference_bound"] = b;
+    }
+    spheres.append(e);
+  }
+  d["spheres"] = spheres;
+  py::dict camera;
+  camera["view_direction"] = vec3(p.camera.view_direction);
+  camera["up"] = vec3(p.camera.up);
+  camera["right"] = vec3(p.camera.right);
+  camera["yaw"] = p.camera.yaw;
+  camera["pitch"] = p.camera.pitch;
+  camera["background_fov"] = p.camera.background_fov;
+  d["camera"] = camera;
+  d["target"] = std::string(engine_target_name(p.spec.target));
+  d["brdf"] = p.brdf;
+  d["multiscatter"] = p.multiscatter;
+  d["exposure"] = p.exposure;
+  d["environment_median"] = p.environment_median;
+  d["environment_model"] = p.environment_model;
+  d["bound_definition"] = p.bound_definition;
+  d["bake"] = metadata_dict(p.bake);
+  d["shading"] = metadata_dict(p.shading);
+  py::dict t;
+  t["bake"] = p.times.bake;
+  t["read"] = p.times.read;
+  t["splitsum"] = p.times.splitsum;
+  t["reference"] = p.times.reference;
+  t["reference_device"] = p.times.reference_device;
+  t["bound"] = p.times.bound;
+  t["total"] = p.times.total;
+  d["times"] = t;
+  return d;
 }
 
 // The float32 copy of a MERL table (theta_h, theta_d, phi_d, channel) or of eval values (pair, channel).
@@ -220,6 +299,11 @@ void bind_results(py::module_& module) {
           convert(r);
           return view(self, r.converted.data(), {static_cast<py::ssize_t>(e->pairs), 3}, {3, 1});
         }
+        return py::none();
+      })
+      .def("preview", [](py::object self) -> py::object {
+        const PyResult& r = self.cast<const PyResult&>();
+        if (const PreviewResult* p = r.result.preview()) return preview_dict(self, *p);
         return py::none();
       })
       .def_property_readonly("warnings", [](const PyResult& r) { return r.warnings; })

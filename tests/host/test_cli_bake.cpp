@@ -136,6 +136,7 @@ TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   EXPECT_NE(r.out.find("runtime: specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("contact sheet: " + out.string() + "/contact_sheet.png"), std::string::npos) << r.out;
   EXPECT_NE(run("bake --dry-run --contact-sheet").err.find("not with --dry-run"), std::string::npos);
+  EXPECT_NE(run("bake --dry-run --preview").err.find("not with --dry-run"), std::string::npos);
   std::ifstream m(out / "manifest.json");
   const json manifest = json::parse(m);
   ASSERT_EQ(manifest["files"].size(), 3u);

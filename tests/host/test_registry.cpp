@@ -71,6 +71,7 @@ TEST(Registry, EverySpecFieldHasASchemaEntry) {
     expect_bound(kind, field_count<LutSpec>(), "LutSpec");
   EXPECT_NE(find_param_def(table_schema(TableKind::Charlie), "sheen_visibility"), nullptr);
   expect_bound(TableKind::Fresnel, field_count<FresnelSpec>(), "FresnelSpec");
+  expect_bound(TableKind::Preview, field_count<PreviewSpec>(), "PreviewSpec");
   expect_bound(TableKind::ThinFilm, field_count<ThinFilmSpec>(), "ThinFilmSpec");
   expect_bound(TableKind::Prefilter, field_count<PrefilterSpec>(), "PrefilterSpec");
   expect_bound(TableKind::Irradiance, field_count<IrradianceSpec>(), "IrradianceSpec");

@@ -20,7 +20,7 @@ ALL_KINDS = [k["name"] for k in brdfbake.kinds()]
 
 def test_every_kind_has_a_function():
     assert set(ALL_KINDS) == {"ggx", "ggx-multiscatter", "charlie", "fresnel", "thin-film", "prefilter",
-                              "irradiance", "eval", "tabulate"}
+                              "irradiance", "eval", "tabulate", "preview"}
     for k in brdfbake.kinds():
         f = brdfbake.function_of(k["name"])
         assert f.__name__ == k["command"].replace("-", "_")
@@ -104,14 +104,22 @@ CONTEXT = {
     "eval": {"name": {"name": "red"}},
     "tabulate": {"name": {"layout": "merl", "name": "red"}, "phi_d": {"layout": "slice", "phi_d": 1.0},
                  "symbol": {"layout": "albedo", "symbol": "albedo", "output": "a.h"}},
+    # preview reads its files when validated: a material file (RED_FILE) and a bake folder (BAKE_DIR,
+    # one holding a manifest.json), put in by request()
+    "preview": {"materials": {"materials": "RED_FILE"}, "scene": {"scene": "RED_FILE"}, "bake": {"bake": "BAKE_DIR"}},
 }
 
 
 @pytest.mark.parametrize("kind", ALL_KINDS)
-def test_every_parameter_is_accepted_by_validation(kind, red_file):
+def test_every_parameter_is_accepted_by_validation(kind, red_file, tmp_path):
+    bake_dir = tmp_path / "bake"
+    bake_dir.mkdir()
+    (bake_dir / "manifest.json").write_text("{}")
+
     def request(args):
         if kind in ("eval", "tabulate"):
             args = dict(args, material=str(red_file))
+        args = {k: str(red_file) if v == "RED_FILE" else str(bake_dir) if v == "BAKE_DIR" else v for k, v in args.items()}
         return brdfbake.validate(kind, **args)
 
     base = MINIMAL.get(kind, {})

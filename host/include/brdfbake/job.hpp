@@ -32,6 +32,9 @@ struct Job {
   std::string device;           // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
+  // `brdfbake bake --preview`: also render the preview of the files (the preview family, default grid)
+  // into preview.png and its siblings, recorded in the manifest's "preview" (not in job documents).
+  bool preview = false;
   // Informative, carried into the manifest.
   std::string scene;
   std::vector<std::string> notes;

@@ -38,6 +38,8 @@ struct Manifest {
   std::string target;                     // the engine target, when not generic
   std::vector<std::string> engine_files;  // the files of its file set, relative to the folder
   Metadata engine_delivered;              // their delivered error (storage, clamping, compression)
+  std::vector<std::string> preview_files;  // bake --preview: the preview's files (docs/PREVIEW.md)
+  Metadata preview;                        // ... and its summary (the sheet, errors, bound, seconds)
 };
 std::string manifest_to_json(const Manifest& manifest);
 

@@ -17,6 +17,7 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/params.hpp"
+#include "brdfbake/preview.hpp"
 #include "brdfbake/table.hpp"
 
 namespace brdfbake {
@@ -33,6 +34,7 @@ enum class TableKind {
   Irradiance,       // diffuse irradiance of the environment: SH coefficients (and a cube)
   Eval,             // a BRDF evaluated at (wi, wo) pairs read from a file (brdfbake/brdf.hpp)
   Tabulate,         // a BRDF tabulated: MERL, grid, directional albedo or slice
+  Preview,          // material spheres: the split-sum render against the reference (brdfbake/preview.hpp)
 };
 // "ggx" | "ggx-multiscatter" | "charlie" | "fresnel" | "thin-film" | "prefilter" | "irradiance" |
 // "eval" | "tabulate"; throws Error naming the known kinds otherwise.
@@ -157,7 +159,7 @@ struct EvalResult {
 // What one bake produced.
 struct BakeResult {
   TableKind kind = TableKind::Ggx;
-  std::variant<std::monostate, Table, CubeLevels, IrradianceResult, MerlTable, EvalResult> artifact;
+  std::variant<std::monostate, Table, CubeLevels, IrradianceResult, MerlTable, EvalResult, PreviewResult> artifact;
   std::optional<double> error_bound;   // measured; empty where the family measures none
   std::string error_bound_definition;  // what the bound measures
   Params parameters;                   // as baked: every parameter, resolved defaults included
@@ -175,6 +177,7 @@ struct BakeResult {
   const IrradianceResult* irradiance() const { return std::get_if<IrradianceResult>(&artifact); }
   const MerlTable* merl() const { return std::get_if<MerlTable>(&artifact); }
   const EvalResult* eval() const { return std::get_if<EvalResult>(&artifact); }
+  const PreviewResult* preview() const { return std::get_if<PreviewResult>(&artifact); }
 };
 
 // What a bake reads beside its parameters.

@@ -45,7 +45,8 @@ struct ViewOptions {
 struct SheetRegion {
   std::string file;   // the file it shows
   std::string role;   // "cube level", "table channel", "table rgb", "colour scale", "plot",
-                      // "sphere", "band plot", "merl slice", "file title", "sheet title"
+                      // "sphere", "band plot", "merl slice", "file title", "sheet title", "image",
+                      // "preview sheet" (a preview's contact sheet, as drawn)
   std::string label;  // e.g. "level 2", the channel's name, the slice's phi_d
   int x = 0, y = 0, width = 0, height = 0;
   double lo = 0.0, hi = 0.0;  // "colour scale" and "table channel": the values mapped to its ends

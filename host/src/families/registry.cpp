@@ -35,7 +35,7 @@ const Family& tabulate_family();
 const std::vector<const Family*>& families() {
   static const std::vector<const Family*> all = {&dfg_lut_family(),    &fresnel_family(),    &thin_film_family(),
                                                  &prefilter_family(),  &irradiance_family(), &eval_family(),
-                                                 &tabulate_family()};
+                                                 &tabulate_family(),   &preview_family()};
   return all;
 }
 

@@ -114,6 +114,7 @@ struct WriteState {
   const std::vector<std::pair<std::string, std::string>>* text = nullptr;
   std::vector<png_text> chunks;
   int width = 0, height = 0;
+  int level = 9;
 };
 
 void write_to_memory(png_structp png, png_bytep data, png_size_t length) {
@@ -148,7 +149,7 @@ bool encode(WriteState* s, ErrorState* err) {
     t.text_length = (*s->text)[k].second.size();
   }
   if (!s->chunks.empty()) png_set_text(png, info, s->chunks.data(), static_cast<int>(s->chunks.size()));
-  png_set_compression_level(png, 9);
+  png_set_compression_level(png, s->level);
   png_write_info(png, info);
   const size_t stride = 3u * static_cast<size_t>(s->width);
   for (int y = 0; y < s->height; ++y)
@@ -374,7 +375,7 @@ PngImage decode_png(const std::vector<uint8_t>& bytes, const std::string& origin
 PngImage read_png(const std::string& path) { return decode_png(read_binary_file(path, "PNG"), path); }
 
 std::vector<uint8_t> encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb,
-                                     const std::vector<std::pair<std::string, std::string>>& text) {
+                                     const std::vector<std::pair<std::string, std::string>>& text, int level) {
   if (width <= 0 || height <= 0 || rgb.size() != 3u * static_cast<size_t>(width) * static_cast<size_t>(height))
     throw Error("PNG writer: " + std::to_string(rgb.size()) + " bytes for a " + std::to_string(width) + "x" +
                 std::to_string(height) + " RGB image");
@@ -385,16 +386,17 @@ std::vector<uint8_t> encode_png_rgb8(int width, int height, const std::vector<ui
   state.text = &text;
   state.width = width;
   state.height = height;
+  state.level = level;
   ErrorState err;
   if (!encode(&state, &err)) throw Error(std::string("PNG writer: ") + err.message);
   return std::move(state.out);
 }
 
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb,
-                    const std::vector<std::pair<std::string, std::string>>& text) {
+                    const std::vector<std::pair<std::string, std::string>>& text, int level) {
   std::vector<uint8_t> bytes;
   try {
-    bytes = encode_png_rgb8(width, height, rgb, text);
+    bytes = encode_png_rgb8(width, height, rgb, text, level);
   } catch (const Error& e) {
     throw_write_error(path, e.what());
   }

@@ -32,12 +32,14 @@ PngImage read_png(const std::string& path);
 PngImage decode_png(const std::vector<uint8_t>& bytes, const std::string& origin);
 
 // Encodes an 8-bit RGB image (row 0 first, 3 bytes a pixel) with an sRGB chunk (the values are
-// display-referred sRGB) and one tEXt chunk per entry (keys of 1 to 79 Latin-1 characters).
+// display-referred sRGB) and one tEXt chunk per entry (keys of 1 to 79 Latin-1 characters), at
+// zlib's compression `level` (9: the smallest file; a 1600 x 700 sheet takes 0.3 s at 9, a tenth of
+// that at 3).
 std::vector<uint8_t> encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb,
-                                     const std::vector<std::pair<std::string, std::string>>& text);
+                                     const std::vector<std::pair<std::string, std::string>>& text, int level = 9);
 // encode_png_rgb8, written atomically to `path`.
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb,
-                    const std::vector<std::pair<std::string, std::string>>& text);
+                    const std::vector<std::pair<std::string, std::string>>& text, int level = 9);
 
 // The bytes of a regular file of at most 4 GiB (io/special_files.hpp); throws Error naming `what` and the path.
 std::vector<uint8_t> read_binary_file(const std::string& path, const std::string& what);

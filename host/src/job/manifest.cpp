@@ -45,6 +45,12 @@ std::string manifest_to_json(const Manifest& m) {
     e["delivered"] = d;
     o["engine"] = e;
   }
+  if (!m.preview_files.empty()) {
+    nlohmann::ordered_json e;
+    e["files"] = m.preview_files;
+    for (const auto& [k, v] : m.preview) e[k] = v;
+    o["preview"] = e;
+  }
   if (!m.notes.empty()) o["notes"] = m.notes;
   if (!m.warnings.empty()) o["warnings"] = m.warnings;
   return io::json_text(o) + "\n";

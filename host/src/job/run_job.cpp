@@ -15,6 +15,7 @@
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/runner.hpp"
 #include "families/family.hpp"
+#include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
 
@@ -160,6 +161,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   validate_job(job);
+  if (job.preview) detail::preview::check_bake_preview(job);
   const std::string origin = job.source.empty() ? std::string("job") : job.source;
   if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
 
@@ -240,7 +242,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
         const TableRequest& later = job.tables[groups[h].front()];
         read_later = read_later || (table_kind_uses_environment(later.kind) && later.environment == t.environment);
       }
-      if (!read_later) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
+      if (!read_later && !job.preview) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
     }
     TableRunOptions bake;
     bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
@@ -298,6 +300,12 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 1.0});
   }
 
+  if (job.preview) {
+    if (progress) progress({steps - 1, steps, "preview", 0.0});
+    const TableRequest& chain = detail::preview::bake_preview_chain(job);
+    detail::preview::write_bake_preview(job, staging.path().string(), manifest, backend_for(chain.device),
+                                        environments.at(chain.environment));
+  }
   if (options.checkpoint) options.checkpoint();
   manifest.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   throw_if_cancelled();  // the last moment a stop leaves the folder as it was

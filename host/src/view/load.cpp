@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -401,6 +402,13 @@ Item read_manifest(const json& j, const std::string& path) {
         notes.emplace_back(key, f[key].is_string() ? f[key].get<std::string>() : f[key].dump());
     list.notes.push_back(std::move(notes));
   }
+  if (j.contains("preview") && j["preview"].is_object() && j["preview"].contains("files")) {
+    for (const auto& f : j["preview"]["files"])  // the preview's JSON stands for its files
+      if (f.is_string() && lower_ext(f.get<std::string>()) == ".json") {
+        list.paths.push_back((dir / f.get<std::string>()).string());
+        list.notes.emplace_back();
+      }
+  }
   // An engine target's file set (docs/ENGINES.md), as written beside the tables: each file, the
   // RGBD faces of an EXT_lights_image_based document drawn as its chain.
   if (j.contains("engine") && j["engine"].is_object() && j["engine"].contains("files") &&
@@ -421,10 +429,52 @@ Item read_manifest(const json& j, const std::string& path) {
   return it;
 }
 
-// A JSON file: a manifest, SH coefficients, a cube folder's description, or the sidecar of a file
+bool is_preview_json(const json& j) {
+  return j.is_object() && j.value("kind", std::string()) == "preview" && j.contains("spheres") &&
+         j.contains("files") && j["files"].is_object() && j["files"].contains("sheet");
+}
+
+// A preview (brdfbake preview, bake --preview): its contact sheet as drawn, named in its JSON, with
+// the JSON's numbers in the caption.
+Item read_preview(const json& j, const std::string& path) {
+  const fs::path sheet = fs::path(path).parent_path() / j["files"]["sheet"].get<std::string>();
+  const io::PngImage png = io::read_png(sheet.string());
+  if (png.bit_depth != 8 || png.channels < 3)
+    throw Error("cannot view '" + sheet.string() + "': not the 8-bit RGB sheet a preview writes");
+  Picture pic;
+  pic.width = png.width;
+  pic.height = png.height;
+  pic.rgb.reserve(size_t(png.width) * size_t(png.height) * 3);
+  for (int y = 0; y < png.height; ++y)
+    for (int x = 0; x < png.width; ++x)
+      for (int c = 0; c < 3; ++c) pic.rgb.push_back(static_cast<uint8_t>(png.at(x, y, c)));
+  std::vector<double> rms;
+  double bound = 0.0;
+  for (const auto& s : j["spheres"]) {
+    if (s.contains("error")) rms.push_back(s["error"]["linear"]["rms"].get<double>());
+    if (s.contains("reference_bound")) bound = std::max(bound, s["reference_bound"]["rms"].get<double>());
+  }
+  std::sort(rms.begin(), rms.end());
+  char b[256];
+  std::snprintf(b, sizeof b, "target %s, %zu spheres", j.value("target", std::string("?")).c_str(),
+                j["spheres"].size());
+  pic.caption = b;
+  if (!rms.empty()) {
+    std::snprintf(b, sizeof b, ", split-sum vs reference RMS %.2g%% median, %.2g%% worst sphere; reference within %.2g%%",
+                  100.0 * rms[rms.size() / 2], 100.0 * rms.back(), 100.0 * bound);
+    pic.caption += b;
+  }
+  Item it;
+  it.kind = "preview";
+  it.content = std::move(pic);
+  return it;
+}
+
+// A JSON file: a preview's, a manifest, SH coefficients, a cube folder's description, or the sidecar of a file
 // that view reads through its main file (.hdr table, .dds, MERL .binary).
 Item read_json_file(const std::string& path) {
   const json j = io::parse_json(io::read_text_file(path, "JSON file"), path);
+  if (is_preview_json(j)) return read_preview(j, path);
   if (j.is_object() && j.contains("files") && j["files"].is_array() && !j["files"].empty() && j["files"][0].is_object())
     return read_manifest(j, path);
   if (j.is_object() && j.contains("order") && j.contains("irradiance_over_pi")) return read_sh(j, path);
@@ -606,6 +656,13 @@ Item read_table_file(const std::string& path) {
     it.kind = "HDR image (RGBE)";
     it.content = std::move(h);
     return it;
+  }
+  if (ext == ".png") {  // a preview's sheet: through its NAME.json
+    const std::string sibling = path.substr(0, path.size() - 4) + ".json";
+    if (fs::is_regular_file(sibling, ec)) {
+      const json j = io::parse_json(io::read_text_file(sibling, "JSON file"), sibling);
+      if (is_preview_json(j)) return read_preview(j, sibling);
+    }
   }
   if (ext == ".exr") {
     io::FloatImage im = read_image(path);

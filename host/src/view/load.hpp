@@ -2,6 +2,7 @@
 // claims it (view/load.cpp). A new output format is one more row of that table.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <variant>
@@ -31,6 +32,14 @@ struct HdrImage {
   bool display_referred = false;  // sRGB-encoded values in [0, 1]: no exposure or tone map
 };
 
+// A picture drawn already, shown as it is (8-bit sRGB, row 0 first), with a caption: a preview's
+// contact sheet (brdfbake preview, docs/PREVIEW.md), read through its NAME.json.
+struct Picture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+  std::string caption;
+};
+
 // The files a manifest or a folder lists, with what the manifest says of each.
 struct FileList {
   std::vector<std::string> paths;
@@ -41,7 +50,7 @@ struct FileList {
 struct Item {
   std::string path;
   std::string kind;  // "cube (KTX2)", "table (OpenEXR)", ... as view_kind says
-  std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList> content;
+  std::variant<Table, CubeLevels, ShView, MerlTable, HdrImage, FileList, Picture> content;
   // An engine file's irradiance beside its chain: a .env's polynomial, an EXT_lights_image_based
   // light's coefficients, a Filament KTX1's "sh" key (converted back to E/pi coefficients).
   std::optional<ShView> irradiance;

@@ -623,6 +623,30 @@ Tile hdr_tile(const HdrImage& im, const ViewOptions& o) {
   return t;
 }
 
+// ---- Pictures drawn already (a preview's sheet) ---------------------------------------------------
+
+// As it is where it fits the sheet's width, else scaled down (a box filter on the sRGB values).
+Tile picture_tile(const Picture& p, int width) {
+  const int dw = std::min(p.width, width);
+  const int dh = std::max(1, int(std::lround(double(p.height) * dw / p.width)));
+  Tile t;
+  t.canvas = Canvas(dw, dh, kBackground);
+  resample(
+      p.width, p.height, dw, dh,
+      [&](int i, int j, double* acc) {
+        const uint8_t* q = &p.rgb[3 * (size_t(j) * size_t(p.width) + size_t(i))];
+        for (int c = 0; c < 3; ++c) acc[c] += double(q[c]);
+      },
+      [&](int x, int y, const double* v) {
+        Rgb8 c;
+        for (int k = 0; k < 3; ++k) c[size_t(k)] = uint8_t(std::clamp(std::lround(v[k]), 0L, 255L));
+        t.canvas.set(x, y, c);
+      },
+      3);
+  add_region(t, "preview sheet", "preview", 0, 0, dw, dh);
+  return t;
+}
+
 // ---- Blocks and the sheet ------------------------------------------------------------------------
 
 // What a file's title line says beside its name and kind.
@@ -647,6 +671,8 @@ std::string facts(const Item& it) {
     add("window", s->window);
   } else if (const auto* m = std::get_if<MerlTable>(&it.content)) {
     meta = &m->metadata;
+  } else if (const auto* p = std::get_if<Picture>(&it.content)) {
+    f.push_back(p->caption);
   }
   if (meta) {
     add("kind", meta_of(*meta, "kind"));
@@ -736,6 +762,8 @@ Block item_block(const Item& it, const ViewOptions& o, int width) {
     tiles = merl_tiles(*m);
   } else if (const auto* h = std::get_if<HdrImage>(&it.content)) {
     tiles.push_back(hdr_tile(*h, o));
+  } else if (const auto* p = std::get_if<Picture>(&it.content)) {
+    tiles.push_back(picture_tile(*p, width));
   }
   return layout_block(shown_name(it.path, o) + "  (" + it.kind + ")", subtitle, std::move(tiles), width, it.path);
 }

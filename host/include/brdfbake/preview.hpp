@@ -1,0 +1,173 @@
+// Material previews (the family `preview`, docs/PREVIEW.md): a grid of spheres lit by an
+// environment, rendered twice on one backend:
+//   the split-sum render  what a target engine's shader computes from a bake's files, read in their
+//                         stored encoding (docs/ENGINES.md says which shader function each step is);
+//   the reference render  each pixel's converged integral of the same BRDF against the environment,
+//                         no split sum, no prefiltering, no storage, with a stated error bound;
+// and their difference per sphere (relative RMS, 99th percentile and max in linear radiance, and in
+// 8-bit sRGB steps after the view's tone map). The result holds both renders as float images, the
+// numbers and the layout, so that every pixel can be recomputed: each sphere's centre and radius in
+// pixels, the camera in the environment's frame, the BRDF and its parameters.
+//
+// Front ends reach it through the registry (kind "preview", `brdfbake preview`); the family writes
+// NAME.png (the contact sheet), NAME_splitsum.exr, NAME_reference.exr and NAME.json.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "brdfbake/backend.hpp"
+#include "brdfbake/device.hpp"
+#include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
+#include "brdfbake/math/types.hpp"
+#include "brdfbake/table.hpp"
+
+namespace brdfbake {
+
+// ---- Materials ----------------------------------------------------------------------------------
+
+// A sphere's material: the glTF 2.0 metallic-roughness core (what every target's split-sum shader
+// reads), linear colours. F0 = mix(0.04, base_color, metallic) (glTF's dielectric F0 of ior 1.5),
+// diffuse colour = base_color (1 - metallic), alpha = roughness^2.
+struct PreviewMaterial {
+  std::string name;
+  Rgb base_color{0.8, 0.8, 0.8};
+  double metallic = 0.0;
+  double roughness = 0.5;
+  std::vector<std::string> notes;  // what of the source material the preview does not render
+};
+Rgb preview_f0(const PreviewMaterial& m);
+Rgb preview_diffuse_color(const PreviewMaterial& m);
+
+// The default grid, row by row: roughness 0, 0.05, 0.1, 0.2, ..., 1 (12 columns) for each of
+// dielectric white, grey and dark, and the metals gold, copper and silver (6 rows).
+std::vector<PreviewMaterial> preview_default_materials();
+inline constexpr int kPreviewDefaultColumns = 12;
+
+// ---- The request ----------------------------------------------------------------------------------
+
+enum class PreviewBackground { Environment, Grey };
+PreviewBackground preview_background_from_name(const std::string& name);  // "environment" | "grey"
+const char* preview_background_name(PreviewBackground b);
+
+struct PreviewSpec {
+  EngineTarget target = EngineTarget::Generic;
+  // A bake's output folder (`brdfbake bake --target T -o DIR`, its manifest.json and files); empty:
+  // baked first, into a temporary folder, with the target's settings and the same environment.
+  std::string bake;
+  // The spheres: a material file (ours or glTF, as eval and tabulate read it, one sphere per
+  // material); empty and `materials` empty: the default grid.
+  std::string materials_file;
+  std::vector<PreviewMaterial> materials;  // used as given when not empty (in-memory callers)
+  int width = 512;
+  int height = 512;
+  int columns = 0;  // spheres per row; 0: 12 for the default grid, else about sqrt(n) (square cells)
+  PreviewBackground background = PreviewBackground::Environment;
+  // The camera: orthographic, looking along -Z of the environment's frame with +Y up at yaw = pitch
+  // = 0; yaw turns it about +Y, then pitch about its right axis (degrees).
+  double yaw = 0.0;
+  double pitch = 0.0;
+  // The reference render and the error (false: the split-sum render alone).
+  bool reference = true;
+  // The reference quadrature's refinement (kernels/preview.cl): a node of the environment's
+  // quadtree is refined within refinement x its angular radius of the lobe's peak, down to the
+  // lobe's width / refinement, and across the horizon of n. The bound is measured against twice it.
+  double refinement = 4.0;
+  // Every bound_stride-th pixel of each sphere (at least 16 a sphere) is rendered again at twice the
+  // refinement: the reference's bound is measured on them.
+  int bound_stride = 8;
+  Precision precision = Precision::Fp32;
+};
+
+// ---- The result ---------------------------------------------------------------------------------
+
+// Pixel (i, j) covers [i, i + 1) x [j, j + 1), row j = 0 at the top; its normal is taken at its
+// centre (i + 0.5, j + 0.5). A pixel centre at (x, y) with d = ((x - centre_x), (y - centre_y)) /
+// radius, |d| < 1, has the normal n = d.x right - d.y up + sqrt(1 - |d|^2) (-view_direction).
+struct PreviewSphere {
+  PreviewMaterial material;
+  int row = 0, column = 0;
+  double centre_x = 0.0, centre_y = 0.0;  // pixels
+  double radius = 0.0;                    // pixels
+};
+
+struct PreviewCamera {
+  Vec3 view_direction{0.0, 0.0, -1.0};  // the direction it looks along, in the environment's frame
+  Vec3 up{0.0, 1.0, 0.0};
+  Vec3 right{1.0, 0.0, 0.0};
+  double yaw = 0.0, pitch = 0.0;  // degrees
+  double background_fov = 60.0;   // degrees, vertical: the background is seen through a pinhole
+};
+
+// Linear RGB, row 0 (the top) first; pixels off the spheres hold the background.
+struct PreviewImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+// Over one sphere's pixels.
+struct PreviewErrorStats {
+  double rms = 0.0, p99 = 0.0, max = 0.0;
+};
+struct PreviewSphereStats {
+  int pixels = 0;
+  // |split-sum - reference| / |reference| (Euclidean norms of the RGB triples), linear radiance.
+  PreviewErrorStats linear;
+  // The largest difference of the three 8-bit sRGB channels after the sheet's exposure and tone map.
+  PreviewErrorStats srgb8;
+  // The reference's own error over the sphere, relative as `linear`: RMS and max over the bound's
+  // sample pixels of |reference - reference at twice the refinement|, times kPreviewBoundFactor.
+  double reference_rms_bound = 0.0;
+  double reference_max_bound = 0.0;
+  int bound_pixels = 0;
+};
+// A second-order quadrature's error at refinement r is about 4/3 of its difference to the result at
+// 2r; the factor 2 leaves a margin for where the convergence is slower (kinks at texel edges).
+inline constexpr double kPreviewBoundFactor = 2.0;
+
+struct PreviewTimes {
+  double bake = 0.0;              // baking the folder first (0 with --bake)
+  double read = 0.0;              // reading the bake's files
+  double splitsum = 0.0;          // the split-sum render (host)
+  double reference = 0.0;         // the reference render, wall
+  double reference_device = 0.0;  // its kernels (event profiling)
+  double bound = 0.0;             // the bound's second render, wall
+  double total = 0.0;
+};
+
+struct PreviewResult {
+  PreviewSpec spec;  // as resolved (materials filled in, columns chosen)
+  std::vector<PreviewSphere> spheres;
+  PreviewCamera camera;
+  PreviewImage splitsum;
+  PreviewImage reference;                 // empty when spec.reference is false
+  std::vector<PreviewSphereStats> stats;  // one per sphere (empty without the reference)
+  double exposure = 0.0;                  // EV of the sheet: 0.18 / the environment's median luminance,
+                                          // at most 0.8 / the spheres' median (split-sum)
+  double environment_median = 0.0;        // solid-angle-weighted median luminance
+  std::string brdf;                       // the BRDF both renders use, in words
+  bool multiscatter = false;              // multiple-scattering compensation applied
+  std::string environment_model;          // the environment's continuous model of the reference
+  std::string bound_definition;
+  Metadata bake;     // the bake's settings (files, sizes, formats) and where it came from
+  Metadata shading;  // per step of the target's shader: what it does and which function it is
+  PreviewTimes times;
+  std::string device;
+};
+
+using PreviewProgress = std::function<void(double fraction, const std::string& step)>;
+
+// Renders the preview of `environment` (the map the bake was made from) on `backend`. Throws Error
+// for a bake folder that does not hold the target's files, a material file it cannot read, sizes out
+// of range; Cancelled at a progress report after a stop request (brdfbake/cancel.hpp).
+PreviewResult render_preview(Backend& backend, const EnvImage& environment, const PreviewSpec& spec,
+                             const PreviewProgress& progress = {});
+
+// Limits: the image's sides, and the spheres.
+inline constexpr int kPreviewMaxSize = 4096;
+inline constexpr int kPreviewMaxSpheres = 1024;
+
+}  // namespace brdfbake

@@ -1,0 +1,33 @@
+// The reference render of a material preview by brute force (the double reference that checks
+// kernels/preview.cl): for one pixel, a normal n and a view direction v, the integrals
+//   S1 = int D V (n.l)+ L dl,   S2 = int D V (1 - v.h)^5 (n.l)+ L dl,   Irr = int (n.l)+ L dl
+// over an equirect environment whose pixels are constant over their cells of longitude x latitude
+// (docs/CONVENTIONS.md's mapping), with GGX's D and the height-correlated Smith V
+// (brdfbake/reference/ggx.hpp). Every pixel of the image is visited, split into q x q sub-cells
+// where the lobe or the horizon of n needs it, and each sub-cell is summed at its centre in (u, v)
+// with its exact solid angle: a different quadrature from the kernel's quadtree walk, sharing no
+// code with it. alpha = 0 is the mirror: S1 = L(r), S2 = (1 - n.v)^5 L(r), exactly.
+#pragma once
+
+#include <array>
+
+#include "brdfbake/math/types.hpp"
+
+namespace brdfbake::reference {
+
+struct PreviewIntegrals {
+  std::array<double, 3> s1{}, s2{}, irr{};
+};
+
+// rgb: width x height x 3 linear floats, row 0 first (width = 2 height). n, v any length (normalised
+// here), n.v > 0.
+// `subdivision` sets the sub-cells: a pixel within the lobe is split until a sub-cell is below
+// max(2 alpha, its distance to r) / subdivision, a pixel across the horizon of n into
+// subdivision x subdivision; doubling it measures the convergence (tests/reference).
+PreviewIntegrals preview_integrals(const float* rgb, int width, int height, const Vec3& n, const Vec3& v, double alpha,
+                                   double subdivision = 16.0);
+
+// The number of lobe evaluations preview_integrals makes for one pixel (its work).
+double preview_integrals_work(int width, int height, double alpha, double subdivision = 16.0);
+
+}  // namespace brdfbake::reference

@@ -1,0 +1,94 @@
+// bake --preview (bake_preview.hpp).
+#include "families/preview/bake_preview.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "brdfbake/error.hpp"
+#include "brdfbake/preview.hpp"
+#include "families/preview/output.hpp"
+#include "io/atomic_file.hpp"
+
+namespace brdfbake::detail::preview {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+const char* const kSiblings[] = {"preview.png", "preview_splitsum.exr", "preview_reference.exr", "preview.json"};
+
+}  // namespace
+
+void check_bake_preview(const Job& job) {
+  const std::string origin = job.source.empty() ? std::string("job") : job.source;
+  bool chain = false, irradiance = false;
+  for (const auto& t : job.tables) {
+    chain = chain || (t.kind == TableKind::Prefilter && t.text("distribution") == "ggx");
+    irradiance = irradiance || t.kind == TableKind::Irradiance;
+    for (const char* name : kSiblings)
+      if (fs::path(t.output).lexically_normal() == name)
+        throw Error(origin + ": preview: the output '" + t.output + "' is the preview's own file");
+  }
+  if (!chain || !irradiance)
+    throw Error(origin + ": preview: the bake has no " + (chain ? "irradiance table" : "GGX prefiltered chain") +
+                " to render a preview from (the default plan has both)");
+}
+
+const TableRequest& bake_preview_chain(const Job& job) {
+  for (const auto& t : job.tables)
+    if (t.kind == TableKind::Prefilter && t.text("distribution") == "ggx") return t;
+  throw Error(job.source + ": preview: the bake has no GGX prefiltered chain");
+}
+
+void write_bake_preview(const Job& job, const std::string& staging, Manifest& manifest, Backend& backend,
+                        const EnvImage& environment) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // The preview reads the bake as it will be: its manifest, so far.
+  io::write_file_atomically((fs::path(staging) / "manifest.json").string(), manifest_to_json(manifest));
+  PreviewSpec spec;
+  spec.target = engine_target_from_name(job.target);
+  spec.bake = staging;
+  spec.precision = job.precision;
+  PreviewResult r = render_preview(backend, environment, spec);
+  // the JSON names the folder the files land in, not the staging one
+  r.spec.bake = manifest.output_dir;
+  for (Metadata* m : {&r.bake, &r.shading})
+    for (auto& kv : *m)
+      for (size_t at = kv.second.find(staging); at != std::string::npos;
+           at = kv.second.find(staging, at + manifest.output_dir.size()))
+        kv.second.replace(at, staging.size(), manifest.output_dir);
+  write_preview(r, environment.source, (fs::path(staging) / kBakePreviewSheet).string());
+
+  for (const char* name : kSiblings) manifest.preview_files.push_back(name);
+  std::vector<double> rms;
+  double bound = 0.0;
+  for (const auto& s : r.stats) {
+    rms.push_back(s.linear.rms);
+    bound = std::max(bound, s.reference_rms_bound);
+  }
+  std::sort(rms.begin(), rms.end());
+  manifest.preview.push_back({"sheet", kBakePreviewSheet});
+  manifest.preview.push_back({"target", engine_target_name(spec.target)});
+  manifest.preview.push_back({"spheres", std::to_string(r.spheres.size())});
+  if (!rms.empty()) {
+    manifest.preview.push_back({"error_rms_median", number(rms[rms.size() / 2])});
+    manifest.preview.push_back({"error_rms_max", number(rms.back())});
+    manifest.preview.push_back({"reference_bound_max", number(bound)});
+  }
+  manifest.preview.push_back(
+      {"error_definition",
+       "per sphere, the relative RMS of |split-sum - reference| / |reference| in linear radiance (preview.json "
+       "has every sphere's numbers)"});
+  manifest.preview.push_back(
+      {"seconds", number(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())});
+}
+
+}  // namespace brdfbake::detail::preview

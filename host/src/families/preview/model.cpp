@@ -1,0 +1,217 @@
+// The preview's scene: materials, layout, camera and pixels (model.hpp).
+#include "families/preview/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "brdfbake/brdf.hpp"
+#include "brdfbake/error.hpp"
+
+namespace brdfbake {
+
+Rgb preview_f0(const PreviewMaterial& m) {
+  // glTF 2.0, Appendix B: F0 = mix(0.04, baseColor, metallic) (a dielectric of ior 1.5)
+  auto mix = [&](double c) { return 0.04 * (1.0 - m.metallic) + c * m.metallic; };
+  return {mix(m.base_color.r), mix(m.base_color.g), mix(m.base_color.b)};
+}
+
+Rgb preview_diffuse_color(const PreviewMaterial& m) {
+  const double k = 1.0 - m.metallic;
+  return {m.base_color.r * k, m.base_color.g * k, m.base_color.b * k};
+}
+
+std::vector<PreviewMaterial> preview_default_materials() {
+  // Linear base colours: dielectrics white 0.8, grey 0.18 (middle grey), dark 0.03; metals by their
+  // F0 at normal incidence (linear sRGB primaries; the values of the glTF sample models' gold, and
+  // of Hoffman's tables for copper and silver).
+  struct Base {
+    const char* name;
+    Rgb colour;
+    double metallic;
+  };
+  const Base bases[] = {{"white", {0.8, 0.8, 0.8}, 0.0},        {"grey", {0.18, 0.18, 0.18}, 0.0},
+                        {"dark", {0.03, 0.03, 0.03}, 0.0},      {"gold", {1.0, 0.766, 0.336}, 1.0},
+                        {"copper", {0.955, 0.638, 0.538}, 1.0}, {"silver", {0.972, 0.960, 0.915}, 1.0}};
+  const double roughness[kPreviewDefaultColumns] = {0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
+  std::vector<PreviewMaterial> out;
+  for (const Base& b : bases)
+    for (double r : roughness) {
+      PreviewMaterial m;
+      char name[64];
+      std::snprintf(name, sizeof name, "%s r%.2g", b.name, r);
+      m.name = name;
+      m.base_color = b.colour;
+      m.metallic = b.metallic;
+      m.roughness = r;
+      out.push_back(m);
+    }
+  return out;
+}
+
+PreviewBackground preview_background_from_name(const std::string& name) {
+  if (name == "environment") return PreviewBackground::Environment;
+  if (name == "grey") return PreviewBackground::Grey;
+  throw Error("unknown background '" + name.substr(0, 60) + "' (expected environment or grey)");
+}
+
+const char* preview_background_name(PreviewBackground b) {
+  return b == PreviewBackground::Grey ? "grey" : "environment";
+}
+
+namespace detail::preview {
+
+namespace {
+
+// What of a material the preview does not render (it renders the metallic-roughness core).
+std::vector<std::string> unrendered(const NamedMaterial& nm) {
+  std::vector<std::string> notes = nm.notes;
+  const Material& p = nm.params;
+  if (nm.model && *nm.model != BrdfModel::Gltf && *nm.model != BrdfModel::GltfCorrelated)
+    notes.push_back(std::string("model ") + brdf_model_name(*nm.model) +
+                    ": rendered as glTF metallic-roughness (baseColor, metallic, roughness)");
+  if (p.sheen_color.r > 0 || p.sheen_color.g > 0 || p.sheen_color.b > 0) notes.push_back("sheen: not rendered");
+  if (p.clearcoat > 0) notes.push_back("clearcoat: not rendered");
+  if (p.specular_factor != 1.0 || p.specular_color_factor.r != 1.0 || p.specular_color_factor.g != 1.0 ||
+      p.specular_color_factor.b != 1.0)
+    notes.push_back("KHR_materials_specular: not rendered (F0 0.04)");
+  if (p.ior != 1.5) notes.push_back("ior: not rendered (F0 0.04)");
+  return notes;
+}
+
+Vec3 rotate_y(const Vec3& a, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {a.x * c + a.z * s, a.y, -a.x * s + a.z * c};
+}
+
+Vec3 normalized(const Vec3& a) {
+  const double l = std::sqrt(math::dot(a, a));
+  return {a.x / l, a.y / l, a.z / l};
+}
+
+}  // namespace
+
+PreviewSpec resolve_spec(const PreviewSpec& in) {
+  PreviewSpec s = in;
+  if (s.width < 16 || s.width > kPreviewMaxSize || s.height < 16 || s.height > kPreviewMaxSize)
+    throw Error("width and height must be in 16.." + std::to_string(kPreviewMaxSize));
+  if (s.materials.empty()) {
+    if (s.materials_file.empty()) {
+      s.materials = preview_default_materials();
+      if (s.columns == 0) s.columns = kPreviewDefaultColumns;
+    } else {
+      for (const NamedMaterial& nm : read_materials(s.materials_file)) {
+        PreviewMaterial m;
+        m.name = nm.name;
+        m.base_color = nm.params.base_color;
+        m.metallic = nm.params.metallic;
+        m.roughness = nm.params.roughness;
+        m.notes = unrendered(nm);
+        s.materials.push_back(m);
+      }
+      if (s.materials.empty()) throw Error(s.materials_file + ": no materials");
+    }
+  }
+  if (s.materials.size() > size_t(kPreviewMaxSpheres))
+    throw Error(std::to_string(s.materials.size()) + " materials: at most " + std::to_string(kPreviewMaxSpheres));
+  for (const PreviewMaterial& m : s.materials) {
+    const double c[3] = {m.base_color.r, m.base_color.g, m.base_color.b};
+    for (double v : c)
+      if (!(v >= 0.0 && v <= 1.0)) throw Error("material '" + m.name + "': baseColor must be in [0, 1]");
+    if (!(m.metallic >= 0.0 && m.metallic <= 1.0)) throw Error("material '" + m.name + "': metallic must be in [0, 1]");
+    if (!(m.roughness >= 0.0 && m.roughness <= 1.0))
+      throw Error("material '" + m.name + "': roughness must be in [0, 1]");
+  }
+  const int n = int(s.materials.size());
+  if (s.columns <= 0) {
+    // square cells: columns / rows close to width / height
+    s.columns = std::max(1, int(std::ceil(std::sqrt(double(n) * s.width / s.height))));
+  }
+  s.columns = std::min(s.columns, n);
+  const int rows = (n + s.columns - 1) / s.columns;
+  if (s.width / s.columns < 8 || s.height / rows < 8)
+    throw Error(std::to_string(n) + " spheres in " + std::to_string(s.columns) +
+                " columns leave cells under 8 pixels in a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                " image: give a larger image");
+  if (!(s.refinement >= 1.0 && s.refinement <= 64.0)) throw Error("refinement must be in 1..64");
+  if (s.bound_stride < 1) throw Error("bound_stride must be at least 1");
+  return s;
+}
+
+double material_alpha(const PreviewMaterial& m) { return m.roughness * m.roughness; }
+
+Layout make_layout(const PreviewSpec& s) {
+  Layout l;
+  l.width = s.width;
+  l.height = s.height;
+  // The camera: yaw about +Y, then pitch about the turned right axis.
+  PreviewCamera& c = l.camera;
+  c.yaw = s.yaw;
+  c.pitch = s.pitch;
+  const double yaw = s.yaw * M_PI / 180.0, pitch = s.pitch * M_PI / 180.0;
+  const Vec3 d0 = rotate_y({0.0, 0.0, -1.0}, yaw), r0 = rotate_y({1.0, 0.0, 0.0}, yaw);
+  const Vec3 u0{0.0, 1.0, 0.0};
+  c.view_direction =
+      normalized({d0.x * std::cos(pitch) + u0.x * std::sin(pitch), d0.y * std::cos(pitch) + u0.y * std::sin(pitch),
+                  d0.z * std::cos(pitch) + u0.z * std::sin(pitch)});
+  c.up = normalized({u0.x * std::cos(pitch) - d0.x * std::sin(pitch), u0.y * std::cos(pitch) - d0.y * std::sin(pitch),
+                     u0.z * std::cos(pitch) - d0.z * std::sin(pitch)});
+  c.right = r0;
+  const int n = int(s.materials.size());
+  const int rows = (n + s.columns - 1) / s.columns;
+  const double cw = double(s.width) / s.columns, ch = double(s.height) / rows;
+  const double radius = 0.46 * std::min(cw, ch);
+  for (int i = 0; i < n; ++i) {
+    PreviewSphere sp;
+    sp.material = s.materials[size_t(i)];
+    sp.row = i / s.columns;
+    sp.column = i % s.columns;
+    sp.centre_x = std::floor((sp.column + 0.5) * cw);
+    sp.centre_y = std::floor((sp.row + 0.5) * ch);
+    sp.radius = radius;
+    l.spheres.push_back(sp);
+  }
+  return l;
+}
+
+Vec3 view_vector(const PreviewCamera& c) { return {-c.view_direction.x, -c.view_direction.y, -c.view_direction.z}; }
+
+std::vector<SpherePixel> sphere_pixels(const Layout& l) {
+  std::vector<SpherePixel> out;
+  const PreviewCamera& c = l.camera;
+  const Vec3 v = view_vector(c);
+  for (size_t s = 0; s < l.spheres.size(); ++s) {
+    const PreviewSphere& sp = l.spheres[s];
+    const int x0 = std::max(0, int(std::floor(sp.centre_x - sp.radius))),
+              x1 = std::min(l.width - 1, int(std::ceil(sp.centre_x + sp.radius)));
+    const int y0 = std::max(0, int(std::floor(sp.centre_y - sp.radius))),
+              y1 = std::min(l.height - 1, int(std::ceil(sp.centre_y + sp.radius)));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double dx = (x + 0.5 - sp.centre_x) / sp.radius, dy = (y + 0.5 - sp.centre_y) / sp.radius;
+        const double d2 = dx * dx + dy * dy;
+        if (!(d2 < 1.0)) continue;
+        const double nz = std::sqrt(1.0 - d2);
+        SpherePixel p;
+        p.x = x;
+        p.y = y;
+        p.sphere = int(s);
+        p.n = normalized({dx * c.right.x - dy * c.up.x + nz * v.x, dx * c.right.y - dy * c.up.y + nz * v.y,
+                          dx * c.right.z - dy * c.up.z + nz * v.z});
+        p.n_dot_v = nz;
+        out.push_back(p);
+      }
+  }
+  return out;
+}
+
+Vec3 background_direction(const Layout& l, int x, int y) {
+  const PreviewCamera& c = l.camera;
+  const double t = std::tan(0.5 * c.background_fov * M_PI / 180.0);
+  const double a = (x + 0.5 - 0.5 * l.width) / (0.5 * l.height) * t,
+               b = (y + 0.5 - 0.5 * l.height) / (0.5 * l.height) * t;
+  return normalized({c.view_direction.x + a * c.right.x - b * c.up.x, c.view_direction.y + a * c.right.y - b * c.up.y,
+                     c.view_direction.z + a * c.right.z - b * c.up.z});
+}
+
+}  // namespace detail::preview
+}  // namespace brdfbake

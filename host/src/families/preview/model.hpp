@@ -1,0 +1,43 @@
+// Internal: the preview's scene, shared by the descriptor, the renders and the writers: the spheres'
+// materials and layout, the camera, the pixels each sphere covers and their normals.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdfbake/preview.hpp"
+
+namespace brdfbake::detail::preview {
+
+// Fills the spheres (from materials_file, or the default grid) and the columns; checks the sizes.
+// Throws Error naming the field ("materials", "width", ...).
+PreviewSpec resolve_spec(const PreviewSpec& spec);
+
+struct Layout {
+  std::vector<PreviewSphere> spheres;
+  PreviewCamera camera;
+  int width = 0, height = 0;
+};
+// Spheres in a grid of equal cells, row by row; every centre on a pixel corner, so that every
+// sphere covers the same pixel offsets (and the same n.v values).
+Layout make_layout(const PreviewSpec& resolved);
+
+// The pixels a sphere covers (their centres within its disc), with the normal and n.v of each.
+struct SpherePixel {
+  int x = 0, y = 0;
+  int sphere = 0;
+  Vec3 n{0.0, 0.0, 1.0};
+  double n_dot_v = 1.0;
+};
+std::vector<SpherePixel> sphere_pixels(const Layout& layout);
+
+// The direction a background pixel sees: a pinhole of the camera's background_fov (vertical).
+Vec3 background_direction(const Layout& layout, int x, int y);
+
+// The unit vector towards the viewer (-view_direction).
+Vec3 view_vector(const PreviewCamera& camera);
+
+// F0, the diffuse colour and alpha of a material (brdfbake/preview.hpp).
+double material_alpha(const PreviewMaterial& m);
+
+}  // namespace brdfbake::detail::preview

@@ -1,0 +1,149 @@
+// The reference render on an OpenCL device (kernels/preview.cl): the environment's quadtree built
+// on the host (tree.cpp), one work-item a pixel.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "brdfbake/error.hpp"
+#include "families/preview/kernel.hpp"
+#include "families/preview/tree.hpp"
+#include "runtime/launch.hpp"
+#include "runtime/program.hpp"
+
+namespace brdfbake::detail {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// A pixel's walk visits a few thousand cells (a unit of launch_in_parts is one cell).
+constexpr double kCellsPerPixel = 4000.0;
+constexpr size_t kGroup = 32;  // pixels a work-group
+
+class OpenClPreview final : public PreviewKernel {
+ public:
+  explicit OpenClPreview(Device& device) : device_(device) {}
+
+  ReferenceSums reference(const ReferenceTask& task, const std::function<void(double)>& progress) override {
+    auto& dev = device_.impl();
+    ReferenceSums out;
+    out.method = "quadtree walk of the equirect's constant cells (kernels/preview.cl) on '" + dev.info.name + "'";
+    const auto t0 = Clock::now();
+    const preview::EnvTree tree = preview::build_env_tree(*task.environment);
+    ProgramSpec ps;
+    ps.file = "preview.cl";
+    ps.precision = task.precision;
+    cl::Program program = build_program(dev, ps);
+    const bool fp64 = task.precision == Precision::Fp64;
+    const size_t real_size = fp64 ? sizeof(double) : sizeof(float);
+    const std::string what = "kernel preview_reference on '" + dev.info.name + "'";
+    const double tree_bytes = double(tree.data.size()) * sizeof(float);
+    const double image_bytes = double(tree.image.size()) * sizeof(float);
+    const size_t n_all = std::max(task.pixels.size(), task.bound_pixels.size());
+    check_device_memory(dev, tree_bytes, tree_bytes + image_bytes + double(n_all) * (32.0 + 12.0 * double(real_size)),
+                        "the environment's quadtree (" + std::to_string(tree.image_width) + "x" +
+                            std::to_string(tree.image_height) + ")");
+    const double total = double(task.pixels.size() + task.bound_pixels.size());
+    cl_call(what, [&] {
+      cl::Buffer tree_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, tree.data.size() * sizeof(float),
+                          const_cast<float*>(tree.data.data()));
+      cl::Buffer image_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, tree.image.size() * sizeof(float),
+                           const_cast<float*>(tree.image.data()));
+      std::vector<cl_int4> levels;
+      for (const auto& l : tree.levels) levels.push_back({{l[0], l[1], l[2], l[3]}});
+      cl::Buffer level_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, levels.size() * sizeof(cl_int4),
+                           levels.data());
+      // the bright pixels (at least one element each: OpenCL has no empty buffers)
+      std::vector<cl_int> bright_index(tree.bright_index.begin(), tree.bright_index.end());
+      std::vector<float> bright_rgb = tree.bright_rgb;
+      const cl_int n_bright = static_cast<cl_int>(bright_index.size());
+      bright_index.resize(std::max<size_t>(1, bright_index.size()), 0);
+      bright_rgb.resize(std::max<size_t>(3, bright_rgb.size()), 0.0f);
+      cl::Buffer bright_index_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                  bright_index.size() * sizeof(cl_int), bright_index.data());
+      cl::Buffer bright_rgb_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bright_rgb.size() * sizeof(float),
+                                bright_rgb.data());
+      cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int,
+                        cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int>
+          walk(program, "preview_reference");
+      // One pass over a list of pixels at a refinement; done_before: pixels of the earlier pass.
+      auto pass = [&](const std::vector<ReferencePixel>& pixels, double refinement, double done_before,
+                      std::vector<double>& values, std::vector<int>* cells, size_t* overflows) {
+        values.assign(9 * pixels.size(), 0.0);
+        if (pixels.empty()) return 0.0;
+        std::vector<float> px(8 * pixels.size(), 0.0f);
+        for (size_t i = 0; i < pixels.size(); ++i) {
+          const ReferencePixel& p = pixels[i];
+          float* d = &px[8 * i];
+          d[0] = p.n[0];
+          d[1] = p.n[1];
+          d[2] = p.n[2];
+          d[3] = p.alpha;
+          d[4] = p.albedo;
+          d[5] = p.bias;
+        }
+        const PreviewRulesValues rules = preview_rules(refinement, task.radiance_scale);
+        const std::vector<double> params = {task.view.x,        task.view.y,          task.view.z,    refinement,
+                                            rules.horizon_size, rules.horizon_energy, rules.max_size, 0.0};
+        cl::Buffer px_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, px.size() * sizeof(float), px.data());
+        std::vector<float> params_f(params.begin(), params.end());
+        cl::Buffer param_buf = fp64 ? cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                                 params.size() * sizeof(double), const_cast<double*>(params.data()))
+                                    : cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                                 params_f.size() * sizeof(float), params_f.data());
+        cl::Buffer out_buf(dev.context, CL_MEM_WRITE_ONLY, 12 * pixels.size() * real_size);
+        const cl_int n = static_cast<cl_int>(pixels.size());
+        // Work-groups of kGroup pixels in every launch (PoCL compiles a kernel per work-group size:
+        // launches of varying sizes would each compile it again): the launches cover groups, the last
+        // one past the end, where the kernel returns at once.
+        const size_t groups = (pixels.size() + kGroup - 1) / kGroup;
+        const double seconds = launch_in_parts(
+            groups, kCellsPerPixel * double(kGroup),
+            [&](size_t first, size_t count) {
+              return walk(cl::EnqueueArgs(dev.queue, cl::NDRange(first * kGroup), cl::NDRange(count * kGroup),
+                                          cl::NDRange(kGroup)),
+                          out_buf, px_buf, n, param_buf, tree_buf, level_buf, tree.start, tree.top, tree.image_width,
+                          tree.image_height, image_buf, bright_index_buf, bright_rgb_buf, n_bright);
+            },
+            [&](double f) {
+              if (progress) progress((done_before + f * double(pixels.size())) / total);
+            },
+            std::min<size_t>(8, groups));
+        std::vector<double> raw(12 * pixels.size());
+        if (fp64) {
+          dev.queue.enqueueReadBuffer(out_buf, CL_TRUE, 0, raw.size() * sizeof(double), raw.data());
+        } else {
+          std::vector<float> f(raw.size());
+          dev.queue.enqueueReadBuffer(out_buf, CL_TRUE, 0, f.size() * sizeof(float), f.data());
+          std::copy(f.begin(), f.end(), raw.begin());
+        }
+        for (size_t i = 0; i < pixels.size(); ++i) {
+          std::copy(&raw[12 * i], &raw[12 * i] + 9, &values[9 * i]);
+          if (cells) cells->push_back(int(raw[12 * i + 9]));
+          if (overflows && raw[12 * i + 10] != 0.0) ++*overflows;
+        }
+        return seconds;
+      };
+      out.device_seconds = pass(task.pixels, task.refinement, 0.0, out.values, &out.cells, &out.overflows);
+      out.wall_seconds = since(t0);
+      const auto t1 = Clock::now();
+      size_t bound_overflows = 0;
+      out.bound_device_seconds = pass(task.bound_pixels, 2.0 * task.refinement, double(task.pixels.size()),
+                                      out.bound_values, nullptr, &bound_overflows);
+      out.bound_wall_seconds = since(t1);
+      return 0;
+    });
+    return out;
+  }
+
+ private:
+  Device& device_;
+};
+
+}  // namespace
+
+std::unique_ptr<PreviewKernel> make_opencl_preview(Device& device) { return std::make_unique<OpenClPreview>(device); }
+
+}  // namespace brdfbake::detail

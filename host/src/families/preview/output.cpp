@@ -1,0 +1,375 @@
+// The preview's files (output.hpp).
+#include "families/preview/output.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <thread>
+
+#include "brdfbake/version.hpp"
+#include "families/preview/model.hpp"
+#include "io/atomic_file.hpp"
+#include "io/image_file.hpp"
+#include "io/png_image.hpp"
+#include "view/canvas.hpp"
+
+namespace brdfbake::detail::preview {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using view::Canvas;
+using view::Rgb8;
+
+constexpr int kMargin = 12;
+constexpr int kGap = 16;
+constexpr int kLine = 12;
+// The error panel's colour scale: log10 of the relative error, 0.1% .. 100%.
+constexpr double kErrorLo = 1e-3, kErrorHi = 1.0;
+
+std::string percent(double v) {
+  char b[32];
+  if (v >= 0.0995)
+    std::snprintf(b, sizeof b, "%.0f%%", 100.0 * v);
+  else if (v >= 0.00995)
+    std::snprintf(b, sizeof b, "%.1f%%", 100.0 * v);
+  else
+    std::snprintf(b, sizeof b, "%.2f%%", 100.0 * v);
+  return b;
+}
+
+std::string fmt(double v, const char* f = "%.3g") {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+Rgb8 error_colour(double e) {
+  if (std::isnan(e)) return view::kBackground;
+  const double t =
+      (std::log10(std::max(e, kErrorLo)) - std::log10(kErrorLo)) / (std::log10(kErrorHi) - std::log10(kErrorLo));
+  return view::cubehelix(std::clamp(t, 0.0, 1.0));
+}
+
+// A material's row name: the sphere's name without its roughness suffix (the default grid's).
+std::string row_name(const PreviewSphere& s) {
+  const std::string& n = s.material.name;
+  const size_t at = n.rfind(" r");
+  return at != std::string::npos && at > 0 ? n.substr(0, at) : n;
+}
+
+json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
+json rgb(const Rgb& c) { return json::array({c.r, c.g, c.b}); }
+json stats(const PreviewErrorStats& s) { return {{"rms", s.rms}, {"p99", s.p99}, {"max", s.max}}; }
+
+}  // namespace
+
+std::string sibling(const std::string& sheet_path, const std::string& suffix) {
+  const fs::path p(sheet_path);
+  return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+std::vector<float> error_image(const PreviewResult& r) {
+  std::vector<float> e(size_t(r.splitsum.width) * size_t(r.splitsum.height), std::numeric_limits<float>::quiet_NaN());
+  if (r.reference.rgb.empty()) return e;
+  const Layout layout = make_layout(r.spec);
+  for (const SpherePixel& p : sphere_pixels(layout)) {
+    const size_t i = size_t(p.y) * size_t(r.splitsum.width) + size_t(p.x);
+    const float* s = &r.splitsum.rgb[3 * i];
+    const float* f = &r.reference.rgb[3 * i];
+    double d2 = 0, n2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      d2 += (double(s[c]) - double(f[c])) * (double(s[c]) - double(f[c]));
+      n2 += double(f[c]) * double(f[c]);
+    }
+    e[i] = float(n2 > 0 ? std::sqrt(d2 / n2) : (d2 > 0 ? 1.0 : 0.0));
+  }
+  return e;
+}
+
+ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
+  const int w = r.splitsum.width, h = r.splitsum.height;
+  const bool with_ref = !r.reference.rgb.empty();
+  const int panels = with_ref ? 3 : 1;
+  const int label_w = 84;                                  // row labels left of the first panel
+  const int top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
+  const int panel_top = top + 2 * kLine + 4;               // the panel's title, the columns' roughness
+  const int sheet_w = std::max(kMargin * 2 + label_w + panels * w + (panels - 1) * kGap, 640);
+  const int sheet_h = panel_top + h + kGap + 3 * kLine + kMargin;
+  Canvas c(sheet_w, sheet_h, view::kBackground);
+  ContactSheet sheet;
+  ViewOptions vo;
+  vo.exposure = r.exposure;
+  char ev[64];
+  std::snprintf(ev, sizeof ev, "%+.2f", r.exposure);
+  sheet.tone_map_text = std::string("HDR: exposure ") + ev + " EV (0.18 / the environment's median luminance " +
+                        fmt(r.environment_median) +
+                        ", at most 0.8 / the spheres'), ACES filmic fit (Narkowicz 2015), sRGB";
+  sheet.colour_scale_text =
+      "error: |split-sum - reference| / |reference| per pixel, cubehelix (Green 2011) over log10, " +
+      percent(kErrorLo) + " (black) to " + percent(kErrorHi) + " (white)";
+  int y = kMargin;
+  c.text(kMargin, y, title, view::kText, 2);
+  y += 2 * kLine + 2;
+  c.text(kMargin, y,
+         "brdfbake " + std::string(kVersion) + ", target " + engine_target_name(r.spec.target) + ", device " + r.device,
+         view::kDim);
+  c.text(kMargin, y + kLine, sheet.tone_map_text, view::kText);
+  if (with_ref) c.text(kMargin, y + 2 * kLine, sheet.colour_scale_text, view::kText);
+  double worst_bound = 0.0;
+  for (const auto& s : r.stats) worst_bound = std::max(worst_bound, s.reference_rms_bound);
+  if (with_ref)
+    c.text(
+        kMargin, y + 3 * kLine,
+        "under each sphere: relative RMS error in linear radiance, then the 99th percentile in 8-bit sRGB steps; the "
+        "reference is within " +
+            percent(worst_bound) + " RMS on every sphere",
+        view::kDim);
+  else
+    c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
+
+  // the panels
+  const int x0 = kMargin + label_w;
+  const std::vector<float> err = error_image(r);
+  for (int k = 0; k < panels; ++k) {
+    const int px = x0 + k * (w + kGap);
+    const std::string name = k == 0   ? "split-sum: " + std::string(engine_target_name(r.spec.target))
+                             : k == 1 ? "reference (converged integral)"
+                                      : "relative error";
+    c.text(px, top, name, view::kText);
+    // each column's roughness, where its spheres share one (the default grid)
+    for (const PreviewSphere& sp : r.spheres) {
+      if (sp.row != 0) continue;
+      bool shared = true;
+      for (const PreviewSphere& o : r.spheres)
+        shared = shared && (o.column != sp.column || o.material.roughness == sp.material.roughness);
+      if (!shared) continue;
+      const std::string label = "r " + fmt(sp.material.roughness, "%.2g");
+      c.text(px + int(sp.centre_x) - view::text_width(label) / 2, top + kLine, label, view::kDim);
+    }
+    SheetRegion region;
+    region.role = k == 0 ? "split-sum" : k == 1 ? "reference" : "error";
+    region.label = name;
+    region.x = px;
+    region.y = panel_top;
+    region.width = w;
+    region.height = h;
+    if (k == 2) {
+      region.lo = kErrorLo;
+      region.hi = kErrorHi;
+      region.log_scale = true;
+    }
+    sheet.regions.push_back(region);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const size_t at = size_t(j) * size_t(w) + size_t(i);
+        Rgb8 colour;
+        if (k == 2)
+          colour = std::isnan(err[at]) ? Rgb8{16, 16, 16} : error_colour(err[at]);
+        else
+          colour = view::tone_map(&(k == 0 ? r.splitsum : r.reference).rgb[3 * at], vo);
+        c.set(px + i, panel_top + j, colour);
+      }
+  }
+  // row labels, and the numbers under each sphere in the error panel
+  std::string last_row;
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    const PreviewSphere& sp = r.spheres[s];
+    const std::string row = row_name(sp);
+    if (sp.column == 0 && row != last_row) {
+      c.text(kMargin, panel_top + int(sp.centre_y) - kLine / 2, row.substr(0, 13), view::kText);
+      last_row = row;
+    }
+    SheetRegion region;
+    region.role = "sphere";
+    region.label = sp.material.name;
+    region.x = x0 + int(sp.centre_x - sp.radius);
+    region.y = panel_top + int(sp.centre_y - sp.radius);
+    region.width = region.height = int(2 * sp.radius);
+    sheet.regions.push_back(region);
+    if (!with_ref || s >= r.stats.size()) continue;
+    const std::string a = percent(r.stats[s].linear.rms), b = fmt(r.stats[s].srgb8.p99, "%.0f");
+    const int below = int(sp.centre_y + sp.radius) + 2;
+    const int room = (r.spheres.size() > 1 ? 0 : 0) + h - below;
+    const int px = x0 + 2 * (w + kGap);
+    const int ty = panel_top + std::min(below, h - 2 * kLine);
+    (void)room;
+    c.text(px + int(sp.centre_x) - view::text_width(a) / 2, ty, a, view::kText);
+    c.text(px + int(sp.centre_x) - view::text_width(b) / 2, ty + kLine - 2, b, view::kDim);
+  }
+  // the error scale
+  if (with_ref) {
+    const int px = x0 + 2 * (w + kGap), sy = panel_top + h + kGap;
+    for (int i = 0; i < w; ++i) {
+      const double t = double(i) / (w - 1);
+      const Rgb8 col = view::cubehelix(t);
+      c.fill_rect(px + i, sy, 1, 8, col);
+    }
+    c.text(px, sy + 10, percent(kErrorLo), view::kText);
+    c.text(px + w / 3 - 12, sy + 10, "1%", view::kText);
+    c.text(px + 2 * w / 3 - 12, sy + 10, "10%", view::kText);
+    c.text(px + w - view::text_width(percent(kErrorHi)), sy + 10, percent(kErrorHi), view::kText);
+    SheetRegion region;
+    region.role = "colour scale";
+    region.label = "relative error";
+    region.x = px;
+    region.y = sy;
+    region.width = w;
+    region.height = 8;
+    region.lo = kErrorLo;
+    region.hi = kErrorHi;
+    region.log_scale = true;
+    sheet.regions.push_back(region);
+  }
+  sheet.width = c.width();
+  sheet.height = c.height();
+  sheet.rgb = std::move(c.rgb());
+  return sheet;
+}
+
+std::string preview_json(const PreviewResult& r, const std::string& environment, const std::string& sheet_path) {
+  json j;
+  j["generator"] = std::string("brdfbake ") + kVersion;
+  j["kind"] = "preview";
+  j["target"] = engine_target_name(r.spec.target);
+  j["files"] = {
+      {"sheet", fs::path(sheet_path).filename().string()},
+      {"splitsum", fs::path(sibling(sheet_path, "_splitsum.exr")).filename().string()},
+      {"reference",
+       r.reference.rgb.empty() ? json() : json(fs::path(sibling(sheet_path, "_reference.exr")).filename().string())}};
+  j["environment"] = {{"source", environment},
+                      {"model", r.environment_model},
+                      {"median_luminance", r.environment_median},
+                      {"exposure_ev", r.exposure}};
+  j["image"] = {
+      {"width", r.splitsum.width},
+      {"height", r.splitsum.height},
+      {"pixel",
+       "pixel (i, j) covers [i, i + 1) x [j, j + 1), row 0 at the top; shaded at its centre (i + 0.5, j + 0.5)"},
+      {"background", preview_background_name(r.spec.background)}};
+  const PreviewCamera& cam = r.camera;
+  j["camera"] = {{"projection", "orthographic"},
+                 {"view_direction", vec(cam.view_direction)},
+                 {"up", vec(cam.up)},
+                 {"right", vec(cam.right)},
+                 {"yaw", cam.yaw},
+                 {"pitch", cam.pitch},
+                 {"frame", "the environment's (docs/CONVENTIONS.md: +Y up, the equirect's centre looking down +Z)"},
+                 {"normal",
+                  "for a pixel centre (x, y) on a sphere, d = ((x - centre_x), (y - centre_y)) / radius, "
+                  "n = d.x right - d.y up + sqrt(1 - |d|^2) (-view_direction); v = -view_direction"},
+                 {"background_fov", cam.background_fov},
+                 {"background",
+                  "the split-sum image shows level 0 of the bake's chain (the engine's skybox), the reference "
+                  "the environment's cells, through a pinhole of background_fov degrees (vertical)"}};
+  j["brdf"] = r.brdf;
+  j["multiple_scattering_compensation"] = r.multiscatter;
+  json spheres = json::array();
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    const PreviewSphere& sp = r.spheres[s];
+    json o;
+    o["name"] = sp.material.name;
+    o["row"] = sp.row;
+    o["column"] = sp.column;
+    o["centre"] = json::array({sp.centre_x, sp.centre_y});
+    o["radius"] = sp.radius;
+    o["material"] = {
+        {"baseColor", rgb(sp.material.base_color)}, {"metallic", sp.material.metallic},
+        {"roughness", sp.material.roughness},       {"alpha", sp.material.roughness * sp.material.roughness},
+        {"F0", rgb(preview_f0(sp.material))},       {"diffuse_color", rgb(preview_diffuse_color(sp.material))}};
+    if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
+    if (s < r.stats.size()) {
+      const PreviewSphereStats& st = r.stats[s];
+      o["pixels"] = st.pixels;
+      o["error"] = {{"linear", stats(st.linear)}, {"srgb8", stats(st.srgb8)}};
+      o["reference_bound"] = {
+          {"rms", st.reference_rms_bound}, {"max", st.reference_max_bound}, {"pixels", st.bound_pixels}};
+    }
+    spheres.push_back(o);
+  }
+  j["spheres"] = spheres;
+  if (!r.stats.empty()) {
+    double worst_rms = 0, worst_max = 0;
+    for (const auto& st : r.stats) {
+      worst_rms = std::max(worst_rms, st.reference_rms_bound);
+      worst_max = std::max(worst_max, st.reference_max_bound);
+    }
+    j["reference"] = {{"definition",
+                       "per pixel, the integral of the BRDF above against the environment's model, no split "
+                       "sum, no prefiltering, no storage"},
+                      {"refinement", r.spec.refinement},
+                      {"bound_definition", r.bound_definition},
+                      {"bound_rms", worst_rms},
+                      {"bound_max", worst_max}};
+    j["error_definition"] = {
+        {"linear",
+         "per pixel |split-sum - reference| / |reference| (Euclidean norms of the linear RGB triples); per sphere "
+         "the RMS, the 99th percentile and the max over its pixels"},
+        {"srgb8",
+         "per pixel the largest difference of the three 8-bit sRGB channels after the sheet's exposure and tone map"}};
+  }
+  json bake = json::object();
+  for (const auto& [k, v] : r.bake) bake[k] = v;
+  j["bake"] = bake;
+  json shading = json::object();
+  for (const auto& [k, v] : r.shading) shading[k] = v;
+  j["split_sum"] = shading;
+  j["times"] = {{"bake", r.times.bake},
+                {"read", r.times.read},
+                {"splitsum", r.times.splitsum},
+                {"reference", r.times.reference},
+                {"reference_device", r.times.reference_device},
+                {"bound", r.times.bound},
+                {"total", r.times.total}};
+  j["device"] = r.device;
+  return j.dump(2) + "\n";
+}
+
+void write_preview(const PreviewResult& r, const std::string& environment, const std::string& sheet_path) {
+  const std::string title = "brdfbake preview";
+  const std::vector<std::pair<std::string, std::string>> attributes = {
+      {"brdfbake:kind", "preview"},
+      {"brdfbake:target", engine_target_name(r.spec.target)},
+      {"brdfbake:json", fs::path(sibling(sheet_path, ".json")).filename().string()},
+      {"brdfbake:pixel", "linear RGB radiance, row 0 at the top"}};
+  // The float images (ZIP-compressed by the EXR writer) on a second thread while the sheet is drawn
+  // and encoded here; everything is staged and renamed after the sheet.
+  io::TempFile split(sibling(sheet_path, "_splitsum.exr"));
+  std::optional<io::TempFile> ref;
+  if (!r.reference.rgb.empty()) ref.emplace(sibling(sheet_path, "_reference.exr"));
+  std::exception_ptr failed;
+  std::thread exr([&] {
+    try {
+      io::write_exr(split, r.splitsum.width, r.splitsum.height, 3, r.splitsum.rgb.data(), attributes);
+      if (ref) io::write_exr(*ref, r.reference.width, r.reference.height, 3, r.reference.rgb.data(), attributes);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  });
+  try {
+    io::TempFile json_file(sibling(sheet_path, ".json"));
+    io::write_bytes(json_file, preview_json(r, environment, sheet_path));
+    const ContactSheet sheet = preview_sheet(r, title);
+    // zlib level 3: a tenth of level 9's time for a 1600 x 700 sheet, a slightly larger file
+    constexpr int kSheetLevel = 3;
+    io::write_png_rgb8(sheet_path, sheet.width, sheet.height, sheet.rgb,
+                       {{"Software", std::string("brdfbake ") + kVersion},
+                        {"Description", "brdfbake preview: " + sheet.tone_map_text + "; " + sheet.colour_scale_text}},
+                       kSheetLevel);
+    exr.join();
+    if (failed) std::rethrow_exception(failed);
+    split.commit();
+    if (ref) ref->commit();
+    json_file.commit();
+  } catch (...) {
+    if (exr.joinable()) exr.join();
+    throw;
+  }
+}
+
+}  // namespace brdfbake::detail::preview

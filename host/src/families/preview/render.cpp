@@ -1,0 +1,411 @@
+// render_preview (brdfbake/preview.hpp): the bake, the split-sum render, the reference render and
+// the error between them.
+#include "families/preview/render.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "brdfbake/cancel.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/job.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/equirect.hpp"
+#include "brdfbake/plan.hpp"
+#include "families/preview/bake_files.hpp"
+#include "families/preview/kernel.hpp"
+#include "families/preview/model.hpp"
+#include "families/preview/shading.hpp"
+#include "families/preview/splitsum.hpp"
+#include "view/canvas.hpp"
+
+namespace brdfbake {
+
+namespace detail::preview {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double luminance(const float* rgb) {
+  return 0.2126 * double(rgb[0]) + 0.7152 * double(rgb[1]) + 0.0722 * double(rgb[2]);
+}
+
+// A folder in the system's temporary directory, removed with everything in it on destruction.
+class TempFolder {
+ public:
+  TempFolder() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("brdfbake-preview-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(path_);
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  std::string path() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+// Bakes what the target's engine loads, as `brdfbake bake --target T` does (the default plan: the
+// standard set for metallic-roughness materials), on the same backend.
+void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder,
+                const PreviewProgress& progress) {
+  try {
+    check_environment_source(env.source);
+  } catch (const Error& e) {
+    throw Error(std::string("the preview bakes first from the environment's source, which it cannot open (") +
+                e.what() + "): give a bake folder (bake)");
+  }
+  PlanOptions o;
+  o.environment = env.source;
+  o.sanitize = env.sanitize.replaced;
+  o.target = engine_target_name(target);
+  Plan plan = plan_default(o);
+  plan.job.output_dir = folder;
+  RunOptions ro;
+  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
+  run_job(
+      plan.job,
+      [&](const JobEvent& e) {
+        if (progress) progress(0.1 * (e.bake + e.fraction) / std::max(1, e.bakes), "bake: " + e.what);
+      },
+      ro);
+}
+
+// The environment's radiance in direction d under the reference's model (the constant cell d
+// falls in).
+Rgb equirect_cell(const EnvImage& e, const Vec3& d) {
+  double u = 0, v = 0;
+  math::equirect_coords(d, u, v);
+  const int x = std::clamp(int(std::floor(u * e.width)), 0, e.width - 1);
+  const int y = std::clamp(int(std::floor(v * e.height)), 0, e.height - 1);
+  const float* p = &e.rgb[3 * (size_t(y) * size_t(e.width) + size_t(x))];
+  return {p[0], p[1], p[2]};
+}
+
+void put(PreviewImage& img, int x, int y, const Rgb& c) {
+  float* p = &img.rgb[3 * (size_t(y) * size_t(img.width) + size_t(x))];
+  p[0] = float(c.r);
+  p[1] = float(c.g);
+  p[2] = float(c.b);
+}
+
+double rgb_norm(const float* a) {
+  const double x = a[0], y = a[1], z = a[2];
+  return std::sqrt(x * x + y * y + z * z);
+}
+double rgb_distance(const float* a, const float* b) {
+  const double d[3] = {double(a[0]) - double(b[0]), double(a[1]) - double(b[1]), double(a[2]) - double(b[2])};
+  return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+// The relative rounding of the reference's float sums, below which no bound is stated.
+constexpr double kFloatSumFloor = 1e-6;
+
+double relative(const double* a, const double* b) {
+  const double d =
+      std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+  const double n = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  return n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0);
+}
+
+}  // namespace
+
+EnvImage reference_equirect(const EnvImage& env) {
+  if (env.layout == EnvImage::Layout::Equirect) return env;
+  EnvImage e;
+  e.layout = EnvImage::Layout::Equirect;
+  e.width = 4 * env.width;
+  e.height = 2 * env.width;
+  e.source = env.source;
+  e.description = env.description + ", resampled to a " + std::to_string(e.width) + "x" + std::to_string(e.height) +
+                  " equirect (nearest texel)";
+  e.rgb.resize(3 * size_t(e.width) * size_t(e.height));
+  const int s = env.width;
+  for (int y = 0; y < e.height; ++y)
+    for (int x = 0; x < e.width; ++x) {
+      const Vec3 d = math::equirect_direction((x + 0.5) / e.width, (y + 0.5) / e.height);
+      int face = 0;
+      double a = 0, b = 0;
+      math::cube_face_coords(d, face, a, b);
+      const int i = std::clamp(int(std::floor(0.5 * (a + 1.0) * s)), 0, s - 1);
+      const int j = std::clamp(int(std::floor(0.5 * (b + 1.0) * s)), 0, s - 1);
+      const float* p = &env.rgb[3 * ((size_t(face) * size_t(s) + size_t(j)) * size_t(s) + size_t(i))];
+      std::copy(p, p + 3, &e.rgb[3 * (size_t(y) * size_t(e.width) + size_t(x))]);
+    }
+  return e;
+}
+
+double median_luminance(const EnvImage& e) {
+  // Solid-angle weights (cos(latitude) per row) into a histogram of log2 luminance with 1/128 EV
+  // bins between the smallest positive and the largest value (linear time: a sort of the 512k
+  // pixels of a 1k map took 0.1 s); black pixels count below every bin. The median to 0.01 EV is
+  // what the sheet's exposure needs.
+  constexpr double kBinsPerEv = 128.0;
+  double lo = HUGE_VAL, hi = 0.0, total = 0.0, black = 0.0;
+  for (size_t i = 0; i < e.rgb.size() / 3; ++i) {
+    const double l = luminance(&e.rgb[3 * i]);
+    if (l > 0.0) {
+      lo = std::min(lo, l);
+      hi = std::max(hi, l);
+    }
+  }
+  if (!(hi > 0.0)) return 0.0;
+  const double l0 = std::log2(lo);
+  const size_t bins = size_t(std::ceil((std::log2(hi) - l0) * kBinsPerEv)) + 1;
+  std::vector<double> h(bins, 0.0);
+  for (int y = 0; y < e.height; ++y) {
+    const double w = std::cos(M_PI * (0.5 - (y + 0.5) / e.height));
+    for (int x = 0; x < e.width; ++x) {
+      const double l = luminance(&e.rgb[3 * (size_t(y) * size_t(e.width) + size_t(x))]);
+      total += w;
+      if (l > 0.0)
+        h[std::min(bins - 1, size_t((std::log2(l) - l0) * kBinsPerEv))] += w;
+      else
+        black += w;
+    }
+  }
+  double acc = black;
+  if (acc >= 0.5 * total) return 0.0;
+  for (size_t b = 0; b < bins; ++b) {
+    acc += h[b];
+    if (acc >= 0.5 * total) return std::exp2(l0 + (double(b) + 0.5) / kBinsPerEv);
+  }
+  return hi;
+}
+
+PreviewErrorStats error_stats(std::vector<double> e) {
+  PreviewErrorStats s;
+  if (e.empty()) return s;
+  double sum2 = 0.0;
+  for (double x : e) sum2 += x * x;
+  s.rms = std::sqrt(sum2 / double(e.size()));
+  std::sort(e.begin(), e.end());
+  s.p99 = e[(e.size() - 1) * 99 / 100];
+  s.max = e.back();
+  return s;
+}
+
+}  // namespace detail::preview
+
+PreviewResult render_preview(Backend& backend, const EnvImage& environment, const PreviewSpec& spec,
+                             const PreviewProgress& progress) {
+  using namespace detail::preview;
+  const auto t_start = Clock::now();
+  PreviewResult res;
+  res.spec = resolve_spec(spec);
+  const Layout layout = make_layout(res.spec);
+  res.spheres = layout.spheres;
+  res.camera = layout.camera;
+  res.device = backend.name();
+  const std::vector<SpherePixel> pixels = sphere_pixels(layout);
+
+  // The bake: the folder given, or baked first.
+  std::unique_ptr<TempFolder> temp;
+  std::string folder = res.spec.bake;
+  if (folder.empty()) {
+    const auto t0 = Clock::now();
+    temp = std::make_unique<TempFolder>();
+    folder = temp->path();
+    bake_first(backend, environment, res.spec.target, folder, progress);
+    res.times.bake = since(t0);
+  }
+  auto t0 = Clock::now();
+  SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source));
+  res.times.read = since(t0);
+  res.bake = split.files().settings;
+  if (temp)
+    res.bake[0].second =
+        "baked first (brdfbake bake --target " + std::string(engine_target_name(res.spec.target)) + ")";
+  res.shading = split.steps();
+  const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
+  res.brdf = brdf.text;
+  res.multiscatter = brdf.compensation || brdf.diffuse == DiffuseWeight::FdezAguera;
+
+  const EnvImage equirect = reference_equirect(environment);
+  res.environment_median = median_luminance(equirect);
+  res.exposure = res.environment_median > 0.0 ? std::clamp(std::log2(0.18 / res.environment_median), -30.0, 30.0) : 0.0;
+  res.environment_model =
+      "each pixel of the " + std::to_string(equirect.width) + "x" + std::to_string(equirect.height) +
+      " equirect constant over its cell of longitude x latitude (docs/CONVENTIONS.md's mapping)" +
+      (environment.layout == EnvImage::Layout::Cube ? "; the cube input resampled to it (nearest texel)" : "");
+
+  // The split-sum render.
+  t0 = Clock::now();
+  const Vec3 v = view_vector(layout.camera);
+  const bool grey = res.spec.background == PreviewBackground::Grey;
+  res.splitsum.width = layout.width;
+  res.splitsum.height = layout.height;
+  res.splitsum.rgb.assign(3 * size_t(layout.width) * size_t(layout.height), 0.18f);
+  if (!grey)
+    for (int y = 0; y < layout.height; ++y)
+      for (int x = 0; x < layout.width; ++x) put(res.splitsum, x, y, split.sky(background_direction(layout, x, y)));
+  for (const SpherePixel& p : pixels)
+    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material));
+  res.times.splitsum = since(t0);
+  // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
+  // that would put the spheres' median luminance above 0.8 (a dark studio lit by small softboxes:
+  // its median is 0.009, and +4.4 EV turned every sphere white).
+  {
+    std::vector<double> lum;
+    for (const SpherePixel& p : pixels)
+      lum.push_back(luminance(&res.splitsum.rgb[3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x))]));
+    if (!lum.empty()) {
+      std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(lum.size() / 2), lum.end());
+      const double m = lum[lum.size() / 2];
+      if (m > 0.0) res.exposure = std::min(res.exposure, std::log2(0.8 / m));
+    }
+  }
+  if (progress) progress(0.15, "split-sum render");
+
+  if (res.spec.reference) {
+    // The exact albedos at every pixel's n.v (every sphere covers the same offsets) and roughness.
+    std::set<double> nv_set, r_set;
+    for (const SpherePixel& p : pixels) nv_set.insert(std::max(p.n_dot_v, 1e-7));
+    for (const PreviewSphere& s : res.spheres) r_set.insert(s.material.roughness);
+    const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
+    double lut_seconds = 0.0;
+    const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &lut_seconds);
+    auto albedos = [&](const SpherePixel& p, double* a, double* b) {
+      const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
+      const size_t j =
+          size_t(std::lower_bound(rs.begin(), rs.end(), res.spheres[size_t(p.sphere)].material.roughness) - rs.begin());
+      *a = ab[2 * (j * nvs.size() + i)];
+      *b = ab[2 * (j * nvs.size() + i) + 1];
+    };
+
+    detail::ReferenceTask task;
+    task.environment = &equirect;
+    task.view = v;
+    task.refinement = res.spec.refinement;
+    task.radiance_scale = M_PI * std::max(res.environment_median, 1e-30);
+    task.precision = res.spec.precision;
+    auto to_pixel = [&](const SpherePixel& p) {
+      detail::ReferencePixel r;
+      r.n[0] = float(p.n.x);
+      r.n[1] = float(p.n.y);
+      r.n[2] = float(p.n.z);
+      r.alpha = float(material_alpha(res.spheres[size_t(p.sphere)].material));
+      double a = 0, b = 0;
+      albedos(p, &a, &b);
+      r.albedo = float(a);
+      r.bias = float(b);
+      return r;
+    };
+    // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
+    // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
+    // grid's 72 spheres are 12 roughnesses).
+    std::map<std::array<float, 4>, size_t> unique;
+    std::vector<size_t> task_of(pixels.size());
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const detail::ReferencePixel r = to_pixel(pixels[i]);
+      const std::array<float, 4> key = {r.n[0], r.n[1], r.n[2], r.alpha};
+      const auto [it, added] = unique.emplace(key, task.pixels.size());
+      if (added) task.pixels.push_back(r);
+      task_of[i] = it->second;
+    }
+    // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
+    // distinct one integrated once more at twice the refinement.
+    std::vector<std::vector<size_t>> of_sphere(res.spheres.size());
+    for (size_t i = 0; i < pixels.size(); ++i) of_sphere[size_t(pixels[i].sphere)].push_back(i);
+    std::vector<size_t> bound_index, bound_task_of;
+    std::map<size_t, size_t> bound_unique;
+    for (const auto& list : of_sphere) {
+      const size_t n = list.size();
+      const size_t stride = std::max<size_t>(1, std::min<size_t>(size_t(res.spec.bound_stride), n / 16));
+      for (size_t k = stride / 2; k < n; k += stride) {
+        bound_index.push_back(list[k]);
+        const size_t t = task_of[list[k]];
+        const auto [it, added] = bound_unique.emplace(t, task.bound_pixels.size());
+        if (added) task.bound_pixels.push_back(task.pixels[t]);
+        bound_task_of.push_back(it->second);
+      }
+    }
+
+    const detail::ReferenceSums sums = detail::run_preview_reference(backend, task, [&](double f) {
+      if (progress) progress(0.15 + 0.85 * f, "reference render");
+    });
+    res.times.reference = sums.wall_seconds;
+    res.times.reference_device = sums.device_seconds + lut_seconds;
+    res.times.bound = sums.bound_wall_seconds;
+
+    res.reference.width = layout.width;
+    res.reference.height = layout.height;
+    res.reference.rgb.assign(res.splitsum.rgb.size(), 0.18f);
+    if (!grey)
+      for (int y = 0; y < layout.height; ++y)
+        for (int x = 0; x < layout.width; ++x)
+          put(res.reference, x, y, equirect_cell(equirect, background_direction(layout, x, y)));
+    std::vector<Rgb> ref(pixels.size());
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const SpherePixel& p = pixels[i];
+      const size_t t = task_of[i];
+      ref[i] = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo,
+                                  task.pixels[t].bias, &sums.values[9 * t]);
+      put(res.reference, p.x, p.y, ref[i]);
+    }
+
+    // The error per sphere, and the reference's own from the bound's pixels.
+    ViewOptions vo;
+    vo.exposure = res.exposure;
+    std::vector<std::vector<double>> lin(res.spheres.size()), steps(res.spheres.size()), bound(res.spheres.size());
+    for (const SpherePixel& p : pixels) {
+      const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
+      const float* s = &res.splitsum.rgb[at];
+      const float* r = &res.reference.rgb[at];
+      const double n = rgb_norm(r), d = rgb_distance(s, r);
+      lin[size_t(p.sphere)].push_back(n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0));
+      const view::Rgb8 a = view::tone_map(s, vo), b = view::tone_map(r, vo);
+      int worst = 0;
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[size_t(c)]) - int(b[size_t(c)])));
+      steps[size_t(p.sphere)].push_back(worst);
+    }
+    for (size_t k = 0; k < bound_index.size(); ++k) {
+      const SpherePixel& p = pixels[bound_index[k]];
+      const size_t t = bound_task_of[k];
+      const Rgb fine = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo,
+                                          task.bound_pixels[t].bias, &sums.bound_values[9 * t]);
+      const Rgb coarse = ref[bound_index[k]];
+      const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
+      // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
+      bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
+    }
+    for (size_t s = 0; s < res.spheres.size(); ++s) {
+      PreviewSphereStats st;
+      st.pixels = int(lin[s].size());
+      st.linear = error_stats(lin[s]);
+      st.srgb8 = error_stats(steps[s]);
+      const PreviewErrorStats b = error_stats(bound[s]);
+      st.reference_rms_bound = kPreviewBoundFactor * b.rms;
+      st.reference_max_bound = kPreviewBoundFactor * b.max;
+      st.bound_pixels = int(bound[s].size());
+      res.stats.push_back(st);
+    }
+    res.bound_definition =
+        "per sphere, " + std::to_string(int(kPreviewBoundFactor)) +
+        " x the RMS (and max) over its bound pixels (every " + std::to_string(res.spec.bound_stride) +
+        "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
+        "(RGB norms); the reference is " +
+        sums.method;
+  }
+  res.device = backend.name();  // opened by now where the device was used
+  res.times.total = since(t_start);
+  return res;
+}
+
+}  // namespace brdfbake

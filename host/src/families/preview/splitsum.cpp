@@ -1,0 +1,422 @@
+// The split-sum render of each target (splitsum.hpp). Every step names the engine's own function
+// (docs/ENGINES.md); the arithmetic is fp32, as in the shaders.
+#include "families/preview/splitsum.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "brdfbake/error.hpp"
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/math/sh.hpp"
+
+namespace brdfbake::detail::preview {
+
+namespace {
+
+// The polynomials poly_k of the 9 functions: 1, y, z, x, xy, yz, 3z^2 - 1, xz, x^2 - y^2.
+void poly9(float x, float y, float z, float p[9]) {
+  p[0] = 1.0f;
+  p[1] = y;
+  p[2] = z;
+  p[3] = x;
+  p[4] = x * y;
+  p[5] = y * z;
+  p[6] = 3.0f * z * z - 1.0f;
+  p[7] = x * z;
+  p[8] = x * x - y * y;
+}
+
+// Padded levels of a cube (cube.clh's layout): each face (s + 2)^2 RGB texels, its border holding
+// the neighbouring face's texel nearest to the extended texel centre, a corner the mean of the three
+// texels around it: the seamless cube filtering of OpenGL 4.6, 8.13.1 (GL_TEXTURE_CUBE_MAP_SEAMLESS,
+// always on in WebGL 2 and on in Filament).
+template <class Level>
+Level pad(const CubeLevels& cube, int l) {
+  Level out;
+  const int s = cube.level_size(l);
+  out.size = s;
+  const size_t p = size_t(s) + 2;
+  out.rgb.assign(6 * p * p * 3, 0.0f);
+  auto fetch = [&](int face, int i, int j, float* rgb) {
+    const bool in_i = i >= 0 && i < s, in_j = j >= 0 && j < s;
+    auto neighbour = [&](int ii, int jj, float* o) {
+      const double a = 2.0 * (ii + 0.5) / s - 1.0, b = 2.0 * (jj + 0.5) / s - 1.0;
+      int nf = 0;
+      double na = 0, nb = 0;
+      math::cube_face_coords(math::cube_plane_point(face, a, b), nf, na, nb);
+      const int ni = std::clamp(int(std::floor(0.5 * (na + 1.0) * s)), 0, s - 1);
+      const int nj = std::clamp(int(std::floor(0.5 * (nb + 1.0) * s)), 0, s - 1);
+      const float* t = cube.texel(l, nf, ni, nj);
+      for (int c = 0; c < 3; ++c) o[c] = t[c];
+    };
+    if (in_i && in_j) {
+      const float* t = cube.texel(l, face, i, j);
+      for (int c = 0; c < 3; ++c) rgb[c] = t[c];
+    } else if (in_i || in_j) {
+      neighbour(i, j, rgb);
+    } else {
+      const int ci = std::clamp(i, 0, s - 1), cj = std::clamp(j, 0, s - 1);
+      float a[3], b[3];
+      neighbour(ci, j, a);
+      neighbour(i, cj, b);
+      const float* t = cube.texel(l, face, ci, cj);
+      for (int c = 0; c < 3; ++c) rgb[c] = (a[c] + b[c] + t[c]) / 3.0f;
+    }
+  };
+  for (int f = 0; f < 6; ++f)
+    for (int j = -1; j <= s; ++j)
+      for (int i = -1; i <= s; ++i) fetch(f, i, j, &out.rgb[3 * ((size_t(f) * p + size_t(j + 1)) * p + size_t(i + 1))]);
+  return out;
+}
+
+// The face and face coordinates of a direction (OpenGL 4.6, table 8.19), in fp32.
+int face_of(const Vec3& d, float* a, float* b) {
+  const float x = float(d.x), y = float(d.y), z = float(d.z);
+  const float ax = std::fabs(x), ay = std::fabs(y), az = std::fabs(z);
+  if (ax >= ay && ax >= az) {
+    *a = (x >= 0.0f ? -z : z) / ax;
+    *b = -y / ax;
+    return x >= 0.0f ? 0 : 1;
+  }
+  if (ay >= az) {
+    *a = x / ay;
+    *b = (y >= 0.0f ? z : -z) / ay;
+    return y >= 0.0f ? 2 : 3;
+  }
+  *a = (z >= 0.0f ? x : -x) / az;
+  *b = -y / az;
+  return z >= 0.0f ? 4 : 5;
+}
+
+// Babylon.js's renderer (sphericalPolynomial.ts): the harmonics its shader evaluates from a spherical
+// polynomial, SphericalHarmonics.FromPolynomial then preScaleForRendering (times
+// SH3ylmBasisConstants, which carry the Condon-Shortley signs): 9 x RGB in the order l00, l1-1, l10,
+// l11, l2-2, l2-1, l20, l21, l22. p: x, y, z, xx, yy, zz, yz, zx, xy.
+std::vector<double> babylon_prescaled_harmonics(const std::vector<double>& p) {
+  auto at = [&](int k, int c) { return p[size_t(3 * k + c)]; };
+  const double basis[9] = {
+      std::sqrt(1.0 / (4.0 * M_PI)),  -std::sqrt(3.0 / (4.0 * M_PI)),  std::sqrt(3.0 / (4.0 * M_PI)),
+      -std::sqrt(3.0 / (4.0 * M_PI)), std::sqrt(15.0 / (4.0 * M_PI)),  -std::sqrt(15.0 / (4.0 * M_PI)),
+      std::sqrt(5.0 / (16.0 * M_PI)), -std::sqrt(15.0 / (4.0 * M_PI)), std::sqrt(15.0 / (16.0 * M_PI))};
+  std::vector<double> h(27);
+  for (int c = 0; c < 3; ++c) {
+    const double x = at(0, c), y = at(1, c), z = at(2, c), xx = at(3, c), yy = at(4, c), zz = at(5, c), yz = at(6, c),
+                 zx = at(7, c), xy = at(8, c);
+    const double l[9] = {xx * 0.376127 + yy * 0.376127 + zz * 0.376126,
+                         -y * 0.977204,
+                         z * 0.977204,
+                         -x * 0.977204,
+                         xy * 1.16538,
+                         -yz * 1.16538,
+                         zz * 1.34567 - xx * 0.672834 - yy * 0.672834,
+                         -zx * 1.16538,
+                         xx * 1.16538 - yy * 1.16538};
+    for (int k = 0; k < 9; ++k) h[size_t(3 * k + c)] = l[k] * M_PI * basis[k];
+  }
+  return h;
+}
+
+// Babylon.js's SphericalPolynomial.FromHarmonics (updateFromHarmonics) of harmonics h (9 x RGB).
+std::vector<double> babylon_polynomial_from(const std::vector<double>& h) {
+  std::vector<double> p(27);
+  for (int c = 0; c < 3; ++c) {
+    auto at = [&](int k) { return h[size_t(3 * k + c)]; };
+    const double v[9] = {-1.02333 * at(3),
+                         -1.02333 * at(1),
+                         1.02333 * at(2),
+                         0.886277 * at(0) - 0.247708 * at(6) + 0.429043 * at(8),
+                         0.886277 * at(0) - 0.247708 * at(6) - 0.429043 * at(8),
+                         0.886277 * at(0) + 0.495417 * at(6),
+                         -0.858086 * at(5),
+                         -0.858086 * at(7),
+                         0.858086 * at(4)};
+    for (int k = 0; k < 9; ++k) p[size_t(3 * k + c)] = v[k] / M_PI;
+  }
+  return p;
+}
+
+float mixf(float a, float b, float t) { return a + (b - a) * t; }
+float pow5(float x) {
+  const float x2 = x * x;
+  return x2 * x2 * x;
+}
+
+}  // namespace
+
+SplitSum::SplitSum(BakeFiles files) : files_(std::move(files)) {
+  // Babylon.js evaluates harmonics pre-scaled from the spherical polynomial (the .env's), or from the
+  // polynomial its glTF loader makes of irradianceCoefficients (EXT_lights_image_based.ts:
+  // FromArray, convertIrradianceToLambertianRadiance, SphericalPolynomial.FromHarmonics).
+  if (files_.diffuse == DiffuseSource::BabylonPolynomial) {
+    harmonics_ = babylon_prescaled_harmonics(files_.sh);
+  } else if (files_.diffuse == DiffuseSource::GltfSh) {
+    std::vector<double> lambertian = files_.sh;
+    for (double& v : lambertian) v /= M_PI;
+    harmonics_ = babylon_prescaled_harmonics(babylon_polynomial_from(lambertian));
+  }
+  for (int l = 0; l < files_.specular.level_count(); ++l) levels_.push_back(pad<Level>(files_.specular, l));
+  if (!files_.irradiance.levels.empty()) irradiance_.push_back(pad<Level>(files_.irradiance, 0));
+  if (files_.diffuse == DiffuseSource::OurSh && files_.sh_order < 3)
+    throw Error("'" + files_.diffuse_file + "': SH of " + std::to_string(files_.sh_order) + " bands (at least 3)");
+}
+
+void SplitSum::bilinear(int level, int face, float a, float b, float out[3]) const {
+  const std::vector<Level>& ls = level < 0 ? irradiance_ : levels_;
+  const Level& lv = ls[size_t(level < 0 ? 0 : level)];
+  const int s = lv.size;
+  const size_t p = size_t(s) + 2;
+  // texel coordinates (texel centres at i + 0.5), in the padded face (+1)
+  const float x = 0.5f * (a + 1.0f) * float(s) + 0.5f, y = 0.5f * (b + 1.0f) * float(s) + 0.5f;
+  const int x0 = std::min(int(x), s), y0 = std::min(int(y), s);
+  const float tx = x - float(x0), ty = y - float(y0);
+  const float* t = &lv.rgb[3 * ((size_t(face) * p + size_t(y0)) * p + size_t(x0))];
+  for (int c = 0; c < 3; ++c) {
+    const float top = mixf(t[c], t[3 + c], tx), bottom = mixf(t[3 * p + size_t(c)], t[3 * p + 3 + size_t(c)], tx);
+    out[c] = mixf(top, bottom, ty);
+  }
+}
+
+void SplitSum::trilinear(const Vec3& d, float lod, float out[3]) const {
+  // textureLod: lod clamped to [0, levels - 1], linear between the two nearest levels
+  float a = 0, b = 0;
+  const int face = face_of(d, &a, &b);
+  const float clamped = std::clamp(lod, 0.0f, float(levels_.size() - 1));
+  const int l0 = std::min(int(clamped), int(levels_.size()) - 1);
+  const float t = clamped - float(l0);
+  bilinear(l0, face, a, b, out);
+  if (t > 0.0f && l0 + 1 < int(levels_.size())) {
+    float hi[3];
+    bilinear(l0 + 1, face, a, b, hi);
+    for (int c = 0; c < 3; ++c) out[c] = mixf(out[c], hi[c], t);
+  }
+}
+
+void SplitSum::dfg(float n_dot_v, float roughness, float* bias, float* albedo) const {
+  // texture(lut, vec2(n_dot_v, roughness)): bilinear, clamp to edge, texel centres at (i + 0.5) / N
+  const Table& t = files_.dfg;
+  const float u = files_.dfg_sqrt_n_dot_v ? std::sqrt(std::max(n_dot_v, 0.0f)) : n_dot_v;
+  auto split = [](float uv, int n, int* i0, float* f) {
+    const float x = std::clamp(uv * float(n) - 0.5f, 0.0f, float(n - 1));
+    *i0 = std::min(int(x), std::max(n - 2, 0));
+    *f = n > 1 ? x - float(*i0) : 0.0f;
+  };
+  int i0 = 0, j0 = 0;
+  float fx = 0, fy = 0;
+  split(u, t.width, &i0, &fx);
+  split(roughness, t.height, &j0, &fy);
+  const int i1 = std::min(i0 + 1, t.width - 1), j1 = std::min(j0 + 1, t.height - 1);
+  float c[2];
+  for (int k = 0; k < 2; ++k)
+    c[k] = mixf(mixf(t.at(i0, j0, k), t.at(i1, j0, k), fx), mixf(t.at(i0, j1, k), t.at(i1, j1, k), fx), fy);
+  if (files_.dfg_multiscatter) {
+    *bias = c[0];
+    *albedo = c[1];
+  } else {
+    *bias = c[1];
+    *albedo = c[0] + c[1];  // scale + bias
+  }
+}
+
+void SplitSum::diffuse(const Vec3& n, float out[3]) const {
+  const std::vector<double>& c = files_.sh;
+  float p[9];
+  poly9(float(n.x), float(n.y), float(n.z), p);
+  switch (files_.diffuse) {
+    case DiffuseSource::OurSh: {
+      // docs/CONVENTIONS.md: E(n) / pi = sum c_lm Y_lm(n)
+      const std::vector<double> y = math::sh_basis(files_.sh_order, n);
+      for (int ch = 0; ch < 3; ++ch) {
+        double e = 0.0;
+        for (size_t k = 0; k < y.size(); ++k) e += c[3 * k + size_t(ch)] * y[k];
+        out[ch] = float(e);
+      }
+      return;
+    }
+    case DiffuseSource::FilamentSh:
+      // Filament light_indirect.fs, Irradiance_SphericalHarmonics: max(sum sh_k poly_k(n), 0)
+      for (int ch = 0; ch < 3; ++ch) {
+        float e = 0.0f;
+        for (size_t k = 0; k < 9; ++k) e += float(c[3 * k + size_t(ch)]) * p[k];
+        out[ch] = std::max(e, 0.0f);
+      }
+      return;
+    case DiffuseSource::GltfSh:
+    case DiffuseSource::BabylonPolynomial:
+      // Babylon.js's harmonicsFunctions.fx, computeEnvironmentIrradiance: sum of the pre-scaled
+      // harmonics times 1, y, z, x, yx, yz, 3z^2 - 1, zx, x^2 - y^2
+      for (int ch = 0; ch < 3; ++ch) {
+        float e = 0.0f;
+        for (size_t k = 0; k < 9; ++k) e += float(harmonics_[3 * k + size_t(ch)]) * p[k];
+        out[ch] = e;
+      }
+      return;
+    case DiffuseSource::IrradianceCube: {
+      // glTF-Sample-Viewer ibl.glsl, getDiffuseLight: texture(u_LambertianEnvSampler, n)
+      float a = 0, b = 0;
+      const int face = face_of(n, &a, &b);
+      bilinear(-1, face, a, b, out);
+      return;
+    }
+  }
+}
+
+Rgb SplitSum::sky(const Vec3& d) const {
+  float a = 0, b = 0, o[3];
+  const int face = face_of(d, &a, &b);
+  bilinear(0, face, a, b, o);
+  return {o[0], o[1], o[2]};
+}
+
+Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) const {
+  const Rgb f0d = preview_f0(m), cdd = preview_diffuse_color(m);
+  const float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)}, cd[3] = {float(cdd.r), float(cdd.g), float(cdd.b)};
+  const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
+              vz = float(vd.z);
+  const float dot_nv = nx * vx + ny * vy + nz * vz;
+  const float levels_minus_one = float(levels_.size() - 1);
+  float out[3] = {0, 0, 0}, irr[3];
+  diffuse(nd, irr);
+  switch (files_.target) {
+    case EngineTarget::Generic: {
+      // docs/CONVENTIONS.md's runtime: lod = (levels - 1) roughness, specular = prefiltered x
+      // mix(bias, albedo, F0) x (1 + F0 (1 / albedo - 1)) (ggx-multiscatter) or F0 scale + bias
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
+      const Vec3 refl{double(2.0f * nv * nx - vx), double(2.0f * nv * ny - vy), double(2.0f * nv * nz - vz)};
+      float light[3], bias = 0, albedo = 0;
+      trilinear(refl, levels_minus_one * r, light);
+      dfg(nv, r, &bias, &albedo);
+      for (int c = 0; c < 3; ++c) {
+        const float e = mixf(bias, albedo, f0[c]);
+        const float k = files_.dfg_multiscatter ? 1.0f + f0[c] * (1.0f / albedo - 1.0f) : 1.0f;
+        out[c] = light[c] * e * k + cd[c] * irr[c];
+      }
+      break;
+    }
+    case EngineTarget::Filament: {
+      // common_material.fs: perceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1],
+      // roughness = perceptualRoughness^2; shading_NoV = clampNoV(dot(n, v)) = max(NoV, 1e-4)
+      const float pr = std::clamp(float(m.roughness), 0.045f, 1.0f), a = pr * pr;
+      const float nv = std::max(dot_nv, 1e-4f);
+      float bias = 0, albedo = 0;
+      dfg(nv, pr, &bias, &albedo);  // PrefilteredDFG_LUT(perceptualRoughness, NoV)
+      // getReflectedVector -> getSpecularDominantDirection: mix(r, n, roughness^2), r = reflect(-v, n)
+      const float rx = 2.0f * dot_nv * nx - vx, ry = 2.0f * dot_nv * ny - vy, rz = 2.0f * dot_nv * nz - vz;
+      const float s = a * a;
+      const Vec3 dir{mixf(rx, nx, s), mixf(ry, ny, s), mixf(rz, nz, s)};
+      float light[3];
+      trilinear(dir, levels_minus_one * pr * (2.0f - pr), light);  // perceptualRoughnessToLod
+      for (int c = 0; c < 3; ++c) {
+        const float e = mixf(bias, albedo, f0[c]);                // specularDFG
+        const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);    // energyCompensation
+        out[c] = e * light[c] * k + cd[c] * irr[c] * (1.0f - e);  // evaluateIBL: Fr + Fd
+      }
+      break;
+    }
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon: {
+      // pbrBlockGeometryInfo: NdotV = absEps(dot(n, v)) = |NdotV| + 1e-7;
+      // alphaG = convertRoughnessToAverageSlope(roughness) = roughness^2 + MINIMUMVARIANCE (0.0005)
+      const float nv = std::fabs(dot_nv) + 1e-7f, r = float(m.roughness);
+      const float alpha_g = r * r + 0.0005f;
+      // sampleReflectionTexture: lod = getLodFromAlphaG(size, alphaG) * lodGenerationScale + offset
+      const float lod = std::log2(float(files_.specular.size) * alpha_g) * float(files_.lod_scale);
+      const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy),
+                      double(2.0f * dot_nv * nz - vz)};
+      float light[3], bias = 0, albedo = 0;
+      trilinear(refl, lod, light);
+      dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
+      for (int c = 0; c < 3; ++c) {
+        // getReflectanceFromBRDFLookup (height-correlated, metallic workflow, ior 1.5: the clamp
+        // is 1): (F90 - F0) x + F0 y, F90 = 1; getEnergyConservationFactor: 1 + F0 (1 / y - 1)
+        const float reflectance = (1.0f - f0[c]) * bias + f0[c] * albedo;
+        const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);
+        out[c] = light[c] * reflectance * k + irr[c] * cd[c];  // finalRadianceScaled + finalIrradiance
+      }
+      break;
+    }
+    case EngineTarget::KhronosViewer: {
+      // ibl.glsl getIBLRadianceGGX and getIBLRadianceLambertian (specularWeight 1)
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
+      const float lod = r * levels_minus_one;
+      const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy),
+                      double(2.0f * dot_nv * nz - vz)};
+      float light[3], bias = 0, albedo = 0;
+      trilinear(refl, lod, light);
+      dfg(std::clamp(nv, 0.0f, 1.0f), std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
+      const float fa = albedo - bias, fb = bias;  // f_ab: scale, bias
+      for (int c = 0; c < 3; ++c) {
+        const float fr = std::max(1.0f - r, f0[c]) - f0[c];
+        const float ks = f0[c] + fr * pow5(1.0f - nv);
+        const float fss_ess = ks * fa + fb;
+        const float ems = 1.0f - (fa + fb);
+        const float favg = f0[c] + (1.0f - f0[c]) / 21.0f;
+        const float fms_ems = ems * fss_ess * favg / (1.0f - favg * ems);
+        const float kd = cd[c] * (1.0f - fss_ess + fms_ems);
+        out[c] = light[c] * fss_ess + (fms_ems + kd) * irr[c];
+      }
+      break;
+    }
+  }
+  return {out[0], out[1], out[2]};
+}
+
+Metadata SplitSum::steps() const {
+  const std::string lut = "the bake's DFG table (" + files_.dfg_file + ", " + std::to_string(files_.dfg.width) + "x" +
+                          std::to_string(files_.dfg.height) + "), bilinear, clamp to edge, texel centres";
+  const std::string cube = "trilinear, seamless (OpenGL 4.6 8.13.1), on " + files_.specular_file + " decoded from " +
+                           files_.specular_format + ", " + std::to_string(files_.specular.level_count()) + " levels";
+  switch (files_.target) {
+    case EngineTarget::Generic:
+      return {{"lod", "(levels - 1) roughness (docs/CONVENTIONS.md, linear schedule)"},
+              {"specular_sample", cube + ", at reflect(-v, n)"},
+              {"dfg", lut + ", at (clamp(n.v), roughness)"},
+              {"specular", files_.dfg_multiscatter ? "prefiltered x mix(bias, albedo, F0) x (1 + F0 (1 / albedo - 1))"
+                                                   : "prefiltered x (F0 scale + bias)"},
+              {"diffuse", "diffuse colour x sum c_lm Y_lm(n) (E / pi, " + files_.diffuse_file + ")"}};
+    case EngineTarget::Filament:
+      return {
+          {"roughness",
+           "clamp(roughness, MIN_PERCEPTUAL_ROUGHNESS 0.045, 1) (common_material.fs); n.v = clampNoV: max(n.v, 1e-4)"},
+          {"lod", "perceptualRoughnessToLod: (levels - 1) r (2 - r) (light_indirect.fs)"},
+          {"direction",
+           "getSpecularDominantDirection: mix(reflect(-v, n), n, roughness^2), roughness = r^2 (light_indirect.fs)"},
+          {"specular_sample", cube + " (prefilteredRadiance)"},
+          {"dfg", lut + " (PrefilteredDFG_LUT(perceptualRoughness, NoV))"},
+          {"specular",
+           "specularDFG: mix(dfg.x, dfg.y, F0) x prefilteredRadiance x energyCompensation 1 + F0 (1 / dfg.y - 1) "
+           "(evaluateIBL)"},
+          {"diffuse",
+           "diffuseColor x Irradiance_SphericalHarmonics(n) (max(sum sh_k poly_k, 0), the KTX sh key) x (1 - E) "
+           "(evaluateIBL)"}};
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      return {
+          {"lod", "getLodFromAlphaG: log2(size (r^2 + 0.0005)) x lodGenerationScale " +
+                      std::to_string(files_.lod_scale) +
+                      (files_.target == EngineTarget::Gltf ? " ((N - 1) / log2 size, EXT_lights_image_based.ts)"
+                                                           : " (the .env's)") +
+                      " (pbrBlockReflection.fx, sampleReflectionTexture)"},
+          {"specular_sample", cube + ", RGBD expanded to half float (environmentTextureTools.ts, _UploadLevelsAsync)"},
+          {"dfg", lut + " (pbrBRDFFunctions.fx, getBRDFLookup(NdotV = |n.v| + 1e-7, roughness))"},
+          {"specular",
+           "getReflectanceFromBRDFLookup: (1 - F0) x + F0 y, x getEnergyConservationFactor 1 + F0 (1 / y - 1) "
+           "(pbrBlockFinalLitComponents.fx)"},
+          {"diffuse", std::string("surfaceAlbedo x environmentIrradiance (") +
+                          (files_.target == EngineTarget::Gltf ? "irradianceCoefficients / pi, SphericalHarmonics"
+                                                               : "the .env's spherical polynomial") +
+                          ", computeEnvironmentIrradiance)"}};
+    case EngineTarget::KhronosViewer:
+      return {{"lod", "roughness (u_MipCount - 1) (ibl.glsl, getIBLRadianceGGX)"},
+              {"specular_sample", cube + ", at normalize(reflect(-v, n)) (getSpecularSample)"},
+              {"dfg", lut + ", as f_ab = (scale, bias) at clamp(NdotV, roughness)"},
+              {"specular",
+               "specularLight x (k_S f_ab.x + f_ab.y), k_S = F0 + (max(1 - roughness, F0) - F0) (1 - NdotV)^5 "
+               "(getIBLRadianceGGX)"},
+              {"diffuse",
+               "(FmsEms + k_D) x texture(u_LambertianEnvSampler, n) (getIBLRadianceLambertian, Fdez-Aguera's multiple "
+               "scattering)"}};
+  }
+  return {};
+}
+
+}  // namespace brdfbake::detail::preview

@@ -1,0 +1,43 @@
+// Internal: the split-sum render, what a target engine's shader computes from a bake's files
+// (docs/ENGINES.md, "What the preview emulates", cites the function each step reproduces): its LOD
+// from roughness, trilinear seamless sampling of the stored cube levels (decoded as the GPU sees
+// them: bake_files.hpp), the DFG table at its stored size by bilinear lookup (clamp to edge, texel
+// centres), its multiple-scattering compensation, and its diffuse term. In fp32, as a shader.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "brdfbake/preview.hpp"
+#include "families/preview/bake_files.hpp"
+
+namespace brdfbake::detail::preview {
+
+class SplitSum {
+ public:
+  explicit SplitSum(BakeFiles files);
+  // The radiance towards v (unit, from the surface to the viewer) of a surface of normal n.
+  Rgb shade(const Vec3& n, const Vec3& v, const PreviewMaterial& m) const;
+  // Level 0 of the chain in direction d (the background: the engine's skybox).
+  Rgb sky(const Vec3& d) const;
+  // What each step does for this target and which shader function it is, for the JSON.
+  Metadata steps() const;
+  const BakeFiles& files() const { return files_; }
+
+ private:
+  struct Level {
+    int size = 0;
+    std::vector<float> rgb;  // padded faces: (size + 2)^2 texels a face, a border of the neighbours
+  };
+  void bilinear(int level, int face, float a, float b, float out[3]) const;
+  void trilinear(const Vec3& d, float lod, float out[3]) const;
+  void dfg(float n_dot_v, float roughness, float* bias, float* albedo) const;
+  void diffuse(const Vec3& n, float out[3]) const;
+
+  BakeFiles files_;
+  std::vector<Level> levels_;
+  std::vector<Level> irradiance_;
+  std::vector<double> harmonics_;  // Babylon.js's pre-scaled harmonics (babylon, gltf)
+};
+
+}  // namespace brdfbake::detail::preview
