@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -317,6 +318,29 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
   EXPECT_EQ(bad.code, 2) << bad.err;
   EXPECT_NE(bad.err.find("needs a GGX prefiltered chain and an irradiance table"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "bad"));
+  fs::remove_all(dir);
+}
+
+// Issue 24, item 3: a job with a Charlie chain baked for khronos-viewer writes NAME_charlie.ktx2
+// beside NAME_ggx.ktx2 (docs/ENGINES.md), listed with the engine's files; without one, none.
+TEST(CliBake, KhronosViewerWritesTheCharlieChainItIsGiven) {
+  const fs::path dir = fs::temp_directory_path() / ("brdfbake-kv-charlie-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string tables = R"({"kind": "prefilter", "size": 16, "output": "ggx.ktx2"},
+      {"kind": "irradiance", "cube_size": 8, "output": "irr.ktx2"})";
+  std::ofstream(dir / "with.json") << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)" << tables
+                                   << R"(, {"kind": "prefilter", "distribution": "charlie", "size": 16, "output": "charlie.ktx2"}]})";
+  std::ofstream(dir / "without.json") << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)" << tables
+                                      << "]}";
+  const CliRun with = run("run " + (dir / "with.json").string() + " --quiet -o " + (dir / "kv").string());
+  ASSERT_EQ(with.code, 0) << with.err;
+  EXPECT_TRUE(fs::exists(dir / "kv" / "kv_charlie.ktx2"));
+  EXPECT_NE([&] { std::ifstream in(dir / "kv" / "manifest.json"); return std::string(std::istreambuf_iterator<char>(in), {}); }().find("kv_charlie.ktx2"), std::string::npos);
+  const CliRun without = run("run " + (dir / "without.json").string() + " --quiet -o " + (dir / "plain").string());
+  ASSERT_EQ(without.code, 0) << without.err;
+  EXPECT_TRUE(fs::exists(dir / "plain" / "plain_ggx.ktx2"));
+  EXPECT_FALSE(fs::exists(dir / "plain" / "plain_charlie.ktx2"));
   fs::remove_all(dir);
 }
 

@@ -31,6 +31,7 @@ const Family& prefilter_family();
 const Family& irradiance_family();
 const Family& eval_family();
 const Family& tabulate_family();
+const Family& preview_family();
 
 const std::vector<const Family*>& families() {
   static const std::vector<const Family*> all = {&dfg_lut_family(),    &fresnel_family(),    &thin_film_family(),

@@ -135,11 +135,15 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
 }
 
 // The engine's files beside the tables (bake --target), named `name` (the folder's name, as cmgen -x
-// names them, unless the run names them), from the job's first GGX chain and first SH, staged in
-// `staged`.
+// names them, unless the run names them), from the job's first GGX chain, first Charlie chain (the
+// targets that load one: khronos-viewer's NAME_charlie.ktx2) and first SH, staged in `staged`.
+struct EngineInputs {
+  std::optional<BakeResult> ggx_chain, charlie_chain, irradiance;
+};
 void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
-                      const std::optional<BakeResult>& ggx_chain, const std::optional<BakeResult>& irradiance,
-                      const std::string& name, const fs::path& staged) {
+                      const EngineInputs& in, const std::string& name, const fs::path& staged) {
+  const std::optional<BakeResult>& ggx_chain = in.ggx_chain;
+  const std::optional<BakeResult>& irradiance = in.irradiance;
   if (!ggx_chain || !irradiance)
     throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
                 "job (the plan of brdfbake bake --target " + job.target + " has both)");
@@ -147,6 +151,7 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   eb.prefiltered = ggx_chain->cube();
   eb.sh = &irradiance->irradiance()->sh;
   if (irradiance->irradiance()->cube.level_count() > 0) eb.irradiance_cube = &irradiance->irradiance()->cube;
+  if (in.charlie_chain) eb.charlie = in.charlie_chain->cube();
   EngineWriteOptions wo;
   wo.name = name;
   const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
@@ -215,7 +220,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
 
   const EngineTarget engine = engine_target_from_name(job.target);
-  std::optional<BakeResult> ggx_chain, irradiance;
+  EngineInputs engine_inputs;
+  std::optional<BakeResult>&ggx_chain = engine_inputs.ggx_chain, &irradiance = engine_inputs.irradiance;
   // Progress: each table's bake reports [0, kBakeShare) and the writing of its files the rest, so
   // that 100 % means its files are written (encoding and the storage error measurement took up to a
   // second a table, measured); an engine's file set is one more step of its own, after the tables
@@ -254,6 +260,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
       if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
+      if (!engine_inputs.charlie_chain && r.cube() && t.text("distribution") == "charlie") engine_inputs.charlie_chain = r;
       if (!irradiance && r.irradiance()) irradiance = r;
     }
     for (size_t k = 0; k < groups[g].size(); ++k) {
@@ -296,7 +303,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     const std::string name = !options.engine_name.empty() ? options.engine_name
                              : !job.engine_name.empty()    ? job.engine_name
                                                            : fs::path(target).filename().string();
-    add_engine_files(manifest, engine, job, origin, ggx_chain, irradiance, name, staging.path());
+    add_engine_files(manifest, engine, job, origin, engine_inputs, name, staging.path());
     if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 1.0});
   }
 

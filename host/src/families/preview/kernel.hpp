@@ -11,6 +11,7 @@
 
 #include "brdfbake/backend.hpp"
 #include "brdfbake/environment.hpp"
+#include "brdfbake/math/types.hpp"
 
 namespace brdfbake::detail {
 
