@@ -254,7 +254,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     assert browser.find_element("id", "opt-cube_size").get_attribute("value") == "64"
     browser.find_element("id", "copy-command").click()
     command = _text(browser, "command-text")
-    assert command.startswith("brdfbake bake ") and f"--env {HDR}" in command and "--target filament" in command
+    assert command.startswith("brdfbake bake ") and f"--environment {HDR}" in command and "--target filament" in command
     assert "--cube-size 64" in command
 
     browser.find_element("id", "bake-button").click()
