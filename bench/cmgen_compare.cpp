@@ -9,8 +9,8 @@
 // Every job: one warm-up run of each tool (kernel binary cache, page cache), then N rounds (default
 // 5), each running every tool once, starting with a different one each round; each run is a
 // fork/exec whose wall time comes from a steady clock and whose peak memory is wait4's ru_maxrss.
-// --baseline runs our commands with another brdfbake build too (before/after a change). Printed: the medians of each tool, the median
-// of the per-pair ratios ours/cmgen, the median peak memory, and our error against an independent
+// --baseline runs our commands with another brdfbake build too (before/after a change). Printed: the medians of each
+// tool, the median of the per-pair ratios ours/cmgen, the median peak memory, and our error against an independent
 // reference computed here:
 //   dfg         max abs error of our 128^2 multiscatter table against the converged double
 //               reference (bake_lut_reference);
@@ -42,9 +42,9 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
-#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"
@@ -136,7 +136,6 @@ struct Job {
   std::string name, description;
   std::vector<std::string> ours, theirs;  // theirs empty: no cmgen counterpart
 };
-
 
 // ---- Our errors ------------------------------------------------------------------------------------
 
@@ -264,7 +263,8 @@ std::string chain_error(const fs::path& ktx2, EnvDistribution d, int n) {
     double sum2 = 0, mx = 0;
     for (size_t k = 0; k < dirs.size(); ++k)
       for (size_t c = 0; c < 3; ++c) {
-        const double e = std::fabs(double(got.rgb[at[k] + c]) - want[3 * k + c]) / std::max(want[3 * k + c], 1e-3 * mean);
+        const double e =
+            std::fabs(double(got.rgb[at[k] + c]) - want[3 * k + c]) / std::max(want[3 * k + c], 1e-3 * mean);
         sum2 += e * e;
         mx = std::max(mx, e);
       }
@@ -273,8 +273,10 @@ std::string chain_error(const fs::path& ktx2, EnvDistribution d, int n) {
     probes += dirs.size();
   }
   char b[200];
-  std::snprintf(b, sizeof b, "worst level RMS %.2f%%, max %.1f%% (%zu texels on %d levels vs the double reference, as stored: binary16)",
-                100 * worst_rms, 100 * worst_max, probes, levels - 1);
+  std::snprintf(
+      b, sizeof b,
+      "worst level RMS %.2f%%, max %.1f%% (%zu texels on %d levels vs the double reference, as stored: binary16)",
+      100 * worst_rms, 100 * worst_max, probes, levels - 1);
   return b;
 }
 
@@ -294,8 +296,11 @@ void write_upsampled(const EnvImage& env, int factor, const fs::path& out) {
       const int x0 = int(fx) % env.width, x1 = (x0 + 1) % env.width;
       const double tx = fx - std::floor(fx);
       for (size_t c = 0; c < 3; ++c) {
-        auto at = [&](int xx, int yy) { return double(env.rgb[3 * (size_t(yy) * size_t(env.width) + size_t(xx)) + c]); };
-        const double v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+        auto at = [&](int xx, int yy) {
+          return double(env.rgb[3 * (size_t(yy) * size_t(env.width) + size_t(xx)) + c]);
+        };
+        const double v =
+            (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
         t.data[3 * (size_t(y) * size_t(t.width) + size_t(x)) + c] = float(v);
       }
     }
@@ -321,22 +326,34 @@ int main(int argc, char** argv) {
       }
       return argv[++a];
     };
-    if (arg == "--runs") runs = std::max(1, std::atoi(value().c_str()));
-    else if (arg == "--jobs") jobs_wanted = value();
-    else if (arg == "--brdfbake") ours_bin = value();
-    else if (arg == "--cmgen") cmgen_name = value();
-    else if (arg == "--baseline") baseline = value();
-    else if (arg == "--shared") shared = value();
-    else if (arg == "--keep") keep = true;
-    else if (arg == "--write-4k") write_4k = value();
-    else if (arg == "--env") env_file = value();
+    if (arg == "--runs")
+      runs = std::max(1, std::atoi(value().c_str()));
+    else if (arg == "--jobs")
+      jobs_wanted = value();
+    else if (arg == "--brdfbake")
+      ours_bin = value();
+    else if (arg == "--cmgen")
+      cmgen_name = value();
+    else if (arg == "--baseline")
+      baseline = value();
+    else if (arg == "--shared")
+      shared = value();
+    else if (arg == "--keep")
+      keep = true;
+    else if (arg == "--write-4k")
+      write_4k = value();
+    else if (arg == "--env")
+      env_file = value();
     else {
-      std::fprintf(stderr, "usage: cmgen_compare [--runs N] [--jobs LIST] [--brdfbake PATH] [--cmgen PATH] "
-                           "[--baseline PATH] [--shared DIR] [--keep] [--write-4k PATH] [--env FILE]\n");
+      std::fprintf(stderr,
+                   "usage: cmgen_compare [--runs N] [--jobs LIST] [--brdfbake PATH] [--cmgen PATH] "
+                   "[--baseline PATH] [--shared DIR] [--keep] [--write-4k PATH] [--env FILE]\n");
       return 2;
     }
   }
-  auto wanted = [&](const std::string& j) { return ("," + jobs_wanted + ",").find("," + j + ",") != std::string::npos; };
+  auto wanted = [&](const std::string& j) {
+    return ("," + jobs_wanted + ",").find("," + j + ",") != std::string::npos;
+  };
 
   const std::string cmgen = find_in_path(cmgen_name);
   const fs::path env1k = env_file.empty() ? fs::path(shared) / "envmaps" / "venice_sunset_1k.hdr" : fs::path(env_file);
@@ -363,12 +380,16 @@ int main(int argc, char** argv) {
   std::printf("- brdfbake: %s\n", ours_bin.c_str());
   if (!baseline.empty()) std::printf("- before: %s (the same commands, interleaved)\n", baseline.c_str());
   if (cmgen.empty())
-    std::printf("- cmgen: NOT FOUND ('%s' is not on PATH; Debian: apt-get install libfilament-tools): "
-                "our side only, no ratios\n", cmgen_name.c_str());
+    std::printf(
+        "- cmgen: NOT FOUND ('%s' is not on PATH; Debian: apt-get install libfilament-tools): "
+        "our side only, no ratios\n",
+        cmgen_name.c_str());
   else
     std::printf("- cmgen: %s\n", cmgen.c_str());
-  std::printf("- runs: 1 warm-up each, then %d rounds per job, each running every tool once (a different one "
-              "first each round); medians; peak = wait4 ru_maxrss\n", runs);
+  std::printf(
+      "- runs: 1 warm-up each, then %d rounds per job, each running every tool once (a different one "
+      "first each round); medians; peak = wait4 ru_maxrss\n",
+      runs);
   if (!have_env) std::printf("- %s is missing: the environment jobs are skipped\n", env1k.string().c_str());
   std::printf("\n");
 
@@ -383,43 +404,51 @@ int main(int argc, char** argv) {
       jobs.push_back({"startup", "`brdfbake --help` (no device, no image)", {ours_bin, "--help"}, {}});
     }
     if (wanted("dfg"))
-      jobs.push_back({"dfg", "DFG 128^2 multiscatter",
+      jobs.push_back({"dfg",
+                      "DFG 128^2 multiscatter",
                       {ours_bin, "lut", "--kind", "ggx-multiscatter", "--size", "128", "--quiet", "-o",
                        (dir / "dfg.exr").string()},
                       {cmgen, "--quiet", "--ibl-dfg=" + (dir / "dfg_cmgen.png").string(), "--ibl-dfg-multiscatter",
                        "--size=128"}});
     if (have_env && wanted("sh"))
-      jobs.push_back({"sh", "3-band irradiance SH of a 1k HDR",
-                      {ours_bin, "irradiance", "--env", env1k.string(), "--sh", "3", "--quiet", "-o",
-                       (dir / "sh.json").string()},
-                      {cmgen, "--quiet", "--sh=3", "--sh-irradiance", "--sh-output=" + (dir / "sh_cmgen.txt").string(),
-                       env1k.string()}});
+      jobs.push_back(
+          {"sh",
+           "3-band irradiance SH of a 1k HDR",
+           {ours_bin, "irradiance", "--env", env1k.string(), "--sh", "3", "--quiet", "-o", (dir / "sh.json").string()},
+           {cmgen, "--quiet", "--sh=3", "--sh-irradiance", "--sh-output=" + (dir / "sh_cmgen.txt").string(),
+            env1k.string()}});
     if (have_env && wanted("irradiance"))
-      jobs.push_back({"irradiance", "irradiance cube 64^2 of a 1k HDR",
+      jobs.push_back({"irradiance",
+                      "irradiance cube 64^2 of a 1k HDR",
                       {ours_bin, "irradiance", "--env", env1k.string(), "--cube", "64", "--quiet", "-o",
                        (dir / "irradiance.ktx2").string()},
                       {cmgen, "--quiet", "--size=64", "--format=hdr",
                        "--ibl-irradiance=" + (dir / "irradiance_cmgen").string(), env1k.string()}});
     if (have_env && wanted("ggx256"))
-      jobs.push_back({"ggx256", "GGX chain 256^2 -> 16^2 from a 1k HDR",
+      jobs.push_back({"ggx256",
+                      "GGX chain 256^2 -> 16^2 from a 1k HDR",
                       {ours_bin, "prefilter", "--env", env1k.string(), "--size", "256", "--min-size", "16", "--quiet",
                        "-o", (dir / "ggx256.ktx2").string()},
                       {cmgen, "--quiet", "--size=256", "--format=hdr", "--ibl-min-lod-size=16",
                        "--ibl-ld=" + (dir / "ggx256_cmgen").string(), env1k.string()}});
     if (have_env && wanted("charlie256"))  // cmgen filters GGX only: ours alone
-      jobs.push_back({"charlie256", "Charlie chain 256^2 -> 16^2 from a 1k HDR",
+      jobs.push_back({"charlie256",
+                      "Charlie chain 256^2 -> 16^2 from a 1k HDR",
                       {ours_bin, "prefilter", "--distribution", "charlie", "--env", env1k.string(), "--size", "256",
                        "--min-size", "16", "--quiet", "-o", (dir / "charlie256.ktx2").string()},
                       {}});
     if (have_env && wanted("ggx1024"))
-      jobs.push_back({"ggx1024", "GGX chain 1024^2 -> 16^2 from a 4k HDR",
-                      {ours_bin, "prefilter", "--env", env4k.string(), "--size", "1024", "--min-size", "16",
-                       "--quiet", "-o", (dir / "ggx1024.ktx2").string()},
+      jobs.push_back({"ggx1024",
+                      "GGX chain 1024^2 -> 16^2 from a 4k HDR",
+                      {ours_bin, "prefilter", "--env", env4k.string(), "--size", "1024", "--min-size", "16", "--quiet",
+                       "-o", (dir / "ggx1024.ktx2").string()},
                       {cmgen, "--quiet", "--size=1024", "--format=hdr", "--ibl-min-lod-size=16",
                        "--ibl-ld=" + (dir / "ggx1024_cmgen").string(), env4k.string()}});
 
-    std::printf("| job | ours (median s) | cmgen (median s) | ours / cmgen (median of pairs) | peak ours | peak cmgen |%s our error |\n",
-                baseline.empty() ? "" : " before (median s) | peak before |");
+    std::printf(
+        "| job | ours (median s) | cmgen (median s) | ours / cmgen (median of pairs) | peak ours | peak cmgen |%s our "
+        "error |\n",
+        baseline.empty() ? "" : " before (median s) | peak before |");
     std::printf("|---|---|---|---|---|---|%s---|\n", baseline.empty() ? "" : "---|---|");
     for (const Job& job : jobs) {
       // The contenders: ours, cmgen (when there is one), the baseline build (when given); each
@@ -472,7 +501,8 @@ int main(int argc, char** argv) {
         std::snprintf(theirs_peak, sizeof theirs_peak, "%.0f MiB", peak(runs_of[theirs]));
       }
       if (!baseline.empty())
-        std::snprintf(before_cols, sizeof before_cols, " %.3f | %.0f MiB |", seconds(runs_of[before]), peak(runs_of[before]));
+        std::snprintf(before_cols, sizeof before_cols, " %.3f | %.0f MiB |", seconds(runs_of[before]),
+                      peak(runs_of[before]));
       std::printf("| %s | %.3f | %s | %s | %.0f MiB | %s |%s %s |\n", job.description.c_str(), seconds(runs_of[0]),
                   theirs_s, ratio, peak(runs_of[0]), theirs_peak, before_cols, error.c_str());
       std::fflush(stdout);
@@ -483,7 +513,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf("\n- load average after: %s\n", load_average().c_str());
-  if (keep) std::printf("- outputs kept in %s\n", dir.string().c_str());
-  else fs::remove_all(dir);
+  if (keep)
+    std::printf("- outputs kept in %s\n", dir.string().c_str());
+  else
+    fs::remove_all(dir);
   return 0;
 }

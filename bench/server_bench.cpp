@@ -10,10 +10,9 @@
 //   server_bench load URL CLIENTS SECONDS CLIENTS threads submit small jobs for SECONDS, each waiting
 //                                         for its job before the next; then every job is checked:
 //                                         accounted for once, done; latency, throughput, server memory
+#include <httplib.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <httplib.h>
 
 #include <algorithm>
 #include <atomic>
@@ -46,8 +45,8 @@ void report(const char* what, const std::vector<double>& ms) {
   double sum = 0;
   for (double x : ms) sum += x;
   std::printf("%s: n %zu, mean %.2f ms, p50 %.2f ms, p90 %.2f ms, p99 %.2f ms, max %.2f ms\n", what, ms.size(),
-              ms.empty() ? 0.0 : sum / double(ms.size()), percentile(ms, 0.5), percentile(ms, 0.9), percentile(ms, 0.99),
-              percentile(ms, 1.0));
+              ms.empty() ? 0.0 : sum / double(ms.size()), percentile(ms, 0.5), percentile(ms, 0.9),
+              percentile(ms, 0.99), percentile(ms, 1.0));
 }
 
 std::uint64_t server_rss(httplib::Client& c) {
@@ -200,7 +199,8 @@ int load(const std::string& url, int clients, double seconds) {
         }
         if (r->status == 503) {
           ++refused;
-          std::this_thread::sleep_for(std::chrono::seconds(std::max(1, std::atoi(r->get_header_value("Retry-After").c_str()))));
+          std::this_thread::sleep_for(
+              std::chrono::seconds(std::max(1, std::atoi(r->get_header_value("Retry-After").c_str()))));
           continue;
         }
         if (r->status != 202) {
@@ -255,15 +255,19 @@ int load(const std::string& url, int clients, double seconds) {
   const std::set<std::string> submitted(ids.begin(), ids.end());
   int missing = 0, duplicated = 0, not_done = 0, unknown = 0;
   for (const auto& id : ids) {
-    if (!seen.count(id)) ++missing;
-    else if (seen[id] > 1) ++duplicated;
-    else if (states[id] != "done") ++not_done;
+    if (!seen.count(id))
+      ++missing;
+    else if (seen[id] > 1)
+      ++duplicated;
+    else if (states[id] != "done")
+      ++not_done;
   }
   for (const auto& [id, n] : seen) unknown += submitted.count(id) ? 0 : n;
-  std::printf("%d clients for %.0f s: %zu jobs submitted (%zu distinct ids), %.1f jobs/s; 503 answers %d, transport errors %d, "
-              "not done %d\n",
-              clients, seconds, ids.size(), submitted.size(), double(ids.size()) / seconds, refused.load(), errors.load(),
-              failed.load());
+  std::printf(
+      "%d clients for %.0f s: %zu jobs submitted (%zu distinct ids), %.1f jobs/s; 503 answers %d, transport errors %d, "
+      "not done %d\n",
+      clients, seconds, ids.size(), submitted.size(), double(ids.size()) / seconds, refused.load(), errors.load(),
+      failed.load());
   std::printf("accounting: missing %d, duplicated %d, listed but not done %d, listed but never submitted %d\n", missing,
               duplicated, not_done, unknown);
   report("POST /v1/jobs", submit_ms);
@@ -284,8 +288,9 @@ int main(int argc, char** argv) {
     return misses(argv[2], std::atoi(argv[3]), argc > 4 ? argv[4] : R"({"kind": "ggx-multiscatter", "size": 128})");
   if (mode == "process" && argc >= 4) return process(std::atoi(argv[2]), argv + 3);
   if (mode == "load" && argc >= 5) return load(argv[2], std::atoi(argv[3]), std::atof(argv[4]));
-  std::fprintf(stderr,
-               "usage: server_bench tables URL N [BODY] | misses URL N [BODY] | process N CMD ARGS... | load URL CLIENTS "
-               "SECONDS\n");
+  std::fprintf(
+      stderr,
+      "usage: server_bench tables URL N [BODY] | misses URL N [BODY] | process N CMD ARGS... | load URL CLIENTS "
+      "SECONDS\n");
   return 2;
 }

@@ -7,9 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <vector>
-#include <cstdlib>
 
 #include "brdfbake/backend.hpp"
 #include "brdfbake/environment.hpp"
@@ -26,7 +26,8 @@ size_t edit_distance(const std::string& a, const std::string& b) {
   for (size_t i = 1; i <= a.size(); ++i)
     for (size_t j = 1; j <= b.size(); ++j) {
       d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
   return d[a.size()][b.size()];
 }
@@ -46,7 +47,8 @@ std::string unknown_argument(int argc, char** argv, const std::vector<std::strin
     const std::string a = argv[i];
     if (a.size() < 2 || a[0] != '-' || a == "--") continue;
     const size_t dashes = a[1] == '-' ? 2 : 1;
-    const std::string name = a.substr(dashes, a.find('=') == std::string::npos ? std::string::npos : a.find('=') - dashes);
+    const std::string name =
+        a.substr(dashes, a.find('=') == std::string::npos ? std::string::npos : a.find('=') - dashes);
     if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || name[0] == '.') continue;  // -8, -.5
     if (dashes == 1 && name.size() == 1) continue;  // a short option: cxxopts names it itself
     if (std::find(known.begin(), known.end(), name) == known.end() && what.find(name) != std::string::npos)
@@ -93,8 +95,8 @@ cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv) {
     if (typed.empty()) throw UsageError(e.what());
     const std::string name = typed.substr(typed[1] == '-' ? 2 : 1);
     const std::string close = closest_name(name, names);
-    throw UsageError("unknown option '" + typed + "' (" + (close.empty() ? "see --help" : "did you mean --" + close + "?") +
-                     ")");
+    throw UsageError("unknown option '" + typed + "' (" +
+                     (close.empty() ? "see --help" : "did you mean --" + close + "?") + ")");
   } catch (const cxxopts::exceptions::exception& e) {
     throw UsageError(e.what());
   }
@@ -119,12 +121,11 @@ int integer(const cxxopts::ParseResult& r, const std::string& name) {
 }
 
 void add_common_options(cxxopts::Options& options) {
-  options.add_options()
-      ("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))
-      ("device", "P:D, cpu, gpu, a name substring, or reference (default: BRDFBAKE_DEVICE, else the first GPU, "
-                 "else the first CPU)", cxxopts::value<std::string>())
-      ("quiet", "no progress or summary lines")
-      ("h,help", "this help");
+  options.add_options()("precision", "fp32 | fp64", cxxopts::value<std::string>()->default_value("fp32"))(
+      "device",
+      "P:D, cpu, gpu, a name substring, or reference (default: BRDFBAKE_DEVICE, else the first GPU, "
+      "else the first CPU)",
+      cxxopts::value<std::string>())("quiet", "no progress or summary lines")("h,help", "this help");
 }
 
 bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& r) {
@@ -147,8 +148,10 @@ bool quiet_option(const cxxopts::ParseResult& r) { return r.count("quiet") > 0; 
 std::string memory_budget_help() {
   char gib[32];
   std::snprintf(gib, sizeof gib, "%.1f GiB", double(default_memory_budget()) / double(uint64_t(1) << 30));
-  return std::string("the memory an input image may take decoded, checked from its header before anything is "
-                     "allocated (e.g. 2GiB, 512MiB; default: half the machine's memory, ") + gib + ")";
+  return std::string(
+             "the memory an input image may take decoded, checked from its header before anything is "
+             "allocated (e.g. 2GiB, 512MiB; default: half the machine's memory, ") +
+         gib + ")";
 }
 
 std::uint64_t memory_budget_option(const cxxopts::ParseResult& r) {

@@ -8,8 +8,8 @@
 
 #include "brdfbake/device.hpp"
 #include "brdfbake/error.hpp"
-#include "brdfbake/job.hpp"
 #include "brdfbake/io.hpp"
+#include "brdfbake/job.hpp"
 #include "brdfbake/table.hpp"
 
 namespace brdfbake::cli {
@@ -33,7 +33,6 @@ bool help_or_stray(const cxxopts::Options& options, const cxxopts::ParseResult& 
 Precision precision_option(const cxxopts::ParseResult& r);
 std::string device_option(const cxxopts::ParseResult& r);  // "" = default, "reference", or a selector
 bool quiet_option(const cxxopts::ParseResult& r);
-
 
 // A progress line on standard error for long runs: shown only on a terminal, once the run has
 // taken more than half a second, and never with --quiet.

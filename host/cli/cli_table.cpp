@@ -29,9 +29,7 @@ std::string aliases_text(const ParamDef& d) {
   return s.empty() ? s : s + ")";
 }
 
-bool negated_flag(const ParamDef& d) {
-  return d.type == ParamType::Flag && d.fallback && std::get<bool>(*d.fallback);
-}
+bool negated_flag(const ParamDef& d) { return d.type == ParamType::Flag && d.fallback && std::get<bool>(*d.fallback); }
 
 std::string option_name(const ParamDef& d) { return negated_flag(d) ? "no-" + d.cli_name() : d.cli_name(); }
 
@@ -109,8 +107,10 @@ std::vector<std::string> one_letter_options(int argc, char** argv, const std::ve
     for (const auto& d : schema) {
       const std::string n = d.cli_name();
       if (n.size() != 1) continue;
-      if (a == "--" + n) a = "-" + n;
-      else if (a.rfind("--" + n + "=", 0) == 0) a = "-" + n + a.substr(4);
+      if (a == "--" + n)
+        a = "-" + n;
+      else if (a.rfind("--" + n + "=", 0) == 0)
+        a = "-" + n + a.substr(4);
     }
   return args;
 }
@@ -138,20 +138,23 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
       }
   add_schema_options(options, shown);
   if (env)
-    options.add_options()("environment,env", std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
-                                             "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
-                                     kDefaultEnvironment + ") (alias: --env)",
-                          cxxopts::value<std::string>())(
-        "sanitize", "replace NaN, infinite and negative pixels instead of refusing the input")(
+    options.add_options()(
+        "environment,env",
+        std::string("environment: FILE (.hdr .exr equirect or cross, .ktx2 cube), six comma-separated "
+                    "face files, a path with {face}, or builtin:studio / builtin:sun (default: ") +
+            kDefaultEnvironment + ") (alias: --env)",
+        cxxopts::value<std::string>())("sanitize",
+                                       "replace NaN, infinite and negative pixels instead of refusing the input")(
         "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
         "wait", "a folder output: when another run is writing it, wait for it (default: fail at once)");
   options.add_options()("o,output",
-                        eval ? std::string("f as r,g,b rows, or float32 with --binary; - : standard output (default: -)")
-                             : std::string("output file (its extension picks the format)") +
-                                   (env ? ", or a folder" : ", or - with --format csv for standard output") +
-                                   " (default: a name made of the kind and parameters)",
-                        cxxopts::value<std::string>())(
-      "format", "output format when it cannot come from the file name", cxxopts::value<std::string>())(
+                        eval
+                            ? std::string("f as r,g,b rows, or float32 with --binary; - : standard output (default: -)")
+                            : std::string("output file (its extension picks the format)") +
+                                  (env ? ", or a folder" : ", or - with --format csv for standard output") +
+                                  " (default: a name made of the kind and parameters)",
+                        cxxopts::value<std::string>())("format", "output format when it cannot come from the file name",
+                                                       cxxopts::value<std::string>())(
       "pixel", "f16 | f32: the texels of .ktx2, .h and cube containers", cxxopts::value<std::string>());
   if (command.add_extra) command.add_extra(options);
   add_common_options(options);
@@ -226,8 +229,8 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
       if (!quiet)
         for (const auto& note : e.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
       if (!quiet && e.sanitize.replaced)
-        std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n", e.source.c_str(),
-                     e.sanitize.nan, e.sanitize.infinite, e.sanitize.negative);
+        std::fprintf(stderr, "sanitized '%s': replaced %zu NaN, %zu infinite and %zu negative values\n",
+                     e.source.c_str(), e.sanitize.nan, e.sanitize.infinite, e.sanitize.negative);
     };
   }
   ProgressLine line(quiet);

@@ -31,12 +31,14 @@ std::string params_text(const TableRequest& t, const std::string& job_target = "
       continue;
     }
     s += (s.empty() ? "" : ", ") + p.name + " ";
-    if (auto b = std::get_if<bool>(&p.value)) s += *b ? "true" : "false";
+    if (auto b = std::get_if<bool>(&p.value))
+      s += *b ? "true" : "false";
     else if (auto d = std::get_if<double>(&p.value)) {
       char buf[32];
       std::snprintf(buf, sizeof buf, "%g", *d);
       s += buf;
-    } else if (auto n = std::get_if<std::string>(&p.value)) s += *n;
+    } else if (auto n = std::get_if<std::string>(&p.value))
+      s += *n;
     else {
       std::string v;
       for (double x : std::get<std::vector<double>>(p.value)) {
@@ -52,9 +54,12 @@ std::string params_text(const TableRequest& t, const std::string& job_target = "
 
 std::string human_bytes(std::uint64_t b) {
   char buf[32];
-  if (b >= (1u << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", double(b) / double(1u << 20));
-  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.0f KiB", double(b) / 1024.0);
-  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
+  if (b >= (1u << 20))
+    std::snprintf(buf, sizeof buf, "%.1f MiB", double(b) / double(1u << 20));
+  else if (b >= 1024)
+    std::snprintf(buf, sizeof buf, "%.0f KiB", double(b) / 1024.0);
+  else
+    std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
   return buf;
 }
 
@@ -104,14 +109,14 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
     has_gltf |= std::filesystem::path(f).extension() == ".gltf";
     width = std::max(width, f.size());
   }
-  const std::string engine_count =
-      m.engine_files.empty() ? std::string()
-                             : " + " + std::to_string(m.engine_files.size()) + " engine file" +
-                                   (m.engine_files.size() == 1 ? "" : "s") + " (" + m.target + ")";
+  const std::string engine_count = m.engine_files.empty()
+                                       ? std::string()
+                                       : " + " + std::to_string(m.engine_files.size()) + " engine file" +
+                                             (m.engine_files.size() == 1 ? "" : "s") + " (" + m.target + ")";
   char head[384];
   std::snprintf(head, sizeof head, "wrote %s: %zu file%s%s from %d bake%s, %s, in %.1f s\n", m.output_dir.c_str(),
-                m.files.size(), m.files.size() == 1 ? "" : "s", engine_count.c_str(), m.bakes,
-                m.bakes == 1 ? "" : "s", human_bytes(total).c_str(), m.seconds);
+                m.files.size(), m.files.size() == 1 ? "" : "s", engine_count.c_str(), m.bakes, m.bakes == 1 ? "" : "s",
+                human_bytes(total).c_str(), m.seconds);
   out << head;
   for (const auto& f : m.files) {
     std::string bound = "error bound not measured";
@@ -165,31 +170,40 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
 int cmd_bake(int argc, char** argv) {
   cxxopts::Options options("brdfbake bake",
                            "Read a glTF scene's materials and bake the tables they call for (docs/SCENES.md)");
-  options.add_options()
-      ("scene", "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set", cxxopts::value<std::string>())
-      ("environment,env", std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") + kDefaultEnvironment + ") (alias: --env)", cxxopts::value<std::string>())
-      ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
-      ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
-      ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
-      ("o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))
-      ("dry-run", "print the plan and bake nothing")
-      ("json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")
-      ("pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>())
-      ("contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)")
-      ("preview", "also render the target's preview of the files: OUTPUT/preview.png, preview_splitsum.exr, preview_reference.exr, preview.json (brdfbake preview, docs/PREVIEW.md)");
+  options.add_options()("scene",
+                        "FILE.gltf, FILE.glb or FILE.json (glTF JSON); none: the standard metallic-roughness set",
+                        cxxopts::value<std::string>())(
+      "environment,env",
+      std::string("environment: FILE (.hdr .exr .ktx2) or builtin:studio / builtin:sun (default: ") +
+          kDefaultEnvironment + ") (alias: --env)",
+      cxxopts::value<std::string>())(
+      "sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")(
+      "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
+      "wait", "when another run is writing the output folder, wait for it (default: fail at once)")(
+      "o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))(
+      "dry-run", "print the plan and bake nothing")(
+      "json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")(
+      "pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>())(
+      "contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)")(
+      "preview",
+      "also render the target's preview of the files: OUTPUT/preview.png, preview_splitsum.exr, preview_reference.exr, "
+      "preview.json (brdfbake preview, docs/PREVIEW.md)");
   add_schema_options(options, plan_schema());
   add_common_options(options);
   add_remote_options(options);
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
-    std::cout << options.help() << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
+    std::cout
+        << options.help()
+        << "\nexample:\n  brdfbake bake --scene ../shared/scenes/SheenChair.gltf --env builtin:sun -o sheen_chair\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
   const bool dry_run = r.count("dry-run") > 0;
   const bool as_json = r.count("json") > 0;
   if (as_json && !dry_run) throw UsageError("--json prints the plan: it goes with --dry-run");
-  if (dry_run && r.count("contact-sheet")) throw UsageError("--contact-sheet draws what a bake wrote: not with --dry-run");
+  if (dry_run && r.count("contact-sheet"))
+    throw UsageError("--contact-sheet draws what a bake wrote: not with --dry-run");
   if (dry_run && r.count("preview")) throw UsageError("--preview renders what a bake wrote: not with --dry-run");
   const bool quiet = quiet_option(r);
 
@@ -205,12 +219,15 @@ int cmd_bake(int argc, char** argv) {
   if (!quiet || as_json)
     for (const auto& w : plan.job.warnings) std::cerr << "warning: " << w << "\n";
   if (dry_run) {
-    if (as_json) std::cout << plan_to_json(plan);
-    else print_plan(plan, std::cout);
+    if (as_json)
+      std::cout << plan_to_json(plan);
+    else
+      print_plan(plan, std::cout);
     return 0;
   }
   if (remote_requested(r)) {  // the server reads the environment under its input root
-    if (plan.job.preview) throw UsageError("--preview is not sent to a server: bake there, then run brdfbake preview --bake on the folder");
+    if (plan.job.preview)
+      throw UsageError("--preview is not sent to a server: bake there, then run brdfbake preview --bake on the folder");
     if (!quiet) print_plan(plan, std::cout);
     std::cout.flush();
     return run_remote("bake", r, "bake plan", job_to_json(plan.job), plan.job.output_dir, false, quiet);
@@ -242,9 +259,12 @@ int cmd_bake(int argc, char** argv) {
   if (!quiet && !manifest.preview_files.empty()) {
     std::string median, worst;
     for (const auto& [k, v] : manifest.preview)
-      if (k == "error_rms_median") median = v;
-      else if (k == "error_rms_max") worst = v;
-    std::cout << "preview: " << plan.job.output_dir << "/preview.png (split-sum against the reference, relative RMS per "
+      if (k == "error_rms_median")
+        median = v;
+      else if (k == "error_rms_max")
+        worst = v;
+    std::cout << "preview: " << plan.job.output_dir
+              << "/preview.png (split-sum against the reference, relative RMS per "
               << "sphere: median " << median << ", worst " << worst << ")\n";
   }
   if (r.count("contact-sheet")) {

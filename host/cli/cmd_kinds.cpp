@@ -27,7 +27,8 @@ std::string default_of(const ParamDef& d) {
 
 int cmd_kinds(int argc, char** argv) {
   cxxopts::Options options("brdfbake kinds", "Every table kind with its parameters (the job format's reference)");
-  options.add_options()("json", "as JSON")("markdown", "as the Markdown table of docs/SCENES.md")("h,help", "this help");
+  options.add_options()("json", "as JSON")("markdown", "as the Markdown table of docs/SCENES.md")("h,help",
+                                                                                                  "this help");
   const auto r = parse(options, argc, argv);
   if (help_or_stray(options, r)) return 0;
   if (r.count("json")) {

@@ -21,10 +21,14 @@ std::uint64_t byte_count(const cxxopts::ParseResult& r, const std::string& name)
   const double v = std::strtod(text.c_str(), &end);
   double scale = 1;
   const std::string unit = end ? std::string(end) : std::string();
-  if (unit == "K" || unit == "k") scale = 1024.0;
-  else if (unit == "M" || unit == "m") scale = 1024.0 * 1024;
-  else if (unit == "G" || unit == "g") scale = 1024.0 * 1024 * 1024;
-  else if (!unit.empty()) scale = -1;
+  if (unit == "K" || unit == "k")
+    scale = 1024.0;
+  else if (unit == "M" || unit == "m")
+    scale = 1024.0 * 1024;
+  else if (unit == "G" || unit == "g")
+    scale = 1024.0 * 1024 * 1024;
+  else if (!unit.empty())
+    scale = -1;
   if (text.empty() || scale < 0 || !(v >= 0) || v * scale > 1e15)
     throw UsageError("--" + name + " must be a byte count such as 1048576, 64K, 512M or 2G (got '" + text + "')");
   return static_cast<std::uint64_t>(v * scale);
@@ -40,34 +44,42 @@ double seconds_option(const cxxopts::ParseResult& r, const std::string& name) {
 
 int cmd_serve(int argc, char** argv) {
   cxxopts::Options options("brdfbake serve", "Serve the job API over HTTP/1.1 (docs/SERVICE.md)");
-  options.add_options()
-      ("listen", "HOST:PORT to listen on; port 0 picks a free one (a non-loopback host needs --token-file)",
-       cxxopts::value<std::string>()->default_value("127.0.0.1:8737"))
-      ("data", "the data directory: jobs.db (SQLite), jobs/<id>/ (outputs)", cxxopts::value<std::string>())
-      ("input-root", "the only folder requests may read files from (environments, scenes, materials); none: builtin environments only",
-       cxxopts::value<std::string>()->default_value(""))
-      ("token-file", "a file whose first line is the bearer token every request must send", cxxopts::value<std::string>()->default_value(""))
-      ("devices", "comma-separated device selectors to serve (default: the default device); reference is always served",
-       cxxopts::value<std::string>())
-      ("max-queue", "jobs waiting before submissions get 503 with Retry-After", cxxopts::value<std::string>()->default_value("64"))
-      ("max-body", "largest request body (bytes, or 64K, 1M); larger gets 413", cxxopts::value<std::string>()->default_value("1M"))
-      ("max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's", cxxopts::value<std::string>())
-      ("job-timeout", "seconds a job may run (a request's ?timeout= may ask for less)", cxxopts::value<std::string>()->default_value("3600"))
-      ("table-timeout", "seconds POST /v1/tables waits for its table before 504", cxxopts::value<std::string>()->default_value("30"))
-      ("io-timeout", "seconds a whole request (headers and body) may take to arrive, and a reply may stall", cxxopts::value<std::string>()->default_value("30"))
-      ("table-max", "largest table POST /v1/tables bakes (estimated bytes)", cxxopts::value<std::string>()->default_value("64M"))
-      ("table-cache", "bytes of POST /v1/tables results kept for identical requests; 0: none", cxxopts::value<std::string>()->default_value("64M"))
-      ("threads", "requests handled at once (a client still sending holds none; two more answer only health and status)",
-       cxxopts::value<std::string>()->default_value("64"))
-      ("max-connections", "connections open at once, all clients together (beyond: 503, but health and status)",
-       cxxopts::value<std::string>()->default_value("512"))
-      ("max-client-connections", "connections open at once from one address (beyond: 503, but health and status)",
-       cxxopts::value<std::string>()->default_value("128"))
-      ("shutdown-grace", "seconds running jobs get to finish on SIGTERM before they are stopped and re-queued",
-       cxxopts::value<std::string>()->default_value("10"))
-      ("url-file", "write the URL here once listening (for scripts, with port 0)", cxxopts::value<std::string>()->default_value(""))
-      ("no-warm-up", "do not build the common programs at start")
-      ("h,help", "this help");
+  options.add_options()("listen",
+                        "HOST:PORT to listen on; port 0 picks a free one (a non-loopback host needs --token-file)",
+                        cxxopts::value<std::string>()->default_value("127.0.0.1:8737"))(
+      "data", "the data directory: jobs.db (SQLite), jobs/<id>/ (outputs)", cxxopts::value<std::string>())(
+      "input-root",
+      "the only folder requests may read files from (environments, scenes, materials); none: builtin environments only",
+      cxxopts::value<std::string>()->default_value(""))(
+      "token-file", "a file whose first line is the bearer token every request must send",
+      cxxopts::value<std::string>()->default_value(""))(
+      "devices", "comma-separated device selectors to serve (default: the default device); reference is always served",
+      cxxopts::value<std::string>())("max-queue", "jobs waiting before submissions get 503 with Retry-After",
+                                     cxxopts::value<std::string>()->default_value("64"))(
+      "max-body", "largest request body (bytes, or 64K, 1M); larger gets 413",
+      cxxopts::value<std::string>()->default_value("1M"))(
+      "max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's",
+      cxxopts::value<std::string>())("job-timeout", "seconds a job may run (a request's ?timeout= may ask for less)",
+                                     cxxopts::value<std::string>()->default_value("3600"))(
+      "table-timeout", "seconds POST /v1/tables waits for its table before 504",
+      cxxopts::value<std::string>()->default_value("30"))(
+      "io-timeout", "seconds a whole request (headers and body) may take to arrive, and a reply may stall",
+      cxxopts::value<std::string>()->default_value("30"))("table-max",
+                                                          "largest table POST /v1/tables bakes (estimated bytes)",
+                                                          cxxopts::value<std::string>()->default_value("64M"))(
+      "table-cache", "bytes of POST /v1/tables results kept for identical requests; 0: none",
+      cxxopts::value<std::string>()->default_value("64M"))(
+      "threads", "requests handled at once (a client still sending holds none; two more answer only health and status)",
+      cxxopts::value<std::string>()->default_value("64"))(
+      "max-connections", "connections open at once, all clients together (beyond: 503, but health and status)",
+      cxxopts::value<std::string>()->default_value("512"))(
+      "max-client-connections", "connections open at once from one address (beyond: 503, but health and status)",
+      cxxopts::value<std::string>()->default_value("128"))(
+      "shutdown-grace", "seconds running jobs get to finish on SIGTERM before they are stopped and re-queued",
+      cxxopts::value<std::string>()->default_value("10"))(
+      "url-file", "write the URL here once listening (for scripts, with port 0)",
+      cxxopts::value<std::string>()->default_value(""))("no-warm-up", "do not build the common programs at start")(
+      "h,help", "this help");
   const auto r = parse(options, argc, argv);
   if (r.count("help")) {
     std::cout << options.help() << "\nexample:\n  brdfbake serve --data /var/lib/brdfbake --input-root /srv/hdri\n";
@@ -79,7 +91,8 @@ int cmd_serve(int argc, char** argv) {
   server::ServerOptions o;
   const std::string listen = r["listen"].as<std::string>();
   const auto colon = listen.rfind(':');
-  if (colon == std::string::npos || colon + 1 == listen.size()) throw UsageError("--listen must be HOST:PORT (got '" + listen + "')");
+  if (colon == std::string::npos || colon + 1 == listen.size())
+    throw UsageError("--listen must be HOST:PORT (got '" + listen + "')");
   o.host = listen.substr(0, colon);
   if (o.host.size() > 2 && o.host.front() == '[' && o.host.back() == ']') o.host = o.host.substr(1, o.host.size() - 2);
   if (o.host.empty()) throw UsageError("--listen must name a host, e.g. 127.0.0.1:8737");
@@ -138,10 +151,11 @@ int cmd_serve(int argc, char** argv) {
   std::thread signals([&] {
     int sig = 0;
     sigwait(&set, &sig);
-    std::fprintf(stderr, "brdfbake serve: %s: stopping (running jobs get %g s)\n", sig == SIGTERM ? "SIGTERM" : "SIGINT",
-                 o.shutdown_grace);
+    std::fprintf(stderr, "brdfbake serve: %s: stopping (running jobs get %g s)\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT", o.shutdown_grace);
     if (!srv.stop()) {
-      std::fprintf(stderr, "brdfbake serve: a job is still inside a bake; leaving it to be re-queued at the next start\n");
+      std::fprintf(stderr,
+                   "brdfbake serve: a job is still inside a bake; leaving it to be re-queued at the next start\n");
       std::_Exit(0);
     }
   });

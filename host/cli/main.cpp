@@ -48,7 +48,7 @@ extern "C" void on_stop_signal(int signal) {
     return;
   }
   if (monotonic_ms() - static_cast<long>(g_first_stop_ms) < 500) return;  // the same request again
-  ::signal(signal, SIG_DFL);  // a second request: end now
+  ::signal(signal, SIG_DFL);                                              // a second request: end now
   ::raise(signal);
 }
 
@@ -102,8 +102,7 @@ void observe_program_builds(bool verbose, bool quiet) {
   if (verbose) {
     set_program_build_observers({}, [](const ProgramBuild& b) {
       std::fprintf(stderr, "brdfbake: %s %s for %s in %.2f s%s%s\n", b.from_cache ? "loaded" : "built",
-                   b.program.c_str(), b.device.c_str(), b.seconds, b.log.empty() ? "" : ":\n",
-                   b.log.c_str());
+                   b.program.c_str(), b.device.c_str(), b.seconds, b.log.empty() ? "" : ":\n", b.log.c_str());
     });
   } else if (!quiet && ::isatty(2)) {
     set_program_build_observers(
@@ -144,7 +143,8 @@ int run(int argc, char** argv) {
   argv = args.data();
   observe_program_builds(verbose, quiet);
   // A kernel cache folder that cannot be written: said, and the run goes on without it.
-  set_runtime_warning_observer([](const std::string& w) { std::fprintf(stderr, "brdfbake: warning: %s\n", w.c_str()); });
+  set_runtime_warning_observer(
+      [](const std::string& w) { std::fprintf(stderr, "brdfbake: warning: %s\n", w.c_str()); });
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);

@@ -153,7 +153,8 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
   c.check(posted);
   if (posted->status == 400) throw RemoteError(server_message(posted), 2);
   if (posted->status != 202)
-    throw RemoteError("the server refused the job (" + std::to_string(posted->status) + "): " + server_message(posted), 1);
+    throw RemoteError("the server refused the job (" + std::to_string(posted->status) + "): " + server_message(posted),
+                      1);
   const json accepted = parse_answer(posted->body);
   if (!accepted.is_object() || !accepted.contains("id") || !accepted["id"].is_string())
     throw RemoteError("the server's answer has no job id", 1);
@@ -174,7 +175,7 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
       // exit codes are 2 (bad input) or 1 (anything else), whatever the answer says
       const json& code = status.contains("exit_code") ? status["exit_code"] : json();
       throw RemoteError(status.contains("error") && status["error"].is_string() ? status["error"].get<std::string>()
-                                                                                 : "job " + id + " " + state,
+                                                                                : "job " + id + " " + state,
                         code.is_number_integer() && code.get<long long>() == 2 ? 2 : 1);
     }
     if (progress && status.contains("progress")) {
@@ -214,8 +215,8 @@ Manifest remote_run(const std::string& job_text, const std::string& source, cons
     if (!out) throw RemoteError("cannot write '" + (fs::path(target) / rel).string() + "'", 1);
     const std::string length = r->get_header_value("Content-Length");
     if (!length.empty() && std::to_string(got) != length)
-      throw RemoteError("job " + id + ": " + name + ": the download was cut short (" + std::to_string(got) + " of " + length +
-                            " bytes); nothing was written",
+      throw RemoteError("job " + id + ": " + name + ": the download was cut short (" + std::to_string(got) + " of " +
+                            length + " bytes); nothing was written",
                         1);
   }
   staging.commit("manifest.json");

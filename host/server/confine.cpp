@@ -73,7 +73,8 @@ std::string Roots::environment(const std::string& spec, const std::string& field
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
-    if (parts.size() != 6) throw Error(field + ": six comma-separated face files are expected (got " + std::to_string(parts.size()) + ")");
+    if (parts.size() != 6)
+      throw Error(field + ": six comma-separated face files are expected (got " + std::to_string(parts.size()) + ")");
     std::string out;
     for (size_t i = 0; i < parts.size(); ++i) out += (i ? "," : "") + input_file(parts[i], field);
     return out;

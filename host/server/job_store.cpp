@@ -10,11 +10,16 @@ namespace brdfbake::server {
 
 const char* job_state_name(JobState s) {
   switch (s) {
-    case JobState::Queued: return "queued";
-    case JobState::Running: return "running";
-    case JobState::Done: return "done";
-    case JobState::Failed: return "failed";
-    default: return "cancelled";
+    case JobState::Queued:
+      return "queued";
+    case JobState::Running:
+      return "running";
+    case JobState::Done:
+      return "done";
+    case JobState::Failed:
+      return "failed";
+    default:
+      return "cancelled";
   }
 }
 
@@ -40,9 +45,18 @@ class Statement {
     check(sqlite3_bind_text(st_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
     return *this;
   }
-  Statement& bind(int i, double v) { check(sqlite3_bind_double(st_, i, v)); return *this; }
-  Statement& bind(int i, std::int64_t v) { check(sqlite3_bind_int64(st_, i, v)); return *this; }
-  Statement& bind(int i, int v) { check(sqlite3_bind_int(st_, i, v)); return *this; }
+  Statement& bind(int i, double v) {
+    check(sqlite3_bind_double(st_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, std::int64_t v) {
+    check(sqlite3_bind_int64(st_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, int v) {
+    check(sqlite3_bind_int(st_, i, v));
+    return *this;
+  }
   // True while there is a row.
   bool step() {
     const int rc = sqlite3_step(st_);
@@ -53,7 +67,8 @@ class Statement {
   }
   std::string text(int c) const {
     const auto* p = sqlite3_column_text(st_, c);
-    return p ? std::string(reinterpret_cast<const char*>(p), static_cast<size_t>(sqlite3_column_bytes(st_, c))) : std::string();
+    return p ? std::string(reinterpret_cast<const char*>(p), static_cast<size_t>(sqlite3_column_bytes(st_, c)))
+             : std::string();
   }
   double real(int c) const { return sqlite3_column_double(st_, c); }
   std::int64_t integer(int c) const { return sqlite3_column_int64(st_, c); }
@@ -70,7 +85,8 @@ class Statement {
 };
 
 constexpr const char* kColumns =
-    "id, seq, state, device, source, submitted, started, finished, attempts, timeout, error, exit_code, cancel_requested";
+    "id, seq, state, device, source, submitted, started, finished, attempts, timeout, error, exit_code, "
+    "cancel_requested";
 
 JobRecord read_row(const Statement& s, bool documents) {
   JobRecord r;
@@ -106,8 +122,8 @@ std::string new_id() {
 }  // namespace
 
 JobStore::JobStore(const std::string& path) : path_(path) {
-  if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr) !=
-      SQLITE_OK) {
+  if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                      nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
     db_ = nullptr;
@@ -116,21 +132,22 @@ JobStore::JobStore(const std::string& path) : path_(path) {
   sqlite3_busy_timeout(db_, 5000);
   exec("PRAGMA journal_mode=WAL");
   exec("PRAGMA synchronous=NORMAL");
-  exec("CREATE TABLE IF NOT EXISTS jobs("
-       " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
-       " id TEXT NOT NULL UNIQUE,"
-       " state TEXT NOT NULL,"
-       " device TEXT NOT NULL,"
-       " source TEXT NOT NULL,"
-       " submitted REAL NOT NULL,"
-       " started REAL NOT NULL DEFAULT 0,"
-       " finished REAL NOT NULL DEFAULT 0,"
-       " attempts INTEGER NOT NULL DEFAULT 0,"
-       " timeout REAL NOT NULL DEFAULT 0,"
-       " error TEXT NOT NULL DEFAULT '',"
-       " exit_code INTEGER NOT NULL DEFAULT 0,"
-       " job TEXT NOT NULL,"
-       " manifest TEXT NOT NULL DEFAULT '')");
+  exec(
+      "CREATE TABLE IF NOT EXISTS jobs("
+      " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
+      " id TEXT NOT NULL UNIQUE,"
+      " state TEXT NOT NULL,"
+      " device TEXT NOT NULL,"
+      " source TEXT NOT NULL,"
+      " submitted REAL NOT NULL,"
+      " started REAL NOT NULL DEFAULT 0,"
+      " finished REAL NOT NULL DEFAULT 0,"
+      " attempts INTEGER NOT NULL DEFAULT 0,"
+      " timeout REAL NOT NULL DEFAULT 0,"
+      " error TEXT NOT NULL DEFAULT '',"
+      " exit_code INTEGER NOT NULL DEFAULT 0,"
+      " job TEXT NOT NULL,"
+      " manifest TEXT NOT NULL DEFAULT '')");
   exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state)");
   // Added after version 0.2.0's first schema: a database written before it gets the column.
   bool has_cancel = false;
@@ -205,7 +222,8 @@ bool JobStore::requeue(const std::string& id, double now) {
   const std::string why = "cancelled (DELETE /v1/jobs/" + id +
                           ") while running; the server stopped before the job did, and does not run it again";
   Statement s(db_, path_,
-              "UPDATE jobs SET state = 'cancelled', finished = ?, error = ?, exit_code = 1 WHERE id = ? AND cancel_requested = 1");
+              "UPDATE jobs SET state = 'cancelled', finished = ?, error = ?, exit_code = 1 WHERE id = ? AND "
+              "cancel_requested = 1");
   s.bind(1, now).bind(2, why).bind(3, id);
   s.step();
   return false;
@@ -221,7 +239,8 @@ bool JobStore::remove(const std::string& id) {
 
 std::optional<JobRecord> JobStore::get(const std::string& id, bool with_documents) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::string sql = std::string("SELECT ") + kColumns + (with_documents ? ", job, manifest" : "") + " FROM jobs WHERE id = ?";
+  const std::string sql =
+      std::string("SELECT ") + kColumns + (with_documents ? ", job, manifest" : "") + " FROM jobs WHERE id = ?";
   Statement s(db_, path_, sql.c_str());
   s.bind(1, id);
   if (!s.step()) return std::nullopt;

@@ -19,22 +19,24 @@ namespace brdfbake::server {
 enum class JobState { Queued, Running, Done, Failed, Cancelled };
 const char* job_state_name(JobState s);
 std::optional<JobState> job_state_from_name(const std::string& name);
-inline bool job_finished(JobState s) { return s == JobState::Done || s == JobState::Failed || s == JobState::Cancelled; }
+inline bool job_finished(JobState s) {
+  return s == JobState::Done || s == JobState::Failed || s == JobState::Cancelled;
+}
 
 struct JobRecord {
   std::string id;
-  std::int64_t seq = 0;          // submission order
+  std::int64_t seq = 0;  // submission order
   JobState state = JobState::Queued;
-  std::string device;            // the device queue it runs on (its key)
-  std::string source;            // what it was submitted as, for messages ("job.json", "bake")
-  std::string job;               // the job document, paths confined (parse_job reads it back)
+  std::string device;                               // the device queue it runs on (its key)
+  std::string source;                               // what it was submitted as, for messages ("job.json", "bake")
+  std::string job;                                  // the job document, paths confined (parse_job reads it back)
   double submitted = 0, started = 0, finished = 0;  // seconds since the epoch; 0: not yet
-  int attempts = 0;              // times it started running
-  double timeout = 0;            // seconds of running allowed
-  std::string error;             // failed, cancelled: one line
-  int exit_code = 0;             // what the command line exits with for it: 0, 1 runtime, 2 bad input
-  std::string manifest;          // done: manifest.json
-  bool cancel_requested = false; // DELETE while running: never run again, whatever stops it
+  int attempts = 0;                                 // times it started running
+  double timeout = 0;                               // seconds of running allowed
+  std::string error;                                // failed, cancelled: one line
+  int exit_code = 0;              // what the command line exits with for it: 0, 1 runtime, 2 bad input
+  std::string manifest;           // done: manifest.json
+  bool cancel_requested = false;  // DELETE while running: never run again, whatever stops it
 };
 
 class JobStore {

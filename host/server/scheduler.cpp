@@ -269,7 +269,9 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
   if (!rec || rec->state != JobState::Queued) return;  // cancelled while it waited
   auto public_text = [this](const std::string& m) { return options_.public_text ? options_.public_text(m) : m; };
   const auto t0 = std::chrono::steady_clock::now();
-  auto steady = [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
+  auto steady = [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  };
   if (rec->timeout > 0) control->deadline = steady() + rec->timeout;
   auto finish = [&](JobState state, const std::string& error, int exit_code, const std::string& manifest) {
     try {
@@ -362,7 +364,8 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
       finish(JobState::Cancelled, "cancelled (DELETE /v1/jobs/" + id + ") while running; nothing was written", 1, "");
     } else {
       char buf[160];
-      std::snprintf(buf, sizeof buf, "timed out: still running after its timeout of %g s; nothing was written", rec->timeout);
+      std::snprintf(buf, sizeof buf, "timed out: still running after its timeout of %g s; nothing was written",
+                    rec->timeout);
       finish(JobState::Failed, buf, 1, "");
     }
   } catch (const Cancelled& e) {
@@ -383,7 +386,8 @@ CancelResult Scheduler::cancel(const std::string& id) {
     auto it = std::find(s->jobs.begin(), s->jobs.end(), id);
     if (it != s->jobs.end()) {
       s->jobs.erase(it);
-      store_.finish(id, JobState::Cancelled, now_seconds(), "cancelled (DELETE /v1/jobs/" + id + ") before it started", 1, "");
+      store_.finish(id, JobState::Cancelled, now_seconds(), "cancelled (DELETE /v1/jobs/" + id + ") before it started",
+                    1, "");
       lock.unlock();
       finished_cv_.notify_all();
       return CancelResult::Cancelled;
@@ -481,7 +485,8 @@ bool Scheduler::shutdown(double grace, double hard) {
     int none = -1;
     c->stop.compare_exchange_strong(none, Stopped::Shutdown);
   }
-  const bool stopped = finished_cv_.wait_for(lock, std::chrono::duration<double>(hard), [&] { return running_.empty(); });
+  const bool stopped =
+      finished_cv_.wait_for(lock, std::chrono::duration<double>(hard), [&] { return running_.empty(); });
   lock.unlock();
   if (!stopped) return false;
   for (auto& s : slots_)

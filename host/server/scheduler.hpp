@@ -27,11 +27,11 @@
 namespace brdfbake::server {
 
 struct SchedulerOptions {
-  std::vector<std::string> devices;   // selectors to serve; "" = the default device; reference always
-  std::filesystem::path jobs_dir;     // DATA/jobs: each job's folder
-  int max_queue = 64;                 // queued jobs (all devices) before submissions get 503
-  int max_attempts = 2;               // a job the server stopped under this many times is failed
-  bool warm_up = true;                // build the DFG and Fresnel programs at start
+  std::vector<std::string> devices;  // selectors to serve; "" = the default device; reference always
+  std::filesystem::path jobs_dir;    // DATA/jobs: each job's folder
+  int max_queue = 64;                // queued jobs (all devices) before submissions get 503
+  int max_attempts = 2;              // a job the server stopped under this many times is failed
+  bool warm_up = true;               // build the DFG and Fresnel programs at start
   // What a job's error says to clients: the server's own paths taken out (Roots::public_text).
   std::function<std::string(const std::string&)> public_text;
 };
@@ -50,15 +50,15 @@ struct JobProgressInfo {
 };
 
 struct DeviceStatus {
-  std::string key;        // "0:0", "reference"
+  std::string key;  // "0:0", "reference"
   std::string name;
-  std::string type;       // cpu, gpu, accelerator, other, reference
+  std::string type;                 // cpu, gpu, accelerator, other, reference
   std::uint64_t global_memory = 0;  // 0 for the reference
-  bool warm = false;      // programs built
-  std::string running;    // the job id it runs, "" when idle
-  std::string table;      // the POST /v1/tables request it bakes ("ggx 1024"), "" when none
-  bool busy = false;      // running a job or a table
-  int queued = 0;         // jobs waiting for it
+  bool warm = false;                // programs built
+  std::string running;              // the job id it runs, "" when idle
+  std::string table;                // the POST /v1/tables request it bakes ("ggx 1024"), "" when none
+  bool busy = false;                // running a job or a table
+  int queued = 0;                   // jobs waiting for it
   double busy_seconds = 0;
 };
 

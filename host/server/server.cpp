@@ -1,6 +1,7 @@
 #include "server/server.hpp"
 
 #include <fcntl.h>
+#include <httplib.h>
 #include <netinet/in.h>
 #include <sys/file.h>
 #include <sys/resource.h>
@@ -8,11 +9,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <httplib.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -70,8 +69,10 @@ double now_seconds() {
 
 std::string human_bytes(double b) {
   char buf[48];
-  if (b >= double(1ull << 30)) std::snprintf(buf, sizeof buf, "%.1f GiB", b / double(1ull << 30));
-  else std::snprintf(buf, sizeof buf, "%.0f MiB", std::ceil(b / double(1ull << 20)));
+  if (b >= double(1ull << 30))
+    std::snprintf(buf, sizeof buf, "%.1f GiB", b / double(1ull << 30));
+  else
+    std::snprintf(buf, sizeof buf, "%.0f MiB", std::ceil(b / double(1ull << 20)));
   return buf;
 }
 
@@ -253,8 +254,9 @@ void Server::Impl::open(ServerOptions options) {
       (void)::getrlimit(RLIMIT_NOFILE, &files);
       if (files.rlim_cur < want) {
         const int fit = std::max(1, static_cast<int>(files.rlim_cur) - 64 - 256);
-        notes.push_back("--max-connections " + std::to_string(opt.max_connections) + " lowered to " + std::to_string(fit) +
-                        ": the process may open " + std::to_string(files.rlim_cur) + " files (ulimit -n)");
+        notes.push_back("--max-connections " + std::to_string(opt.max_connections) + " lowered to " +
+                        std::to_string(fit) + ": the process may open " + std::to_string(files.rlim_cur) +
+                        " files (ulimit -n)");
         opt.max_connections = fit;
         opt.max_client_connections = std::min(opt.max_client_connections, fit);
       }
@@ -280,7 +282,8 @@ void Server::Impl::open(ServerOptions options) {
   fs::create_directories(tmp_dir(), ec);
   if (ec) throw Error("--data: cannot create folders in '" + opt.data_dir + "': " + ec.message());
   if (opt.max_memory == 0)
-    opt.max_memory = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) / 2;
+    opt.max_memory =
+        static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) / 2;
   store = std::make_unique<JobStore>((roots->data_dir() / "jobs.db").string());
   if (opt.table_cache_bytes > 0) cache = std::make_unique<ResultCache>(opt.table_cache_bytes);
   SchedulerOptions so;
@@ -314,7 +317,8 @@ void Server::Impl::recover() {
     notes.push_back("cancelled " + std::to_string(cancelled) +
                     " job(s) that were asked to stop (DELETE) before the server stopped; not run again");
   int requeued = static_cast<int>(running_before.size() - failed.size()) - cancelled;
-  if (requeued) notes.push_back("re-queued " + std::to_string(requeued) + " job(s) that were running when the server stopped");
+  if (requeued)
+    notes.push_back("re-queued " + std::to_string(requeued) + " job(s) that were running when the server stopped");
   const auto queued = store->queued();
   for (const auto& r : queued) scheduler->resume(r);
   if (!queued.empty()) notes.push_back(std::to_string(queued.size()) + " job(s) queued");
@@ -352,8 +356,9 @@ void Server::Impl::check_memory(const Job& job, const std::string& origin) {
     const std::uint64_t need = estimate_table_bytes(t);
     const std::string where = origin + ": tables[" + std::to_string(i) + "] (" + table_kind_name(t.kind) + ")";
     if (need + env > opt.max_memory)
-      throw Error(where + ": needs about " + human_bytes(double(need + env)) + ", more than the server allows a bake (" +
-                  human_bytes(double(opt.max_memory)) + ", --max-memory); nothing was started");
+      throw Error(where + ": needs about " + human_bytes(double(need + env)) +
+                  ", more than the server allows a bake (" + human_bytes(double(opt.max_memory)) +
+                  ", --max-memory); nothing was started");
     const std::string key = scheduler->device_key(t.device.empty() ? job.device : t.device);
     const std::uint64_t device = scheduler->device_memory(key);
     if (device > 0 && need > device)
@@ -475,8 +480,10 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
   o["submitted"] = r.submitted;
   o["started"] = r.started > 0 ? json(r.started) : json(nullptr);
   o["finished"] = r.finished > 0 ? json(r.finished) : json(nullptr);
-  if (r.state == JobState::Running && r.started > 0) o["seconds"] = now_seconds() - r.started;
-  else if (r.finished > 0 && r.started > 0) o["seconds"] = r.finished - r.started;
+  if (r.state == JobState::Running && r.started > 0)
+    o["seconds"] = now_seconds() - r.started;
+  else if (r.finished > 0 && r.started > 0)
+    o["seconds"] = r.finished - r.started;
   o["attempts"] = r.attempts;
   if (!r.error.empty()) o["error"] = r.error;
   if (job_finished(r.state)) o["exit_code"] = r.exit_code;
@@ -502,7 +509,8 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
     if (m.is_object() && m.contains("warnings") && m["warnings"].is_array())
       for (const auto& w : m["warnings"]) {
         std::string text = w.is_string() ? w.get<std::string>() : w.dump();
-        for (size_t at = text.find(folder); at != std::string::npos; at = text.find(folder, at)) text.erase(at, folder.size());
+        for (size_t at = text.find(folder); at != std::string::npos; at = text.find(folder, at))
+          text.erase(at, folder.size());
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
@@ -527,9 +535,11 @@ void Server::Impl::get_job(const httplib::Request& req, httplib::Response& res) 
 
 void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1];
-  const bool purge = req.has_param("purge") && req.get_param_value("purge") != "0" && req.get_param_value("purge") != "false";
+  const bool purge =
+      req.has_param("purge") && req.get_param_value("purge") != "0" && req.get_param_value("purge") != "false";
   switch (scheduler->cancel(id)) {
-    case CancelResult::Unknown: return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
+    case CancelResult::Unknown:
+      return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
     case CancelResult::Cancelled: {
       json o;
       o["id"] = id;
@@ -544,13 +554,15 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
       o["note"] = "the job stops before its next table; GET it to see it cancelled";
       return reply_json(res, 202, o);
     }
-    case CancelResult::Finished: break;
+    case CancelResult::Finished:
+      break;
   }
   const auto r = store->get(id, false);
   if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (!purge)
-    return fail(res, 409, "job " + id + " already finished (" + job_state_name(r->state) +
-                                     "); DELETE /v1/jobs/" + id + "?purge=1 removes it and its files");
+    return fail(res, 409,
+                "job " + id + " already finished (" + job_state_name(r->state) + "); DELETE /v1/jobs/" + id +
+                    "?purge=1 removes it and its files");
   std::error_code ec;
   fs::remove_all(jobs_dir() / id, ec);
   store->remove(id);
@@ -566,7 +578,7 @@ void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res)
   if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
   if (r->state != JobState::Done)
     return fail(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
-                       "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
+                "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
   const fs::path given(name);
   bool up = false;
   for (const auto& part : given) up |= part == "..";
@@ -576,8 +588,10 @@ void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res)
   if (path.empty()) {
     std::error_code ec;
     if (fs::symlink_status((jobs_dir() / id / given).lexically_normal(), ec).type() == fs::file_type::directory)
-      return fail(res, 404, "job " + id + ": '" + name.substr(0, 80) +
-                                "' is a folder; its files are listed one by one in the job's \"files\" (GET /v1/jobs/" + id + ")");
+      return fail(res, 404,
+                  "job " + id + ": '" + name.substr(0, 80) +
+                      "' is a folder; its files are listed one by one in the job's \"files\" (GET /v1/jobs/" + id +
+                      ")");
     return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
   }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
@@ -587,7 +601,8 @@ void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res)
     return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
   }
   const auto size = static_cast<size_t>(st.st_size);
-  res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(fs::path(name).filename().string()) + "\"");
+  res.set_header("Content-Disposition",
+                 "attachment; filename=\"" + header_text(fs::path(name).filename().string()) + "\"");
   res.set_header("X-Content-Type-Options", "nosniff");
   res.set_content_provider(
       size, content_type(name),
@@ -614,13 +629,17 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
     for (auto it = body.begin(); it != body.end(); ++it) {
       const std::string key = it.key() == "env" ? std::string("environment") : it.key();
       ParamValue v;
-      if (it->is_boolean()) v = it->get<bool>();
-      else if (it->is_number()) v = it->get<double>();
-      else if (it->is_string()) v = it->get<std::string>();
+      if (it->is_boolean())
+        v = it->get<bool>();
+      else if (it->is_number())
+        v = it->get<double>();
+      else if (it->is_string())
+        v = it->get<std::string>();
       else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
         v = it->get<std::vector<double>>();
-      else throw Error(origin + ": " + key.substr(0, 60) + ": must be a number, a string, a boolean or a list of numbers (got " +
-                       io::json_excerpt(*it) + ")");
+      else
+        throw Error(origin + ": " + key.substr(0, 60) +
+                    ": must be a number, a string, a boolean or a list of numbers (got " + io::json_excerpt(*it) + ")");
       given.push_back({key, v});
     }
     OptionNaming naming;
@@ -649,7 +668,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   // Messages name the fields as "table.size", not as the job a table is wrapped in.
   auto local = [](std::string m) {
     const std::string wrapped = "table: tables[0]";
-    for (size_t at = m.find(wrapped); at != std::string::npos; at = m.find(wrapped, at)) m.replace(at, wrapped.size(), "table");
+    for (size_t at = m.find(wrapped); at != std::string::npos; at = m.find(wrapped, at))
+      m.replace(at, wrapped.size(), "table");
     return m;
   };
   TableRequest t;
@@ -662,7 +682,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
     doc["brdfbake_job"] = 1;
     doc["tables"] = json::array({body});
     roots->confine_job_document(doc, origin);
-    sanitize = req.has_param("sanitize") && req.get_param_value("sanitize") != "0" && req.get_param_value("sanitize") != "false";
+    sanitize = req.has_param("sanitize") && req.get_param_value("sanitize") != "0" &&
+               req.get_param_value("sanitize") != "false";
     Job job = parse_job(doc.dump(), origin);
     if (job.tables.size() != 1) throw Error(origin + ": one table is expected");
     t = job.tables[0];
@@ -670,7 +691,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
       if (d.type == ParamType::Path && d.output_only && t.find(d.name))
         throw Error(origin + "." + d.name + ": a second output file is for jobs (POST /v1/jobs), not for one table");
     if (fs::path(t.output).extension().empty())
-      throw Error(origin + ".output: '" + t.output + "' is a folder output; POST /v1/tables returns one file (submit a job)");
+      throw Error(origin + ".output: '" + t.output +
+                  "' is a folder output; POST /v1/tables returns one file (submit a job)");
     try {
       key = scheduler->device_key(t.device);
     } catch (const Error& e) {
@@ -709,8 +731,9 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   std::string outputs_key;
   for (const auto& d : table_schema(t.kind))
     if (d.output_only && t.find(d.name)) outputs_key += "|" + d.name + "=" + param_value_text(*t.find(d.name));
-  const std::string cache_key = table_bake_key(t) + inputs_key + "|format=" + t.format + "|pixel=" + t.pixel + "|output=" +
-                                fs::path(t.output).filename().string() + outputs_key + "|sanitize=" + (sanitize ? "1" : "0");
+  const std::string cache_key = table_bake_key(t) + inputs_key + "|format=" + t.format + "|pixel=" + t.pixel +
+                                "|output=" + fs::path(t.output).filename().string() + outputs_key +
+                                "|sanitize=" + (sanitize ? "1" : "0");
   const auto checked = std::chrono::steady_clock::now();
   auto send = [&](const TableReply& r, bool hit) {
     metrics.count_table(hit);
@@ -739,7 +762,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   std::future<void> done;
   try {
     const auto queued = std::chrono::steady_clock::now();
-    const std::string label = table_kind_name(t.kind) + (t.find("size") ? " " + param_value_text(*t.find("size")) : std::string());
+    const std::string label =
+        table_kind_name(t.kind) + (t.find("size") ? " " + param_value_text(*t.find("size")) : std::string());
     done = scheduler->run_now(key, label, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
       if (*abandoned) return;  // the client stopped waiting before the device was free
       const auto began = std::chrono::steady_clock::now();
@@ -765,7 +789,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
       reply->warnings = run.warnings;
       reply->seconds = run.result.seconds;
       char timing[160];
-      std::snprintf(timing, sizeof timing, "queue;dur=%.3f, inputs;dur=%.3f, bake;dur=%.3f, device;dur=%.3f, deliver;dur=%.3f",
+      std::snprintf(timing, sizeof timing,
+                    "queue;dur=%.3f, inputs;dur=%.3f, bake;dur=%.3f, device;dur=%.3f, deliver;dur=%.3f",
                     ms_between(queued, began), run.input_seconds * 1e3, run.bake_seconds * 1e3,
                     run.result.device_seconds * 1e3, run.deliver_seconds * 1e3);
       reply->timing = timing;
@@ -777,8 +802,10 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   if (done.wait_for(std::chrono::duration<double>(opt.table_timeout)) != std::future_status::ready) {
     *abandoned = true;
     char m[160];
-    std::snprintf(m, sizeof m, "table: not ready within %g s (--table-timeout); the device is busy or the table is large: "
-                  "submit it as a job", opt.table_timeout);
+    std::snprintf(m, sizeof m,
+                  "table: not ready within %g s (--table-timeout); the device is busy or the table is large: "
+                  "submit it as a job",
+                  opt.table_timeout);
     return fail(res, 504, m);
   }
   try {
@@ -857,9 +884,11 @@ void Server::Impl::routes() {
   http.set_error_handler([this](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     if (res.status == 413)
-      fail(res, 413, "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
+      fail(res, 413,
+           "request body larger than the server accepts (" + std::to_string(opt.max_body) + " bytes, --max-body)");
     else if (res.status == 404)
-      fail(res, 404, "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
+      fail(res, 404,
+           "no such route (see docs/SERVICE.md: /v1/jobs, /v1/tables, /v1/bake, /v1/devices, /v1/health, /metrics)");
     else if (res.status == 400)
       fail(res, 400, "malformed HTTP request");
     else
@@ -946,9 +975,12 @@ void Server::Impl::routes() {
     o["jobs"] = a;
     reply_json(res, 200, o);
   });
-  http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { get_job(req, res); });
-  http.Delete(R"(/v1/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
-  http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))", [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
+  http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+))",
+           [this](const httplib::Request& req, httplib::Response& res) { get_job(req, res); });
+  http.Delete(R"(/v1/jobs/([A-Za-z0-9_-]+))",
+              [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
+  http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))",
+           [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
   register_web_routes(http, WebContext{store.get(), roots.get(), jobs_dir(), tmp_dir()});  // GET / (web_routes.hpp)
 }
 
@@ -960,7 +992,8 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
     if (m.port <= 0) throw Error("--listen: cannot listen on " + m.opt.host + " (any port)");
   } else {
     if (!m.http.bind_to_port(m.opt.host, m.opt.port))
-      throw Error("--listen: cannot listen on " + m.opt.host + ":" + std::to_string(m.opt.port) + " (in use, or not an address of this machine)");
+      throw Error("--listen: cannot listen on " + m.opt.host + ":" + std::to_string(m.opt.port) +
+                  " (in use, or not an address of this machine)");
     m.port = m.opt.port;
   }
   if (m.listen_fd >= 0) ::listen(m.listen_fd, SOMAXCONN);

@@ -14,26 +14,26 @@ namespace brdfbake::server {
 
 struct ServerOptions {
   std::string host = "127.0.0.1";
-  int port = 8737;                    // 0: any free port (see url())
-  std::string data_dir;               // required: jobs.db, jobs/<id>/, tmp/
-  std::string input_root;             // "" = requests may read no file (builtin environments only)
-  std::string token_file;             // "" = no token (then only a loopback address is accepted)
-  std::vector<std::string> devices;   // selectors to serve ("" = the default device); reference always
-  int max_queue = 64;                 // waiting jobs before 503
-  std::size_t max_body = 1 << 20;     // bytes of a request body before 413
-  double job_timeout = 3600;          // seconds a job may run (a request may ask for less)
-  double table_timeout = 30;          // seconds POST /v1/tables waits for its table before 504
-  double io_timeout = 30;             // seconds a whole request (headers and body) may take to arrive,
-                                      // and a reply may stall
-  std::uint64_t max_memory = 0;       // bytes a bake may need; 0 = half the machine's memory
-  std::uint64_t table_max_bytes = 64ull << 20;   // POST /v1/tables: the largest table (estimate)
-  std::uint64_t table_cache_bytes = 64ull << 20; // POST /v1/tables: results kept; 0 = no cache
-  int threads = 64;                   // requests handled at once (a client sending slowly holds none)
-  int max_connections = 512;          // connections open at once, all clients together
-  int max_client_connections = 128;   // connections open at once from one address
-  double shutdown_grace = 10;         // seconds running jobs get to finish on SIGTERM
-  std::string url_file;               // written with the URL once listening
-  bool warm_up = true;                // build the common programs at start
+  int port = 8737;                                // 0: any free port (see url())
+  std::string data_dir;                           // required: jobs.db, jobs/<id>/, tmp/
+  std::string input_root;                         // "" = requests may read no file (builtin environments only)
+  std::string token_file;                         // "" = no token (then only a loopback address is accepted)
+  std::vector<std::string> devices;               // selectors to serve ("" = the default device); reference always
+  int max_queue = 64;                             // waiting jobs before 503
+  std::size_t max_body = 1 << 20;                 // bytes of a request body before 413
+  double job_timeout = 3600;                      // seconds a job may run (a request may ask for less)
+  double table_timeout = 30;                      // seconds POST /v1/tables waits for its table before 504
+  double io_timeout = 30;                         // seconds a whole request (headers and body) may take to arrive,
+                                                  // and a reply may stall
+  std::uint64_t max_memory = 0;                   // bytes a bake may need; 0 = half the machine's memory
+  std::uint64_t table_max_bytes = 64ull << 20;    // POST /v1/tables: the largest table (estimate)
+  std::uint64_t table_cache_bytes = 64ull << 20;  // POST /v1/tables: results kept; 0 = no cache
+  int threads = 64;                               // requests handled at once (a client sending slowly holds none)
+  int max_connections = 512;                      // connections open at once, all clients together
+  int max_client_connections = 128;               // connections open at once from one address
+  double shutdown_grace = 10;                     // seconds running jobs get to finish on SIGTERM
+  std::string url_file;                           // written with the URL once listening
+  bool warm_up = true;                            // build the common programs at start
 };
 
 // The address is a loopback one (127.0.0.0/8, ::1, localhost).

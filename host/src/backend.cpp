@@ -37,7 +37,6 @@ class OpenClBackend final : public Backend {
   }
   Precision result_precision(Precision requested) const override { return requested; }
 
-
  private:
   Device& opened() {
     if (!device_) device_ = opening_.valid() ? opening_.get() : Device::open(selector_);
@@ -54,7 +53,6 @@ class ReferenceBackend final : public Backend {
   std::string name() const override { return "reference"; }
   Device* device() override { return nullptr; }
   Precision result_precision(Precision) const override { return Precision::Fp64; }
-
 };
 
 }  // namespace

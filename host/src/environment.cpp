@@ -1,19 +1,20 @@
 // Loading environments: equirects and crosses (OpenEXR and Radiance RGBE read directly, other
 // formats through the OpenImageIO module, io/image_file), six face files, KTX2 cubes, and the
 // procedural builtin:studio and builtin:sun; validation of the values.
+#include "brdfbake/environment.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <limits>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "brdfbake/cancel.hpp"
-#include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "io/image_file.hpp"
@@ -45,7 +46,9 @@ uint64_t budget_of(const EnvLoadOptions& o) { return o.memory_budget > 0 ? o.mem
 // using alpha as grey radiance would be a silent wrong value.
 void colour_channels(const io::FloatImage& image, const std::string& path, int ch[3]) {
   const int nch = image.channels;
-  auto name_of = [&](int c) { return size_t(c) < image.channel_names.size() ? image.channel_names[size_t(c)] : std::string(); };
+  auto name_of = [&](int c) {
+    return size_t(c) < image.channel_names.size() ? image.channel_names[size_t(c)] : std::string();
+  };
   auto base_of = [](std::string n) {
     const size_t dot = n.rfind('.');
     if (dot != std::string::npos) n = n.substr(dot + 1);
@@ -153,8 +156,9 @@ EnvImage cube_from_cross(const RgbImage& img, bool horizontal) {
         const int si = cells[f].rotate180 ? s - 1 - i : i, sj = cells[f].rotate180 ? s - 1 - j : j;
         const size_t src = 3 * (static_cast<size_t>(cells[f].row * s + sj) * static_cast<size_t>(img.width) +
                                 static_cast<size_t>(cells[f].col * s + si));
-        const size_t dst = 3 * ((static_cast<size_t>(f) * static_cast<size_t>(s) + static_cast<size_t>(j)) *
-                                    static_cast<size_t>(s) + static_cast<size_t>(i));
+        const size_t dst =
+            3 * ((static_cast<size_t>(f) * static_cast<size_t>(s) + static_cast<size_t>(j)) * static_cast<size_t>(s) +
+                 static_cast<size_t>(i));
         for (size_t c = 0; c < 3; ++c) env.rgb[dst + c] = img.rgb[src + c];
       }
   return env;
@@ -166,21 +170,26 @@ void validate(EnvImage& env, bool sanitize) {
   EnvSanitizeReport r;
   float max_finite = 0.0f;
   for (float v : env.rgb) {
-    if (std::isnan(v)) ++r.nan;
-    else if (std::isinf(v)) ++r.infinite;
-    else if (v < 0.0f) ++r.negative;
-    else max_finite = std::max(max_finite, v);
+    if (std::isnan(v))
+      ++r.nan;
+    else if (std::isinf(v))
+      ++r.infinite;
+    else if (v < 0.0f)
+      ++r.negative;
+    else
+      max_finite = std::max(max_finite, v);
   }
   if (r.total() == 0) return;
   if (!sanitize) {
     throw Error("environment '" + env.source + "' has " + std::to_string(r.nan) + " NaN, " +
                 std::to_string(r.infinite) + " infinite and " + std::to_string(r.negative) +
-                " negative pixel values (of " + std::to_string(env.rgb.size()) +
-                "); pass --sanitize to replace them");
+                " negative pixel values (of " + std::to_string(env.rgb.size()) + "); pass --sanitize to replace them");
   }
   for (float& v : env.rgb) {
-    if (std::isnan(v) || v < 0.0f) v = 0.0f;  // NaN, -inf and negatives
-    else if (std::isinf(v)) v = max_finite;   // +inf
+    if (std::isnan(v) || v < 0.0f)
+      v = 0.0f;  // NaN, -inf and negatives
+    else if (std::isinf(v))
+      v = max_finite;  // +inf
   }
   r.replaced = true;
   env.sanitize = r;
@@ -266,10 +275,10 @@ double softbox_weight(const Softbox& b, const V3& d) {
 
 void studio_radiance(const V3& d, double out[3]) {
   static const Softbox boxes[] = {
-      softbox(from_angles(45, 30), 0.26, 0.17, 30.0, 28.5, 27.0),   // key, warm
-      softbox(from_angles(-60, 15), 0.22, 0.30, 7.0, 7.6, 8.4),     // fill, cool
-      softbox(from_angles(0, 80), 0.35, 0.35, 14.0, 14.0, 14.0),    // top
-      softbox(from_angles(180, 10), 0.52, 0.035, 20.0, 20.0, 20.0), // rim strip behind
+      softbox(from_angles(45, 30), 0.26, 0.17, 30.0, 28.5, 27.0),    // key, warm
+      softbox(from_angles(-60, 15), 0.22, 0.30, 7.0, 7.6, 8.4),      // fill, cool
+      softbox(from_angles(0, 80), 0.35, 0.35, 14.0, 14.0, 14.0),     // top
+      softbox(from_angles(180, 10), 0.52, 0.035, 20.0, 20.0, 20.0),  // rim strip behind
   };
   // grey room: dark floor, walls brightening towards the ceiling
   const double g = d.y < 0.0 ? 0.06 + 0.02 * (1.0 + d.y) : 0.10 + 0.22 * d.y;
@@ -410,11 +419,9 @@ uint64_t parse_byte_size(const std::string& text) {
   std::string unit = text.substr(end);
   std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return char(std::toupper(c)); });
   static const std::pair<const char*, double> kUnits[] = {
-      {"", 1.0},          {"B", 1.0},
-      {"K", 0x1p10},      {"KI", 0x1p10}, {"KIB", 0x1p10}, {"KB", 1e3},
-      {"M", 0x1p20},      {"MI", 0x1p20}, {"MIB", 0x1p20}, {"MB", 1e6},
-      {"G", 0x1p30},      {"GI", 0x1p30}, {"GIB", 0x1p30}, {"GB", 1e9},
-      {"T", 0x1p40},      {"TI", 0x1p40}, {"TIB", 0x1p40}, {"TB", 1e12}};
+      {"", 1.0},       {"B", 1.0},     {"K", 0x1p10},   {"KI", 0x1p10}, {"KIB", 0x1p10}, {"KB", 1e3},
+      {"M", 0x1p20},   {"MI", 0x1p20}, {"MIB", 0x1p20}, {"MB", 1e6},    {"G", 0x1p30},   {"GI", 0x1p30},
+      {"GIB", 0x1p30}, {"GB", 1e9},    {"T", 0x1p40},   {"TI", 0x1p40}, {"TIB", 0x1p40}, {"TB", 1e12}};
   double scale = 0.0;
   for (const auto& [name, factor] : kUnits)
     if (unit == name) scale = factor;
@@ -480,7 +487,8 @@ void check_environment_size(uint64_t width, uint64_t height, const std::string& 
   const uint64_t need = width * height * 3 * sizeof(float) * 2, budget = budget_of(options);
   if (need > budget)
     throw Error("environment '" + source + "' is " + size + ": taking it in needs " + io::mib_text(need) +
-                ", above the memory budget of " + io::mib_text(budget) + " (half the memory this process may use); scale it down first");
+                ", above the memory budget of " + io::mib_text(budget) +
+                " (half the memory this process may use); scale it down first");
 }
 
 EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb, const std::string& source,
@@ -490,8 +498,8 @@ EnvImage environment_from_equirect(int width, int height, std::vector<float> rgb
                 ": an equirect must be twice as wide as it is high");
   check_environment_size(static_cast<uint64_t>(width), static_cast<uint64_t>(height), source, options);
   if (rgb.size() != 3u * static_cast<size_t>(width) * static_cast<size_t>(height))
-    throw Error("environment '" + source + "': " + std::to_string(rgb.size()) + " values for " +
-                std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");
+    throw Error("environment '" + source + "': " + std::to_string(rgb.size()) + " values for " + std::to_string(width) +
+                "x" + std::to_string(height) + " RGB pixels");
   EnvImage env;
   env.layout = EnvImage::Layout::Equirect;
   env.width = width;

@@ -1,6 +1,5 @@
 // Typed parameters: checking values against their definitions, and reading command-line text.
 #include "brdfbake/params.hpp"
-#include "text.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -8,6 +7,7 @@
 #include <cstdlib>
 
 #include "brdfbake/error.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -16,8 +16,10 @@ namespace {
 // A number as the user wrote it where possible: integers in full (2147483647, not 2.14748365e+09).
 std::string num(double v) {
   char buf[64];
-  if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15) std::snprintf(buf, sizeof buf, "%.0f", v);
-  else std::snprintf(buf, sizeof buf, "%.9g", v);
+  if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15)
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
 
@@ -88,13 +90,20 @@ std::string param_value_text(const ParamValue& v) {
 std::string param_expectation(const ParamDef& d) {
   const std::string b = bounds(d);
   switch (d.type) {
-    case ParamType::Int: return "an integer" + (b.empty() ? "" : " " + b);
-    case ParamType::Number: return "a number" + (b.empty() ? "" : " " + b);
-    case ParamType::Name: return d.choices.empty() ? "a name" : "one of " + join(d.choices);
-    case ParamType::Path: return "a file path";
-    case ParamType::Flag: return "true or false";
-    case ParamType::Color: return "a number or three numbers r,g,b" + (b.empty() ? "" : ", each " + b);
-    case ParamType::Range: return "two numbers lo,hi with lo <= hi" + (b.empty() ? "" : ", each " + b);
+    case ParamType::Int:
+      return "an integer" + (b.empty() ? "" : " " + b);
+    case ParamType::Number:
+      return "a number" + (b.empty() ? "" : " " + b);
+    case ParamType::Name:
+      return d.choices.empty() ? "a name" : "one of " + join(d.choices);
+    case ParamType::Path:
+      return "a file path";
+    case ParamType::Flag:
+      return "true or false";
+    case ParamType::Color:
+      return "a number or three numbers r,g,b" + (b.empty() ? "" : ", each " + b);
+    case ParamType::Range:
+      return "two numbers lo,hi with lo <= hi" + (b.empty() ? "" : ", each " + b);
     case ParamType::IntList:
       return "1 to " + std::to_string(d.max_items) + " integers" + (b.empty() ? "" : ", each " + b);
   }

@@ -191,8 +191,9 @@ std::shared_ptr<PyResult> bake(const std::string& kind, const py::list& params, 
 
 // Returns the manifest as JSON and the warnings the writes gave (the package emits each as a
 // brdfbake.BakeWarning, as `brdfbake run` prints them).
-std::pair<std::string, std::vector<std::string>> run(const std::string& job_text, bool is_path, const std::string& origin,
-                                                     const std::string& output_dir, bool sanitize, const py::object& progress) {
+std::pair<std::string, std::vector<std::string>> run(const std::string& job_text, bool is_path,
+                                                     const std::string& origin, const std::string& output_dir,
+                                                     bool sanitize, const py::object& progress) {
   Job job = is_path ? read_job(job_text) : parse_job(job_text, origin);
   if (!output_dir.empty()) job.output_dir = output_dir;
   if (sanitize) job.sanitize = true;
@@ -277,9 +278,10 @@ PYBIND11_MODULE(_brdfbake, m) {
       .def_static("load", &load_env, py::arg("spec"), py::arg("sanitize") = false)
       .def_static("from_array", &env_from_array, py::arg("array"), py::arg("sanitize") = false,
                   py::arg("source") = "array")
-      .def_property_readonly("layout", [](const PyEnvironment& e) {
-        return std::string(e.image->layout == EnvImage::Layout::Equirect ? "equirect" : "cube");
-      })
+      .def_property_readonly("layout",
+                             [](const PyEnvironment& e) {
+                               return std::string(e.image->layout == EnvImage::Layout::Equirect ? "equirect" : "cube");
+                             })
       .def_property_readonly("width", [](const PyEnvironment& e) { return e.image->width; })
       .def_property_readonly("height", [](const PyEnvironment& e) { return e.image->height; })
       .def_property_readonly("source", [](const PyEnvironment& e) { return e.image->source; })

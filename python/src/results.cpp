@@ -131,7 +131,8 @@ void convert(PyResult& r) {
     if (const MerlTable* m = r.result.merl()) {
       r.converted.resize(3 * kMerlBins);
       for (size_t c = 0; c < 3; ++c)
-        for (size_t b = 0; b < kMerlBins; ++b) r.converted[3 * b + c] = static_cast<float>(m->values[c * kMerlBins + b]);
+        for (size_t b = 0; b < kMerlBins; ++b)
+          r.converted[3 * b + c] = static_cast<float>(m->values[c * kMerlBins + b]);
     } else if (const EvalResult* e = r.result.eval()) {
       r.converted.assign(e->values.begin(), e->values.end());
     }
@@ -224,94 +225,107 @@ void bind_results(py::module_& module) {
       .def_property_readonly("device", [](const PyResult& r) { return r.result.device; })
       .def_property_readonly("seconds", [](const PyResult& r) { return r.result.seconds; })
       .def_property_readonly("device_seconds", [](const PyResult& r) { return r.result.device_seconds; })
-      .def_property_readonly("error_bound", [](const PyResult& r) -> py::object {
-        if (r.result.error_bound) return py::float_(*r.result.error_bound);
-        return py::none();
-      })
-      .def_property_readonly("error_bound_definition", [](const PyResult& r) { return r.result.error_bound_definition; })
-      .def_property_readonly("parameters", [](const PyResult& r) { return params_dict(r.result.parameters, r.result.kind); })
+      .def_property_readonly("error_bound",
+                             [](const PyResult& r) -> py::object {
+                               if (r.result.error_bound) return py::float_(*r.result.error_bound);
+                               return py::none();
+                             })
+      .def_property_readonly("error_bound_definition",
+                             [](const PyResult& r) { return r.result.error_bound_definition; })
+      .def_property_readonly("parameters",
+                             [](const PyResult& r) { return params_dict(r.result.parameters, r.result.kind); })
       .def_property_readonly("details", [](const PyResult& r) { return metadata_dict(r.result.details); })
       .def_property_readonly("request", [](const PyResult& r) { return request_dict(r.request); })
-      .def_property_readonly("metadata", [](const PyResult& r) -> py::dict {
-        // What the file carries: the artifact's own metadata (irradiance: see sh_json).
-        if (const Table* t = r.result.table()) return metadata_dict(t->metadata);
-        if (const CubeLevels* c = r.result.cube()) return metadata_dict(c->metadata);
-        if (const IrradianceResult* i = r.result.irradiance()) return metadata_dict(i->cube.metadata);
-        if (const MerlTable* m = r.result.merl()) return metadata_dict(m->metadata);
-        if (const EvalResult* e = r.result.eval()) return metadata_dict(e->metadata);
-        return {};
-      })
-      .def("table_array", [](py::object self) -> py::object {
-        const PyResult& r = self.cast<const PyResult&>();
-        const Table* t = r.result.table();
-        if (!t) return py::none();
-        const py::ssize_t c = t->channel_count(), w = t->width, h = t->height;
-        return view(self, t->data.data(), {h, w, c}, {w * c, c, 1});
-      })
-      .def("table_axes", [](const PyResult& r) -> py::object {
-        const Table* t = r.result.table();
-        if (!t) return py::none();
-        py::dict d;
-        d["channels"] = t->channels;
-        d["x_name"] = t->x_name;
-        d["y_name"] = t->y_name;
-        d["x"] = py::array_t<double>(static_cast<py::ssize_t>(t->x.size()), t->x.data());
-        d["y"] = py::array_t<double>(static_cast<py::ssize_t>(t->y.size()), t->y.data());
-        return std::move(d);
-      })
-      .def("cube_levels", [](py::object self) -> py::object {
-        const PyResult& r = self.cast<const PyResult&>();
-        if (const CubeLevels* c = r.result.cube()) return cube_views(self, *c);
-        if (const IrradianceResult* i = r.result.irradiance())
-          if (i->cube.level_count() > 0) return cube_views(self, i->cube);
-        return py::none();
-      })
-      .def("sh", [](const PyResult& r) -> py::object {
-        const IrradianceResult* i = r.result.irradiance();
-        if (!i) return py::none();
-        py::dict d;
-        d["order"] = i->sh.order;
-        d["radiance"] = sh_array(i->sh.radiance, i->sh.order);
-        d["irradiance_over_pi"] = sh_array(i->sh.irradiance_over_pi, i->sh.order);
-        d["window"] = sh_window_name(i->sh.window);
-        d["window_weights"] = i->sh.window_weights;
-        return std::move(d);
-      })
-      .def("sh_json", [](const PyResult& r) -> py::object {
-        const IrradianceResult* i = r.result.irradiance();
-        if (!i) return py::none();
-        Metadata m;
-        for (const auto& [k, v] : r.result.details)
-          if (k == "source" || k == "source_size") m.push_back({k, v});
-        return py::str(sh_to_json(i->sh, m));
-      })
-      .def("converted_array", [](py::object self) -> py::object {
-        PyResult& r = self.cast<PyResult&>();
-        if (r.result.merl()) {
-          {
-            const py::gil_scoped_release release;
-            convert(r);
-          }
-          return view(self, r.converted.data(), {kMerlThetaH, kMerlThetaD, kMerlPhiD, 3},
-                      {kMerlThetaD * kMerlPhiD * 3, kMerlPhiD * 3, 3, 1});
-        }
-        if (const EvalResult* e = r.result.eval()) {
-          convert(r);
-          return view(self, r.converted.data(), {static_cast<py::ssize_t>(e->pairs), 3}, {3, 1});
-        }
-        return py::none();
-      })
-      .def("preview", [](py::object self) -> py::object {
-        const PyResult& r = self.cast<const PyResult&>();
-        if (const PreviewResult* p = r.result.preview()) return preview_dict(self, *p);
-        return py::none();
-      })
+      .def_property_readonly("metadata",
+                             [](const PyResult& r) -> py::dict {
+                               // What the file carries: the artifact's own metadata (irradiance: see sh_json).
+                               if (const Table* t = r.result.table()) return metadata_dict(t->metadata);
+                               if (const CubeLevels* c = r.result.cube()) return metadata_dict(c->metadata);
+                               if (const IrradianceResult* i = r.result.irradiance())
+                                 return metadata_dict(i->cube.metadata);
+                               if (const MerlTable* m = r.result.merl()) return metadata_dict(m->metadata);
+                               if (const EvalResult* e = r.result.eval()) return metadata_dict(e->metadata);
+                               return {};
+                             })
+      .def("table_array",
+           [](py::object self) -> py::object {
+             const PyResult& r = self.cast<const PyResult&>();
+             const Table* t = r.result.table();
+             if (!t) return py::none();
+             const py::ssize_t c = t->channel_count(), w = t->width, h = t->height;
+             return view(self, t->data.data(), {h, w, c}, {w * c, c, 1});
+           })
+      .def("table_axes",
+           [](const PyResult& r) -> py::object {
+             const Table* t = r.result.table();
+             if (!t) return py::none();
+             py::dict d;
+             d["channels"] = t->channels;
+             d["x_name"] = t->x_name;
+             d["y_name"] = t->y_name;
+             d["x"] = py::array_t<double>(static_cast<py::ssize_t>(t->x.size()), t->x.data());
+             d["y"] = py::array_t<double>(static_cast<py::ssize_t>(t->y.size()), t->y.data());
+             return std::move(d);
+           })
+      .def("cube_levels",
+           [](py::object self) -> py::object {
+             const PyResult& r = self.cast<const PyResult&>();
+             if (const CubeLevels* c = r.result.cube()) return cube_views(self, *c);
+             if (const IrradianceResult* i = r.result.irradiance())
+               if (i->cube.level_count() > 0) return cube_views(self, i->cube);
+             return py::none();
+           })
+      .def("sh",
+           [](const PyResult& r) -> py::object {
+             const IrradianceResult* i = r.result.irradiance();
+             if (!i) return py::none();
+             py::dict d;
+             d["order"] = i->sh.order;
+             d["radiance"] = sh_array(i->sh.radiance, i->sh.order);
+             d["irradiance_over_pi"] = sh_array(i->sh.irradiance_over_pi, i->sh.order);
+             d["window"] = sh_window_name(i->sh.window);
+             d["window_weights"] = i->sh.window_weights;
+             return std::move(d);
+           })
+      .def("sh_json",
+           [](const PyResult& r) -> py::object {
+             const IrradianceResult* i = r.result.irradiance();
+             if (!i) return py::none();
+             Metadata m;
+             for (const auto& [k, v] : r.result.details)
+               if (k == "source" || k == "source_size") m.push_back({k, v});
+             return py::str(sh_to_json(i->sh, m));
+           })
+      .def("converted_array",
+           [](py::object self) -> py::object {
+             PyResult& r = self.cast<PyResult&>();
+             if (r.result.merl()) {
+               {
+                 const py::gil_scoped_release release;
+                 convert(r);
+               }
+               return view(self, r.converted.data(), {kMerlThetaH, kMerlThetaD, kMerlPhiD, 3},
+                           {kMerlThetaD * kMerlPhiD * 3, kMerlPhiD * 3, 3, 1});
+             }
+             if (const EvalResult* e = r.result.eval()) {
+               convert(r);
+               return view(self, r.converted.data(), {static_cast<py::ssize_t>(e->pairs), 3}, {3, 1});
+             }
+             return py::none();
+           })
+      .def("preview",
+           [](py::object self) -> py::object {
+             const PyResult& r = self.cast<const PyResult&>();
+             if (const PreviewResult* p = r.result.preview()) return preview_dict(self, *p);
+             return py::none();
+           })
       .def_property_readonly("warnings", [](const PyResult& r) { return r.warnings; })
-      .def_property_readonly("files", [](const PyResult& r) {
-        py::list out;
-        for (const auto& f : r.files) out.append(file_dict(f));
-        return out;
-      })
+      .def_property_readonly("files",
+                             [](const PyResult& r) {
+                               py::list out;
+                               for (const auto& f : r.files) out.append(file_dict(f));
+                               return out;
+                             })
       .def("save", &save, py::arg("path"), py::arg("format") = "", py::arg("pixel") = "",
            py::arg("output_params") = py::list());
 }

@@ -26,11 +26,11 @@
 namespace brdfbake {
 namespace {
 
+using detail::to_reference;
 using test::corner_materials;
 using test::corner_pairs;
 using test::random_material;
 using test::random_pairs;
-using detail::to_reference;
 
 // What the device sees of a direction: normalised in double, then (fp32) rounded to float with
 // components below FLT_MIN flushed to zero (host/src/families/brdf_eval/evaluator.cpp).
@@ -195,7 +195,8 @@ Material smooth_material(BrdfModel model, std::mt19937& rng) {
   m.roughness = std::max(m.roughness, 0.3);
   m.clearcoat_roughness = std::max(m.clearcoat_roughness, 0.3);
   m.clearcoat_gloss = std::min(m.clearcoat_gloss, 0.5);
-  if (m.sheen_roughness < 0.3 && (m.sheen_color.r > 0 || m.sheen_color.g > 0 || m.sheen_color.b > 0)) m.sheen_roughness = 0.3;
+  if (m.sheen_roughness < 0.3 && (m.sheen_color.r > 0 || m.sheen_color.g > 0 || m.sheen_color.b > 0))
+    m.sheen_roughness = 0.3;
   if (m.shininess) m.shininess = std::min(*m.shininess, 100.0);
   return m;
 }
@@ -209,7 +210,8 @@ TEST(BrdfAlbedo, DeviceMatchesReference) {
     s.model = model;
     s.layout = TableLayout::Albedo;
     s.res = {5};
-    for (int k = 0; k < 3; ++k) s.materials.push_back(named("random" + std::to_string(k), random_material<Material>(model, rng)));
+    for (int k = 0; k < 3; ++k)
+      s.materials.push_back(named("random" + std::to_string(k), random_material<Material>(model, rng)));
     for (const auto& [name, m] : corner_materials<Material>(model)) s.materials.push_back(named(name, m));
     const Table want = tabulate_reference(s);
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
@@ -271,7 +273,11 @@ std::vector<EnergyCase> energy_cases() {
   return {
       {BrdfModel::Lambert, "any", [](Material&) {}, one},
       {BrdfModel::Phong, "normalised, kd + ks <= 1", normalise, one},
-      {BrdfModel::CookTorrance, "kd = 0", [](Material& m) { m.diffuse_color = Rgb{0, 0, 0}; }, one},
+      {BrdfModel::CookTorrance, "kd = 0",
+       [](Material& m) {
+         m.diffuse_color = Rgb{0, 0, 0};
+       },
+       one},
       {BrdfModel::Gltf, "metal without sheen", metal, one},
       {BrdfModel::GltfCorrelated, "metal without sheen", metal, one},
       {BrdfModel::Disney, "metal, no clearcoat",
@@ -351,9 +357,9 @@ TEST(BrdfTables, MerlMatchesReference) {
       }
       const size_t b = at % kMerlBins;
       EXPECT_GT(below, 0u);
-      EXPECT_LE(worst, 1.0) << "error / tolerance, " << brdf_model_name(model) << " " << precision_name(p) << " bin (" << b / 16200 << ", " << (b / 180) % 90
-          << ", " << b % 180 << "): " << got.values[at] << " vs " << want.values[at] << " "
-          << material_to_json(s.materials[0]);
+      EXPECT_LE(worst, 1.0) << "error / tolerance, " << brdf_model_name(model) << " " << precision_name(p) << " bin ("
+                            << b / 16200 << ", " << (b / 180) % 90 << ", " << b % 180 << "): " << got.values[at]
+                            << " vs " << want.values[at] << " " << material_to_json(s.materials[0]);
     }
   }
 }
@@ -380,7 +386,8 @@ TEST(BrdfTables, GridAndSliceMatchReference) {
           std::pair<Vec3, Vec3> d;
           if (layout == TableLayout::Grid) {  // column: theta_o; row k * n_ti + i: theta_i, phi_d
             const double ti = got.y[size_t(j)], to = got.x[size_t(i)], pd = (j / 7 + 0.5) / 5 * pi;
-            d = {Vec3{std::sin(ti), 0, std::cos(ti)}, Vec3{std::sin(to) * std::cos(pd), std::sin(to) * std::sin(pd), std::cos(to)}};
+            d = {Vec3{std::sin(ti), 0, std::cos(ti)},
+                 Vec3{std::sin(to) * std::cos(pd), std::sin(to) * std::sin(pd), std::cos(to)}};
           } else {
             const double th = got.x[size_t(i)], td = got.y[size_t(j)], st = std::sin(th), ct = std::cos(th);
             const double dx = std::sin(td) * std::cos(1.0), cd = std::cos(td);
@@ -449,7 +456,8 @@ TEST(BrdfProperties, SpecialisationGivesTheSameValues) {
     std::vector<double> f(3 * pairs.size()), g(f.size());
     a.eval(in.data(), pairs.size(), f.data());
     b.eval(in.data(), pairs.size(), g.data());
-    for (size_t k = 0; k < f.size(); ++k) ASSERT_LE(error(f[k], g[k]), test::kBrdfFp32) << brdf_model_name(model) << " " << k;
+    for (size_t k = 0; k < f.size(); ++k)
+      ASSERT_LE(error(f[k], g[k]), test::kBrdfFp32) << brdf_model_name(model) << " " << k;
   }
 }
 

@@ -5,10 +5,9 @@
 // input with the same windowing choice within 1%: the target's default (cmgen's default, its automatic
 // deringing window) and none (cmgen --sh-window=no). Skips with a message
 // when Filament's package or cmgen is missing.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <array>
 #include <cmath>

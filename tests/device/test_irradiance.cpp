@@ -52,7 +52,8 @@ TEST(Irradiance, WhiteFurnace) {
     for (size_t c = 0; c < 3; ++c) {
       const double l00 = 2.0 * std::sqrt(kPi) * double(rgb[c]);
       EXPECT_NEAR(r.sh.radiance[c] / l00, 1.0, test::kEnvFurnace);
-      EXPECT_NEAR(r.sh.irradiance_over_pi[c] * 0.5 / std::sqrt(kPi), double(rgb[c]), test::kEnvFurnace * double(rgb[c]));
+      EXPECT_NEAR(r.sh.irradiance_over_pi[c] * 0.5 / std::sqrt(kPi), double(rgb[c]),
+                  test::kEnvFurnace * double(rgb[c]));
       // the equirect's exact projection: every other coefficient vanishes to rounding
       for (size_t k = 1; k < size_t(order * order); ++k)
         EXPECT_NEAR(r.sh.radiance[3 * k + c] / l00, 0.0, test::kEnvFurnace) << "coefficient " << k << " channel " << c;

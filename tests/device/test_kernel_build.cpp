@@ -79,9 +79,8 @@ std::vector<Variant> dfg_variants() {
 std::vector<Variant> fresnel_variants() {
   std::vector<Variant> v;
   for (const char* model : {"BRDFBAKE_FRESNEL_SCHLICK", "BRDFBAKE_FRESNEL_SCHLICK_METALLIC",
-                            "BRDFBAKE_FRESNEL_SCHLICK_IOR", "BRDFBAKE_FRESNEL_DIELECTRIC",
-                            "BRDFBAKE_FRESNEL_CONDUCTOR", "BRDFBAKE_FRESNEL_F82_TINT",
-                            "BRDFBAKE_FRESNEL_EMPIRICAL"})
+                            "BRDFBAKE_FRESNEL_SCHLICK_IOR", "BRDFBAKE_FRESNEL_DIELECTRIC", "BRDFBAKE_FRESNEL_CONDUCTOR",
+                            "BRDFBAKE_FRESNEL_F82_TINT", "BRDFBAKE_FRESNEL_EMPIRICAL"})
     for (bool two_d : {false, true}) {
       Defines d = {{model, "1"}, {"BRDFBAKE_FRESNEL_CHUNKS", "8"}};
       if (two_d) d.push_back({"BRDFBAKE_FRESNEL_2D", "1"});

@@ -125,7 +125,8 @@ TEST(EnvLobes, EngineMatchesTheReference) {
       EXPECT_NEAR(w / want, 1.0, test::kAnalytic) << env_distribution_name(d) << " alpha " << alpha;
       for (double c : {-0.5, 0.0, 1e-6, 0.1, 0.5, 0.9, 0.999, 1.0}) {
         const double k = detail::env_lobe_kernel(d, alpha, c), kr = reference::env_lobe_kernel(lobe, alpha, c);
-        EXPECT_NEAR(k, kr, test::kRounding * std::max(1.0, std::fabs(kr))) << env_distribution_name(d) << " " << alpha << " " << c;
+        EXPECT_NEAR(k, kr, test::kRounding * std::max(1.0, std::fabs(kr)))
+            << env_distribution_name(d) << " " << alpha << " " << c;
       }
     }
   }
@@ -156,7 +157,8 @@ TEST(Prefilter, Fp64) {
   s.precision = Precision::Fp64;
   const CubeLevels c = prefilter_environment(*dev, constant_equirect(32, 3.0f, 3.0f, 3.0f), s);
   for (int l = 0; l < c.level_count(); ++l)
-    for (size_t k = 0; k < c.levels[size_t(l)].size(); k += 4) ASSERT_NEAR(c.levels[size_t(l)][k] / 3.0f, 1.0, test::kEnvFurnace);
+    for (size_t k = 0; k < c.levels[size_t(l)].size(); k += 4)
+      ASSERT_NEAR(c.levels[size_t(l)][k] / 3.0f, 1.0, test::kEnvFurnace);
 }
 
 TEST(Prefilter, LevelZeroIsTheSource) {
@@ -168,14 +170,13 @@ TEST(Prefilter, LevelZeroIsTheSource) {
   const CubeLevels source = environment_to_cube(*dev, env, 32);
   const CubeLevels out = prefilter_environment(*dev, env, s);
   ASSERT_EQ(out.levels[0].size(), source.levels[0].size());
-  for (size_t k = 0; k < source.levels[0].size(); ++k)
-    ASSERT_EQ(out.levels[0][k], source.levels[0][k]) << k;
+  for (size_t k = 0; k < source.levels[0].size(); ++k) ASSERT_EQ(out.levels[0][k], source.levels[0][k]) << k;
   EXPECT_EQ(out.meta("roughness_per_level"), "0,0.5,1");
 }
 
 // Every level against the brute-force reference filtering the same source cube.
-void expect_reference_agreement(Device& dev, const EnvImage& env, EnvDistribution dist, EnvEstimator est,
-                                int samples, double rms_bound, double max_bound) {
+void expect_reference_agreement(Device& dev, const EnvImage& env, EnvDistribution dist, EnvEstimator est, int samples,
+                                double rms_bound, double max_bound) {
   PrefilterSpec s;
   s.size = 32;
   s.min_size = 4;
@@ -213,8 +214,8 @@ TEST(Prefilter, AgreesWithTheReferenceOnARealMap) {
     expect_reference_agreement(*dev, env, d, EnvEstimator::Quadrature, 0, test::kEnvPrefilterRms,
                                test::kEnvPrefilterMax);
   // the sampling estimator converges to the same values at a high sample count
-  expect_reference_agreement(*dev, env, EnvDistribution::Ggx, EnvEstimator::Sampling, 4096,
-                             test::kEnvSamplingRms, test::kEnvSamplingMax);
+  expect_reference_agreement(*dev, env, EnvDistribution::Ggx, EnvEstimator::Sampling, 4096, test::kEnvSamplingRms,
+                             test::kEnvSamplingMax);
 }
 
 // The default filters blocks of 8 x 8 texels with one walk of the pyramid refined for all of them
@@ -286,7 +287,8 @@ TEST(Prefilter, BrightTexelSpreadsIntoTheLobe) {
           if (w < 5e-2 * peak) continue;
           worst = std::max(worst, std::fabs(double(out.levels[size_t(l)][4 * k]) - w) / w);
         }
-        EXPECT_LE(worst, test::kEnvPrefilterMax) << "level " << l << " bright " << bright << " " << env_estimator_name(est);
+        EXPECT_LE(worst, test::kEnvPrefilterMax)
+            << "level " << l << " bright " << bright << " " << env_estimator_name(est);
       }
     }
 }
@@ -477,7 +479,8 @@ TEST(Prefilter, ProgressMovesWithinEveryLevel) {
     for (size_t k = 1; k < f.size(); ++k) EXPECT_GE(f[k], f[k - 1]) << labels[k];
     EXPECT_EQ(f.back(), 1.0);
     int inside_level_one = 0;
-    for (size_t k = 0; k < f.size(); ++k) inside_level_one += f[k] > 0.0 && f[k] < 0.8 && labels[k].rfind("level 1/2", 0) == 0;
+    for (size_t k = 0; k < f.size(); ++k)
+      inside_level_one += f[k] > 0.0 && f[k] < 0.8 && labels[k].rfind("level 1/2", 0) == 0;
     // a level runs as at least 4 launches when progress is followed (more where it is slow: each
     // launch takes ~50 ms at most), so level 1 reports at least 3 times before it ends
     EXPECT_GE(inside_level_one, 3) << "max_error " << max_error;
@@ -520,15 +523,17 @@ TEST(Prefilter, EquirectOrientationChart) {
     bool dark;
   };
   const Probe probes[] = {
-      {"+X towards +Z", c, 0, s, true},   {"+X towards -Z", c, 0, -s, false}, {"+Z towards +X", s, 0, c, true},
-      {"+Z towards -X", -s, 0, c, false}, {"-X towards +Z", -c, 0, s, true},  {"-X towards -Z", -c, 0, -s, false},
+      {"+X towards +Z", c, 0, s, true},   {"+X towards -Z", c, 0, -s, false},  {"+Z towards +X", s, 0, c, true},
+      {"+Z towards -X", -s, 0, c, false}, {"-X towards +Z", -c, 0, s, true},   {"-X towards -Z", -c, 0, -s, false},
       {"-Z towards +X", s, 0, -c, true},  {"-Z towards -X", -s, 0, -c, false}, {"+X up", c, s, 0, true},
-      {"+Z up", 0, s, c, true},           {"-X up", -c, s, 0, true},          {"-Z up", 0, s, -c, true},
+      {"+Z up", 0, s, c, true},           {"-X up", -c, s, 0, true},           {"-Z up", 0, s, -c, true},
   };
   for (const Probe& p : probes) {
     const double lum = darkest(p.x, p.y, p.z);
-    if (p.dark) EXPECT_LT(lum, 0.3) << p.what;
-    else EXPECT_GT(lum, 0.5) << p.what;
+    if (p.dark)
+      EXPECT_LT(lum, 0.3) << p.what;
+    else
+      EXPECT_GT(lum, 0.5) << p.what;
   }
 }
 

@@ -52,8 +52,9 @@ const Pair& backends() {
     const auto og = std::find_if(all.begin(), all.end(), is_oclgrind);
     const auto other = std::find_if(all.begin(), all.end(), [](const DeviceInfo& d) { return !is_oclgrind(d); });
     if (og == all.end()) {
-      p->why_not = "Oclgrind is not among the OpenCL platforms: install oclgrind and run the ctest test "
-                   "Oclgrind.EveryKernelFamily, which registers its ICD";
+      p->why_not =
+          "Oclgrind is not among the OpenCL platforms: install oclgrind and run the ctest test "
+          "Oclgrind.EveryKernelFamily, which registers its ICD";
     } else if (other == all.end()) {
       p->why_not = "no OpenCL device besides Oclgrind to compare with (install pocl-opencl-icd)";
     } else {
@@ -109,8 +110,8 @@ using test::values_of;
 
 struct Case {
   std::string name;
-  std::string table;      // the job's table, JSON; empty: the example request of `kind`
-  double tolerance = 0;   // when the result records no bound
+  std::string table;     // the job's table, JSON; empty: the example request of `kind`
+  double tolerance = 0;  // when the result records no bound
   TableKind kind = TableKind::Ggx;
 };
 
@@ -120,14 +121,20 @@ double example_tolerance(TableKind kind) {
   switch (kind) {
     case TableKind::Ggx:
     case TableKind::GgxMultiscatter:
-    case TableKind::Charlie: return 0;  // the calibrated bound the result records
+    case TableKind::Charlie:
+      return 0;  // the calibrated bound the result records
     case TableKind::Fresnel:
-    case TableKind::ThinFilm: return test::kFresnelFp32;
+    case TableKind::ThinFilm:
+      return test::kFresnelFp32;
     case TableKind::Prefilter:
-    case TableKind::Irradiance: return test::kEnvFp32VsFp64;
-    case TableKind::Eval: return test::kBrdfFp32;
-    case TableKind::Tabulate: return test::kBrdfTableFp32;
-    case TableKind::Preview: return 0;  // not among the examples here (see cases())
+    case TableKind::Irradiance:
+      return test::kEnvFp32VsFp64;
+    case TableKind::Eval:
+      return test::kBrdfFp32;
+    case TableKind::Tabulate:
+      return test::kBrdfTableFp32;
+    case TableKind::Preview:
+      return 0;  // not among the examples here (see cases())
   }
   return 0;
 }
@@ -146,25 +153,33 @@ std::vector<Case> cases() {
       {"lut_ggx_ndf_fp64", R"({"kind": "ggx", "size": 4, "estimator": "ndf", "samples": 128, "precision": "fp64"})", 0},
       {"lut_multiscatter", R"({"kind": "ggx-multiscatter", "size": 4, "samples": 256})", 0},
       {"lut_charlie_uniform", R"({"kind": "charlie", "size": 4, "estimator": "uniform", "samples": 256})", 0},
-      {"fresnel_conductor", R"({"kind": "fresnel", "model": "conductor", "n": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2], "size": 16})",
+      {"fresnel_conductor",
+       R"({"kind": "fresnel", "model": "conductor", "n": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2], "size": 16})",
        kFresnelFp32},
-      {"fresnel_dielectric_2d", R"({"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 8})", kFresnelFp32},
+      {"fresnel_dielectric_2d", R"({"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 8})",
+       kFresnelFp32},
       {"thin_film", R"({"kind": "thin-film", "base_ior": 1.5, "size": 4})", kFresnelFp32},
       {"prefilter_quadrature", R"({"kind": "prefilter", "environment": "builtin:sun", "size": 8, "min_size": 4})",
        kEnvFp32VsFp64},
       {"prefilter_sampling", R"({"kind": "prefilter", "environment": "builtin:sun", "size": 8, "min_size": 4,
-                                 "estimator": "sampling", "samples": 64})", kEnvFp32VsFp64},
+                                 "estimator": "sampling", "samples": 64})",
+       kEnvFp32VsFp64},
       {"prefilter_charlie", R"({"kind": "prefilter", "environment": "builtin:studio", "distribution": "charlie",
-                                "size": 4, "min_size": 4})", kEnvFp32VsFp64},
+                                "size": 4, "min_size": 4})",
+       kEnvFp32VsFp64},
       {"irradiance_cube", R"({"kind": "irradiance", "environment": "builtin:sun", "cube_size": 4, "source_size": 8})",
        kEnvFp32VsFp64},
-      {"eval", R"({"kind": "eval", "material": ")" + mats + R"(", "name": "velvet", "input": ")" + pairs + "\"}", kBrdfFp32},
+      {"eval", R"({"kind": "eval", "material": ")" + mats + R"(", "name": "velvet", "input": ")" + pairs + "\"}",
+       kBrdfFp32},
       {"tabulate_grid", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "red-plastic", "layout": "grid",
-                            "res": [4, 4, 4]})", kBrdfTableFp32},
+                            "res": [4, 4, 4]})",
+       kBrdfTableFp32},
       {"tabulate_slice", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "gold", "layout": "slice",
-                             "res": [8, 8]})", kBrdfTableFp32},
+                             "res": [8, 8]})",
+       kBrdfTableFp32},
       {"tabulate_albedo", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "velvet", "layout": "albedo",
-                              "res": [4]})", kBrdfTableFp32},
+                              "res": [4]})",
+       kBrdfTableFp32},
   };
   for (TableKind kind : table_kinds()) {
     // The preview's reference render interpreted by Oclgrind takes minutes even at its example's
@@ -230,8 +245,8 @@ TEST_P(SecondDevice, AgreesWithTheFirstAndOclgrindReportsNothing) {
     const double excess = std::fabs(o[k] - a[k]) / std::max(1.0, std::fabs(a[k])) / bound;
     if (excess > worst_excess) worst_excess = excess, worst = k;
   }
-  EXPECT_LE(worst_excess, 1.0) << c.name << ": value " << worst << " is " << o[worst] << " on Oclgrind and "
-                               << a[worst] << " on " << b.other_name << " (bound " << bound << ")";
+  EXPECT_LE(worst_excess, 1.0) << c.name << ": value " << worst << " is " << o[worst] << " on Oclgrind and " << a[worst]
+                               << " on " << b.other_name << " (bound " << bound << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(Family, SecondDevice, ::testing::ValuesIn(cases()),

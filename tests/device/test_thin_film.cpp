@@ -50,8 +50,9 @@ void compare(Device& dev, Precision p, double tolerance) {
   // The same table as the family bakes it: the measured bound it records.
   TableRequest q;
   q.kind = TableKind::ThinFilm;
-  q.params = {{"film_ior", 1.8}, {"base_f0", std::vector<double>{0.9, 0.5, 0.04}}, {"thickness_min", 0.0},
-              {"thickness_max", 1200.0}, {"size", 33.0}, {"height", 17.0}};
+  q.params = {{"film_ior", 1.8},      {"base_f0", std::vector<double>{0.9, 0.5, 0.04}},
+              {"thickness_min", 0.0}, {"thickness_max", 1200.0},
+              {"size", 33.0},         {"height", 17.0}};
   q.precision = p;
   validate_table(q);
   const BakeResult res = bake_table(q, *Backend::open(dev));

@@ -18,8 +18,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using brdfbake::test::count_lines;
 using brdfbake::test::CliRun;
+using brdfbake::test::count_lines;
 
 CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
@@ -51,7 +51,8 @@ TEST(Cli, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure("lut --kind ggx --size 8 --samples -5", out, "samples");
   expect_clean_failure("lut --kind ggx --size 8 --max-error nan", out, "max-error");
   expect_clean_failure("lut --kind phong --size 8", out, "unknown table kind 'phong'");
-  expect_clean_failure("lut --kind ggx --size 8 --estimator magic", out, "--estimator: must be one of quadrature, vndf, ndf, uniform (got 'magic')");
+  expect_clean_failure("lut --kind ggx --size 8 --estimator magic", out,
+                       "--estimator: must be one of quadrature, vndf, ndf, uniform (got 'magic')");
   expect_clean_failure("lut --kind ggx --size 8 --precision fp16", out, "unknown precision 'fp16'");
   expect_clean_failure("lut --kind ggx --size 8 --device no-such-device", out, "no-such-device");
   expect_clean_failure("lut --kind ggx --size 8 --no-such-option", out, "no-such-option");
@@ -128,8 +129,8 @@ TEST(Cli, DevicesListsTheDefaultAndJson) {
 // shows an example (issue 10: "(default: standard input) (default: -)", `--device (default: "")`,
 // eval's input called required though it defaults to standard input).
 TEST(Cli, HelpShowsOneDefaultAndAnExample) {
-  for (const char* command : {"lut", "fresnel", "thin-film", "prefilter", "irradiance", "eval", "tabulate", "bake", "run",
-                              "view", "report"}) {
+  for (const char* command : {"lut", "fresnel", "thin-film", "prefilter", "irradiance", "eval", "tabulate", "bake",
+                              "run", "view", "report"}) {
     const CliRun r = run(std::string(command) + " --help");
     ASSERT_EQ(r.code, 0) << command << ": " << r.err;
     // One entry per option: its first line starts with '-', cxxopts wraps the rest.
@@ -139,13 +140,16 @@ TEST(Cli, HelpShowsOneDefaultAndAnExample) {
     while (std::getline(in, line)) {
       const size_t at = line.find_first_not_of(' ');
       if (at == std::string::npos) continue;
-      if (line[at] == '-') entries.push_back(line.substr(at));
-      else if (!entries.empty() && at > 2) entries.back() += " " + line.substr(at);
+      if (line[at] == '-')
+        entries.push_back(line.substr(at));
+      else if (!entries.empty() && at > 2)
+        entries.back() += " " + line.substr(at);
     }
     EXPECT_GT(entries.size(), 2u) << command;
     for (const std::string& e : entries) {
       const size_t first = e.find("(default:");
-      EXPECT_TRUE(first == std::string::npos || e.find("(default:", first + 1) == std::string::npos) << command << ": " << e;
+      EXPECT_TRUE(first == std::string::npos || e.find("(default:", first + 1) == std::string::npos)
+          << command << ": " << e;
       EXPECT_EQ(e.find("(default: \"\")"), std::string::npos) << command << ": " << e;
       if (std::string(command) == "eval" && e.rfind("-i, --input", 0) == 0) {
         EXPECT_EQ(e.find("(required)"), std::string::npos) << "eval reads standard input by default: " << e;

@@ -1,12 +1,11 @@
 // `brdfbake bake` and `brdfbake run`, run as a user runs them: the plan, what is written, exit
 // codes, one-line errors, nothing half written.
 #include <gtest/gtest.h>
-
-#include <cmath>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -134,7 +133,8 @@ TEST(CliBake, DefaultBakesTheStandardSetAndPrintsASummary) {
   EXPECT_NE(r.out.find("wrote " + out.string() + ": 3 files from 3 bakes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("manifest.json"), std::string::npos);
   // The DFG kind's runtime formula: ggx-multiscatter needs a different shader from ggx.
-  EXPECT_NE(r.out.find("runtime: specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("runtime: specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("contact sheet: " + out.string() + "/contact_sheet.png"), std::string::npos) << r.out;
   EXPECT_NE(run("bake --dry-run --contact-sheet").err.find("not with --dry-run"), std::string::npos);
   EXPECT_NE(run("bake --dry-run --preview").err.find("not with --dry-run"), std::string::npos);
@@ -185,8 +185,9 @@ TEST(CliBake, BadInputIsOneLineNonZeroAndNothingWritten) {
   const fs::path truncated = write_file("truncated.glb", std::string("glTF\2\0\0\0\xff\0\0\0", 12) + "{}");
   expect_clean_failure(run("bake --scene " + truncated.string() + " -o " + out.string()), 2,
                        truncated.string() + ": truncated GLB", out);
-  const fs::path required = write_file(
-      "required.gltf", R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_magic"],"extensionsRequired":["EXT_magic"]})");
+  const fs::path required =
+      write_file("required.gltf",
+                 R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_magic"],"extensionsRequired":["EXT_magic"]})");
   expect_clean_failure(run("bake --scene " + required.string() + " -o " + out.string()), 2,
                        "extensionsRequired[0]: 'EXT_magic'", out);
   expect_clean_failure(run("bake --scene " + (dir / "none.gltf").string() + " -o " + out.string()), 2, "none.gltf",
@@ -206,8 +207,9 @@ TEST(CliBake, BadInputIsOneLineNonZeroAndNothingWritten) {
 }
 
 TEST(CliBake, AKindNotAvailableIsNamedAndNothingIsWritten) {
-  const fs::path scene = write_file(
-      "irid.gltf", R"({"asset":{"version":"2.0"},"materials":[{"name":"Film","pbrMetallicRoughness":{"metallicFactor":0},
+  const fs::path scene =
+      write_file("irid.gltf",
+                 R"({"asset":{"version":"2.0"},"materials":[{"name":"Film","pbrMetallicRoughness":{"metallicFactor":0},
         "extensions":{"KHR_materials_iridescence":{"iridescenceFactor":1,"iridescenceIor":1.5}}}]})");
   const fs::path out = temp_dir() / "irid_out";
   fs::remove_all(out);
@@ -215,8 +217,8 @@ TEST(CliBake, AKindNotAvailableIsNamedAndNothingIsWritten) {
   const CliRun plan = run("bake --scene " + scene.string() + " --dry-run");
   ASSERT_EQ(plan.code, 0);
   EXPECT_NE(plan.out.find("thin-film"), std::string::npos) << plan.out;
-  const CliRun r = run("bake --scene " + scene.string() + " -o " + out.string() + kSmall,
-                       "BRDFBAKE_UNAVAILABLE_KINDS=thin-film");
+  const CliRun r =
+      run("bake --scene " + scene.string() + " -o " + out.string() + kSmall, "BRDFBAKE_UNAVAILABLE_KINDS=thin-film");
   expect_clean_failure(r, 1, "not available in this build", out);
   EXPECT_NE(r.err.find("thin-film"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("KHR_materials_iridescence"), std::string::npos) << r.err;
@@ -284,7 +286,8 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
     if (target == "generic") continue;
     const fs::path out = dir / ("set_" + target);
     const std::string name = out.filename().string();
-    const CliRun r = run("bake --target " + target + " --cube-size 16 --min-size 4 --lut-size 8 --quiet -o " + out.string());
+    const CliRun r =
+        run("bake --target " + target + " --cube-size 16 --min-size 4 --lut-size 8 --quiet -o " + out.string());
     if (target == "filament" || target == "babylon") {
       // these engines fix their sizes (power-of-two chains down to their own smallest level)
       const CliRun own = run("bake --target " + target + " --quiet -o " + out.string());
@@ -313,7 +316,8 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
     }
   }
   // a job with a target but no irradiance table: refused, nothing written
-  std::ofstream(dir / "job.json") << R"({"target": "filament", "tables": [{"kind": "prefilter", "size": 16, "min_size": 4}]})";
+  std::ofstream(dir / "job.json")
+      << R"({"target": "filament", "tables": [{"kind": "prefilter", "size": 16, "min_size": 4}]})";
   const CliRun bad = run("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "bad").string());
   EXPECT_EQ(bad.code, 2) << bad.err;
   EXPECT_NE(bad.err.find("needs a GGX prefiltered chain and an irradiance table"), std::string::npos) << bad.err;
@@ -329,14 +333,21 @@ TEST(CliBake, KhronosViewerWritesTheCharlieChainItIsGiven) {
   fs::create_directories(dir);
   const std::string tables = R"({"kind": "prefilter", "size": 16, "output": "ggx.ktx2"},
       {"kind": "irradiance", "cube_size": 8, "output": "irr.ktx2"})";
-  std::ofstream(dir / "with.json") << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)" << tables
-                                   << R"(, {"kind": "prefilter", "distribution": "charlie", "size": 16, "output": "charlie.ktx2"}]})";
-  std::ofstream(dir / "without.json") << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)" << tables
-                                      << "]}";
+  std::ofstream(dir / "with.json")
+      << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)" << tables
+      << R"(, {"kind": "prefilter", "distribution": "charlie", "size": 16, "output": "charlie.ktx2"}]})";
+  std::ofstream(dir / "without.json") << R"({"environment": "builtin:sun", "target": "khronos-viewer", "tables": [)"
+                                      << tables << "]}";
   const CliRun with = run("run " + (dir / "with.json").string() + " --quiet -o " + (dir / "kv").string());
   ASSERT_EQ(with.code, 0) << with.err;
   EXPECT_TRUE(fs::exists(dir / "kv" / "kv_charlie.ktx2"));
-  EXPECT_NE([&] { std::ifstream in(dir / "kv" / "manifest.json"); return std::string(std::istreambuf_iterator<char>(in), {}); }().find("kv_charlie.ktx2"), std::string::npos);
+  EXPECT_NE(
+      [&] {
+        std::ifstream in(dir / "kv" / "manifest.json");
+        return std::string(std::istreambuf_iterator<char>(in), {});
+      }()
+          .find("kv_charlie.ktx2"),
+      std::string::npos);
   const CliRun without = run("run " + (dir / "without.json").string() + " --quiet -o " + (dir / "plain").string());
   ASSERT_EQ(without.code, 0) << without.err;
   EXPECT_TRUE(fs::exists(dir / "plain" / "plain_ggx.ktx2"));

@@ -1,10 +1,9 @@
 // Material files (our JSON, glTF documents) and the eval and tabulate commands, run as a user runs
 // them: values against the reference, streaming through several chunks, exit codes, one-line errors
 // naming the line or field, and no file left behind.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <cstdio>
@@ -113,7 +112,7 @@ TEST(BrdfMaterials, JsonNamesAliasesAndDefaults) {
   EXPECT_EQ(mats[0].name, "plastic");
   EXPECT_EQ(*mats[0].model, BrdfModel::Disney);
   EXPECT_DOUBLE_EQ(mats[0].params.clearcoat, 0.5);
-  EXPECT_DOUBLE_EQ(mats[0].params.specular, 0.5);  // Disney's default
+  EXPECT_DOUBLE_EQ(mats[0].params.specular, 0.5);       // Disney's default
   EXPECT_DOUBLE_EQ(mats[1].params.base_color.g, 0.78);  // baseColorFactor alias, alpha ignored
   EXPECT_DOUBLE_EQ(mats[1].params.metallic, 1.0);
   EXPECT_DOUBLE_EQ(mats[2].params.sheen_roughness, 0.4);
@@ -219,8 +218,8 @@ TEST(CliEval, CsvMatchesTheReference) {
   write_text(dir / "pairs.csv", pairs_csv(500, 1u, pairs));
   for (const std::string name : {"plastic", "gold", "cloth"}) {
     const fs::path out = dir / ("f_" + name + ".csv");
-    const CliRun r = run("eval --material " + mats.string() + " --name " + name + " -i " + (dir / "pairs.csv").string() +
-                         " -o " + out.string() + " --quiet");
+    const CliRun r = run("eval --material " + mats.string() + " --name " + name + " -i " +
+                         (dir / "pairs.csv").string() + " -o " + out.string() + " --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     const std::vector<double> got = parse_rgb_csv(read_text(out));
@@ -322,18 +321,20 @@ TEST(CliEval, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure(base + "zero.csv", out, "line 2: wi is the zero vector");
   expect_clean_failure(base + "inf.csv", out, "line 2: field wo_z is not finite");
   expect_clean_failure(base + "trunc.bin --binary", out, "not a whole number of pairs");
-  expect_clean_failure("eval --material " + mats.string() + " --name gold --model shiny -i " + (dir / "../zero.csv").string(),
-                       out, "--model: must be one of disney, gltf");
+  expect_clean_failure(
+      "eval --material " + mats.string() + " --name gold --model shiny -i " + (dir / "../zero.csv").string(), out,
+      "--model: must be one of disney, gltf");
   expect_clean_failure("eval --material " + mats.string() + " -i " + (dir / "../zero.csv").string(), out,
                        "choose one with --name");
   expect_clean_failure("eval --material " + mats.string() + " --name silver -i " + (dir / "../zero.csv").string(), out,
                        "no material named 'silver'");
   write_text(dir / "../rough.json", R"({"materials": [{"name": "x", "model": "disney", "roughness": 2}]})");
-  expect_clean_failure("eval --material " + (dir / "../rough.json").string() + " -i " + (dir / "../zero.csv").string(), out,
-                       "roughness must be in [0, 1] (got 2)");
+  expect_clean_failure("eval --material " + (dir / "../rough.json").string() + " -i " + (dir / "../zero.csv").string(),
+                       out, "roughness must be in [0, 1] (got 2)");
   write_text(dir / "../nomodel.json", R"({"materials": [{"name": "x"}]})");
-  expect_clean_failure("eval --material " + (dir / "../nomodel.json").string() + " -i " + (dir / "../zero.csv").string(),
-                       out, "names no model");
+  expect_clean_failure(
+      "eval --material " + (dir / "../nomodel.json").string() + " -i " + (dir / "../zero.csv").string(), out,
+      "names no model");
   expect_clean_failure("eval -i " + (dir / "../zero.csv").string(), out, "--material: missing");
 }
 
@@ -341,13 +342,15 @@ TEST(CliEval, BadInputGivesOneLineAndNoFile) {
 
 TEST(CliTabulate, MerlFileWithSidecarMatchesTheReference) {
   const fs::path dir = temp_dir(), mats = materials_file(), out = dir / "gold.binary";
-  const CliRun r = run("tabulate --material " + mats.string() + " --name gold --layout merl --quiet -o " + out.string());
+  const CliRun r =
+      run("tabulate --material " + mats.string() + " --name gold --layout merl --quiet -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const MerlTable t = read_merl(out.string());
   ASSERT_TRUE(fs::exists(out.string() + ".json"));
   std::string meta;
   for (const auto& [k, v] : t.metadata) meta += k + "=" + v + "\n";
-  for (const char* key : {"model=gltf", "layout=merl", "precision=fp32", "resolution=90x90x180", "conventions=", "generator="})
+  for (const char* key :
+       {"model=gltf", "layout=merl", "precision=fp32", "resolution=90x90x180", "conventions=", "generator="})
     EXPECT_NE(meta.find(key), std::string::npos) << key;
   const auto all = parse_materials_json(kMaterials, "m");
   const double pi = 3.14159265358979323846;
@@ -376,7 +379,8 @@ TEST(CliTabulate, MerlFileWithSidecarMatchesTheReference) {
 TEST(CliTabulate, AlbedoGridAndSlice) {
   const fs::path dir = temp_dir(), mats = materials_file();
   // albedo of every material in the file, one row each
-  const CliRun a = run("tabulate --material " + mats.string() + " --model gltf --layout albedo --res 12 --quiet -o - --format csv");
+  const CliRun a =
+      run("tabulate --material " + mats.string() + " --model gltf --layout albedo --res 12 --quiet -o - --format csv");
   ASSERT_EQ(a.code, 0) << a.err;
   int rows = 0;
   std::istringstream in(a.out);
@@ -387,8 +391,8 @@ TEST(CliTabulate, AlbedoGridAndSlice) {
   EXPECT_NE(a.out.find("# material_names: plastic,gold,cloth"), std::string::npos);
   // a slice image
   const fs::path exr = dir / "slice.exr";
-  const CliRun s = run("tabulate --material " + mats.string() + " --name cloth --layout slice --res 40,30 --phi-d 1.2 --quiet -o " +
-                       exr.string());
+  const CliRun s = run("tabulate --material " + mats.string() +
+                       " --name cloth --layout slice --res 40,30 --phi-d 1.2 --quiet -o " + exr.string());
   ASSERT_EQ(s.code, 0) << s.err;
   auto image = OIIO::ImageInput::open(exr.string());
   ASSERT_TRUE(image);
@@ -397,8 +401,8 @@ TEST(CliTabulate, AlbedoGridAndSlice) {
   image->close();
   // a grid as CSV
   const fs::path grid = dir / "grid.csv";
-  const CliRun g = run("tabulate --material " + mats.string() + " --name plastic --layout grid --res 4,5,3 --quiet -o " +
-                       grid.string());
+  const CliRun g = run("tabulate --material " + mats.string() +
+                       " --name plastic --layout grid --res 4,5,3 --quiet -o " + grid.string());
   ASSERT_EQ(g.code, 0) << g.err;
   const std::string text = read_text(grid);
   EXPECT_NE(text.find("theta_o,theta_i,r,g,b"), std::string::npos);
@@ -421,7 +425,8 @@ TEST(CliTabulate, BadInputGivesOneLineAndNoFile) {
   const fs::path mats = materials_file();
   const std::string base = "tabulate --material " + mats.string() + " --name gold ";
   expect_clean_failure(base + "--layout merl --res 10", dir / "t.binary", "its size is fixed");
-  expect_clean_failure(base + "--layout cube", dir / "t.exr", "--layout: must be one of merl, grid, albedo, slice (got 'cube')");
+  expect_clean_failure(base + "--layout cube", dir / "t.exr",
+                       "--layout: must be one of merl, grid, albedo, slice (got 'cube')");
   expect_clean_failure(base + "--layout grid --res 4,4", dir / "t.exr", "takes 3 resolution values");
   expect_clean_failure(base + "--layout grid --res 0", dir / "t.exr", "--res: must be 1 to 3 integers");
   expect_clean_failure(base + "--layout albedo --phi-d 1", dir / "t.exr", "--phi-d: is for --layout slice");

@@ -1,10 +1,9 @@
 // brdfbake prefilter and brdfbake irradiance, run as a user runs them: every output container,
 // exit codes, one-line errors, and no partial output.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
@@ -39,7 +38,6 @@ fs::path temp_dir(const std::string& name) {
   fs::create_directories(d);
   return d;
 }
-
 
 size_t entries(const fs::path& dir) {
   size_t n = 0;
@@ -107,7 +105,8 @@ void expect_same_cube(const brdfbake::CubeLevels& got, const brdfbake::CubeLevel
 fs::path small_environment(const fs::path& dir) {
   std::vector<float> rgb;
   for (int y = 0; y < 32; ++y)
-    for (int x = 0; x < 64; ++x) rgb.insert(rgb.end(), {1.0f + float(x) / 16.0f, 0.5f + float(y) / 8.0f, x == 20 && y == 9 ? 500.0f : 1.0f});
+    for (int x = 0; x < 64; ++x)
+      rgb.insert(rgb.end(), {1.0f + float(x) / 16.0f, 0.5f + float(y) / 8.0f, x == 20 && y == 9 ? 500.0f : 1.0f});
   write_exr(dir / "small.exr", 64, 32, rgb);
   return dir / "small.exr";
 }
@@ -131,14 +130,14 @@ TEST(CliEnv, PrefilterEveryContainer) {
     EXPECT_EQ(lod, "lod = (levels - 1) * roughness (levels = 3)");
     EXPECT_NE(def.find("n = v = R"), std::string::npos);
   }
-  for (const std::string& args : std::vector<std::string>{"--pixel f32 --distribution charlie --schedule sqrt -o " + (dir / "c32.ktx2").string(),
-                                  "-o " + (dir / "c.ktx").string(), "-o " + (dir / "c.dds").string(),
-                                  "--format dds-legacy -o " + (dir / "legacy.dds").string(),
-                                  "--estimator sampling --samples 64 -o " + (dir / "s.ktx2").string(),
-                                  "--max-error 0.02 -o " + (dir / "m.ktx2").string(),
-                                  "--layout cross --image-format hdr -o " + (dir / "cross").string() + "/",
-                                  "--layout equirect -o " + (dir / "eq").string() + "/",
-                                  "-o " + (dir / "faces").string() + "/"}) {
+  for (const std::string& args : std::vector<std::string>{
+           "--pixel f32 --distribution charlie --schedule sqrt -o " + (dir / "c32.ktx2").string(),
+           "-o " + (dir / "c.ktx").string(), "-o " + (dir / "c.dds").string(),
+           "--format dds-legacy -o " + (dir / "legacy.dds").string(),
+           "--estimator sampling --samples 64 -o " + (dir / "s.ktx2").string(),
+           "--max-error 0.02 -o " + (dir / "m.ktx2").string(),
+           "--layout cross --image-format hdr -o " + (dir / "cross").string() + "/",
+           "--layout equirect -o " + (dir / "eq").string() + "/", "-o " + (dir / "faces").string() + "/"}) {
     const CliRun r = run(base + args);
     EXPECT_EQ(r.code, 0) << args << ": " << r.err;
   }
@@ -228,8 +227,10 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   expect_clean_failure("prefilter --env builtin:studio --size 0" + out, dir, "--size");
   expect_clean_failure("prefilter --env builtin:studio --size 16 --min-size 32" + out, dir, "--min-size");
   expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--size");
-  expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir, "--distribution: must be one of ggx, charlie (got 'phong')");
-  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir, "--schedule: must be one of linear, filament, sqrt, babylon (got 'cubic')");
+  expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir,
+                       "--distribution: must be one of ggx, charlie (got 'phong')");
+  expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir,
+                       "--schedule: must be one of linear, filament, sqrt, babylon (got 'cubic')");
   expect_clean_failure("prefilter --env builtin:studio --samples 64" + out, dir, "--estimator sampling");
   expect_clean_failure("prefilter --env builtin:studio --estimator sampling --samples 0" + out, dir, "--samples");
   expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--max-error");
@@ -247,7 +248,8 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   write_exr(inputs / "nan.exr", 8, 4, nan);
   std::ofstream(inputs / "text.hdr") << "not an image";
   expect_clean_failure("prefilter --env " + (inputs / "odd.exr").string() + out, dir, "2:1");
-  expect_clean_failure("prefilter --env " + (inputs / "nan.exr").string() + out, dir, "1 NaN, 0 infinite and 1 negative");
+  expect_clean_failure("prefilter --env " + (inputs / "nan.exr").string() + out, dir,
+                       "1 NaN, 0 infinite and 1 negative");
   expect_clean_failure("prefilter --env " + (inputs / "text.hdr").string() + out, dir, "cannot read environment");
   expect_clean_failure("prefilter --env " + (inputs / "missing.hdr").string() + out, dir, "no such file");
   // --sanitize accepts it and says so
@@ -257,7 +259,8 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   fs::remove(dir / "x.ktx2");
   // unwritable output: a path through a regular file (an I/O failure: exit 1)
   std::ofstream(dir / "plain") << "x";
-  const CliRun w = run("prefilter --env builtin:studio --size 4 --min-size 4 --quiet -o " + (dir / "plain" / "c.ktx2").string());
+  const CliRun w =
+      run("prefilter --env builtin:studio --size 4 --min-size 4 --quiet -o " + (dir / "plain" / "c.ktx2").string());
   EXPECT_EQ(w.code, 1);
   EXPECT_EQ(count_lines(w.err), 1) << w.err;
   EXPECT_NE(w.err.find("plain/c.ktx2"), std::string::npos) << w.err;

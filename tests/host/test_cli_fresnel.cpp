@@ -79,9 +79,9 @@ TEST(CliFresnel, CsvHeaderAndCellCentres) {
     EXPECT_DOUBLE_EQ(c.rows[i][0], (static_cast<double>(i) + 0.5) / 4.0);
     EXPECT_NEAR(c.rows[i][1], brdfbake::reference::fresnel_schlick(c.rows[i][0], 0.04), brdfbake::test::kFresnelFp32);
   }
-  for (const char* key : {"# generator: brdfbake", "# model: schlick", "# parameters: f0 = 0.04, f90 = 1",
-                          "# material: none", "# x_axis: cos_theta = (i + 0.5) / width", "# precision: fp32",
-                          "# device: ", "# channels: r,g,b"})
+  for (const char* key :
+       {"# generator: brdfbake", "# model: schlick", "# parameters: f0 = 0.04, f90 = 1", "# material: none",
+        "# x_axis: cos_theta = (i + 0.5) / width", "# precision: fp32", "# device: ", "# channels: r,g,b"})
     EXPECT_TRUE(has_meta(c, key)) << key << "\n" << r.out;
 }
 
@@ -148,8 +148,7 @@ TEST(CliFresnel, VsExactAddsSignedErrorColumns) {
 }
 
 TEST(CliFresnel, TwoDimensionalTableHasAYColumn) {
-  const CliRun r =
-      run("fresnel --model dielectric --table 2d --size 4 --height 3 --quiet -o - --format csv");
+  const CliRun r = run("fresnel --model dielectric --table 2d --size 4 --height 3 --quiet -o - --format csv");
   ASSERT_EQ(r.code, 0) << r.err;
   const Csv c = parse_csv(r.out);
   EXPECT_EQ(c.header, "cos_theta,ior,f");
@@ -158,8 +157,9 @@ TEST(CliFresnel, TwoDimensionalTableHasAYColumn) {
   EXPECT_NEAR(c.rows[0][1], 1.0 + 2.0 * 0.5 / 3.0, brdfbake::test::kTextNineDigits);
   EXPECT_NEAR(c.rows[11][1], 1.0 + 2.0 * 2.5 / 3.0, brdfbake::test::kTextNineDigits);
   EXPECT_TRUE(has_meta(c, "# y_range: 1,3"));
-  const CliRun f = run("fresnel --model schlick --table 2d --size 3 --height 5 --range 0,0.5 --endpoints --quiet "
-                       "-o - --format csv");
+  const CliRun f =
+      run("fresnel --model schlick --table 2d --size 3 --height 5 --range 0,0.5 --endpoints --quiet "
+          "-o - --format csv");
   ASSERT_EQ(f.code, 0) << f.err;
   const Csv g = parse_csv(f.out);
   EXPECT_EQ(g.header, "cos_theta,f0,f");
@@ -200,7 +200,8 @@ TEST(CliFresnel, EveryFormatAndTheReferenceDevice) {
   const brdfbake::Table want_vs = brdfbake::io::read_table((dir / "err.csv").string());
   EXPECT_EQ(want_vs.channels.size(), 6u) << "F and its error against the exact conductor, per channel";
   brdfbake::test::expect_table_file((dir / "err.h").string(), want_vs, {"model", "material", "error_columns"});
-  const CliRun ref = run("fresnel --model dielectric --material water --size 4 --device reference --quiet -o - --format csv");
+  const CliRun ref =
+      run("fresnel --model dielectric --material water --size 4 --device reference --quiet -o - --format csv");
   EXPECT_EQ(ref.code, 0) << ref.err;
   EXPECT_NE(ref.out.find("# device: reference"), std::string::npos);
   const CliRun fp64 = run("fresnel --model conductor --material silver --size 4 --precision fp64 -o - --format csv");
@@ -214,9 +215,9 @@ TEST(CliFresnel, ListMaterialsShowsExactAndHardCodedF0) {
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* needle : {"gold", "silver", "copper", "aluminium", "iron", "chromium", "titanium", "nickel",
                              "platinum", "water", "glass", "diamond", "skin",
-                             "0.942 0.704 0.403",   // gold's exact F0 (Johnson & Christy 1972)
-                             "1.000 0.710 0.290",   // gold as hard-coded from Hoffman 2010
-                             "0.950 0.640 0.540",   // copper, the same table
+                             "0.942 0.704 0.403",     // gold's exact F0 (Johnson & Christy 1972)
+                             "1.000 0.710 0.290",     // gold as hard-coded from Hoffman 2010
+                             "0.950 0.640 0.540",     // copper, the same table
                              "+0.058 +0.006 -0.113",  // their difference for gold
                              "Johnson & Christy 1972", "Real-Time Rendering 4th ed."})
     EXPECT_NE(r.out.find(needle), std::string::npos) << needle;
@@ -260,16 +261,24 @@ void expect_clean_failure(const std::string& args, const fs::path& out, const st
 TEST(CliFresnel, BadInputGivesOneLineAndNoFile) {
   const fs::path dir = temp_dir("bad");
   const fs::path out = dir / "t.csv";
-  expect_clean_failure("--model dielectric --ior -1.5", out, "--ior: must be a number or three numbers r,g,b, each greater than 0 and at most 1000 (got -1.5)");
-  expect_clean_failure("--model dielectric --ior 1.5 --ior-outside 0", out, "--ior-outside: must be a number greater than 0");
+  expect_clean_failure(
+      "--model dielectric --ior -1.5", out,
+      "--ior: must be a number or three numbers r,g,b, each greater than 0 and at most 1000 (got -1.5)");
+  expect_clean_failure("--model dielectric --ior 1.5 --ior-outside 0", out,
+                       "--ior-outside: must be a number greater than 0");
   expect_clean_failure("--model dielectric --ior nan", out, "--ior: must be a number or three numbers");
-  expect_clean_failure("--model schlick --f0 nan,0.5,0.5", out, "--f0: must be a number or three numbers r,g,b, each in 0..1 (got [nan, 0.5, 0.5])");
+  expect_clean_failure("--model schlick --f0 nan,0.5,0.5", out,
+                       "--f0: must be a number or three numbers r,g,b, each in 0..1 (got [nan, 0.5, 0.5])");
   expect_clean_failure("--model schlick --f0 1,2", out, "got '1,2'");
   expect_clean_failure("--model schlick --f0 0.04,", out, "--f0: must be");
-  expect_clean_failure("--model schlick --f0 1.5", out, "--f0: must be a number or three numbers r,g,b, each in 0..1 (got 1.5)");
-  expect_clean_failure("--model conductor --n 0.2,0.5,1.3 --k 3,2,-1", out, "--k: must be a number or three numbers r,g,b, each in 0..1000 (got [3, 2, -1])");
+  expect_clean_failure("--model schlick --f0 1.5", out,
+                       "--f0: must be a number or three numbers r,g,b, each in 0..1 (got 1.5)");
+  expect_clean_failure("--model conductor --n 0.2,0.5,1.3 --k 3,2,-1", out,
+                       "--k: must be a number or three numbers r,g,b, each in 0..1000 (got [3, 2, -1])");
   expect_clean_failure("--model conductor --material unobtainium", out, "unknown material 'unobtainium'");
-  expect_clean_failure("--model phong --f0 0.04", out, "--model: must be one of schlick, schlick-metallic, schlick-ior, dielectric, conductor, f82-tint, empirical (got 'phong')");
+  expect_clean_failure("--model phong --f0 0.04", out,
+                       "--model: must be one of schlick, schlick-metallic, schlick-ior, dielectric, conductor, "
+                       "f82-tint, empirical (got 'phong')");
   expect_clean_failure("--model schlick", out, "model 'schlick' needs f0");
   expect_clean_failure("--model conductor --n 1,1,1", out, "needs n and k");
   expect_clean_failure("--model schlick-metallic --base-color 0.9,0.6,0.3", out, "needs base-color and metallic");
@@ -282,7 +291,8 @@ TEST(CliFresnel, BadInputGivesOneLineAndNoFile) {
   expect_clean_failure("--model schlick --material gold --vs approx", out, "--vs takes 'exact'");
   expect_clean_failure("--model conductor --material gold --table 2d", out, "give no material");
   expect_clean_failure("--model conductor --n 1 --k 1 --table 2d", out, "has neither");
-  expect_clean_failure("--model schlick --table 2d --range 0.5,0.2", out, "--range: must be two numbers lo,hi with lo <= hi (got [0.5, 0.2])");
+  expect_clean_failure("--model schlick --table 2d --range 0.5,0.2", out,
+                       "--range: must be two numbers lo,hi with lo <= hi (got [0.5, 0.2])");
   expect_clean_failure("--model schlick --table 2d --range 0,2", out, "[0, 1]");
   expect_clean_failure("--model schlick --table 2d --range 1", out, "--range: must be two numbers lo,hi");
   expect_clean_failure("--model schlick --f0 0.04 --range 0,1", out, "range is for 2-D tables");
@@ -299,7 +309,8 @@ TEST(CliFresnel, BadInputGivesOneLineAndNoFile) {
   const fs::path exr = dir / "t.exr";
   expect_clean_failure("--model schlick --material gold --vs exact", exr, "write .csv or .h");
   // Without -o the table goes to the name a job would give it, in the current folder.
-  const CliRun no_output = brdfbake::test::run_cli("fresnel --model schlick --f0 0.04 --size 4 --quiet", {}, "cd " + dir.string() + " &&");
+  const CliRun no_output =
+      brdfbake::test::run_cli("fresnel --model schlick --f0 0.04 --size 4 --quiet", {}, "cd " + dir.string() + " &&");
   EXPECT_EQ(no_output.code, 0) << no_output.err;
   EXPECT_TRUE(fs::exists(dir / "fresnel_schlick_f0_0.04.exr"));
   const CliRun no_format = run("fresnel --model schlick --f0 0.04 -o -");
@@ -341,7 +352,8 @@ TEST(CliThinFilm, ReflectanceAboveOneIsSaid) {
 // everywhere for 1e308s (the double model: 1e308 + 1e308 w >= 1e308), and 0 for a bias of -1e308
 // under a scale of 1e308 with power 1 (-1e308 cos_theta <= 0, 0 at grazing).
 TEST(CliFresnel, EmpiricalParametersBeyondTheFloatRange) {
-  const CliRun big = run("fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 16 --format csv -o -");
+  const CliRun big =
+      run("fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 16 --format csv -o -");
   ASSERT_EQ(big.code, 0) << big.err;
   const Csv a = parse_csv(big.out);
   ASSERT_EQ(a.rows.size(), 16u);

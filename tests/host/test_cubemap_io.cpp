@@ -1,10 +1,9 @@
 // Cubemap containers read back field by field from the raw bytes, at offsets worked out from the
 // specifications (KTX 2.0, KTX 1.1, the DDS programming guide), never through our own readers;
 // folders of EXR/HDR images read back through OpenImageIO; and atomicity.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <cstring>
 #include <filesystem>
@@ -106,15 +105,18 @@ TEST(CubeIo, Ktx2FieldByField) {
       // texel (i, j) = (3 >> l, 1 >> l) of face 5
       const int i = 3 >> l, j = 1 >> l;
       const uint64_t at = offset + ((5 * s + uint64_t(j)) * s + uint64_t(i)) * texel;
-      if (half) expect_texel(f16(b, at), f16(b, at + 2), f16(b, at + 4), int(l), 5, i, j);
-      else expect_texel(f32(b, at), f32(b, at + 4), f32(b, at + 8), int(l), 5, i, j);
+      if (half)
+        expect_texel(f16(b, at), f16(b, at + 2), f16(b, at + 4), int(l), 5, i, j);
+      else
+        expect_texel(f32(b, at), f32(b, at + 4), f32(b, at + 8), int(l), 5, i, j);
     }
     // levels are stored smallest first; level 0 ends the file
     EXPECT_EQ(u64(b, 80) + u64(b, 88), b.size());
     EXPECT_LT(u64(b, 80 + 48), u64(b, 80 + 24));
     const io::Ktx2Image k = io::decode_ktx2(b);  // the key/values through the validated reader
     bool schedule = false;
-    for (const auto& [key, value] : k.key_values) schedule |= key == "brdfbake:lod_from_roughness" && value == "lod = (levels - 1) * roughness";
+    for (const auto& [key, value] : k.key_values)
+      schedule |= key == "brdfbake:lod_from_roughness" && value == "lod = (levels - 1) * roughness";
     EXPECT_TRUE(schedule);
   }
   // and back in as an environment
@@ -180,31 +182,32 @@ TEST(CubeIo, DdsDx10AndLegacyFieldByField) {
     o.pixel = PixelType::F32;
     write_cubemap(cube, path.string(), dx10 ? CubeFormat::Dds : CubeFormat::DdsLegacy, o);
     const auto b = read_all(path);
-    EXPECT_EQ(u32(b, 0), 0x20534444u);                    // "DDS "
-    EXPECT_EQ(u32(b, 4), 124u);                           // dwSize
-    EXPECT_EQ(u32(b, 8), 0x1u | 0x2u | 0x4u | 0x8u | 0x1000u | 0x20000u);  // caps height width pitch pixelformat mipmapcount
-    EXPECT_EQ(u32(b, 12), 4u);                            // dwHeight
-    EXPECT_EQ(u32(b, 16), 4u);                            // dwWidth
-    EXPECT_EQ(u32(b, 20), 4u * 16);                       // dwPitchOrLinearSize
-    EXPECT_EQ(u32(b, 24), 0u);                            // dwDepth
-    EXPECT_EQ(u32(b, 28), 3u);                            // dwMipMapCount
+    EXPECT_EQ(u32(b, 0), 0x20534444u);  // "DDS "
+    EXPECT_EQ(u32(b, 4), 124u);         // dwSize
+    EXPECT_EQ(u32(b, 8),
+              0x1u | 0x2u | 0x4u | 0x8u | 0x1000u | 0x20000u);  // caps height width pitch pixelformat mipmapcount
+    EXPECT_EQ(u32(b, 12), 4u);                                  // dwHeight
+    EXPECT_EQ(u32(b, 16), 4u);                                  // dwWidth
+    EXPECT_EQ(u32(b, 20), 4u * 16);                             // dwPitchOrLinearSize
+    EXPECT_EQ(u32(b, 24), 0u);                                  // dwDepth
+    EXPECT_EQ(u32(b, 28), 3u);                                  // dwMipMapCount
     for (size_t r = 32; r < 76; r += 4) EXPECT_EQ(u32(b, r), 0u) << "dwReserved1 at " << r;
-    EXPECT_EQ(u32(b, 76), 32u);                           // ddspf.dwSize
-    EXPECT_EQ(u32(b, 80), 0x4u);                          // DDPF_FOURCC
-    EXPECT_EQ(u32(b, 84), dx10 ? 0x30315844u : 116u);     // "DX10" / D3DFMT_A32B32G32R32F
+    EXPECT_EQ(u32(b, 76), 32u);                        // ddspf.dwSize
+    EXPECT_EQ(u32(b, 80), 0x4u);                       // DDPF_FOURCC
+    EXPECT_EQ(u32(b, 84), dx10 ? 0x30315844u : 116u);  // "DX10" / D3DFMT_A32B32G32R32F
     for (size_t r = 88; r < 108; r += 4) EXPECT_EQ(u32(b, r), 0u);
-    EXPECT_EQ(u32(b, 108), 0x8u | 0x1000u | 0x400000u);   // COMPLEX TEXTURE MIPMAP
-    EXPECT_EQ(u32(b, 112), 0xFE00u);                      // CUBEMAP + all six faces
+    EXPECT_EQ(u32(b, 108), 0x8u | 0x1000u | 0x400000u);  // COMPLEX TEXTURE MIPMAP
+    EXPECT_EQ(u32(b, 112), 0xFE00u);                     // CUBEMAP + all six faces
     EXPECT_EQ(u32(b, 116), 0u);
     EXPECT_EQ(u32(b, 120), 0u);
     EXPECT_EQ(u32(b, 124), 0u);
     size_t data = 128;
     if (dx10) {
-      EXPECT_EQ(u32(b, 128), 2u);  // DXGI_FORMAT_R32G32B32A32_FLOAT
-      EXPECT_EQ(u32(b, 132), 3u);  // D3D10_RESOURCE_DIMENSION_TEXTURE2D
+      EXPECT_EQ(u32(b, 128), 2u);    // DXGI_FORMAT_R32G32B32A32_FLOAT
+      EXPECT_EQ(u32(b, 132), 3u);    // D3D10_RESOURCE_DIMENSION_TEXTURE2D
       EXPECT_EQ(u32(b, 136), 0x4u);  // DDS_RESOURCE_MISC_TEXTURECUBE
-      EXPECT_EQ(u32(b, 140), 1u);  // arraySize
-      EXPECT_EQ(u32(b, 144), 0u);  // miscFlags2
+      EXPECT_EQ(u32(b, 140), 1u);    // arraySize
+      EXPECT_EQ(u32(b, 144), 0u);    // miscFlags2
       data = 148;
     }
     // faces outer, levels inner: 16 + 4 + 1 texels a face

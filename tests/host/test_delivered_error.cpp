@@ -1,8 +1,8 @@
 // The error a file records is the error of the values it stores: each lossy format is written,
 // read back with an independent reader (OpenImageIO for images, our KTX2 reader, the text of .h and
 // .csv files), and the stored values are compared with the converged reference at the same cells.
-#include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -214,7 +214,8 @@ TEST(DeliveredError, MaxErrorCoversTheDelivery) {
   EXPECT_EQ(deep.code, 2);
   EXPECT_NE(deep.err.find("--precision fp64"), std::string::npos) << deep.err;
   // a prefiltered chain that cannot reach its target fails without a file
-  const auto chain = run("prefilter --env builtin:sun --size 64 --min-size 8 --max-error 1e-6 -o " + (dir / "d.ktx2").string());
+  const auto chain =
+      run("prefilter --env builtin:sun --size 64 --min-size 8 --max-error 1e-6 -o " + (dir / "d.ktx2").string());
   EXPECT_EQ(chain.code, 2);
   EXPECT_NE(chain.err.find("is not reached"), std::string::npos) << chain.err;
   EXPECT_FALSE(fs::exists(dir / "d.ktx2"));

@@ -4,6 +4,7 @@
 // keys, Filament's "sh" key, the Babylon .env manifest and its RGBD PNG faces decoded against the
 // float chain, the glTF document, the ASTC HDR KTX2 structure and its measured error). No device:
 // the chains are synthetic. The Filament comparison with cmgen runs in tests/device.
+#include <astcenc.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,8 +18,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <astcenc.h>
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
@@ -84,8 +83,8 @@ ShCoefficients sh_one_plus_x() {
   for (size_t c = 0; c < 3; ++c) {
     sh.radiance[c] = 2.0 * std::sqrt(kPi);
     sh.radiance[9 + c] = 0.4886025119029199 * 4.0 * kPi / 3.0;
-    sh.irradiance_over_pi[c] = sh.radiance[c];                          // A_0 / pi = 1
-    sh.irradiance_over_pi[9 + c] = (2.0 / 3.0) * sh.radiance[9 + c];    // A_1 / pi = 2/3
+    sh.irradiance_over_pi[c] = sh.radiance[c];                        // A_0 / pi = 1
+    sh.irradiance_over_pi[9 + c] = (2.0 / 3.0) * sh.radiance[9 + c];  // A_1 / pi = 2/3
   }
   sh.window_weights = {1, 1, 1};
   return sh;
@@ -108,7 +107,7 @@ TEST(EngineTarget, SettingsFixWhatEachEngineReads) {
   const EngineSettings f = engine_settings(EngineTarget::Filament);
   EXPECT_EQ(f.schedule, RoughnessSchedule::Filament);
   EXPECT_EQ(f.pixel, PixelType::R11G11B10);
-  EXPECT_EQ(f.size, 256);    // cmgen IBL_DEFAULT_SIZE
+  EXPECT_EQ(f.size, 256);     // cmgen IBL_DEFAULT_SIZE
   EXPECT_EQ(f.min_size, 16);  // cmgen IBL_DEFAULT_MIN_LOD_SIZE
   EXPECT_TRUE(f.skybox);
   EXPECT_EQ(f.files, (std::vector<std::string>{"NAME_ibl.ktx", "NAME_skybox.ktx", "sh.txt"}));
@@ -353,8 +352,8 @@ TEST(FilamentFiles, CmgenFileSetWithShKeyAndR11Chain) {
   EXPECT_EQ(u32(b, 16), 0x8C3Au);  // glType as Filament's KtxUtility::toPixelDataType maps it
   EXPECT_EQ(u32(b, 28), 0x8C3Au);
   EXPECT_EQ(u32(b, 36), 64u);
-  EXPECT_EQ(u32(b, 52), 6u);   // numberOfFaces
-  EXPECT_EQ(u32(b, 56), 3u);   // numberOfMipmapLevels: 64, 32, 16
+  EXPECT_EQ(u32(b, 52), 6u);  // numberOfFaces
+  EXPECT_EQ(u32(b, 56), 3u);  // numberOfMipmapLevels: 64, 32, 16
   const auto kv = ktx1_keys(b);
   // "sh": 27 numbers, bands 0..2, each c_k = Y-constant (A_l/pi) L_lm
   std::istringstream in(key(kv, "sh"));
@@ -544,17 +543,17 @@ TEST(AstcKtx2, StructureFieldByFieldAndMeasuredError) {
     const auto b = read_all(path);
     EXPECT_EQ(std::memcmp(b.data(), "\xABKTX 20\xBB\r\n\x1A\n", 12), 0);
     EXPECT_EQ(u32(b, 12), block == 4 ? 1000066000u : 1000066004u);  // VK_FORMAT_ASTC_NxN_SFLOAT_BLOCK
-    EXPECT_EQ(u32(b, 16), 1u);   // typeSize 1 for block formats
+    EXPECT_EQ(u32(b, 16), 1u);                                      // typeSize 1 for block formats
     EXPECT_EQ(u32(b, 20), 32u);
-    EXPECT_EQ(u32(b, 36), 6u);   // faceCount
-    EXPECT_EQ(u32(b, 40), 4u);   // levels 32, 16, 8, 4
-    EXPECT_EQ(u32(b, 44), 0u);   // supercompressionScheme: none
-    EXPECT_EQ(u64(b, 64), 0u);   // no supercompression global data
+    EXPECT_EQ(u32(b, 36), 6u);  // faceCount
+    EXPECT_EQ(u32(b, 40), 4u);  // levels 32, 16, 8, 4
+    EXPECT_EQ(u32(b, 44), 0u);  // supercompressionScheme: none
+    EXPECT_EQ(u64(b, 64), 0u);  // no supercompression global data
     for (uint32_t l = 0; l < 4; ++l) {
       const uint64_t s = 32u >> l, blocks = (s + uint64_t(block) - 1) / uint64_t(block);
       EXPECT_EQ(u64(b, 88 + 24 * l), 6 * blocks * blocks * 16) << l;  // byteLength: whole blocks
-      EXPECT_EQ(u64(b, 96 + 24 * l), u64(b, 88 + 24 * l));             // uncompressedByteLength
-      EXPECT_EQ(u64(b, 80 + 24 * l) % 16, 0u);                           // lcm(16, 4)
+      EXPECT_EQ(u64(b, 96 + 24 * l), u64(b, 88 + 24 * l));            // uncompressedByteLength
+      EXPECT_EQ(u64(b, 80 + 24 * l) % 16, 0u);                        // lcm(16, 4)
     }
     // DFD (KDF): ASTC model 162, BT.709, linear, texelBlockDimension N-1, 16 bytes, one sample of
     // 128 bits, ASTC_DATA | FLOAT | SIGNED, -1.0f .. 1.0f

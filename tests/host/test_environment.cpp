@@ -1,9 +1,8 @@
 // Loading environments: equirects (.hdr, .exr including tiled, mip-mapped, half-float), crosses,
 // six face files, KTX2 cubes, the builtins; validation of values and shapes with clear errors.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <filesystem>
@@ -37,7 +36,8 @@ std::string shared_envmap(const std::string& name) {
   return (fs::path(BRDFBAKE_SHARED_DIR) / "envmaps" / name).string();
 }
 
-void write_image(const fs::path& p, int w, int h, const std::vector<float>& rgb, OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT) {
+void write_image(const fs::path& p, int w, int h, const std::vector<float>& rgb,
+                 OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT) {
   auto out = OIIO::ImageOutput::create(p.string());
   ASSERT_TRUE(out) << p;
   OIIO::ImageSpec spec(w, h, 3, type);
@@ -75,7 +75,8 @@ TEST(Environment, Builtins) {
   for (int y = 0; y < sun.height; ++y)
     for (int x = 0; x < sun.width; ++x) {
       const size_t p = 3 * (size_t(y) * size_t(sun.width) + size_t(x));
-      const double lum = 0.2126 * double(sun.rgb[p]) + 0.7152 * double(sun.rgb[p + 1]) + 0.0722 * double(sun.rgb[p + 2]);
+      const double lum =
+          0.2126 * double(sun.rgb[p]) + 0.7152 * double(sun.rgb[p + 1]) + 0.0722 * double(sun.rgb[p + 2]);
       const double w = std::cos(M_PI * (0.5 - (y + 0.5) / sun.height));
       total += lum * w;
       if (lum > 1000) bright += lum * w;
@@ -179,7 +180,8 @@ TEST(Environment, CrossesAndFaces) {
     for (int f = 0; f < 6; ++f) EXPECT_FLOAT_EQ(faces.rgb[3 * size_t(f * s * s)], float(f));
   }
   write_image(dir / "g_px.exr", 2 * s, 2 * s, std::vector<float>(12 * s * s, 1.0f));
-  for (int f = 1; f < 6; ++f) fs::copy_file(dir / ("f_" + std::string(names[f]) + ".exr"), dir / ("g_" + std::string(names[f]) + ".exr"));
+  for (int f = 1; f < 6; ++f)
+    fs::copy_file(dir / ("f_" + std::string(names[f]) + ".exr"), dir / ("g_" + std::string(names[f]) + ".exr"));
   EXPECT_NE(error_of((dir / "g_{face}.exr").string()).find("but"), std::string::npos);
   EXPECT_NE(error_of(dir.string() + "/a.exr," + dir.string() + "/b.exr").find("six files"), std::string::npos);
   fs::remove_all(dir);

@@ -78,12 +78,9 @@ TEST(Rgbe, PixelsFollowTheDefinition) {
   };
   // frexp(largest) = m 2^e with m in [0.5, 1): exponent byte e + 128, mantissas floor(c 2^(8 - e)).
   const Case cases[] = {
-      {{1.0f, 1.0f, 1.0f}, {128, 128, 128, 129}},
-      {{1.0f, 0.25f, 0.0f}, {128, 32, 0, 129}},
-      {{0.5f, 0.5f, 0.5f}, {128, 128, 128, 128}},
-      {{17.0f, 0.0f, 3.0f}, {136, 0, 24, 133}},
-      {{0.0f, 0.0f, 0.0f}, {0, 0, 0, 0}},
-      {{io::kRgbeMax, 0.0f, 0.0f}, {255, 0, 0, 255}},
+      {{1.0f, 1.0f, 1.0f}, {128, 128, 128, 129}}, {{1.0f, 0.25f, 0.0f}, {128, 32, 0, 129}},
+      {{0.5f, 0.5f, 0.5f}, {128, 128, 128, 128}}, {{17.0f, 0.0f, 3.0f}, {136, 0, 24, 133}},
+      {{0.0f, 0.0f, 0.0f}, {0, 0, 0, 0}},         {{io::kRgbeMax, 0.0f, 0.0f}, {255, 0, 0, 255}},
       {{0.999f, 0.0f, 0.0f}, {255, 0, 0, 128}},  // floor(0.999 * 256) = 255
   };
   for (const Case& c : cases) {
@@ -133,11 +130,10 @@ TEST(Rgbe, EncodesRunsAndDumpsByteForByte) {
   const std::string file = io::encode_rgbe(8, 1, rgb.data());
   const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 8\n";
   ASSERT_EQ(file.substr(0, header.size()), header);
-  const std::string want = bytes({2, 2, 0, 8,
-                                  128 + 8, 128,               // red: a run of 8
-                                  128 + 7, 128, 1, 0,         // green: a run of 7, a dump of 1
-                                  128 + 7, 128, 1, 0,         // blue
-                                  128 + 7, 129, 1, 128});     // exponents
+  const std::string want = bytes({2, 2, 0, 8, 128 + 8, 128,  // red: a run of 8
+                                  128 + 7, 128, 1, 0,        // green: a run of 7, a dump of 1
+                                  128 + 7, 128, 1, 0,        // blue
+                                  128 + 7, 129, 1, 128});    // exponents
   EXPECT_EQ(file.substr(header.size()), want);
   const io::RgbeImage back = io::decode_rgbe(file);
   EXPECT_TRUE(back.run_length_encoded);
@@ -165,7 +161,8 @@ TEST(Rgbe, DecodesFlatOldRunLengthAndShortScanlines) {
   // Width 3 (below 8: always flat), with the old repeat pixel (1, 1, 1, n) repeating the previous
   // pixel n times, and n << 8 for a second repeat in a row.
   const std::string head = "#?RGBE\n\n-Y 2 +X 3\n";
-  const std::string flat = head + bytes({128, 64, 0, 129, 1, 1, 1, 2}) + bytes({0, 0, 128, 130, 0, 0, 0, 0, 128, 0, 0, 128});
+  const std::string flat =
+      head + bytes({128, 64, 0, 129, 1, 1, 1, 2}) + bytes({0, 0, 128, 130, 0, 0, 0, 0, 128, 0, 0, 128});
   const io::RgbeImage a = io::decode_rgbe(flat);
   EXPECT_FALSE(a.run_length_encoded);
   const std::vector<float> want = {1, 0.5f, 0, 1, 0.5f, 0, 1, 0.5f, 0, 0, 0, 2, 0, 0, 0, 0.5f, 0, 0};
@@ -175,8 +172,7 @@ TEST(Rgbe, DecodesFlatOldRunLengthAndShortScanlines) {
   const io::RgbeImage b = io::decode_rgbe(eight);
   for (int x = 0; x < 8; ++x) EXPECT_EQ(b.rgb[size_t(3 * x)], 1.0f) << x;
   // consecutive repeats shift: 1 pixel, then a repeat of 1, then of 1 << 8: 1 + 1 + 256 pixels
-  const std::string shifted =
-      "#?RADIANCE\n\n-Y 1 +X 258\n" + bytes({128, 128, 128, 129, 1, 1, 1, 1, 1, 1, 1, 1});
+  const std::string shifted = "#?RADIANCE\n\n-Y 1 +X 258\n" + bytes({128, 128, 128, 129, 1, 1, 1, 1, 1, 1, 1, 1});
   const io::RgbeImage c = io::decode_rgbe(shifted);
   EXPECT_EQ(c.width, 258);
   EXPECT_EQ(c.rgb[3 * 257], 1.0f);
@@ -209,7 +205,8 @@ TEST(Rgbe, EveryScanlineOrderLandsWhereTheFormatSays) {
     ASSERT_EQ(img.width, 3) << o.order;
     ASSERT_EQ(img.height, 2) << o.order;
     for (int y = 0; y < 2; ++y)
-      for (int x = 0; x < 3; ++x) EXPECT_EQ(img.rgb[size_t(3 * (3 * y + x))], value(x, y)) << o.order << " " << x << "," << y;
+      for (int x = 0; x < 3; ++x)
+        EXPECT_EQ(img.rgb[size_t(3 * (3 * y + x))], value(x, y)) << o.order << " " << x << "," << y;
   }
 }
 
@@ -218,8 +215,10 @@ TEST(Rgbe, HeaderVariants) {
   EXPECT_EQ(io::decode_rgbe("#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe\r\n\r\n-Y 1 +X 1\r\n" + pixels).rgb[0], 1.0f);
   EXPECT_EQ(io::decode_rgbe("#?RADIANCE\n# a comment\nEXPOSURE=2.0\n\n-Y 1 +X 1\n" + pixels).rgb[0], 1.0f)
       << "no FORMAT line: RGBE; EXPOSURE does not scale the stored values";
-  EXPECT_NE(error_of_decode("#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n" + pixels).find("xyze"), std::string::npos);
-  EXPECT_NE(error_of_decode("#?RADIANCE\nFORMAT=16-bit\n\n-Y 1 +X 1\n" + pixels).find("unknown pixel format"), std::string::npos);
+  EXPECT_NE(error_of_decode("#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n" + pixels).find("xyze"),
+            std::string::npos);
+  EXPECT_NE(error_of_decode("#?RADIANCE\nFORMAT=16-bit\n\n-Y 1 +X 1\n" + pixels).find("unknown pixel format"),
+            std::string::npos);
   EXPECT_NE(error_of_decode("#?RADIANCE\n\n-Y 1 -Y 1\n" + pixels).find("bad resolution"), std::string::npos);
   EXPECT_NE(error_of_decode("#?RADIANCE\n\n-Y 0 +X 1\n").find("bad resolution"), std::string::npos);
   EXPECT_NE(error_of_decode("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").find("no end"), std::string::npos);
@@ -297,9 +296,9 @@ TEST(Rgbe, OpenImageIoReadsOurFilesAsWeDo) {
 struct ExrCase {
   const char* name;
   OIIO::TypeDesc type;
-  int tile;          // 0: scanline
-  bool mip_mapped;   // every level down to 1 x 1 written (OpenEXR's round-down sizes)
-  int x0, y0;        // data window origin
+  int tile;         // 0: scanline
+  bool mip_mapped;  // every level down to 1 x 1 written (OpenEXR's round-down sizes)
+  int x0, y0;       // data window origin
   std::vector<std::string> channels;
 };
 
@@ -362,7 +361,8 @@ TEST(ExrReader, ReadsWhatOpenImageIoWrites) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         for (int k = 0; k < nch; ++k) {
-          const int written = int(std::find(c.channels.begin(), c.channels.end(), want_names[size_t(k)]) - c.channels.begin());
+          const int written =
+              int(std::find(c.channels.begin(), c.channels.end(), want_names[size_t(k)]) - c.channels.begin());
           ASSERT_EQ(img.pixels[size_t((y * w + x) * nch + k)], value(x, y, written))
               << c.name << " (" << x << ", " << y << ") " << want_names[size_t(k)];
         }
@@ -372,7 +372,8 @@ TEST(ExrReader, ReadsWhatOpenImageIoWrites) {
     if (c.mip_mapped) {
       EXPECT_NE(img.description.find("6 mip levels (level 0 read)"), std::string::npos) << img.description;
     }
-    EXPECT_NE(img.description.find(c.type == OIIO::TypeDesc::HALF ? "half" : "float"), std::string::npos) << img.description;
+    EXPECT_NE(img.description.find(c.type == OIIO::TypeDesc::HALF ? "half" : "float"), std::string::npos)
+        << img.description;
   }
 }
 

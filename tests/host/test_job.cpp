@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "brdfbake/job.hpp"
@@ -92,12 +92,14 @@ TEST(Job, BadInputNamesTheFileAndTheField) {
       {R"({"output_dir": "o"})", "job.json: tables: missing"},
       {R"({"tables": [{"kind": "phong"}]})", "job.json: tables[0].kind: unknown table kind 'phong'"},
       {R"({"tables": [{"size": 4}]})", "job.json: tables[0].kind: missing"},
-      {R"({"tables": [{"kind": "ggx", "size": -4}]})", "job.json: tables[0].size: must be an integer in 1..16384 (got -4)"},
+      {R"({"tables": [{"kind": "ggx", "size": -4}]})",
+       "job.json: tables[0].size: must be an integer in 1..16384 (got -4)"},
       {R"({"tables": [{"kind": "ggx", "size": 0}]})", "tables[0].size"},
       {R"({"tables": [{"kind": "ggx", "size": 2.5}]})", "tables[0].size: must be an integer"},
       {R"({"tables": [{"kind": "ggx", "size": "big"}]})", "tables[0].size: must be an integer"},
       {R"({"tables": [{"kind": "ggx"}, {"kind": "ggx", "sise": 8}]})", "tables[1].sise: unknown field for kind 'ggx'"},
-      {R"({"tables": [{"kind": "ggx", "samples": 16, "max_error": 0.001}]})", "tables[0].max_error: give samples or max_error"},
+      {R"({"tables": [{"kind": "ggx", "samples": 16, "max_error": 0.001}]})",
+       "tables[0].max_error: give samples or max_error"},
       {R"({"tables": [{"kind": "ggx", "estimator": "magic"}]})", "tables[0].estimator: must be one of"},
       {R"({"tables": [{"kind": "ggx", "precision": "fp16"}]})", "tables[0].precision"},
       {R"({"tables": [{"kind": "ggx", "output": "../x.exr"}]})", "tables[0].output: '../x.exr' must stay inside"},
@@ -107,16 +109,21 @@ TEST(Job, BadInputNamesTheFileAndTheField) {
       {R"({"tables": [{"kind": "ggx", "size": 8, "output": "a.exr"}, {"kind": "ggx", "size": 16, "output": "a.exr"}]})",
        "tables[1].output: 'a.exr' is also the output of tables[0]"},
       {R"({"tables": [{"kind": "fresnel"}]})", "tables[0].model: missing"},
-      {R"({"tables": [{"kind": "fresnel", "model": "dielectric", "ior": [1, 2]}]})", "tables[0].ior: must be a number or three numbers r,g,b"},
+      {R"({"tables": [{"kind": "fresnel", "model": "dielectric", "ior": [1, 2]}]})",
+       "tables[0].ior: must be a number or three numbers r,g,b"},
       {R"({"tables": [{"kind": "fresnel", "model": "schlick-ior", "ior": 1.5, "vs_exact": true, "output": "s.exr"}]})",
        "tables[0].output: vs_exact adds three error columns"},
-      {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})", "tables[0].output: unknown output format '.exr' of 'p.exr' (prefilter writes a cube container"},
-      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})", "tables[0].min_size: must be at most size (got 32 > 16)"},
+      {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})",
+       "tables[0].output: unknown output format '.exr' of 'p.exr' (prefilter writes a cube container"},
+      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})",
+       "tables[0].min_size: must be at most size (got 32 > 16)"},
       {R"({"tables": [{"kind": "irradiance", "sh_order": 4}]})", "tables[0].sh_order: must be 3 or 5"},
-      {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})", "tables[0].base_f0: give exactly one of base_ior"},
+      {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})",
+       "tables[0].base_f0: give exactly one of base_ior"},
       {R"({"tables": [], "colour": 1})", "job.json: colour: unknown field"},
       {R"({"brdfbake_job": 2, "tables": []})", "job.json: brdfbake_job: must be 1"},
-      {R"({"tables": [{"kind": "ggx", "requested_by": [{"rule": "x", "why": "y"}]}]})", "tables[0].requested_by[0].why: unknown field"},
+      {R"({"tables": [{"kind": "ggx", "requested_by": [{"rule": "x", "why": "y"}]}]})",
+       "tables[0].requested_by[0].why: unknown field"},
   };
   for (const auto& c : cases) {
     const std::string e = error_of(c.text);
@@ -245,8 +252,9 @@ TEST(RunJob, AFailureLeavesNothingHalfWritten) {
   std::ofstream(inputs / "m.json") << R"({"materials": [{"name": "a", "model": "gltf"}]})";
   std::ofstream(inputs / "p.csv") << "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,x,0,1\n";
   Job job = parse_job(R"({"tables": [{"kind": "ggx", "size": 4, "output": "a.exr"},
-                                     {"kind": "eval", "material": ")" + (inputs / "m.json").string() + R"(", "input": ")" +
-                          (inputs / "p.csv").string() + R"(", "output": "b.csv"}]})",
+                                     {"kind": "eval", "material": ")" +
+                          (inputs / "m.json").string() + R"(", "input": ")" + (inputs / "p.csv").string() +
+                          R"(", "output": "b.csv"}]})",
                       "job.json");
   job.output_dir = dir.string();
   EXPECT_THROW(run_job(job), Error);
@@ -259,8 +267,9 @@ TEST(RunJob, AFailureLeavesNothingHalfWritten) {
   EXPECT_EQ(read(dir / "a.exr"), "before");
   EXPECT_FALSE(fs::exists(dir / "manifest.json"));
   // A bad environment fails before any bake.
-  Job env = parse_job(R"({"environment": "/no/such/env.hdr", "tables": [{"kind": "ggx", "size": 4}, {"kind": "irradiance"}]})",
-                      "job.json");
+  Job env = parse_job(
+      R"({"environment": "/no/such/env.hdr", "tables": [{"kind": "ggx", "size": 4}, {"kind": "irradiance"}]})",
+      "job.json");
   env.output_dir = (dir.parent_path() / "env").string();
   EXPECT_THROW(run_job(env), Error);
   expect_nothing_written(dir.parent_path() / "env");

@@ -1,6 +1,7 @@
 // The MERL BRDF binary: the writer's byte layout as MERL's reader (BRDFRead.cpp) expects it, the round
 // trip through our reader, the reader's bin lookup, the sidecar, and the errors.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
@@ -11,7 +12,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
@@ -87,8 +87,9 @@ TEST(Merl, RoundTrip) {
       ASSERT_NEAR(back.values[k], t.values[k], test::kTwoRoundings * t.values[k]) << k;  // f / s * s
     }
   }
-  EXPECT_NE(std::find(back.metadata.begin(), back.metadata.end(), std::pair<std::string, std::string>{"model", "synthetic"}),
-            back.metadata.end());
+  EXPECT_NE(
+      std::find(back.metadata.begin(), back.metadata.end(), std::pair<std::string, std::string>{"model", "synthetic"}),
+      back.metadata.end());
   // the sidecar is JSON with the metadata
   const auto j = nlohmann::json::parse(read_bytes(path.string() + ".json"));
   EXPECT_EQ(j["metadata"]["note"], "a \"quoted\" value");

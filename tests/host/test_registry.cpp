@@ -3,20 +3,20 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
 
-#include "brdfbake/job.hpp"
 #include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/fresnel.hpp"
+#include "brdfbake/job.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/thin_film.hpp"
-#include "support/cli_runner.hpp"
 #include "families/family.hpp"
+#include "support/cli_runner.hpp"
 #include "support/field_count.hpp"
 #include "support/tolerances.hpp"
 
@@ -85,14 +85,22 @@ TEST(Registry, EverySpecFieldHasASchemaEntry) {
 ParamValue sample_value(const ParamDef& d) {
   if (d.fallback) return *d.fallback;
   switch (d.type) {
-    case ParamType::Int: return std::isfinite(d.lo) ? d.lo : 1.0;
-    case ParamType::Number: return std::isfinite(d.hi) ? d.hi : 1.0;
-    case ParamType::Name: return d.choices.empty() ? std::string("x") : d.choices.front();
-    case ParamType::Path: return std::string("x.json");
-    case ParamType::Flag: return true;
-    case ParamType::Color: return std::isfinite(d.hi) ? d.hi : 1.0;
-    case ParamType::Range: return std::vector<double>{0.0, 1.0};
-    case ParamType::IntList: return std::vector<double>{8.0};
+    case ParamType::Int:
+      return std::isfinite(d.lo) ? d.lo : 1.0;
+    case ParamType::Number:
+      return std::isfinite(d.hi) ? d.hi : 1.0;
+    case ParamType::Name:
+      return d.choices.empty() ? std::string("x") : d.choices.front();
+    case ParamType::Path:
+      return std::string("x.json");
+    case ParamType::Flag:
+      return true;
+    case ParamType::Color:
+      return std::isfinite(d.hi) ? d.hi : 1.0;
+    case ParamType::Range:
+      return std::vector<double>{0.0, 1.0};
+    case ParamType::IntList:
+      return std::vector<double>{8.0};
   }
   return 1.0;
 }
@@ -108,11 +116,15 @@ TEST(Registry, EveryParameterIsAJobFieldAndAnOption) {
     }
     for (const ParamDef& d : table_schema(kind)) {
       // the job parser knows the field: whatever else it says, it is not "unknown field"
-      std::string text = "{\"tables\": [{\"kind\": \"" + std::string(table_kind_name(kind)) + "\", \"" + d.name + "\": ";
+      std::string text =
+          "{\"tables\": [{\"kind\": \"" + std::string(table_kind_name(kind)) + "\", \"" + d.name + "\": ";
       const ParamValue v = sample_value(d);
-      if (auto b = std::get_if<bool>(&v)) text += *b ? "true" : "false";
-      else if (auto x = std::get_if<double>(&v)) text += std::to_string(*x);
-      else if (auto s = std::get_if<std::string>(&v)) text += "\"" + *s + "\"";
+      if (auto b = std::get_if<bool>(&v))
+        text += *b ? "true" : "false";
+      else if (auto x = std::get_if<double>(&v))
+        text += std::to_string(*x);
+      else if (auto s = std::get_if<std::string>(&v))
+        text += "\"" + *s + "\"";
       else {
         text += "[";
         const auto& a = std::get<std::vector<double>>(v);
@@ -127,7 +139,8 @@ TEST(Registry, EveryParameterIsAJobFieldAndAnOption) {
       }
       // the command has the option, spelled as the schema says
       const bool negated = d.type == ParamType::Flag && d.fallback && std::get<bool>(*d.fallback);
-      const std::string option = d.cli_name().size() == 1 ? "-" + d.cli_name() + " arg" : "--" + std::string(negated ? "no-" : "") + d.cli_name();
+      const std::string option = d.cli_name().size() == 1 ? "-" + d.cli_name() + " arg"
+                                                          : "--" + std::string(negated ? "no-" : "") + d.cli_name();
       EXPECT_NE(help[command].find(option), std::string::npos) << command << " lacks " << option << " for " << d.name;
       EXPECT_FALSE(d.help.empty()) << table_kind_name(kind) << "." << d.name << " has no help";
     }
@@ -165,17 +178,26 @@ TEST(Registry, CommandAndJobWriteTheSameFile) {
   const std::string mats = (dir / "materials.json").string(), pairs = (dir / "pairs.csv").string();
   const std::vector<Parity> cases = {
       {"lut --kind ggx-multiscatter --size 16", R"("kind": "ggx-multiscatter", "size": 16)", "dfg.exr"},
-      {"lut --kind charlie --size 8 --sheen-visibility neubelt", R"("kind": "charlie", "size": 8, "sheen_visibility": "neubelt")", "charlie.csv"},
-      {"fresnel --model f82-tint --f0 0.9,0.6,0.2 --f82 0.8,0.7,0.6 --size 16", R"("kind": "fresnel", "model": "f82-tint", "f0": [0.9, 0.6, 0.2], "f82": [0.8, 0.7, 0.6], "size": 16)", "f82.csv"},
-      {"fresnel --model schlick --table 2d --size 8 --height 4", R"("kind": "fresnel", "model": "schlick", "table": "2d", "size": 8, "height": 4)", "schlick2d.exr"},
-      {"thin-film --base-ior 1.5 --size 8 --height 4", R"("kind": "thin-film", "base_ior": 1.5, "size": 8, "height": 4)", "film.exr"},
-      {"prefilter --env builtin:sun --size 8 --min-size 4", R"("kind": "prefilter", "size": 8, "min_size": 4)", "chain.ktx2"},
+      {"lut --kind charlie --size 8 --sheen-visibility neubelt",
+       R"("kind": "charlie", "size": 8, "sheen_visibility": "neubelt")", "charlie.csv"},
+      {"fresnel --model f82-tint --f0 0.9,0.6,0.2 --f82 0.8,0.7,0.6 --size 16",
+       R"("kind": "fresnel", "model": "f82-tint", "f0": [0.9, 0.6, 0.2], "f82": [0.8, 0.7, 0.6], "size": 16)",
+       "f82.csv"},
+      {"fresnel --model schlick --table 2d --size 8 --height 4",
+       R"("kind": "fresnel", "model": "schlick", "table": "2d", "size": 8, "height": 4)", "schlick2d.exr"},
+      {"thin-film --base-ior 1.5 --size 8 --height 4",
+       R"("kind": "thin-film", "base_ior": 1.5, "size": 8, "height": 4)", "film.exr"},
+      {"prefilter --env builtin:sun --size 8 --min-size 4", R"("kind": "prefilter", "size": 8, "min_size": 4)",
+       "chain.ktx2"},
       {"irradiance --env builtin:sun --sh 5", R"("kind": "irradiance", "sh_order": 5)", "sh.json"},
-      {"eval --material " + mats + " -i " + pairs, R"("kind": "eval", "material": ")" + mats + R"(", "input": ")" + pairs + "\"", "f.csv"},
-      {"tabulate --material " + mats + " --layout albedo --res 8", R"("kind": "tabulate", "material": ")" + mats + R"(", "layout": "albedo", "res": 8)", "albedo.csv"},
+      {"eval --material " + mats + " -i " + pairs,
+       R"("kind": "eval", "material": ")" + mats + R"(", "input": ")" + pairs + "\"", "f.csv"},
+      {"tabulate --material " + mats + " --layout albedo --res 8",
+       R"("kind": "tabulate", "material": ")" + mats + R"(", "layout": "albedo", "res": 8)", "albedo.csv"},
   };
   std::string tables;
-  for (const auto& c : cases) tables += std::string(tables.empty() ? "" : ",\n") + "{" + c.table + ", \"output\": \"" + c.file + "\"}";
+  for (const auto& c : cases)
+    tables += std::string(tables.empty() ? "" : ",\n") + "{" + c.table + ", \"output\": \"" + c.file + "\"}";
   std::ofstream(dir / "job.json") << "{\"environment\": \"builtin:sun\", \"tables\": [" << tables << "]}";
   const CliRun j = brdfbake::test::run_cli("run " + (dir / "job.json").string() + " --quiet -o " + job_dir.string());
   ASSERT_EQ(j.code, 0) << j.err;
@@ -199,7 +221,8 @@ TEST(Registry, EveryFresnelModelAndTheTwoDimensionalTablesRunAsJobs) {
     {"kind": "fresnel", "model": "empirical", "bias": 0.1, "scale": 0.9, "power": 5, "size": 16, "output": "emp.csv"},
     {"kind": "fresnel", "model": "schlick-metallic", "base_color": [0.9, 0.6, 0.3], "metallic": 0.5, "size": 16, "output": "sm.csv"},
     {"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 16, "height": 8, "range": [1.2, 2.0], "output": "d2.csv"}]})";
-  const CliRun r = brdfbake::test::run_cli("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "out").string());
+  const CliRun r =
+      brdfbake::test::run_cli("run " + (dir / "job.json").string() + " --quiet -o " + (dir / "out").string());
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* f : {"f82.csv", "emp.csv", "sm.csv", "d2.csv"}) {
     const std::string text = read_file(dir / "out" / f);
@@ -228,7 +251,8 @@ TEST(Registry, FresnelFilesCarryTheirErrorBound) {
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string text = read_file(dir / "gold.csv");
   EXPECT_NE(text.find("# error_bound: "), std::string::npos) << text.substr(0, 400);
-  EXPECT_NE(text.find("# integration_error_bound_definition: max |table - scalar double reference|"), std::string::npos);
+  EXPECT_NE(text.find("# integration_error_bound_definition: max |table - scalar double reference|"),
+            std::string::npos);
   EXPECT_NE(text.find("# error_bound_definition: bound on |stored value - converged value|"), std::string::npos);
   fs::remove_all(dir.parent_path());
 }

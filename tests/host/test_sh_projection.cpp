@@ -109,7 +109,8 @@ TEST(ShProjection, WhiteFurnaceAtAnyResolution) {
     for (size_t c = 0; c < 3; ++c) {
       EXPECT_NEAR(sh.radiance[c], l00, test::kShExactProjection * l00) << w;
       EXPECT_NEAR(sh.irradiance_over_pi[c], 3.0 * 2.0 * std::sqrt(kPi), test::kShExactProjection * l00) << w;
-      for (size_t k = 1; k < 25; ++k) EXPECT_NEAR(sh.radiance[3 * k + c], 0.0, test::kShExactProjection * l00) << w << " " << k;
+      for (size_t k = 1; k < 25; ++k)
+        EXPECT_NEAR(sh.radiance[3 * k + c], 0.0, test::kShExactProjection * l00) << w << " " << k;
     }
   }
 }
@@ -133,7 +134,8 @@ TEST(ShProjection, CubeAtTexelCentresAsTheReference) {
     const ShCoefficients sh = project_sh(e, order);
     const std::vector<double> want = reference::sh_project(ref, order, 1);
     const double scale = largest(want);
-    for (size_t k = 0; k < want.size(); ++k) EXPECT_NEAR(sh.radiance[k], want[k], test::kShExactProjection * scale) << k;
+    for (size_t k = 0; k < want.size(); ++k)
+      EXPECT_NEAR(sh.radiance[k], want[k], test::kShExactProjection * scale) << k;
     EXPECT_NE(sh.projection.find("texel"), std::string::npos) << sh.projection;
   }
 }
@@ -148,7 +150,6 @@ TEST(ShProjection, WindowAndBadInput) {
   EXPECT_THROW(project_sh(e, 4), Error);
   EXPECT_THROW(project_sh(equirect(8, 4, std::vector<float>(10, 1.0f)), 3), Error);
 }
-
 
 // cmgen's automatic deringing window (host/src/sh_window.cpp), piece by piece against closed forms.
 TEST(ShWindowAuto, MinimumOfALinearFunctionIsItsClosedForm) {
@@ -230,7 +231,8 @@ TEST(ShWindowAuto, CutoffIsTheWidestThatKeepsTheIrradianceNonNegative) {
     const std::vector<double> w = sh_sinc4_window_weights(cutoff, 3);
     std::vector<double> c(9);
     for (int l = 0; l < 3; ++l)
-      for (int m = -l; m <= l; ++m) c[size_t(math::sh_index(l, m))] = irr[3 * size_t(math::sh_index(l, m)) + channel] * w[size_t(l)];
+      for (int m = -l; m <= l; ++m)
+        c[size_t(math::sh_index(l, m))] = irr[3 * size_t(math::sh_index(l, m)) + channel] * w[size_t(l)];
     return sh_minimum_estimate(c);  // as the search decides, for 3 bands
   };
   EXPECT_GE(windowed_min(cut, 0), 0.0);

@@ -112,9 +112,9 @@ TEST(Startup, HotFormatsNeedNoOpenImageIoModule) {
   // the outputs read back as environments (.exr and .hdr at 2:1) without the module either
   const fs::path hdr = dir / "env.hdr";
   ASSERT_EQ(run_cli("lut --kind ggx --size 16 --height 8 --quiet -o " + hdr.string()).code, 0);
-  const CliRun r = run_cli("irradiance --env " + hdr.string() + " --source-size 8 --quiet -o " +
-                               (dir / "sh.json").string(),
-                           "", std::string(kNoModule) + " LD_DEBUG=files");
+  const CliRun r =
+      run_cli("irradiance --env " + hdr.string() + " --source-size 8 --quiet -o " + (dir / "sh.json").string(), "",
+              std::string(kNoModule) + " LD_DEBUG=files");
   EXPECT_EQ(r.code, 0) << r.err;
   for (const std::string& lib : dynamically_loaded(r.err))
     EXPECT_FALSE(contains(lib, "brdfbake_oiio") || contains(lib, "OpenImageIO")) << lib;

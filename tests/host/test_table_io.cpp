@@ -49,8 +49,7 @@ Table make_table(int width, int height, std::vector<std::string> channels) {
   for (int j = 0; j < height; ++j) {
     for (int i = 0; i < width; ++i) {
       for (int c = 0; c < table.channel_count(); ++c) {
-        table.data.push_back(static_cast<float>(i + width * j + 1) / 64.0f +
-                             static_cast<float>(c) / 256.0f);
+        table.data.push_back(static_cast<float>(i + width * j + 1) / 64.0f + static_cast<float>(c) / 256.0f);
       }
     }
   }
@@ -78,9 +77,7 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
   return OIIO::ImageInput::open(path, &config);
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::string error_of(const std::function<void()>& action) {
   try {
@@ -94,9 +91,8 @@ std::string error_of(const std::function<void()>& action) {
 class TableIo : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("brdfbake_test_table_io_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("brdfbake_test_table_io_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -117,9 +113,9 @@ class TableIo : public ::testing::Test {
   fs::path dir_;
 };
 
-const std::pair<TableFormat, const char*> kAllFormats[] = {
-    {TableFormat::Exr, "exr"},   {TableFormat::Png, "png"}, {TableFormat::Hdr, "hdr"},
-    {TableFormat::Ktx2, "ktx2"}, {TableFormat::Csv, "csv"}, {TableFormat::CHeader, "h"}};
+const std::pair<TableFormat, const char*> kAllFormats[] = {{TableFormat::Exr, "exr"}, {TableFormat::Png, "png"},
+                                                           {TableFormat::Hdr, "hdr"}, {TableFormat::Ktx2, "ktx2"},
+                                                           {TableFormat::Csv, "csv"}, {TableFormat::CHeader, "h"}};
 
 // ---- Table metadata and format lookup ----------------------------------------------------------
 
@@ -197,8 +193,10 @@ TEST(HalfFloat, ArrayConversionsMatchTheScalarOnes) {
   io::half_bits_to_floats(every.data(), every.size(), back.data());
   for (uint32_t h = 0; h <= 0xFFFF; ++h) {
     const float want = io::half_bits_to_float(static_cast<uint16_t>(h));
-    if (std::isnan(want)) EXPECT_TRUE(std::isnan(back[h])) << std::hex << h;
-    else ASSERT_EQ(std::memcmp(&back[h], &want, 4), 0) << std::hex << h;
+    if (std::isnan(want))
+      EXPECT_TRUE(std::isnan(back[h])) << std::hex << h;
+    else
+      ASSERT_EQ(std::memcmp(&back[h], &want, 4), 0) << std::hex << h;
   }
 }
 
@@ -234,8 +232,7 @@ TEST_F(TableIo, ExrHoldsFloat32ChannelsAndMetadata) {
 }
 
 TEST_F(TableIo, ExrChannelNamesFollowTheChannelCount) {
-  const std::vector<std::vector<std::string>> expected = {
-      {"R"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  const std::vector<std::vector<std::string>> expected = {{"R"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
   for (int channels = 1; channels <= 4; ++channels) {
     const Table table = make_table(2, 2, channel_names(channels));
     write_table(table, path("lut.exr"), TableFormat::Exr);
@@ -273,8 +270,7 @@ TEST_F(TableIo, PngQuantisesClampsAndPadsTwoChannelsToRgb) {
       for (int c = 0; c < 3; ++c) {
         const float value = c < 2 ? table.at(i, j, c) : 0.0f;
         const float unit = std::isnan(value) ? 0.0f : std::clamp(value, 0.0f, 1.0f);
-        EXPECT_EQ(pixels[static_cast<size_t>((j * 4 + i) * 3 + c)],
-                  static_cast<uint16_t>(std::lround(unit * 65535.0f)))
+        EXPECT_EQ(pixels[static_cast<size_t>((j * 4 + i) * 3 + c)], static_cast<uint16_t>(std::lround(unit * 65535.0f)))
             << "pixel (" << i << ", " << j << ") channel " << c;
       }
     }
@@ -310,7 +306,7 @@ TEST_F(TableIo, PngGreyAndRgbaWithoutClamping) {
 
 TEST_F(TableIo, HdrWritesRgbeAndAJsonSidecar) {
   Table table = make_table(4, 2, channel_names(2));
-  table.at(3, 1, 0) = -0.25f;  // RGBE has no sign: written as 0 and counted
+  table.at(3, 1, 0) = -0.25f;                                  // RGBE has no sign: written as 0 and counted
   table.at(0, 1, 1) = std::numeric_limits<float>::infinity();  // no infinity: the largest value
   const float rgbe_max = std::ldexp(255.0f / 256.0f, 127);
   write_table(table, path("lut.hdr"), TableFormat::Hdr);
@@ -324,13 +320,10 @@ TEST_F(TableIo, HdrWritesRgbeAndAJsonSidecar) {
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 4; ++i) {
       const float* rgb = &pixels[static_cast<size_t>((j * 4 + i) * 3)];
-      const double largest = static_cast<double>(
-          std::min(std::max(table.at(i, j, 0), table.at(i, j, 1)), rgbe_max));
+      const double largest = static_cast<double>(std::min(std::max(table.at(i, j, 0), table.at(i, j, 1)), rgbe_max));
       for (int c = 0; c < 2; ++c) {
-        const double expected =
-            static_cast<double>(std::clamp(table.at(i, j, c), 0.0f, rgbe_max));
-        EXPECT_NEAR(rgb[c], expected, largest * kRgbeStepOfLargest)
-            << "pixel (" << i << ", " << j << ") channel " << c;
+        const double expected = static_cast<double>(std::clamp(table.at(i, j, c), 0.0f, rgbe_max));
+        EXPECT_NEAR(rgb[c], expected, largest * kRgbeStepOfLargest) << "pixel (" << i << ", " << j << ") channel " << c;
       }
       EXPECT_EQ(rgb[2], 0.0f) << "padding";
     }
@@ -361,9 +354,8 @@ float texel_component(const io::Ktx2Image& image, size_t texel, size_t c) {
     return io::half_bits_to_float(static_cast<uint16_t>(data.at(at) | data.at(at + 1) << 8));
   }
   const size_t at = (texel * 4 + c) * 4;
-  const uint32_t bits =
-      static_cast<uint32_t>(data.at(at)) | static_cast<uint32_t>(data.at(at + 1)) << 8 |
-      static_cast<uint32_t>(data.at(at + 2)) << 16 | static_cast<uint32_t>(data.at(at + 3)) << 24;
+  const uint32_t bits = static_cast<uint32_t>(data.at(at)) | static_cast<uint32_t>(data.at(at + 1)) << 8 |
+                        static_cast<uint32_t>(data.at(at + 2)) << 16 | static_cast<uint32_t>(data.at(at + 3)) << 24;
   float value = 0;
   std::memcpy(&value, &bits, sizeof value);
   return value;
@@ -391,8 +383,7 @@ TEST_F(TableIo, Ktx2HalfFloatRgbaWithPaddedChannels) {
       for (int i = 0; i < 3; ++i) {
         for (int c = 0; c < 4; ++c) {
           const float expected = c < channels ? table.at(i, j, c) : (c == 3 ? 1.0f : 0.0f);
-          EXPECT_EQ(texel_component(image, static_cast<size_t>(j * 3 + i), static_cast<size_t>(c)),
-                    expected)
+          EXPECT_EQ(texel_component(image, static_cast<size_t>(j * 3 + i), static_cast<size_t>(c)), expected)
               << "texel (" << i << ", " << j << ") channel " << c;
         }
       }
@@ -402,8 +393,7 @@ TEST_F(TableIo, Ktx2HalfFloatRgbaWithPaddedChannels) {
     EXPECT_EQ(key_value(image, "brdfbake:kind"), "dfg");
     EXPECT_EQ(key_value(image, "brdfbake:texel_centres"), "x = (i + 0.5) / width");
     std::string names;
-    for (const std::string& name : channel_names(channels))
-      names += (names.empty() ? "" : ",") + name;
+    for (const std::string& name : channel_names(channels)) names += (names.empty() ? "" : ",") + name;
     EXPECT_EQ(key_value(image, "brdfbake:channels"), names);
   }
 }
@@ -415,8 +405,7 @@ TEST_F(TableIo, Ktx2Float32IsExact) {
   const io::Ktx2Image image = io::read_ktx2(path("lut.ktx2"));
   EXPECT_EQ(image.vk_format, io::kVkFormatR32G32B32A32Sfloat);
   for (size_t texel = 0; texel < 6; ++texel) {
-    for (size_t c = 0; c < 3; ++c)
-      EXPECT_EQ(texel_component(image, texel, c), table.data[texel * 3 + c]);
+    for (size_t c = 0; c < 3; ++c) EXPECT_EQ(texel_component(image, texel, c), table.data[texel * 3 + c]);
     EXPECT_EQ(texel_component(image, texel, 3), 1.0f);
   }
 }
@@ -535,8 +524,7 @@ TEST_F(TableIo, CHeaderFloat32) {
   EXPECT_TRUE(contains(text, "#define DFG_LUT_WIDTH 3\n"));
   EXPECT_TRUE(contains(text, "#define DFG_LUT_HEIGHT 3\n"));
   EXPECT_TRUE(contains(text, "#define DFG_LUT_CHANNELS 2\n"));
-  EXPECT_TRUE(contains(
-      text, "static const float dfg_lut[DFG_LUT_WIDTH * DFG_LUT_HEIGHT * DFG_LUT_CHANNELS] = {\n"));
+  EXPECT_TRUE(contains(text, "static const float dfg_lut[DFG_LUT_WIDTH * DFG_LUT_HEIGHT * DFG_LUT_CHANNELS] = {\n"));
   EXPECT_TRUE(contains(text, " 1.0f, 0.01953125f, 9.99999975e-06f,"));
   const std::vector<std::string> values = header_values(text);
   ASSERT_EQ(values.size(), table.data.size());
@@ -550,14 +538,11 @@ TEST_F(TableIo, CHeaderHalfBits) {
   const Table table = make_table(4, 3, channel_names(3));
   write_table(table, path("dfg_lut.h"), TableFormat::CHeader, {PixelType::F16, ""});
   const std::string text = read_text(path("dfg_lut.h"));
-  EXPECT_TRUE(contains(
-      text,
-      "static const uint16_t dfg_lut[DFG_LUT_WIDTH * DFG_LUT_HEIGHT * DFG_LUT_CHANNELS] = {\n"));
+  EXPECT_TRUE(contains(text, "static const uint16_t dfg_lut[DFG_LUT_WIDTH * DFG_LUT_HEIGHT * DFG_LUT_CHANNELS] = {\n"));
   const std::vector<std::string> values = header_values(text);
   ASSERT_EQ(values.size(), table.data.size());
   for (size_t k = 0; k < values.size(); ++k) {
-    EXPECT_EQ(std::strtoul(values[k].c_str(), nullptr, 16), io::float_to_half_bits(table.data[k]))
-        << values[k];
+    EXPECT_EQ(std::strtoul(values[k].c_str(), nullptr, 16), io::float_to_half_bits(table.data[k])) << values[k];
   }
 }
 
@@ -598,11 +583,10 @@ TEST_F(TableIo, CHeaderRejectsNonFiniteFloat32) {
   const std::string before = read_text(path("lut.h"));
   Table table = make_table(2, 1, channel_names(1));
   table.data[1] = std::numeric_limits<float>::infinity();
-  EXPECT_TRUE(
-      contains(error_of([&] {
-                 write_table(table, path("lut.h"), TableFormat::CHeader, {PixelType::F32, ""});
-               }),
-               "value inf at index 1 has no C float literal"));
+  EXPECT_TRUE(contains(error_of([&] {
+                         write_table(table, path("lut.h"), TableFormat::CHeader, {PixelType::F32, ""});
+                       }),
+                       "value inf at index 1 has no C float literal"));
   EXPECT_EQ(read_text(path("lut.h")), before) << "the previous file is kept";
   EXPECT_EQ(entries(), std::vector<std::string>{"lut.h"});
 }
@@ -659,11 +643,9 @@ TEST_F(TableIo, ReplacesAnExistingFile) {
 
 TEST_F(TableIo, FailedSidecarLeavesNoTemporaries) {
   fs::create_directory(path("lut.hdr.json"));  // renaming the sidecar onto a folder fails
-  EXPECT_TRUE(contains(error_of([&] {
-                         write_table(make_table(2, 2, channel_names(3)), path("lut.hdr"),
-                                     TableFormat::Hdr);
-                       }),
-                       "cannot write '" + path("lut.hdr.json") + "'"));
+  EXPECT_TRUE(
+      contains(error_of([&] { write_table(make_table(2, 2, channel_names(3)), path("lut.hdr"), TableFormat::Hdr); }),
+               "cannot write '" + path("lut.hdr.json") + "'"));
   for (const std::string& name : entries()) EXPECT_FALSE(contains(name, ".tmp-")) << name;
 }
 
@@ -674,8 +656,7 @@ TEST_F(TableIo, InvalidTablesAreErrors) {
             "cannot write '" + path("a.exr") + "': the table holds 35 values, expected 4 x 3 x 3");
   table = make_table(2, 2, {"a", "b", "c", "d", "e"});
   EXPECT_EQ(error_of([&] { write_table(table, path("a.png"), TableFormat::Png); }),
-            "cannot write '" + path("a.png") +
-                "': the .png format holds at most 4 channels; the table has 5");
+            "cannot write '" + path("a.png") + "': the .png format holds at most 4 channels; the table has 5");
   table = make_table(2, 2, channel_names(4));
   EXPECT_TRUE(contains(error_of([&] { write_table(table, path("a.hdr"), TableFormat::Hdr); }),
                        "the .hdr format holds at most 3 channels; the table has 4"));
@@ -684,8 +665,7 @@ TEST_F(TableIo, InvalidTablesAreErrors) {
   EXPECT_TRUE(contains(error_of([&] { write_table(table, path("a.png"), TableFormat::Png); }),
                        "too long for a PNG text chunk"));
   table = Table{};
-  EXPECT_TRUE(contains(error_of([&] { write_table(table, path("a.csv"), TableFormat::Csv); }),
-                       "the table is empty"));
+  EXPECT_TRUE(contains(error_of([&] { write_table(table, path("a.csv"), TableFormat::Csv); }), "the table is empty"));
   EXPECT_TRUE(entries().empty());
 }
 

@@ -18,10 +18,10 @@
 #include "brdfbake/io.hpp"
 #include "brdfbake/view.hpp"
 #include "io/png_image.hpp"
-#include "view/canvas.hpp"
-#include "view/exposure.hpp"
 #include "support/cli_runner.hpp"
 #include "support/tolerances.hpp"
+#include "view/canvas.hpp"
+#include "view/exposure.hpp"
 
 namespace brdfbake {
 namespace {
@@ -418,7 +418,8 @@ TEST(ViewLabels, MostlyDarkTableGetsALogScale) {
   t.height = 32;
   t.channels = {"v"};
   for (int j = 0; j < t.height; ++j)
-    for (int i = 0; i < t.width; ++i) t.data.push_back(i < 24 ? 0.1f + 0.1f * float(j) / 31 : 0.2f + 3.0f * float(i - 24) / 7);
+    for (int i = 0; i < t.width; ++i)
+      t.data.push_back(i < 24 ? 0.1f + 0.1f * float(j) / 31 : 0.2f + 3.0f * float(i - 24) / 7);
   const std::string path = (dir / "c.exr").string();
   write_table(t, path, TableFormat::Exr);
   const ContactSheet s = render_contact_sheet({path});

@@ -28,8 +28,7 @@ TEST(ShBasis, IsOrthonormal) {
         for (size_t j = 0; j < 25; ++j) gram[i * 25 + j] += w * y[i] * y[j];
     }
   for (size_t i = 0; i < 25; ++i)
-    for (size_t j = 0; j < 25; ++j)
-      EXPECT_NEAR(gram[i * 25 + j], i == j ? 1.0 : 0.0, test::kAnalytic) << i << "," << j;
+    for (size_t j = 0; j < 25; ++j) EXPECT_NEAR(gram[i * 25 + j], i == j ? 1.0 : 0.0, test::kAnalytic) << i << "," << j;
 }
 
 TEST(ShBasis, DocumentedValuesAndSigns) {

@@ -271,7 +271,7 @@ TEST(BrdfReference, DocumentedAlbedoBounds) {
   blinn.specular_color = Rgb{1, 1, 1};
   blinn.shininess = 10.0;
   const double b = directional_albedo(BrdfModel::BlinnPhong, blinn, 0.0).r;
-  EXPECT_GT(b, 1.07);  // the (n + 8)/(8 pi) normalisation overshoots ...
+  EXPECT_GT(b, 1.07);                          // the (n + 8)/(8 pi) normalisation overshoots ...
   EXPECT_LE(b, test::kBlinnPhongAlbedoBound);  // ... by at most this
   BrdfMaterial disney;
   disney.base_color = {1, 1, 1};

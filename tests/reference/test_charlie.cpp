@@ -21,8 +21,8 @@ constexpr double kPi = 3.14159265358979323846;
 template <class F>
 double integrate_graded(double a, double b, double min_a, double min_b, double max_width, F&& f) {
   std::vector<ref::Panel> panels;
-  ref::append_panels(a, b, ref::EndRefinement{min_a > 0.0, min_a, 1.0},
-                     ref::EndRefinement{min_b > 0.0, min_b, 1.0}, max_width, panels);
+  ref::append_panels(a, b, ref::EndRefinement{min_a > 0.0, min_a, 1.0}, ref::EndRefinement{min_b > 0.0, min_b, 1.0},
+                     max_width, panels);
   const ref::GaussLegendreRule& rule = ref::gauss_legendre(20);
   double sum = 0.0;
   for (const ref::Panel& p : panels) {
@@ -34,9 +34,9 @@ double integrate_graded(double a, double b, double min_a, double min_b, double m
 // Integral of D_Charlie(h) (n.h) over the hemisphere, in c = n.h (dh = dc dph): the band at
 // c ~ 0 has width sqrt(alpha), the power law (1 - c^2)^(1/2alpha) sits at c = 1.
 double charlie_projected_area(double alpha) {
-  return 2.0 * kPi *
-         integrate_graded(0.0, 1.0, 0.01 * std::sqrt(alpha), 1e-10, 0.5 * std::sqrt(alpha),
-                          [&](double c) { return ref::D_Charlie(c, alpha) * c; });
+  return 2.0 * kPi * integrate_graded(0.0, 1.0, 0.01 * std::sqrt(alpha), 1e-10, 0.5 * std::sqrt(alpha), [&](double c) {
+           return ref::D_Charlie(c, alpha) * c;
+         });
 }
 
 }  // namespace
@@ -96,8 +96,7 @@ TEST(CharlieReference, VisibilitiesAreSymmetricWithSpotValues) {
       EXPECT_EQ(ref::V_Neubelt(nv, nl), ref::V_Neubelt(nl, nv));
       EXPECT_NEAR(ref::V_CharlieEstevezKulla(nv, nl, 0.3) / ref::V_CharlieEstevezKulla(nl, nv, 0.3), 1.0,
                   test::kRounding);
-      const double lambdas =
-          1.0 + ref::Lambda_CharlieEstevezKulla(nv, 0.3) + ref::Lambda_CharlieEstevezKulla(nl, 0.3);
+      const double lambdas = 1.0 + ref::Lambda_CharlieEstevezKulla(nv, 0.3) + ref::Lambda_CharlieEstevezKulla(nl, 0.3);
       EXPECT_NEAR(ref::V_CharlieEstevezKulla(nv, nl, 0.3) * lambdas * 4.0 * nv * nl, 1.0, test::kRounding);
     }
   }

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "identities/dfg_identities.hpp"
@@ -63,10 +63,8 @@ double brute_force(double n_dot_v, int panels, F&& f) {
   const ref::GaussLegendreRule& rule = ref::gauss_legendre(16);
   const double sin_v = std::sqrt(1.0 - n_dot_v * n_dot_v);
   std::vector<ref::Panel> mu_panels;
-  ref::append_panels(0.0, 0.5, ref::EndRefinement{true, 1e-9, 1.0}, ref::EndRefinement{}, 1.0 / panels,
-                     mu_panels);
-  ref::append_panels(0.5, 1.0, ref::EndRefinement{}, ref::EndRefinement{true, 1e-9, 1.0}, 1.0 / panels,
-                     mu_panels);
+  ref::append_panels(0.0, 0.5, ref::EndRefinement{true, 1e-9, 1.0}, ref::EndRefinement{}, 1.0 / panels, mu_panels);
+  ref::append_panels(0.5, 1.0, ref::EndRefinement{}, ref::EndRefinement{true, 1e-9, 1.0}, 1.0 / panels, mu_panels);
   double sum = 0.0;
   for (const ref::Panel& p : mu_panels) {
     ref::for_each_node(p, rule, [&](const ref::PanelNode& node) {
@@ -103,8 +101,7 @@ const double kRoughCorners[] = {0.0, 1e-3, 0.5, 1.0};
 // Gauss-Legendre rules themselves are tested with the shared maths (tests/math/test_gauss_legendre.cpp).
 TEST(Quadrature, GradedPanelsCoverTheIntervalAndMapsRemoveSquareRoots) {
   std::vector<ref::Panel> panels;
-  ref::append_panels(0.0, 2.0, ref::EndRefinement{true, 1e-6, 2.0}, ref::EndRefinement{true, 1e-3, 1.0}, 0.3,
-                     panels);
+  ref::append_panels(0.0, 2.0, ref::EndRefinement{true, 1e-6, 2.0}, ref::EndRefinement{true, 1e-3, 1.0}, 0.3, panels);
   ASSERT_GE(panels.size(), 20u);
   EXPECT_EQ(panels.front().a, 0.0);
   EXPECT_EQ(panels.back().b, 2.0);
@@ -193,17 +190,15 @@ TEST(BurleyAlbedo, AgreesWithBruteForceOverL) {
 TEST(CharlieAlbedo, AgreesWithBruteForceOverL) {
   // Over l, D_Charlie ~ sin(th_h)^(1/alpha) has a conical point at the mirror direction (h = n)
   // unless 1/alpha is an even integer, which would stall the brute force: alpha = 1/2, 1/4, 1/6.
-  const double points[][2] = {
-      {0.3, std::sqrt(0.5)}, {0.6, 0.5}, {0.8, std::sqrt(1.0 / 6.0)}, {0.15, std::sqrt(0.5)}};
+  const double points[][2] = {{0.3, std::sqrt(0.5)}, {0.6, 0.5}, {0.8, std::sqrt(1.0 / 6.0)}, {0.15, std::sqrt(0.5)}};
   for (const auto& p : points) {
     const double nv = p[0];
     const double alpha = p[1] * p[1];
     const double ek = converged_brute_force(nv, [&](double mu, double nh, double) {
       return ref::D_Charlie(nh, alpha) * ref::V_CharlieEstevezKulla(nv, mu, alpha) * mu;
     });
-    const double neubelt = converged_brute_force(nv, [&](double mu, double nh, double) {
-      return ref::D_Charlie(nh, alpha) * ref::V_Neubelt(nv, mu) * mu;
-    });
+    const double neubelt = converged_brute_force(
+        nv, [&](double mu, double nh, double) { return ref::D_Charlie(nh, alpha) * ref::V_Neubelt(nv, mu) * mu; });
     EXPECT_NEAR(ref::charlie_albedo(nv, p[1], ref::SheenVisibility::EstevezKulla), ek, test::kAnalytic) << nv;
     EXPECT_NEAR(ref::charlie_albedo(nv, p[1], ref::SheenVisibility::Neubelt), neubelt, test::kAnalytic) << nv;
   }
@@ -244,8 +239,7 @@ TEST(EdgeCases, EveryIntegralIsFiniteAtTheCorners) {
       const ref::DfgGgx d = ref::dfg_ggx(nv, r);
       EXPECT_TRUE(std::isfinite(d.scale) && std::isfinite(d.bias)) << nv << " " << r;
       EXPECT_TRUE(std::isfinite(ref::burley_albedo(nv, r))) << nv << " " << r;
-      EXPECT_TRUE(std::isfinite(ref::charlie_albedo(nv, r, ref::SheenVisibility::EstevezKulla)))
-          << nv << " " << r;
+      EXPECT_TRUE(std::isfinite(ref::charlie_albedo(nv, r, ref::SheenVisibility::EstevezKulla))) << nv << " " << r;
       EXPECT_TRUE(std::isfinite(ref::charlie_albedo(nv, r, ref::SheenVisibility::Neubelt))) << nv << " " << r;
     }
   }
@@ -257,11 +251,9 @@ TEST(EdgeCases, EveryIntegralIsFiniteAtTheCorners) {
 TEST(LutTable, CellCentresLayoutAndThreads) {
   const int w = 4;
   const int h = 3;
-  const std::vector<double> ggx =
-      ref::lut_table(ref::LutKind::Ggx, w, h, ref::SheenVisibility::EstevezKulla, 2);
+  const std::vector<double> ggx = ref::lut_table(ref::LutKind::Ggx, w, h, ref::SheenVisibility::EstevezKulla, 2);
   const std::vector<double> multi = ref::lut_table(ref::LutKind::GgxMultiscatter, w, h);
-  const std::vector<double> sheen =
-      ref::lut_table(ref::LutKind::Charlie, w, h, ref::SheenVisibility::Neubelt, 1);
+  const std::vector<double> sheen = ref::lut_table(ref::LutKind::Charlie, w, h, ref::SheenVisibility::Neubelt, 1);
   ASSERT_EQ(ggx.size(), static_cast<std::size_t>(w * h * 3));
   ASSERT_EQ(sheen.size(), static_cast<std::size_t>(w * h));
   EXPECT_EQ(ref::lut_channels(ref::LutKind::Ggx), 3);

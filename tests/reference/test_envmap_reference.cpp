@@ -165,8 +165,7 @@ TEST(EnvmapPrefilter, SelfConvergence) {
     const double r = 0.4, alpha = r * r;
     const int q = env_default_subdivision(lobe, alpha, 8);
     const EnvCube a = prefilter_cube(c, lobe, r, 4, q), b = prefilter_cube(c, lobe, r, 4, 2 * q);
-    for (size_t k = 0; k < a.rgb.size(); ++k)
-      EXPECT_NEAR(a.rgb[k] / b.rgb[k], 1.0, test::kEnvReferenceSubCells) << k;
+    for (size_t k = 0; k < a.rgb.size(); ++k) EXPECT_NEAR(a.rgb[k] / b.rgb[k], 1.0, test::kEnvReferenceSubCells) << k;
   }
 }
 
@@ -214,7 +213,8 @@ TEST(EnvmapIrradiance, ConstantAndSmoothEnvironments) {
     const auto y = sh_basis(3, dirs[k]);
     double e = 0;
     for (int l = 0; l < 3; ++l)
-      for (int m = -l; m <= l; ++m) e += sh_cosine_lobe(l) / kPi * sh[3 * size_t(l * (l + 1) + m)] * y[size_t(l * (l + 1) + m)];
+      for (int m = -l; m <= l; ++m)
+        e += sh_cosine_lobe(l) / kPi * sh[3 * size_t(l * (l + 1) + m)] * y[size_t(l * (l + 1) + m)];
     EXPECT_NEAR(e / direct[3 * k], 1.0, test::kEnvIrradianceRoutes) << k;
   }
 }

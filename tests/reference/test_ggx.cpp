@@ -21,8 +21,8 @@ constexpr double kPi = 3.14159265358979323846;
 template <class F>
 double integrate_graded(double a, double b, double min_a, double min_b, double max_width, F&& f) {
   std::vector<ref::Panel> panels;
-  ref::append_panels(a, b, ref::EndRefinement{min_a > 0.0, min_a, 1.0},
-                     ref::EndRefinement{min_b > 0.0, min_b, 1.0}, max_width, panels);
+  ref::append_panels(a, b, ref::EndRefinement{min_a > 0.0, min_a, 1.0}, ref::EndRefinement{min_b > 0.0, min_b, 1.0},
+                     max_width, panels);
   const ref::GaussLegendreRule& rule = ref::gauss_legendre(20);
   double sum = 0.0;
   for (const ref::Panel& p : panels) {
@@ -58,14 +58,11 @@ double visible_normals(double n_dot_v, double alpha) {
            });
   };
   std::vector<ref::Panel> panels;
-  ref::append_panels(0.0, th_c, ref::EndRefinement{true, 0.01 * alpha, 1.0}, ref::EndRefinement{}, 0.05,
-                     panels);
-  ref::append_panels(th_c, 0.5 * kPi, ref::EndRefinement{false, 0.0, 2.0}, ref::EndRefinement{}, 0.05,
-                     panels);
+  ref::append_panels(0.0, th_c, ref::EndRefinement{true, 0.01 * alpha, 1.0}, ref::EndRefinement{}, 0.05, panels);
+  ref::append_panels(th_c, 0.5 * kPi, ref::EndRefinement{false, 0.0, 2.0}, ref::EndRefinement{}, 0.05, panels);
   double sum = 0.0;
   for (const ref::Panel& p : panels) {
-    ref::for_each_node(p, rule,
-                       [&](const ref::PanelNode& node) { sum += node.weight * phi_integral(node.t); });
+    ref::for_each_node(p, rule, [&](const ref::PanelNode& node) { sum += node.weight * phi_integral(node.t); });
   }
   return ref::G1_SmithGGX(n_dot_v, alpha) * sum;
 }

@@ -2,12 +2,11 @@
 // port (the URL comes back through --url-file), stopped by signal, killed when the test ends.
 #pragma once
 
+#include <httplib.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <httplib.h>
 
 #include <chrono>
 #include <filesystem>
@@ -69,7 +68,13 @@ class ServerProcess {
     const fs::path url_file = dir_ / "server.url";
     std::error_code ec;
     fs::remove(url_file, ec);
-    std::vector<std::string> argv = {std::getenv("BRDFBAKE_CLI_UNDER_TEST") ? std::getenv("BRDFBAKE_CLI_UNDER_TEST") : BRDFBAKE_CLI, "serve", "--listen", "127.0.0.1:0", "--url-file", url_file.string()};
+    std::vector<std::string> argv = {
+        std::getenv("BRDFBAKE_CLI_UNDER_TEST") ? std::getenv("BRDFBAKE_CLI_UNDER_TEST") : BRDFBAKE_CLI,
+        "serve",
+        "--listen",
+        "127.0.0.1:0",
+        "--url-file",
+        url_file.string()};
     argv.insert(argv.end(), args_.begin(), args_.end());
     const std::string out = (dir_ / "server.out").string(), err = (dir_ / "server.err").string();
     pid_ = ::fork();

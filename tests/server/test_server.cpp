@@ -2,6 +2,7 @@
 // faults it must survive (kill -9, a client hanging up, bad bodies, a failing job, a full disk).
 // Every server listens on 127.0.0.1 with an ephemeral port; every wait is bounded.
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sqlite3.h>
 #include <sys/mount.h>
@@ -9,7 +10,6 @@
 
 #include <cmath>
 #include <map>
-#include <gtest/gtest.h>
 
 #include "brdfbake/job.hpp"
 #include "server/server_process.hpp"
@@ -32,7 +32,10 @@ json slow_job(int tables, int size = 128) {
   json j = json::parse(R"({"brdfbake_job": 1, "tables": []})");
   const char* dist[] = {"ggx", "charlie", "ggx"};
   for (int i = 0; i < tables; ++i)
-    j["tables"].push_back({{"kind", "prefilter"}, {"distribution", dist[i % 3]}, {"size", size}, {"min_size", 8 << (i / 2)},
+    j["tables"].push_back({{"kind", "prefilter"},
+                           {"distribution", dist[i % 3]},
+                           {"size", size},
+                           {"min_size", 8 << (i / 2)},
                            {"output", "p" + std::to_string(i) + ".ktx2"}});
   return j;
 }
@@ -65,15 +68,16 @@ class ServerApi : public ::testing::Test {
     dir_ = new TempDir("api");
     write_file(dir_->path / "inputs" / "materials.json",
                R"({"materials": [{"name": "red", "model": "lambert", "baseColor": [0.8, 0.2, 0.1]}]})");
-    write_file(dir_->path / "inputs" / "pairs.csv", "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n");
+    write_file(dir_->path / "inputs" / "pairs.csv",
+               "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n");
     // A Phong lobe of shininess 1e6: its slice peaks at 152 098, beyond binary16's 65504.
     write_file(dir_->path / "inputs" / "sharp.json",
                R"({"materials": [{"name": "a", "model": "phong", "shininess": 1000000, "specularColor": [1, 1, 1]}]})");
     write_file(dir_->path / "outside" / "secret.json", R"({"materials": []})");
     fs::create_symlink(dir_->path / "outside" / "secret.json", dir_->path / "inputs" / "link.json");
-    server_ = new ServerProcess(dir_->path, {"--data", (dir_->path / "data").string(), "--input-root",
-                                             (dir_->path / "inputs").string(), "--max-body", "64K",
-                                             "--max-memory", "256M"});
+    server_ =
+        new ServerProcess(dir_->path, {"--data", (dir_->path / "data").string(), "--input-root",
+                                       (dir_->path / "inputs").string(), "--max-body", "64K", "--max-memory", "256M"});
     started_ = server_->start();
   }
   static void TearDownTestSuite() {
@@ -109,10 +113,11 @@ TEST_F(ServerApi, HealthDevicesAndMetrics) {
   ASSERT_TRUE(m);
   EXPECT_EQ(m->status, 200);
   EXPECT_EQ(m->get_header_value("Content-Type").rfind("text/plain; version=0.0.4", 0), 0u);
-  for (const char* line : {"# TYPE brdfbake_jobs gauge", "brdfbake_jobs{state=\"done\"} ", "# TYPE brdfbake_queue_length gauge",
-                           "brdfbake_queue_length{device=\"reference\"} 0", "# TYPE brdfbake_bake_seconds histogram",
-                           "brdfbake_bake_seconds_bucket{kind=\"fresnel\",le=\"+Inf\"} ",
-                           "# TYPE brdfbake_device_busy_seconds_total counter"})
+  for (const char* line :
+       {"# TYPE brdfbake_jobs gauge", "brdfbake_jobs{state=\"done\"} ", "# TYPE brdfbake_queue_length gauge",
+        "brdfbake_queue_length{device=\"reference\"} 0", "# TYPE brdfbake_bake_seconds histogram",
+        "brdfbake_bake_seconds_bucket{kind=\"fresnel\",le=\"+Inf\"} ",
+        "# TYPE brdfbake_device_busy_seconds_total counter"})
     EXPECT_NE(m->body.find(line), std::string::npos) << line << "\n" << m->body;
 }
 
@@ -195,10 +200,12 @@ TEST_F(ServerApi, TableErrorBoundHeaderIsWhatTheFileRecords) {
   // header carries the delivered bound, the file's own text (rounded up, never below), not the
   // integration bound alone.
   auto c = server_->client();
-  auto r = c.Post("/v1/tables", R"({"kind": "ggx", "size": 32, "pixel": "f16", "output": "dfg.ktx2"})", "application/json");
+  auto r =
+      c.Post("/v1/tables", R"({"kind": "ggx", "size": 32, "pixel": "f16", "output": "dfg.ktx2"})", "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
-  const std::string recorded = ktx2_value(r->body, "error_bound"), integration = ktx2_value(r->body, "integration_error_bound");
+  const std::string recorded = ktx2_value(r->body, "error_bound"),
+                    integration = ktx2_value(r->body, "integration_error_bound");
   ASSERT_FALSE(recorded.empty());
   ASSERT_FALSE(integration.empty());
   EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
@@ -231,9 +238,10 @@ TEST_F(ServerApi, ClampWarningsReachTheClient) {
   EXPECT_EQ(again->get_header_value("X-Brdfbake-Cache"), "hit");
   EXPECT_EQ(again->get_header_value("X-Brdfbake-Warning"), warning);
   // Without clamp_f16: refused, the message naming the output and the option.
-  auto refused = c.Post("/v1/tables",
-                        R"({"kind": "tabulate", "material": "sharp.json", "layout": "slice", "res": 64, "pixel": "f16", "output": "t.ktx2"})",
-                        "application/json");
+  auto refused = c.Post(
+      "/v1/tables",
+      R"({"kind": "tabulate", "material": "sharp.json", "layout": "slice", "res": 64, "pixel": "f16", "output": "t.ktx2"})",
+      "application/json");
   ASSERT_TRUE(refused);
   EXPECT_EQ(refused->status, 400);
   const std::string message = body_json(refused).value("error", "");
@@ -244,7 +252,8 @@ TEST_F(ServerApi, ClampWarningsReachTheClient) {
   ASSERT_TRUE(plain);
   EXPECT_EQ(plain->get_header_value_count("X-Brdfbake-Warning"), 0u);
   // A job: its result lists the warning, naming the file inside the job's folder.
-  const std::string id = submit(c, json::parse(R"({"tables": [{"kind": "tabulate", "material": "sharp.json", "layout": "slice",
+  const std::string id =
+      submit(c, json::parse(R"({"tables": [{"kind": "tabulate", "material": "sharp.json", "layout": "slice",
                                                     "res": 64, "pixel": "f16", "clamp_f16": true, "output": "t.h"}]})"));
   ASSERT_FALSE(id.empty());
   const json s = wait_job(c, id);
@@ -332,12 +341,16 @@ TEST_F(ServerApi, PathsStayInsideTheRoots) {
   }
   // Outside: '..', an absolute path elsewhere, a symbolic link that leads out, environments.
   const std::vector<std::pair<json, std::string>> refused = {
-      {eval_job("../outside/secret.json"), "job: tables[0].material: '../outside/secret.json' must stay inside the input root (no '..')"},
+      {eval_job("../outside/secret.json"),
+       "job: tables[0].material: '../outside/secret.json' must stay inside the input root (no '..')"},
       {eval_job("/etc/passwd"), "job: tables[0].material: '/etc/passwd' is outside the server's input root"},
-      {eval_job("link.json"), "job: tables[0].material: 'link.json' leads outside the server's input root (a symbolic link)"},
+      {eval_job("link.json"),
+       "job: tables[0].material: 'link.json' leads outside the server's input root (a symbolic link)"},
       {eval_job("missing.json"), "job: tables[0].material: 'missing.json' not found under the server's input root"},
-      {json{{"environment", "/etc/hosts"}, {"tables", json::array()}}, "job: environment: '/etc/hosts' is outside the server's input root"},
-      {json{{"tables", {{{"kind", "prefilter"}, {"environment", "../x_{face}.hdr"}}}}}, "job: tables[0].environment: '../x_px.hdr' must stay inside the input root (no '..')"},
+      {json{{"environment", "/etc/hosts"}, {"tables", json::array()}},
+       "job: environment: '/etc/hosts' is outside the server's input root"},
+      {json{{"tables", {{{"kind", "prefilter"}, {"environment", "../x_{face}.hdr"}}}}},
+       "job: tables[0].environment: '../x_px.hdr' must stay inside the input root (no '..')"},
   };
   for (const auto& [job, message] : refused) {
     auto r = c.Post("/v1/jobs", job.dump(), "application/json");
@@ -350,12 +363,15 @@ TEST_F(ServerApi, PathsStayInsideTheRoots) {
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
   EXPECT_EQ(body_json(r)["error"], "bake: scene: '/etc/passwd' is outside the server's input root");
-  r = c.Post("/v1/tables", R"({"kind": "tabulate", "layout": "albedo", "material": "../outside/secret.json"})", "application/json");
+  r = c.Post("/v1/tables", R"({"kind": "tabulate", "layout": "albedo", "material": "../outside/secret.json"})",
+             "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
-  EXPECT_EQ(body_json(r)["error"], "table.material: '../outside/secret.json' must stay inside the input root (no '..')");
+  EXPECT_EQ(body_json(r)["error"],
+            "table.material: '../outside/secret.json' must stay inside the input root (no '..')");
   // Outputs are confined to the job's folder.
-  r = c.Post("/v1/jobs", R"({"tables": [{"kind": "ggx", "size": 4, "output": "../../escape.exr"}]})", "application/json");
+  r = c.Post("/v1/jobs", R"({"tables": [{"kind": "ggx", "size": 4, "output": "../../escape.exr"}]})",
+             "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
   EXPECT_NE(body_json(r).value("error", "").find("must stay inside the output folder"), std::string::npos);
@@ -426,7 +442,8 @@ TEST_F(ServerApi, TruncatedBodyDoesNotHang) {
   a.sin_port = htons(static_cast<uint16_t>(server_->port()));
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  const std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{\"tables\":";
+  const std::string req =
+      "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{\"tables\":";
   ASSERT_EQ(::send(fd, req.data(), req.size(), MSG_NOSIGNAL), static_cast<ssize_t>(req.size()));
   ::shutdown(fd, SHUT_WR);
   char buf[4096];
@@ -443,7 +460,8 @@ TEST_F(ServerApi, TruncatedBodyDoesNotHang) {
 TEST_F(ServerApi, JobFailingOnTheDeviceIsAFailedJob) {
   auto c = server_->client();
   // The reference backend cannot prefilter a 512 cube: accepted, then failed with its reason.
-  const std::string id = submit(c, json::parse(R"({"device": "reference", "tables": [{"kind": "prefilter", "size": 512}]})"));
+  const std::string id =
+      submit(c, json::parse(R"({"device": "reference", "tables": [{"kind": "prefilter", "size": 512}]})"));
   ASSERT_FALSE(id.empty());
   const json s = wait_job(c, id);
   EXPECT_EQ(s["state"], "failed") << s.dump();
@@ -484,7 +502,8 @@ TEST_F(ServerApi, DevicesRunConcurrently) {
 TEST_F(ServerApi, CommandLineRunAndBakeThroughTheServer) {
   write_file(dir_->path / "cli.json", small_job().dump());
   const std::string out = (dir_->path / "cli-remote").string(), local = (dir_->path / "cli-local").string();
-  const CliRun remote = run_cli("run " + (dir_->path / "cli.json").string() + " --server " + server_->url() + " -o " + out);
+  const CliRun remote =
+      run_cli("run " + (dir_->path / "cli.json").string() + " --server " + server_->url() + " -o " + out);
   ASSERT_EQ(remote.code, 0) << remote.err;
   EXPECT_NE(remote.out.find("wrote " + out + ": 2 files from 2 bakes"), std::string::npos) << remote.out;
   ASSERT_EQ(run_cli("run " + (dir_->path / "cli.json").string() + " --quiet -o " + local).code, 0);
@@ -493,16 +512,19 @@ TEST_F(ServerApi, CommandLineRunAndBakeThroughTheServer) {
   EXPECT_EQ(fs::file_size(fs::path(out) / "dfg.exr"), fs::file_size(fs::path(local) / "dfg.exr"));
   // bake --server: the plan printed here, baked there, files here.
   const std::string baked = (dir_->path / "bake-remote").string();
-  const CliRun bake = run_cli("bake --server " + server_->url() + " --lut-size 16 --cube-size 32 --min-size 8 -o " + baked);
+  const CliRun bake =
+      run_cli("bake --server " + server_->url() + " --lut-size 16 --cube-size 32 --min-size 8 -o " + baked);
   ASSERT_EQ(bake.code, 0) << bake.err;
   EXPECT_NE(bake.out.find("3 tables:"), std::string::npos) << bake.out;
   for (const char* f : {"dfg_ggx_multiscatter_16.exr", "prefilter_ggx_32.ktx2", "irradiance_sh3.json", "manifest.json"})
     EXPECT_TRUE(fs::exists(fs::path(baked) / f)) << f;
   // A bad job: the local run's exit code and message.
   write_file(dir_->path / "bad.json", R"({"tables": [{"kind": "ggx", "size": -1}]})");
-  const CliRun bad = run_cli("run " + (dir_->path / "bad.json").string() + " --server " + server_->url() + " -o " + out);
+  const CliRun bad =
+      run_cli("run " + (dir_->path / "bad.json").string() + " --server " + server_->url() + " -o " + out);
   EXPECT_EQ(bad.code, 2);
-  EXPECT_EQ(bad.err, "brdfbake run: " + (dir_->path / "bad.json").string() + ": tables[0].size: must be an integer in 1..16384 (got -1)\n");
+  EXPECT_EQ(bad.err, "brdfbake run: " + (dir_->path / "bad.json").string() +
+                         ": tables[0].size: must be an integer in 1..16384 (got -1)\n");
   // No server there: a runtime failure, exit 1.
   const CliRun none = run_cli("run " + (dir_->path / "cli.json").string() + " --server http://127.0.0.1:1 -o " + out);
   EXPECT_EQ(none.code, 1);
@@ -519,7 +541,8 @@ TEST_F(ServerApi, CommandLineRunDownloadsFolderOutputs) {
   write_file(dir_->path / "folder.json", job.dump());
   // One folder name in two places: engine files are named after it.
   const std::string out = (dir_->path / "remote" / "ibl").string(), local = (dir_->path / "local" / "ibl").string();
-  const CliRun remote = run_cli("run " + (dir_->path / "folder.json").string() + " --quiet --server " + server_->url() + " -o " + out);
+  const CliRun remote =
+      run_cli("run " + (dir_->path / "folder.json").string() + " --quiet --server " + server_->url() + " -o " + out);
   ASSERT_EQ(remote.code, 0) << remote.err;
   ASSERT_EQ(run_cli("run " + (dir_->path / "folder.json").string() + " --quiet -o " + local).code, 0);
   auto tree = [](const fs::path& root) {
@@ -562,8 +585,10 @@ TEST_F(ServerApi, EngineFilesComeBackFromTheServer) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(fs::exists(fs::path(remote) / name));
     EXPECT_EQ(read_file(fs::path(remote) / name), read_file(e.path()));
-    if (e.path().extension() == ".png") ++pngs;
-    else EXPECT_NE(bake.out.find("  " + name + " "), std::string::npos) << bake.out;
+    if (e.path().extension() == ".png")
+      ++pngs;
+    else
+      EXPECT_NE(bake.out.find("  " + name + " "), std::string::npos) << bake.out;
   }
   EXPECT_NE(bake.out.find("gltf.gltf"), std::string::npos) << bake.out;
   EXPECT_NE(bake.out.find(std::to_string(pngs) + " PNGs: "), std::string::npos) << bake.out;
@@ -697,7 +722,8 @@ TEST(ServerFaults, KillMinusNineThenRestart) {
 
 TEST(ServerFaults, SigtermStopsWithinItsGraceAndRequeues) {
   TempDir dir("sigterm");
-  const std::vector<std::string> args = {"--data", (dir.path / "data").string(), "--no-warm-up", "--shutdown-grace", "0.2"};
+  const std::vector<std::string> args = {"--data", (dir.path / "data").string(), "--no-warm-up", "--shutdown-grace",
+                                         "0.2"};
   std::string id;
   {
     ServerProcess server(dir.path, args);
@@ -746,12 +772,14 @@ TEST(ServerFaults, FullDiskFailsTheJobNotTheDatabase) {
     ASSERT_TRUE(server.start()) << server.error();
     auto c = server.client();
     // A 6.3 MiB chain of float texels does not fit in 3 MiB.
-    const std::string id = submit(c, json::parse(R"({"tables": [{"kind": "prefilter", "size": 256, "pixel": "f32", "output": "big.ktx2"}]})"));
+    const std::string id = submit(
+        c, json::parse(R"({"tables": [{"kind": "prefilter", "size": 256, "pixel": "f32", "output": "big.ktx2"}]})"));
     ASSERT_FALSE(id.empty());
     const json s = wait_job(c, id);
     EXPECT_EQ(s["state"], "failed") << s.dump();
     const std::string error = s.value("error", "");
-    EXPECT_TRUE(error.find("No space left on device") != std::string::npos || error.find("File too large") != std::string::npos)
+    EXPECT_TRUE(error.find("No space left on device") != std::string::npos ||
+                error.find("File too large") != std::string::npos)
         << error;
     // The server failed, not the request: exit code 1 (not 2, bad input), and the message names
     // the file as the job does, not the server's folders.
@@ -760,7 +788,8 @@ TEST(ServerFaults, FullDiskFailsTheJobNotTheDatabase) {
     EXPECT_NE(error.find("'big.ktx2'"), std::string::npos) << error;
     EXPECT_FALSE(fs::exists(data / "jobs" / id));
     // The same through POST /v1/tables: 507 Insufficient Storage, not 400.
-    auto t = c.Post("/v1/tables", R"({"kind": "prefilter", "size": 256, "pixel": "f32", "output": "big.ktx2"})", "application/json");
+    auto t = c.Post("/v1/tables", R"({"kind": "prefilter", "size": 256, "pixel": "f32", "output": "big.ktx2"})",
+                    "application/json");
     ASSERT_TRUE(t);
     EXPECT_EQ(t->status, 507) << t->body;
     EXPECT_EQ(t->body.find(dir.path.string()), std::string::npos) << t->body;

@@ -49,7 +49,8 @@ TEST(ServerParts, StoreRecoveryRequeuesOnceThenFails) {
   EXPECT_EQ(store.get(once)->state, JobState::Queued);
   EXPECT_EQ(store.get(once)->attempts, 1);
   EXPECT_EQ(store.get(twice)->state, JobState::Failed);
-  EXPECT_EQ(store.get(twice)->error, "the server stopped while running it 2 times (a crash or kill); not started again");
+  EXPECT_EQ(store.get(twice)->error,
+            "the server stopped while running it 2 times (a crash or kill); not started again");
   EXPECT_EQ(store.get(done)->state, JobState::Done);
   EXPECT_EQ(store.get(done)->manifest, "{\"files\": []}");
   // Queued in submission order: the re-queued one first.
@@ -110,15 +111,18 @@ TEST(ServerParts, StoreOpensADatabaseWithoutTheCancelColumn) {
     // The schema as version 0.2.0 first wrote it.
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
-    ASSERT_EQ(sqlite3_exec(h,
-                           "CREATE TABLE jobs(seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE, state TEXT NOT NULL,"
-                           " device TEXT NOT NULL, source TEXT NOT NULL, submitted REAL NOT NULL, started REAL NOT NULL DEFAULT 0,"
-                           " finished REAL NOT NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, timeout REAL NOT NULL DEFAULT 0,"
-                           " error TEXT NOT NULL DEFAULT '', exit_code INTEGER NOT NULL DEFAULT 0, job TEXT NOT NULL,"
-                           " manifest TEXT NOT NULL DEFAULT '');"
-                           "INSERT INTO jobs(id, state, device, source, submitted, attempts, job) VALUES('jold', 'running', '0:0', 't', 1, 1, '{}');",
-                           nullptr, nullptr, nullptr),
-              SQLITE_OK);
+    ASSERT_EQ(
+        sqlite3_exec(
+            h,
+            "CREATE TABLE jobs(seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE, state TEXT NOT NULL,"
+            " device TEXT NOT NULL, source TEXT NOT NULL, submitted REAL NOT NULL, started REAL NOT NULL DEFAULT 0,"
+            " finished REAL NOT NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, timeout REAL NOT NULL DEFAULT 0,"
+            " error TEXT NOT NULL DEFAULT '', exit_code INTEGER NOT NULL DEFAULT 0, job TEXT NOT NULL,"
+            " manifest TEXT NOT NULL DEFAULT '');"
+            "INSERT INTO jobs(id, state, device, source, submitted, attempts, job) VALUES('jold', 'running', '0:0', "
+            "'t', 1, 1, '{}');",
+            nullptr, nullptr, nullptr),
+        SQLITE_OK);
     sqlite3_close(h);
   }
   JobStore store(db);
@@ -140,12 +144,13 @@ TEST(ServerParts, PublicTextHidesServerPaths) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"cannot write '" + data + "/jobs/.j1b129630c90fc23c.tmp-31149-170841627/big.ktx2': No space left on device",
        "cannot write 'big.ktx2': No space left on device"},
-      {"cannot write '" + data + "/tmp/.brdfbake-run-31149-1/big.exr': Failed to write pixel data to image file \"" + data +
-           "/tmp/.brdfbake-run-31149-1/.big.exr.tmp-31149-a329520719de9ae8\". No space left on device.",
+      {"cannot write '" + data + "/tmp/.brdfbake-run-31149-1/big.exr': Failed to write pixel data to image file \"" +
+           data + "/tmp/.brdfbake-run-31149-1/.big.exr.tmp-31149-a329520719de9ae8\". No space left on device.",
        "cannot write 'big.exr': Failed to write pixel data to image file \"big.exr\". No space left on device."},
       {"cannot write '" + data + "/jobs/.jX.tmp-1-2/cube/.level0_px.exr.tmp-1-ff': File too large",
        "cannot write 'cube/level0_px.exr': File too large"},
-      {"job database '" + data + "/jobs.db': database or disk is full", "job database 'jobs.db': database or disk is full"},
+      {"job database '" + data + "/jobs.db': database or disk is full",
+       "job database 'jobs.db': database or disk is full"},
       {in + "/maps/sky.hdr: truncated (3 of 512 scanlines)", "maps/sky.hdr: truncated (3 of 512 scanlines)"},
       {"'" + data + "' is busy", "'" + data + "' is busy"},  // the folder alone names nothing inside it
       {"nothing of the server here", "nothing of the server here"},
@@ -167,8 +172,8 @@ TEST(ServerParts, RootsConfineEveryKindOfPath) {
   EXPECT_EQ(roots.environment("env.hdr", "f"), real + "/env.hdr");
   EXPECT_EQ(roots.environment(real + "/./env.hdr", "f"), real + "/env.hdr");
   const std::string faces = roots.environment("cube/{face}.hdr", "f");
-  EXPECT_EQ(faces, real + "/cube/px.hdr," + real + "/cube/nx.hdr," + real + "/cube/py.hdr," + real + "/cube/ny.hdr," + real +
-                       "/cube/pz.hdr," + real + "/cube/nz.hdr");
+  EXPECT_EQ(faces, real + "/cube/px.hdr," + real + "/cube/nx.hdr," + real + "/cube/py.hdr," + real + "/cube/ny.hdr," +
+                       real + "/cube/pz.hdr," + real + "/cube/nz.hdr");
   EXPECT_EQ(roots.environment(faces, "f"), faces);  // six files, already confined
   auto refused = [&](const std::string& spec, const std::string& words) {
     try {
@@ -203,8 +208,10 @@ TEST(ServerParts, RootsConfineEveryKindOfPath) {
 }
 
 TEST(ServerParts, LoopbackAddresses) {
-  for (const char* h : {"127.0.0.1", "127.1.2.3", "localhost", "::1", "[::1]"}) EXPECT_TRUE(server::is_loopback(h)) << h;
-  for (const char* h : {"0.0.0.0", "::", "10.0.0.1", "127.0.0", "127.0.0.256", "127.0.0.1.5", "127.a.0.1", "example.com", ""})
+  for (const char* h : {"127.0.0.1", "127.1.2.3", "localhost", "::1", "[::1]"})
+    EXPECT_TRUE(server::is_loopback(h)) << h;
+  for (const char* h :
+       {"0.0.0.0", "::", "10.0.0.1", "127.0.0", "127.0.0.256", "127.0.0.1.5", "127.a.0.1", "example.com", ""})
     EXPECT_FALSE(server::is_loopback(h)) << h;
 }
 

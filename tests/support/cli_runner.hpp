@@ -27,7 +27,10 @@ inline CliRun run_cli(const std::string& args, const std::string& input = {}, co
   const std::string stem = "brdfbake-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   const fs::path err_file = fs::temp_directory_path() / (stem + ".err");
   const fs::path in_file = fs::temp_directory_path() / (stem + ".in");
-  std::string cmd = env + (env.empty() ? "" : " ") + std::string(std::getenv("BRDFBAKE_CLI_UNDER_TEST") ? std::getenv("BRDFBAKE_CLI_UNDER_TEST") : BRDFBAKE_CLI) + " " + args + " 2>" + err_file.string();
+  std::string cmd =
+      env + (env.empty() ? "" : " ") +
+      std::string(std::getenv("BRDFBAKE_CLI_UNDER_TEST") ? std::getenv("BRDFBAKE_CLI_UNDER_TEST") : BRDFBAKE_CLI) +
+      " " + args + " 2>" + err_file.string();
   if (!input.empty()) {
     std::ofstream(in_file, std::ios::binary) << input;
     cmd += " <" + in_file.string();

@@ -49,19 +49,19 @@ struct Material {
   double roughness = 0.5;         // perceptual, [0, 1]
   // Disney 2012 only, [0, 1] each (BRDF Explorer's defaults).
   double subsurface = 0.0;
-  double specular = 0.5;          // F0 = 0.08 specular
+  double specular = 0.5;  // F0 = 0.08 specular
   double specular_tint = 0.0;
   double anisotropic = 0.0;
   double sheen = 0.0;
   double sheen_tint = 0.5;
-  double clearcoat = 0.0;         // Disney's clearcoat, and glTF's clearcoatFactor
+  double clearcoat = 0.0;  // Disney's clearcoat, and glTF's clearcoatFactor
   double clearcoat_gloss = 1.0;
   // glTF extensions.
-  Rgb sheen_color{0.0, 0.0, 0.0};    // KHR_materials_sheen sheenColorFactor, [0, 1]
-  double sheen_roughness = 0.0;      // sheenRoughnessFactor, [0, 1]
-  double clearcoat_roughness = 0.0;  // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
-  double ior = 1.5;                  // KHR_materials_ior: 0 or >= 1
-  double specular_factor = 1.0;      // KHR_materials_specular specularFactor, [0, 1]
+  Rgb sheen_color{0.0, 0.0, 0.0};            // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;              // sheenRoughnessFactor, [0, 1]
+  double clearcoat_roughness = 0.0;          // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
+  double ior = 1.5;                          // KHR_materials_ior: 0 or >= 1
+  double specular_factor = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
   Rgb specular_color_factor{1.0, 1.0, 1.0};  // specularColorFactor, >= 0
   // Classic models. Unset colours and exponent derive from the metallic-roughness parameters:
   // kd = base_color (1 - metallic), ks = mix(0.04, base_color, metallic), n = 2048^(1 - roughness).
@@ -114,8 +114,8 @@ std::string material_to_json(const NamedMaterial& material);
 
 // The lobes a program is compiled with (kernels/brdf_eval.cl lists what each means per model).
 struct Lobes {
-  bool diffuse = false, subsurface = false, sheen = false, clearcoat = false, anisotropic = false,
-       metal = false, specular_color = false, beckmann = false, ggx = false;
+  bool diffuse = false, subsurface = false, sheen = false, clearcoat = false, anisotropic = false, metal = false,
+       specular_color = false, beckmann = false, ggx = false;
 };
 // The lobes that some of `materials` uses under `model`.
 Lobes lobes_used(BrdfModel model, const std::vector<Material>& materials);
@@ -128,9 +128,9 @@ std::string lobes_name(BrdfModel model, const Lobes& lobes);
 
 struct EvalOptions {
   Precision precision = Precision::Fp32;
-  bool fast_math = false;   // build with -cl-fast-relaxed-math (an opt-in variant, docs/BENCHMARKS.md)
-  bool specialize = true;   // compile only the lobes the materials use; false: every lobe of the model
-  int lanes = 0;            // directions per work-item (8 or 16); 0: the measured best per precision
+  bool fast_math = false;  // build with -cl-fast-relaxed-math (an opt-in variant, docs/BENCHMARKS.md)
+  bool specialize = true;  // compile only the lobes the materials use; false: every lobe of the model
+  int lanes = 0;           // directions per work-item (8 or 16); 0: the measured best per precision
 };
 
 struct EvalTiming {

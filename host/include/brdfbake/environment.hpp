@@ -36,9 +36,9 @@ struct EnvImage {
   Layout layout = Layout::Equirect;
   int width = 0;
   int height = 0;
-  std::vector<float> rgb;  // equirect: width x height x 3, row 0 first; cube: 6 x size x size x 3
-  std::string source;      // the file, files or builtin:NAME it came from
-  std::string description; // e.g. "equirect 1024x512 (OpenEXR, tiled, mip-mapped: level 0 read)"
+  std::vector<float> rgb;   // equirect: width x height x 3, row 0 first; cube: 6 x size x size x 3
+  std::string source;       // the file, files or builtin:NAME it came from
+  std::string description;  // e.g. "equirect 1024x512 (OpenEXR, tiled, mip-mapped: level 0 read)"
   EnvSanitizeReport sanitize;
   // What reading changed or assumed that the user should hear of, one line each, e.g. "'sky.png':
   // 8-bit sRGB (its sRGB chunk) decoded to linear" (the commands print them, jobs record them).
@@ -46,8 +46,8 @@ struct EnvImage {
 };
 
 struct EnvLoadOptions {
-  bool sanitize = false;      // replace NaN, infinite and negative values instead of refusing them
-  int builtin_width = 1024;   // equirect width of builtin:NAME (height = width / 2)
+  bool sanitize = false;     // replace NaN, infinite and negative values instead of refusing them
+  int builtin_width = 1024;  // equirect width of builtin:NAME (height = width / 2)
   // The memory an input image may take decoded (float32, every channel and copy), checked from its
   // header before any pixel buffer is allocated; 0: default_memory_budget().
   std::uint64_t memory_budget = 0;
@@ -122,13 +122,13 @@ struct CubeLevels {
   int level_size(int level) const { return size >> level > 0 ? size >> level : 1; }
   float* texel(int level, int face, int i, int j) {
     const size_t s = static_cast<size_t>(level_size(level));
-    return &levels[static_cast<size_t>(level)][4 * ((static_cast<size_t>(face) * s + static_cast<size_t>(j)) * s +
-                                                    static_cast<size_t>(i))];
+    return &levels[static_cast<size_t>(level)]
+                  [4 * ((static_cast<size_t>(face) * s + static_cast<size_t>(j)) * s + static_cast<size_t>(i))];
   }
   const float* texel(int level, int face, int i, int j) const {
     const size_t s = static_cast<size_t>(level_size(level));
-    return &levels[static_cast<size_t>(level)][4 * ((static_cast<size_t>(face) * s + static_cast<size_t>(j)) * s +
-                                                    static_cast<size_t>(i))];
+    return &levels[static_cast<size_t>(level)]
+                  [4 * ((static_cast<size_t>(face) * s + static_cast<size_t>(j)) * s + static_cast<size_t>(i))];
   }
   void set_meta(const std::string& key, const std::string& value);
   std::string meta(const std::string& key) const;
@@ -146,10 +146,10 @@ enum class CubeImageLayout { Faces, HorizontalCross, VerticalCross, Equirect };
 enum class CubeImageFormat { Exr, Hdr };
 
 struct CubeWriteOptions {
-  PixelType pixel = PixelType::F16;                  // containers: RGBA16F or RGBA32F; R11G11B10: .ktx, .dds only
-  CubeImageLayout layout = CubeImageLayout::Faces;   // Directory only
+  PixelType pixel = PixelType::F16;                     // containers: RGBA16F or RGBA32F; R11G11B10: .ktx, .dds only
+  CubeImageLayout layout = CubeImageLayout::Faces;      // Directory only
   CubeImageFormat image_format = CubeImageFormat::Exr;  // Directory only (.exr float, .hdr RGBE)
-  std::string stem = "level";                        // Directory only: file name prefix
+  std::string stem = "level";                           // Directory only: file name prefix
 };
 
 // .ktx2, .ktx, .dds; anything else (an existing folder, or a path ending in '/') is a Directory.
@@ -204,14 +204,14 @@ inline constexpr int kPrefilterMaxSize = 2048;
 inline constexpr int kPrefilterMaxSamples = 1 << 16;
 
 struct PrefilterSpec {
-  int size = 256;      // face size of level 0 (the source cube, the mirror)
-  int min_size = 16;   // the smallest level's face size (levels size, size/2, ..., >= min_size)
+  int size = 256;     // face size of level 0 (the source cube, the mirror)
+  int min_size = 16;  // the smallest level's face size (levels size, size/2, ..., >= min_size)
   EnvDistribution distribution = EnvDistribution::Ggx;
   RoughnessSchedule schedule = RoughnessSchedule::Linear;
   EnvEstimator estimator = EnvEstimator::Quadrature;
-  int samples = 0;          // sampling: lobe samples per texel of every level; 0: 1024
-  double max_error = 0.0;   // > 0: samples (sampling) or refinement (quadrature) per level from
-                            // measurement (see prefilter.cpp)
+  int samples = 0;         // sampling: lobe samples per texel of every level; 0: 1024
+  double max_error = 0.0;  // > 0: samples (sampling) or refinement (quadrature) per level from
+                           // measurement (see prefilter.cpp)
   Precision precision = Precision::Fp32;
   // Quadrature: a pyramid texel of angular size h is refined when it lies within refinement * h of
   // R; the finest level used for the lobe's core has h <= lobe width / core_refinement; across the
@@ -227,9 +227,9 @@ struct PrefilterSpec {
   bool filtered_importance_sampling = true;  // false: every sample reads the source level
   double lod_bias = 0.0;                     // added to the filtered-importance-sampling lod
                                              // (Krivanek & Colbert use 1; 0 measured better here)
-  int bright_texels = -1;   // environment sampling: the brightest texels summed explicitly;
-                            // -1: automatic (up to kDefaultBrightTexels), 0: off
-  double clamp_luminance = 0.0;  // > 0: opt-in, biased: compress source luminance above it
+  int bright_texels = -1;                    // environment sampling: the brightest texels summed explicitly;
+                                             // -1: automatic (up to kDefaultBrightTexels), 0: off
+  double clamp_luminance = 0.0;              // > 0: opt-in, biased: compress source luminance above it
 };
 
 // Resolves defaults and validates: sizes >= 1, min_size <= size, samples >= 0, max_error finite,
@@ -239,7 +239,7 @@ PrefilterSpec resolve_prefilter_spec(const PrefilterSpec& spec);
 int prefilter_level_count(const PrefilterSpec& spec);
 
 struct PrefilterTiming {
-  double device_seconds = 0.0;              // every kernel (conversion, mips, filtering)
+  double device_seconds = 0.0;  // every kernel (conversion, mips, filtering)
   double wall_seconds = 0.0;
   std::vector<double> level_device_seconds;  // the filtering of each level (level 0: conversion)
   // With max_error: per level, the RMS relative luminance difference between its two finest
@@ -329,21 +329,21 @@ inline constexpr int kIrradianceMaxCube = 1024;
 inline constexpr int kIrradianceMaxSource = 2048;
 
 struct IrradianceSpec {
-  int sh_order = 3;          // bands: 3 (9 coefficients) or 5 (25)
+  int sh_order = 3;  // bands: 3 (9 coefficients) or 5 (25)
   ShWindow window = ShWindow::None;
-  int cube_size = 32;        // the irradiance cube's face size; 0: no cube
-  int source_size = 256;     // the cube the environment is converted to first
+  int cube_size = 32;     // the irradiance cube's face size; 0: no cube
+  int source_size = 256;  // the cube the environment is converted to first
   Precision precision = Precision::Fp32;
 };
 
 struct ShCoefficients {
-  int order = 0;                          // bands
-  std::vector<double> radiance;           // L_lm, order^2 x RGB
-  std::vector<double> irradiance_over_pi; // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
+  int order = 0;                           // bands
+  std::vector<double> radiance;            // L_lm, order^2 x RGB
+  std::vector<double> irradiance_over_pi;  // (A_l / pi) w_l L_lm: E(n) / pi = sum c_lm Y_lm(n)
   ShWindow window = ShWindow::None;
-  std::vector<double> window_weights;     // w_l per band
-  double window_cutoff = 0.0;             // ShWindow::Auto: the chosen sinc^4 cutoff, in bands
-  std::string projection;                 // how L_lm was computed (recorded in the JSON)
+  std::vector<double> window_weights;  // w_l per band
+  double window_cutoff = 0.0;          // ShWindow::Auto: the chosen sinc^4 cutoff, in bands
+  std::string projection;              // how L_lm was computed (recorded in the JSON)
 };
 
 struct IrradianceResult {

@@ -18,10 +18,10 @@ namespace brdfbake {
 inline constexpr const char* kDefaultEnvironment = "builtin:studio";
 
 struct Job {
-  std::string source;           // where it came from, for messages ("job.json", "bake plan")
-  std::string output_dir;       // the folder the files and manifest.json go to
+  std::string source;      // where it came from, for messages ("job.json", "bake plan")
+  std::string output_dir;  // the folder the files and manifest.json go to
   std::string environment = kDefaultEnvironment;
-  bool sanitize = false;        // replace NaN, infinite and negative environment pixels (recorded)
+  bool sanitize = false;  // replace NaN, infinite and negative environment pixels (recorded)
   // An engine's file set (brdfbake/engines.hpp, docs/ENGINES.md) written beside the tables from the
   // job's GGX chain and irradiance SH: "generic" (none), "filament", "gltf", "babylon",
   // "khronos-viewer".
@@ -29,7 +29,7 @@ struct Job {
   // NAME of the engine's files (NAME.gltf, NAME_ibl.ktx, ...): empty is the output folder's name, as
   // cmgen names them; `run --server` sets it to the local folder's (the server's folder is a job id).
   std::string engine_name;
-  std::string device;           // default device selector of the tables ("reference": the oracle)
+  std::string device;  // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
   // `brdfbake bake --preview`: also render the preview of the files (the preview family, default grid)
@@ -53,9 +53,9 @@ void validate_job(Job& job);
 std::string job_to_json(const Job& job);
 
 struct JobEvent {
-  int bake = 0, bakes = 0;   // which step, of how many: the distinct tables, then an engine target's file set
-  std::string what;          // e.g. "ggx-multiscatter 128", "prefilter ggx 256: level 2/5"
-  double fraction = 0.0;     // of this table
+  int bake = 0, bakes = 0;  // which step, of how many: the distinct tables, then an engine target's file set
+  std::string what;         // e.g. "ggx-multiscatter 128", "prefilter ggx 256: level 2/5"
+  double fraction = 0.0;    // of this table
 };
 using JobProgress = std::function<void(const JobEvent&)>;
 

@@ -11,20 +11,20 @@
 namespace brdfbake {
 
 struct ManifestFile {
-  std::string path;          // relative to the output folder
+  std::string path;  // relative to the output folder
   TableKind kind = TableKind::Ggx;
-  Params params;             // as baked (resolved defaults included)
+  Params params;  // as baked (resolved defaults included)
   Precision precision = Precision::Fp32;
-  std::string device;        // the device's name
-  std::string environment;   // prefilter, irradiance
+  std::string device;                 // the device's name
+  std::string environment;            // prefilter, irradiance
   std::optional<double> error_bound;  // measured; empty when the module gives none
   std::string error_bound_definition;
-  Metadata details;          // what else the family reports (channels, levels, error against exact, ...)
+  Metadata details;  // what else the family reports (channels, levels, error against exact, ...)
   std::vector<Request> requested_by;
   std::vector<std::string> materials;
   std::uint64_t bytes = 0;
-  double seconds = 0.0;      // the bake's wall time (0 for a second file of the same bake)
-  int bake = 0;              // index of the bake that produced it: files of one bake share it
+  double seconds = 0.0;  // the bake's wall time (0 for a second file of the same bake)
+  int bake = 0;          // index of the bake that produced it: files of one bake share it
 };
 
 struct Manifest {
@@ -32,12 +32,12 @@ struct Manifest {
   std::string job_source;
   std::string scene;
   std::vector<ManifestFile> files;
-  int bakes = 0;             // distinct tables baked
+  int bakes = 0;  // distinct tables baked
   double seconds = 0.0;
   std::vector<std::string> notes, warnings;
-  std::string target;                     // the engine target, when not generic
-  std::vector<std::string> engine_files;  // the files of its file set, relative to the folder
-  Metadata engine_delivered;              // their delivered error (storage, clamping, compression)
+  std::string target;                      // the engine target, when not generic
+  std::vector<std::string> engine_files;   // the files of its file set, relative to the folder
+  Metadata engine_delivered;               // their delivered error (storage, clamping, compression)
   std::vector<std::string> preview_files;  // bake --preview: the preview's files (docs/PREVIEW.md)
   Metadata preview;                        // ... and its summary (the sheet, errors, bound, seconds)
 };

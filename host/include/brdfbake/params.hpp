@@ -34,7 +34,7 @@ enum class ParamType {
 };
 
 struct ParamDef {
-  std::string name;   // the job field, snake_case; the command-line option is --name with '-' for '_'
+  std::string name;  // the job field, snake_case; the command-line option is --name with '-' for '_'
   ParamType type = ParamType::Number;
   double lo = -HUGE_VAL, hi = HUGE_VAL;
   std::vector<std::string> choices;    // Name: the accepted values
@@ -50,14 +50,41 @@ struct ParamDef {
   ParamDef() = default;
   ParamDef(std::string n, ParamType t, std::string h) : name(std::move(n)), type(t), help(std::move(h)) {}
   // Chained setters, so that a schema reads as a table: ParamDef("size", Int, "...").range(1, 64).def(16.0)
-  ParamDef& range(double l, double h) { lo = l; hi = h; return *this; }
-  ParamDef& above(double l, double h = HUGE_VAL) { lo = l; hi = h; lo_open = true; return *this; }
-  ParamDef& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
-  ParamDef& def(ParamValue v) { fallback = std::move(v); return *this; }
-  ParamDef& defaults_to(std::string text) { default_text = std::move(text); return *this; }
-  ParamDef& alias(std::string a) { aliases.push_back(std::move(a)); return *this; }
-  ParamDef& needed() { required = true; return *this; }
-  ParamDef& output() { output_only = true; return *this; }
+  ParamDef& range(double l, double h) {
+    lo = l;
+    hi = h;
+    return *this;
+  }
+  ParamDef& above(double l, double h = HUGE_VAL) {
+    lo = l;
+    hi = h;
+    lo_open = true;
+    return *this;
+  }
+  ParamDef& one_of(std::vector<std::string> c) {
+    choices = std::move(c);
+    return *this;
+  }
+  ParamDef& def(ParamValue v) {
+    fallback = std::move(v);
+    return *this;
+  }
+  ParamDef& defaults_to(std::string text) {
+    default_text = std::move(text);
+    return *this;
+  }
+  ParamDef& alias(std::string a) {
+    aliases.push_back(std::move(a));
+    return *this;
+  }
+  ParamDef& needed() {
+    required = true;
+    return *this;
+  }
+  ParamDef& output() {
+    output_only = true;
+    return *this;
+  }
 
   std::string cli_name() const;  // the option's one spelling: "sh-order" for sh_order, "min-size" for min_size
 };

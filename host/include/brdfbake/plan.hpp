@@ -15,25 +15,25 @@ namespace brdfbake {
 // default is written once; plan_schema() names them for the command line.
 struct PlanOptions {
   std::string environment = kDefaultEnvironment;
-  bool sanitize = false;            // replace NaN, infinite and negative environment pixels
-  bool energy_compensation = true;  // ggx-multiscatter replaces ggx
-  std::optional<int> lut_size;        // DFG tables: size x size
-  std::optional<int> fresnel_size;    // Fresnel tables: cells along cos_theta
-  std::optional<int> thin_film_size;  // thin-film tables: size x size (cos_theta x thickness)
-  std::optional<int> cube_size;       // prefiltered chains: face size of level 0
-  std::optional<int> cube_min_size;   // prefiltered chains: face size of the smallest level
+  bool sanitize = false;                // replace NaN, infinite and negative environment pixels
+  bool energy_compensation = true;      // ggx-multiscatter replaces ggx
+  std::optional<int> lut_size;          // DFG tables: size x size
+  std::optional<int> fresnel_size;      // Fresnel tables: cells along cos_theta
+  std::optional<int> thin_film_size;    // thin-film tables: size x size (cos_theta x thickness)
+  std::optional<int> cube_size;         // prefiltered chains: face size of level 0
+  std::optional<int> cube_min_size;     // prefiltered chains: face size of the smallest level
   std::optional<std::string> schedule;  // prefiltered chains: roughness of each level
-  double prefilter_max_error = 0.01;  // > 0: each level refined until successive refinements differ
-                                      // by less (RMS relative luminance): the chain's measured bound
+  double prefilter_max_error = 0.01;    // > 0: each level refined until successive refinements differ
+                                        // by less (RMS relative luminance): the chain's measured bound
   std::optional<int> sh_order;
   std::optional<std::string> sheen_visibility;  // the Charlie DFG table's (the albedo table's is
                                                 // always estevez-kulla, as the extension says)
-  std::string target = "generic";   // an engine's file set too (brdfbake/engines.hpp): its schedule,
-                                    // sizes and SH window unless given
-  std::string table_format = "exr"; // 1-D and 2-D tables
+  std::string target = "generic";               // an engine's file set too (brdfbake/engines.hpp): its schedule,
+                                                // sizes and SH window unless given
+  std::string table_format = "exr";             // 1-D and 2-D tables
   std::string cube_format = "ktx2";
-  std::string pixel;                // "" = each kind's default
-  bool clamp_f16 = false;           // binary16 outputs clamp values beyond 65504 (recorded) instead of refusing
+  std::string pixel;       // "" = each kind's default
+  bool clamp_f16 = false;  // binary16 outputs clamp values beyond 65504 (recorded) instead of refusing
   Precision precision = Precision::Fp32;
   std::string device;
 };
@@ -45,10 +45,10 @@ const std::vector<ParamDef>& plan_schema();
 // What the planner decided about one material.
 struct MaterialPlan {
   std::string label;
-  std::string reached_by;            // "mesh", "variant", "mesh+variant", "default", "unreferenced"
-  bool counted = true;               // unreferenced materials of a scene with meshes are not
-  std::vector<std::string> rules;    // the rules that fired for it
-  std::vector<std::string> notes;    // e.g. "KHR_materials_anisotropy: anisotropyStrength 0, does not fire"
+  std::string reached_by;          // "mesh", "variant", "mesh+variant", "default", "unreferenced"
+  bool counted = true;             // unreferenced materials of a scene with meshes are not
+  std::vector<std::string> rules;  // the rules that fired for it
+  std::vector<std::string> notes;  // e.g. "KHR_materials_anisotropy: anisotropyStrength 0, does not fire"
 };
 
 struct Plan {
@@ -73,9 +73,9 @@ const std::vector<ParamDef>& bake_option_schema();
 
 // How a front end names an option in its messages.
 struct OptionNaming {
-  bool cli = false;      // "--cube-size"
-  std::string prefix;    // "bake_scene" (Python), "bake" (the server)
-  bool dotted = false;   // "bake_scene.cube_size" (true) or "bake: cube_size"
+  bool cli = false;                       // "--cube-size"
+  std::string prefix;                     // "bake_scene" (Python), "bake" (the server)
+  bool dotted = false;                    // "bake_scene.cube_size" (true) or "bake: cube_size"
   std::string unknown = "unknown field";  // what an unknown name is called
   std::string field(const ParamDef& d) const;
 };

@@ -82,13 +82,13 @@ struct Request {
 // shares.
 struct TableRequest {
   TableKind kind = TableKind::Ggx;
-  Params params;             // the kind's parameters; validate_table fills defaults in schema order
+  Params params;  // the kind's parameters; validate_table fills defaults in schema order
   Precision precision = Precision::Fp32;
-  std::string device;        // selector ("" = the job's / the default), or "reference"
-  std::string environment;   // prefilter, irradiance ("" = the job's)
-  std::string output;        // file path (relative to a job's output folder)
-  std::string format;        // "" = from the output's extension
-  std::string pixel;         // f16 | f32 (.ktx2, .h and cube containers); "" = the kind's default
+  std::string device;       // selector ("" = the job's / the default), or "reference"
+  std::string environment;  // prefilter, irradiance ("" = the job's)
+  std::string output;       // file path (relative to a job's output folder)
+  std::string format;       // "" = from the output's extension
+  std::string pixel;        // f16 | f32 (.ktx2, .h and cube containers); "" = the kind's default
   std::vector<Request> requested_by;
   // The parameters the request named itself (validate_table records them before filling defaults).
   std::vector<std::string> given;
@@ -167,10 +167,10 @@ struct BakeResult {
   // What the values hold that their user must know (e.g. reflectance above 1): delivered with the
   // write report's warnings to every front end (deliver_result).
   std::vector<std::string> warnings;
-  std::string device;                  // the backend's name ("reference" for the oracle)
-  std::string summary;                 // one line for people: what was baked, how well, how fast
-  double seconds = 0.0;                // wall time of the bake
-  double device_seconds = 0.0;         // kernel time (0 on the reference)
+  std::string device;           // the backend's name ("reference" for the oracle)
+  std::string summary;          // one line for people: what was baked, how well, how fast
+  double seconds = 0.0;         // wall time of the bake
+  double device_seconds = 0.0;  // kernel time (0 on the reference)
 
   const Table* table() const { return std::get_if<Table>(&artifact); }
   const CubeLevels* cube() const { return std::get_if<CubeLevels>(&artifact); }

@@ -12,13 +12,13 @@
 namespace brdfbake {
 
 struct ThinFilmSpec {
-  double film_ior = 1.3;     // the film's index (iridescenceIor)
-  double outside_ior = 1.0;  // the medium above the film
-  std::optional<double> base_ior;  // a dielectric base ...
-  std::optional<Rgb> base_f0;      // ... or a base given by its F0 (a metal's colour)
+  double film_ior = 1.3;                                // the film's index (iridescenceIor)
+  double outside_ior = 1.0;                             // the medium above the film
+  std::optional<double> base_ior;                       // a dielectric base ...
+  std::optional<Rgb> base_f0;                           // ... or a base given by its F0 (a metal's colour)
   double thickness_min = 100.0, thickness_max = 400.0;  // nm (iridescenceThicknessMinimum/Maximum)
-  int width = 128;           // cells along cos_theta
-  int height = 0;            // cells along the thickness; 0: width, or 1 when min = max
+  int width = 128;                                      // cells along cos_theta
+  int height = 0;                                       // cells along the thickness; 0: width, or 1 when min = max
   Precision precision = Precision::Fp32;
 };
 

@@ -33,10 +33,10 @@ struct ViewOptions {
   // host/src/view/exposure.hpp), each picture's caption saying the EV it was drawn at.
   std::optional<double> exposure;
   ToneMap tone_map = ToneMap::Aces;
-  int face_size = 64;    // pixels a cube face is shown at, every level alike
-  int table_size = 160;  // pixels of a table image's longer side
-  int max_width = 1400;  // the sheet's width (a file's pictures wrap to the next row)
-  std::string title;     // the sheet's first line; empty: "brdfbake view"
+  int face_size = 64;       // pixels a cube face is shown at, every level alike
+  int table_size = 160;     // pixels of a table image's longer side
+  int max_width = 1400;     // the sheet's width (a file's pictures wrap to the next row)
+  std::string title;        // the sheet's first line; empty: "brdfbake view"
   std::string relative_to;  // non-empty: files inside this folder are named relative to it (on the
                             // sheet, in `files` and in the PNG's text)
 };
@@ -58,10 +58,10 @@ struct ContactSheet {
   int width = 0, height = 0;
   std::vector<uint8_t> rgb;  // 8-bit sRGB, row 0 (the top) first
   std::vector<SheetRegion> regions;
-  std::vector<std::string> files;  // every file shown, in order (a manifest expands to its files),
-                                   // named as the sheet names it
-  std::string tone_map_text;       // the HDR transfer, as printed on the sheet
-  std::string colour_scale_text;   // the table colour scale, as printed on the sheet
+  std::vector<std::string> files;    // every file shown, in order (a manifest expands to its files),
+                                     // named as the sheet names it
+  std::string tone_map_text;         // the HDR transfer, as printed on the sheet
+  std::string colour_scale_text;     // the table colour scale, as printed on the sheet
   std::vector<std::string> skipped;  // what the folders given hold that view does not show, with why
 };
 

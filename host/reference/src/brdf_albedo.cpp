@@ -11,8 +11,8 @@
 
 #include "brdf_internal.hpp"
 #include "brdfbake/reference/brdf.hpp"
-#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 
@@ -163,11 +163,15 @@ double narrowest_lobe(BrdfModel model, const BrdfMaterial& m) {
       if (m.clearcoat > 0.0) w = std::min(w, std::max(m.clearcoat_roughness * m.clearcoat_roughness, kMinAlpha));
       return w;
     }
-    case BrdfModel::CookTorrance: return r2;
+    case BrdfModel::CookTorrance:
+      return r2;
     case BrdfModel::Phong:
-    case BrdfModel::BlinnPhong: return 1.0 / std::sqrt(classic_shininess(m) + 1.0);
-    case BrdfModel::BlinnPhongFromPbr: return 1.0 / std::sqrt(std::pow(2048.0, 1.0 - m.roughness) + 1.0);
-    case BrdfModel::Lambert: break;
+    case BrdfModel::BlinnPhong:
+      return 1.0 / std::sqrt(classic_shininess(m) + 1.0);
+    case BrdfModel::BlinnPhongFromPbr:
+      return 1.0 / std::sqrt(std::pow(2048.0, 1.0 - m.roughness) + 1.0);
+    case BrdfModel::Lambert:
+      break;
   }
   return 1.0;
 }
@@ -207,8 +211,8 @@ double sheen_albedo(double n_dot_x, double sheen_roughness) {
 
 Rgb directional_albedo(BrdfModel model, const BrdfMaterial& m, double theta_o, double tolerance) {
   if (!(theta_o >= 0.0 && theta_o < 0.5 * kPi))
-    throw std::invalid_argument("directional_albedo: theta_o must be in [0, pi/2) (got " +
-                                std::to_string(theta_o) + ")");
+    throw std::invalid_argument("directional_albedo: theta_o must be in [0, pi/2) (got " + std::to_string(theta_o) +
+                                ")");
   if (!(tolerance > 0.0)) throw std::invalid_argument("directional_albedo: tolerance must be positive");
   const double nv = std::cos(theta_o), sv = std::sin(theta_o);
   const Vec3 v{sv, 0.0, nv};

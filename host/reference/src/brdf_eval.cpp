@@ -1,15 +1,14 @@
 // Scalar double-precision BRDF models. See brdf.hpp for the conventions.
-#include "brdfbake/reference/brdf.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "brdf_internal.hpp"
-#include "brdfbake/reference/fresnel.hpp"
+#include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/fresnel.hpp"
 #include "brdfbake/reference/ggx.hpp"
 
 namespace brdfbake::reference {
@@ -35,9 +34,7 @@ double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 Rgb operator*(const Rgb& a, double s) { return {a.r * s, a.g * s, a.b * s}; }
 Rgb operator+(const Rgb& a, const Rgb& b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
-Rgb mix(const Rgb& a, const Rgb& b, double t) {
-  return {mix(a.r, b.r, t), mix(a.g, b.g, t), mix(a.b, b.b, t)};
-}
+Rgb mix(const Rgb& a, const Rgb& b, double t) { return {mix(a.r, b.r, t), mix(a.g, b.g, t), mix(a.b, b.b, t)}; }
 Rgb grey(double v) { return {v, v, v}; }
 
 // Unit vector along v; throws for a zero or non-finite one. The largest component is divided out
@@ -73,7 +70,7 @@ bool make_geometry(const Vec3& wi, const Vec3& wo, BrdfGeometry& g) {
 Rgb disney(const BrdfMaterial& m, const BrdfGeometry& g) {
   const Rgb base = m.base_color;
   const double lum = 0.3 * base.r + 0.6 * base.g + 0.1 * base.b;  // luminance approximation
-  const Rgb tint = lum > 0.0 ? base * (1.0 / lum) : grey(1.0);   // hue and saturation only
+  const Rgb tint = lum > 0.0 ? base * (1.0 / lum) : grey(1.0);    // hue and saturation only
   const Rgb spec0 = mix(mix(grey(1.0), tint, m.specular_tint) * (0.08 * m.specular), base, m.metallic);
   const Rgb sheen_color = mix(grey(1.0), tint, m.sheen_tint);
 
@@ -88,8 +85,8 @@ Rgb disney(const BrdfMaterial& m, const BrdfGeometry& g) {
   const double ax = std::max(kDisneyMinAlpha, r2 / aspect);
   const double ay = std::max(kDisneyMinAlpha, r2 * aspect);
   const double ds = D_GGXAniso(g.h, ax, ay);
-  const double gs = G1_SmithGGXAniso(g.nl, g.l.x, g.l.y, ax, ay) * G1_SmithGGXAniso(g.nv, g.v.x, g.v.y, ax, ay) /
-                    (4.0 * g.nl * g.nv);
+  const double gs =
+      G1_SmithGGXAniso(g.nl, g.l.x, g.l.y, ax, ay) * G1_SmithGGXAniso(g.nv, g.v.x, g.v.y, ax, ay) / (4.0 * g.nl * g.nv);
   const Rgb fs = fresnel_schlick(g.lh, spec0);
   const double fh = pow5(1.0 - g.lh);
 
@@ -188,14 +185,12 @@ Rgb gltf(const BrdfMaterial& m, const BrdfGeometry& g, bool correlated) {
 // mirror of l, so r.v = 2 (n.l)(n.v) - l.v is symmetric in l and v.
 Rgb phong(const BrdfMaterial& m, const BrdfGeometry& g) {
   const double r_dot_v = 2.0 * g.l.z * g.v.z - dot(g.l, g.v);
-  return classic_diffuse(m) * kInvPi +
-         classic_specular(m) * phong_lobe(r_dot_v, classic_shininess(m), m.normalized);
+  return classic_diffuse(m) * kInvPi + classic_specular(m) * phong_lobe(r_dot_v, classic_shininess(m), m.normalized);
 }
 
 // Blinn 1977: kd / pi + ks lobe(n.h).
 Rgb blinn_phong(const BrdfMaterial& m, const BrdfGeometry& g) {
-  return classic_diffuse(m) * kInvPi +
-         classic_specular(m) * blinn_phong_lobe(g.nh, classic_shininess(m), m.normalized);
+  return classic_diffuse(m) * kInvPi + classic_specular(m) * blinn_phong_lobe(g.nh, classic_shininess(m), m.normalized);
 }
 
 // Cook & Torrance 1982: kd / pi + F D G / (4 n.l n.v), with the exact unpolarised Fresnel
@@ -210,7 +205,8 @@ double cook_torrance_fresnel(double v_dot_h, double f0) {
 
 Rgb cook_torrance(const BrdfMaterial& m, const BrdfGeometry& g) {
   const double alpha = m.roughness * m.roughness;
-  const double d = m.distribution == MicrofacetDistribution::Beckmann ? D_Beckmann(g.h, alpha) : D_GGXIsotropic(g.h, alpha);
+  const double d =
+      m.distribution == MicrofacetDistribution::Beckmann ? D_Beckmann(g.h, alpha) : D_GGXIsotropic(g.h, alpha);
   const double vh = std::max(g.lh, kBrdfMinCosine);
   const double dg = d * G_CookTorrance(g.nh, g.nv, g.nl, vh) / (4.0 * g.nl * g.nv);
   const Rgb ks = classic_specular(m);
@@ -309,14 +305,22 @@ Rgb brdf(BrdfModel model, const BrdfMaterial& m, const Vec3& wi, const Vec3& wo)
 
 Rgb brdf_at(BrdfModel model, const BrdfMaterial& m, const BrdfGeometry& g) {
   switch (model) {
-    case BrdfModel::Disney: return disney(m, g);
-    case BrdfModel::Gltf: return gltf(m, g, false);
-    case BrdfModel::GltfCorrelated: return gltf(m, g, true);
-    case BrdfModel::Lambert: return classic_diffuse(m) * kInvPi;
-    case BrdfModel::Phong: return phong(m, g);
-    case BrdfModel::BlinnPhong: return blinn_phong(m, g);
-    case BrdfModel::CookTorrance: return cook_torrance(m, g);
-    case BrdfModel::BlinnPhongFromPbr: return blinn_phong_from_pbr(m, g);
+    case BrdfModel::Disney:
+      return disney(m, g);
+    case BrdfModel::Gltf:
+      return gltf(m, g, false);
+    case BrdfModel::GltfCorrelated:
+      return gltf(m, g, true);
+    case BrdfModel::Lambert:
+      return classic_diffuse(m) * kInvPi;
+    case BrdfModel::Phong:
+      return phong(m, g);
+    case BrdfModel::BlinnPhong:
+      return blinn_phong(m, g);
+    case BrdfModel::CookTorrance:
+      return cook_torrance(m, g);
+    case BrdfModel::BlinnPhongFromPbr:
+      return blinn_phong_from_pbr(m, g);
   }
   throw std::invalid_argument("brdf: unknown model");
 }

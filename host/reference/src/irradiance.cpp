@@ -1,7 +1,5 @@
 // The irradiance family's reference: the SH projection and the cosine convolution of an
 // environment, every source sub-cell summed in double (envmap.cpp explains the sub-cells).
-#include "brdfbake/reference/envmap.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -13,6 +11,7 @@
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/envmap.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "envmap_internal.hpp"
 
@@ -45,8 +44,8 @@ std::vector<double> sh_project(const EnvCube& source, int order, int subdivision
   return out;
 }
 
-std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals,
-                                          int subdivision, unsigned threads) {
+std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals, int subdivision,
+                                          unsigned threads) {
   check_cube(source);
   std::vector<double> out(3 * normals.size(), 0.0);
   for (int face = 0; face < 6; ++face) {

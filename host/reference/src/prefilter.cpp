@@ -1,8 +1,6 @@
 // The prefilter family's reference: the lobe of each level (its kernel and normalisation, by
 // adaptive quadrature) and the prefiltered radiance, every source sub-cell summed in double
 // (envmap.cpp explains the sub-cells).
-#include "brdfbake/reference/envmap.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -14,6 +12,7 @@
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/charlie.hpp"
+#include "brdfbake/reference/envmap.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "envmap_internal.hpp"
 

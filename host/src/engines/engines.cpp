@@ -1,9 +1,10 @@
 // Engine targets: the descriptor of each engine (schedule, sizes, format, SH convention, files) and
 // the SH conversions into each engine's convention. The writers are in engine_writers.cpp.
+#include "brdfbake/engines.hpp"
+
 #include <algorithm>
 #include <cmath>
 
-#include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
 
 namespace brdfbake {
@@ -75,7 +76,8 @@ EngineSettings engine_settings(EngineTarget target) {
       s.pixel = PixelType::F16;
       s.pixel_format = "KTX2 VK_FORMAT_R16G16B16A16_SFLOAT (or ASTC HDR 4x4 / 6x6 SFLOAT blocks)";
       s.sh_convention = ShConvention::IrradianceOverPi;
-      s.sh_description = "JSON: radiance L_lm and irradiance_over_pi c_lm = (A_l/pi) w_l L_lm, E(n)/pi = sum c_lm Y_lm(n)";
+      s.sh_description =
+          "JSON: radiance L_lm and irradiance_over_pi c_lm = (A_l/pi) w_l L_lm, E(n)/pi = sum c_lm Y_lm(n)";
       s.orientation = faces + "; KTXorientation rd";
       s.files = {"NAME_ggx.ktx2", "NAME_sh.json"};
       break;
@@ -86,8 +88,8 @@ EngineSettings engine_settings(EngineTarget target) {
           "cmgen iblRoughnessPrefilter: lodToPerceptualRoughness(l / (L - 1)) = 1 - sqrt(1 - l / (L - 1)); "
           "shader perceptualRoughnessToLod = iblRoughnessOneLevel r (2 - r), iblRoughnessOneLevel = L - 1";
       s.lod_formula = schedule_lod_formula(s.schedule);
-      s.size = 256;  // cmgen's IBL_DEFAULT_SIZE
-      s.min_size = 16;  // cmgen's IBL_DEFAULT_MIN_LOD_SIZE
+      s.size = 256;           // cmgen's IBL_DEFAULT_SIZE
+      s.min_size = 16;        // cmgen's IBL_DEFAULT_MIN_LOD_SIZE
       s.power_of_two = true;  // cmgen refuses other sizes
       s.pixel = PixelType::R11G11B10;
       s.pixel_format = "KTX1 GL_R11F_G11F_B10F (glType 0x8C3A as Filament's KtxUtility reads it)";
@@ -99,8 +101,9 @@ EngineSettings engine_settings(EngineTarget target) {
           "sh4 xy + sh5 yz + sh6 (3z^2 - 1) + sh7 xz + sh8 (x^2 - y^2); windowed as cmgen does by default "
           "(--sh-window auto: sinc^4 with the widest cutoff that keeps the irradiance non-negative; "
           "--sh-window none gives cmgen --sh-window=no)";
-      s.orientation = faces + " (for an equirect source the same cube cmgen makes: its mirrored lat-long "
-                              "lookup and its mirrorCubemap cancel); KTXorientation S=r,T=d";
+      s.orientation = faces +
+                      " (for an equirect source the same cube cmgen makes: its mirrored lat-long "
+                      "lookup and its mirrorCubemap cancel); KTXorientation S=r,T=d";
       s.files = {"NAME_ibl.ktx", "NAME_skybox.ktx", "sh.txt"};
       s.skybox = true;
       break;
@@ -113,7 +116,7 @@ EngineSettings engine_settings(EngineTarget target) {
                       " (the extension's text; Babylon.js's loader instead sets lodGenerationScale = (N - 1) / "
                       "log2(specularImageSize) and looks up lod = scale log2(size (r^2 + 0.0005)))";
       s.size = 256;
-      s.min_size = 16;  // the README: the lowest mip "(say, 16x16)" holds roughness 1
+      s.min_size = 16;        // the README: the lowest mip "(say, 16x16)" holds roughness 1
       s.power_of_two = true;  // the README: square, power-of-two images
       s.pixel = PixelType::F32;
       s.pixel_format = "PNG 8-bit RGBA holding RGBD (4-channel PNGs are RGBD per the extension)";
@@ -199,15 +202,15 @@ std::array<Rgb3, 9> babylon_polynomial(const ShCoefficients& sh) {
   for (size_t c = 0; c < 3; ++c) {
     const double l00 = h[0][c], l1m1 = h[1][c], l10 = h[2][c], l11 = h[3][c], l2m2 = h[4][c], l2m1 = h[5][c],
                  l20 = h[6][c], l21 = h[7][c], l22 = h[8][c];
-    p[0][c] = -1.02333 * l11;                                      // x
-    p[1][c] = -1.02333 * l1m1;                                     // y
-    p[2][c] = 1.02333 * l10;                                       // z
-    p[3][c] = 0.886277 * l00 - 0.247708 * l20 + 0.429043 * l22;    // xx
-    p[4][c] = 0.886277 * l00 - 0.247708 * l20 - 0.429043 * l22;    // yy
-    p[5][c] = 0.886277 * l00 + 0.495417 * l20;                     // zz
-    p[6][c] = -0.858086 * l2m1;                                    // yz
-    p[7][c] = -0.858086 * l21;                                     // zx
-    p[8][c] = 0.858086 * l2m2;                                     // xy
+    p[0][c] = -1.02333 * l11;                                    // x
+    p[1][c] = -1.02333 * l1m1;                                   // y
+    p[2][c] = 1.02333 * l10;                                     // z
+    p[3][c] = 0.886277 * l00 - 0.247708 * l20 + 0.429043 * l22;  // xx
+    p[4][c] = 0.886277 * l00 - 0.247708 * l20 - 0.429043 * l22;  // yy
+    p[5][c] = 0.886277 * l00 + 0.495417 * l20;                   // zz
+    p[6][c] = -0.858086 * l2m1;                                  // yz
+    p[7][c] = -0.858086 * l21;                                   // zx
+    p[8][c] = 0.858086 * l2m2;                                   // xy
     for (size_t k = 0; k < 9; ++k) p[k][c] /= kPi;
   }
   return p;

@@ -11,7 +11,7 @@
 namespace brdfbake {
 
 CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
-                           const std::function<void()>& program_built) {
+                                   const std::function<void()>& program_built) {
   if (size < 1 || size > kPrefilterMaxSize)
     throw Error("cube size must be in 1.." + std::to_string(kPrefilterMaxSize) + " (got " + std::to_string(size) + ")");
   if (env.width < 1 || env.height < 1 || env.rgb.empty()) throw Error("empty environment");
@@ -25,7 +25,7 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
     // Device limits (docs/RELIABILITY.md): the source and the cube must fit the device's memory.
     const double source_bytes = 12.0 * double(env.rgb.size() / 3), cube_bytes = 16.0 * double(face_texels(size));
     check_device_memory(dev, std::max(source_bytes, cube_bytes), 2.5 * (source_bytes + cube_bytes),
-                                "converting '" + env.source + "' to a cube of " + std::to_string(size) + "^2");
+                        "converting '" + env.source + "' to a cube of " + std::to_string(size) + "^2");
   }
   const double seconds = cl_call(what, [&] {
     cl::Program prog = env_program(dev, "cubemap.cl", Precision::Fp32);
@@ -35,20 +35,24 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
       // the packed RGB pixels as they are (the kernel reads three floats a pixel): on a CPU device
       // no copy at all, elsewhere one upload
       const size_t bytes = env.rgb.size() * sizeof(float);
-      check_allocation(dev, bytes, "the " + std::to_string(env.width) + "x" + std::to_string(env.height) + " environment");
+      check_allocation(dev, bytes,
+                       "the " + std::to_string(env.width) + "x" + std::to_string(env.height) + " environment");
       cl::Buffer src(dev.context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<float*>(env.rgb.data()));
       // k x k samples per texel: about two per equirect pixel along the equator
       const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
-      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int, cl_int> convert(prog, "equirect_to_cube");
+      cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int, cl_int> convert(prog,
+                                                                                                "equirect_to_cube");
       // one work-item per 8 texels of a row (kernels/cubemap.cl), one face at a time into a face buffer
       const size_t face_bytes = 4 * static_cast<size_t>(size) * static_cast<size_t>(size) * sizeof(float);
       check_allocation(dev, face_bytes, "a face of the " + std::to_string(size) + "^2 cube");
       cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
-      const cl::NDRange rows(static_cast<size_t>((size + kEnvVectorWidth - 1) / kEnvVectorWidth), static_cast<size_t>(size));
+      const cl::NDRange rows(static_cast<size_t>((size + kEnvVectorWidth - 1) / kEnvVectorWidth),
+                             static_cast<size_t>(size));
       for (int f = 0; f < 6; ++f) {
         const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(f) * size_t(size)), rows, cl::NullRange);
         events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
-        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes, cube.levels[0].data() + (face_bytes / sizeof(float)) * size_t(f));
+        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes,
+                                    cube.levels[0].data() + (face_bytes / sizeof(float)) * size_t(f));
       }
       return sum_seconds(events);
     } else {
@@ -68,8 +72,8 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
         const int ms = chain.info[size_t(2 * m + 1)];
         const int k = std::clamp((ms + size - 1) / size, 1, 16);
         cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int> resample(prog, "cube_resample");
-        events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer,
-                                  chain.info[size_t(2 * m)], ms, dst, size, k));
+        events.push_back(resample(cl::EnqueueArgs(dev.queue, cube_range(size)), chain.buffer, chain.info[size_t(2 * m)],
+                                  ms, dst, size, k));
       }
       dev.queue.enqueueReadBuffer(dst, CL_TRUE, 0, cube.levels[0].size() * sizeof(float), cube.levels[0].data());
     }

@@ -1,11 +1,12 @@
 // The environment families' cubes: texel solid angles, the metadata every cube records, and the
 // opt-in luminance clamp.
+#include "env/cube.hpp"
+
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "brdfbake/version.hpp"
-#include "env/cube.hpp"
 
 namespace brdfbake {
 
@@ -27,7 +28,6 @@ std::vector<double> detail::texel_solid_angles(int size) {
           corner[(j + 1) * n + i + 1] - corner[(j + 1) * n + i] - corner[j * n + i + 1] + corner[j * n + i];
   return omega;
 }
-
 
 // Biased, opt-in: luminance above `limit` is compressed to limit (1 + log(lum / limit)).
 void detail::clamp_luminance(std::vector<float>& rgba, double limit) {

@@ -49,8 +49,8 @@ detail::PaddedChain detail::build_padded_chain(Device::Impl& dev, cl::Program& c
   if (total > static_cast<size_t>(std::numeric_limits<cl_int>::max()))
     throw Error("cube of size " + std::to_string(size) + " is too large for the source chain");
   c.buffer = cl::Buffer(dev.context, CL_MEM_READ_WRITE, total * sizeof(cl_float4));
-  c.info_buffer = cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, c.info.size() * sizeof(cl_int),
-                             c.info.data());
+  c.info_buffer =
+      cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, c.info.size() * sizeof(cl_int), c.info.data());
   cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> to_padded(cube_prog, "cube_to_padded");
   cl::KernelFunctor<cl::Buffer, cl_int, cl_int> fill_border(cube_prog, "cube_fill_border");
   cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl_int, cl_int> downsample(cube_prog, "cube_downsample");

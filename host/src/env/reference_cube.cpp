@@ -11,8 +11,8 @@ namespace brdfbake::detail {
 int reference_conversion_subdivision(const EnvImage& env, int size) {
   if (env.layout == EnvImage::Layout::Cube && env.width == size) return 1;
   // reference/envmap.hpp: at least 4 sub-cells per source pixel (or texel) side, 2 to 64
-  const double pixels = env.layout == EnvImage::Layout::Cube ? static_cast<double>(env.width) / size
-                                                             : 0.25 * env.width / size;
+  const double pixels =
+      env.layout == EnvImage::Layout::Cube ? static_cast<double>(env.width) / size : 0.25 * env.width / size;
   return static_cast<int>(std::clamp(std::ceil(4.0 * pixels), 2.0, 64.0));
 }
 

@@ -91,7 +91,6 @@ const Family& family_of(TableKind kind);
 // Every family, in the order of table_kinds() (registry.cpp: the one list of families).
 const std::vector<const Family*>& families();
 
-
 // ---- Helpers the families share ----------------------------------------------------------------
 
 std::string fmt_number(double v, const char* f = "%.9g");

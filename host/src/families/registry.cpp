@@ -2,11 +2,10 @@
 // every front end bakes and writes through. Nothing here knows a family's parameters: those live in
 // each family's descriptor (host/src/families/<family>.cpp).
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -34,9 +33,9 @@ const Family& tabulate_family();
 const Family& preview_family();
 
 const std::vector<const Family*>& families() {
-  static const std::vector<const Family*> all = {&dfg_lut_family(),    &fresnel_family(),    &thin_film_family(),
-                                                 &prefilter_family(),  &irradiance_family(), &eval_family(),
-                                                 &tabulate_family(),   &preview_family()};
+  static const std::vector<const Family*> all = {&dfg_lut_family(),   &fresnel_family(),    &thin_film_family(),
+                                                 &prefilter_family(), &irradiance_family(), &eval_family(),
+                                                 &tabulate_family(),  &preview_family()};
   return all;
 }
 
@@ -166,8 +165,9 @@ void Family::check_output(const TableRequest& t, const FieldName&) const {
   if (!t.format.empty())
     throw FieldError("format", "'" + t.format + "' is not a format of " + table_kind_name(t.kind) + " (expected " +
                                    f.description + ")");
-  throw FieldError("output", "unknown output format " + (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-                                 " of '" + t.output + "' (" + table_kind_name(t.kind) + " writes " + f.description + ")");
+  throw FieldError("output", "unknown output format " +
+                                 (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") + " of '" + t.output +
+                                 "' (" + table_kind_name(t.kind) + " writes " + f.description + ")");
 }
 
 }  // namespace detail
@@ -350,8 +350,8 @@ TableExample table_kind_example(TableKind kind) {
 const std::vector<ParamDef>& table_schema(TableKind kind) { return family_of(kind).schema(kind); }
 
 const std::vector<std::string>& table_common_fields() {
-  static const std::vector<std::string> fields = {"kind",        "output", "format",       "pixel",    "precision",
-                                                  "device",      "environment", "requested_by", "materials"};
+  static const std::vector<std::string> fields = {"kind",   "output",      "format",       "pixel",    "precision",
+                                                  "device", "environment", "requested_by", "materials"};
   return fields;
 }
 
@@ -496,8 +496,10 @@ BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs&
   Params all = t.params;
   for (auto& p : r.parameters) {
     auto it = std::find_if(all.begin(), all.end(), [&](const Param& q) { return q.name == p.name; });
-    if (it != all.end()) it->value = p.value;
-    else all.push_back(p);
+    if (it != all.end())
+      it->value = p.value;
+    else
+      all.push_back(p);
   }
   r.parameters = std::move(all);
   return r;

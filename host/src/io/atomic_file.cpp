@@ -19,9 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string os_reason(int error) {
-  return std::error_code(error, std::system_category()).message();
-}
+std::string os_reason(int error) { return std::error_code(error, std::system_category()).message(); }
 
 // 64 random bits as 16 hex digits. Uniqueness comes from O_EXCL; the randomness only makes a
 // collision (and a retry) unlikely.
@@ -54,9 +52,11 @@ TempFile::TempFile(std::string destination) : destination_(std::move(destination
   // A device node, a FIFO or standard output named as a file would be replaced by the rename:
   // refused (bad input) before anything is created (io/special_files.hpp).
   if (const OutputTargetInfo info = output_target(destination_); info.target != OutputTarget::File)
-    throw Error("cannot write '" + destination_ + "': it is " + info.what +
-                ", and this output is written to a temporary file renamed over its name, which would replace it: "
-                "name a regular file" + (info.target == OutputTarget::Stream ? " (only CSV tables and eval's output are written to a stream)" : ""));
+    throw Error(
+        "cannot write '" + destination_ + "': it is " + info.what +
+        ", and this output is written to a temporary file renamed over its name, which would replace it: "
+        "name a regular file" +
+        (info.target == OutputTarget::Stream ? " (only CSV tables and eval's output are written to a stream)" : ""));
   ::brdfbake::remove_stale_temporaries(destination_);
   const std::string prefix = (target.parent_path() / temp_name_prefix(name, ::getpid())).string();
   // Retry only on a name collision with another writer's temporary.
@@ -154,7 +154,8 @@ ParentFolders::ParentFolders(const std::string& path) {
   for (fs::path p = fs::path(path).parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path())
     missing.push_back(p);
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    if (!fs::create_directory(*it, ec) && ec) throw_write_error(path, "cannot create the folder '" + it->string() + "': " + ec.message());
+    if (!fs::create_directory(*it, ec) && ec)
+      throw_write_error(path, "cannot create the folder '" + it->string() + "': " + ec.message());
     created_.push_back(it->string());
   }
 }

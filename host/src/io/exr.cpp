@@ -9,8 +9,8 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
 #include <OpenEXR/ImfThreading.h>
-#include <OpenEXR/ImfTiledInputFile.h>
 #include <OpenEXR/ImfTileDescription.h>
+#include <OpenEXR/ImfTiledInputFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,15 +30,20 @@ namespace {
 // PIZ or ZIP file decodes in a fraction of the single-threaded time. Started on the first EXR.
 void start_exr_threads() {
   static std::once_flag once;
-  std::call_once(once, [] { Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))); });
+  std::call_once(
+      once, [] { Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))); });
 }
 
 const char* pixel_type_name(Imf::PixelType t) {
   switch (t) {
-    case Imf::HALF: return "half";
-    case Imf::FLOAT: return "float";
-    case Imf::UINT: return "uint";
-    default: return "unknown";
+    case Imf::HALF:
+      return "half";
+    case Imf::FLOAT:
+      return "float";
+    case Imf::UINT:
+      return "uint";
+    default:
+      return "unknown";
   }
 }
 
@@ -46,8 +51,7 @@ const char* pixel_type_name(Imf::PixelType t) {
 // each level halves the larger side, rounding down or up, down to 1).
 int mip_levels(int w, int h, Imf::LevelRoundingMode rounding) {
   int levels = 1;
-  for (int size = std::max(w, h); size > 1; ++levels)
-    size = rounding == Imf::ROUND_UP ? (size + 1) / 2 : size / 2;
+  for (int size = std::max(w, h); size > 1; ++levels) size = rounding == Imf::ROUND_UP ? (size + 1) / 2 : size / 2;
   return levels;
 }
 

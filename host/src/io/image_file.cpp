@@ -70,7 +70,8 @@ FloatImage read_with_oiio(const std::string& path, const ImageLimits& limits) {
   // The libraries behind OpenImageIO (libjpeg, libtiff, ...) may print to stderr: their words go
   // into the one-line error, never onto the terminal.
   const std::string printed = detail::run_with_stderr_captured([&] {
-    status = module->read(path.c_str(), limits.max_pixels, limits.max_bytes, stop_requested, &image, error, sizeof error);
+    status =
+        module->read(path.c_str(), limits.max_pixels, limits.max_bytes, stop_requested, &image, error, sizeof error);
   });
   if (status == 2) throw_if_cancelled();
   if (status != 0) {

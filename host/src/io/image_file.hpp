@@ -41,11 +41,10 @@ struct FloatImage {
 // (scanline or tiled, mip-mapped or not, half, float or uint; not subsampled luminance/chroma or
 // deep data, which go to OpenImageIO), Radiance RGBE and PNG here, any other format through the
 // OpenImageIO module. A FIFO or a device is refused (decoders seek); every read stops on a stop
-// request (brdfbake/cancel.hpp) between parts of the file. An image beyond `limits` (pixels, or the memory its decoding takes) is refused
-// from its header, before any pixel buffer is allocated.
-// Throws Error with a one-line reason that does not repeat the path (callers say what the file
-// was for), e.g. "truncated: the data ends in scanline 17", or, for a format only OpenImageIO
-// reads when the module cannot be loaded, "... needs the OpenImageIO module ...: <why>".
+// request (brdfbake/cancel.hpp) between parts of the file. An image beyond `limits` (pixels, or the memory its decoding
+// takes) is refused from its header, before any pixel buffer is allocated. Throws Error with a one-line reason that
+// does not repeat the path (callers say what the file was for), e.g. "truncated: the data ends in scanline 17", or, for
+// a format only OpenImageIO reads when the module cannot be loaded, "... needs the OpenImageIO module ...: <why>".
 FloatImage read_image(const std::string& path, const ImageLimits& limits);
 
 // The OpenEXR reader behind read_image: whether `head` (the first bytes of a file) is OpenEXR's

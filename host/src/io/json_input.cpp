@@ -121,8 +121,8 @@ class Builder {
 
 nlohmann::ordered_json parse_json(const std::string& text, const std::string& origin) {
   if (text.size() > kJsonMaxBytes)
-    throw Error(origin + ": larger than " + std::to_string(kJsonMaxBytes >> 20) + " MiB (" + std::to_string(text.size()) +
-                " bytes)");
+    throw Error(origin + ": larger than " + std::to_string(kJsonMaxBytes >> 20) + " MiB (" +
+                std::to_string(text.size()) + " bytes)");
   Builder b;
   bool ok = false;
   try {

@@ -33,18 +33,16 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
-#include "io/special_files.hpp"
 #include "io/atomic_file.hpp"
+#include "io/special_files.hpp"
 
 namespace brdfbake::io {
 namespace {
 
 // KTX2 "identifier".
-constexpr uint8_t kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
-                                     0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr uint8_t kIdentifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 // The KTX 1.1 identifier, only to name the problem when a reader is handed such a file.
-constexpr uint8_t kIdentifierKtx1[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31,
-                                         0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr uint8_t kIdentifierKtx1[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 
 // Byte offsets of the header and index fields (KTX2 "File Structure").
 constexpr size_t kOffsetVkFormat = 12;
@@ -78,10 +76,14 @@ struct Format {
 
 // ASTC HDR (VK_EXT_texture_compression_astc_hdr, core in Vulkan 1.3): 128-bit blocks.
 constexpr Format kFormats[] = {
-    {76, "VK_FORMAT_R16_SFLOAT", 1, 2},        {83, "VK_FORMAT_R16G16_SFLOAT", 2, 2},
-    {90, "VK_FORMAT_R16G16B16_SFLOAT", 3, 2},  {97, "VK_FORMAT_R16G16B16A16_SFLOAT", 4, 2},
-    {100, "VK_FORMAT_R32_SFLOAT", 1, 4},       {103, "VK_FORMAT_R32G32_SFLOAT", 2, 4},
-    {106, "VK_FORMAT_R32G32B32_SFLOAT", 3, 4}, {109, "VK_FORMAT_R32G32B32A32_SFLOAT", 4, 4},
+    {76, "VK_FORMAT_R16_SFLOAT", 1, 2},
+    {83, "VK_FORMAT_R16G16_SFLOAT", 2, 2},
+    {90, "VK_FORMAT_R16G16B16_SFLOAT", 3, 2},
+    {97, "VK_FORMAT_R16G16B16A16_SFLOAT", 4, 2},
+    {100, "VK_FORMAT_R32_SFLOAT", 1, 4},
+    {103, "VK_FORMAT_R32G32_SFLOAT", 2, 4},
+    {106, "VK_FORMAT_R32G32B32_SFLOAT", 3, 4},
+    {109, "VK_FORMAT_R32G32B32A32_SFLOAT", 4, 4},
     {kVkFormatAstc4x4SfloatBlock, "VK_FORMAT_ASTC_4x4_SFLOAT_BLOCK", 0, 0, 4, 4, 16},
     {kVkFormatAstc6x6SfloatBlock, "VK_FORMAT_ASTC_6x6_SFLOAT_BLOCK", 0, 0, 6, 6, 16},
 };
@@ -118,14 +120,12 @@ uint64_t level_alignment(const Format& format) {
   return std::lcm(static_cast<uint64_t>(texel_size(format)), uint64_t{4});
 }
 
-uint64_t align_up(uint64_t value, uint64_t alignment) {
-  return (value + alignment - 1) / alignment * alignment;
-}
+uint64_t align_up(uint64_t value, uint64_t alignment) { return (value + alignment - 1) / alignment * alignment; }
 
 // Level byte size (KTX2 "levelImages": faces x rows x texels, no row or face padding), or false
 // on overflow. A 1-D texture (height 0) has one row.
-bool level_byte_size(const Format& format, uint32_t width, uint32_t height, uint32_t faces,
-                     uint32_t level, uint64_t* size) {
+bool level_byte_size(const Format& format, uint32_t width, uint32_t height, uint32_t faces, uint32_t level,
+                     uint64_t* size) {
   const uint64_t texel_width = std::max<uint64_t>(1, level < 32 ? width >> level : 0);
   const uint64_t texel_height = std::max<uint64_t>(1, level < 32 ? height >> level : 0);
   // KTX2 "levelImages": whole blocks, ceil(width / blockWidth) x ceil(height / blockHeight).
@@ -145,7 +145,7 @@ constexpr uint32_t kDfVendorKhronos = 0;
 constexpr uint32_t kDfDescriptorTypeBasic = 0;
 constexpr uint32_t kDfVersion13 = 2;  // KHR_DF_VERSIONNUMBER_1_3
 constexpr uint32_t kDfModelRgbsda = 1;
-constexpr uint32_t kDfModelAstc = 162;    // KHR_DF_MODEL_ASTC
+constexpr uint32_t kDfModelAstc = 162;      // KHR_DF_MODEL_ASTC
 constexpr uint32_t kDfChannelAstcData = 0;  // KHR_DF_CHANNEL_ASTC_DATA
 constexpr uint32_t kDfPrimariesBt709 = 1;
 constexpr uint32_t kDfTransferLinear = 1;
@@ -220,8 +220,8 @@ void put_u64(std::vector<uint8_t>& out, size_t at, uint64_t value) {
 }
 
 uint32_t get_u32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
+         static_cast<uint32_t>(p[3]) << 24;
 }
 
 uint64_t get_u64(const uint8_t* p) {
@@ -238,12 +238,9 @@ std::string hex32(uint32_t value) {
 
 // The KTX-prefixed keys this writer accepts: the string-valued ones of KTX2 "Predefined Key/Value
 // Pairs" (binary-valued keys such as KTXglFormat would be corrupted by the string NUL terminator).
-constexpr std::string_view kStringKtxKeys[] = {"KTXorientation", "KTXswizzle", "KTXwriter",
-                                               "KTXwriterScParams"};
+constexpr std::string_view kStringKtxKeys[] = {"KTXorientation", "KTXswizzle", "KTXwriter", "KTXwriterScParams"};
 
-bool is_reserved_key(const std::string& key) {
-  return key.compare(0, 3, "KTX") == 0 || key.compare(0, 3, "ktx") == 0;
-}
+bool is_reserved_key(const std::string& key) { return key.compare(0, 3, "KTX") == 0 || key.compare(0, 3, "ktx") == 0; }
 
 // One entry: keyAndValueByteLength counts the key, its NUL, the value and the value's NUL.
 uint32_t key_value_byte_length(const std::pair<std::string, std::string>& entry) {
@@ -261,8 +258,7 @@ void check_orientation(const std::string& value, const Ktx2Image& image) {
   }
 }
 
-void check_key_values(const Ktx2Image& image,
-                      const std::vector<std::pair<std::string, std::string>>& sorted) {
+void check_key_values(const Ktx2Image& image, const std::vector<std::pair<std::string, std::string>>& sorted) {
   for (size_t i = 0; i < sorted.size(); ++i) {
     const std::string& key = sorted[i].first;
     if (key.empty()) throw Error("KTX2 writer: empty metadata key");
@@ -276,21 +272,19 @@ void check_key_values(const Ktx2Image& image,
     if (i > 0 && sorted[i - 1].first == key) {
       throw Error("KTX2 writer: duplicate metadata key '" + key + "'");
     }
-    if (is_reserved_key(key) && std::find(std::begin(kStringKtxKeys), std::end(kStringKtxKeys),
-                                          key) == std::end(kStringKtxKeys)) {
+    if (is_reserved_key(key) &&
+        std::find(std::begin(kStringKtxKeys), std::end(kStringKtxKeys), key) == std::end(kStringKtxKeys)) {
       throw Error("KTX2 writer: metadata key '" + key +
                   "' is reserved by the KTX specification and not supported here");
     }
     if (key == "KTXorientation") check_orientation(sorted[i].second, image);
     if (key == "KTXswizzle") {
       const std::string& value = sorted[i].second;
-      const bool valid =
-          value.size() == 4 && value.find_first_not_of("rgba01") == std::string::npos;
+      const bool valid = value.size() == 4 && value.find_first_not_of("rgba01") == std::string::npos;
       if (!valid) throw Error("KTX2 writer: KTXswizzle '" + value + "' is not /^[rgba01]{4}$/");
     }
     if (key == "KTXwriterScParams" &&
-        std::none_of(sorted.begin(), sorted.end(),
-                     [](const auto& entry) { return entry.first == "KTXwriter"; })) {
+        std::none_of(sorted.begin(), sorted.end(), [](const auto& entry) { return entry.first == "KTXwriter"; })) {
       throw Error("KTX2 writer: KTXwriterScParams requires KTXwriter");
     }
   }
@@ -309,8 +303,8 @@ const Format& check_image(const Ktx2Image& image) {
     throw Error("KTX2 writer: faceCount must be 1 or 6, not " + std::to_string(image.faces));
   }
   if (image.faces == 6 && image.height != image.width) {
-    throw Error("KTX2 writer: cubemap faces must be square, not " + std::to_string(image.width) +
-                "x" + std::to_string(image.height));
+    throw Error("KTX2 writer: cubemap faces must be square, not " + std::to_string(image.width) + "x" +
+                std::to_string(image.height));
   }
   const uint32_t max_levels = ktx2_max_levels(image.width, image.height);
   if (image.levels == 0 || image.levels > max_levels) {
@@ -319,8 +313,8 @@ const Format& check_image(const Ktx2Image& image) {
                 std::to_string(image.height));
   }
   if (image.level_data.size() != image.levels) {
-    throw Error("KTX2 writer: " + std::to_string(image.level_data.size()) +
-                " level buffers for levelCount " + std::to_string(image.levels));
+    throw Error("KTX2 writer: " + std::to_string(image.level_data.size()) + " level buffers for levelCount " +
+                std::to_string(image.levels));
   }
   for (uint32_t level = 0; level < image.levels; ++level) {
     uint64_t expected = 0;
@@ -329,8 +323,8 @@ const Format& check_image(const Ktx2Image& image) {
     }
     if (image.level_data[level].size() != expected) {
       throw Error("KTX2 writer: level " + std::to_string(level) + " holds " +
-                  std::to_string(image.level_data[level].size()) + " bytes, expected " +
-                  std::to_string(expected) + " for " + format->name);
+                  std::to_string(image.level_data[level].size()) + " bytes, expected " + std::to_string(expected) +
+                  " for " + format->name);
     }
   }
   return *format;
@@ -367,11 +361,10 @@ class Decoder {
     const uint64_t kvd_length = u32(kOffsetKvdByteLength);
     const uint64_t sgd_offset = u64(kOffsetSgdByteOffset);
     const uint64_t sgd_length = u64(kOffsetSgdByteLength);
-    const uint64_t level_index_end =
-        kLevelIndexOffset + uint64_t{kLevelIndexEntrySize} * image.levels;
+    const uint64_t level_index_end = kLevelIndexOffset + uint64_t{kLevelIndexEntrySize} * image.levels;
     if (dfd_offset != level_index_end) {
-      fail("dfdByteOffset is " + std::to_string(dfd_offset) + ", expected " +
-           std::to_string(level_index_end) + " (right after the level index)");
+      fail("dfdByteOffset is " + std::to_string(dfd_offset) + ", expected " + std::to_string(level_index_end) +
+           " (right after the level index)");
     }
     if (dfd_length < 4 + kDfdBlockHeaderBytes) {
       fail("dfdByteLength " + std::to_string(dfd_length) + " is too small for a descriptor block");
@@ -392,13 +385,12 @@ class Decoder {
       require(kvd_offset, kvd_length, "the key/value data");
     }
     if (sgd_offset != 0 || sgd_length != 0) {
-      fail("sgdByteOffset/sgdByteLength are " + std::to_string(sgd_offset) + "/" +
-           std::to_string(sgd_length) + "; both must be 0 without supercompression");
+      fail("sgdByteOffset/sgdByteLength are " + std::to_string(sgd_offset) + "/" + std::to_string(sgd_length) +
+           "; both must be 0 without supercompression");
     }
     decode_dfd(format, dfd_offset, dfd_length);
     if (kvd_length != 0) decode_key_values(kvd_offset, kvd_length, image);
-    decode_levels(format, kvd_length != 0 ? kvd_offset + kvd_length : dfd_offset + dfd_length,
-                  image);
+    decode_levels(format, kvd_length != 0 ? kvd_offset + kvd_length : dfd_offset + dfd_length, image);
     return image;
   }
 
@@ -411,8 +403,8 @@ class Decoder {
 
   void require(uint64_t offset, uint64_t length, const std::string& what) const {
     if (offset > size_ || length > size_ - offset) {
-      fail("truncated: " + what + " needs bytes " + std::to_string(offset) + ".." +
-           std::to_string(offset + length) + " but the file has " + std::to_string(size_));
+      fail("truncated: " + what + " needs bytes " + std::to_string(offset) + ".." + std::to_string(offset + length) +
+           " but the file has " + std::to_string(size_));
     }
   }
 
@@ -420,25 +412,23 @@ class Decoder {
     image.vk_format = u32(kOffsetVkFormat);
     const Format* format = find_format(image.vk_format);
     if (format == nullptr) {
-      fail("unsupported vkFormat " + std::to_string(image.vk_format) +
-           " (supported: " + supported_formats_list() + ")");
+      fail("unsupported vkFormat " + std::to_string(image.vk_format) + " (supported: " + supported_formats_list() +
+           ")");
     }
     // KTX2 "typeSize": for unpacked formats the size of one component, 1 for block formats.
     if (u32(kOffsetTypeSize) != type_size(*format)) {
-      fail("typeSize is " + std::to_string(u32(kOffsetTypeSize)) + ", expected " +
-           std::to_string(type_size(*format)) + " for " + format->name);
+      fail("typeSize is " + std::to_string(u32(kOffsetTypeSize)) + ", expected " + std::to_string(type_size(*format)) +
+           " for " + format->name);
     }
     image.width = u32(kOffsetPixelWidth);
     image.height = u32(kOffsetPixelHeight);
     image.faces = u32(kOffsetFaceCount);
     if (image.width == 0) fail("pixelWidth is 0");
     if (u32(kOffsetPixelDepth) != 0) {
-      fail("pixelDepth is " + std::to_string(u32(kOffsetPixelDepth)) +
-           "; 3-D textures are not supported");
+      fail("pixelDepth is " + std::to_string(u32(kOffsetPixelDepth)) + "; 3-D textures are not supported");
     }
     if (u32(kOffsetLayerCount) != 0) {
-      fail("layerCount is " + std::to_string(u32(kOffsetLayerCount)) +
-           "; array textures are not supported");
+      fail("layerCount is " + std::to_string(u32(kOffsetLayerCount)) + "; array textures are not supported");
     }
     if (image.faces != 1 && image.faces != 6) {
       fail("faceCount is " + std::to_string(image.faces) + ", expected 1 or 6");
@@ -449,13 +439,11 @@ class Decoder {
     }
     const uint32_t max_levels = ktx2_max_levels(image.width, image.height);
     if (u32(kOffsetLevelCount) > max_levels) {
-      fail("levelCount " + std::to_string(u32(kOffsetLevelCount)) + " exceeds the " +
-           std::to_string(max_levels) + " levels of a " + std::to_string(image.width) + "x" +
-           std::to_string(image.height) + " texture");
+      fail("levelCount " + std::to_string(u32(kOffsetLevelCount)) + " exceeds the " + std::to_string(max_levels) +
+           " levels of a " + std::to_string(image.width) + "x" + std::to_string(image.height) + " texture");
     }
     if (u32(kOffsetSupercompressionScheme) != 0) {
-      fail("supercompressionScheme " + std::to_string(u32(kOffsetSupercompressionScheme)) +
-           " is not supported");
+      fail("supercompressionScheme " + std::to_string(u32(kOffsetSupercompressionScheme)) + " is not supported");
     }
     return *format;
   }
@@ -466,8 +454,7 @@ class Decoder {
     const uint32_t word0 = u32(block);
     if ((word0 & 0x1FFFFu) != kDfVendorKhronos || (word0 >> 17) != kDfDescriptorTypeBasic) {
       fail("the first descriptor block is not a Khronos basic descriptor (vendorId " +
-           std::to_string(word0 & 0x1FFFFu) + ", descriptorType " + std::to_string(word0 >> 17) +
-           ")");
+           std::to_string(word0 & 0x1FFFFu) + ", descriptorType " + std::to_string(word0 >> 17) + ")");
     }
     const uint32_t word1 = u32(block + 4);
     const uint32_t block_size = word1 >> 16;
@@ -498,9 +485,8 @@ class Decoder {
     }
     const uint32_t dimension = (format.block_width - 1) | (format.block_height - 1) << 8;
     if (u32(block + 12) != dimension) {
-      fail("DFD texelBlockDimension is " + hex32(u32(block + 12)) + ", expected " +
-           std::to_string(format.block_width) + "x" + std::to_string(format.block_height) + "x1x1 (" +
-           hex32(dimension) + ")");
+      fail("DFD texelBlockDimension is " + hex32(u32(block + 12)) + ", expected " + std::to_string(format.block_width) +
+           "x" + std::to_string(format.block_height) + "x1x1 (" + hex32(dimension) + ")");
     }
     if (u32(block + 16) != texel_size(format) || u32(block + 20) != 0) {
       fail("DFD bytesPlane0..7 are " + hex32(u32(block + 16)) + " " + hex32(u32(block + 20)) +
@@ -516,9 +502,8 @@ class Decoder {
       const uint32_t channel = (word >> 24) & 0x0Fu;
       const uint32_t qualifiers = (word >> 24) & 0xF0u;
       if (bit_offset != c * bits || bit_length != bits) {
-        fail(name + " covers bits " + std::to_string(bit_offset) + "+" +
-             std::to_string(bit_length) + ", expected " + std::to_string(c * bits) + "+" +
-             std::to_string(bits));
+        fail(name + " covers bits " + std::to_string(bit_offset) + "+" + std::to_string(bit_length) + ", expected " +
+             std::to_string(c * bits) + "+" + std::to_string(bits));
       }
       if (channel != (compressed(format) ? kDfChannelAstcData : channel_id(c))) {
         fail(name + " has channelType " + std::to_string(channel) + ", expected " +
@@ -531,8 +516,8 @@ class Decoder {
       }
       if (u32(sample + 4) != 0) fail(name + " has samplePosition " + hex32(u32(sample + 4)));
       if (u32(sample + 8) != kFloatMinusOneBits || u32(sample + 12) != kFloatOneBits) {
-        fail(name + " has sampleLower/sampleUpper " + hex32(u32(sample + 8)) + "/" +
-             hex32(u32(sample + 12)) + ", expected -1.0f/1.0f (0xBF800000/0x3F800000)");
+        fail(name + " has sampleLower/sampleUpper " + hex32(u32(sample + 8)) + "/" + hex32(u32(sample + 12)) +
+             ", expected -1.0f/1.0f (0xBF800000/0x3F800000)");
       }
     }
     // Further descriptor blocks (vendor extensions) may follow; skip them if well formed.
@@ -541,8 +526,7 @@ class Decoder {
       if (end - cursor < 8) fail("truncated descriptor block at offset " + std::to_string(cursor));
       const uint32_t size = u32(cursor + 4) >> 16;
       if (size < 8 || size % 4 != 0 || size > end - cursor) {
-        fail("descriptor block at offset " + std::to_string(cursor) + " has invalid size " +
-             std::to_string(size));
+        fail("descriptor block at offset " + std::to_string(cursor) + " has invalid size " + std::to_string(size));
       }
       cursor += size;
     }
@@ -570,8 +554,7 @@ class Decoder {
       if (!image.key_values.empty() && !(image.key_values.back().first < key)) {
         fail(image.key_values.back().first == key
                  ? "duplicate key '" + key + "'"
-                 : "keys are not sorted: '" + image.key_values.back().first + "' before '" + key +
-                       "'");
+                 : "keys are not sorted: '" + image.key_values.back().first + "' before '" + key + "'");
       }
       const uint64_t padded_end = align_up(cursor + 4 + length, 4);
       if (padded_end > end) fail(where + ": valuePadding runs past kvdByteLength");
@@ -598,21 +581,18 @@ class Decoder {
         fail(name + " is too large");
       }
       if (length != expected) {
-        fail(name + " byteLength is " + std::to_string(length) + ", expected " +
-             std::to_string(expected) + " for " + std::to_string(image.faces) + " face(s) of " +
-             std::to_string(std::max(1u, image.width >> level)) + "x" +
+        fail(name + " byteLength is " + std::to_string(length) + ", expected " + std::to_string(expected) + " for " +
+             std::to_string(image.faces) + " face(s) of " + std::to_string(std::max(1u, image.width >> level)) + "x" +
              std::to_string(std::max(1u, image.height >> level)) + " " + format.name);
       }
       if (uncompressed != length) {
-        fail(name + " uncompressedByteLength " + std::to_string(uncompressed) +
-             " differs from byteLength " + std::to_string(length) + " (no supercompression)");
+        fail(name + " uncompressedByteLength " + std::to_string(uncompressed) + " differs from byteLength " +
+             std::to_string(length) + " (no supercompression)");
       }
       const uint64_t aligned = align_up(cursor, alignment);
       if (offset != aligned) {
-        fail(name + " byteOffset is " + std::to_string(offset) + ", expected " +
-             std::to_string(aligned) +
-             " (levels are stored smallest first, each at a multiple of " +
-             std::to_string(alignment) + ")");
+        fail(name + " byteOffset is " + std::to_string(offset) + ", expected " + std::to_string(aligned) +
+             " (levels are stored smallest first, each at a multiple of " + std::to_string(alignment) + ")");
       }
       require(cursor, aligned - cursor, "the mip padding before " + name);
       for (uint64_t at = cursor; at < aligned; ++at) {
@@ -623,8 +603,7 @@ class Decoder {
       cursor = offset + length;
     }
     if (cursor != size_) {
-      fail(std::to_string(size_ - cursor) + " unexpected bytes after level 0, which ends at " +
-           std::to_string(cursor));
+      fail(std::to_string(size_ - cursor) + " unexpected bytes after level 0, which ends at " + std::to_string(cursor));
     }
   }
 
@@ -640,8 +619,8 @@ bool ktx2_format_supported(uint32_t vk_format) { return find_format(vk_format) !
 uint32_t ktx2_texel_size(uint32_t vk_format) {
   const Format* format = find_format(vk_format);
   if (format == nullptr) {
-    throw Error("KTX2: unsupported vkFormat " + std::to_string(vk_format) +
-                " (supported: " + supported_formats_list() + ")");
+    throw Error("KTX2: unsupported vkFormat " + std::to_string(vk_format) + " (supported: " + supported_formats_list() +
+                ")");
   }
   return texel_size(*format);
 }
@@ -720,9 +699,9 @@ std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>
   size_t at = dfd_offset + dfd_length;
   for (const auto& [key, value] : entries) {
     put_u32(out, at, key_value_byte_length({key, value}));
-    std::memcpy(out.data() + at + 4, key.data(), key.size());  // NUL terminators and
+    std::memcpy(out.data() + at + 4, key.data(), key.size());                       // NUL terminators and
     std::memcpy(out.data() + at + 4 + key.size() + 1, value.data(), value.size());  // padding
-    at += 4 + align_up(key_value_byte_length({key, value}), 4);  // are the vector's zeros
+    at += 4 + align_up(key_value_byte_length({key, value}), 4);                     // are the vector's zeros
   }
   return out;
 }
@@ -763,13 +742,9 @@ void write_ktx2(const Ktx2Image& image, const std::string& path) {
   out.commit();
 }
 
-Ktx2Image decode_ktx2(const uint8_t* data, size_t size) {
-  return Decoder(data, size, "invalid KTX2 data").decode();
-}
+Ktx2Image decode_ktx2(const uint8_t* data, size_t size) { return Decoder(data, size, "invalid KTX2 data").decode(); }
 
-Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes) {
-  return decode_ktx2(bytes.data(), bytes.size());
-}
+Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes) { return decode_ktx2(bytes.data(), bytes.size()); }
 
 Ktx2Image read_ktx2(const std::string& path) {
   // A regular file of at most 4 GiB (io/special_files.hpp); every size inside is checked against it.
@@ -787,7 +762,8 @@ Ktx2Image read_ktx2(const std::string& path) {
     const std::string what = e.what(), head = "cannot read KTX2 file '" + path + "': ";
     throw Error("cannot read '" + path + "': " + (what.rfind(head, 0) == 0 ? what.substr(head.size()) : what));
   }
-  return Decoder(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), "invalid KTX2 file '" + path + "'").decode();
+  return Decoder(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), "invalid KTX2 file '" + path + "'")
+      .decode();
 }
 
 }  // namespace brdfbake::io

@@ -47,8 +47,7 @@ MerlAngles merl_bin_centre(int i, int j, int k) {
   return {u * u * kHalfPi, (j + 0.5) / kMerlThetaD * kHalfPi, (k + 0.5) / kMerlPhiD * kPi};
 }
 
-void half_diff_to_directions(double theta_h, double theta_d, double phi_d, Vec3& wi,
-                             Vec3& wo) {
+void half_diff_to_directions(double theta_h, double theta_d, double phi_d, Vec3& wi, Vec3& wo) {
   const double st = std::sin(theta_h), ct = std::cos(theta_h);
   const double sd = std::sin(theta_d), cd = std::cos(theta_d);
   const Vec3 d{sd * std::cos(phi_d), sd * std::sin(phi_d), cd};
@@ -87,8 +86,8 @@ std::size_t merl_index(const Vec3& wi_in, const Vec3& wo_in) {
 
 void write_merl(const MerlTable& table, const std::string& path) {
   if (table.values.size() != 3 * kMerlBins)
-    io::throw_write_error(path, "a MERL table holds 3 x 90 x 90 x 180 values (got " +
-                                    std::to_string(table.values.size()) + ")");
+    io::throw_write_error(
+        path, "a MERL table holds 3 x 90 x 90 x 180 values (got " + std::to_string(table.values.size()) + ")");
   std::string bytes(kHeaderBytes + table.values.size() * sizeof(double), '\0');
   const std::int32_t dims[3] = {kMerlThetaH, kMerlThetaD, kMerlPhiD};
   std::memcpy(bytes.data(), dims, kHeaderBytes);
@@ -162,7 +161,8 @@ MerlTable read_merl(const std::string& path) {
   namespace fs = std::filesystem;
   if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a folder");
   // A MERL file's size is fixed by its header: a FIFO or a device is refused, never read.
-  if (const std::string problem = io::input_problem(path, io::Streams::No); !problem.empty() && problem != "no such file")
+  if (const std::string problem = io::input_problem(path, io::Streams::No);
+      !problem.empty() && problem != "no such file")
     throw Error("cannot read '" + path + "': " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read '" + path + "': " + (fs::exists(path, ec) ? "permission denied" : "no such file"));
@@ -174,7 +174,8 @@ MerlTable read_merl(const std::string& path) {
   check_merl_header(path, header, size);
   std::string bytes(static_cast<size_t>(size), '\0');
   in.seekg(0);
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw IoError("cannot read '" + path + "': read error");
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size)))
+    throw IoError("cannot read '" + path + "': read error");
   MerlTable table = decode_merl(bytes, path);
   // The sidecar's metadata, when it can be read: a sidecar we cannot read only loses the metadata.
   if (fs::is_regular_file(path + ".json", ec)) {

@@ -2,7 +2,6 @@
 // module; the only code of brdfbake that includes OpenImageIO. It exports the C functions of
 // oiio_module.hpp and nothing else.
 #include "io/oiio_module.hpp"
-#include "io/image_limits.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -16,6 +15,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "io/image_limits.hpp"
 
 #define BRDFBAKE_OIIO_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -129,9 +130,10 @@ BRDFBAKE_OIIO_EXPORT int brdfbake_oiio_read(const char* path, unsigned long long
       return 1;
     }
     Transfer transfer;
-    const bool integer = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16 ||
-                         spec.format.basetype == OIIO::TypeDesc::INT8 || spec.format.basetype == OIIO::TypeDesc::INT16 ||
-                         spec.format.basetype == OIIO::TypeDesc::UINT32 || spec.format.basetype == OIIO::TypeDesc::INT32;
+    const bool integer =
+        spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16 ||
+        spec.format.basetype == OIIO::TypeDesc::INT8 || spec.format.basetype == OIIO::TypeDesc::INT16 ||
+        spec.format.basetype == OIIO::TypeDesc::UINT32 || spec.format.basetype == OIIO::TypeDesc::INT32;
     if (integer) {
       std::string why;
       if (!integer_transfer(spec, transfer, why)) {

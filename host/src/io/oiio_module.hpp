@@ -26,9 +26,9 @@ struct brdfbake_oiio_image {
   int width;
   int height;
   int channels;
-  float* pixels;          // width x height x channels, row 0 first (allocated by the module)
-  char* channel_names;    // comma-separated, in OpenImageIO's order (allocated by the module)
-  char* description;      // e.g. "tiff 640x480, 3 channel(s), uint8" (allocated by the module)
+  float* pixels;        // width x height x channels, row 0 first (allocated by the module)
+  char* channel_names;  // comma-separated, in OpenImageIO's order (allocated by the module)
+  char* description;    // e.g. "tiff 640x480, 3 channel(s), uint8" (allocated by the module)
   // What was done to integer-coded values, e.g. "8-bit sRGB (oiio:ColorSpace) decoded to linear",
   // or empty (float data, or data stated linear); allocated by the module.
   char* transfer_note;

@@ -84,12 +84,14 @@ OutputLock::OutputLock(const std::string& target_in, bool wait, const OnWait& on
     if (fd_ < 0) {
       const int err = errno;
       for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it) fs::remove(*it, ec);
-      throw IoError("cannot write '" + target + "': cannot create its lock file '" + path_ + "': " + std::strerror(err));
+      throw IoError("cannot write '" + target + "': cannot create its lock file '" + path_ +
+                    "': " + std::strerror(err));
     }
     if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) {
       // The holder before us may have removed the file after we opened it: then this lock guards
       // nothing, and the name may already belong to a new file. Start again on the current one.
-      struct stat held {}, named {};
+      struct stat held {
+      }, named{};
       if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
           held.st_dev == named.st_dev) {
         const std::string pid = std::to_string(::getpid()) + "\n";
@@ -110,7 +112,8 @@ OutputLock::OutputLock(const std::string& target_in, bool wait, const OnWait& on
       for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it) fs::remove(*it, ec);
       throw IoError("cannot lock '" + target + "' (" + path_ + "): " + std::strerror(err));
     }
-    const std::string who = holder > 0 ? "another brdfbake run (pid " + std::to_string(holder) + ")" : "another brdfbake run";
+    const std::string who =
+        holder > 0 ? "another brdfbake run (pid " + std::to_string(holder) + ")" : "another brdfbake run";
     if (!wait) {
       for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it) fs::remove(*it, ec);
       throw LockedError("'" + target + "' is being written by " + who +

@@ -5,7 +5,6 @@
 #include "io/png_image.hpp"
 
 #include <png.h>
-
 #include <unistd.h>
 
 #include <cctype>
@@ -182,8 +181,8 @@ struct LinearState {
   std::string refused;  // why the image is refused (its transfer, its size)
   FloatImage image;
   Transfer transfer;
-  std::vector<uint8_t> raw;    // the rows as bytes
-  std::vector<float> decode;   // sample value -> linear
+  std::vector<uint8_t> raw;   // the rows as bytes
+  std::vector<float> decode;  // sample value -> linear
   int bit_depth = 8;
 };
 
@@ -240,8 +239,9 @@ bool choose_transfer(png_structp png, png_infop info, LinearState* s) {
       t.note = b;
     }
   } else if (icc) {
-    s->refused = "its ICC profile '" + named +
-                 "' is not one brdfbake can interpret, and it has no gAMA chunk: save it as linear OpenEXR or Radiance .hdr";
+    s->refused =
+        "its ICC profile '" + named +
+        "' is not one brdfbake can interpret, and it has no gAMA chunk: save it as linear OpenEXR or Radiance .hdr";
     return false;
   } else if (png_get_bit_depth(png, info) == 16) {
     // 16-bit data without a colour chunk is as often linear (tables, measurements) as not: read as
@@ -253,8 +253,9 @@ bool choose_transfer(png_structp png, png_infop info, LinearState* s) {
     t.kind = Transfer::Kind::Srgb;
     t.note = "sRGB (no colour chunk: assumed, as for any untagged 8-bit image)";
   }
-  if (!t.note.empty()) t.note = std::to_string(png_get_bit_depth(png, info) < 8 ? 8 : png_get_bit_depth(png, info)) +
-                                "-bit " + t.note + " decoded to linear";
+  if (!t.note.empty())
+    t.note = std::to_string(png_get_bit_depth(png, info) < 8 ? 8 : png_get_bit_depth(png, info)) + "-bit " + t.note +
+             " decoded to linear";
   return true;
 }
 
@@ -268,8 +269,10 @@ void convert_row(LinearState* s, const uint8_t* row, png_uint_32 y) {
   float* out = im.pixels.data() + size_t(y) * n;
   for (size_t k = 0; k < n; ++k) {
     uint16_t v = 0;
-    if (s->bit_depth == 16) std::memcpy(&v, row + 2 * k, 2);
-    else v = row[k];
+    if (s->bit_depth == 16)
+      std::memcpy(&v, row + 2 * k, 2);
+    else
+      v = row[k];
     out[k] = alpha && k % channels == channels - 1 ? float(v) * scale : s->decode[v];
   }
 }
@@ -324,9 +327,15 @@ bool decode_linear(LinearState* s, ErrorState* err) {
   for (size_t v = 0; v < s->decode.size(); ++v) {
     const double c = double(v) / max;
     switch (s->transfer.kind) {
-      case Transfer::Kind::Linear: s->decode[v] = float(c); break;
-      case Transfer::Kind::Srgb: s->decode[v] = float(srgb_to_linear(c)); break;
-      case Transfer::Kind::Gamma: s->decode[v] = float(std::pow(c, s->transfer.exponent)); break;
+      case Transfer::Kind::Linear:
+        s->decode[v] = float(c);
+        break;
+      case Transfer::Kind::Srgb:
+        s->decode[v] = float(srgb_to_linear(c));
+        break;
+      case Transfer::Kind::Gamma:
+        s->decode[v] = float(std::pow(c, s->transfer.exponent));
+        break;
     }
   }
   for (int pass = 0; pass < passes; ++pass)

@@ -5,8 +5,8 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <cstddef>
+#include <cstdio>
 #include <cstdlib>
 
 #include "brdfbake/cancel.hpp"
@@ -66,7 +66,8 @@ std::string parse_resolution(const std::string& line, Axis& first, Axis& second)
       n = n * 10 + (line[at] - '0');
       ++at;
       if (n > kMaxAxisCount)
-        return "the count " + line.substr(digits, 20) + " is out of range (at most " + std::to_string(kMaxAxisCount) + ")";
+        return "the count " + line.substr(digits, 20) + " is out of range (at most " + std::to_string(kMaxAxisCount) +
+               ")";
     }
     if (at == digits) return "expected a count after " + std::string{a.sign, a.name};
     if (n < 1) return "the count of " + std::string{a.sign, a.name} + " must be at least 1";
@@ -306,8 +307,8 @@ RgbeImage decode_rgbe(std::string_view bytes, const ImageLimits& limits) {
 
 std::string encode_rgbe(int width, int height, const float* rgb) {
   if (width < 1 || height < 1) throw Error("an RGBE picture needs at least one pixel");
-  std::string out = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " +
-                    std::to_string(width) + "\n";
+  std::string out =
+      "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " + std::to_string(width) + "\n";
   const bool rle = width >= kMinRleLength && width <= kMaxRleLength;
   out.reserve(out.size() + 4 * size_t(width) * size_t(height) + (rle ? 4 * size_t(height) : 0));
   std::vector<uint8_t> scanline(4 * size_t(width));

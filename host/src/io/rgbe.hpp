@@ -42,8 +42,8 @@ inline constexpr float kRgbeMax = 0x1.FEp126f;
 struct RgbeImage {
   int width = 0;
   int height = 0;
-  std::vector<float> rgb;  // width x height x 3, row 0 the top row
-  std::string orientation;  // the resolution line's order, e.g. "-Y +X"
+  std::vector<float> rgb;           // width x height x 3, row 0 the top row
+  std::string orientation;          // the resolution line's order, e.g. "-Y +X"
   bool run_length_encoded = false;  // some scanline used new run-length encoding
   double exposure = 1.0;            // the product of the header's EXPOSURE= lines (not applied)
 };

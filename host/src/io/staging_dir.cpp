@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "brdfbake/output_lock.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/output_lock.hpp"
 #include "io/atomic_file.hpp"
 #include "io/special_files.hpp"
 
@@ -27,7 +27,8 @@ StagingDir::StagingDir(const fs::path& target) : target_(target) {
     }
   }
   if (const OutputTargetInfo info = output_target(target.string()); info.target != OutputTarget::File)
-    throw Error("cannot write '" + target.string() + "': it is " + info.what + ", not a folder brdfbake can write into");
+    throw Error("cannot write '" + target.string() + "': it is " + info.what +
+                ", not a folder brdfbake can write into");
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     throw_write_error(target.string(), "it exists and is not a folder");
   ::brdfbake::remove_stale_temporaries(target.string());
@@ -62,8 +63,10 @@ void list_files(const fs::path& dir, const fs::path& rel, const std::string& las
   for (; !ec && it != end; it.increment(ec)) {
     const fs::path r = rel / it->path().filename();
     std::error_code type_ec;
-    if (it->is_directory(type_ec)) list_files(it->path(), r, last, out, target);
-    else if (r.string() != last) out.push_back(r);
+    if (it->is_directory(type_ec))
+      list_files(it->path(), r, last, out, target);
+    else if (r.string() != last)
+      out.push_back(r);
   }
   if (ec)
     throw IoError("cannot write '" + target.string() + "': its temporary folder cannot be read (" + ec.message() +

@@ -22,11 +22,11 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/io.hpp"
 #include "io/atomic_file.hpp"
-#include "io/special_files.hpp"
 #include "io/half.hpp"
 #include "io/image_file.hpp"
 #include "io/ktx2.hpp"
 #include "io/rgbe.hpp"
+#include "io/special_files.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -64,23 +64,20 @@ const FormatName* find_format_name(const std::string& name) {
   return nullptr;
 }
 
-size_t texel_count(const Table& table) {
-  return static_cast<size_t>(table.width) * static_cast<size_t>(table.height);
-}
+size_t texel_count(const Table& table) { return static_cast<size_t>(table.width) * static_cast<size_t>(table.height); }
 
 size_t channel_count(const Table& table) { return table.channels.size(); }
 
 // Shape checks shared by every format.
 void check_table(const Table& table, const std::string& path) {
   if (table.width <= 0 || table.height <= 0) {
-    io::throw_write_error(path, "the table is empty (" + std::to_string(table.width) + "x" +
-                                    std::to_string(table.height) + ")");
+    io::throw_write_error(
+        path, "the table is empty (" + std::to_string(table.width) + "x" + std::to_string(table.height) + ")");
   }
   if (table.channels.empty()) io::throw_write_error(path, "the table has no channels");
   if (table.data.size() != texel_count(table) * channel_count(table)) {
-    io::throw_write_error(path, "the table holds " + std::to_string(table.data.size()) +
-                                    " values, expected " + std::to_string(table.width) + " x " +
-                                    std::to_string(table.height) + " x " +
+    io::throw_write_error(path, "the table holds " + std::to_string(table.data.size()) + " values, expected " +
+                                    std::to_string(table.width) + " x " + std::to_string(table.height) + " x " +
                                     std::to_string(channel_count(table)));
   }
 }
@@ -89,25 +86,22 @@ void check_table(const Table& table, const std::string& path) {
 // (a table with a y_name), and a 1-D table has one row.
 void check_coordinates(const Table& table, const std::string& where) {
   if (table.x.size() != static_cast<size_t>(table.width)) {
-    io::throw_write_error(where, "the table has " + std::to_string(table.x.size()) +
-                                     " x coordinates for width " + std::to_string(table.width));
+    io::throw_write_error(where, "the table has " + std::to_string(table.x.size()) + " x coordinates for width " +
+                                     std::to_string(table.width));
   }
   if (table.y_name.empty() && table.height != 1) {
-    io::throw_write_error(where,
-                          "a table of height " + std::to_string(table.height) + " needs a y_name");
+    io::throw_write_error(where, "a table of height " + std::to_string(table.height) + " needs a y_name");
   }
   if (!table.y_name.empty() && table.y.size() != static_cast<size_t>(table.height)) {
-    io::throw_write_error(where, "the table has " + std::to_string(table.y.size()) +
-                                     " y coordinates for height " + std::to_string(table.height));
+    io::throw_write_error(where, "the table has " + std::to_string(table.y.size()) + " y coordinates for height " +
+                                     std::to_string(table.height));
   }
 }
 
-void check_channel_limit(const Table& table, const std::string& path, size_t limit,
-                         const char* format) {
+void check_channel_limit(const Table& table, const std::string& path, size_t limit, const char* format) {
   if (channel_count(table) > limit) {
-    io::throw_write_error(path, std::string("the ") + format + " format holds at most " +
-                                    std::to_string(limit) + " channels; the table has " +
-                                    std::to_string(channel_count(table)));
+    io::throw_write_error(path, std::string("the ") + format + " format holds at most " + std::to_string(limit) +
+                                    " channels; the table has " + std::to_string(channel_count(table)));
   }
 }
 
@@ -122,8 +116,7 @@ std::string join(const std::vector<std::string>& items, const char* separator) {
 
 // Replaces or appends an entry, keeping keys unique.
 void set_entry(Metadata& metadata, const std::string& key, const std::string& value) {
-  auto it = std::find_if(metadata.begin(), metadata.end(),
-                         [&](const auto& entry) { return entry.first == key; });
+  auto it = std::find_if(metadata.begin(), metadata.end(), [&](const auto& entry) { return entry.first == key; });
   if (it != metadata.end()) {
     it->second = value;
   } else {
@@ -197,13 +190,12 @@ void write_png(const Table& table, const std::string& path) {
   for (const auto& entry : metadata) {
     if (std::string(kKeyPrefix).size() + entry.first.size() > kMaxPngKeyword) {
       io::throw_write_error(path, "metadata key '" + entry.first +
-                                      "' is too long for a PNG text chunk (79 bytes with the '" +
-                                      kKeyPrefix + "' prefix)");
+                                      "' is too long for a PNG text chunk (79 bytes with the '" + kKeyPrefix +
+                                      "' prefix)");
     }
   }
   io::TempFile temp(path);
-  io::write_png16(temp, table.width, table.height, static_cast<int>(file_channels), pixels.data(),
-                  prefixed(metadata));
+  io::write_png16(temp, table.width, table.height, static_cast<int>(file_channels), pixels.data(), prefixed(metadata));
   temp.commit();
 }
 
@@ -267,8 +259,7 @@ void write_hdr(const Table& table, const std::string& path) {
 // rounded to nearest even, beyond 65504 infinite) or VK_FORMAT_R32G32B32A32_SFLOAT (F32); missing
 // colour channels 0, missing alpha 1. Metadata as key/value pairs "brdfbake:KEY", plus KTXwriter
 // and KTXorientation "rd".
-void write_ktx2_table(const Table& table, const std::string& path,
-                      const TableWriteOptions& options) {
+void write_ktx2_table(const Table& table, const std::string& path, const TableWriteOptions& options) {
   check_channel_limit(table, path, 4, ".ktx2");
   const bool half = options.pixel == PixelType::F16;
   const size_t channels = channel_count(table);
@@ -305,8 +296,7 @@ void write_ktx2_table(const Table& table, const std::string& path,
   } catch (const Error& e) {
     io::throw_write_error(path, e.what());
   }
-  io::write_file_atomically(
-      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  io::write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 // ---- Text formats -------------------------------------------------------------------------------
@@ -345,23 +335,20 @@ void write_csv_to(const Table& table, std::ostream& out) {
 
 bool is_identifier(const std::string& text) {
   if (text.empty() || std::isdigit(static_cast<unsigned char>(text[0]))) return false;
-  return std::all_of(text.begin(), text.end(),
-                     [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+  return std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; });
 }
 
 bool is_keyword(const std::string& word) {
   static const char* const kKeywords[] = {
-      "alignas", "alignof",   "and",    "asm",      "auto",      "bool",     "break",    "case",
-      "catch",   "char",      "class",  "const",    "constexpr", "continue", "default",  "delete",
-      "do",      "double",    "else",   "enum",     "explicit",  "export",   "extern",   "false",
-      "float",   "for",       "friend", "goto",     "if",        "inline",   "int",      "long",
-      "mutable", "namespace", "new",    "noexcept", "not",       "nullptr",  "operator", "or",
-      "private", "protected", "public", "register", "restrict",  "return",   "short",    "signed",
-      "sizeof",  "static",    "struct", "switch",   "template",  "this",     "throw",    "true",
-      "try",     "typedef",   "typeid", "typename", "union",     "unsigned", "using",    "virtual",
-      "void",    "volatile",  "while",  "xor"};
-  return std::any_of(std::begin(kKeywords), std::end(kKeywords),
-                     [&](const char* keyword) { return word == keyword; });
+      "alignas", "alignof", "and",      "asm",       "auto",     "bool",      "break",     "case",     "catch",
+      "char",    "class",   "const",    "constexpr", "continue", "default",   "delete",    "do",       "double",
+      "else",    "enum",    "explicit", "export",    "extern",   "false",     "float",     "for",      "friend",
+      "goto",    "if",      "inline",   "int",       "long",     "mutable",   "namespace", "new",      "noexcept",
+      "not",     "nullptr", "operator", "or",        "private",  "protected", "public",    "register", "restrict",
+      "return",  "short",   "signed",   "sizeof",    "static",   "struct",    "switch",    "template", "this",
+      "throw",   "true",    "try",      "typedef",   "typeid",   "typename",  "union",     "unsigned", "using",
+      "virtual", "void",    "volatile", "while",     "xor"};
+  return std::any_of(std::begin(kKeywords), std::end(kKeywords), [&](const char* keyword) { return word == keyword; });
 }
 
 // The C identifier for a header: options.symbol, or the file name's stem with every
@@ -389,24 +376,21 @@ std::string float_literal(float value) {
   return text + "f";
 }
 
-std::string c_header_text(const Table& table, const std::string& path,
-                          const TableWriteOptions& options) {
+std::string c_header_text(const Table& table, const std::string& path, const TableWriteOptions& options) {
   const std::string symbol = header_symbol(path, options);
   std::string macro = symbol;
   std::transform(macro.begin(), macro.end(), macro.begin(),
                  [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
   const bool half = options.pixel == PixelType::F16;
   std::ostringstream out;
-  out << "// " << fs::path(path).filename().string() << ": a table generated by " << kGenerator
-      << ". Do not edit.\n"
+  out << "// " << fs::path(path).filename().string() << ": a table generated by " << kGenerator << ". Do not edit.\n"
       << "//\n"
       << "// " << symbol << "[(j * " << macro << "_WIDTH + i) * " << macro
       << "_CHANNELS + c] is channel c of texel (i, j):\n"
       << "// column i along x (" << one_line(table.x_name) << "), row j along y"
       << (table.y_name.empty() ? "" : " (" + one_line(table.y_name) + ")") << ", row 0 first.\n"
       << "// Channels: " << one_line(join(table.channels, ", ")) << "\n"
-      << "// Values: "
-      << (half ? "IEEE 754 binary16 bit patterns (uint16_t)" : "IEEE 754 binary32 (float)") << "\n";
+      << "// Values: " << (half ? "IEEE 754 binary16 bit patterns (uint16_t)" : "IEEE 754 binary32 (float)") << "\n";
   if (!table.metadata.empty()) out << "//\n// Metadata:\n";
   for (const auto& [key, value] : table.metadata) {
     out << "//   " << one_line(key) << ": " << one_line(value) << "\n";
@@ -415,8 +399,8 @@ std::string c_header_text(const Table& table, const std::string& path,
       << "#define " << macro << "_WIDTH " << table.width << "\n"
       << "#define " << macro << "_HEIGHT " << table.height << "\n"
       << "#define " << macro << "_CHANNELS " << table.channel_count() << "\n\n"
-      << "static const " << (half ? "uint16_t " : "float ") << symbol << "[" << macro << "_WIDTH * "
-      << macro << "_HEIGHT * " << macro << "_CHANNELS] = {\n";
+      << "static const " << (half ? "uint16_t " : "float ") << symbol << "[" << macro << "_WIDTH * " << macro
+      << "_HEIGHT * " << macro << "_CHANNELS] = {\n";
   constexpr size_t kValuesPerLine = 8;
   for (size_t k = 0; k < table.data.size(); ++k) {
     const float value = table.data[k];
@@ -427,9 +411,8 @@ std::string c_header_text(const Table& table, const std::string& path,
       out << ' ' << text;
     } else {
       if (!std::isfinite(value)) {
-        io::throw_write_error(path, "value " + format_g9(static_cast<double>(value)) +
-                                        " at index " + std::to_string(k) +
-                                        " has no C float literal");
+        io::throw_write_error(path, "value " + format_g9(static_cast<double>(value)) + " at index " +
+                                        std::to_string(k) + " has no C float literal");
       }
       out << ' ' << float_literal(value);
     }
@@ -445,8 +428,7 @@ std::string c_header_text(const Table& table, const std::string& path,
 TableFormat table_format_from_path(const std::string& path) {
   const std::string extension = fs::path(path).extension().string();
   if (extension.empty()) {
-    throw Error("output file '" + path + "' has no extension (expected " + kExpectedExtensions +
-                ")");
+    throw Error("output file '" + path + "' has no extension (expected " + kExpectedExtensions + ")");
   }
   const FormatName* entry = find_format_name(extension.substr(1));
   if (entry == nullptr) {
@@ -456,19 +438,18 @@ TableFormat table_format_from_path(const std::string& path) {
 }
 
 TableFormat table_format_from_name(const std::string& name) {
-  const FormatName* entry =
-      find_format_name(!name.empty() && name[0] == '.' ? name.substr(1) : name);
+  const FormatName* entry = find_format_name(!name.empty() && name[0] == '.' ? name.substr(1) : name);
   if (entry == nullptr) {
     throw Error("unknown output format '" + name + "' (expected exr, png, hdr, ktx2, csv or h)");
   }
   return entry->format;
 }
 
-void write_table(const Table& table, const std::string& path, TableFormat format,
-                 const TableWriteOptions& options) {
+void write_table(const Table& table, const std::string& path, TableFormat format, const TableWriteOptions& options) {
   check_table(table, path);
   if (options.pixel == PixelType::R11G11B10)
-    throw Error("cannot write '" + path + "': the R11F_G11F_B10F pixel format is for KTX1 cubemaps only "
+    throw Error("cannot write '" + path +
+                "': the R11F_G11F_B10F pixel format is for KTX1 cubemaps only "
                 "(no sign, 6-bit mantissas); use f16 or f32 for tables");
   switch (format) {
     case TableFormat::Exr:
@@ -511,8 +492,7 @@ void check_output_path(const std::string& path, bool streams) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::path probe_at(path);
-  while (!probe_at.parent_path().empty() && !fs::exists(probe_at.parent_path(), ec))
-    probe_at = probe_at.parent_path();
+  while (!probe_at.parent_path().empty() && !fs::exists(probe_at.parent_path(), ec)) probe_at = probe_at.parent_path();
   if (probe_at.string() != path && fs::exists(probe_at, ec) && !fs::is_directory(probe_at, ec))
     io::throw_write_error(path, "'" + probe_at.string() + "' is not a folder");
   io::TempFile probe(probe_at.string());  // created exclusively beside it, removed on scope exit

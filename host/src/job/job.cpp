@@ -1,13 +1,14 @@
 // Jobs: parsing, validation and the job as JSON. Every error names the document and the field. The
 // tables' own parameters are checked by the family registry (brdfbake/tables.hpp) from each kind's
 // schema; this file knows only the fields every job and every table share.
+#include "brdfbake/job.hpp"
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
-#include "brdfbake/job.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
@@ -34,7 +35,8 @@ ParamValue to_param(const json& v, const std::string& where) {
   if (v.is_array()) {
     std::vector<double> out;
     for (const auto& e : v) {
-      if (!e.is_number()) throw Error(where + ": must be a number or an array of numbers (got " + json_excerpt(v) + ")");
+      if (!e.is_number())
+        throw Error(where + ": must be a number or an array of numbers (got " + json_excerpt(v) + ")");
       out.push_back(e.get<double>());
     }
     return out;
@@ -81,11 +83,14 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
     if (key == "output") {
       t.output = get_string(*it, field);
       if (t.output.empty()) throw Error(field + ": must not be empty (leave it out for the default name)");
-    }
-    else if (key == "format") t.format = get_string(*it, field);
-    else if (key == "pixel") t.pixel = get_string(*it, field);
-    else if (key == "device") t.device = get_string(*it, field);
-    else if (key == "environment") t.environment = get_string(*it, field);
+    } else if (key == "format")
+      t.format = get_string(*it, field);
+    else if (key == "pixel")
+      t.pixel = get_string(*it, field);
+    else if (key == "device")
+      t.device = get_string(*it, field);
+    else if (key == "environment")
+      t.environment = get_string(*it, field);
     else if (key == "precision") {
       try {
         t.precision = precision_from_name(get_string(*it, field));
@@ -104,11 +109,16 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
         if (!r.is_object()) throw Error(rw + ": must be an object");
         Request q;
         for (auto f = r.begin(); f != r.end(); ++f) {
-          if (f.key() == "rule") q.rule = get_string(*f, rw + ".rule");
-          else if (f.key() == "purpose") q.purpose = get_string(*f, rw + ".purpose");
-          else if (f.key() == "note") q.note = get_string(*f, rw + ".note");
-          else if (f.key() == "materials") q.materials = get_strings(*f, rw + ".materials");
-          else throw Error(rw + "." + f.key().substr(0, 60) + ": unknown field (expected rule, purpose, materials, note)");
+          if (f.key() == "rule")
+            q.rule = get_string(*f, rw + ".rule");
+          else if (f.key() == "purpose")
+            q.purpose = get_string(*f, rw + ".purpose");
+          else if (f.key() == "note")
+            q.note = get_string(*f, rw + ".note");
+          else if (f.key() == "materials")
+            q.materials = get_strings(*f, rw + ".materials");
+          else
+            throw Error(rw + "." + f.key().substr(0, 60) + ": unknown field (expected rule, purpose, materials, note)");
         }
         t.requested_by.push_back(q);
       }
@@ -158,7 +168,8 @@ void validate_job(Job& job) {
     check_job_path(t.output, where + ".output");
     // Every other file a table writes (e.g. irradiance's sh_json) stays inside the folder too.
     for (const auto& d : table_schema(t.kind))
-      if (d.type == ParamType::Path && d.output_only && t.find(d.name)) check_job_path(t.text(d.name), where + "." + d.name);
+      if (d.type == ParamType::Path && d.output_only && t.find(d.name))
+        check_job_path(t.text(d.name), where + "." + d.name);
       else if (d.type == ParamType::Path && t.text(d.name) == "-")
         throw Error(where + "." + d.name + ": '-' (standard input) is for the command line; name a file");
   }
@@ -182,8 +193,8 @@ void validate_job(Job& job) {
           first_index = k;
           break;
         }
-      throw Error(origin + ": tables[" + std::to_string(i) + "].output: '" + t.output + "' is also the output of tables[" +
-                  std::to_string(first_index) + "], a different table");
+      throw Error(origin + ": tables[" + std::to_string(i) + "].output: '" + t.output +
+                  "' is also the output of tables[" + std::to_string(first_index) + "], a different table");
     }
     for (const auto& r : t.requested_by) first.requested_by.push_back(r);
   }

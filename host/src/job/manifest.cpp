@@ -2,8 +2,8 @@
 #include "brdfbake/manifest.hpp"
 
 #include "brdfbake/version.hpp"
-#include "job/job_json.hpp"
 #include "io/json_input.hpp"
+#include "job/job_json.hpp"
 
 namespace brdfbake {
 
@@ -24,8 +24,10 @@ std::string manifest_to_json(const Manifest& m) {
     e["precision"] = precision_name(f.precision);
     e["device"] = f.device;
     if (!f.environment.empty()) e["environment"] = f.environment;
-    if (f.error_bound) e["error_bound"] = *f.error_bound;
-    else e["error_bound"] = nullptr;
+    if (f.error_bound)
+      e["error_bound"] = *f.error_bound;
+    else
+      e["error_bound"] = nullptr;
     e["error_bound_definition"] = f.error_bound_definition;
     for (const auto& [k, v] : f.details) e[k] = v;
     e["materials"] = f.materials;

@@ -1,6 +1,8 @@
 // The rules that turn a scene's materials into the tables they call for (docs/SCENES.md states each
 // rule, what it bakes and why). Every table of the plan records the rules and the materials that
 // asked for it; a table asked for twice (by two materials, or two rules) is listed once.
+#include "brdfbake/plan.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,9 +10,8 @@
 #include <set>
 
 #include "brdfbake/engines.hpp"
-#include "brdfbake/plan.hpp"
-#include "job/job_json.hpp"
 #include "io/json_input.hpp"
+#include "job/job_json.hpp"
 
 namespace brdfbake {
 
@@ -37,8 +38,8 @@ constexpr const char* kDispersion = "KHR_materials_dispersion";
 constexpr const char* kTransmission = "KHR_materials_transmission";
 constexpr const char* kVolume = "KHR_materials_volume";
 constexpr const char* kIridescence = "KHR_materials_iridescence";
-const char* const kRuleOrder[] = {kUnlit,    kEmissiveOnly, kCore,       kClearcoat,   kSheen,   kAnisotropy,
-                                  kIor,      kSpecular,     kDispersion, kTransmission, kVolume, kIridescence};
+const char* const kRuleOrder[] = {kUnlit, kEmissiveOnly, kCore,       kClearcoat,    kSheen,  kAnisotropy,
+                                  kIor,   kSpecular,     kDispersion, kTransmission, kVolume, kIridescence};
 
 class Planner {
  public:
@@ -145,8 +146,10 @@ class Planner {
     TableRequest t;
     t.kind = TableKind::Fresnel;
     t.params.push_back({"model", model});
-    if (ior.size() == 1) t.params.push_back({"ior", ior[0]});
-    else t.params.push_back({"ior", ior});
+    if (ior.size() == 1)
+      t.params.push_back({"ior", ior[0]});
+    else
+      t.params.push_back({"ior", ior});
     if (ior_outside != 1.0) t.params.push_back({"ior_outside", ior_outside});
     if (o_.fresnel_size) t.params.push_back({"size", double(*o_.fresnel_size)});
     if (vs_exact) t.params.push_back({"vs_exact", true});
@@ -172,9 +175,12 @@ class Planner {
     std::string k = table_kind_name(t.kind);
     for (const auto& p : t.params) {
       k += "|" + p.name + "=";
-      if (auto b = std::get_if<bool>(&p.value)) k += *b ? "true" : "false";
-      else if (auto d = std::get_if<double>(&p.value)) k += num(*d, "%.9g");
-      else if (auto s = std::get_if<std::string>(&p.value)) k += *s;
+      if (auto b = std::get_if<bool>(&p.value))
+        k += *b ? "true" : "false";
+      else if (auto d = std::get_if<double>(&p.value))
+        k += num(*d, "%.9g");
+      else if (auto s = std::get_if<std::string>(&p.value))
+        k += *s;
       else
         for (double v : std::get<std::vector<double>>(p.value)) k += num(v, "%.9g") + ",";
     }
@@ -220,8 +226,8 @@ std::string ior_text(const std::vector<double>& iors) {
 }
 
 bool dispersion_fires(const SceneMaterial& m) {
-  return m.dispersion_ext && m.dispersion > 0 && m.transmission > 0 && m.volume_ext &&
-         (m.thickness > 0) && m.ior != 1.0 && m.ior != 0.0;
+  return m.dispersion_ext && m.dispersion > 0 && m.transmission > 0 && m.volume_ext && (m.thickness > 0) &&
+         m.ior != 1.0 && m.ior != 0.0;
 }
 
 // Whether the material emits light and reflects nothing the renderer's IBL would add: a black base
@@ -229,8 +235,7 @@ bool dispersion_fires(const SceneMaterial& m) {
 bool emissive_only(const SceneMaterial& m) {
   const bool emits = max3(m.emissive) > 0 && m.emissive_strength > 0;
   const bool black = max3(m.base_color) == 0;
-  const bool lobes = (m.sheen && max3(m.sheen_color) > 0) || m.clearcoat > 0 || m.transmission > 0 ||
-                     m.iridescence > 0;
+  const bool lobes = (m.sheen && max3(m.sheen_color) > 0) || m.clearcoat > 0 || m.transmission > 0 || m.iridescence > 0;
   return emits && black && !lobes;
 }
 
@@ -242,10 +247,18 @@ class MaterialRules {
   using Films = std::map<std::pair<double, std::string>, std::pair<Range, std::vector<std::string>>>;
   MaterialRules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& clearcoat_range, Range& sheen_range,
                 Range& anisotropy_range, Films& films)
-      : p_(p), m_(m), mp_(mp), who_(m.label), clearcoat_range_(clearcoat_range), sheen_range_(sheen_range),
-        anisotropy_range_(anisotropy_range), films_(films),
+      : p_(p),
+        m_(m),
+        mp_(mp),
+        who_(m.label),
+        clearcoat_range_(clearcoat_range),
+        sheen_range_(sheen_range),
+        anisotropy_range_(anisotropy_range),
+        films_(films),
         fully_metallic_(m.metallic >= 1.0 && !m.metallic_roughness_texture),
-        iors_(channel_iors(m, dispersion_fires(m))), no_reflection_(m.ior == 1.0), full_reflection_(m.ior == 0.0) {}
+        iors_(channel_iors(m, dispersion_fires(m))),
+        no_reflection_(m.ior == 1.0),
+        full_reflection_(m.ior == 0.0) {}
 
   void apply() {
     if (m_.unlit) {
@@ -272,7 +285,9 @@ class MaterialRules {
     if (std::find(mp_.rules.begin(), mp_.rules.end(), rule) == mp_.rules.end()) mp_.rules.push_back(rule);
     p_.fired(rule);
   }
-  void zero(const std::string& ext, const std::string& why) { mp_.notes.push_back(ext + ": " + why + ", does not fire"); }
+  void zero(const std::string& ext, const std::string& why) {
+    mp_.notes.push_back(ext + ": " + why + ", does not fire");
+  }
 
   // metallic-roughness core
   void core() {
@@ -331,14 +346,16 @@ class MaterialRules {
 
   // Fresnel tables for the IORs in use.
   void fresnel_pair(const char* rule, const std::string& why) {
-    p_.ask(p_.fresnel("dielectric", iors_, 1.0, false), rule, "exact dielectric Fresnel at IOR " + ior_text(iors_) + why,
-           who_);
+    p_.ask(p_.fresnel("dielectric", iors_, 1.0, false), rule,
+           "exact dielectric Fresnel at IOR " + ior_text(iors_) + why, who_);
     p_.ask(p_.fresnel("schlick-ior", iors_, 1.0, true), rule,
            "Schlick's approximation at IOR " + ior_text(iors_) + " and its error against the exact dielectric", who_);
   }
   void trivial_ior_note(const std::string& ext) {
-    if (no_reflection_) zero(ext, "ior 1: F = 0 everywhere, no table needed");
-    else if (full_reflection_) zero(ext, "ior 0: F = 1 everywhere, no table needed");
+    if (no_reflection_)
+      zero(ext, "ior 1: F = 0 everywhere, no table needed");
+    else if (full_reflection_)
+      zero(ext, "ior 0: F = 1 everywhere, no table needed");
   }
 
   void ior_specular_dispersion() {
@@ -352,20 +369,26 @@ class MaterialRules {
       }
     }
     if (m.specular_ext) {
-      if (m.specular <= 0) zero(kSpecular, "specularFactor 0");
-      else if (max3(m.specular_color) <= 0) zero(kSpecular, "specularColorFactor 0");
-      else if (no_reflection_ || full_reflection_) trivial_ior_note(kSpecular);
+      if (m.specular <= 0)
+        zero(kSpecular, "specularFactor 0");
+      else if (max3(m.specular_color) <= 0)
+        zero(kSpecular, "specularColorFactor 0");
+      else if (no_reflection_ || full_reflection_)
+        trivial_ior_note(kSpecular);
       else {
         fire(kSpecular);
         fresnel_pair(kSpecular, ", scaled by specularColor and specularFactor");
       }
     }
     if (m.dispersion_ext) {
-      if (m.dispersion <= 0) zero(kDispersion, "dispersion 0");
+      if (m.dispersion <= 0)
+        zero(kDispersion, "dispersion 0");
       else if (m.transmission <= 0 || !m.volume_ext || m.thickness <= 0)
         zero(kDispersion, "no volumetric transmission (it needs transmission and a volume)");
-      else if (no_reflection_) zero(kDispersion, "ior 1: no spread, F = 0");
-      else if (full_reflection_) zero(kDispersion, "ior 0: F = 1, no refraction");
+      else if (no_reflection_)
+        zero(kDispersion, "ior 1: no spread, F = 0");
+      else if (full_reflection_)
+        zero(kDispersion, "ior 0: F = 1, no refraction");
       else {
         fire(kDispersion);
         fresnel_pair(kDispersion, " (red, green, blue)");
@@ -394,8 +417,10 @@ class MaterialRules {
     }
     p_.ask(p_.fresnel("dielectric", iors_, 1.0, false), kTransmission,
            "entering the surface: transmittance 1 - F at IOR " + ior_text(iors_), who_);
-    if (m.volume_ext && (m.thickness > 0)) volume();
-    else if (m.volume_ext) zero(kVolume, "thicknessFactor 0 (thin-walled)");
+    if (m.volume_ext && (m.thickness > 0))
+      volume();
+    else if (m.volume_ext)
+      zero(kVolume, "thicknessFactor 0 (thin-walled)");
   }
 
   void volume() {
@@ -457,7 +482,7 @@ class MaterialRules {
   Films& films_;
   const bool fully_metallic_;
   const std::vector<double> iors_;
-  const bool no_reflection_;   // ior 1: F = 0 everywhere
+  const bool no_reflection_;    // ior 1: F = 0 everywhere
   const bool full_reflection_;  // the extension's special value 0: F = 1
 };
 
@@ -469,11 +494,11 @@ void apply_rules(Planner& p, const SceneMaterial& m, MaterialPlan& mp, Range& cl
 MaterialPlan describe(const SceneMaterial& m, bool counted) {
   MaterialPlan mp;
   mp.label = m.label;
-  mp.reached_by = m.index < 0                     ? "default"
-                  : m.by_mesh && m.by_variant     ? "mesh+variant"
-                  : m.by_mesh                     ? "mesh"
-                  : m.by_variant                  ? "variant"
-                                                  : "unreferenced";
+  mp.reached_by = m.index < 0                 ? "default"
+                  : m.by_mesh && m.by_variant ? "mesh+variant"
+                  : m.by_mesh                 ? "mesh"
+                  : m.by_variant              ? "variant"
+                                              : "unreferenced";
   mp.counted = counted;
   return mp;
 }
@@ -495,8 +520,10 @@ Plan plan_scene(const Scene& scene, const PlanOptions& options) {
     // (no meshes) is a material library: every material counts.
     const bool counted = !scene.has_meshes || m->by_mesh || m->by_variant;
     MaterialPlan mp = describe(*m, counted);
-    if (counted) apply_rules(p, *m, mp, clearcoat, sheen, anisotropy, films);
-    else mp.notes.push_back("not referenced by any mesh primitive or variant: not planned");
+    if (counted)
+      apply_rules(p, *m, mp, clearcoat, sheen, anisotropy, films);
+    else
+      mp.notes.push_back("not referenced by any mesh primitive or variant: not planned");
     p.plan().materials.push_back(std::move(mp));
   }
 
@@ -531,8 +558,8 @@ Plan plan_scene(const Scene& scene, const PlanOptions& options) {
   if (!clearcoat.empty()) p.note_rule(kClearcoat, "clearcoat roughness " + clearcoat.text());
   if (!sheen.empty()) p.note_rule(kSheen, "sheen roughness " + sheen.text());
   if (!anisotropy.empty())
-    p.note_rule(kAnisotropy, "anisotropy strength " + anisotropy.text() +
-                                 "; the isotropic tables serve (docs/SCENES.md)");
+    p.note_rule(kAnisotropy,
+                "anisotropy strength " + anisotropy.text() + "; the isotropic tables serve (docs/SCENES.md)");
   p.finish();
   Plan plan = std::move(p.plan());
   int counted = 0, variant_only = 0;
@@ -540,10 +567,9 @@ Plan plan_scene(const Scene& scene, const PlanOptions& options) {
     counted += m.counted;
     variant_only += m.reached_by == "variant";
   }
-  plan.job.notes.push_back(std::to_string(counted) + " of " + std::to_string(plan.materials.size()) +
-                           " materials planned" +
-                           (variant_only ? " (" + std::to_string(variant_only) + " reached only through variants)"
-                                         : std::string()));
+  plan.job.notes.push_back(
+      std::to_string(counted) + " of " + std::to_string(plan.materials.size()) + " materials planned" +
+      (variant_only ? " (" + std::to_string(variant_only) + " reached only through variants)" : std::string()));
   if (plan.job.tables.empty()) plan.job.notes.push_back("no material calls for a table: nothing to bake");
   return plan;
 }
@@ -614,17 +640,23 @@ const std::vector<ParamDef>& plan_schema() {
       ParamDef("prefilter_max_error", ParamType::Number,
                "prefiltered chains: refine each level until successive refinements differ by less (RMS); 0: fixed "
                "refinement, no measured bound")
-          .range(0, 1).def(d.prefilter_max_error),
+          .range(0, 1)
+          .def(d.prefilter_max_error),
       from_table(TableKind::Fresnel, "size", "fresnel_size", "Fresnel tables: cells along cos_theta"),
-      from_table(TableKind::ThinFilm, "size", "thin_film_size", "thin-film tables: cells along cos_theta and thickness"),
+      from_table(TableKind::ThinFilm, "size", "thin_film_size",
+                 "thin-film tables: cells along cos_theta and thickness"),
       from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
       from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
       ParamDef("target", ParamType::Name,
                "write an engine's file set too (docs/ENGINES.md), with its schedule, sizes and SH window")
-          .one_of(engine_target_names()).def(d.target),
+          .one_of(engine_target_names())
+          .def(d.target),
       ParamDef("table_format", ParamType::Name, "1-D and 2-D tables: the file format")
-          .one_of({"exr", "png", "hdr", "ktx2", "csv", "h"}).def(d.table_format),
-      ParamDef("cube_format", ParamType::Name, "prefiltered chains: the container").one_of({"ktx2", "ktx", "dds"}).def(d.cube_format),
+          .one_of({"exr", "png", "hdr", "ktx2", "csv", "h"})
+          .def(d.table_format),
+      ParamDef("cube_format", ParamType::Name, "prefiltered chains: the container")
+          .one_of({"ktx2", "ktx", "dds"})
+          .def(d.cube_format),
       ParamDef("clamp_f16", ParamType::Flag,
                "binary16 outputs: clamp values beyond 65504 to 65504 (counted, recorded as f16_clamped, warned "
                "about) instead of refusing them (a sun in an unclipped HDR)")

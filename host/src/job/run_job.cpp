@@ -101,7 +101,8 @@ std::vector<std::vector<size_t>> group_tables(Job& job) {
 // The manifest's entry of the file `o` asks for: the parameters as baked (the request's, with what
 // the family resolved; output parameters as asked), the device, the bound the file records with its
 // parts (each rounded up as the file records them), and what writing it added.
-ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const WriteReport& written, Precision precision) {
+ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const WriteReport& written,
+                            Precision precision) {
   ManifestFile f;
   f.path = fs::path(o.output).lexically_normal().string();
   f.kind = o.kind;
@@ -110,8 +111,10 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
     const ParamDef* d = find_param_def(table_schema(o.kind), p.name);
     if (!(d && d->output_only)) {
       auto it = std::find_if(f.params.begin(), f.params.end(), [&](const Param& q) { return q.name == p.name; });
-      if (it != f.params.end()) it->value = p.value;
-      else f.params.push_back(p);
+      if (it != f.params.end())
+        it->value = p.value;
+      else
+        f.params.push_back(p);
     }
   }
   f.precision = precision;
@@ -121,8 +124,9 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
   f.error_bound_definition = r.error_bound_definition;
   f.details = r.details;
   if (written.error_bound && r.error_bound) {
-    f.error_bound_definition = "bound on |stored value - converged value|: the integration bound plus the "
-                               "storage error measured on the stored values";
+    f.error_bound_definition =
+        "bound on |stored value - converged value|: the integration bound plus the "
+        "storage error measured on the stored values";
     f.details.push_back({"integration_error_bound", detail::bound_text(*r.error_bound)});
     f.details.push_back({"integration_error_bound_definition", r.error_bound_definition});
     f.details.push_back({"storage_error", detail::bound_text(written.storage_error)});
@@ -145,8 +149,10 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   const std::optional<BakeResult>& ggx_chain = in.ggx_chain;
   const std::optional<BakeResult>& irradiance = in.irradiance;
   if (!ggx_chain || !irradiance)
-    throw Error(origin + ": target: '" + job.target + "' needs a GGX prefiltered chain and an irradiance table in the "
-                "job (the plan of brdfbake bake --target " + job.target + " has both)");
+    throw Error(origin + ": target: '" + job.target +
+                "' needs a GGX prefiltered chain and an irradiance table in the "
+                "job (the plan of brdfbake bake --target " +
+                job.target + " has both)");
   EngineBake eb;
   eb.prefiltered = ggx_chain->cube();
   eb.sh = &irradiance->irradiance()->sh;
@@ -260,7 +266,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
       if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
-      if (!engine_inputs.charlie_chain && r.cube() && t.text("distribution") == "charlie") engine_inputs.charlie_chain = r;
+      if (!engine_inputs.charlie_chain && r.cube() && t.text("distribution") == "charlie")
+        engine_inputs.charlie_chain = r;
       if (!irradiance && r.irradiance()) irradiance = r;
     }
     for (size_t k = 0; k < groups[g].size(); ++k) {
@@ -301,8 +308,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     progress({steps - 1, steps, "writing the " + job.target + " files", 0.0});
   if (engine != EngineTarget::Generic) {
     const std::string name = !options.engine_name.empty() ? options.engine_name
-                             : !job.engine_name.empty()    ? job.engine_name
-                                                           : fs::path(target).filename().string();
+                             : !job.engine_name.empty()   ? job.engine_name
+                                                          : fs::path(target).filename().string();
     add_engine_files(manifest, engine, job, origin, engine_inputs, name, staging.path());
     if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 1.0});
   }

@@ -5,6 +5,8 @@
 // KHR_materials_variants mappings reach. Buffers, images and geometry are never loaded, so a .gltf
 // whose .bin and images are missing still plans (each missing file is a warning). nlohmann_json
 // reads the JSON (tinygltf would load and decode every buffer and image first).
+#include "brdfbake/scene.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -19,7 +21,6 @@
 #include <sstream>
 
 #include "brdfbake/error.hpp"
-#include "brdfbake/scene.hpp"
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
 
@@ -34,17 +35,26 @@ namespace fs = std::filesystem;
 // needs (geometry, texture containers and transforms, lights, metadata). A file that *requires*
 // anything else is refused: brdfbake cannot tell what it would call for.
 const char* const kMaterialExtensions[] = {
-    "KHR_materials_sheen",        "KHR_materials_clearcoat",  "KHR_materials_ior",
-    "KHR_materials_specular",     "KHR_materials_transmission", "KHR_materials_volume",
-    "KHR_materials_dispersion",   "KHR_materials_iridescence", "KHR_materials_anisotropy",
-    "KHR_materials_unlit",        "KHR_materials_emissive_strength",
+    "KHR_materials_sheen",      "KHR_materials_clearcoat",         "KHR_materials_ior",
+    "KHR_materials_specular",   "KHR_materials_transmission",      "KHR_materials_volume",
+    "KHR_materials_dispersion", "KHR_materials_iridescence",       "KHR_materials_anisotropy",
+    "KHR_materials_unlit",      "KHR_materials_emissive_strength",
 };
 const char* const kNeutralExtensions[] = {
-    "KHR_materials_variants",  "KHR_texture_transform",      "KHR_texture_basisu",
-    "EXT_texture_webp",        "EXT_texture_avif",           "KHR_mesh_quantization",
-    "KHR_draco_mesh_compression", "EXT_meshopt_compression", "EXT_mesh_gpu_instancing",
-    "KHR_lights_punctual",     "KHR_xmp",                    "KHR_xmp_json_ld",
-    "KHR_animation_pointer",   "KHR_node_visibility",
+    "KHR_materials_variants",
+    "KHR_texture_transform",
+    "KHR_texture_basisu",
+    "EXT_texture_webp",
+    "EXT_texture_avif",
+    "KHR_mesh_quantization",
+    "KHR_draco_mesh_compression",
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
+    "KHR_lights_punctual",
+    "KHR_xmp",
+    "KHR_xmp_json_ld",
+    "KHR_animation_pointer",
+    "KHR_node_visibility",
 };
 
 bool in_list(const std::string& name, const char* const* begin, const char* const* end) {
@@ -54,8 +64,7 @@ bool material_extension_known(const std::string& name) {
   return in_list(name, std::begin(kMaterialExtensions), std::end(kMaterialExtensions));
 }
 bool extension_known(const std::string& name) {
-  return material_extension_known(name) ||
-         in_list(name, std::begin(kNeutralExtensions), std::end(kNeutralExtensions));
+  return material_extension_known(name) || in_list(name, std::begin(kNeutralExtensions), std::end(kNeutralExtensions));
 }
 
 // A name or text from the file, as messages quote it.
@@ -184,15 +193,16 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
   if (!ext) return s;
   for (auto it = ext->begin(); it != ext->end(); ++it) {
     s.extensions.push_back(it.key());
-    if (!it->is_object()) r.fail(at + ".extensions." + clip(it.key()), "must be an object (got " + r.describe(*it) + ")");
+    if (!it->is_object())
+      r.fail(at + ".extensions." + clip(it.key()), "must be an object (got " + r.describe(*it) + ")");
   }
   auto get = [&](const char* name) -> const json* { return r.object(*ext, name, at + ".extensions." + name); };
   auto path = [&](const char* name, const char* field) { return at + ".extensions." + name + "." + field; };
 
   if (get("KHR_materials_unlit")) s.unlit = true;
   if (const json* e = get("KHR_materials_emissive_strength"))
-    s.emissive_strength = r.number(*e, "emissiveStrength", path("KHR_materials_emissive_strength", "emissiveStrength"),
-                                   1.0, 0, kInf);
+    s.emissive_strength =
+        r.number(*e, "emissiveStrength", path("KHR_materials_emissive_strength", "emissiveStrength"), 1.0, 0, kInf);
   if (const json* e = get("KHR_materials_sheen")) {
     const char* n = "KHR_materials_sheen";
     s.sheen = true;
@@ -215,7 +225,8 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
     // at most 10: the thin-film tables' indices (a base for KHR_materials_iridescence) end there,
     // and every planned table must take what the reader accepts (found by fuzz_scene)
     s.ior = r.number(*e, "ior", path("KHR_materials_ior", "ior"), 1.5, 0, 10);
-    if (s.ior > 0 && s.ior < 1) r.fail(path("KHR_materials_ior", "ior"), "must be 0 or at least 1 (got " + fmt_number(s.ior) + ")");
+    if (s.ior > 0 && s.ior < 1)
+      r.fail(path("KHR_materials_ior", "ior"), "must be 0 or at least 1 (got " + fmt_number(s.ior) + ")");
   }
   if (const json* e = get("KHR_materials_specular")) {
     const char* n = "KHR_materials_specular";
@@ -302,10 +313,11 @@ void check_resources(const Reader& r, const json& root, const std::string& key, 
   }
   if (missing.empty()) return;
   std::string names;
-  for (size_t i = 0; i < missing.size() && i < 3; ++i) names += (i ? ", " : "") + std::string("'") + clip(missing[i]) + "'";
+  for (size_t i = 0; i < missing.size() && i < 3; ++i)
+    names += (i ? ", " : "") + std::string("'") + clip(missing[i]) + "'";
   if (missing.size() > 3) names += " and " + std::to_string(missing.size() - 3) + " more";
-  warnings.push_back(origin + ": " + std::to_string(missing.size()) + " of " + std::to_string(list->size()) + " " + key +
-                     " not found (" + names + "); only the materials are read, so the plan does not need them");
+  warnings.push_back(origin + ": " + std::to_string(missing.size()) + " of " + std::to_string(list->size()) + " " +
+                     key + " not found (" + names + "); only the materials are read, so the plan does not need them");
 }
 
 }  // namespace
@@ -317,7 +329,8 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
   const json* asset = r.object(root, "asset", "asset");
   if (!asset) throw Error(origin + ": not a glTF 2.0 document (no 'asset' object)");
   auto version = asset->find("version");
-  if (version == asset->end() || !version->is_string()) r.fail("asset.version", "missing (a glTF 2.0 file has \"2.0\")");
+  if (version == asset->end() || !version->is_string())
+    r.fail("asset.version", "missing (a glTF 2.0 file has \"2.0\")");
   const std::string v = version->get<std::string>();
   if (v.rfind("2.", 0) != 0) r.fail("asset.version", "'" + clip(v) + "' is not glTF 2.x");
 
@@ -330,11 +343,12 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
     const std::string& name = scene.extensions_required[i];
     if (!extension_known(name))
       r.fail("extensionsRequired[" + std::to_string(i) + "]",
-             "'" + clip(name) + "' is required by the file but unknown to brdfbake (it cannot tell which tables it calls for)");
+             "'" + clip(name) +
+                 "' is required by the file but unknown to brdfbake (it cannot tell which tables it calls for)");
   }
   for (const std::string& name : scene.extensions_used)
-    if (!extension_known(name) && std::find(scene.extensions_required.begin(), scene.extensions_required.end(),
-                                            name) == scene.extensions_required.end())
+    if (!extension_known(name) && std::find(scene.extensions_required.begin(), scene.extensions_required.end(), name) ==
+                                      scene.extensions_required.end())
       scene.warnings.push_back(origin + ": extension " + clip(name) + " (extensionsUsed) has no rule and is ignored");
 
   if (const json* mats = r.array(root, "materials", "materials")) {
@@ -422,8 +436,8 @@ uint32_t le32(const std::string& b, size_t at) {
   return v;
 }
 
-constexpr uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
+constexpr uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 
 }  // namespace
 
@@ -435,8 +449,7 @@ namespace {
 template <class Read>
 std::string glb_json_chunk(std::uint64_t size, const std::string& origin, Read read) {
   auto bad = [&](const std::string& what) { return Error(origin + ": " + what); };
-  if (size < 12)
-    throw bad("truncated GLB: " + std::to_string(size) + " bytes, shorter than the 12-byte header");
+  if (size < 12) throw bad("truncated GLB: " + std::to_string(size) + " bytes, shorter than the 12-byte header");
   const std::string header = read(0, 12);
   if (le32(header, 0) != kGlbMagic) throw bad("not a binary glTF (the first 4 bytes are not 'glTF')");
   const uint32_t version = le32(header, 4);
@@ -464,8 +477,8 @@ std::string glb_json_chunk(std::uint64_t size, const std::string& origin, Read r
     if (length - at < 8) throw bad("truncated GLB: a chunk header at byte " + std::to_string(at) + " is cut off");
     const uint32_t chunk_length = le32(read(at, 8), 0);
     if (std::uint64_t(chunk_length) > length - at - 8)
-      throw bad("truncated GLB: the chunk at byte " + std::to_string(at) + " declares " +
-                std::to_string(chunk_length) + " bytes, " + std::to_string(length - at - 8) + " remain");
+      throw bad("truncated GLB: the chunk at byte " + std::to_string(at) + " declares " + std::to_string(chunk_length) +
+                " bytes, " + std::to_string(length - at - 8) + " remain");
     at += 8 + std::uint64_t(chunk_length);
   }
   // The JSON chunk is padded with spaces to 4 bytes; some writers pad with zeros.

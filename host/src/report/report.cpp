@@ -15,8 +15,8 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/material_presets.hpp"
 #include "brdfbake/math/cubemap.hpp"
-#include "families/prefilter/model.hpp"
 #include "brdfbake/version.hpp"
+#include "families/prefilter/model.hpp"
 #include "io/atomic_file.hpp"
 
 namespace brdfbake {

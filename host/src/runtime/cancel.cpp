@@ -31,9 +31,8 @@ void throw_if_cancelled() {
                            : s == SIGPIPE ? "SIGPIPE (the reader of the output went away)"
                            : s            ? "signal " + std::to_string(s)
                                           : "";
-  throw Cancelled((name.empty() ? std::string("cancelled") : "interrupted by " + name) +
-                      " (unfinished outputs were removed)",
-                  s);
+  throw Cancelled(
+      (name.empty() ? std::string("cancelled") : "interrupted by " + name) + " (unfinished outputs were removed)", s);
 }
 
 }  // namespace brdfbake

@@ -1,10 +1,11 @@
+#include "brdfbake/device.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <mutex>
 #include <sstream>
 
-#include "brdfbake/device.hpp"
 #include "runtime/cache_dirs.hpp"
 #include "runtime/device_impl.hpp"
 
@@ -21,16 +22,14 @@ const char* precision_name(Precision p) { return p == Precision::Fp64 ? "fp64" :
 namespace {
 
 std::string trim(std::string s) {
-  while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back()))))
-    s.pop_back();
+  while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back())))) s.pop_back();
   size_t start = 0;
   while (start < s.size() && std::isspace(static_cast<unsigned char>(s[start]))) ++start;
   return s.substr(start);
 }
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -65,10 +64,14 @@ void apply_test_limits(DeviceInfo& info) {
     if (eq == std::string::npos) continue;
     const std::string key = item.substr(0, eq);
     const unsigned long long v = std::strtoull(item.c_str() + eq + 1, nullptr, 10);
-    if (key == "max_alloc") info.max_alloc = v;
-    else if (key == "global_memory") info.global_memory = v;
-    else if (key == "max_work_group_size") info.max_work_group_size = static_cast<size_t>(v);
-    else if (key == "fp64") info.fp64 = v != 0;
+    if (key == "max_alloc")
+      info.max_alloc = v;
+    else if (key == "global_memory")
+      info.global_memory = v;
+    else if (key == "max_work_group_size")
+      info.max_work_group_size = static_cast<size_t>(v);
+    else if (key == "fp64")
+      info.fp64 = v != 0;
   }
 }
 
@@ -175,8 +178,7 @@ Found find(const std::string& selector_in) {
   const auto colon = selector.find(':');
   if (colon != std::string::npos) {
     const std::string a = selector.substr(0, colon), b = selector.substr(colon + 1);
-    const bool digits = !a.empty() && !b.empty() &&
-                        std::all_of(a.begin(), a.end(), ::isdigit) &&
+    const bool digits = !a.empty() && !b.empty() && std::all_of(a.begin(), a.end(), ::isdigit) &&
                         std::all_of(b.begin(), b.end(), ::isdigit);
     if (digits) {
       const int p = std::stoi(a), d = std::stoi(b);

@@ -2,11 +2,11 @@
 
 #include <atomic>
 #include <chrono>
-#include <cstring>
-#include <mutex>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -200,11 +200,10 @@ void store_binary(const std::string& file, const std::string& key, const std::st
   }
 }
 
-[[noreturn]] void throw_build_failure(const ProgramSpec& spec, const std::string& options, int code,
-                                      std::string log) {
+[[noreturn]] void throw_build_failure(const ProgramSpec& spec, const std::string& options, int code, std::string log) {
   if (log.empty()) log = "(no build log)";
-  throw Error("building kernels/" + spec.file + " failed (" + std::to_string(code) + " " +
-              cl_error_name(code) + ", options '" + options + "'):\n" + log);
+  throw Error("building kernels/" + spec.file + " failed (" + std::to_string(code) + " " + cl_error_name(code) +
+              ", options '" + options + "'):\n" + log);
 }
 
 }  // namespace
@@ -222,10 +221,8 @@ std::string program_cache_dir() {
     if (g_cache_dir_set) return g_cache_dir;
   }
   if (const char* d = std::getenv("BRDFBAKE_CACHE_DIR")) return d;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
-    return (fs::path(x) / "brdfbake" / "kernels").string();
-  if (const char* h = std::getenv("HOME"); h && *h)
-    return (fs::path(h) / ".cache" / "brdfbake" / "kernels").string();
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return (fs::path(x) / "brdfbake" / "kernels").string();
+  if (const char* h = std::getenv("HOME"); h && *h) return (fs::path(h) / ".cache" / "brdfbake" / "kernels").string();
   return {};
 }
 
@@ -251,10 +248,9 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
   const std::string source = src.str();
   const std::string options = "-cl-std=CL1.2 " + spec.options;
 
-  const std::string key = "platform=" + dev.info.platform_name + "\nplatform_version=" +
-                          dev.info.platform_version + "\ndevice=" + dev.info.name +
-                          "\ndevice_version=" + dev.info.version + "\ndriver=" +
-                          dev.info.driver_version + "\noptions=" + options + "\nsource=\n" + source;
+  const std::string key = "platform=" + dev.info.platform_name + "\nplatform_version=" + dev.info.platform_version +
+                          "\ndevice=" + dev.info.name + "\ndevice_version=" + dev.info.version +
+                          "\ndriver=" + dev.info.driver_version + "\noptions=" + options + "\nsource=\n" + source;
 
   std::lock_guard<std::mutex> lock(dev.programs_mutex);
   if (auto it = dev.programs.find(key); it != dev.programs.end()) return it->second;
@@ -262,8 +258,8 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
   const std::string dir = program_cache_dir();
   const std::string file = dir.empty() ? std::string() : cache_file(dir, key);
   const std::string what = "building kernels/" + spec.file;
-  const std::string label = "kernels/" + spec.file + " " + precision_name(spec.precision) +
-                            (spec.options.empty() ? "" : " " + spec.options);
+  const std::string label =
+      "kernels/" + spec.file + " " + precision_name(spec.precision) + (spec.options.empty() ? "" : " " + spec.options);
 
   if (!file.empty()) {
     const std::string binary = load_binary(file, key);
@@ -274,7 +270,8 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
         const auto t0 = std::chrono::steady_clock::now();
         cl::Program program(dev.context, {dev.device}, bins, &status);
         std::string log;
-        if (contained_build(program, dev.device, options, &log) != CL_SUCCESS) throw cl::Error(CL_BUILD_PROGRAM_FAILURE);
+        if (contained_build(program, dev.device, options, &log) != CL_SUCCESS)
+          throw cl::Error(CL_BUILD_PROGRAM_FAILURE);
         ++g_disk_hits;
         notify_done({label, dev.info.name, true, seconds_since(t0), log});
         dev.programs.emplace(key, program);
@@ -296,8 +293,7 @@ cl::Program build_program(Device::Impl& dev, const ProgramSpec& spec) {
   if (!file.empty()) {
     try {
       const auto bins = program.getInfo<CL_PROGRAM_BINARIES>();
-      if (!bins.empty() && !bins[0].empty())
-        store_binary(file, key, std::string(bins[0].begin(), bins[0].end()));
+      if (!bins.empty() && !bins[0].empty()) store_binary(file, key, std::string(bins[0].begin(), bins[0].end()));
     } catch (const cl::Error&) {
       ++g_write_failures;
     }

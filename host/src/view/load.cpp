@@ -430,8 +430,8 @@ Item read_manifest(const json& j, const std::string& path) {
 }
 
 bool is_preview_json(const json& j) {
-  return j.is_object() && j.value("kind", std::string()) == "preview" && j.contains("spheres") &&
-         j.contains("files") && j["files"].is_object() && j["files"].contains("sheet");
+  return j.is_object() && j.value("kind", std::string()) == "preview" && j.contains("spheres") && j.contains("files") &&
+         j["files"].is_object() && j["files"].contains("sheet");
 }
 
 // A preview (brdfbake preview, bake --preview): its contact sheet as drawn, named in its JSON, with
@@ -460,7 +460,8 @@ Item read_preview(const json& j, const std::string& path) {
                 j["spheres"].size());
   pic.caption = b;
   if (!rms.empty()) {
-    std::snprintf(b, sizeof b, ", split-sum vs reference RMS %.2g%% median, %.2g%% worst sphere; reference within %.2g%%",
+    std::snprintf(b, sizeof b,
+                  ", split-sum vs reference RMS %.2g%% median, %.2g%% worst sphere; reference within %.2g%%",
                   100.0 * rms[rms.size() / 2], 100.0 * rms.back(), 100.0 * bound);
     pic.caption += b;
   }
@@ -543,7 +544,8 @@ std::optional<GltfLight> gltf_light(const std::string& path) {
     for (const json& level : light->at("specularImages")) {
       out.faces.emplace_back();
       for (const json& index : level)
-        out.faces.back().push_back((dir / j.at("images").at(index.get<size_t>()).at("uri").get<std::string>()).string());
+        out.faces.back().push_back(
+            (dir / j.at("images").at(index.get<size_t>()).at("uri").get<std::string>()).string());
     }
     const json& c = light->at("irradianceCoefficients");
     if (c.size() != 9) throw Error("irradianceCoefficients does not hold 9 triples");
@@ -783,8 +785,9 @@ Item read_folder(const std::string& path) {
   // those of the folders inside it; what no reader claims is listed as skipped.
   FileList list = list_folder(path, 0);
   if (list.paths.empty())
-    throw Error("cannot view '" + path + "': the folder holds nothing view can show" +
-                (list.skipped.empty() ? std::string() : " (" + std::to_string(list.skipped.size()) + " files skipped)"));
+    throw Error(
+        "cannot view '" + path + "': the folder holds nothing view can show" +
+        (list.skipped.empty() ? std::string() : " (" + std::to_string(list.skipped.size()) + " files skipped)"));
   it.kind = "folder";
   it.content = std::move(list);
   return it;

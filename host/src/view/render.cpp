@@ -18,12 +18,12 @@
 #include <set>
 
 #include "brdfbake/error.hpp"
-#include "text.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "brdfbake/view.hpp"
 #include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
+#include "text.hpp"
 #include "view/canvas.hpp"
 #include "view/exposure.hpp"
 #include "view/load.hpp"
@@ -564,8 +564,8 @@ std::vector<Tile> merl_tiles(const MerlTable& m) {
   for (int s = 0; s < 3; ++s) {
     const int k = ks[s];
     Tile t;
-    t.canvas = Canvas(left + z * kMerlThetaH + 6, top + z * kMerlThetaD + 4 + 12 + 6 + 8 + 2 + 12 + kCaption,
-                      kBackground);
+    t.canvas =
+        Canvas(left + z * kMerlThetaH + 6, top + z * kMerlThetaD + 4 + 12 + 6 + 8 + 2 + 12 + kCaption, kBackground);
     const std::string label = "phi_d = " + fmt((k + 0.5) / 180.0 * 180.0, "%.1f") + " deg";
     t.canvas.text(left, 1, label, kText);
     t.canvas.text(2, kCaption, "^ theta_d", kDim);

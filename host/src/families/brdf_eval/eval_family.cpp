@@ -63,9 +63,11 @@ SpecSchema<EvalOptions> make_eval_schema() {
   s.param(ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed())
       .param(ParamDef("name", T::Name, "the material to use when the file holds several"))
       .param(ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"))
-      .param(ParamDef("input", T::Path,
-                      "pairs: CSV with the header wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, or float32 with binary (- : standard input)")
-                 .needed())
+      .param(
+          ParamDef(
+              "input", T::Path,
+              "pairs: CSV with the header wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, or float32 with binary (- : standard input)")
+              .needed())
       .param(ParamDef("binary", T::Flag, "raw little-endian float32: 6 a pair in, 3 a pair out").def(false))
       .bind(&EvalOptions::fast_math, "fast_math",
             ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false))
@@ -82,8 +84,10 @@ const SpecSchema<EvalOptions>& eval_schema() {
 
 EvalOptions eval_options(const TableRequest& t) { return eval_schema().fill(t); }
 
-std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t, const Backend& b, double device_seconds) {
-  return std::to_string(pairs) + (pairs == 1 ? " pair, " : " pairs, ") + brdf_model_name(c.model) + ", material '" + c.material.name + "', " +
+std::string describe(std::uint64_t pairs, const Chosen& c, const TableRequest& t, const Backend& b,
+                     double device_seconds) {
+  return std::to_string(pairs) + (pairs == 1 ? " pair, " : " pairs, ") + brdf_model_name(c.model) + ", material '" +
+         c.material.name + "', " +
          (b.is_reference() ? std::string("reference (fp64)") : std::string(precision_name(t.precision))) + " on " +
          b.name() + " (device " + fmt_number(device_seconds, "%.3f") + " s)";
 }
@@ -97,7 +101,8 @@ class EvalFamily final : public Family {
     // 24 bytes, the shortest CSV line ("0,0,1,0,0,1") 12.
     std::error_code ec;
     const std::string input = t.text("input");
-    const double bytes = input.empty() || input == "-" ? 0.0 : static_cast<double>(std::filesystem::file_size(input, ec));
+    const double bytes =
+        input.empty() || input == "-" ? 0.0 : static_cast<double>(std::filesystem::file_size(input, ec));
     const double pairs = ec ? 0.0 : bytes / (t.flag("binary") ? 24.0 : 12.0);
     return static_cast<std::uint64_t>((ec ? 0.0 : bytes) + 96 * pairs) + (std::uint64_t(1) << 20);
   }
@@ -110,7 +115,7 @@ class EvalFamily final : public Family {
   TableExample example(TableKind) const override {
     TableExample e;
     e.request.params = {{"material", std::string(kExampleMaterial)}, {"input", std::string("example pairs")}};
-    e.pairs = {0.0, 0.0, 1.0, 0.0, 0.0, 1.0,                      // normal incidence, mirror
+    e.pairs = {0.0,  0.0, 1.0,         0.0, 0.0, 1.0,           // normal incidence, mirror
                -0.5, 0.0, 0.866025404, 0.5, 0.0, 0.866025404,   // 30 degrees, mirror
                -0.5, 0.0, 0.866025404, 0.0, 0.5, 0.866025404};  // 30 degrees, out of plane
     return e;
@@ -153,7 +158,8 @@ class EvalFamily final : public Family {
     if (!t.format.empty()) throw FieldError("format", "eval's output is CSV, or float32 with binary: give no format");
   }
 
-  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs, const BakeProgress&) const override {
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
+                  const BakeProgress&) const override {
     const Chosen c = choose_material(t, [](const std::string& f) { return f; });
     std::unique_ptr<PairEvaluator> ev;
     auto get = [&]() -> PairEvaluator& {
@@ -173,15 +179,16 @@ class EvalFamily final : public Family {
       }
     } else {
       PairInput in(t.text("input"));
-      res.pairs = stream_pairs(in, t.flag("binary"), get, &device_seconds,
-                               [&](const double* f, size_t n) { res.values.insert(res.values.end(), f, f + 3 * n); },
-                               kMaxPairsInMemory);
+      res.pairs = stream_pairs(
+          in, t.flag("binary"), get, &device_seconds,
+          [&](const double* f, size_t n) { res.values.insert(res.values.end(), f, f + 3 * n); }, kMaxPairsInMemory);
     }
     res.material = c.material.name;
     res.metadata = {{"model", brdf_model_name(c.model)}, {"material", material_to_json(c.material)}};
     BakeResult r;
-    r.error_bound_definition = "not measured (f at the given directions; the kernels' agreement with the reference "
-                               "is in docs/BENCHMARKS.md, \"Bulk BRDF evaluation\")";
+    r.error_bound_definition =
+        "not measured (f at the given directions; the kernels' agreement with the reference "
+        "is in docs/BENCHMARKS.md, \"Bulk BRDF evaluation\")";
     r.device_seconds = device_seconds;
     r.summary = describe(res.pairs, c, t, backend, device_seconds);
     r.artifact = std::move(res);
@@ -208,7 +215,8 @@ const Family& eval_family() {
 
 }  // namespace detail
 
-EvalStreamResult eval_stream(const TableRequest& t, Backend& backend, const std::string& input, const std::string& output) {
+EvalStreamResult eval_stream(const TableRequest& t, Backend& backend, const std::string& input,
+                             const std::string& output) {
   using namespace detail;
   const Chosen c = choose_material(t, [](const std::string& f) { return f; });
   std::unique_ptr<PairEvaluator> ev;

@@ -28,18 +28,22 @@ int default_lanes(Precision p) { return p == Precision::Fp64 ? 8 : 16; }
 
 }  // namespace
 
-detail::ProgramSpec detail::brdf_program_spec(BrdfModel model, const Lobes& lobes, const EvalOptions& options, int lanes) {
+detail::ProgramSpec detail::brdf_program_spec(BrdfModel model, const Lobes& lobes, const EvalOptions& options,
+                                              int lanes) {
   detail::ProgramSpec ps;
   ps.file = "brdf_eval.cl";
   ps.precision = options.precision;
   ps.defines.push_back({brdf_model_define(model), "1"});
   ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes)});
-  const std::pair<bool, const char*> flags[] = {
-      {lobes.diffuse, "BRDFBAKE_LOBE_DIFFUSE"},     {lobes.subsurface, "BRDFBAKE_LOBE_SUBSURFACE"},
-      {lobes.sheen, "BRDFBAKE_LOBE_SHEEN"},         {lobes.clearcoat, "BRDFBAKE_LOBE_CLEARCOAT"},
-      {lobes.anisotropic, "BRDFBAKE_LOBE_ANISOTROPIC"}, {lobes.metal, "BRDFBAKE_LOBE_METAL"},
-      {lobes.specular_color, "BRDFBAKE_LOBE_SPECULAR_COLOR"}, {lobes.beckmann, "BRDFBAKE_CT_BECKMANN"},
-      {lobes.ggx, "BRDFBAKE_CT_GGX"}};
+  const std::pair<bool, const char*> flags[] = {{lobes.diffuse, "BRDFBAKE_LOBE_DIFFUSE"},
+                                                {lobes.subsurface, "BRDFBAKE_LOBE_SUBSURFACE"},
+                                                {lobes.sheen, "BRDFBAKE_LOBE_SHEEN"},
+                                                {lobes.clearcoat, "BRDFBAKE_LOBE_CLEARCOAT"},
+                                                {lobes.anisotropic, "BRDFBAKE_LOBE_ANISOTROPIC"},
+                                                {lobes.metal, "BRDFBAKE_LOBE_METAL"},
+                                                {lobes.specular_color, "BRDFBAKE_LOBE_SPECULAR_COLOR"},
+                                                {lobes.beckmann, "BRDFBAKE_CT_BECKMANN"},
+                                                {lobes.ggx, "BRDFBAKE_CT_GGX"}};
   for (const auto& [on, name] : flags)
     if (on) ps.defines.push_back({name, "1"});
   if (options.fast_math) ps.options = "-cl-fast-relaxed-math";
@@ -55,7 +59,8 @@ int detail::resolve_lanes(const EvalOptions& o) {
 cl::Buffer detail::brdf_real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v, cl_mem_flags flags) {
   const std::vector<double> data = v.empty() ? std::vector<double>{0.0} : v;
   if (p == Precision::Fp64)
-    return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(double), const_cast<double*>(data.data()));
+    return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(double),
+                      const_cast<double*>(data.data()));
   std::vector<float> f(data.begin(), data.end());
   return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
 }

@@ -55,9 +55,7 @@ Block pack_disney(const Material& m) {
   const Rgb c = m.base_color;
   const double lum = 0.3 * c.r + 0.6 * c.g + 0.1 * c.b;
   const Rgb tint = lum > 0.0 ? scale(c, 1.0 / lum) : Rgb{1.0, 1.0, 1.0};
-  auto tinted = [&](double t) {
-    return Rgb{mix(1.0, tint.r, t), mix(1.0, tint.g, t), mix(1.0, tint.b, t)};
-  };
+  auto tinted = [&](double t) { return Rgb{mix(1.0, tint.r, t), mix(1.0, tint.g, t), mix(1.0, tint.b, t)}; };
   const Rgb s = scale(tinted(m.specular_tint), 0.08 * m.specular);
   put(b, BRDF_DISNEY_KD, scale(c, (1.0 - m.metallic) / kPi));
   put(b, BRDF_DISNEY_SPEC0, Rgb{mix(s.r, c.r, m.metallic), mix(s.g, c.g, m.metallic), mix(s.b, c.b, m.metallic)});
@@ -129,7 +127,9 @@ Block pack_classic(BrdfModel model, const Material& m) {
     case BrdfModel::BlinnPhong: {
       const double n = classic_exponent(m);
       // Lewis 1994: (n + 2) / (2 pi); RTR3 eq. 7.49: (n + 8) / (8 pi)
-      const double norm = !m.normalized ? 1.0 : model == BrdfModel::Phong ? (n + 2.0) / (2.0 * kPi) : (n + 8.0) / (8.0 * kPi);
+      const double norm = !m.normalized               ? 1.0
+                          : model == BrdfModel::Phong ? (n + 2.0) / (2.0 * kPi)
+                                                      : (n + 8.0) / (8.0 * kPi);
       put(b, BRDF_CLASSIC_KD, scale(classic_kd(m), 1.0 / kPi));
       put(b, BRDF_CLASSIC_KS, scale(classic_ks(m), norm));
       put(b, BRDF_CLASSIC_N, n);
@@ -158,17 +158,21 @@ Block pack_classic(BrdfModel model, const Material& m) {
       put(b, BRDF_CLASSIC_NORM, (n + 8.0) / (8.0 * kPi));
       break;
     }
-    default: break;
+    default:
+      break;
   }
   return b;
 }
 
 Block pack_material(BrdfModel model, const Material& m, double sheen_table_offset) {
   switch (model) {
-    case BrdfModel::Disney: return pack_disney(m);
+    case BrdfModel::Disney:
+      return pack_disney(m);
     case BrdfModel::Gltf:
-    case BrdfModel::GltfCorrelated: return pack_gltf(m, sheen_table_offset);
-    default: return pack_classic(model, m);
+    case BrdfModel::GltfCorrelated:
+      return pack_gltf(m, sheen_table_offset);
+    default:
+      return pack_classic(model, m);
   }
 }
 
@@ -189,13 +193,16 @@ double detail::narrowest_lobe(BrdfModel model, const Material& m) {
     }
     case BrdfModel::Gltf:
     case BrdfModel::GltfCorrelated:
-      return m.clearcoat > 0.0 ? std::min(r2, std::max(m.clearcoat_roughness * m.clearcoat_roughness, kMinAlpha))
-                               : r2;
-    case BrdfModel::CookTorrance: return r2;
+      return m.clearcoat > 0.0 ? std::min(r2, std::max(m.clearcoat_roughness * m.clearcoat_roughness, kMinAlpha)) : r2;
+    case BrdfModel::CookTorrance:
+      return r2;
     case BrdfModel::Phong:
-    case BrdfModel::BlinnPhong: return 1.0 / std::sqrt(classic_exponent(m) + 1.0);
-    case BrdfModel::BlinnPhongFromPbr: return 1.0 / std::sqrt(std::pow(2048.0, 1.0 - m.roughness) + 1.0);
-    case BrdfModel::Lambert: break;
+    case BrdfModel::BlinnPhong:
+      return 1.0 / std::sqrt(classic_exponent(m) + 1.0);
+    case BrdfModel::BlinnPhongFromPbr:
+      return 1.0 / std::sqrt(std::pow(2048.0, 1.0 - m.roughness) + 1.0);
+    case BrdfModel::Lambert:
+      break;
   }
   return 1.0;
 }

@@ -84,13 +84,13 @@ void parallel_for(size_t n, Body&& body) {
       next = n;
     }
   };
-  const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), static_cast<unsigned>(std::max<size_t>(1, n))));
+  const unsigned threads =
+      std::max(1u, std::min(std::thread::hardware_concurrency(), static_cast<unsigned>(std::max<size_t>(1, n))));
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }
-
 
 }  // namespace brdfbake::detail

@@ -89,7 +89,8 @@ Lobes lobes_used(BrdfModel model, const std::vector<Material>& materials) {
         l.metal |= m.metallic > 0.0;
         const double q = (1.0 - m.ior) / (1.0 + m.ior), f0 = q * q;
         const Rgb& s = m.specular_color_factor;
-        const bool grey = std::min(f0 * s.r, 1.0) == std::min(f0 * s.g, 1.0) && std::min(f0 * s.g, 1.0) == std::min(f0 * s.b, 1.0);
+        const bool grey =
+            std::min(f0 * s.r, 1.0) == std::min(f0 * s.g, 1.0) && std::min(f0 * s.g, 1.0) == std::min(f0 * s.b, 1.0);
         l.specular_color |= m.metallic < 1.0 && (!grey || m.specular_factor != 1.0);
         l.sheen |= max3(m.sheen_color) > 0.0;
         l.clearcoat |= m.clearcoat > 0.0;
@@ -99,7 +100,8 @@ Lobes lobes_used(BrdfModel model, const std::vector<Material>& materials) {
         l.beckmann |= m.distribution == MicrofacetDistribution::Beckmann;
         l.ggx |= m.distribution == MicrofacetDistribution::Ggx;
         break;
-      default: break;
+      default:
+        break;
     }
   }
   return l;
@@ -115,18 +117,25 @@ Lobes all_lobes(BrdfModel model) {
     case BrdfModel::GltfCorrelated:
       l.diffuse = l.metal = l.specular_color = l.sheen = l.clearcoat = true;
       break;
-    case BrdfModel::CookTorrance: l.beckmann = l.ggx = true; break;
-    default: break;
+    case BrdfModel::CookTorrance:
+      l.beckmann = l.ggx = true;
+      break;
+    default:
+      break;
   }
   return l;
 }
 
 std::string lobes_name(BrdfModel, const Lobes& l) {
   std::string s;
-  const std::pair<bool, const char*> flags[] = {{l.diffuse, "diffuse"},   {l.subsurface, "subsurface"},
-                                                {l.sheen, "sheen"},       {l.clearcoat, "clearcoat"},
-                                                {l.anisotropic, "anisotropic"}, {l.metal, "metal"},
-                                                {l.specular_color, "specular-color"}, {l.beckmann, "beckmann"},
+  const std::pair<bool, const char*> flags[] = {{l.diffuse, "diffuse"},
+                                                {l.subsurface, "subsurface"},
+                                                {l.sheen, "sheen"},
+                                                {l.clearcoat, "clearcoat"},
+                                                {l.anisotropic, "anisotropic"},
+                                                {l.metal, "metal"},
+                                                {l.specular_color, "specular-color"},
+                                                {l.beckmann, "beckmann"},
                                                 {l.ggx, "ggx"}};
   for (const auto& [on, name] : flags)
     if (on) s += (s.empty() ? "" : ",") + std::string(name);

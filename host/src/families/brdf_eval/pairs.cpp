@@ -118,7 +118,6 @@ struct PairInput::Impl {
   size_t at_ = 0, size_ = 0;
 };
 
-
 PairInput::PairInput(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
 PairInput::~PairInput() = default;
 const std::string& PairInput::name() const { return impl_->name(); }
@@ -141,7 +140,8 @@ void parse_pair(const std::string& text, long line, const std::string& origin, d
     if (f < 5 && comma == std::string::npos)
       throw Error(at + "expected 6 fields (" + kHeader + "), got " + std::to_string(f + 1));
     const std::string field = trim(text.substr(pos, f < 5 ? comma - pos : std::string::npos));
-    if (f == 5 && field.find(',') != std::string::npos) throw Error(at + "expected 6 fields (" + kHeader + "), got more");
+    if (f == 5 && field.find(',') != std::string::npos)
+      throw Error(at + "expected 6 fields (" + kHeader + "), got more");
     char* end = nullptr;
     const double v = std::strtod(field.c_str(), &end);
     if (field.empty() || end != field.c_str() + field.size())  // the whole field (a NUL byte ends strtod early)
@@ -160,8 +160,8 @@ void parse_pair(const std::string& text, long line, const std::string& origin, d
 // The evaluator is made (the program built) with the first chunk, after its lines were checked.
 }  // namespace
 
-std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<PairEvaluator&()>& ev, double* device_seconds,
-                           const std::function<void(const double* f, size_t count)>& sink,
+std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<PairEvaluator&()>& ev,
+                           double* device_seconds, const std::function<void(const double* f, size_t count)>& sink,
                            std::uint64_t max_pairs) {
   PairInput::Impl& in = input.impl();
   std::vector<double> pairs, f;
@@ -196,7 +196,8 @@ std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<Pa
       const size_t got = in.read(bytes.data(), bytes.size());
       if (got % kPairBytes != 0)
         throw Error(in.name() + ": the input is not a whole number of pairs (6 float32 = 24 bytes each): " +
-                    std::to_string(got % kPairBytes) + " bytes left after pair " + std::to_string(total + got / kPairBytes));
+                    std::to_string(got % kPairBytes) + " bytes left after pair " +
+                    std::to_string(total + got / kPairBytes));
       const size_t count = got / kPairBytes;
       values.resize(6 * count);
       if (got > 0) std::memcpy(values.data(), bytes.data(), got);

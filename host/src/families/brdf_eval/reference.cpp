@@ -10,10 +10,10 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/brdf.hpp"
-#include "io/merl.hpp"
 #include "families/brdf_eval/kernel.hpp"
 #include "families/brdf_eval/model.hpp"
 #include "families/brdf_eval/reference_convert.hpp"
+#include "io/merl.hpp"
 
 namespace brdfbake {
 
@@ -21,14 +21,22 @@ namespace brdfbake {
 
 reference::BrdfModel detail::to_reference(BrdfModel model) {
   switch (model) {
-    case BrdfModel::Disney: return reference::BrdfModel::Disney;
-    case BrdfModel::Gltf: return reference::BrdfModel::Gltf;
-    case BrdfModel::GltfCorrelated: return reference::BrdfModel::GltfCorrelated;
-    case BrdfModel::Lambert: return reference::BrdfModel::Lambert;
-    case BrdfModel::Phong: return reference::BrdfModel::Phong;
-    case BrdfModel::BlinnPhong: return reference::BrdfModel::BlinnPhong;
-    case BrdfModel::CookTorrance: return reference::BrdfModel::CookTorrance;
-    case BrdfModel::BlinnPhongFromPbr: return reference::BrdfModel::BlinnPhongFromPbr;
+    case BrdfModel::Disney:
+      return reference::BrdfModel::Disney;
+    case BrdfModel::Gltf:
+      return reference::BrdfModel::Gltf;
+    case BrdfModel::GltfCorrelated:
+      return reference::BrdfModel::GltfCorrelated;
+    case BrdfModel::Lambert:
+      return reference::BrdfModel::Lambert;
+    case BrdfModel::Phong:
+      return reference::BrdfModel::Phong;
+    case BrdfModel::BlinnPhong:
+      return reference::BrdfModel::BlinnPhong;
+    case BrdfModel::CookTorrance:
+      return reference::BrdfModel::CookTorrance;
+    case BrdfModel::BlinnPhongFromPbr:
+      return reference::BrdfModel::BlinnPhongFromPbr;
   }
   throw Error("unknown BRDF model");
 }
@@ -178,7 +186,8 @@ Table tabulate_reference(const TabulateSpec& s, TabulateTiming* timing) {
       });
       break;
     }
-    case TableLayout::Merl: break;
+    case TableLayout::Merl:
+      break;
   }
   detail::tabulate_metadata(t.metadata, s, res, "reference (scalar double)", "fp64", "all");
   if (timing) timing->device_seconds = timing->wall_seconds = seconds_since(t0);
@@ -189,9 +198,11 @@ namespace {
 
 class ReferenceEvaluator final : public PairEvaluator {
  public:
-  ReferenceEvaluator(BrdfModel model, std::vector<Material> materials) : model_(model), materials_(std::move(materials)) {}
+  ReferenceEvaluator(BrdfModel model, std::vector<Material> materials)
+      : model_(model), materials_(std::move(materials)) {}
   void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
-    for (std::size_t m = 0; m < materials_.size(); ++m) eval_reference(model_, materials_[m], pairs, count, out + 3 * m * count);
+    for (std::size_t m = 0; m < materials_.size(); ++m)
+      eval_reference(model_, materials_[m], pairs, count, out + 3 * m * count);
     if (timing) *timing = {};
   }
 

@@ -8,10 +8,10 @@
 #include <mutex>
 #include <vector>
 
-#include "families/brdf_eval/model.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/gauss_legendre.hpp"
+#include "families/brdf_eval/model.hpp"
 
 // The layout of the kernels' table.
 #include "../../../../kernels/common/brdf_params.clh"
@@ -98,8 +98,7 @@ double adaptive(const F& f, const std::vector<double>& breaks, double relative) 
   }
   const double tol = relative * magnitude / std::sqrt(static_cast<double>(first.size()));
   double sum = 0.0;
-  for (size_t k = 0; k + 1 < breaks.size(); ++k)
-    sum += refine(f, breaks[k], breaks[k + 1], first[k], tol, kMaxDepth);
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) sum += refine(f, breaks[k], breaks[k + 1], first[k], tol, kMaxDepth);
   return sum;
 }
 

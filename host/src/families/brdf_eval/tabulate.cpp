@@ -71,8 +71,8 @@ std::vector<Material> params_of(const TabulateSpec& s) {
 
 }  // namespace
 
-void detail::tabulate_metadata(Metadata& meta, const TabulateSpec& s, const std::vector<int>& res, const std::string& device,
-                 const std::string& precision, const std::string& lobes) {
+void detail::tabulate_metadata(Metadata& meta, const TabulateSpec& s, const std::vector<int>& res,
+                               const std::string& device, const std::string& precision, const std::string& lobes) {
   auto set = [&](const std::string& k, const std::string& v) {
     for (auto& kv : meta)
       if (kv.first == k) {
@@ -121,11 +121,11 @@ Table detail::make_tabulate_table(const TabulateSpec& s, const std::vector<int>&
       for (int j = 0; j < no; ++j) t.x.push_back((j + 0.5) / no * kHalfPi);
       for (int k = 0; k < np; ++k)
         for (int i = 0; i < ni; ++i) t.y.push_back((i + 0.5) / ni * kHalfPi);
-      t.set_meta("axes",
-                 "column j: theta_o = (j + 0.5) / " + std::to_string(no) + " pi/2; row k * " + std::to_string(ni) +
-                     " + i: theta_i = (i + 0.5) / " + std::to_string(ni) + " pi/2, phi_d = (k + 0.5) / " +
-                     std::to_string(np) + " pi; wi = (sin theta_i, 0, cos theta_i), wo = (sin theta_o cos phi_d, "
-                     "sin theta_o sin phi_d, cos theta_o); angles in radians");
+      t.set_meta("axes", "column j: theta_o = (j + 0.5) / " + std::to_string(no) + " pi/2; row k * " +
+                             std::to_string(ni) + " + i: theta_i = (i + 0.5) / " + std::to_string(ni) +
+                             " pi/2, phi_d = (k + 0.5) / " + std::to_string(np) +
+                             " pi; wi = (sin theta_i, 0, cos theta_i), wo = (sin theta_o cos phi_d, "
+                             "sin theta_o sin phi_d, cos theta_o); angles in radians");
       break;
     }
     case TableLayout::Albedo: {
@@ -154,14 +154,16 @@ Table detail::make_tabulate_table(const TabulateSpec& s, const std::vector<int>&
       t.y_name = "theta_d";
       for (int i = 0; i < w; ++i) t.x.push_back((i + 0.5) / w * kHalfPi);
       for (int j = 0; j < h; ++j) t.y.push_back((j + 0.5) / h * kHalfPi);
-      t.set_meta("axes", "column i: theta_h = (i + 0.5) / " + std::to_string(w) + " pi/2, row j: theta_d = (j + 0.5) / " +
-                             std::to_string(h) + " pi/2, phi_d = " + fmt(s.slice_phi_d) +
+      t.set_meta("axes", "column i: theta_h = (i + 0.5) / " + std::to_string(w) +
+                             " pi/2, row j: theta_d = (j + 0.5) / " + std::to_string(h) +
+                             " pi/2, phi_d = " + fmt(s.slice_phi_d) +
                              ", phi_h = 0 (Rusinkiewicz half/difference angles, radians); wi = R_y(theta_h) d, "
                              "wo = 2 (wi.h) h - wi; 0 where a direction is below the horizon");
       t.set_meta("phi_d", fmt(s.slice_phi_d));
       break;
     }
-    case TableLayout::Merl: break;
+    case TableLayout::Merl:
+      break;
   }
   t.data.assign(static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 3, 0.0f);
   return t;
@@ -251,8 +253,8 @@ double tabulate_albedo(const TabulateLaunch& k, Table& t) {
   cl::Buffer qb = detail::brdf_real_buffer(dev, prec, qq), yb = detail::brdf_real_buffer(dev, prec, y_min);
   plane = static_cast<size_t>(n);
   cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, 3 * mats.size() * plane * detail::real_size(prec));
-  cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer>
-      kernel(program, "brdf_albedo");
+  cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl_int, cl_int, cl_int, cl::Buffer> kernel(
+      program, "brdf_albedo");
   // Every albedo is a whole quadrature: bounded launches over theta_o (runtime/launch.hpp).
   const double nodes = double(n_a_padded + kAlbedoNodesB) * kAlbedoNodesPhi * double(mats.size());
   launched = detail::launch_in_parts(static_cast<size_t>(n), nodes, [&](size_t first, size_t count) {
@@ -292,12 +294,14 @@ double tabulate_cells(const TabulateLaunch& k, Table& t) {
       return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1], res[2], out);
     });
   } else if (prec == Precision::Fp64) {
-    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_double, cl::Buffer> kernel(program, "brdf_slice");
+    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_double, cl::Buffer> kernel(program,
+                                                                                                    "brdf_slice");
     launched = detail::launch_in_parts(plane / l, cost, [&](size_t first, size_t count) {
       return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1], s.slice_phi_d, out);
     });
   } else {
-    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_float, cl::Buffer> kernel(program, "brdf_slice");
+    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int, cl_float, cl::Buffer> kernel(program,
+                                                                                                   "brdf_slice");
     launched = detail::launch_in_parts(plane / l, cost, [&](size_t first, size_t count) {
       return kernel(detail::item_range(dev.queue, first, count), params, sheen, 0, res[0], res[1],
                     static_cast<float>(s.slice_phi_d), out);
@@ -321,9 +325,18 @@ std::vector<int> tabulate_resolution(const TabulateSpec& s) {
       if (!res.empty() && res != std::vector<int>{kMerlThetaH, kMerlThetaD, kMerlPhiD})
         throw Error("the merl layout has a fixed resolution (90 x 90 x 180); leave --res out");
       return {kMerlThetaH, kMerlThetaD, kMerlPhiD};
-    case TableLayout::Grid: want = 3; defaults = {32, 32, 32}; break;
-    case TableLayout::Albedo: want = 1; defaults = {90}; break;
-    case TableLayout::Slice: want = 2; defaults = {256, 256}; break;
+    case TableLayout::Grid:
+      want = 3;
+      defaults = {32, 32, 32};
+      break;
+    case TableLayout::Albedo:
+      want = 1;
+      defaults = {90};
+      break;
+    case TableLayout::Slice:
+      want = 2;
+      defaults = {256, 256};
+      break;
   }
   if (res.empty()) res = defaults;
   if (res.size() == 1) res.assign(want, res[0]);
@@ -355,16 +368,18 @@ MerlTable tabulate_merl(Device& device, const TabulateSpec& s, TabulateTiming* t
   t.values.resize(3 * kMerlBins);
   const Precision prec = s.options.precision;
   const double device_seconds = detail::cl_call("kernel brdf_merl on '" + dev.info.name + "'", [&] {
-    cl::Buffer params = detail::brdf_real_buffer(dev, prec, p.params), sheen = detail::brdf_real_buffer(dev, prec, p.sheen);
+    cl::Buffer params = detail::brdf_real_buffer(dev, prec, p.params),
+               sheen = detail::brdf_real_buffer(dev, prec, p.sheen);
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, 3 * kMerlBins * detail::real_size(prec));
     cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl::Buffer> kernel(program, "brdf_merl");
-    cl::Event e = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(kMerlBins / static_cast<size_t>(lanes))), params,
-                         sheen, 0, out);
+    cl::Event e =
+        kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(kMerlBins / static_cast<size_t>(lanes))), params, sheen, 0, out);
     e.wait();
     detail::read_reals(dev, prec, out, t.values.size(), t.values.data());
     return detail::event_seconds(e);
   });
-  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
+  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options),
+                            lobes_name(s.model, lobes));
   detail::merl_metadata(t.metadata);
   if (timing) {
     timing->device_seconds = device_seconds;
@@ -388,11 +403,13 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   const Precision prec = s.options.precision;
   const std::string what = std::string("kernel brdf_") + table_layout_name(s.layout) + " on '" + dev.info.name + "'";
   const double device_seconds = detail::cl_call(what, [&] {
-    cl::Buffer params = detail::brdf_real_buffer(dev, prec, packed.params), sheen = detail::brdf_real_buffer(dev, prec, packed.sheen);
+    cl::Buffer params = detail::brdf_real_buffer(dev, prec, packed.params),
+               sheen = detail::brdf_real_buffer(dev, prec, packed.sheen);
     const TabulateLaunch k{dev, s, res, mats, program, params, sheen, lanes};
     return s.layout == TableLayout::Albedo ? tabulate_albedo(k, t) : tabulate_cells(k, t);
   });
-  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options), lobes_name(s.model, lobes));
+  detail::tabulate_metadata(t.metadata, s, res, device_name(dev), precision_label(s.options),
+                            lobes_name(s.model, lobes));
   if (s.layout == TableLayout::Albedo)
     t.set_meta("method", "deterministic quadrature over the half vector, split at the horizon (kernels/brdf_eval.cl)");
   if (timing) {

@@ -29,24 +29,31 @@ SpecSchema<TabulateSpec> make_tabulate_schema() {
   using S = TabulateSpec;
   SpecSchema<TabulateSpec> s;
   s.bind("materials", ParamDef("material", T::Path, "material file: our JSON, or a .gltf").needed(), {})
-      .param(ParamDef("name", T::Name,
-                      "the material to use (albedo: default every material; the others: needed when the file holds several)"))
-      .bind("model", ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"), {})
+      .param(ParamDef(
+          "name", T::Name,
+          "the material to use (albedo: default every material; the others: needed when the file holds several)"))
+      .bind("model",
+            ParamDef("model", T::Name, "the BRDF model").one_of(model_names()).defaults_to("the material's own"), {})
       .bind(&S::layout, "layout",
             ParamDef("layout", T::Name,
                      "merl (90x90x180 MERL binary) | grid (theta_i x theta_o x phi_d) | albedo (over theta_o) | slice "
                      "(theta_h x theta_d image)")
-                .one_of({"merl", "grid", "albedo", "slice"}).needed(),
+                .one_of({"merl", "grid", "albedo", "slice"})
+                .needed(),
             by_name(table_layout_from_name))
       .bind("res",
-            ParamDef("res", T::IntList, "grid: N or NI,NO,NP (default 32); albedo: N (default 90); slice: N or W,H (default 256); not for merl")
+            ParamDef(
+                "res", T::IntList,
+                "grid: N or NI,NO,NP (default 32); albedo: N (default 90); slice: N or W,H (default 256); not for merl")
                 .range(1, 4096),
             [](TabulateSpec& spec, const TableRequest& t) {
               for (double v : t.numbers("res")) spec.res.push_back(static_cast<int>(v));
             })
-      .bind(&S::slice_phi_d, "slice_phi_d",
-            ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"))
-      .bind("options", ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
+      .bind(
+          &S::slice_phi_d, "slice_phi_d",
+          ParamDef("phi_d", T::Number, "slice: phi_d in radians").range(0, 3.14159265358979323846).defaults_to("pi/2"))
+      .bind("options",
+            ParamDef("fast_math", T::Flag, "build the kernels with -cl-fast-relaxed-math (opt-in)").def(false),
             [](TabulateSpec& spec, const TableRequest& t) {
               spec.options.precision = t.precision;
               spec.options.fast_math = t.flag("fast_math");
@@ -70,10 +77,14 @@ class TabulateFamily final : public Family {
     const std::string layout = t.text("layout");
     const std::vector<double> res = t.numbers("res");
     double cells = 0;
-    if (layout == "merl") cells = 90.0 * 90.0 * 180.0;
-    else if (layout == "grid") cells = res.empty() ? 32.0 * 32 * 32 : res.size() == 1 ? res[0] * res[0] * res[0] : res[0] * res[1] * res[2];
-    else if (layout == "albedo") cells = (res.empty() ? 90.0 : res[0]) * 4096.0;
-    else cells = res.empty() ? 256.0 * 256 : res.size() == 1 ? res[0] * res[0] : res[0] * res[1];
+    if (layout == "merl")
+      cells = 90.0 * 90.0 * 180.0;
+    else if (layout == "grid")
+      cells = res.empty() ? 32.0 * 32 * 32 : res.size() == 1 ? res[0] * res[0] * res[0] : res[0] * res[1] * res[2];
+    else if (layout == "albedo")
+      cells = (res.empty() ? 90.0 : res[0]) * 4096.0;
+    else
+      cells = res.empty() ? 256.0 * 256 : res.size() == 1 ? res[0] * res[0] : res[0] * res[1];
     return static_cast<std::uint64_t>(cells * (6 + 3) * 8) + grid_bytes(cells, 3);
   }
   std::string command() const override { return "tabulate"; }
@@ -97,7 +108,8 @@ class TabulateFamily final : public Family {
 
   void check(TableRequest& t, const FieldName& name) const override {
     if (t.find("res") && is_merl(t)) throw FieldError("res", "does not apply to the merl layout (its size is fixed)");
-    if (t.find("phi_d") && t.text("layout") != "slice") throw FieldError("phi_d", "is for " + name("layout") + " slice");
+    if (t.find("phi_d") && t.text("layout") != "slice")
+      throw FieldError("phi_d", "is for " + name("layout") + " slice");
     try {
       tabulate_resolution(spec_of(t, name));
     } catch (const FieldError&) {
@@ -130,17 +142,21 @@ class TabulateFamily final : public Family {
     const std::vector<int> res = tabulate_resolution(spec);
     TabulateTiming timing;
     BakeResult r;
-    if (is_merl(t)) r.artifact = tabulate_merl(backend, spec, &timing);
-    else r.artifact = tabulate(backend, spec, &timing);
-    r.error_bound_definition = "not measured (the kernels' agreement with the reference is in docs/BENCHMARKS.md, "
-                               "\"Bulk BRDF evaluation\")";
+    if (is_merl(t))
+      r.artifact = tabulate_merl(backend, spec, &timing);
+    else
+      r.artifact = tabulate(backend, spec, &timing);
+    r.error_bound_definition =
+        "not measured (the kernels' agreement with the reference is in docs/BENCHMARKS.md, "
+        "\"Bulk BRDF evaluation\")";
     std::string rs;
     for (int v : res) rs += (rs.empty() ? "" : "x") + std::to_string(v);
     r.device_seconds = timing.device_seconds;
     r.summary = std::string(brdf_model_name(spec.model)) + " " + table_layout_name(spec.layout) + " " + rs + ", " +
                 std::to_string(spec.materials.size()) + " material(s), " +
                 (backend.is_reference() ? std::string("reference") : std::string(precision_name(t.precision))) + ", " +
-                fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") + " s)";
+                fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") +
+                " s)";
     return r;
   }
 
@@ -171,14 +187,15 @@ class TabulateFamily final : public Family {
     } else {
       if (!t.find("name") && materials.size() > 1)
         throw FieldError("name", path + " holds " + std::to_string(materials.size()) + " materials; the " +
-                                     table_layout_name(s.layout) + " layout tabulates one: choose it with " + name("name"));
+                                     table_layout_name(s.layout) + " layout tabulates one: choose it with " +
+                                     name("name"));
       s.materials = {find_material(materials, t.text("name"), path)};
     }
     s.model = resolve_model(chosen, s.materials.front());
     for (const NamedMaterial& m : s.materials)
       if (resolve_model(chosen, m) != s.model)
-        throw FieldError("model", "the materials name different models; give " + name("model") + " (or " + name("name") +
-                                      " one material)");
+        throw FieldError("model", "the materials name different models; give " + name("model") + " (or " +
+                                      name("name") + " one material)");
     return s;
   }
 };

@@ -3,6 +3,8 @@
 // the registration of its kernels. Model: model.cpp, calibration.cpp; kernels: opencl.cpp
 // (kernels/dfg_lut.cl), reference.cpp (host/reference/src/dfg_lut.cpp); tests:
 // tests/device/test_dfg_lut.cpp, tests/reference/test_dfg_reference.cpp.
+#include "families/family.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -10,7 +12,6 @@
 
 #include "brdfbake/dfg_lut.hpp"
 #include "families/dfg_lut/kernel.hpp"
-#include "families/family.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 
@@ -18,15 +19,20 @@ namespace brdfbake::detail {
 namespace {
 
 LutKind lut_kind_of(TableKind k) {
-  return k == TableKind::Ggx ? LutKind::Ggx : k == TableKind::GgxMultiscatter ? LutKind::GgxMultiscatter : LutKind::Charlie;
+  return k == TableKind::Ggx               ? LutKind::Ggx
+         : k == TableKind::GgxMultiscatter ? LutKind::GgxMultiscatter
+                                           : LutKind::Charlie;
 }
 
 // What a shader does with each kind's channels.
 std::string runtime_formula(TableKind k) {
   switch (k) {
-    case TableKind::Ggx: return "specular = F0 * scale + F90 * bias";
-    case TableKind::GgxMultiscatter: return "specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))";
-    default: return "sheen = sheen_color * albedo (scale the base layer by 1 - max(sheen_color) * albedo)";
+    case TableKind::Ggx:
+      return "specular = F0 * scale + F90 * bias";
+    case TableKind::GgxMultiscatter:
+      return "specular = mix(bias, albedo, F0) * (1 + F0 * (1 / albedo - 1))";
+    default:
+      return "sheen = sheen_color * albedo (scale the base layer by 1 - max(sheen_color) * albedo)";
   }
 }
 
@@ -37,20 +43,28 @@ double storage_allowance(const TableRequest& t) {
   if (t.output.empty() || t.output == "-") return 0.0;
   switch (table_output_format(t)) {
     case TableFormat::Ktx2:
-    case TableFormat::CHeader: return t.pixel == "f32" ? 0.0 : std::ldexp(1.0, -11);
-    case TableFormat::Png: return 0.5 / 65535.0;
-    case TableFormat::Hdr: return std::ldexp(1.0, -7);
-    default: return 0.0;
+    case TableFormat::CHeader:
+      return t.pixel == "f32" ? 0.0 : std::ldexp(1.0, -11);
+    case TableFormat::Png:
+      return 0.5 / 65535.0;
+    case TableFormat::Hdr:
+      return std::ldexp(1.0, -7);
+    default:
+      return 0.0;
   }
 }
 
 std::string storage_name(const TableRequest& t) {
   switch (table_output_format(t)) {
     case TableFormat::Ktx2:
-    case TableFormat::CHeader: return "binary16";
-    case TableFormat::Png: return "16-bit PNG";
-    case TableFormat::Hdr: return "RGBE (.hdr)";
-    default: return "this format";
+    case TableFormat::CHeader:
+      return "binary16";
+    case TableFormat::Png:
+      return "16-bit PNG";
+    case TableFormat::Hdr:
+      return "RGBE (.hdr)";
+    default:
+      return "this format";
   }
 }
 
@@ -62,25 +76,34 @@ SpecSchema<LutSpec> lut_schema(bool charlie) {
   SpecSchema<LutSpec> s;
   s.common("kind", "kind", [](LutSpec& l, const TableRequest& t) { l.kind = lut_kind_of(t.kind); })
       .bind(&LutSpec::width, "width",
-            ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)").range(1, kLutMaxSize).def(double(d.width)))
-      .bind(&LutSpec::height, "height", ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"))
+            ParamDef("size", T::Int, "cells along n_dot_v (and roughness unless height is given)")
+                .range(1, kLutMaxSize)
+                .def(double(d.width)))
+      .bind(&LutSpec::height, "height",
+            ParamDef("height", T::Int, "cells along roughness").range(1, kLutMaxSize).defaults_to("size"))
       .bind(&LutSpec::samples, "samples",
-            ParamDef("samples", T::Int, "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
+            ParamDef("samples", T::Int,
+                     "evaluations per texel (default: the calibrated count for a 1e-4 bound); not with max_error")
                 .range(1, kLutMaxSamples))
       // max_error bounds the delivered values: the integration gets what the output's storage leaves.
       .bind("max_error",
-            ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this").above(0, 1),
+            ParamDef("max_error", T::Number, "the fewest calibrated samples whose measured max error is below this")
+                .above(0, 1),
             [](LutSpec& l, const TableRequest& t) {
               if (t.find("max_error")) l.max_error = std::max(0.0, t.number("max_error") - storage_allowance(t));
             })
       .bind(&LutSpec::estimator, "estimator",
-            ParamDef("estimator", T::Name, "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
-                .one_of({"quadrature", "vndf", "ndf", "uniform"}).def(std::string(estimator_name(d.estimator))),
+            ParamDef("estimator", T::Name,
+                     "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
+                .one_of({"quadrature", "vndf", "ndf", "uniform"})
+                .def(std::string(estimator_name(d.estimator))),
             by_name(estimator_from_name))
       .common("precision", "precision", [](LutSpec& l, const TableRequest& t) { l.precision = t.precision; })
       .bind(&LutSpec::n_dot_v_axis, "n_dot_v_axis",
-            ParamDef("n_dot_v_axis", T::Name, "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
-                .one_of({"uniform", "sqrt"}).def(std::string(lut_axis_name(d.n_dot_v_axis))),
+            ParamDef("n_dot_v_axis", T::Name,
+                     "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
+                .one_of({"uniform", "sqrt"})
+                .def(std::string(lut_axis_name(d.n_dot_v_axis))),
             by_name(lut_axis_from_name))
       .internal("roughness_axis", "measured: no separable mapping beats uniform (docs/BENCHMARKS.md)")
       .internal("n_dot_v", "explicit coordinates: tests and benches only")
@@ -88,7 +111,8 @@ SpecSchema<LutSpec> lut_schema(bool charlie) {
   if (charlie)
     s.bind(&LutSpec::sheen_visibility, "sheen_visibility",
            ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
-               .one_of({"estevez-kulla", "neubelt"}).def(std::string(sheen_visibility_name(d.sheen_visibility))),
+               .one_of({"estevez-kulla", "neubelt"})
+               .def(std::string(sheen_visibility_name(d.sheen_visibility))),
            by_name(sheen_visibility_from_name));
   else
     s.internal("sheen_visibility", "the charlie kind's parameter");
@@ -123,11 +147,12 @@ LookupError measure_lookup_error(const LutSpec& resolved, const Table& table, Ba
 // byte written, are those a fresh measurement gives. (A request's table is always at the cell
 // centres of its axes: the resolved spec's coordinates follow from the fields in the key.)
 LookupError lookup_error_once(const LutSpec& resolved, const Table& table, Backend& backend) {
-  const std::string key = backend.name() + "|" + precision_name(backend.result_precision(resolved.precision)) + "|" +
-                          std::to_string(int(resolved.kind)) + "|" + std::to_string(resolved.width) + "x" +
-                          std::to_string(resolved.height) + "|" + std::to_string(resolved.samples) + "|" +
-                          std::to_string(int(resolved.estimator)) + "|" + std::to_string(int(resolved.sheen_visibility)) +
-                          "|" + std::to_string(int(resolved.n_dot_v_axis)) + "|" + std::to_string(int(resolved.roughness_axis));
+  const std::string key =
+      backend.name() + "|" + precision_name(backend.result_precision(resolved.precision)) + "|" +
+      std::to_string(int(resolved.kind)) + "|" + std::to_string(resolved.width) + "x" +
+      std::to_string(resolved.height) + "|" + std::to_string(resolved.samples) + "|" +
+      std::to_string(int(resolved.estimator)) + "|" + std::to_string(int(resolved.sheen_visibility)) + "|" +
+      std::to_string(int(resolved.n_dot_v_axis)) + "|" + std::to_string(int(resolved.roughness_axis));
   static std::mutex mutex;
   static std::map<std::string, LookupError> measured;
   {
@@ -165,7 +190,9 @@ std::string add_lookup_error(Table& table, const LutSpec& resolved, Backend& bac
 
 class DfgLutFamily final : public Family {
  public:
-  std::vector<TableKind> kinds() const override { return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie}; }
+  std::vector<TableKind> kinds() const override {
+    return {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie};
+  }
   std::uint64_t estimated_bytes(const TableRequest& t) const override {
     return grid_bytes(t.number("size") * t.number("height", t.number("size")), 3);
   }
@@ -180,9 +207,12 @@ class DfgLutFamily final : public Family {
   }
   std::string summary(TableKind k) const override {
     switch (k) {
-      case TableKind::Ggx: return "split-sum DFG table: GGX scale and bias, Burley diffuse albedo";
-      case TableKind::GgxMultiscatter: return "split-sum DFG table for energy compensation: bias, albedo, diffuse";
-      default: return "Charlie sheen directional albedo table";
+      case TableKind::Ggx:
+        return "split-sum DFG table: GGX scale and bias, Burley diffuse albedo";
+      case TableKind::GgxMultiscatter:
+        return "split-sum DFG table for energy compensation: bias, albedo, diffuse";
+      default:
+        return "Charlie sheen directional albedo table";
     }
   }
 
@@ -225,7 +255,8 @@ class DfgLutFamily final : public Family {
     std::string kind = table_kind_name(t.kind);
     std::replace(kind.begin(), kind.end(), '-', '_');
     std::string stem = "dfg_" + kind;
-    if (t.kind == TableKind::Charlie && t.text("sheen_visibility") != "estevez-kulla") stem += "_" + t.text("sheen_visibility");
+    if (t.kind == TableKind::Charlie && t.text("sheen_visibility") != "estevez-kulla")
+      stem += "_" + t.text("sheen_visibility");
     stem += "_" + fmt_number(t.number("size"), "%.0f");
     if (t.number("height") != t.number("size")) stem += "x" + fmt_number(t.number("height"), "%.0f");
     if (t.text("n_dot_v_axis") == "sqrt") stem += "_sqrt_nv";
@@ -240,12 +271,14 @@ class DfgLutFamily final : public Family {
     const double target = t.number("max_error");
     const double storage = storage_allowance(t);
     if (storage >= target)
-      throw FieldError("max_error", fmt_number(target) + " cannot be delivered in " + storage_name(t) + " (its rounding alone is up to " +
-                                        fmt_number(storage, "%.2g") + "): give pixel f32 (--pixel f32) or write .exr or .csv");
+      throw FieldError("max_error", fmt_number(target) + " cannot be delivered in " + storage_name(t) +
+                                        " (its rounding alone is up to " + fmt_number(storage, "%.2g") +
+                                        "): give pixel f32 (--pixel f32) or write .exr or .csv");
     resolve_or_explain(t);
   }
 
-  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&, const BakeProgress& progress) const override {
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs&,
+                  const BakeProgress& progress) const override {
     const LutSpec spec = spec_of(t);
     LutTiming timing;
     BakeResult r;
@@ -256,7 +289,8 @@ class DfgLutFamily final : public Family {
       r.error_bound_definition = table.meta("error_bound_definition");
     } else {
       int measured_at = 0;
-      const double bound = lut_error_bound(resolved.kind, resolved.estimator, resolved.precision, resolved.samples, &measured_at);
+      const double bound =
+          lut_error_bound(resolved.kind, resolved.estimator, resolved.precision, resolved.samples, &measured_at);
       if (bound >= 0) r.error_bound = bound;
       r.error_bound_definition = table.meta("error_bound_definition");
       if (bound >= 0 && measured_at != resolved.samples)
@@ -298,7 +332,10 @@ class DfgLutFamily final : public Family {
         } catch (const Error&) {
         }
       }
-      throw FieldError(t.find("samples") ? "samples" : t.find("max_error") ? "max_error" : "estimator", e.what() + hint);
+      throw FieldError(t.find("samples")     ? "samples"
+                       : t.find("max_error") ? "max_error"
+                                             : "estimator",
+                       e.what() + hint);
     }
   }
 

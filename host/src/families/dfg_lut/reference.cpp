@@ -17,13 +17,11 @@ namespace brdfbake {
 namespace {
 
 reference::SheenVisibility to_reference(SheenVisibility v) {
-  return v == SheenVisibility::Neubelt ? reference::SheenVisibility::Neubelt
-                                       : reference::SheenVisibility::EstevezKulla;
+  return v == SheenVisibility::Neubelt ? reference::SheenVisibility::Neubelt : reference::SheenVisibility::EstevezKulla;
 }
 
 // The reference values of one texel, channels in lut_channels order.
-void reference_texel(LutKind kind, double n_dot_v, double roughness, reference::SheenVisibility vis,
-                     float* out) {
+void reference_texel(LutKind kind, double n_dot_v, double roughness, reference::SheenVisibility vis, float* out) {
   if (kind == LutKind::Charlie) {
     out[0] = static_cast<float>(reference::charlie_albedo(n_dot_v, roughness, vis));
     return;
@@ -64,8 +62,8 @@ Table bake_lut_reference(const LutSpec& in, LutTiming* timing, const Progress& p
       }
     }
   };
-  const unsigned n_threads = std::max(1u, std::min(std::thread::hardware_concurrency(),
-                                                   static_cast<unsigned>(s.height)));
+  const unsigned n_threads =
+      std::max(1u, std::min(std::thread::hardware_concurrency(), static_cast<unsigned>(s.height)));
   std::vector<std::thread> pool;
   for (unsigned k = 1; k < n_threads; ++k) pool.emplace_back(worker);
   // The calling thread works too, and its progress reports may throw (a run's stop: the server's

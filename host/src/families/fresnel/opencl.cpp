@@ -70,8 +70,8 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
       // device, and inf * 0 is NaN where the double model gives a finite product (issue 24, numbers
       // at the edge); FLT_MAX keeps every product and sum the model clamps to [0, 1] on its side.
       std::transform(v.begin(), v.end(), f.begin(), [](double d) {
-        return static_cast<float>(std::clamp(d, -double(std::numeric_limits<float>::max()),
-                                             double(std::numeric_limits<float>::max())));
+        return static_cast<float>(
+            std::clamp(d, -double(std::numeric_limits<float>::max()), double(std::numeric_limits<float>::max())));
       });
       return cl::Buffer(dev.context, flags | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
     };
@@ -82,10 +82,9 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
     // fault in on first touch, which would be counted as kernel time (measured here: ~24 ms for
     // a 1<<22-cell table, 7x the Schlick kernel itself) and would hide the models' differences.
     dev.queue.enqueueFillBuffer(out, 0.0f, 0, t.data.size() * sizeof(float));
-    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl::Buffer> kernel(
-        program, "fresnel_table");
-    cl::Event event = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(items, static_cast<size_t>(r.height))),
-                             out, xb, yb, r.width, r.height, pb);
+    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl::Buffer> kernel(program, "fresnel_table");
+    cl::Event event = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(items, static_cast<size_t>(r.height))), out, xb, yb,
+                             r.width, r.height, pb);
     event.wait();
     const double seconds = detail::event_seconds(event);
     dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, t.data.size() * sizeof(float), t.data.data());

@@ -4,18 +4,18 @@
 // writes, and the registration of its kernels. Model: model.cpp, sh.cpp, sh_projection.cpp;
 // kernels: opencl.cpp (kernels/irradiance.cl), reference.cpp (host/reference/src/irradiance.cpp);
 // tests: tests/device/test_irradiance.cpp, tests/reference/test_envmap_reference.cpp.
+#include "families/family.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
-#include "families/family.hpp"
 #include "families/irradiance/kernel.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 #include "io/atomic_file.hpp"
-
-#include <nlohmann/json.hpp>
 
 namespace brdfbake::detail {
 
@@ -49,8 +49,11 @@ std::string sh_json_for(const ShCoefficients& sh, const Metadata& meta, const st
   nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (const Rgb3& v : c) a.push_back({v[0], v[1], v[2]});
-  j["engine"] = {{"target", target_name}, {"engine", e.engine}, {"convention", e.sh_description},
-                 {"layout", layout}, {"coefficients", a}};
+  j["engine"] = {{"target", target_name},
+                 {"engine", e.engine},
+                 {"convention", e.sh_description},
+                 {"layout", layout},
+                 {"coefficients", a}};
   return j.dump(2) + "\n";
 }
 
@@ -68,24 +71,32 @@ SpecSchema<IrradianceSpec> make_irradiance_schema() {
   using S = IrradianceSpec;
   SpecSchema<IrradianceSpec> s;
   s.bind(&S::sh_order, "sh_order",
-         ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)").range(3, 5).def(double(d.sh_order)).alias("sh"))
+         ParamDef("sh_order", T::Int, "SH bands: 3 (9 coefficients) or 5 (25)")
+             .range(3, 5)
+             .def(double(d.sh_order))
+             .alias("sh"))
       .bind(&S::window, "window",
             ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
-                .one_of({"none", "hanning", "lanczos", "auto"}).def(std::string(sh_window_name(d.window))),
+                .one_of({"none", "hanning", "lanczos", "auto"})
+                .def(std::string(sh_window_name(d.window))),
             by_name(sh_window_from_name))
       // no cube_size: SH alone (a .json output), not the struct's default
       .bind("cube_size",
             ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
-                .range(1, kIrradianceMaxCube).alias("cube").defaults_to(fmt_number(d.cube_size) + " for a cube output"),
+                .range(1, kIrradianceMaxCube)
+                .alias("cube")
+                .defaults_to(fmt_number(d.cube_size) + " for a cube output"),
             [](IrradianceSpec& i, const TableRequest& t) { i.cube_size = static_cast<int>(t.number("cube_size", 0)); })
       .bind(&S::source_size, "source_size",
             ParamDef("source_size", T::Int, "face size the environment is converted to first")
-                .range(1, kIrradianceMaxSource).def(double(d.source_size)))
+                .range(1, kIrradianceMaxSource)
+                .def(double(d.source_size)))
       .param(ParamDef("sh_json", T::Path, "a cube output: also write the SH coefficients to this JSON file").output())
       .param(ParamDef("target", T::Name,
                       "an engine's SH conventions (docs/ENGINES.md): its window unless given, and its coefficients "
                       "added to the JSON")
-                 .one_of(engine_target_names()).def(std::string("generic")))
+                 .one_of(engine_target_names())
+                 .def(std::string("generic")))
       .common("precision", "precision", [](IrradianceSpec& i, const TableRequest& t) { i.precision = t.precision; });
   std::vector<ParamDef> output;
   add_cube_output_params(output);
@@ -133,12 +144,15 @@ class IrradianceFamily final : public Family {
 
   void check(TableRequest& t, const FieldName& name) const override {
     if (t.text("target") != "generic" && !t.was_given("sh_window"))
-      t.set("sh_window", std::string(sh_window_name(engine_settings(engine_target_from_name(t.text("target"))).sh_window)));
+      t.set("sh_window",
+            std::string(sh_window_name(engine_settings(engine_target_from_name(t.text("target"))).sh_window)));
     if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
       throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
     const bool json = !t.output.empty() ? is_json(t) : !t.format.empty() ? t.format == "json" : !t.find("cube_size");
     if (json && t.find("cube_size"))
-      throw FieldError("cube_size", "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
+      throw FieldError(
+          "cube_size",
+          "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
     if (json && t.find("sh_json"))
       throw FieldError("sh_json", "is for a cube output (the output already is the SH JSON)");
     if (!json && !t.find("cube_size")) t.set("cube_size", double(IrradianceSpec{}.cube_size));
@@ -148,7 +162,8 @@ class IrradianceFamily final : public Family {
   std::string default_output(const TableRequest& t) const override {
     std::string stem = "irradiance_sh" + fmt_number(t.number("sh_order"), "%.0f");
     if (!t.find("cube_size") || t.format == "json") return stem + ".json";
-    return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") + (t.format.empty() ? ".ktx2" : output_extension(t));
+    return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") +
+           (t.format.empty() ? ".ktx2" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override {
     OutputFormats f = cube_formats();
@@ -158,12 +173,14 @@ class IrradianceFamily final : public Family {
   }
   void check_output(const TableRequest& t, const FieldName& name) const override {
     Family::check_output(t, name);
-    if (!is_json(t)) check_cube_output(t, name);
+    if (!is_json(t))
+      check_cube_output(t, name);
     else if (!t.format.empty() && t.format != "json")
       throw FieldError("format", "'" + t.format + "' does not match the extension of '" + t.output + "'");
   }
 
-  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in,
+                  const BakeProgress& progress) const override {
     const IrradianceSpec spec = irradiance_schema().fill(t);
     BakeResult r;
     EnvImage scaled;

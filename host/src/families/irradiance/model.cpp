@@ -1,11 +1,12 @@
 // The irradiance family's model: the limits of a spec and the metadata of an irradiance cube.
+#include "families/irradiance/model.hpp"
+
 #include <cstdio>
 #include <string>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
-#include "families/irradiance/model.hpp"
 
 namespace brdfbake {
 

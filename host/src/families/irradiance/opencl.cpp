@@ -30,7 +30,8 @@ void rest_points(const CubeLevels& cube, const std::vector<BrightTexel>& bright,
   for (size_t t = 0; t < face_texels(s); ++t)
     for (size_t c = 0; c < 3; ++c) rgb[3 * t + c] = cube.levels[0][4 * t + c];
   for (const BrightTexel& b : bright)
-    for (size_t c = 0; c < 3; ++c) rgb[3 * ((size_t(b.face) * size_t(s) + size_t(b.j)) * size_t(s) + size_t(b.i)) + c] = 0.0;
+    for (size_t c = 0; c < 3; ++c)
+      rgb[3 * ((size_t(b.face) * size_t(s) + size_t(b.j)) * size_t(s) + size_t(b.i)) + c] = 0.0;
   std::vector<double> omega;
   auto solid_angles = [&](int n) {
     omega.assign(size_t(n) * size_t(n), 0.0);
@@ -158,11 +159,10 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
     cl::Buffer cube_out(dev.context, CL_MEM_WRITE_ONLY, 4 * face_texels(cs) * sizeof(float));
     cl::KernelFunctor<cl::Buffer, cl_int, cl::Buffer, cl_int> irr(prog, "irradiance_cube");
     // Every texel sums every point: bounded launches of whole rows (runtime/launch.hpp).
-    seconds += detail::launch_in_tiles(size_t(cs), 6u * size_t(cs), double(n_points),
-                                       [&](size_t x0, size_t nx, size_t y0, size_t ny) {
-                                         return irr(detail::tile_range(dev.queue, x0, nx, y0, ny), cube_out, cs,
-                                                    pts_buf, n_points);
-                                       });
+    seconds += detail::launch_in_tiles(
+        size_t(cs), 6u * size_t(cs), double(n_points), [&](size_t x0, size_t nx, size_t y0, size_t ny) {
+          return irr(detail::tile_range(dev.queue, x0, nx, y0, ny), cube_out, cs, pts_buf, n_points);
+        });
     result.cube.size = cs;
     result.cube.levels.assign(1, std::vector<float>(4 * face_texels(cs)));
     dev.queue.enqueueReadBuffer(cube_out, CL_TRUE, 0, result.cube.levels[0].size() * sizeof(float),
@@ -175,7 +175,8 @@ IrradianceResult compute_irradiance(Device& device, const EnvImage& env, const I
       result.cube, env, spec, sh,
       "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by direct cosine convolution over every source texel "
       "(the source at face size <= 64, bright texels at full resolution); multiply by the diffuse albedo only",
-      precision_name(spec.precision), dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
+      precision_name(spec.precision),
+      dev.info.name + " (" + dev.info.platform_name + ", " + dev.info.driver_version + ")");
   if (progress) progress(1.0, "done");
   return result;
 }

@@ -82,7 +82,8 @@ IrradianceResult compute_irradiance_reference(const EnvImage& env, const Irradia
     detail::irradiance_cube_metadata(
         result.cube, env, spec, result.sh,
         "E(n) / pi = (1 / pi) int L(l) (n.l)+ dl, by brute force in double (the scalar reference): every source "
-        "texel split into " + std::to_string(q) + " x " + std::to_string(q) +
+        "texel split into " +
+            std::to_string(q) + " x " + std::to_string(q) +
             " sub-cells of exact solid angle, the source's seamless bilinear interpolation at each; multiply by "
             "the diffuse albedo only",
         "fp64", "reference (scalar double)");

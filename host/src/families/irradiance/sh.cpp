@@ -5,6 +5,8 @@
 // "radiance" holds L_lm = int L Y_lm dl; "irradiance_over_pi" holds c_lm = (A_l / pi) w_l L_lm with
 // Ramamoorthi & Hanrahan's A_l and the window w_l, so that E(n) / pi = sum c_lm Y_lm(n): a shader
 // multiplies by the albedo only.
+#include "brdfbake/math/sh.hpp"
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -13,7 +15,6 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
-#include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "families/irradiance/model.hpp"
 #include "io/atomic_file.hpp"
@@ -36,7 +37,8 @@ std::string sh_to_json(const ShCoefficients& sh, const Metadata& metadata) {
   for (const auto* v : {&sh.radiance, &sh.irradiance_over_pi})
     for (double x : *v)
       if (!std::isfinite(x))
-        throw RuntimeFailure("the SH coefficients are not finite (the environment's radiance overflowed); nothing was written");
+        throw RuntimeFailure(
+            "the SH coefficients are not finite (the environment's radiance overflowed); nothing was written");
   nlohmann::ordered_json j;
   j["generator"] = std::string("brdfbake ") + kVersion;
   j["order"] = sh.order;

@@ -222,8 +222,9 @@ ShCoefficients project_sh(const EnvImage& env, int order, ShWindow window) {
   sh.order = order;
   sh.radiance = cube ? project_cube(env, order) : project_equirect(env, order);
   apply_sh_window(sh, window);
-  sh.projection = cube ? "the " + std::to_string(env.width) + "^2 cube's texels at their centres, each with its "
-                                                              "exact solid angle, in double precision on the host"
+  sh.projection = cube ? "the " + std::to_string(env.width) +
+                             "^2 cube's texels at their centres, each with its "
+                             "exact solid angle, in double precision on the host"
                        : "exact integral of the " + std::to_string(env.width) + "x" + std::to_string(env.height) +
                              " equirect's pixels (each constant over its cell) against the basis, in double "
                              "precision on the host";

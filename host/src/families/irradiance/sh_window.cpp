@@ -89,7 +89,8 @@ double sh_minimum(const std::vector<double>& coefficients, int order) {
     double best = values[size_t(s)].first;
     for (double step = 0.05; step > 1e-9;) {
       bool moved = false;
-      for (const auto& [dt, dp] : std::array<std::array<double, 2>, 4>{{{step, 0}, {-step, 0}, {0, step}, {0, -step}}}) {
+      for (const auto& [dt, dp] :
+           std::array<std::array<double, 2>, 4>{{{step, 0}, {-step, 0}, {0, step}, {0, -step}}}) {
         const double v = sh_value(coefficients, order, from_angles(theta + dt, phi + dp));
         if (v < best) {
           best = v, theta += dt, phi += dp, moved = true;
@@ -184,7 +185,8 @@ std::vector<double> sh_sinc4_window_weights(double cutoff, int order) {
 
 double sh_auto_window_cutoff(const std::vector<double>& irradiance, int order) {
   const size_t n = size_t(order) * size_t(order);
-  if (irradiance.size() != 3 * n) throw Error("SH window: " + std::to_string(irradiance.size()) + " coefficients for order " + std::to_string(order));
+  if (irradiance.size() != 3 * n)
+    throw Error("SH window: " + std::to_string(irradiance.size()) + " coefficients for order " + std::to_string(order));
   double cutoff = 4.0 * order + 1.0;
   for (size_t c = 0; c < 3; ++c) {
     std::vector<double> channel(n);

@@ -32,7 +32,8 @@ bool detail::bright_single_point(EnvDistribution dist, double alpha, int source_
 // Groups of `per` points (one bright texel's, bright_texel_points' layout with SoA stride `stride`)
 // merged into one each: the sum of their values at their weighted mean direction (the weights,
 // proportional to the sub-cells' solid angles within a texel, are the values' sums).
-std::vector<double> detail::merge_bright_points(const std::vector<double>& pts, size_t stride, size_t per, size_t texels) {
+std::vector<double> detail::merge_bright_points(const std::vector<double>& pts, size_t stride, size_t per,
+                                                size_t texels) {
   const size_t n = std::max<size_t>(texels, 1);
   std::vector<double> out(6 * n, 0.0);
   if (texels == 0) out[2] = 1.0;  // a padding point as bright_texel_points leaves it

@@ -5,6 +5,8 @@
 // environment families' shared engine in host/src/env/; kernels: opencl.cpp (kernels/prefilter.cl),
 // reference.cpp (host/reference/src/prefilter.cpp); tests: tests/device/test_prefilter.cpp,
 // tests/reference/test_envmap_reference.cpp.
+#include "families/family.hpp"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
-#include "families/family.hpp"
 #include "families/kernels.hpp"
 #include "families/prefilter/kernel.hpp"
 #include "families/spec_schema.hpp"
@@ -30,31 +31,47 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
   SpecSchema<PrefilterSpec> s;
   s.bind(&S::distribution, "distribution",
          ParamDef("distribution", T::Name, "the lobe each level is filtered with")
-             .one_of({"ggx", "charlie"}).def(std::string(env_distribution_name(d.distribution))),
+             .one_of({"ggx", "charlie"})
+             .def(std::string(env_distribution_name(d.distribution))),
          by_name(env_distribution_from_name))
       .bind(&S::size, "size",
-            ParamDef("size", T::Int, "face size of level 0 (the source cube)").range(1, kPrefilterMaxSize).def(double(d.size)))
+            ParamDef("size", T::Int, "face size of level 0 (the source cube)")
+                .range(1, kPrefilterMaxSize)
+                .def(double(d.size)))
       .bind(&S::min_size, "min_size",
-            ParamDef("min_size", T::Int, "face size of the smallest level").range(1, kPrefilterMaxSize).def(double(d.min_size)))
-      .bind(&S::schedule, "schedule",
-            ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
-                .one_of({"linear", "filament", "sqrt", "babylon"}).def(std::string(roughness_schedule_name(d.schedule))),
-            by_name(roughness_schedule_from_name))
+            ParamDef("min_size", T::Int, "face size of the smallest level")
+                .range(1, kPrefilterMaxSize)
+                .def(double(d.min_size)))
+      .bind(
+          &S::schedule, "schedule",
+          ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
+              .one_of({"linear", "filament", "sqrt", "babylon"})
+              .def(std::string(roughness_schedule_name(d.schedule))),
+          by_name(roughness_schedule_from_name))
       .bind(&S::estimator, "estimator",
-            ParamDef("estimator", T::Name, "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
-                .one_of({"quadrature", "sampling"}).def(std::string(env_estimator_name(d.estimator))),
+            ParamDef("estimator", T::Name,
+                     "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
+                .one_of({"quadrature", "sampling"})
+                .def(std::string(env_estimator_name(d.estimator))),
             by_name(env_estimator_from_name))
       .bind(&S::samples, "samples",
-            ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level").range(1, kPrefilterMaxSamples).defaults_to("1024"))
+            ParamDef("samples", T::Int, "sampling: lobe samples per texel of every level")
+                .range(1, kPrefilterMaxSamples)
+                .defaults_to("1024"))
       .bind(&S::max_error, "max_error",
-            ParamDef("max_error", T::Number,
-                     "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
-                     "(RMS relative luminance)").above(0, 1))
+            ParamDef(
+                "max_error", T::Number,
+                "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
+                "(RMS relative luminance)")
+                .above(0, 1))
       .bind(&S::refinement, "refinement",
             ParamDef("refinement", T::Number,
-                     "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with max_error)")
-                .range(1.5, 64).defaults_to(fmt_number(d.refinement)))
-      .bind("bright_texels", ParamDef("env_sampling", T::Flag, "sum the brightest texels (suns) exactly").def(d.bright_texels != 0),
+                     "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with "
+                     "max_error)")
+                .range(1.5, 64)
+                .defaults_to(fmt_number(d.refinement)))
+      .bind("bright_texels",
+            ParamDef("env_sampling", T::Flag, "sum the brightest texels (suns) exactly").def(d.bright_texels != 0),
             [](PrefilterSpec& p, const TableRequest& t) {
               if (!t.flag("env_sampling", true)) p.bright_texels = 0;
             })
@@ -66,7 +83,8 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
       .param(ParamDef("target", T::Name,
                       "an engine's conventions (docs/ENGINES.md): its schedule and sizes unless given; "
                       "bake --target writes its whole file set")
-                 .one_of(engine_target_names()).def(std::string("generic")))
+                 .one_of(engine_target_names())
+                 .def(std::string("generic")))
       .common("precision", "precision", [](PrefilterSpec& p, const TableRequest& t) { p.precision = t.precision; })
       .internal("core_refinement", "quadrature shape: measured by the bench")
       .internal("horizon_texel", "quadrature shape: measured by the bench")
@@ -139,16 +157,18 @@ class PrefilterFamily final : public Family {
         throw FieldError("schedule", target + " reads its levels with the '" + roughness_schedule_name(e.schedule) +
                                          "' schedule (" + e.lod_formula + "), not '" + t.text("schedule") + "'");
       if (e.min_size == 1 && t.number("min_size") != 1)
-        throw FieldError("min_size", target + " stores the full chain down to 1x1 (got " + fmt_number(t.number("min_size")) + ")");
+        throw FieldError("min_size",
+                         target + " stores the full chain down to 1x1 (got " + fmt_number(t.number("min_size")) + ")");
     }
     if (t.find("samples") && t.text("estimator") != "sampling")
-      throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " + name("refinement") +
-                                      " or " + name("max_error") + ")");
+      throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " +
+                                      name("refinement") + " or " + name("max_error") + ")");
     if (t.find("samples") && t.find("max_error"))
       throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
     if (t.find("refinement") && (t.find("max_error") || t.text("estimator") != "quadrature"))
-      throw FieldError("refinement", t.find("max_error") ? "give " + name("refinement") + " or " + name("max_error") + ", not both"
-                                                         : "applies to " + name("estimator") + " quadrature");
+      throw FieldError("refinement", t.find("max_error")
+                                         ? "give " + name("refinement") + " or " + name("max_error") + ", not both"
+                                         : "applies to " + name("estimator") + " quadrature");
     if (t.number("min_size") > t.number("size"))
       throw FieldError("min_size", "must be at most " + name("size") + " (got " + fmt_number(t.number("min_size")) +
                                        " > " + fmt_number(t.number("size")) + ")");
@@ -171,7 +191,8 @@ class PrefilterFamily final : public Family {
     check_cube_output(t, name);
   }
 
-  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in, const BakeProgress& progress) const override {
+  BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in,
+                  const BakeProgress& progress) const override {
     PrefilterSpec spec = spec_of(t);
     PrefilterTiming timing;
     BakeResult r;
@@ -188,9 +209,10 @@ class PrefilterFamily final : public Family {
       // The measured difference of each level's two finest estimates (at most max_error, or the
       // bake fails): the estimate of its distance from the converged level.
       r.error_bound = timing.measured_error;
-      r.error_bound_definition = "the largest over the levels of the RMS relative luminance difference between its two "
-                                 "finest estimates (per level: measured_error_per_level), at most max_error " +
-                                 fmt_number(spec.max_error);
+      r.error_bound_definition =
+          "the largest over the levels of the RMS relative luminance difference between its two "
+          "finest estimates (per level: measured_error_per_level), at most max_error " +
+          fmt_number(spec.max_error);
     } else {
       r.error_bound_definition =
           "not measured when baked (the quadrature's accuracy against the reference is in docs/BENCHMARKS.md; give "
@@ -206,7 +228,8 @@ class PrefilterFamily final : public Family {
                 (levels == 1 ? " level " : " levels ") + std::to_string(cube.size) + "^2 -> " +
                 std::to_string(cube.level_size(levels - 1)) + "^2, " + roughness_schedule_name(spec.schedule) +
                 " schedule (" + cube.meta("lod_from_roughness") + "), " + env_estimator_name(spec.estimator) + ", " +
-                fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") + " s)";
+                fmt_number(timing.wall_seconds, "%.3f") + " s (device " + fmt_number(timing.device_seconds, "%.3f") +
+                " s)";
     if (timing.wall_seconds >= 1.0) {
       // long runs: the peak resident memory so far (getrusage: of the whole process, so in `serve`
       // of every job it ran)

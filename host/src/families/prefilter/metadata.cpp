@@ -40,13 +40,14 @@ void max_error_metadata(CubeLevels& out, const PrefilterSpec& s, const detail::C
     }
   }
   if (worst > s.max_error)
-    throw Error("max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) + " still differs by " +
-                fmt(worst, "%.3g") + " (RMS) between its two finest " +
-                (quadrature ? "refinements (the largest is 16)" : "sample counts (the largest is " + std::to_string(kPrefilterSearchMax) + ")") +
+    throw Error("max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) +
+                " still differs by " + fmt(worst, "%.3g") + " (RMS) between its two finest " +
+                (quadrature ? "refinements (the largest is 16)"
+                            : "sample counts (the largest is " + std::to_string(kPrefilterSearchMax) + ")") +
                 "; ask for max-error " + fmt(worst * 1.5, "%.2g") + " or more");
   out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
-                                std::string(quadrature ? "refinements" : "sample counts (N, 4N)") + " <= " +
-                                fmt(s.max_error) + " (the finer result is kept)");
+                                std::string(quadrature ? "refinements" : "sample counts (N, 4N)") +
+                                " <= " + fmt(s.max_error) + " (the finer result is kept)");
   out.set_meta("measured_error_per_level", comma_join(m_text));
   out.set_meta("measured_error", fmt(worst, "%.3g"));
 }
@@ -60,8 +61,9 @@ void detail::prefilter_metadata(CubeLevels& out, const PrefilterSpec& s, const s
   out.set_meta("distribution", env_distribution_name(s.distribution));
   out.set_meta("definition",
                "level l holds P(R) = int L(l) D(h) (n.l)+ dl / int D(h) (n.l)+ dl with n = v = R (Karis 2013), "
-               "D = " + std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
-                                                                           : "Charlie (Estevez & Kulla 2017)") +
+               "D = " +
+                   std::string(s.distribution == EnvDistribution::Ggx ? "GGX (Walter et al. 2007)"
+                                                                      : "Charlie (Estevez & Kulla 2017)") +
                    ", alpha = roughness^2, L the seamless bilinear interpolation of level 0; level 0 is "
                    "the source itself (roughness 0)");
   out.set_meta("levels", std::to_string(levels));
@@ -95,8 +97,8 @@ void detail::chain_metadata(CubeLevels& out, const PrefilterSpec& s, const Chain
     out.set_meta("estimator_description",
                  "deterministic hierarchical quadrature: a solid-angle pyramid of level 0 (per texel: solid angle, "
                  "L Omega, centroid and radiance centroid directions), texels refined within refinement x texel "
-                 "size of R (core to texel size <= 2 alpha / " + fmt(s.core_refinement) +
-                     ") and across the horizon (to " + fmt(s.horizon_texel) +
+                 "size of R (core to texel size <= 2 alpha / " +
+                     fmt(s.core_refinement) + ") and across the horizon (to " + fmt(s.horizon_texel) +
                      " rad); K at the radiance centroid, normalised by the sum of K Omega; plus " +
                      std::to_string(r.bright) + " bright texels summed exactly (environment sampling)");
   } else {
@@ -105,7 +107,8 @@ void detail::chain_metadata(CubeLevels& out, const PrefilterSpec& s, const Chain
                  std::string("lobe importance sampling, N = V = R, Hammersley points, ") +
                      (s.filtered_importance_sampling
                           ? "filtered importance sampling (Krivanek & Colbert 2008; lod = 0.5 log2(4 / (N D) / texel "
-                            "solid angle) + " + fmt(s.lod_bias) + ") "
+                            "solid angle) + " +
+                                fmt(s.lod_bias) + ") "
                           : "no filtered importance sampling ") +
                      "from a solid-angle-weighted mip chain, self-normalised weights (n.l)+; plus " +
                      std::to_string(r.bright) + " bright texels summed exactly (environment sampling)");

@@ -148,7 +148,8 @@ Pyramid pyramid_layout(int s0, int base) {
 // solid angle but no radiance), each coarser level sums 2 x 2 children, down to the top level.
 // Directions are normalised on output. A face at a time (the faces' pyramids are independent), so
 // that only one face's moments are held in double: a 1024^2 cube with base 2 needs 5 MiB for them.
-detail::Pyramid detail::build_pyramid(const std::vector<float>& rgba, int s0, int base, const std::vector<uint8_t>& skip) {
+detail::Pyramid detail::build_pyramid(const std::vector<float>& rgba, int s0, int base,
+                                      const std::vector<uint8_t>& skip) {
   Pyramid p = pyramid_layout(s0, base);
   base = std::clamp(base, 0, static_cast<int>(pyramid_sizes(s0).size()) - 1);
   const std::vector<double> omega = texel_solid_angles(s0);
@@ -191,8 +192,8 @@ detail::Pyramid detail::build_pyramid(const std::vector<float>& rgba, int s0, in
 //        Levels coarser than m0 (h <= 4 half-maximum widths / core_refinement) refine the band where
 //        K > 1e-3 K_max, widened by 2 h_k, joined with the horizon band.
 // band holds (lo, hi) per level; (2, 2) is empty.
-void detail::pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s, double refinement,
-                        std::vector<double>& cos_core, std::vector<double>& band) {
+void detail::pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, const PrefilterSpec& s,
+                                double refinement, std::vector<double>& cos_core, std::vector<double>& band) {
   cos_core.assign(size_t(p.levels), 2.0);
   band.assign(2 * size_t(p.levels), 2.0);
   auto finest_level = [&](double width) {
@@ -262,7 +263,8 @@ void detail::pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double a
 // ring). Levels below it are never read, so build_pyramid starts there; the thresholds do not
 // depend on the refinement's value (only on the lobe, core_refinement and horizon_texel), so every
 // run of a --max-error search visits the same levels.
-int detail::pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas, const PrefilterSpec& s) {
+int detail::pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas,
+                               const PrefilterSpec& s) {
   Pyramid shape;
   shape.sizes = pyramid_sizes(s0);
   shape.levels = static_cast<int>(shape.sizes.size());

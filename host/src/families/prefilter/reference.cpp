@@ -91,10 +91,11 @@ CubeLevels prefilter_environment_reference(const EnvImage& env, const PrefilterS
   for (int l = 0; l < levels; ++l) roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels);
   seconds[0] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (int l = 1; l < levels; ++l) {
-    if (progress) progress(double(l - 1) / double(levels - 1), "level " + std::to_string(l) + "/" + std::to_string(levels - 1));
+    if (progress)
+      progress(double(l - 1) / double(levels - 1), "level " + std::to_string(l) + "/" + std::to_string(levels - 1));
     const auto tl = std::chrono::steady_clock::now();
     const reference::EnvCube level = reference::prefilter_cube(source, to_lobe(s.distribution), roughness[size_t(l)],
-                                                              out.level_size(l), q[size_t(l)]);
+                                                               out.level_size(l), q[size_t(l)]);
     out.levels[size_t(l)] = detail::to_rgba(level);
     seconds[size_t(l)] = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
   }
@@ -109,7 +110,8 @@ CubeLevels prefilter_environment_reference(const EnvImage& env, const PrefilterS
                "brute force in double (the scalar reference): every output texel sums K(R.l) L(l) Omega over every "
                "source texel split into q x q sub-cells of exact solid angle (q per level in subdivision_per_level), "
                "normalised by the same sum of K Omega; level 0 converted by the mean of the source's bilinear "
-               "interpolation over " + std::to_string(detail::reference_conversion_subdivision(env, s.size)) + " x " +
+               "interpolation over " +
+                   std::to_string(detail::reference_conversion_subdivision(env, s.size)) + " x " +
                    std::to_string(detail::reference_conversion_subdivision(env, s.size)) + " sub-cells per texel");
   if (s.clamp_luminance > 0.0)
     out.set_meta("clamp", "BIASED: source luminance above " + fmt(s.clamp_luminance, "%.6g") +

@@ -17,7 +17,7 @@ using math::kPi;
 // (kernels/prefilter.cl): N Hammersley points, h from D(h) (n.h), l = 2 (n.h) h - n, kept when
 // n.l > 0, padded to a multiple of the vector width with weight 0.
 std::vector<double> detail::lobe_samples(EnvDistribution dist, double alpha, int n, int source_size, bool fis,
-                                 double lod_bias, int* kept) {
+                                         double lod_bias, int* kept) {
   std::vector<double> x, y, z, w, lod;
   const double omega_texel = (2.0 / source_size) * (2.0 / source_size);
   for (int k = 0; k < n; ++k) {

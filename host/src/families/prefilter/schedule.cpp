@@ -32,10 +32,14 @@ RoughnessSchedule roughness_schedule_from_name(const std::string& n) {
 }
 const char* roughness_schedule_name(RoughnessSchedule s) {
   switch (s) {
-    case RoughnessSchedule::Filament: return "filament";
-    case RoughnessSchedule::Sqrt: return "sqrt";
-    case RoughnessSchedule::Babylon: return "babylon";
-    case RoughnessSchedule::Linear: break;
+    case RoughnessSchedule::Filament:
+      return "filament";
+    case RoughnessSchedule::Sqrt:
+      return "sqrt";
+    case RoughnessSchedule::Babylon:
+      return "babylon";
+    case RoughnessSchedule::Linear:
+      break;
   }
   return "linear";
 }
@@ -44,9 +48,12 @@ double schedule_roughness(RoughnessSchedule s, int level, int levels) {
   if (levels <= 1) return 0.0;
   const double t = static_cast<double>(level) / (levels - 1);
   switch (s) {
-    case RoughnessSchedule::Linear: return t;
-    case RoughnessSchedule::Filament: return 1.0 - std::sqrt(1.0 - t);
-    case RoughnessSchedule::Sqrt: return t * t;
+    case RoughnessSchedule::Linear:
+      return t;
+    case RoughnessSchedule::Filament:
+      return 1.0 - std::sqrt(1.0 - t);
+    case RoughnessSchedule::Sqrt:
+      return t * t;
     case RoughnessSchedule::Babylon: {
       // Babylon.js HDRFiltering: alphaG = 2^((lod - offset) / scale) / width, 0 at lod 0.
       if (level == 0) return 0.0;
@@ -60,14 +67,17 @@ double schedule_roughness(RoughnessSchedule s, int level, int levels) {
 double schedule_lod(RoughnessSchedule s, double r, int levels) {
   const double m = levels - 1;
   switch (s) {
-    case RoughnessSchedule::Linear: return m * r;
-    case RoughnessSchedule::Filament: return m * r * (2.0 - r);
-    case RoughnessSchedule::Sqrt: return m * std::sqrt(r);
+    case RoughnessSchedule::Linear:
+      return m * r;
+    case RoughnessSchedule::Filament:
+      return m * r * (2.0 - r);
+    case RoughnessSchedule::Sqrt:
+      return m * std::sqrt(r);
     case RoughnessSchedule::Babylon: {
       // Babylon.js pbrBlockReflection: getLodFromAlphaG(size, alphaG) * lodGenerationScale, with
       // alphaG = roughness^2 + MINIMUMVARIANCE; textureLod clamps to the chain.
-      const double lod = kBabylonLodGenerationScale *
-                         std::log2(std::ldexp(1.0, levels - 1) * (r * r + kBabylonMinimumVariance));
+      const double lod =
+          kBabylonLodGenerationScale * std::log2(std::ldexp(1.0, levels - 1) * (r * r + kBabylonMinimumVariance));
       return std::clamp(lod, 0.0, m);
     }
   }
@@ -76,9 +86,12 @@ double schedule_lod(RoughnessSchedule s, double r, int levels) {
 
 std::string schedule_lod_formula(RoughnessSchedule s) {
   switch (s) {
-    case RoughnessSchedule::Linear: return "lod = (levels - 1) * roughness";
-    case RoughnessSchedule::Filament: return "lod = (levels - 1) * roughness * (2 - roughness)";
-    case RoughnessSchedule::Sqrt: return "lod = (levels - 1) * sqrt(roughness)";
+    case RoughnessSchedule::Linear:
+      return "lod = (levels - 1) * roughness";
+    case RoughnessSchedule::Filament:
+      return "lod = (levels - 1) * roughness * (2 - roughness)";
+    case RoughnessSchedule::Sqrt:
+      return "lod = (levels - 1) * sqrt(roughness)";
     case RoughnessSchedule::Babylon:
       return "lod = clamp(0.8 * log2(size * (roughness^2 + 0.0005)), 0, levels - 1), size = 2^(levels - 1)";
   }

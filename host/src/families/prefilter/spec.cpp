@@ -16,7 +16,8 @@ PrefilterSpec resolve_prefilter_spec(const PrefilterSpec& in) {
     throw Error("min-size must be in 1..size (got " + std::to_string(s.min_size) + " for size " +
                 std::to_string(s.size) + ")");
   if (s.samples < 0 || s.samples > kPrefilterMaxSamples)
-    throw Error("samples must be in 1.." + std::to_string(kPrefilterMaxSamples) + " (got " + std::to_string(s.samples) + ")");
+    throw Error("samples must be in 1.." + std::to_string(kPrefilterMaxSamples) + " (got " + std::to_string(s.samples) +
+                ")");
   if (!std::isfinite(s.max_error) || s.max_error < 0.0) throw Error("max-error must be a positive number");
   if (s.max_error > 0.0 && s.samples > 0) throw Error("give either samples or max-error, not both");
   if (!std::isfinite(s.lod_bias)) throw Error("lod bias must be finite");

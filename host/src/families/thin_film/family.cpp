@@ -4,11 +4,12 @@
 // registration of its kernels. Model: model.cpp; kernels: opencl.cpp (kernels/thin_film.cl),
 // reference.cpp (host/reference/src/thin_film.cpp); tests: tests/device/test_thin_film.cpp,
 // tests/reference/test_thin_film_reference.cpp.
+#include "families/family.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 #include "brdfbake/thin_film.hpp"
-#include "families/family.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 #include "families/thin_film/kernel.hpp"
@@ -36,9 +37,10 @@ std::string reflectance_above_one(const Table& t) {
       cells += above;
     }
   if (!cells) return "";
-  return "reflectance above 1 in " + std::to_string(cells) + " of " + std::to_string(size_t(t.width) * size_t(t.height)) +
-         " cells, at most " + fmt_number(worst, "%.4g") + " (" + t.channels[size_t(wc)] + " at cos_theta " +
-         fmt_number(t.x[size_t(wi)], "%.4g") + (t.y.empty() ? "" : ", thickness " + fmt_number(t.y[size_t(wj)], "%.4g") + " nm") +
+  return "reflectance above 1 in " + std::to_string(cells) + " of " +
+         std::to_string(size_t(t.width) * size_t(t.height)) + " cells, at most " + fmt_number(worst, "%.4g") + " (" +
+         t.channels[size_t(wc)] + " at cos_theta " + fmt_number(t.x[size_t(wi)], "%.4g") +
+         (t.y.empty() ? "" : ", thickness " + fmt_number(t.y[size_t(wj)], "%.4g") + " nm") +
          "): the KHR_materials_iridescence model clamps only below 0; clamp to 1 where a renderer needs a reflectance";
 }
 
@@ -50,19 +52,28 @@ SpecSchema<ThinFilmSpec> make_thin_film_schema() {
   using T = ParamType;
   using S = ThinFilmSpec;
   SpecSchema<ThinFilmSpec> s;
-  s.bind(&S::film_ior, "film_ior", ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior))
-      .bind(&S::base_ior, "base_ior", ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10))
+  s.bind(&S::film_ior, "film_ior",
+         ParamDef("film_ior", T::Number, "the film's index (iridescenceIor)").range(1, 10).def(d.film_ior))
+      .bind(&S::base_ior, "base_ior",
+            ParamDef("base_ior", T::Number, "a dielectric base: its index (not with base_f0)").range(1, 10))
       .bind(&S::base_f0, "base_f0",
-            ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)").range(0, 1))
+            ParamDef("base_f0", T::Color, "a base given by its F0, e.g. a metal's colour (not with base_ior)")
+                .range(0, 1))
       .bind(&S::outside_ior, "outside_ior",
             ParamDef("outside_ior", T::Number, "the medium above the film").range(1, 10).def(d.outside_ior))
       .bind(&S::thickness_min, "thickness_min",
-            ParamDef("thickness_min", T::Number, "thinnest film, nm (iridescenceThicknessMinimum)").range(0, 1e5).def(d.thickness_min))
+            ParamDef("thickness_min", T::Number, "thinnest film, nm (iridescenceThicknessMinimum)")
+                .range(0, 1e5)
+                .def(d.thickness_min))
       .bind(&S::thickness_max, "thickness_max",
-            ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)").range(0, 1e5).def(d.thickness_max))
+            ParamDef("thickness_max", T::Number, "thickest film, nm (iridescenceThicknessMaximum)")
+                .range(0, 1e5)
+                .def(d.thickness_max))
       .bind(&S::width, "width", ParamDef("size", T::Int, "cells along cos_theta").range(1, 8192).def(double(d.width)))
       .bind(&S::height, "height",
-            ParamDef("height", T::Int, "cells along the thickness").range(1, 8192).defaults_to("size, or 1 when thickness_min = thickness_max"))
+            ParamDef("height", T::Int, "cells along the thickness")
+                .range(1, 8192)
+                .defaults_to("size, or 1 when thickness_min = thickness_max"))
       .common("precision", "precision", [](ThinFilmSpec& f, const TableRequest& t) { f.precision = t.precision; });
   std::vector<ParamDef> output;
   add_table_output_params(output);
@@ -106,7 +117,8 @@ class ThinFilmFamily final : public Family {
     const bool ior = t.find("base_ior") != nullptr, f0 = t.find("base_f0") != nullptr;
     if (ior == f0)
       throw FieldError(ior ? "base_f0" : "base_ior", "give exactly one of " + name("base_ior") +
-                                                         " (a dielectric base) and " + name("base_f0") + " (a metal's F0)");
+                                                         " (a dielectric base) and " + name("base_f0") +
+                                                         " (a metal's F0)");
     if (t.number("thickness_max") < t.number("thickness_min"))
       throw FieldError("thickness_max", "must be at least " + name("thickness_min") + " (got " +
                                             fmt_number(t.number("thickness_max")) + " < " +
@@ -114,7 +126,8 @@ class ThinFilmFamily final : public Family {
     const bool one = t.number("thickness_max") == t.number("thickness_min");
     if (!t.find("height")) t.set("height", one ? 1.0 : t.number("size"));
     if (one && t.number("height") != 1)
-      throw FieldError("height", "must be 1 when " + name("thickness_min") + " = " + name("thickness_max") + " (one thickness)");
+      throw FieldError("height",
+                       "must be 1 when " + name("thickness_min") + " = " + name("thickness_max") + " (one thickness)");
   }
 
   std::string default_output(const TableRequest& t) const override {
@@ -151,9 +164,10 @@ class ThinFilmFamily final : public Family {
       r.warnings.push_back("thin-film: " + above);
     }
     r.device_seconds = timing.device_seconds;
-    r.summary = "thin film on " + (spec.base_ior ? "ior " + name_number(*spec.base_ior) : std::string("an F0 base")) + " " +
-                std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
-                ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") + " s";
+    r.summary = "thin film on " + (spec.base_ior ? "ior " + name_number(*spec.base_ior) : std::string("an F0 base")) +
+                " " + std::to_string(table.width) + "x" + std::to_string(table.height) + ", " +
+                table.meta("precision") + ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " +
+                fmt_number(timing.wall_seconds, "%.3f") + " s";
     r.artifact = std::move(table);
     return r;
   }

@@ -1,5 +1,7 @@
 // The thin-film family's model: the film as both kernels evaluate it (indices and the base's F0),
 // the limits of a spec, and the table with its axes and metadata.
+#include "families/thin_film/model.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -7,7 +9,6 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
-#include "families/thin_film/model.hpp"
 
 namespace brdfbake {
 
@@ -28,9 +29,8 @@ std::vector<double> cos_grid(int n) {
 std::vector<double> thickness_grid(const ThinFilmSpec& r) {
   std::vector<double> y(static_cast<size_t>(r.height));
   for (int j = 0; j < r.height; ++j)
-    y[static_cast<size_t>(j)] = r.height == 1 ? r.thickness_min
-                                              : r.thickness_min + (r.thickness_max - r.thickness_min) * (j + 0.5) /
-                                                                      r.height;
+    y[static_cast<size_t>(j)] =
+        r.height == 1 ? r.thickness_min : r.thickness_min + (r.thickness_max - r.thickness_min) * (j + 0.5) / r.height;
   return y;
 }
 
@@ -77,9 +77,10 @@ Table detail::make_thin_film_table(const ThinFilmSpec& r) {
   t.set_meta("channels", "r,g,b");
   t.set_meta("x_axis", "cos_theta = (i + 0.5) / width, the cell centre of column i (incidence from outside)");
   t.set_meta("y_axis", r.height == 1 ? "thickness_nm = " + fmt(r.thickness_min) + " (one row)"
-                                      : "thickness_nm = min + (max - min) (j + 0.5) / height, min " +
-                                            fmt(r.thickness_min) + ", max " + fmt(r.thickness_max));
-  t.set_meta("layout", "row j = 0 (thinnest film) stored first; sample at uv = (cos_theta, (thickness - min) / (max - min))");
+                                     : "thickness_nm = min + (max - min) (j + 0.5) / height, min " +
+                                           fmt(r.thickness_min) + ", max " + fmt(r.thickness_max));
+  t.set_meta("layout",
+             "row j = 0 (thinnest film) stored first; sample at uv = (cos_theta, (thickness - min) / (max - min))");
   return t;
 }
 
@@ -89,13 +90,13 @@ ThinFilmSpec resolve_thin_film_spec(const ThinFilmSpec& in) {
   if (r.height == 0) r.height = r.thickness_max == r.thickness_min ? 1 : r.width;
   if (r.width < 1 || r.height < 1) throw Error("thin-film: size and height must be at least 1");
   if (static_cast<long long>(r.width) * r.height > (1ll << 24))
-    throw Error("thin-film: at most 16777216 cells (got " + std::to_string(r.width) + "x" + std::to_string(r.height) + ")");
+    throw Error("thin-film: at most 16777216 cells (got " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                ")");
   if (!finite(r.film_ior) || r.film_ior < 1.0) throw Error("thin-film: film_ior must be at least 1");
   if (!finite(r.outside_ior) || r.outside_ior < 1.0) throw Error("thin-film: outside_ior must be at least 1");
   if (r.base_ior.has_value() == r.base_f0.has_value())
     throw Error("thin-film: give exactly one of base_ior and base_f0");
-  if (!finite(r.thickness_min) || !finite(r.thickness_max) || r.thickness_min < 0 ||
-      r.thickness_max < r.thickness_min)
+  if (!finite(r.thickness_min) || !finite(r.thickness_max) || r.thickness_min < 0 || r.thickness_max < r.thickness_min)
     throw Error("thin-film: thickness_min <= thickness_max, both >= 0");
   if (r.thickness_max == r.thickness_min && r.height != 1)
     throw Error("thin-film: height must be 1 when thickness_min = thickness_max (one thickness)");

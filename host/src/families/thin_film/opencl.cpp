@@ -11,16 +11,18 @@
 
 namespace brdfbake {
 
-using detail::ProgramSpec;
 using detail::build_program;
 using detail::cl_call;
+using detail::ProgramSpec;
 
 namespace {
 
 class OpenClThinFilm final : public detail::ThinFilmKernel {
  public:
   explicit OpenClThinFilm(Device& device) : device_(device) {}
-  Table bake(const ThinFilmSpec& spec, ThinFilmTiming* timing) override { return bake_thin_film(device_, spec, timing); }
+  Table bake(const ThinFilmSpec& spec, ThinFilmTiming* timing) override {
+    return bake_thin_film(device_, spec, timing);
+  }
 
  private:
   Device& device_;
@@ -56,10 +58,10 @@ Table bake_thin_film(Device& device, const ThinFilmSpec& in, ThinFilmTiming* tim
     cl::Buffer xb = real_buffer(t.x), yb = real_buffer(t.y), pb = real_buffer(params);
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, t.data.size() * sizeof(float));
     cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl::Buffer> kernel(program,
-                                                                                              "thin_film_table");
-    cl::Event event = kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(static_cast<size_t>(r.width),
-                                                                    static_cast<size_t>(r.height))),
-                             out, xb, yb, r.width, r.height, pb);
+                                                                                             "thin_film_table");
+    cl::Event event =
+        kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(static_cast<size_t>(r.width), static_cast<size_t>(r.height))),
+               out, xb, yb, r.width, r.height, pb);
     event.wait();
     device_seconds = 1e-9 * double(event.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
                                    event.getProfilingInfo<CL_PROFILING_COMMAND_START>());

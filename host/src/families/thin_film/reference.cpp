@@ -13,12 +13,16 @@ namespace {
 
 class ReferenceThinFilm final : public detail::ThinFilmKernel {
  public:
-  Table bake(const ThinFilmSpec& spec, ThinFilmTiming* timing) override { return bake_thin_film_reference(spec, timing); }
+  Table bake(const ThinFilmSpec& spec, ThinFilmTiming* timing) override {
+    return bake_thin_film_reference(spec, timing);
+  }
 };
 
 }  // namespace
 
-std::unique_ptr<detail::ThinFilmKernel> detail::make_reference_thin_film() { return std::make_unique<ReferenceThinFilm>(); }
+std::unique_ptr<detail::ThinFilmKernel> detail::make_reference_thin_film() {
+  return std::make_unique<ReferenceThinFilm>();
+}
 
 Table bake_thin_film_reference(const ThinFilmSpec& in, ThinFilmTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -63,19 +63,19 @@ struct BrdfMaterial {
   double roughness = 0.5;         // perceptual, [0, 1]
   // Disney 2012 only, [0, 1] each (BRDF Explorer's defaults).
   double subsurface = 0.0;
-  double specular = 0.5;          // F0 = 0.08 specular
+  double specular = 0.5;  // F0 = 0.08 specular
   double specular_tint = 0.0;
   double anisotropic = 0.0;
   double sheen = 0.0;
   double sheen_tint = 0.5;
-  double clearcoat = 0.0;         // Disney's clearcoat, and glTF's clearcoatFactor
+  double clearcoat = 0.0;  // Disney's clearcoat, and glTF's clearcoatFactor
   double clearcoat_gloss = 1.0;
   // glTF extensions.
-  Rgb sheen_color{0.0, 0.0, 0.0};    // KHR_materials_sheen sheenColorFactor, [0, 1]
-  double sheen_roughness = 0.0;      // sheenRoughnessFactor, [0, 1]
-  double clearcoat_roughness = 0.0;  // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
-  double ior = 1.5;                  // KHR_materials_ior: 0 or >= 1
-  double specular_factor = 1.0;      // KHR_materials_specular specularFactor, [0, 1]
+  Rgb sheen_color{0.0, 0.0, 0.0};            // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;              // sheenRoughnessFactor, [0, 1]
+  double clearcoat_roughness = 0.0;          // KHR_materials_clearcoat clearcoatRoughnessFactor, [0, 1]
+  double ior = 1.5;                          // KHR_materials_ior: 0 or >= 1
+  double specular_factor = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
   Rgb specular_color_factor{1.0, 1.0, 1.0};  // specularColorFactor, >= 0
   // Classic models. Unset colours and exponent derive from the metallic-roughness parameters
   // (classic_diffuse, classic_specular, classic_shininess).
@@ -143,7 +143,6 @@ bool brdf_is_reciprocal(BrdfModel model, const BrdfMaterial& m);
 // anisotropy). Integrated over the half vector by nested adaptive Gauss-Kronrod quadrature split
 // at the horizon (brdf_albedo.cpp), to `tolerance` absolute per channel. theta_o in [0, pi/2).
 inline constexpr double kAlbedoTolerance = 1e-7;
-Rgb directional_albedo(BrdfModel model, const BrdfMaterial& m, double theta_o,
-                       double tolerance = kAlbedoTolerance);
+Rgb directional_albedo(BrdfModel model, const BrdfMaterial& m, double theta_o, double tolerance = kAlbedoTolerance);
 
 }  // namespace brdfbake::reference
