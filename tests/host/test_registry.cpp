@@ -15,7 +15,14 @@
 #include "brdfbake/job.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/thin_film.hpp"
+#include "enum_names.hpp"
+#include "families/brdf_eval/model.hpp"
+#include "families/dfg_lut/model.hpp"
 #include "families/family.hpp"
+#include "families/fresnel/model.hpp"
+#include "families/irradiance/model.hpp"
+#include "families/prefilter/model.hpp"
+#include "families/preview/model.hpp"
 #include "support/cli_runner.hpp"
 #include "support/field_count.hpp"
 #include "support/tolerances.hpp"
@@ -64,6 +71,58 @@ void expect_bound(TableKind kind, size_t fields, const char* spec) {
     EXPECT_NE(find_param_def(schema, f.parameter), nullptr)
         << spec << "." << f.field << " maps to '" << f.parameter << "', which " << table_kind_name(kind) << " lacks";
   }
+}
+
+// Each enum's one table of names: every value has one name that reads back as the value, the names
+// are distinct, an unknown name is refused naming every alternative, and the public *_name /
+// *_from_name functions are the table's.
+template <class E, size_t N>
+void expect_names_round_trip(const detail::EnumName<E> (&table)[N], const char* (*name_of)(E),
+                             E (*from_name)(const std::string&)) {
+  std::set<std::string> seen;
+  for (const auto& entry : table) {
+    EXPECT_TRUE(seen.insert(entry.name).second) << entry.name << " twice";
+    EXPECT_EQ(detail::enum_from_name(table, entry.name, "x"), entry.value) << entry.name;
+    EXPECT_STREQ(name_of(entry.value), entry.name);
+    EXPECT_EQ(from_name(entry.name), entry.value) << entry.name;
+  }
+  try {
+    from_name("no-such-name");
+    ADD_FAILURE() << "an unknown name was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(detail::enum_alternatives(table)), std::string::npos) << e.what();
+  }
+}
+
+TEST(Registry, EveryEnumNameRoundTrips) {
+  expect_names_round_trip(detail::kLutKindNames, lut_kind_name, lut_kind_from_name);
+  expect_names_round_trip(detail::kEstimatorNames, estimator_name, estimator_from_name);
+  expect_names_round_trip(detail::kSheenVisibilityNames, sheen_visibility_name, sheen_visibility_from_name);
+  expect_names_round_trip(detail::kLutAxisNames, lut_axis_name, lut_axis_from_name);
+  expect_names_round_trip(detail::kEnvDistributionNames, env_distribution_name, env_distribution_from_name);
+  expect_names_round_trip(detail::kRoughnessScheduleNames, roughness_schedule_name, roughness_schedule_from_name);
+  expect_names_round_trip(detail::kEnvEstimatorNames, env_estimator_name, env_estimator_from_name);
+  expect_names_round_trip(detail::kShWindowNames, sh_window_name, sh_window_from_name);
+  expect_names_round_trip(detail::kTableLayoutNames, table_layout_name, table_layout_from_name);
+  expect_names_round_trip(detail::kFresnelTableKindNames, fresnel_table_kind_name, fresnel_table_kind_from_name);
+  expect_names_round_trip(detail::preview::kBackgroundNames, preview_background_name, preview_background_from_name);
+  EXPECT_EQ(detail::enum_alternatives(detail::kRoughnessScheduleNames), "linear, filament, sqrt or babylon");
+}
+
+// The schemas offer exactly the names their tables hold (one_of generated from the tables).
+TEST(Registry, SchemaChoicesAreTheEnumTables) {
+  auto choices = [](TableKind kind, const std::string& param) {
+    for (const ParamDef& d : table_schema(kind))
+      if (d.name == param) return d.choices;
+    ADD_FAILURE() << table_kind_name(kind) << " has no parameter " << param;
+    return std::vector<std::string>{};
+  };
+  EXPECT_EQ(choices(TableKind::Prefilter, "schedule"), detail::enum_names(detail::kRoughnessScheduleNames));
+  EXPECT_EQ(choices(TableKind::Prefilter, "distribution"), detail::enum_names(detail::kEnvDistributionNames));
+  EXPECT_EQ(choices(TableKind::Ggx, "estimator"), detail::enum_names(detail::kEstimatorNames));
+  EXPECT_EQ(choices(TableKind::Irradiance, "sh_window"), detail::enum_names(detail::kShWindowNames));
+  EXPECT_EQ(choices(TableKind::Tabulate, "layout"), detail::enum_names(detail::kTableLayoutNames));
+  EXPECT_EQ(choices(TableKind::Preview, "background"), detail::enum_names(detail::preview::kBackgroundNames));
 }
 
 TEST(Registry, EverySpecFieldHasASchemaEntry) {

@@ -8,16 +8,19 @@
 
 #include "runtime/cache_dirs.hpp"
 #include "runtime/device_impl.hpp"
+#include "enum_names.hpp"
 
 namespace brdfbake {
 
+namespace {
+constexpr detail::EnumName<Precision> kPrecisionNames[] = {{Precision::Fp32, "fp32"}, {Precision::Fp64, "fp64"}};
+}  // namespace
+
 Precision precision_from_name(const std::string& name) {
-  if (name == "fp32") return Precision::Fp32;
-  if (name == "fp64") return Precision::Fp64;
-  throw Error("unknown precision '" + name + "' (expected fp32 or fp64)");
+  return detail::enum_from_name(kPrecisionNames, name, "precision");
 }
 
-const char* precision_name(Precision p) { return p == Precision::Fp64 ? "fp64" : "fp32"; }
+const char* precision_name(Precision p) { return detail::enum_name(kPrecisionNames, p); }
 
 namespace {
 

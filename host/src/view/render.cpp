@@ -24,9 +24,11 @@
 #include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
 #include "text.hpp"
+#include "enum_names.hpp"
 #include "view/canvas.hpp"
 #include "view/exposure.hpp"
 #include "view/load.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 
@@ -34,7 +36,7 @@ namespace view {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 constexpr int kGap = 10;      // between tiles
 constexpr int kMargin = 12;   // sheet border
 constexpr int kCaption = 14;  // a caption line
@@ -795,24 +797,14 @@ void collect(const std::string& given, std::vector<Item>& items, std::set<std::s
 }  // namespace
 }  // namespace view
 
-ToneMap tone_map_from_name(const std::string& name) {
-  if (name == "aces") return ToneMap::Aces;
-  if (name == "reinhard") return ToneMap::Reinhard;
-  if (name == "clamp") return ToneMap::Clamp;
-  throw Error("unknown tone map '" + name + "' (expected aces, reinhard or clamp)");
-}
+namespace {
+constexpr detail::EnumName<ToneMap> kToneMapNames[] = {
+    {ToneMap::Aces, "aces"}, {ToneMap::Reinhard, "reinhard"}, {ToneMap::Clamp, "clamp"}};
+}  // namespace
 
-const char* tone_map_name(ToneMap m) {
-  switch (m) {
-    case ToneMap::Aces:
-      return "aces";
-    case ToneMap::Reinhard:
-      return "reinhard";
-    case ToneMap::Clamp:
-      return "clamp";
-  }
-  return "?";
-}
+ToneMap tone_map_from_name(const std::string& name) { return detail::enum_from_name(kToneMapNames, name, "tone map"); }
+
+const char* tone_map_name(ToneMap m) { return detail::enum_name(kToneMapNames, m); }
 
 std::string view_kind(const std::string& path) { return view::load(path).kind; }
 

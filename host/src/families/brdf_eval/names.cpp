@@ -36,7 +36,6 @@ const ModelName& model_entry(BrdfModel model) {
   throw Error("unknown BRDF model");
 }
 
-const char* kLayoutNames[] = {"merl", "grid", "albedo", "slice"};
 
 }  // namespace
 
@@ -63,12 +62,10 @@ const std::vector<BrdfModel>& brdf_models() {
 }
 
 TableLayout table_layout_from_name(const std::string& name) {
-  for (int k = 0; k < 4; ++k)
-    if (name == kLayoutNames[k]) return static_cast<TableLayout>(k);
-  throw Error("unknown layout '" + name + "' (expected merl, grid, albedo, slice)");
+  return detail::enum_from_name(detail::kTableLayoutNames, name, "layout");
 }
 
-const char* table_layout_name(TableLayout layout) { return kLayoutNames[static_cast<int>(layout)]; }
+const char* table_layout_name(TableLayout layout) { return detail::enum_name(detail::kTableLayoutNames, layout); }
 
 // ---- Lobes ----------------------------------------------------------------------------------------
 

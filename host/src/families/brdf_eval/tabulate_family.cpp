@@ -4,6 +4,7 @@
 // tabulate.cpp and host/src/io/merl.cpp; reference: reference.cpp (host/reference/src/brdf_eval.cpp,
 // brdf_albedo.cpp); tests: tests/device/test_brdf_eval.cpp, tests/host/test_merl.cpp.
 #include "brdfbake/brdf.hpp"
+#include "families/brdf_eval/model.hpp"
 #include "families/family.hpp"
 #include "families/spec_schema.hpp"
 
@@ -38,7 +39,7 @@ SpecSchema<TabulateSpec> make_tabulate_schema() {
             ParamDef("layout", T::Name,
                      "merl (90x90x180 MERL binary) | grid (theta_i x theta_o x phi_d) | albedo (over theta_o) | slice "
                      "(theta_h x theta_d image)")
-                .one_of({"merl", "grid", "albedo", "slice"})
+                .one_of(enum_names(kTableLayoutNames))
                 .needed(),
             by_name(table_layout_from_name))
       .bind("res",

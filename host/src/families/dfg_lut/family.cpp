@@ -12,6 +12,7 @@
 
 #include "brdfbake/dfg_lut.hpp"
 #include "families/dfg_lut/kernel.hpp"
+#include "families/dfg_lut/model.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 
@@ -95,14 +96,14 @@ SpecSchema<LutSpec> lut_schema(bool charlie) {
       .bind(&LutSpec::estimator, "estimator",
             ParamDef("estimator", T::Name,
                      "how each texel's integral is estimated (uniform: charlie only; vndf: ggx only)")
-                .one_of({"quadrature", "vndf", "ndf", "uniform"})
+                .one_of(enum_names(kEstimatorNames))
                 .def(std::string(estimator_name(d.estimator))),
             by_name(estimator_from_name))
       .common("precision", "precision", [](LutSpec& l, const TableRequest& t) { l.precision = t.precision; })
       .bind(&LutSpec::n_dot_v_axis, "n_dot_v_axis",
             ParamDef("n_dot_v_axis", T::Name,
                      "texels along n_dot_v: uniform, or sqrt (lookup u = sqrt(n_dot_v): more texels at grazing)")
-                .one_of({"uniform", "sqrt"})
+                .one_of(enum_names(kLutAxisNames))
                 .def(std::string(lut_axis_name(d.n_dot_v_axis))),
             by_name(lut_axis_from_name))
       .internal("roughness_axis", "measured: no separable mapping beats uniform (docs/BENCHMARKS.md)")
@@ -111,7 +112,7 @@ SpecSchema<LutSpec> lut_schema(bool charlie) {
   if (charlie)
     s.bind(&LutSpec::sheen_visibility, "sheen_visibility",
            ParamDef("sheen_visibility", T::Name, "the Charlie visibility term")
-               .one_of({"estevez-kulla", "neubelt"})
+               .one_of(enum_names(kSheenVisibilityNames))
                .def(std::string(sheen_visibility_name(d.sheen_visibility))),
            by_name(sheen_visibility_from_name));
   else

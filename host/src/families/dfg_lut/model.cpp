@@ -8,50 +8,14 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
 #include "families/dfg_lut/model.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
 namespace {
 
-struct Named {
-  const char* name;
-  int value;
-};
-
-template <class E, size_t N>
-E from_name(const Named (&table)[N], const std::string& name, const char* what) {
-  std::string expected;
-  for (const auto& t : table) {
-    if (name == t.name) return static_cast<E>(t.value);
-    expected += (expected.empty() ? "" : ", ") + std::string(t.name);
-  }
-  throw Error("unknown " + std::string(what) + " '" + name + "' (expected " + expected + ")");
-}
-
-template <class E, size_t N>
-const char* to_name(const Named (&table)[N], E value) {
-  for (const auto& t : table)
-    if (t.value == static_cast<int>(value)) return t.name;
-  return "?";
-}
-
-const Named kKinds[] = {{"ggx", int(LutKind::Ggx)},
-                        {"ggx-multiscatter", int(LutKind::GgxMultiscatter)},
-                        {"charlie", int(LutKind::Charlie)}};
-const Named kEstimators[] = {{"quadrature", int(Estimator::Quadrature)},
-                             {"vndf", int(Estimator::Vndf)},
-                             {"ndf", int(Estimator::Ndf)},
-                             {"uniform", int(Estimator::Uniform)}};
-const Named kVisibilities[] = {{"estevez-kulla", int(SheenVisibility::EstevezKulla)},
-                               {"neubelt", int(SheenVisibility::Neubelt)}};
-
 constexpr long long kMaxTexels = kLutMaxTexels;
 
-std::string fmt(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
 
 bool has_custom_points(const LutSpec& in) { return !in.n_dot_v.empty() || !in.roughness.empty(); }
 
@@ -109,23 +73,18 @@ Table detail::make_lut_table(const LutSpec& s) {
   return t;
 }
 
-LutKind lut_kind_from_name(const std::string& n) { return from_name<LutKind>(kKinds, n, "table kind"); }
-const char* lut_kind_name(LutKind k) { return to_name(kKinds, k); }
+LutKind lut_kind_from_name(const std::string& n) { return detail::enum_from_name(detail::kLutKindNames, n, "table kind"); }
+const char* lut_kind_name(LutKind k) { return detail::enum_name(detail::kLutKindNames, k); }
 Estimator estimator_from_name(const std::string& n) {
-  return from_name<Estimator>(kEstimators, n, "estimator");
+  return detail::enum_from_name(detail::kEstimatorNames, n, "estimator");
 }
-const char* estimator_name(Estimator e) { return to_name(kEstimators, e); }
+const char* estimator_name(Estimator e) { return detail::enum_name(detail::kEstimatorNames, e); }
 SheenVisibility sheen_visibility_from_name(const std::string& n) {
-  return from_name<SheenVisibility>(kVisibilities, n, "sheen visibility");
+  return detail::enum_from_name(detail::kSheenVisibilityNames, n, "sheen visibility");
 }
-const char* sheen_visibility_name(SheenVisibility v) { return to_name(kVisibilities, v); }
-
-LutAxis lut_axis_from_name(const std::string& n) {
-  if (n == "uniform") return LutAxis::Uniform;
-  if (n == "sqrt") return LutAxis::Sqrt;
-  throw Error("unknown axis '" + n + "' (expected uniform or sqrt)");
-}
-const char* lut_axis_name(LutAxis a) { return a == LutAxis::Sqrt ? "sqrt" : "uniform"; }
+const char* sheen_visibility_name(SheenVisibility v) { return detail::enum_name(detail::kSheenVisibilityNames, v); }
+LutAxis lut_axis_from_name(const std::string& n) { return detail::enum_from_name(detail::kLutAxisNames, n, "axis"); }
+const char* lut_axis_name(LutAxis a) { return detail::enum_name(detail::kLutAxisNames, a); }
 double lut_axis_uv(LutAxis a, double x) { return a == LutAxis::Sqrt ? std::sqrt(std::max(0.0, x)) : x; }
 double lut_axis_value(LutAxis a, double uv) { return a == LutAxis::Sqrt ? uv * uv : uv; }
 
@@ -178,8 +137,8 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
     const int best = detail::lut_samples_for(s, &best_error);
     if (best == 0)
       throw Error("no calibrated sample count of estimator '" + std::string(estimator_name(s.estimator)) +
-                  "' reaches max-error " + fmt(s.max_error) + " for " + lut_kind_name(s.kind) +
-                  (best_error > 0 ? " (the best measured is " + fmt(best_error) + ")" : ""));
+                  "' reaches max-error " + detail::fmt_number(s.max_error, "%.3g") + " for " + lut_kind_name(s.kind) +
+                  (best_error > 0 ? " (the best measured is " + detail::fmt_number(best_error, "%.3g") + ")" : ""));
     s.samples = best;
   }
   if (s.samples == 0) s.samples = detail::default_lut_samples(s.kind, s.estimator, s.precision);

@@ -5,8 +5,20 @@
 
 #include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/table.hpp"
+#include "enum_names.hpp"
 
 namespace brdfbake::detail {
+
+// The names of the family's enums (model.cpp's *_from_name and *_name read these; the schema offers them).
+inline constexpr EnumName<LutKind> kLutKindNames[] = {
+    {LutKind::Ggx, "ggx"}, {LutKind::GgxMultiscatter, "ggx-multiscatter"}, {LutKind::Charlie, "charlie"}};
+inline constexpr EnumName<Estimator> kEstimatorNames[] = {{Estimator::Quadrature, "quadrature"},
+                                                          {Estimator::Vndf, "vndf"},
+                                                          {Estimator::Ndf, "ndf"},
+                                                          {Estimator::Uniform, "uniform"}};
+inline constexpr EnumName<SheenVisibility> kSheenVisibilityNames[] = {{SheenVisibility::EstevezKulla, "estevez-kulla"},
+                                                                      {SheenVisibility::Neubelt, "neubelt"}};
+inline constexpr EnumName<LutAxis> kLutAxisNames[] = {{LutAxis::Uniform, "uniform"}, {LutAxis::Sqrt, "sqrt"}};
 
 // The table of a resolved spec (resolve_lut_spec): axes, channels and the metadata every DFG table
 // carries; the backend fills the data and adds its device, precision, estimator and error bound.

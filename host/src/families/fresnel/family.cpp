@@ -10,6 +10,7 @@
 #include "brdfbake/fresnel.hpp"
 #include "families/family.hpp"
 #include "families/fresnel/kernel.hpp"
+#include "families/fresnel/model.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 
@@ -49,7 +50,7 @@ SpecSchema<FresnelSpec> make_fresnel_schema() {
       .bind(&S::power, "power", ParamDef("power", T::Number, "empirical: power").range(0, HUGE_VAL))
       .bind(&S::table, "table",
             ParamDef("table", T::Name, "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)")
-                .one_of({"1d", "2d"}).def(std::string(fresnel_table_kind_name(d.table))),
+                .one_of(enum_names(kFresnelTableKindNames)).def(std::string(fresnel_table_kind_name(d.table))),
             by_name(fresnel_table_kind_from_name))
       .bind(&S::size, "size", ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)))
       .bind(&S::height, "height",

@@ -9,8 +9,13 @@
 #include <vector>
 
 #include "brdfbake/fresnel.hpp"
+#include "enum_names.hpp"
 
 namespace brdfbake::detail {
+
+// The table kinds' names (names.cpp's fresnel_table_kind_from_name and _name; the schema offers them).
+inline constexpr EnumName<FresnelTableKind> kFresnelTableKindNames[] = {{FresnelTableKind::OneD, "1d"},
+                                                                        {FresnelTableKind::TwoD, "2d"}};
 
 // One model: its name, the kernel's compile-time switch and its formula for the metadata.
 struct FresnelModelInfo {

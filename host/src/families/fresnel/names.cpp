@@ -95,13 +95,11 @@ bool fresnel_model_is_exact(FresnelModel model) {
 }
 
 FresnelTableKind fresnel_table_kind_from_name(const std::string& name) {
-  if (name == "1d") return FresnelTableKind::OneD;
-  if (name == "2d") return FresnelTableKind::TwoD;
-  throw Error("unknown table kind '" + name + "' (expected 1d or 2d)");
+  return detail::enum_from_name(detail::kFresnelTableKindNames, name, "table kind");
 }
 
 const char* fresnel_table_kind_name(FresnelTableKind kind) {
-  return kind == FresnelTableKind::TwoD ? "2d" : "1d";
+  return detail::enum_name(detail::kFresnelTableKindNames, kind);
 }
 
 }  // namespace brdfbake

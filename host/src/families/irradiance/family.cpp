@@ -13,6 +13,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "families/irradiance/kernel.hpp"
+#include "families/irradiance/model.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 #include "io/atomic_file.hpp"
@@ -77,7 +78,7 @@ SpecSchema<IrradianceSpec> make_irradiance_schema() {
              .alias("sh"))
       .bind(&S::window, "window",
             ParamDef("sh_window", T::Name, "windowing of the SH bands against ringing")
-                .one_of({"none", "hanning", "lanczos", "auto"})
+                .one_of(enum_names(kShWindowNames))
                 .def(std::string(sh_window_name(d.window))),
             by_name(sh_window_from_name))
       // no cube_size: SH alone (a .json output), not the struct's default

@@ -7,8 +7,13 @@
 #include <vector>
 
 #include "brdfbake/environment.hpp"
+#include "enum_names.hpp"
 
 namespace brdfbake::detail {
+
+// The SH windows' names (sh_window.cpp's sh_window_from_name and sh_window_name; the schema offers them).
+inline constexpr EnumName<ShWindow> kShWindowNames[] = {
+    {ShWindow::None, "none"}, {ShWindow::Hanning, "hanning"}, {ShWindow::Lanczos, "lanczos"}, {ShWindow::Auto, "auto"}};
 
 // Throws Error for an SH order other than 3 or 5, or sizes out of range.
 void check_irradiance_spec(const IrradianceSpec& spec);

@@ -23,6 +23,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/sh.hpp"
+#include "families/irradiance/model.hpp"
 
 namespace brdfbake {
 namespace {
@@ -210,26 +211,10 @@ double sh_auto_window_cutoff(const std::vector<double>& irradiance, int order) {
 }
 
 ShWindow sh_window_from_name(const std::string& n) {
-  if (n == "none") return ShWindow::None;
-  if (n == "hanning") return ShWindow::Hanning;
-  if (n == "lanczos") return ShWindow::Lanczos;
-  if (n == "auto") return ShWindow::Auto;
-  throw Error("unknown SH window '" + n + "' (expected none, hanning, lanczos or auto)");
+  return detail::enum_from_name(detail::kShWindowNames, n, "SH window");
 }
 
-const char* sh_window_name(ShWindow w) {
-  switch (w) {
-    case ShWindow::Hanning:
-      return "hanning";
-    case ShWindow::Lanczos:
-      return "lanczos";
-    case ShWindow::Auto:
-      return "auto";
-    case ShWindow::None:
-      break;
-  }
-  return "none";
-}
+const char* sh_window_name(ShWindow w) { return detail::enum_name(detail::kShWindowNames, w); }
 
 // The fixed windows, with the band count `order` as the window width.
 std::vector<double> sh_window_weights(ShWindow w, int order) {

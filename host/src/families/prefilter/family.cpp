@@ -17,6 +17,7 @@
 #include "brdfbake/environment.hpp"
 #include "families/kernels.hpp"
 #include "families/prefilter/kernel.hpp"
+#include "families/prefilter/model.hpp"
 #include "families/spec_schema.hpp"
 
 namespace brdfbake::detail {
@@ -31,7 +32,7 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
   SpecSchema<PrefilterSpec> s;
   s.bind(&S::distribution, "distribution",
          ParamDef("distribution", T::Name, "the lobe each level is filtered with")
-             .one_of({"ggx", "charlie"})
+             .one_of(enum_names(kEnvDistributionNames))
              .def(std::string(env_distribution_name(d.distribution))),
          by_name(env_distribution_from_name))
       .bind(&S::size, "size",
@@ -45,13 +46,13 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
       .bind(
           &S::schedule, "schedule",
           ParamDef("schedule", T::Name, "roughness of level l: linear (Khronos), filament, sqrt, babylon (Babylon.js)")
-              .one_of({"linear", "filament", "sqrt", "babylon"})
+              .one_of(enum_names(kRoughnessScheduleNames))
               .def(std::string(roughness_schedule_name(d.schedule))),
           by_name(roughness_schedule_from_name))
       .bind(&S::estimator, "estimator",
             ParamDef("estimator", T::Name,
                      "quadrature (deterministic) | sampling (importance sampling with filtered importance sampling)")
-                .one_of({"quadrature", "sampling"})
+                .one_of(enum_names(kEnvEstimatorNames))
                 .def(std::string(env_estimator_name(d.estimator))),
             by_name(env_estimator_from_name))
       .bind(&S::samples, "samples",

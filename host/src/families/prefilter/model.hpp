@@ -13,6 +13,7 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/math/types.hpp"
+#include "enum_names.hpp"
 #include "runtime/program.hpp"
 
 namespace brdfbake::detail {
@@ -22,6 +23,17 @@ inline constexpr int kStripRows = 4;
 // max_error with the sampling estimator: the sample counts a level's search starts at and stops at.
 inline constexpr int kPrefilterSearchStart = 32;
 inline constexpr int kPrefilterSearchMax = 8192;
+
+// ---- Names (schedule.cpp's *_from_name and *_name read these; the schema offers them) ----------
+
+inline constexpr EnumName<EnvDistribution> kEnvDistributionNames[] = {{EnvDistribution::Ggx, "ggx"},
+                                                                      {EnvDistribution::Charlie, "charlie"}};
+inline constexpr EnumName<RoughnessSchedule> kRoughnessScheduleNames[] = {{RoughnessSchedule::Linear, "linear"},
+                                                                          {RoughnessSchedule::Filament, "filament"},
+                                                                          {RoughnessSchedule::Sqrt, "sqrt"},
+                                                                          {RoughnessSchedule::Babylon, "babylon"}};
+inline constexpr EnumName<EnvEstimator> kEnvEstimatorNames[] = {{EnvEstimator::Quadrature, "quadrature"},
+                                                                {EnvEstimator::Sampling, "sampling"}};
 
 // ---- The chain (chain.cpp) and its record (metadata.cpp) ----------------------------------------
 

@@ -6,43 +6,27 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "families/prefilter/model.hpp"
 
 namespace brdfbake {
 
+using detail::enum_from_name;
+using detail::enum_name;
+
 EnvDistribution env_distribution_from_name(const std::string& n) {
-  if (n == "ggx") return EnvDistribution::Ggx;
-  if (n == "charlie") return EnvDistribution::Charlie;
-  throw Error("unknown distribution '" + n + "' (expected ggx or charlie)");
+  return enum_from_name(detail::kEnvDistributionNames, n, "distribution");
 }
-const char* env_distribution_name(EnvDistribution d) { return d == EnvDistribution::Charlie ? "charlie" : "ggx"; }
+const char* env_distribution_name(EnvDistribution d) { return enum_name(detail::kEnvDistributionNames, d); }
 
 EnvEstimator env_estimator_from_name(const std::string& n) {
-  if (n == "quadrature") return EnvEstimator::Quadrature;
-  if (n == "sampling") return EnvEstimator::Sampling;
-  throw Error("unknown estimator '" + n + "' (expected quadrature or sampling)");
+  return enum_from_name(detail::kEnvEstimatorNames, n, "estimator");
 }
-const char* env_estimator_name(EnvEstimator e) { return e == EnvEstimator::Sampling ? "sampling" : "quadrature"; }
+const char* env_estimator_name(EnvEstimator e) { return enum_name(detail::kEnvEstimatorNames, e); }
 
 RoughnessSchedule roughness_schedule_from_name(const std::string& n) {
-  if (n == "linear") return RoughnessSchedule::Linear;
-  if (n == "filament") return RoughnessSchedule::Filament;
-  if (n == "sqrt") return RoughnessSchedule::Sqrt;
-  if (n == "babylon") return RoughnessSchedule::Babylon;
-  throw Error("unknown schedule '" + n + "' (expected linear, filament, sqrt or babylon)");
+  return enum_from_name(detail::kRoughnessScheduleNames, n, "schedule");
 }
-const char* roughness_schedule_name(RoughnessSchedule s) {
-  switch (s) {
-    case RoughnessSchedule::Filament:
-      return "filament";
-    case RoughnessSchedule::Sqrt:
-      return "sqrt";
-    case RoughnessSchedule::Babylon:
-      return "babylon";
-    case RoughnessSchedule::Linear:
-      break;
-  }
-  return "linear";
-}
+const char* roughness_schedule_name(RoughnessSchedule s) { return enum_name(detail::kRoughnessScheduleNames, s); }
 
 double schedule_roughness(RoughnessSchedule s, int level, int levels) {
   if (levels <= 1) return 0.0;

@@ -64,7 +64,7 @@ SpecSchema<PreviewSpec> preview_schema() {
                 .def(double(d.columns)))
       .bind(&PreviewSpec::background, "background",
             ParamDef("background", T::Name, "behind the spheres: the environment, or flat grey 0.18")
-                .one_of({"environment", "grey"})
+                .one_of(enum_names(preview::kBackgroundNames))
                 .def(std::string(preview_background_name(d.background))),
             by_name(preview_background_from_name))
       .bind(&PreviewSpec::yaw, "yaw",

@@ -49,13 +49,11 @@ std::vector<PreviewMaterial> preview_default_materials() {
 }
 
 PreviewBackground preview_background_from_name(const std::string& name) {
-  if (name == "environment") return PreviewBackground::Environment;
-  if (name == "grey") return PreviewBackground::Grey;
-  throw Error("unknown background '" + name.substr(0, 60) + "' (expected environment or grey)");
+  return detail::enum_from_name(detail::preview::kBackgroundNames, name, "background");
 }
 
 const char* preview_background_name(PreviewBackground b) {
-  return b == PreviewBackground::Grey ? "grey" : "environment";
+  return detail::enum_name(detail::preview::kBackgroundNames, b);
 }
 
 namespace detail::preview {

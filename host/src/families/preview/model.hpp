@@ -6,8 +6,13 @@
 #include <vector>
 
 #include "brdfbake/preview.hpp"
+#include "enum_names.hpp"
 
 namespace brdfbake::detail::preview {
+
+// The backgrounds' names (model.cpp's preview_background_from_name and _name; the schema offers them).
+inline constexpr EnumName<PreviewBackground> kBackgroundNames[] = {{PreviewBackground::Environment, "environment"},
+                                                                   {PreviewBackground::Grey, "grey"}};
 
 // Fills the spheres (from materials_file, or the default grid) and the columns; checks the sizes.
 // Throws Error naming the field ("materials", "width", ...).
