@@ -13,7 +13,9 @@
 
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/scene.hpp"
 #include "io/json_input.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 namespace {
@@ -33,25 +35,19 @@ std::string name_list(const std::vector<NamedMaterial>& materials, size_t shown 
   return names;
 }
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
 
 // ---- Range checks ---------------------------------------------------------------------------------
 
 void check_unit(const std::string& where, const char* field, double v) {
   if (!(v >= 0.0 && v <= 1.0))
-    throw Error(where + ": " + field + " must be in [0, 1] (got " + fmt(v) + ")");
+    throw Error(where + ": " + field + " must be in [0, 1] (got " + detail::fmt_number(v) + ")");
 }
 
 void check_unit(const std::string& where, const char* field, const Rgb& c) {
   for (double v : {c.r, c.g, c.b})
     if (!(v >= 0.0 && v <= 1.0))
-      throw Error(where + ": " + field + " must have every channel in [0, 1] (got [" + fmt(c.r) + ", " + fmt(c.g) +
-                  ", " + fmt(c.b) + "])");
+      throw Error(where + ": " + field + " must have every channel in [0, 1] (got [" + detail::fmt_number(c.r) + ", " + detail::fmt_number(c.g) +
+                  ", " + detail::fmt_number(c.b) + "])");
 }
 
 // ---- Field names --------------------------------------------------------------------------------
@@ -135,20 +131,6 @@ void set_field(const Field& f, Material& m, const json& v, const std::string& wh
   }
 }
 
-// Reads the factor `key` of a glTF object, if present, into a material field.
-void gltf_number(const json& obj, const char* key, double& out, const std::string& where) {
-  if (auto it = obj.find(key); it != obj.end()) out = number(*it, where, key);
-}
-void gltf_colour(const json& obj, const char* key, Rgb& out, const std::string& where, bool alpha) {
-  if (auto it = obj.find(key); it != obj.end()) out = colour(*it, where, key, alpha);
-}
-// Texture references are noted, never read.
-void note_textures(const json& obj, const std::string& prefix, std::vector<std::string>& notes) {
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    const std::string& k = it.key();
-    if (k.size() > 7 && k.compare(k.size() - 7, 7, "Texture") == 0) notes.push_back(prefix + k + " ignored (textures are not read)");
-  }
-}
 
 }  // namespace
 
@@ -170,17 +152,17 @@ void validate_material(const Material& m, const std::string& where) {
   // KHR_materials_ior: "Valid values for ior are numbers greater than or equal to 1. In addition, a
   // value of 0 is allowed." (0 gives F0 = 1.)
   if (!(m.ior == 0.0 || (m.ior >= 1.0 && std::isfinite(m.ior))))
-    throw Error(where + ": ior must be 0 or a finite number >= 1 (got " + fmt(m.ior) + ")");
+    throw Error(where + ": ior must be 0 or a finite number >= 1 (got " + detail::fmt_number(m.ior) + ")");
   check_unit(where, "specularFactor", m.specular_factor);
   // KHR_materials_specular: specularColorFactor may exceed 1 (F0 is clamped to 1 after scaling).
   for (double v : {m.specular_color_factor.r, m.specular_color_factor.g, m.specular_color_factor.b})
     if (!(v >= 0.0 && std::isfinite(v)))
-      throw Error(where + ": specularColorFactor must have every channel finite and >= 0 (got " + fmt(v) + ")");
+      throw Error(where + ": specularColorFactor must have every channel finite and >= 0 (got " + detail::fmt_number(v) + ")");
   if (m.diffuse_color) check_unit(where, "diffuseColor", *m.diffuse_color);
   if (m.specular_color) check_unit(where, "specularColor", *m.specular_color);
   if (m.shininess && !(*m.shininess >= 0.0 && *m.shininess <= kMaxShininess))
-    throw Error(where + ": shininess must be in [0, " + fmt(kMaxShininess) + "] (got " +
-                fmt(*m.shininess) + ")");
+    throw Error(where + ": shininess must be in [0, " + detail::fmt_number(kMaxShininess) + "] (got " +
+                detail::fmt_number(*m.shininess) + ")");
 }
 
 std::vector<NamedMaterial> parse_materials_json(const std::string& text, const std::string& origin) {
@@ -228,66 +210,43 @@ std::vector<NamedMaterial> parse_materials_json(const std::string& text, const s
   return out;
 }
 
-std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const std::string& origin) {
-  const json doc = io::parse_json(text, origin);
-  if (!doc.is_object()) throw Error(origin + ": not a glTF document (expected a JSON object)");
-  if (!doc.contains("materials") || !doc.at("materials").is_array() || doc.at("materials").empty())
-    throw Error(origin + ": the glTF document has no materials");
+namespace {
+
+// The materials of a glTF document as the gltf BRDF takes them (one reader of glTF: scene.cpp).
+std::vector<NamedMaterial> gltf_materials(const Scene& scene, const std::string& origin) {
+  if (scene.materials.empty()) throw Error(origin + ": the glTF document has no materials");
   std::vector<NamedMaterial> out;
-  const json& list = doc.at("materials");
-  for (size_t i = 0; i < list.size(); ++i) {
-    const json& mat = list[i];
-    std::string where = origin + ": materials[" + std::to_string(i) + "]";
-    if (!mat.is_object()) throw Error(where + " must be an object (got " + json_excerpt(mat) + ")");
+  for (const SceneMaterial& s : scene.materials) {
     NamedMaterial nm;
     nm.model = BrdfModel::Gltf;
-    auto name = mat.find("name");
-    nm.name = name != mat.end() && name->is_string() ? name->get<std::string>() : "material_" + std::to_string(i);
-    where += " ('" + clip(nm.name) + "')";
+    nm.name = s.name.empty() ? "material_" + std::to_string(s.index) : s.name;
     Material& m = nm.params;
-    // glTF 2.0, 5.19 material.pbrMetallicRoughness: every factor defaults to 1.
-    m.base_color = Rgb{1.0, 1.0, 1.0};
-    m.metallic = 1.0;
-    m.roughness = 1.0;
-    if (auto p = mat.find("pbrMetallicRoughness"); p != mat.end()) {
-      const json& pbr = *p;
-      if (!pbr.is_object())
-        throw Error(where + ": pbrMetallicRoughness must be an object (got " + json_excerpt(pbr) + ")");
-      gltf_colour(pbr, "baseColorFactor", m.base_color, where, true);
-      gltf_number(pbr, "metallicFactor", m.metallic, where);
-      gltf_number(pbr, "roughnessFactor", m.roughness, where);
-      note_textures(pbr, "pbrMetallicRoughness.", nm.notes);
-    }
-    note_textures(mat, "", nm.notes);
-    if (auto x = mat.find("extensions"); x != mat.end() && x->is_object()) {
-      for (auto it = x->begin(); it != x->end(); ++it) {
-        const std::string& ext = it.key();
-        const json& e = *it;
-        const std::string ew = where + "." + ext.substr(0, 60);
-        if (!e.is_object()) throw Error(ew + " must be an object (got " + json_excerpt(e) + ")");
-        if (ext == "KHR_materials_sheen") {
-          gltf_colour(e, "sheenColorFactor", m.sheen_color, ew, false);
-          gltf_number(e, "sheenRoughnessFactor", m.sheen_roughness, ew);
-        } else if (ext == "KHR_materials_clearcoat") {
-          gltf_number(e, "clearcoatFactor", m.clearcoat, ew);
-          gltf_number(e, "clearcoatRoughnessFactor", m.clearcoat_roughness, ew);
-          if (e.contains("clearcoatNormalTexture")) nm.notes.push_back(ext + ".clearcoatNormalTexture ignored");
-        } else if (ext == "KHR_materials_specular") {
-          gltf_number(e, "specularFactor", m.specular_factor, ew);
-          gltf_colour(e, "specularColorFactor", m.specular_color_factor, ew, false);
-        } else if (ext == "KHR_materials_ior") {
-          gltf_number(e, "ior", m.ior, ew);
-        } else {
-          nm.notes.push_back(ext.substr(0, 60) + " ignored (not part of the gltf BRDF here)");
-          continue;
-        }
-        note_textures(e, ext + ".", nm.notes);
-      }
-    }
-    validate_material(m, where);
+    // The scene reader has applied glTF 2.0's defaults and ranges (scene.cpp).
+    m.base_color = Rgb{s.base_color[0], s.base_color[1], s.base_color[2]};
+    m.metallic = s.metallic;
+    m.roughness = s.roughness;
+    m.sheen_color = Rgb{s.sheen_color[0], s.sheen_color[1], s.sheen_color[2]};
+    m.sheen_roughness = s.sheen_roughness;
+    m.clearcoat = s.clearcoat;
+    m.clearcoat_roughness = s.clearcoat_roughness;
+    m.specular_factor = s.specular;
+    m.specular_color_factor = Rgb{s.specular_color[0], s.specular_color[1], s.specular_color[2]};
+    m.ior = s.ior;
+    for (const std::string& t : s.textures) nm.notes.push_back(t + " ignored (textures are not read)");
+    for (const std::string& ext : s.extensions)
+      if (ext != "KHR_materials_sheen" && ext != "KHR_materials_clearcoat" && ext != "KHR_materials_specular" &&
+          ext != "KHR_materials_ior")
+        nm.notes.push_back(clip(ext) + " ignored (not part of the gltf BRDF here)");
+    validate_material(m, origin + ": materials[" + std::to_string(s.index) + "] ('" + clip(nm.name) + "')");
     out.push_back(std::move(nm));
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<NamedMaterial> parse_gltf_materials(const std::string& text, const std::string& origin) {
+  return gltf_materials(parse_scene_json(text, origin, ""), origin);
 }
 
 std::vector<NamedMaterial> read_materials(const std::string& path) {
@@ -308,11 +267,9 @@ std::vector<NamedMaterial> read_materials(const std::string& path) {
     std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return tail == e;
   };
-  const std::string glb = path + ": binary glTF (.glb) is not supported; use the .gltf (JSON) form";
-  if (ends_with(".glb")) throw Error(glb);
+  if (ends_with(".glb") || ends_with(".gltf")) return gltf_materials(read_scene(path), path);
   const std::string text = io::read_text_file(path, "material file");
-  if (text.compare(0, 4, "glTF") == 0) throw Error(glb);
-  if (ends_with(".gltf")) return parse_gltf_materials(text, path);
+  if (text.compare(0, 4, "glTF") == 0) return gltf_materials(read_scene(path), path);
   const json doc = io::parse_json(text, path);
   if (doc.is_object() && doc.contains("asset") && doc.at("asset").is_object()) return parse_gltf_materials(text, path);
   return parse_materials_json(text, path);

@@ -20,6 +20,9 @@ struct SceneMaterial {
   bool by_mesh = false;     // referenced by a mesh primitive
   bool by_variant = false;  // referenced by a KHR_materials_variants mapping
   std::vector<std::string> extensions;  // the keys of its "extensions", in file order
+  // Every texture it names, as the field's path inside the material, e.g.
+  // "pbrMetallicRoughness.baseColorTexture", "normalTexture", "KHR_materials_sheen.sheenColorTexture".
+  std::vector<std::string> textures;
 
   Rgb3 base_color{1, 1, 1};
   bool base_color_texture = false;

@@ -23,6 +23,7 @@
 #include "brdfbake/error.hpp"
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -70,11 +71,6 @@ bool extension_known(const std::string& name) {
 // A name or text from the file, as messages quote it.
 std::string clip(const std::string& s, size_t n = 60) { return s.size() <= n ? s : s.substr(0, n) + "..."; }
 
-std::string fmt_number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 // Reads the fields of one JSON object, every error naming the file and the field's path.
 class Reader {
@@ -108,7 +104,7 @@ class Reader {
     const double v = it->get<double>();
     if (!std::isfinite(v)) fail(path, "must be finite");
     const double slack = 1e-6;
-    if (v < lo - slack || v > hi + slack) fail(path, "must be in " + range(lo, hi) + " (got " + fmt_number(v) + ")");
+    if (v < lo - slack || v > hi + slack) fail(path, "must be in " + range(lo, hi) + " (got " + detail::fmt_number(v) + ")");
     return std::clamp(v, lo, hi);
   }
   Rgb3 rgb(const json& parent, const std::string& key, const std::string& path, const Rgb3& fallback, double lo,
@@ -124,7 +120,7 @@ class Reader {
       if (!e.is_number()) fail(p, "must be a number (got " + describe(e) + ")");
       const double v = e.get<double>();
       if (!std::isfinite(v) || v < lo - 1e-6 || v > hi + 1e-6)
-        fail(p, "must be in " + range(lo, hi) + " (got " + fmt_number(v) + ")");
+        fail(p, "must be in " + range(lo, hi) + " (got " + detail::fmt_number(v) + ")");
       if (c < 3) out[c] = std::clamp(v, lo, hi);
     }
     return out;
@@ -157,7 +153,7 @@ class Reader {
 
  private:
   static std::string range(double lo, double hi) {
-    return "[" + fmt_number(lo) + ", " + (std::isinf(hi) ? std::string("inf)") : fmt_number(hi) + "]");
+    return "[" + detail::fmt_number(lo) + ", " + (std::isinf(hi) ? std::string("inf)") : detail::fmt_number(hi) + "]");
   }
   std::string origin_;
 };
@@ -167,35 +163,18 @@ constexpr double kInf = HUGE_VAL;
 // Material extensions without a rule, and the materials that use them.
 using UnknownExtensions = std::map<std::string, std::vector<std::string>>;
 
-SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownExtensions& unknown) {
-  const std::string at = "materials[" + std::to_string(index) + "]";
-  if (!m.is_object()) r.fail(at, "must be an object");
-  SceneMaterial s;
-  s.index = index;
-  if (auto it = m.find("name"); it != m.end()) {
-    if (!it->is_string()) r.fail(at + ".name", "must be a string");
-    s.name = it->get<std::string>();
+// The keys of `obj` that name a texture ("...Texture"), with `prefix`.
+void list_textures(const json& obj, const std::string& prefix, std::vector<std::string>& out) {
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    const std::string& k = it.key();
+    if (k.size() > 7 && k.compare(k.size() - 7, 7, "Texture") == 0) out.push_back(prefix + clip(k, 80));
   }
-  s.label = "#" + std::to_string(index) + (s.name.empty() ? "" : " " + clip(s.name, 80));
+}
 
-  if (const json* pbr = r.object(m, "pbrMetallicRoughness", at + ".pbrMetallicRoughness")) {
-    const std::string p = at + ".pbrMetallicRoughness";
-    s.base_color = r.rgb(*pbr, "baseColorFactor", p + ".baseColorFactor", {1, 1, 1}, 0, 1, 4);
-    s.base_color_texture = r.texture(*pbr, "baseColorTexture", p + ".baseColorTexture");
-    s.metallic = r.number(*pbr, "metallicFactor", p + ".metallicFactor", 1.0, 0, 1);
-    s.roughness = r.number(*pbr, "roughnessFactor", p + ".roughnessFactor", 1.0, 0, 1);
-    s.metallic_roughness_texture = r.texture(*pbr, "metallicRoughnessTexture", p + ".metallicRoughnessTexture");
-  }
-  s.emissive = r.rgb(m, "emissiveFactor", at + ".emissiveFactor", {0, 0, 0}, 0, 1);
-  s.emissive_texture = r.texture(m, "emissiveTexture", at + ".emissiveTexture");
-
-  const json* ext = r.object(m, "extensions", at + ".extensions");
-  if (!ext) return s;
-  for (auto it = ext->begin(); it != ext->end(); ++it) {
-    s.extensions.push_back(it.key());
-    if (!it->is_object())
-      r.fail(at + ".extensions." + clip(it.key()), "must be an object (got " + r.describe(*it) + ")");
-  }
+// The factors of the KHR_materials_* extensions the rules know, from the material's "extensions"
+// object `ext` (with the specification's defaults and ranges).
+void read_material_extensions(const Reader& r, const json& ext_object, const std::string& at, SceneMaterial& s) {
+  const json* ext = &ext_object;
   auto get = [&](const char* name) -> const json* { return r.object(*ext, name, at + ".extensions." + name); };
   auto path = [&](const char* name, const char* field) { return at + ".extensions." + name + "." + field; };
 
@@ -226,7 +205,7 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
     // and every planned table must take what the reader accepts (found by fuzz_scene)
     s.ior = r.number(*e, "ior", path("KHR_materials_ior", "ior"), 1.5, 0, 10);
     if (s.ior > 0 && s.ior < 1)
-      r.fail(path("KHR_materials_ior", "ior"), "must be 0 or at least 1 (got " + fmt_number(s.ior) + ")");
+      r.fail(path("KHR_materials_ior", "ior"), "must be 0 or at least 1 (got " + detail::fmt_number(s.ior) + ")");
   }
   if (const json* e = get("KHR_materials_specular")) {
     const char* n = "KHR_materials_specular";
@@ -276,6 +255,41 @@ SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownEx
     r.number(*e, "anisotropyRotation", path(n, "anisotropyRotation"), 0.0, -kInf, kInf);
     s.anisotropy_texture = r.texture(*e, "anisotropyTexture", path(n, "anisotropyTexture"));
   }
+}
+
+SceneMaterial read_material(const Reader& r, const json& m, int index, UnknownExtensions& unknown) {
+  const std::string at = "materials[" + std::to_string(index) + "]";
+  if (!m.is_object()) r.fail(at, "must be an object");
+  SceneMaterial s;
+  s.index = index;
+  if (auto it = m.find("name"); it != m.end()) {
+    if (!it->is_string()) r.fail(at + ".name", "must be a string");
+    s.name = it->get<std::string>();
+  }
+  s.label = "#" + std::to_string(index) + (s.name.empty() ? "" : " " + clip(s.name, 80));
+
+  if (const json* pbr = r.object(m, "pbrMetallicRoughness", at + ".pbrMetallicRoughness")) {
+    const std::string p = at + ".pbrMetallicRoughness";
+    s.base_color = r.rgb(*pbr, "baseColorFactor", p + ".baseColorFactor", {1, 1, 1}, 0, 1, 4);
+    s.base_color_texture = r.texture(*pbr, "baseColorTexture", p + ".baseColorTexture");
+    s.metallic = r.number(*pbr, "metallicFactor", p + ".metallicFactor", 1.0, 0, 1);
+    s.roughness = r.number(*pbr, "roughnessFactor", p + ".roughnessFactor", 1.0, 0, 1);
+    s.metallic_roughness_texture = r.texture(*pbr, "metallicRoughnessTexture", p + ".metallicRoughnessTexture");
+    list_textures(*pbr, "pbrMetallicRoughness.", s.textures);
+  }
+  list_textures(m, "", s.textures);
+  s.emissive = r.rgb(m, "emissiveFactor", at + ".emissiveFactor", {0, 0, 0}, 0, 1);
+  s.emissive_texture = r.texture(m, "emissiveTexture", at + ".emissiveTexture");
+
+  const json* ext = r.object(m, "extensions", at + ".extensions");
+  if (!ext) return s;
+  for (auto it = ext->begin(); it != ext->end(); ++it) {
+    s.extensions.push_back(it.key());
+    if (!it->is_object())
+      r.fail(at + ".extensions." + clip(it.key()), "must be an object (got " + r.describe(*it) + ")");
+    list_textures(*it, clip(it.key(), 80) + ".", s.textures);
+  }
+  read_material_extensions(r, *ext, at, s);
   for (const std::string& name : s.extensions)
     if (!material_extension_known(name)) unknown[name].push_back(s.label);
   return s;
@@ -318,6 +332,60 @@ void check_resources(const Reader& r, const json& root, const std::string& key, 
   if (missing.size() > 3) names += " and " + std::to_string(missing.size() - 3) + " more";
   warnings.push_back(origin + ": " + std::to_string(missing.size()) + " of " + std::to_string(list->size()) + " " +
                      key + " not found (" + names + "); only the materials are read, so the plan does not need them");
+}
+
+}  // namespace
+
+namespace {
+
+// Which materials the meshes' primitives and their KHR_materials_variants mappings reach (and the
+// default material when a primitive names none).
+void mark_reached_materials(const Reader& r, const json& root, Scene& scene) {
+  const size_t material_count = scene.materials.size();
+  if (const json* meshes = r.array(root, "meshes", "meshes")) {
+    scene.has_meshes = !meshes->empty();
+    for (size_t mi = 0; mi < meshes->size(); ++mi) {
+      const std::string mp = "meshes[" + std::to_string(mi) + "]";
+      const json& mesh = (*meshes)[mi];
+      if (!mesh.is_object()) r.fail(mp, "must be an object");
+      const json* prims = r.array(mesh, "primitives", mp + ".primitives");
+      if (!prims) continue;
+      for (size_t pi = 0; pi < prims->size(); ++pi) {
+        const std::string pp = mp + ".primitives[" + std::to_string(pi) + "]";
+        const json& prim = (*prims)[pi];
+        if (!prim.is_object()) r.fail(pp, "must be an object");
+        auto mat = prim.find("material");
+        if (mat == prim.end()) {
+          if (!scene.default_material) {
+            SceneMaterial d;
+            d.label = "default material";
+            d.by_mesh = true;
+            scene.default_material = d;
+          }
+        } else {
+          const int idx = r.index(*mat, pp + ".material", material_count, "a material");
+          scene.materials[static_cast<size_t>(idx)].by_mesh = true;
+        }
+        const json* pext = r.object(prim, "extensions", pp + ".extensions");
+        if (!pext) continue;
+        const json* kv = r.object(*pext, "KHR_materials_variants", pp + ".extensions.KHR_materials_variants");
+        if (!kv) continue;
+        const std::string kp = pp + ".extensions.KHR_materials_variants.mappings";
+        const json* maps = r.array(*kv, "mappings", kp);
+        if (!maps) continue;
+        for (size_t k = 0; k < maps->size(); ++k) {
+          const json& map = (*maps)[k];
+          const std::string p = kp + "[" + std::to_string(k) + "]";
+          if (!map.is_object() || !map.contains("material")) r.fail(p, "must be an object with a material");
+          const int idx = r.index(map["material"], p + ".material", material_count, "a material");
+          scene.materials[static_cast<size_t>(idx)].by_variant = true;
+          if (const json* vv = r.array(map, "variants", p + ".variants"))
+            for (size_t q = 0; q < vv->size(); ++q)
+              r.index((*vv)[q], p + ".variants[" + std::to_string(q) + "]", scene.variants.size(), "a variant");
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -375,51 +443,7 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
           scene.variants.push_back(name);
         }
 
-  const size_t material_count = scene.materials.size();
-  if (const json* meshes = r.array(root, "meshes", "meshes")) {
-    scene.has_meshes = !meshes->empty();
-    for (size_t mi = 0; mi < meshes->size(); ++mi) {
-      const std::string mp = "meshes[" + std::to_string(mi) + "]";
-      const json& mesh = (*meshes)[mi];
-      if (!mesh.is_object()) r.fail(mp, "must be an object");
-      const json* prims = r.array(mesh, "primitives", mp + ".primitives");
-      if (!prims) continue;
-      for (size_t pi = 0; pi < prims->size(); ++pi) {
-        const std::string pp = mp + ".primitives[" + std::to_string(pi) + "]";
-        const json& prim = (*prims)[pi];
-        if (!prim.is_object()) r.fail(pp, "must be an object");
-        auto mat = prim.find("material");
-        if (mat == prim.end()) {
-          if (!scene.default_material) {
-            SceneMaterial d;
-            d.label = "default material";
-            d.by_mesh = true;
-            scene.default_material = d;
-          }
-        } else {
-          const int idx = r.index(*mat, pp + ".material", material_count, "a material");
-          scene.materials[static_cast<size_t>(idx)].by_mesh = true;
-        }
-        const json* pext = r.object(prim, "extensions", pp + ".extensions");
-        if (!pext) continue;
-        const json* kv = r.object(*pext, "KHR_materials_variants", pp + ".extensions.KHR_materials_variants");
-        if (!kv) continue;
-        const std::string kp = pp + ".extensions.KHR_materials_variants.mappings";
-        const json* maps = r.array(*kv, "mappings", kp);
-        if (!maps) continue;
-        for (size_t k = 0; k < maps->size(); ++k) {
-          const json& map = (*maps)[k];
-          const std::string p = kp + "[" + std::to_string(k) + "]";
-          if (!map.is_object() || !map.contains("material")) r.fail(p, "must be an object with a material");
-          const int idx = r.index(map["material"], p + ".material", material_count, "a material");
-          scene.materials[static_cast<size_t>(idx)].by_variant = true;
-          if (const json* vv = r.array(map, "variants", p + ".variants"))
-            for (size_t q = 0; q < vv->size(); ++q)
-              r.index((*vv)[q], p + ".variants[" + std::to_string(q) + "]", scene.variants.size(), "a variant");
-        }
-      }
-    }
-  }
+  mark_reached_materials(r, root, scene);
 
   if (!base_dir.empty()) {
     check_resources(r, root, "buffers", origin, base_dir, scene.warnings);
