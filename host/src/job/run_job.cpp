@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -25,11 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string join(const std::vector<std::string>& v, const std::string& sep) {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
-  return s;
-}
+using detail::join;
 
 // A short label of a bake for progress lines: "prefilter ggx 256", "fresnel dielectric 256".
 std::string bake_label(const TableRequest& t) {
@@ -166,21 +164,122 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   manifest.engine_delivered = w.delivered;
 }
 
+// The job as run_job takes it, or Error: valid, with an output folder and every kind bakeable in
+// this build (before anything starts). Returns the name messages give it.
+std::string check_job(Job& job) {
+  validate_job(job);
+  if (job.preview) detail::preview::check_bake_preview(job);
+  const std::string origin = job.source.empty() ? std::string("job") : job.source;
+  if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
+  const std::vector<std::string> missing = unavailable_tables(job);
+  if (!missing.empty())
+    throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
+  return origin;
+}
+
+using BackendFor = std::function<Backend&(const std::string& selector)>;
+
+// Environments first (a bad file fails before any device work), each loaded once, while the
+// devices that will read them open.
+std::map<std::string, EnvImage> load_job_environments(const Job& job, const RunOptions& options,
+                                                      const BackendFor& backend_for) {
+  for (const auto& t : job.tables)
+    if (table_kind_uses_environment(t.kind) && table_needs_device(t)) backend_for(t.device).prepare();
+  std::map<std::string, EnvImage> environments;
+  EnvLoadOptions load;
+  load.sanitize = job.sanitize;
+  load.memory_budget = options.memory_budget;
+  for (const auto& t : job.tables)
+    if (table_kind_uses_environment(t.kind) && !environments.count(t.environment))
+      environments.emplace(t.environment, load_environment(t.environment, load));
+  return environments;
+}
+
+// The manifest's header: the job, its scene, notes and warnings (the environments' among them).
+Manifest start_manifest(const Job& job, const std::string& origin, size_t bakes,
+                        const std::map<std::string, EnvImage>& environments) {
+  Manifest manifest;
+  manifest.output_dir = job.output_dir;
+  manifest.job_source = origin;
+  manifest.scene = job.scene;
+  manifest.notes = job.notes;
+  manifest.warnings = job.warnings;
+  manifest.bakes = static_cast<int>(bakes);
+  for (const auto& [name, env] : environments)
+    for (const auto& note : env.notes) manifest.notes.push_back("environment " + note);  // e.g. sRGB decoded
+  for (const auto& [name, env] : environments)
+    if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
+  return manifest;
+}
+
+// What an engine's file set is made of: the first GGX chain, the first Charlie chain, the first SH.
+void keep_engine_input(EngineInputs& in, const TableRequest& t, const BakeResult& r) {
+  if (!in.ggx_chain && r.cube() && t.text("distribution") == "ggx") in.ggx_chain = r;
+  if (!in.charlie_chain && r.cube() && t.text("distribution") == "charlie") in.charlie_chain = r;
+  if (!in.irradiance && r.irradiance()) in.irradiance = r;
+}
+
+// The inputs of group g's bake: its environment, which the last bake that reads it may free once it
+// has its cube (not when a preview reads it after the tables).
+BakeInputs group_inputs(const Job& job, const std::vector<std::vector<size_t>>& groups, size_t g,
+                        std::map<std::string, EnvImage>& environments) {
+  BakeInputs inputs;
+  const TableRequest& t = job.tables[groups[g].front()];
+  if (!table_kind_uses_environment(t.kind)) return inputs;
+  EnvImage& env = environments.at(t.environment);
+  inputs.environment = &env;
+  bool read_later = false;
+  for (size_t h = g + 1; h < groups.size(); ++h) {
+    const TableRequest& later = job.tables[groups[h].front()];
+    read_later = read_later || (table_kind_uses_environment(later.kind) && later.environment == t.environment);
+  }
+  if (!read_later && !job.preview) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
+  return inputs;
+}
+
+// One group's result delivered to each of its outputs in the staging folder, each with its manifest
+// entry; `report(k)` before output k. Messages name the file the user asked for, not its staged copy.
+void deliver_group(const Job& job, const std::vector<size_t>& group, int bake, const BakeResult& r,
+                   const Backend& backend, const std::string& target, const fs::path& staging,
+                   const RunOptions& options, const std::function<void(size_t)>& report, Manifest& manifest) {
+  for (size_t k = 0; k < group.size(); ++k) {
+    const TableRequest& o = job.tables[group[k]];
+    report(k);
+    const TableRequest s = staged(o, staging);
+    const auto final_name = [&](std::string text) {
+      const std::string final_path = (fs::path(target) / o.output).lexically_normal().string();
+      for (size_t at = text.find(s.output); at != std::string::npos; at = text.find(s.output, at + final_path.size()))
+        text.replace(at, s.output.size(), final_path);
+      return text;
+    };
+    Delivery delivered;
+    try {
+      delivered = deliver_result(r, s, TableDelivery::File);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const RuntimeFailure&) {
+      throw;
+    } catch (const Error& e) {
+      throw Error(final_name(e.what()));  // a value the format cannot hold
+    }
+    ManifestFile f = manifest_entry(o, r, delivered.report, backend.result_precision(o.precision));
+    for (const auto& w : delivered.warnings) {
+      manifest.warnings.push_back(final_name(w));
+      if (options.on_warning) options.on_warning(final_name(w));
+    }
+    f.bytes = bytes_of(s.output);
+    f.seconds = k == 0 ? r.seconds : 0.0;
+    f.bake = bake;
+    manifest.files.push_back(std::move(f));
+  }
+}
+
 }  // namespace
 
 Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
-  validate_job(job);
-  if (job.preview) detail::preview::check_bake_preview(job);
-  const std::string origin = job.source.empty() ? std::string("job") : job.source;
-  if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
-
-  // Every kind must be bakeable before anything starts.
-  const std::vector<std::string> missing = unavailable_tables(job);
-  if (!missing.empty())
-    throw NotAvailableError(origin + ": not available in this build: " + join(missing, "; ") + "; nothing was written");
-
+  const std::string origin = check_job(job);
   const std::vector<std::vector<size_t>> groups = group_tables(job);
 
   std::string target = job.output_dir;
@@ -192,7 +291,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   io::StagingDir staging{fs::path(target)};
 
   std::map<std::string, std::shared_ptr<Backend>> backends;
-  auto backend_for = [&](const std::string& selector) -> Backend& {
+  const BackendFor backend_for = [&](const std::string& selector) -> Backend& {
     auto it = backends.find(selector);
     if (it == backends.end())
       it = backends.emplace(selector, options.backend ? options.backend(selector) : Backend::open(selector)).first;
@@ -201,33 +300,11 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   // Every table's device, and what it can do, before anything slow (reading environments).
   for (const auto& g : groups) check_backend(job.tables[g.front()], backend_for(job.tables[g.front()].device));
 
-  // Environments first (a bad file fails before any device work), each loaded once, while the
-  // devices that will be used open.
-  for (const auto& t : job.tables)
-    if (table_kind_uses_environment(t.kind) && table_needs_device(t)) backend_for(t.device).prepare();
-  std::map<std::string, EnvImage> environments;
-  EnvLoadOptions load;
-  load.sanitize = job.sanitize;
-  load.memory_budget = options.memory_budget;
-  for (const auto& t : job.tables)
-    if (table_kind_uses_environment(t.kind) && !environments.count(t.environment))
-      environments.emplace(t.environment, load_environment(t.environment, load));
-
-  Manifest manifest;
-  manifest.output_dir = job.output_dir;
-  manifest.job_source = origin;
-  manifest.scene = job.scene;
-  manifest.notes = job.notes;
-  manifest.warnings = job.warnings;
-  manifest.bakes = static_cast<int>(groups.size());
-  for (const auto& [name, env] : environments)
-    for (const auto& note : env.notes) manifest.notes.push_back("environment " + note);  // e.g. sRGB decoded
-  for (const auto& [name, env] : environments)
-    if (env.sanitize.replaced) manifest.warnings.push_back(sanitized_warning(name, env));
+  std::map<std::string, EnvImage> environments = load_job_environments(job, options, backend_for);
+  Manifest manifest = start_manifest(job, origin, groups.size(), environments);
 
   const EngineTarget engine = engine_target_from_name(job.target);
   EngineInputs engine_inputs;
-  std::optional<BakeResult>&ggx_chain = engine_inputs.ggx_chain, &irradiance = engine_inputs.irradiance;
   // Progress: each table's bake reports [0, kBakeShare) and the writing of its files the rest, so
   // that 100 % means its files are written (encoding and the storage error measurement took up to a
   // second a table, measured); an engine's file set is one more step of its own, after the tables
@@ -244,69 +321,25 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     if (options.checkpoint) options.checkpoint();
     report(0.0, "");
     Backend& backend = backend_for(t.device);
-    BakeInputs inputs;
-    if (table_kind_uses_environment(t.kind)) {
-      EnvImage& env = environments.at(t.environment);
-      inputs.environment = &env;
-      // the last bake that reads this environment may free its pixels once it has its cube
-      bool read_later = false;
-      for (size_t h = g + 1; h < groups.size(); ++h) {
-        const TableRequest& later = job.tables[groups[h].front()];
-        read_later = read_later || (table_kind_uses_environment(later.kind) && later.environment == t.environment);
-      }
-      if (!read_later && !job.preview) inputs.release_environment = [&env] { std::vector<float>().swap(env.rgb); };
-    }
     TableRunOptions bake;
     bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
     bake.backend = &backend;
-    bake.inputs = inputs;
+    bake.inputs = group_inputs(job, groups, g, environments);
     bake.progress = [&](double fraction, const std::string& step) { report(kBakeShare * fraction, step); };
     bake.stop_requested = options.stop_requested;
     const BakeResult r = run_table(t, bake).result;
-    // What an engine's file set is made of: the first GGX chain and the first SH.
-    if (engine != EngineTarget::Generic) {
-      if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
-      if (!engine_inputs.charlie_chain && r.cube() && t.text("distribution") == "charlie")
-        engine_inputs.charlie_chain = r;
-      if (!irradiance && r.irradiance()) irradiance = r;
-    }
-    for (size_t k = 0; k < groups[g].size(); ++k) {
-      const TableRequest& o = job.tables[groups[g][k]];
-      report(kBakeShare + (1.0 - kBakeShare) * double(k) / double(groups[g].size()), "writing " + o.output);
-      const TableRequest s = staged(o, staging.path());
-      // messages about the file name the one the user asked for, not its staged copy
-      const auto final_name = [&](std::string text) {
-        const std::string final_path = (fs::path(target) / o.output).lexically_normal().string();
-        for (size_t at = text.find(s.output); at != std::string::npos; at = text.find(s.output, at + final_path.size()))
-          text.replace(at, s.output.size(), final_path);
-        return text;
-      };
-      Delivery delivered;
-      try {
-        delivered = deliver_result(r, s, TableDelivery::File);
-      } catch (const Cancelled&) {
-        throw;
-      } catch (const RuntimeFailure&) {
-        throw;
-      } catch (const Error& e) {
-        throw Error(final_name(e.what()));  // a value the format cannot hold
-      }
-      ManifestFile f = manifest_entry(o, r, delivered.report, backend.result_precision(o.precision));
-      for (const auto& w : delivered.warnings) {
-        manifest.warnings.push_back(final_name(w));
-        if (options.on_warning) options.on_warning(final_name(w));
-      }
-      f.bytes = bytes_of(s.output);
-      f.seconds = k == 0 ? r.seconds : 0.0;
-      f.bake = static_cast<int>(g);
-      manifest.files.push_back(std::move(f));
-    }
+    if (engine != EngineTarget::Generic) keep_engine_input(engine_inputs, t, r);
+    deliver_group(job, groups[g], static_cast<int>(g), r, backend, target, staging.path(), options,
+                  [&](size_t k) {
+                    report(kBakeShare + (1.0 - kBakeShare) * double(k) / double(groups[g].size()),
+                           "writing " + job.tables[groups[g][k]].output);
+                  },
+                  manifest);
     report(1.0, "");  // its files are written
   }
 
-  if (engine != EngineTarget::Generic && progress)
-    progress({steps - 1, steps, "writing the " + job.target + " files", 0.0});
   if (engine != EngineTarget::Generic) {
+    if (progress) progress({steps - 1, steps, "writing the " + job.target + " files", 0.0});
     const std::string name = !options.engine_name.empty() ? options.engine_name
                              : !job.engine_name.empty()   ? job.engine_name
                                                           : fs::path(target).filename().string();
