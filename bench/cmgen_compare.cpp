@@ -50,6 +50,7 @@
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "io/image_file.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 #ifndef BRDFBAKE_CLI
 #define BRDFBAKE_CLI "brdfbake"
@@ -63,7 +64,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 struct Run {
   double seconds = 0;

@@ -1,4 +1,5 @@
 #include "server/metrics.hpp"
+#include "text.hpp"
 
 #include <cstdio>
 
@@ -6,11 +7,6 @@ namespace brdfbake::server {
 
 namespace {
 
-std::string number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 }  // namespace
 
@@ -63,11 +59,11 @@ std::string Metrics::render() const {
     const std::string k = prometheus_label(kind);
     for (size_t i = 0; i < bake_buckets().size(); ++i) {
       cumulative += h.counts[i];
-      s += "brdfbake_bake_seconds_bucket{kind=\"" + k + "\",le=\"" + number(bake_buckets()[i]) + "\"} " +
+      s += "brdfbake_bake_seconds_bucket{kind=\"" + k + "\",le=\"" + detail::fmt_number(bake_buckets()[i]) + "\"} " +
            std::to_string(cumulative) + "\n";
     }
     s += "brdfbake_bake_seconds_bucket{kind=\"" + k + "\",le=\"+Inf\"} " + std::to_string(h.count) + "\n";
-    s += "brdfbake_bake_seconds_sum{kind=\"" + k + "\"} " + number(h.sum) + "\n";
+    s += "brdfbake_bake_seconds_sum{kind=\"" + k + "\"} " + detail::fmt_number(h.sum) + "\n";
     s += "brdfbake_bake_seconds_count{kind=\"" + k + "\"} " + std::to_string(h.count) + "\n";
   }
   s += "# HELP brdfbake_http_requests_total HTTP requests answered, by status code.\n";

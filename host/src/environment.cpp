@@ -19,12 +19,13 @@
 #include "brdfbake/math/equirect.hpp"
 #include "io/image_file.hpp"
 #include "io/special_files.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 const char* const kFaceNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 

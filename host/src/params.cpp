@@ -23,11 +23,7 @@ std::string num(double v) {
   return buf;
 }
 
-std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
-  return s;
-}
+using detail::join;
 
 // At most `n` characters of a user's text, for messages: hostile input may be megabytes long.
 std::string clip(const std::string& s, size_t n = 60) { return s.size() <= n ? s : s.substr(0, n) + "..."; }

@@ -1,6 +1,7 @@
-// Small text helpers shared by the parsers (parameter lists, table files, view labels).
+// Small text helpers shared by the parsers, messages and metadata: split, join and numbers as text.
 #pragma once
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,21 @@ inline std::vector<std::string> split(const std::string& text, char sep) {
     start = at + 1;
   }
   return out;
+}
+
+// The items with `sep` between them ("a, b, c").
+inline std::string join(const std::vector<std::string>& items, const std::string& sep = ", ") {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : std::string()) + items[i];
+  return out;
+}
+
+// `v` through one printf conversion of a double: "%.9g" (the default) is enough digits for a float to
+// be read back exactly; messages use fewer ("%.3g"), never more than fit 64 characters.
+inline std::string fmt_number(double v, const char* printf_format = "%.9g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, printf_format, v);
+  return buf;
 }
 
 }  // namespace brdfbake::detail

@@ -13,11 +13,12 @@
 #include "brdfbake/error.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 EnvImage constant_equirect(int width, float r, float g, float b) {
   EnvImage e;

@@ -28,12 +28,13 @@
 #include "io/packed_float.hpp"
 #include "io/png_rgbd.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("brdfbake-engines-" + std::to_string(::getpid())) / name;

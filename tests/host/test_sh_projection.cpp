@@ -14,11 +14,12 @@
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 EnvImage equirect(int w, int h, const std::vector<float>& rgb) {
   EnvImage e;

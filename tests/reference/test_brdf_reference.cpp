@@ -17,12 +17,13 @@
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/brdf_cases.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
 using namespace reference;
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 Vec3 dir(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};

@@ -6,13 +6,14 @@
 
 #include "brdfbake/reference/burley.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 }  // namespace
 

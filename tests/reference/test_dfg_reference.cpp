@@ -13,6 +13,7 @@
 #include "brdfbake/reference/quadrature.hpp"
 #include "identities/dfg_identities.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;
@@ -50,7 +51,7 @@ INSTANTIATE_TEST_SUITE_P(Reference, DfgIdentities, ::testing::Values(Backend::Re
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 double pow5(double x) { return x * x * x * x * x; }
 

@@ -8,13 +8,14 @@
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/tolerances.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 // Integral over [a, b] on panels refined geometrically towards both ends (down to `min_size`) and
 // at most `max_width` wide, 20 Gauss nodes each.

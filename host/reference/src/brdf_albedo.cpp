@@ -15,11 +15,12 @@
 #include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 // ---------------------------------------------------------------------------------------------
 // Sheen albedo E(mu).

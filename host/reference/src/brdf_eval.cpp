@@ -10,11 +10,12 @@
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/fresnel.hpp"
 #include "brdfbake/reference/ggx.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 constexpr double kInvPi = 1.0 / kPi;
 
 double pow5(double x) {

@@ -14,6 +14,7 @@
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 // Frame: n = +z, v = (sin_v, 0, n.v) with sin_v = sqrt(1 - n.v^2), beta = asin(n.v) the elevation of
 // v. Half vectors h = (sin th cos ph, sin th sin ph, cos th); l = 2 (v.h) h - v.
@@ -46,7 +47,7 @@
 namespace brdfbake::reference {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 constexpr double kHalfPi = 0.5 * kPi;
 
 // ---- Resolution at refinement 1 (refinement f divides widths by f, refinement depths by f^2). ----

@@ -17,12 +17,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 // Schlick 1994 with F90 = 1, as the specification evaluates each interface.
 double schlick(double f0, double cos_theta) {

@@ -12,6 +12,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
 #include "io/astc_ktx2.hpp"
+#include "families/delivery.hpp"
 #include "io/atomic_file.hpp"
 #include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
@@ -35,12 +36,6 @@ std::string fmt(double v, const char* f = "%.4g") {
   char buf[48];
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
-}
-
-std::string join(const std::vector<double>& v) {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + io::format_bound(v[i]);
-  return s;
 }
 
 bool is_power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
@@ -86,8 +81,8 @@ const char* pixel_name(PixelType p) {
 
 void add_storage_metadata(Metadata& delivered, const std::string& file, PixelType pixel, const StorageError& e) {
   delivered.emplace_back(file + ": format", pixel_name(pixel));
-  delivered.emplace_back(file + ": storage_max_rel_error_per_level", join(e.max_rel));
-  delivered.emplace_back(file + ": storage_max_abs_error_per_level", join(e.max_abs));
+  delivered.emplace_back(file + ": storage_max_rel_error_per_level", detail::bounds_text(e.max_rel));
+  delivered.emplace_back(file + ": storage_max_abs_error_per_level", detail::bounds_text(e.max_abs));
   delivered.emplace_back(file + ": storage_clamped_channels", std::to_string(e.clamped));
 }
 
@@ -145,9 +140,9 @@ std::vector<uint8_t> ktx2_cube_bytes(const CubeLevels& cube, PixelType pixel, co
     image.level_data = astc.level_data;
     image.key_values = io::astc_key_values(cube, astc, o.astc_quality);
     delivered.emplace_back(name + ": format", "ASTC " + std::to_string(block) + "x" + std::to_string(block) + " HDR");
-    delivered.emplace_back(name + ": astc_max_rel_error_per_level", join(astc.max_rel_error));
-    delivered.emplace_back(name + ": astc_rms_rel_error_per_level", join(astc.rms_rel_error));
-    delivered.emplace_back(name + ": astc_max_abs_error_per_level", join(astc.max_abs_error));
+    delivered.emplace_back(name + ": astc_max_rel_error_per_level", detail::bounds_text(astc.max_rel_error));
+    delivered.emplace_back(name + ": astc_rms_rel_error_per_level", detail::bounds_text(astc.rms_rel_error));
+    delivered.emplace_back(name + ": astc_max_abs_error_per_level", detail::bounds_text(astc.max_abs_error));
     delivered.emplace_back(name + ": astc_clamped_channels", std::to_string(astc.clamped));
     return io::encode_ktx2(image);
   }
@@ -235,7 +230,7 @@ std::vector<uint8_t> rgbd_face_png(const CubeLevels& cube, int level, int face, 
 
 void add_rgbd_metadata(Metadata& delivered, const std::string& file, const RgbdStats& st) {
   delivered.emplace_back(file + ": format", "PNG RGBD 8-bit (Babylon.js toRGBD)");
-  delivered.emplace_back(file + ": rgbd_max_error_rel_to_texel_max", io::format_bound(st.max_rel));
+  delivered.emplace_back(file + ": rgbd_max_error_rel_to_texel_max", detail::bound_text(st.max_rel));
   delivered.emplace_back(file + ": rgbd_clamped_texels", std::to_string(st.clamped) + " (values above 255 are clamped)");
 }
 
@@ -305,7 +300,7 @@ std::vector<OutFile> babylon_files(const EngineSettings& s, const EngineBake& ba
     for (int f = 0; f < 6; ++f) env.images.push_back(rgbd_face_png(chain, l, f, stats));
   Metadata meta = chain.metadata;
   meta.emplace_back("sh_convention", s.sh_description);
-  meta.emplace_back("rgbd_max_error_rel_to_texel_max", io::format_bound(stats.max_rel));
+  meta.emplace_back("rgbd_max_error_rel_to_texel_max", detail::bound_text(stats.max_rel));
   meta.emplace_back("rgbd_clamped_texels", std::to_string(stats.clamped));
   env.extra["brdfbake"] = metadata_json(meta);
   add_rgbd_metadata(delivered, name + ".env", stats);

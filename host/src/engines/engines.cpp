@@ -6,11 +6,12 @@
 #include <cmath>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 struct TargetName {
   EngineTarget target;

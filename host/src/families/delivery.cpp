@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include "families/family.hpp"
@@ -15,11 +16,16 @@ namespace brdfbake {
 
 // ---- Bounds ----------------------------------------------------------------------------------------
 
-// Rounded up to three significant digits: the recorded text is never below the bound.
+// Rounded up to three significant digits: the recorded text, read back, is never below the bound.
 std::string error_bound_text(double v) {
   if (!(v > 0) || !std::isfinite(v)) return detail::fmt_number(v, "%.3g");
   const double scale = std::pow(10.0, std::floor(std::log10(v)) - 2);
-  return detail::fmt_number(std::ceil(v / scale * (1 - 1e-12)) * scale, "%.3g");
+  // (1 - 1e-12): a bound that prints exactly (0.00123) stays itself; the loop then steps up where
+  // the division or the printing rounded below it.
+  double r = std::ceil(v / scale * (1 - 1e-12)) * scale;
+  std::string text = detail::fmt_number(r, "%.3g");
+  for (int i = 0; i < 3 && std::strtod(text.c_str(), nullptr) < v; ++i) text = detail::fmt_number(r += scale, "%.3g");
+  return text;
 }
 
 }  // namespace brdfbake
@@ -33,6 +39,12 @@ std::string count_text(size_t n, const char* what) { return std::to_string(n) + 
 }  // namespace
 
 std::string bound_text(double v) { return error_bound_text(v); }
+
+std::string bounds_text(const std::vector<double>& bounds) {
+  std::vector<std::string> items;
+  for (double b : bounds) items.push_back(error_bound_text(b));
+  return join(items, " ");
+}
 
 // ---- Tables ----------------------------------------------------------------------------------------
 

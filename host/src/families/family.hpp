@@ -13,6 +13,7 @@
 #include "brdfbake/tables.hpp"
 #include "families/delivery.hpp"
 #include "families/field_error.hpp"
+#include "text.hpp"
 
 namespace brdfbake::detail {
 
@@ -93,7 +94,6 @@ const std::vector<const Family*>& families();
 
 // ---- Helpers the families share ----------------------------------------------------------------
 
-std::string fmt_number(double v, const char* f = "%.9g");
 std::string lower_extension(const std::string& path);
 // The extension the request's output has (or its format names, e.g. "dds-legacy" -> ".dds").
 std::string output_extension(const TableRequest& t);

@@ -14,6 +14,7 @@
 #include "families/family.hpp"
 #include "io/atomic_file.hpp"
 #include "io/storage.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -44,12 +45,6 @@ const Family& family_of(TableKind kind) {
     for (TableKind k : f->kinds())
       if (k == kind) return *f;
   throw Error("no family bakes table kind " + std::to_string(static_cast<int>(kind)));
-}
-
-std::string fmt_number(double v, const char* f) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -192,11 +187,7 @@ const std::vector<KindName>& kind_names() {
   return names;
 }
 
-std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
-  return s;
-}
+using detail::join;
 
 // The spelling of the common fields on the command line.
 std::string common_cli(const std::string& field) {

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "brdfbake/error.hpp"
+#include "families/delivery.hpp"
 #include "io/atomic_file.hpp"
 #include "io/cubemap_io.hpp"
 #include "io/ktx2.hpp"
@@ -25,29 +26,7 @@ void check(astcenc_error e, const char* call) {
   if (e != ASTCENC_SUCCESS) throw Error(std::string("astcenc: ") + call + ": " + astcenc_get_error_string(e));
 }
 
-std::string join(const std::vector<double>& v) {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + format_bound(v[i]);
-  return s;
-}
-
 }  // namespace
-
-std::string format_bound(double v) {
-  char buf[32];
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
-  }
-  const double unit = std::pow(10.0, std::floor(std::log10(v)) - 2.0);
-  double r = std::ceil(v / unit) * unit;
-  for (int i = 0; i < 3; ++i) {  // printing may round down again: step up until it reads >= v
-    std::snprintf(buf, sizeof buf, "%.3g", r);
-    if (std::strtod(buf, nullptr) >= v) break;
-    r += unit;
-  }
-  return buf;
-}
 
 AstcCube compress_astc_cube(const CubeLevels& cube, int block, double quality) {
   if (block != 4 && block != 6) throw Error("ASTC: block size " + std::to_string(block) + " (expected 4 or 6)");
@@ -131,9 +110,9 @@ std::vector<std::pair<std::string, std::string>> astc_key_values(const CubeLevel
   std::snprintf(q, sizeof q, "%g", quality);
   kv.emplace_back("brdfbake:astc_block", b + "x" + b);
   kv.emplace_back("brdfbake:astc_encoder", "ARM astcenc (libastcenc), profile HDR, effort " + std::string(q));
-  kv.emplace_back("brdfbake:astc_max_abs_error_per_level", join(astc.max_abs_error));
-  kv.emplace_back("brdfbake:astc_max_rel_error_per_level", join(astc.max_rel_error));
-  kv.emplace_back("brdfbake:astc_rms_rel_error_per_level", join(astc.rms_rel_error));
+  kv.emplace_back("brdfbake:astc_max_abs_error_per_level", detail::bounds_text(astc.max_abs_error));
+  kv.emplace_back("brdfbake:astc_max_rel_error_per_level", detail::bounds_text(astc.max_rel_error));
+  kv.emplace_back("brdfbake:astc_rms_rel_error_per_level", detail::bounds_text(astc.rms_rel_error));
   kv.emplace_back("brdfbake:astc_clamped_channels", std::to_string(astc.clamped));
   kv.emplace_back("brdfbake:astc_error_definition",
                   "measured by decoding the stored blocks with astcenc: |decoded - baked| over R, G, B of every "

@@ -13,10 +13,6 @@
 
 namespace brdfbake::io {
 
-// `v` (>= 0) with 3 significant digits, rounded up, so that a recorded bound is never below the
-// measured value it reports.
-std::string format_bound(double v);
-
 // ASTC HDR can hold magnitudes up to the largest half, 65504; larger values are clamped to it
 // first (and counted).
 inline constexpr double kAstcHdrMax = 65504.0;

@@ -15,11 +15,12 @@
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 constexpr double kHalfPi = 0.5 * kPi;
 constexpr std::size_t kHeaderBytes = 3 * sizeof(std::int32_t);
 

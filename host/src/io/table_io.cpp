@@ -27,6 +27,7 @@
 #include "io/ktx2.hpp"
 #include "io/rgbe.hpp"
 #include "io/special_files.hpp"
+#include "text.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -105,14 +106,7 @@ void check_channel_limit(const Table& table, const std::string& path, size_t lim
   }
 }
 
-std::string join(const std::vector<std::string>& items, const char* separator) {
-  std::string text;
-  for (const std::string& item : items) {
-    if (!text.empty()) text += separator;
-    text += item;
-  }
-  return text;
-}
+using detail::join;
 
 // Replaces or appends an entry, keeping keys unique.
 void set_entry(Metadata& metadata, const std::string& key, const std::string& value) {
@@ -139,11 +133,6 @@ std::string one_line(std::string text) {
 }
 
 // %.9g: nine significant digits round-trip every float.
-std::string format_g9(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", value);
-  return text;
-}
 
 // ---- Image formats ------------------------------------------------------------------------------
 
@@ -323,10 +312,10 @@ void write_csv_to(const Table& table, std::ostream& out) {
   const int channels = table.channel_count();
   for (int j = 0; j < table.height; ++j) {
     for (int i = 0; i < table.width; ++i) {
-      out << format_g9(table.x[static_cast<size_t>(i)]);
-      if (!table.y_name.empty()) out << ',' << format_g9(table.y[static_cast<size_t>(j)]);
+      out << detail::fmt_number(table.x[static_cast<size_t>(i)]);
+      if (!table.y_name.empty()) out << ',' << detail::fmt_number(table.y[static_cast<size_t>(j)]);
       for (int c = 0; c < channels; ++c) {
-        out << ',' << format_g9(static_cast<double>(table.at(i, j, c)));
+        out << ',' << detail::fmt_number(static_cast<double>(table.at(i, j, c)));
       }
       out << '\n';
     }
@@ -371,7 +360,7 @@ std::string header_symbol(const std::string& path, const TableWriteOptions& opti
 }
 
 std::string float_literal(float value) {
-  std::string text = format_g9(static_cast<double>(value));
+  std::string text = detail::fmt_number(static_cast<double>(value));
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
   return text + "f";
 }
@@ -411,7 +400,7 @@ std::string c_header_text(const Table& table, const std::string& path, const Tab
       out << ' ' << text;
     } else {
       if (!std::isfinite(value)) {
-        io::throw_write_error(path, "value " + format_g9(static_cast<double>(value)) + " at index " +
+        io::throw_write_error(path, "value " + detail::fmt_number(static_cast<double>(value)) + " at index " +
                                         std::to_string(k) + " has no C float literal");
       }
       out << ' ' << float_literal(value);

@@ -12,6 +12,7 @@
 #include "brdfbake/output_checks.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -21,11 +22,7 @@ using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 using io::json_excerpt;
 
-std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
-  return s;
-}
+using detail::join;
 
 // A JSON value as a parameter value (numbers, strings, booleans, arrays of numbers).
 ParamValue to_param(const json& v, const std::string& where) {

@@ -5,12 +5,13 @@
 
 // stb_easy_font (public domain, Sean Barrett): text as axis-aligned quads, no font files.
 #include <stb/stb_easy_font.h>
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::view {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 
 std::string printable(const std::string& s) {
   std::string out = s;

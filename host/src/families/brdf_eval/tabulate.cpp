@@ -15,6 +15,7 @@
 #include "families/brdf_eval/model.hpp"
 #include "runtime/launch.hpp"
 #include "runtime/program.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 namespace {
@@ -25,11 +26,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string fmt(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 const char* kConventions =
     "f is the BRDF without the cosine (radiance per irradiance, 1/sr), linear RGB; directions in tangent "
@@ -58,7 +54,7 @@ void detail::check_tabulate_spec(const TabulateSpec& s) {
                 std::to_string(s.materials.size()) + ")");
   for (const NamedMaterial& m : s.materials) validate_material(m.params, "material '" + m.name + "'");
   if (!(s.slice_phi_d >= 0.0 && s.slice_phi_d <= kPi))
-    throw Error("slice phi_d must be in [0, pi] (got " + fmt(s.slice_phi_d) + ")");
+    throw Error("slice phi_d must be in [0, pi] (got " + detail::fmt_number(s.slice_phi_d, "%.6g") + ")");
 }
 
 namespace {
@@ -156,10 +152,10 @@ Table detail::make_tabulate_table(const TabulateSpec& s, const std::vector<int>&
       for (int j = 0; j < h; ++j) t.y.push_back((j + 0.5) / h * kHalfPi);
       t.set_meta("axes", "column i: theta_h = (i + 0.5) / " + std::to_string(w) +
                              " pi/2, row j: theta_d = (j + 0.5) / " + std::to_string(h) +
-                             " pi/2, phi_d = " + fmt(s.slice_phi_d) +
+                             " pi/2, phi_d = " + detail::fmt_number(s.slice_phi_d, "%.6g") +
                              ", phi_h = 0 (Rusinkiewicz half/difference angles, radians); wi = R_y(theta_h) d, "
                              "wo = 2 (wi.h) h - wi; 0 where a direction is below the horizon");
-      t.set_meta("phi_d", fmt(s.slice_phi_d));
+      t.set_meta("phi_d", detail::fmt_number(s.slice_phi_d, "%.6g"));
       break;
     }
     case TableLayout::Merl:

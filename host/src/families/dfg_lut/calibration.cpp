@@ -6,6 +6,7 @@
 #include <string>
 
 #include "families/dfg_lut/model.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
@@ -33,11 +34,6 @@ bool same_estimator(const Calibration& c, LutKind kind, Estimator estimator, Pre
   return c.kind == kind && c.estimator == estimator && c.precision == precision;
 }
 
-std::string fmt(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
 
 }  // namespace
 
@@ -72,7 +68,7 @@ double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, i
 void detail::set_lut_error_bound_meta(Table& t, const LutSpec& s) {
   int measured_at = 0;
   const double bound = lut_error_bound(s.kind, s.estimator, s.precision, s.samples, &measured_at);
-  t.set_meta("error_bound", bound >= 0 ? fmt(bound) : "not measured");
+  t.set_meta("error_bound", bound >= 0 ? detail::fmt_number(bound, "%.3g") : "not measured");
   if (bound >= 0 && measured_at != s.samples)
     t.set_meta("error_bound_measured_at", std::to_string(measured_at) + " samples (the largest measured count below " +
                                               std::to_string(s.samples) + ")");

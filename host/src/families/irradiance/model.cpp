@@ -7,16 +7,12 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
 namespace {
 
-std::string fmt(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", v);
-  return b;
-}
 
 }  // namespace
 
@@ -41,7 +37,7 @@ void detail::irradiance_cube_metadata(CubeLevels& c, const EnvImage& env, const 
   c.set_meta("source", env.source);
   c.set_meta("source_size", std::to_string(spec.source_size));
   std::string coeffs;
-  for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + fmt(v);
+  for (double v : sh.irradiance_over_pi) coeffs += (coeffs.empty() ? "" : ",") + detail::fmt_number(v);
   c.set_meta("sh_order", std::to_string(sh.order));
   c.set_meta("sh_irradiance_over_pi", coeffs);
   if (!sh.projection.empty()) c.set_meta("sh_projection", sh.projection);

@@ -30,11 +30,12 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
+#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using brdfbake::math::kPi;
 constexpr int kMaxOrder = 5;
 constexpr int kMaxHarmonic = kMaxOrder - 1;
 constexpr int kMaxBasis = kMaxOrder * kMaxOrder;

@@ -24,16 +24,12 @@
 #include "families/prefilter/lobes.hpp"
 #include "families/prefilter/model.hpp"
 #include "runtime/launch.hpp"
+#include "text.hpp"
 
 namespace brdfbake::detail {
 
 namespace {
 
-std::string fmt(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
 double rms_difference(const std::vector<float>& a, const std::vector<float>& b) {
@@ -178,7 +174,7 @@ class ChainBaker {
     std::function<void(double)> stepper;
     if (progress) stepper = step;
     auto search_run = [&](int n, double r, std::vector<float>& dst) {
-      step_label = label + (quadrature_ ? ", refinement " + fmt(r) : ", " + std::to_string(n) + " samples");
+      step_label = label + (quadrature_ ? ", refinement " + detail::fmt_number(r, "%.6g") : ", " + std::to_string(n) + " samples");
       const double t = run_level(l, n, r, dst, stepper);
       ++run;
       return t;

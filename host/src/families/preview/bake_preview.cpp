@@ -10,6 +10,7 @@
 #include "brdfbake/preview.hpp"
 #include "families/preview/output.hpp"
 #include "io/atomic_file.hpp"
+#include "text.hpp"
 
 namespace brdfbake::detail::preview {
 
@@ -17,11 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", x);
-  return buf;
-}
 
 const char* const kSiblings[] = {"preview.png", "preview_splitsum.exr", "preview_reference.exr", "preview.json"};
 
@@ -79,16 +75,16 @@ void write_bake_preview(const Job& job, const std::string& staging, Manifest& ma
   manifest.preview.push_back({"target", engine_target_name(spec.target)});
   manifest.preview.push_back({"spheres", std::to_string(r.spheres.size())});
   if (!rms.empty()) {
-    manifest.preview.push_back({"error_rms_median", number(rms[rms.size() / 2])});
-    manifest.preview.push_back({"error_rms_max", number(rms.back())});
-    manifest.preview.push_back({"reference_bound_max", number(bound)});
+    manifest.preview.push_back({"error_rms_median", detail::fmt_number(rms[rms.size() / 2], "%.4g")});
+    manifest.preview.push_back({"error_rms_max", detail::fmt_number(rms.back(), "%.4g")});
+    manifest.preview.push_back({"reference_bound_max", detail::fmt_number(bound, "%.4g")});
   }
   manifest.preview.push_back(
       {"error_definition",
        "per sphere, the relative RMS of |split-sum - reference| / |reference| in linear radiance (preview.json "
        "has every sphere's numbers)"});
   manifest.preview.push_back(
-      {"seconds", number(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())});
+      {"seconds", detail::fmt_number(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), "%.4g")});
 }
 
 }  // namespace brdfbake::detail::preview

@@ -9,16 +9,12 @@
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
+#include "text.hpp"
 
 namespace brdfbake {
 
 namespace {
 
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 std::vector<double> cos_grid(int n) {
   std::vector<double> x(static_cast<size_t>(n));
@@ -68,17 +64,17 @@ Table detail::make_thin_film_table(const ThinFilmSpec& r) {
              "evaluates it: Schlick amplitudes at both interfaces, unpolarised, Airy series to m = 2, spectral "
              "integral in Fourier space against Gaussian fits of the CIE 1931 matching functions, linear Rec. 709, "
              "clamped at 0");
-  t.set_meta("film_ior", fmt(r.film_ior));
-  t.set_meta("outside_ior", fmt(r.outside_ior));
-  if (r.base_ior) t.set_meta("base_ior", fmt(*r.base_ior));
-  t.set_meta("base_f0", fmt(f.base_f0.r) + "," + fmt(f.base_f0.g) + "," + fmt(f.base_f0.b));
+  t.set_meta("film_ior", detail::fmt_number(r.film_ior));
+  t.set_meta("outside_ior", detail::fmt_number(r.outside_ior));
+  if (r.base_ior) t.set_meta("base_ior", detail::fmt_number(*r.base_ior));
+  t.set_meta("base_f0", detail::fmt_number(f.base_f0.r) + "," + detail::fmt_number(f.base_f0.g) + "," + detail::fmt_number(f.base_f0.b));
   t.set_meta("width", std::to_string(t.width));
   t.set_meta("height", std::to_string(t.height));
   t.set_meta("channels", "r,g,b");
   t.set_meta("x_axis", "cos_theta = (i + 0.5) / width, the cell centre of column i (incidence from outside)");
-  t.set_meta("y_axis", r.height == 1 ? "thickness_nm = " + fmt(r.thickness_min) + " (one row)"
+  t.set_meta("y_axis", r.height == 1 ? "thickness_nm = " + detail::fmt_number(r.thickness_min) + " (one row)"
                                      : "thickness_nm = min + (max - min) (j + 0.5) / height, min " +
-                                           fmt(r.thickness_min) + ", max " + fmt(r.thickness_max));
+                                           detail::fmt_number(r.thickness_min) + ", max " + detail::fmt_number(r.thickness_max));
   t.set_meta("layout",
              "row j = 0 (thinnest film) stored first; sample at uv = (cos_theta, (thickness - min) / (max - min))");
   return t;
