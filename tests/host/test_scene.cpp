@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "brdfbake/brdf.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 
@@ -210,6 +211,25 @@ TEST(Scene, ReadsGlb) {
   EXPECT_EQ(s.container, "glb");
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_TRUE(fired(plan_scene(s), "KHR_materials_sheen"));
+}
+
+// The material files of eval, tabulate and preview are read by the same reader: a .glb holds the
+// same materials as its JSON, with the glTF defaults and its textures listed as notes.
+TEST(Scene, MaterialFilesReadGltfAndGlbAlike) {
+  const std::string doc = gltf({R"({"name":"cloth","pbrMetallicRoughness":{"roughnessFactor":0.25,"baseColorTexture":{"index":0}},
+      "extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0.5,0],"sheenRoughnessFactor":0.3}}})"});
+  const fs::path json_file = write_file("m.gltf", doc), glb_file = write_file("m.glb", glb(doc));
+  for (const fs::path& p : {json_file, glb_file}) {
+    const std::vector<NamedMaterial> m = read_materials(p.string());
+    ASSERT_EQ(m.size(), 1u) << p;
+    EXPECT_EQ(m[0].name, "cloth");
+    EXPECT_DOUBLE_EQ(m[0].params.roughness, 0.25);
+    EXPECT_DOUBLE_EQ(m[0].params.metallic, 1.0);  // glTF 2.0's default
+    EXPECT_DOUBLE_EQ(m[0].params.sheen_color.g, 0.5);
+    EXPECT_DOUBLE_EQ(m[0].params.sheen_roughness, 0.3);
+    ASSERT_FALSE(m[0].notes.empty());
+    EXPECT_NE(m[0].notes[0].find("pbrMetallicRoughness.baseColorTexture"), std::string::npos) << m[0].notes[0];
+  }
 }
 
 TEST(Scene, TruncatedOrCorruptGlbNamesTheFile) {
