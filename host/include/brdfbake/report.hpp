@@ -126,6 +126,8 @@ struct BakeSweep {
 // Runs the sweep on `device` under `environment` (a file or builtin:NAME). Throws Error for an unknown
 // target or factor, or a target whose default cannot be baked; a setting that cannot be baked is
 // listed in the target's `skipped` with the reason.
+// Throws Error for an unknown target or factor, runs or a preview width out of range.
+void check_bake_sweep(const BakeSweepOptions& options);
 BakeSweep sweep_bake(const std::string& environment, const std::string& device, const BakeSweepOptions& options,
                      const std::function<void(const std::string&)>& log = {});
 // Marks each point's Pareto flags (time and bytes against error) and the recommended setting.

@@ -197,24 +197,27 @@ void mark_bake_sweep(BakeSweepTarget& t) {
       t.recommended = int(i);
 }
 
+void check_bake_sweep(const BakeSweepOptions& o) {
+  if (o.preview_width < 96 || o.preview_width > kPreviewMaxSize)
+    throw Error("the bake sweep's preview width must be 96 to " + std::to_string(kPreviewMaxSize) +
+                " (12 columns of spheres at least 8 pixels wide)");
+  if (o.runs < 1 || o.runs > 9) throw Error("the bake sweep's runs must be 1 to 9");
+  for (const auto& t : o.targets) engine_target_from_name(t);  // throws, listing the targets
+  for (const auto& f : o.factors)
+    if (f.first != "n_dot_v_axis" && !find_param_def(bake_option_schema(), f.first))
+      throw Error("the bake sweep cannot vary '" + f.first +
+                  "' (a bake option: cube_size, min_size, schedule, lut_size, sh_order, pixel, prefilter_max_error, "
+                  "..., or n_dot_v_axis)");
+}
+
 BakeSweep sweep_bake(const std::string& environment, const std::string& device, const BakeSweepOptions& o,
                      const std::function<void(const std::string&)>& log) {
   const auto t_start = Clock::now();
   auto say = [&](const std::string& s) {
     if (log) log(s);
   };
-  if (o.preview_width < 96 || o.preview_width > kPreviewMaxSize)
-    throw Error("the bake sweep's preview width must be 96 to " + std::to_string(kPreviewMaxSize) +
-                " (12 columns of spheres at least 8 pixels wide)");
-  if (o.runs < 1 || o.runs > 9) throw Error("the bake sweep's runs must be 1 to 9");
-  for (const auto& t : o.targets) engine_target_from_name(t);  // throws, listing the targets
+  check_bake_sweep(o);
   const auto& factors = o.factors.empty() ? kDefaultBakeFactors : o.factors;
-  for (const auto& f : factors)
-    if (f.first != "n_dot_v_axis" && !find_param_def(bake_option_schema(), f.first))
-      throw Error("the bake sweep cannot vary '" + f.first +
-                  "' (a bake option: cube_size, min_size, schedule, lut_size, sh_order, pixel, prefilter_max_error, "
-                  "..., or n_dot_v_axis)");
-
   BakeSweep sweep;
   sweep.environment = environment;
   sweep.preview_width = o.preview_width;

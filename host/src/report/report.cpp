@@ -227,6 +227,7 @@ Report run_report(const ReportOptions& o) {
         "choose an OpenCL device");
   for (const auto& m : o.materials)
     if (!find_material_preset(m)) throw Error("unknown material '" + m + "' (brdfbake fresnel --list-materials)");
+  if (std::find(o.kinds.begin(), o.kinds.end(), "bake") != o.kinds.end()) check_bake_sweep(o.bake);
   const auto t0 = std::chrono::steady_clock::now();
   Report r;
   r.generator = std::string("brdfbake ") + kVersion;
