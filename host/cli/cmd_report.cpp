@@ -49,7 +49,7 @@ int cmd_report(int argc, char** argv) {
       ("max-seconds", "DFG tables: after a bake slower than this, larger counts of its estimator are skipped (default: 1.5; 0: none)", cxxopts::value<std::string>())
       ("materials", "fresnel: measured materials (default: gold,copper,aluminium,water)", cxxopts::value<std::string>())
       ("targets", "bake: the targets swept (default: generic,filament,gltf,babylon,khronos-viewer)", cxxopts::value<std::string>())
-      ("vary", "bake: the settings, one at a time around each target's default: OPTION=V1,V2;OPTION=... (default: cube_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;prefilter_max_error=0.03,0.003)", cxxopts::value<std::string>())
+      ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: cube_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;prefilter_max_error=0.03,0.003)", cxxopts::value<std::string>())
       ("preview-width", "bake: the preview's width, its height half of it (default: 512: the spheres of the default 512x512 preview)", cxxopts::value<std::string>())
       ("runs", "bake: bakes per setting under 1 s, the median reported (default: 3)", cxxopts::value<std::string>())
       ("keep-bakes", "bake: keep each setting's bake in DIR/TARGET/SETTING (default: removed)", cxxopts::value<std::string>())

@@ -20,6 +20,7 @@
 #include <memory>
 
 #include "brdfbake/backend.hpp"
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
@@ -270,6 +271,8 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
           pt.wall_seconds.push_back(since(t0));
           if (pt.wall_seconds.back() >= kRepeatBelowSeconds) break;
         }
+      } catch (const Cancelled&) {
+        throw;  // SIGINT, SIGTERM: the whole report stops
       } catch (const Error& e) {
         bt.skipped.push_back(label + ": " + e.what());
         say("  bake " + target + " " + label + ": failed (" + e.what() + ")");

@@ -49,6 +49,7 @@ struct Series {
 // An axis: log10 over whole decades, or linear over [lo, hi] with round ticks.
 struct Axis {
   bool log = true;
+  bool tight = false;  // log: the data's own range (a margin of 5 %) with 1-2-5 ticks, not whole decades
   double lo = 0, hi = 1;
   double map(double v, double a, double b) const {  // to pixels a..b
     const double t = log ? (std::log10(v) - lo) / (hi - lo) : (v - lo) / (hi - lo);
@@ -56,7 +57,27 @@ struct Axis {
   }
   std::vector<std::pair<double, std::string>> ticks() const {
     std::vector<std::pair<double, std::string>> t;
-    if (log) {
+    if (log && tight) {
+      // Mantissas at 1, 1.5, 2, 3, 5, 7 of each decade inside the range; finer (every 0.5, then every
+      // 0.1) while that gives fewer than 3 ticks; thinned to at most 8.
+      std::vector<double> all;
+      for (double step : {0.0, 0.5, 0.1}) {
+        std::vector<double> mantissas = {1.0, 1.5, 2.0, 3.0, 5.0, 7.0};
+        if (step > 0) {
+          mantissas.clear();
+          for (double m = 1.0; m < 9.99; m += step) mantissas.push_back(m);
+        }
+        all.clear();
+        for (int e = static_cast<int>(std::floor(lo)); e <= static_cast<int>(std::ceil(hi)); ++e)
+          for (double m : mantissas) {
+            const double v = m * std::pow(10.0, e);
+            if (std::log10(v) >= lo && std::log10(v) <= hi) all.push_back(v);
+          }
+        if (all.size() >= 3) break;
+      }
+      const size_t stride = (all.size() + 7) / 8;
+      for (size_t k = 0; k < all.size(); k += std::max<size_t>(1, stride)) t.push_back({all[k], fmt(all[k], "%g")});
+    } else if (log) {
       const int step = std::max(1, static_cast<int>(std::ceil((hi - lo) / 8)));
       for (int e = static_cast<int>(lo); e <= static_cast<int>(hi); e += step)
         t.push_back({std::pow(10.0, e), "1e" + std::to_string(e)});
@@ -70,7 +91,7 @@ struct Axis {
   }
 };
 
-Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
+Axis make_axis(const std::vector<Series>& s, bool x, bool log, bool tight = false) {
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& ser : s)
     for (double v : x ? ser.x : ser.y) {
@@ -84,7 +105,12 @@ Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
     lo = log ? 1e-3 : 0;
     hi = log ? 1 : 1;
   }
-  if (log) {
+  if (log && tight) {
+    const double l = std::log10(lo), h = std::log10(hi), margin = std::max(0.05 * (h - l), 0.02);
+    a.tight = true;
+    a.lo = l - margin;
+    a.hi = h + margin;
+  } else if (log) {
     a.lo = std::floor(std::log10(lo));
     a.hi = std::ceil(std::log10(hi));
     if (a.hi <= a.lo) a.hi = a.lo + 1;
@@ -96,9 +122,9 @@ Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
 }
 
 std::string svg_plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                     const std::vector<Series>& series, bool logx, bool logy) {
+                     const std::vector<Series>& series, bool logx, bool logy, bool tight = false) {
   const int w = 620, h = 380, left = 70, right = 150, top = 30, bottom = 50;
-  const Axis ax = make_axis(series, true, logx), ay = make_axis(series, false, logy);
+  const Axis ax = make_axis(series, true, logx, tight), ay = make_axis(series, false, logy, tight);
   const double x0 = left, x1 = w - right, y0 = h - bottom, y1 = top;
   std::ostringstream o;
   // Styles are attributes, not CSS: the SVG stands alone when saved from the page.
@@ -322,7 +348,7 @@ std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
   }
   return svg_plot(t.target + ": render error against " + (bytes ? "bytes" : "bake time"),
                   bytes ? "bytes written (MB)" : "whole bake, wall seconds", "median sphere RMS error (split-sum vs ref)",
-                  {all, front}, true, true);
+                  {all, front}, true, true, true);
 }
 
 void bake_section(std::ostringstream& o, const BakeSweep& s) {
