@@ -41,14 +41,19 @@ int cmd_report(int argc, char** argv) {
       "and a JSON of the numbers beside it (docs/BENCHMARKS.md)");
   // clang-format off
   options.add_options()
-      ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
+      ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter, bake (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
       ("size", "DFG tables: cells a side (default: 64)", cxxopts::value<std::string>())
       ("counts", "DFG tables: sample counts (default: 16,32,64,128,256,384,512,768,1024,2048,4096)", cxxopts::value<std::string>())
       ("estimators", "DFG tables: quadrature, vndf, ndf, uniform (default: every estimator of the kind)", cxxopts::value<std::string>())
       ("precisions", "fp32, fp64 (default: fp32)", cxxopts::value<std::string>())
       ("max-seconds", "DFG tables: after a bake slower than this, larger counts of its estimator are skipped (default: 1.5; 0: none)", cxxopts::value<std::string>())
       ("materials", "fresnel: measured materials (default: gold,copper,aluminium,water)", cxxopts::value<std::string>())
-      ("environment,env", "prefilter: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
+      ("targets", "bake: the targets swept (default: generic,filament,gltf,babylon,khronos-viewer)", cxxopts::value<std::string>())
+      ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: cube_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;prefilter_max_error=0.03,0.003)", cxxopts::value<std::string>())
+      ("preview-width", "bake: the preview's width, its height half of it (default: 512: the spheres of the default 512x512 preview)", cxxopts::value<std::string>())
+      ("runs", "bake: bakes per setting under 1 s, the median reported (default: 3)", cxxopts::value<std::string>())
+      ("keep-bakes", "bake: keep each setting's bake in DIR/TARGET/SETTING (default: removed)", cxxopts::value<std::string>())
+      ("environment,env", "prefilter and bake: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
       ("cube-size", "prefilter: face size of the chain's first level (default: 32)", cxxopts::value<std::string>())
       ("device", "P:D, cpu, gpu or a name substring (default: BRDFBAKE_DEVICE, else the first GPU, else the first CPU)", cxxopts::value<std::string>())
       ("o,output", "the page (.html); the JSON goes beside it with .json (default: report.html)", cxxopts::value<std::string>())
@@ -59,7 +64,8 @@ int cmd_report(int argc, char** argv) {
   if (r.count("help")) {
     std::cout << options.help()
               << "\nexamples:\n  brdfbake report -o report.html\n"
-                 "  brdfbake report --kinds ggx,fresnel,prefilter --precisions fp32,fp64 --device gpu -o gpu.html\n";
+                 "  brdfbake report --kinds ggx,fresnel,prefilter --precisions fp32,fp64 --device gpu -o gpu.html\n"
+                 "  brdfbake report --kinds bake --env ../shared/envmaps/venice_sunset_1k.hdr -o bake.html\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
@@ -84,6 +90,25 @@ int cmd_report(int argc, char** argv) {
   if (r.count("environment")) o.environment = r["environment"].as<std::string>();
   if (r.count("cube-size")) o.prefilter_size = integer(r, "cube-size");
   if (o.prefilter_size < 4 || o.prefilter_size > 256) throw UsageError("--cube-size must be 4 to 256");
+  if (r.count("targets")) o.bake.targets = list(r["targets"].as<std::string>(), "targets");
+  if (r.count("vary")) {
+    std::stringstream f(r["vary"].as<std::string>());
+    std::string item;
+    while (std::getline(f, item, ';')) {
+      if (item.empty()) continue;
+      const size_t eq = item.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw UsageError("--vary: '" + item + "' is not OPTION=VALUE,VALUE (e.g. cube_size=64,128)");
+      o.bake.factors.push_back({item.substr(0, eq), list(item.substr(eq + 1), "vary")});
+    }
+    if (o.bake.factors.empty()) throw UsageError("--vary must list at least one OPTION=VALUES");
+  }
+  if (r.count("preview-width")) o.bake.preview_width = integer(r, "preview-width");
+  if (o.bake.preview_width < 96 || o.bake.preview_width > 4096)
+    throw UsageError("--preview-width must be 96 to 4096 (12 columns of spheres at least 8 pixels wide)");
+  if (r.count("runs")) o.bake.runs = integer(r, "runs");
+  if (o.bake.runs < 1 || o.bake.runs > 9) throw UsageError("--runs must be 1 to 9");
+  if (r.count("keep-bakes")) o.bake.keep_bakes = r["keep-bakes"].as<std::string>();
   if (r.count("device")) o.device = r["device"].as<std::string>();
   const std::string out = r.count("output") ? r["output"].as<std::string>() : std::string("report.html");
   if (out.size() < 6 || out.substr(out.size() - 5) != ".html")
@@ -100,6 +125,8 @@ int cmd_report(int argc, char** argv) {
     for (const auto& s : report.dfg) n += s.points.size();
     for (const auto& f : report.fresnel) n += f.rows.size();
     for (const auto& p : report.prefilter) n += p.levels.size();
+    for (const auto& b : report.bake)
+      for (const auto& t : b.targets) n += t.points.size();
     std::fprintf(
         stderr,
         "%s and %s: %zu measurements on %s in %.1f s (load average %.2f at the start, %.2f at the end, %d cores)\n",

@@ -40,7 +40,7 @@ import brdfbake
 from ._api import _FAMILY_OF_KIND, _to_json
 from ._errors import BakeWarning, InputError
 
-__all__ = ["Outcome", "Batch", "bake", "submit", "collect", "DevicePlugin"]
+__all__ = ["Outcome", "Batch", "bake", "submit", "collect", "DevicePlugin", "sweep"]
 
 
 # ---- Outcomes ----------------------------------------------------------------------------------------
@@ -396,6 +396,162 @@ def bake(client, items: Iterable[Any], *, kind: Optional[str] = None, output_roo
     batch = futures if client is None else collect(names_, futures, groups, progress=progress)
     batch.seconds = time.perf_counter() - t0  # submission included
     return batch
+
+
+# ---- Sweeps of bake settings over environments ------------------------------------------------------
+
+
+def _setting_label(options: Dict[str, Any]) -> str:
+    return ",".join(f"{k}={v}" for k, v in options.items()) or "default"
+
+
+def _file_sizes(folder: str) -> Dict[str, int]:
+    sizes = {}
+    for root, _, names in os.walk(folder):
+        for n in names:
+            path = os.path.join(root, n)
+            sizes[os.path.relpath(path, folder)] = os.path.getsize(path)
+    return dict(sorted(sizes.items()))
+
+
+def _sphere_errors(split: np.ndarray, ref: np.ndarray, spheres: List[Dict[str, Any]]) -> List[Dict[str, float]]:
+    """Per sphere, as the library's preview computes it: per pixel |split - ref| / |ref| (RGB norms,
+    in double from the float32 renders), its RMS, 99th percentile (the sorted errors' element
+    (n - 1) * 99 // 100) and max."""
+    h, w = split.shape[:2]
+    ys, xs = np.mgrid[0:h, 0:w]
+    dist = np.linalg.norm(split.astype(np.float64) - ref.astype(np.float64), axis=2)
+    norm = np.linalg.norm(ref.astype(np.float64), axis=2)
+    out = []
+    for sphere in spheres:
+        cx, cy = sphere["centre"]
+        inside = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < sphere["radius"] ** 2
+        d, n = dist[inside], norm[inside]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            e = np.where(n > 0, d / n, np.where(d > 0, 1.0, 0.0))
+        e = np.sort(e)
+        out.append({"rms": float(np.sqrt(np.mean(e * e))), "p99": float(e[(len(e) - 1) * 99 // 100]),
+                    "max": float(e[-1])})
+    return out
+
+
+def _sweep_env(env: str, name: str, labelled: Sequence[tuple], target: str, width: int, height: int,
+               device: Optional[str], runs: int) -> List[Dict[str, Any]]:
+    """One environment's rows (runs on a worker): each setting baked as ``brdfbake.bake_scene`` bakes
+    it, its split-sum render compared with the reference render, rendered once for the environment
+    (again only for a setting that changes the target's BRDF)."""
+    try:
+        from distributed import get_worker
+        worker = get_worker().address
+    except (ImportError, ValueError):
+        worker = socket.gethostname()
+    dev = {} if device is None else {"device": device}
+    references: Dict[str, Dict[str, Any]] = {}
+    rows = []
+    tmp = tempfile.mkdtemp(prefix="brdfbake-sweep-")
+    try:
+        for i, (label, options) in enumerate(labelled):
+            row: Dict[str, Any] = {"env": name, "setting": label, "target": target, "options": dict(options),
+                                   "worker": worker}
+            folder = os.path.join(tmp, f"setting-{i}")
+            try:
+                times = []
+                for _ in range(runs):
+                    shutil.rmtree(folder, ignore_errors=True)
+                    t0 = time.perf_counter()
+                    brdfbake.bake_scene(None, folder, env=env, target=target, **dev, **options)
+                    times.append(time.perf_counter() - t0)
+                row["seconds"] = float(np.median(times))
+                row["file_sizes"] = _file_sizes(folder)
+                row["bytes"], row["files"] = sum(row["file_sizes"].values()), len(row["file_sizes"])
+                look = dict(target=target, bake=folder, width=width, height=height, **dev)
+                split = brdfbake.preview(env, reference=False, **look).preview
+                ref = references.get(split["brdf"])
+                if ref is None:
+                    t0 = time.perf_counter()
+                    ref = references[split["brdf"]] = brdfbake.preview(env, **look).preview
+                    row["reference_seconds"] = time.perf_counter() - t0
+                errors = _sphere_errors(split["splitsum"], ref["reference"], split["spheres"])
+                rms = [e["rms"] for e in errors]
+                row["error"] = float(np.median(rms))
+                groups: Dict[str, List[float]] = {}
+                for sphere, e in zip(split["spheres"], rms):
+                    groups.setdefault(sphere["name"].split(" ")[0], []).append(e)
+                for g, v in groups.items():
+                    row["error_" + g] = float(np.median(v))
+                row["spheres"] = [{"name": s["name"], **e} for s, e in zip(split["spheres"], errors)]
+            except brdfbake.Error as e:
+                row["failed"] = f"{type(e).__name__}: {e}"
+            finally:
+                shutil.rmtree(folder, ignore_errors=True)
+            rows.append(row)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return rows
+
+
+def sweep(client, envs: Iterable[Any], settings: Any = None, *, target: str = "generic", width: int = 128,
+          height: int = 128, runs: int = 1, device: Optional[str] = None,
+          resources: Optional[Dict[str, float]] = None, retries: int = 0,
+          progress: bool = False) -> List[Dict[str, Any]]:
+    """What each bake setting costs under many environments, at the level of the render (the
+    cluster form of ``brdfbake report --kinds bake``, docs/REPORT.md): for every environment and
+    setting, the whole bake's wall time (``brdfbake.bake_scene`` into a temporary folder, the median
+    of ``runs``), the bytes it wrote, and the preview's split-sum render of its files (the default
+    grid at ``width`` x ``height``) against the reference render, rendered once per environment.
+
+    ``envs`` are environment paths (a path every worker can read) or ``builtin:NAME``. ``settings``
+    are :func:`brdfbake.bake_scene` options, a list of dicts (``[{}, {"cube_size": 64}]``; ``{}`` is
+    the target's default) or a dict ``{label: options}``; default: the target's default alone. One
+    task per environment (named ``brdfbake-sweep-<env>``) bakes its settings one after the other, so
+    the reference is rendered once and the times are not shared between tasks; ``client=None`` runs
+    them in this process.
+
+    Returns one dict per environment and setting, in the order given: ``env``, ``setting`` (its
+    label), ``target``, ``options``, ``seconds``, ``bytes`` and ``files`` (every file the bake wrote,
+    manifest.json included; ``file_sizes`` each), ``error`` (the median over
+    the spheres of their relative RMS error, split-sum vs reference, in linear radiance),
+    ``error_<group>`` (the median over each row of the grid: ``white``, ``grey``, ``dark``,
+    ``gold``, ``copper``, ``silver``), ``spheres`` (each sphere's ``rms``, ``p99``, ``max``),
+    ``worker``, and ``reference_seconds`` on the row that rendered it. A setting that fails has
+    ``failed`` (the message) instead of the numbers; the others go on. ``pandas.DataFrame(rows)``
+    makes a table of them.
+    """
+    if isinstance(settings, dict):
+        labelled = [(str(k), dict(v)) for k, v in settings.items()]
+    else:
+        labelled = [(_setting_label(dict(o)), dict(o)) for o in (settings if settings is not None else [{}])]
+    if not labelled:
+        raise InputError("sweep.settings: give at least one setting ({} is the target's default)")
+    envs = list(envs)
+    if not envs:
+        raise InputError("sweep.envs: give at least one environment")
+    for e in envs:
+        if not isinstance(e, (str, os.PathLike)):
+            raise InputError(f"sweep.envs: environment paths or builtin:NAME (got {type(e).__name__})")
+    if not isinstance(runs, int) or runs < 1:
+        raise InputError(f"sweep.runs: must be a count >= 1 (got {runs!r})")
+    names = [os.path.splitext(os.path.basename(os.fspath(e)))[0] if not os.fspath(e).startswith("builtin:")
+             else os.fspath(e) for e in envs]
+    args = [(os.fspath(e), n, labelled, target, int(width), int(height), device, runs) for e, n in zip(envs, names)]
+    if client is None:
+        rows = []
+        for a in args:
+            rows.extend(_sweep_env(*a))
+        return rows
+    futures = [client.submit(_sweep_env, *a, key=f"brdfbake-sweep-{i:05d}-{n}", pure=False, resources=resources,
+                             retries=retries) for i, (a, n) in enumerate(zip(args, names))]
+    if progress:
+        from distributed import progress as dask_progress
+        dask_progress(futures)
+    rows = []
+    for f, a in zip(futures, args):
+        try:
+            rows.extend(f.result())
+        except Exception as e:  # the task itself failed (its worker died)
+            rows.extend({"env": a[1], "setting": label, "target": target, "options": dict(o),
+                         "failed": f"{type(e).__name__}: {e}"} for label, o in labelled)
+    return rows
 
 
 # ---- Workers -------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 
 #include "brdfbake/accuracy.hpp"
 #include "brdfbake/dfg_lut.hpp"
+#include "brdfbake/report.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
@@ -129,10 +131,136 @@ TEST(CliReport, ReducedReportNumbersAgreeWithTheReference) {
   EXPECT_NE(html.find("load average"), std::string::npos);
 }
 
+// A point of the bake sweep is on the Pareto front when no other point is at most as costly and at
+// most as wrong, one strictly: checked here by brute force over every pair.
+bool on_front(const json& points, size_t i, const char* cost) {
+  for (size_t j = 0; j < points.size(); ++j) {
+    if (j == i) continue;
+    const double ci = points[i][cost].get<double>(), cj = points[j][cost].get<double>();
+    const double ei = points[i]["error"].get<double>(), ej = points[j]["error"].get<double>();
+    if (cj <= ci && ej <= ei && (cj < ci || ej < ei)) return false;
+  }
+  return true;
+}
+
+TEST(CliReport, BakeSweepTimesBytesAndTheErrorsOfADirectPreview) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const fs::path dir = temp_dir("bake");
+  const std::string env = "builtin:sun";
+  const CliRun r = run_cli("report --kinds bake --env " + env +
+                           " --targets generic --vary 'cube_size=32;lut_size=16' --preview-width 96 --runs 2 "
+                           "--keep-bakes " +
+                           (dir / "bakes").string() + " -o " + (dir / "r.html").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = json::parse(read(dir / "r.json"));
+  ASSERT_TRUE(j.contains("bake")) << j.dump();
+  const json& b = j["bake"];
+  EXPECT_EQ(b["environment"], env);
+  ASSERT_EQ(b["targets"].size(), 1u);
+  const json& t = b["targets"][0];
+  EXPECT_EQ(t["target"], "generic");
+  const json& pts = t["points"];
+  ASSERT_EQ(pts.size(), 3u) << t.dump();
+  EXPECT_EQ(pts[0]["label"], "default");
+  EXPECT_EQ(pts[1]["label"], "cube_size=32");
+  EXPECT_EQ(pts[2]["label"], "lut_size=16");
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const json& p = pts[i];
+    SCOPED_TRACE(p["label"].get<std::string>());
+    // Time: every run measured; the median of two is their mean.
+    ASSERT_GE(p["wall_seconds"].size(), 1u);
+    for (const json& w : p["wall_seconds"]) EXPECT_GT(w.get<double>(), 0.0);
+    EXPECT_GT(p["seconds"].get<double>(), 0.0);
+    // Bytes: the files of the kept bake, as the file system counts them.
+    const fs::path folder = p["folder"].get<std::string>();
+    std::uintmax_t bytes = 0;
+    int files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(folder))
+      if (e.is_regular_file()) {
+        bytes += e.file_size();
+        ++files;
+      }
+    EXPECT_EQ(p["bytes"].get<std::uintmax_t>(), bytes);
+    EXPECT_EQ(p["files"].get<int>(), files);
+    EXPECT_TRUE(fs::exists(folder / "manifest.json"));
+    // Errors: a direct `brdfbake preview` of the same bake renders its own reference; the sweep
+    // rendered one reference for the target and compared every setting with it. The reference does
+    // not depend on the bake and both compare alike: the same numbers, to the last bit (the JSON
+    // round-trips doubles).
+    const fs::path out = dir / ("preview_" + std::to_string(i) + ".png");
+    const CliRun pr = run_cli("preview --env " + env + " --target generic --bake " + folder.string() +
+                              " --width 96 --height 48 -o " + out.string());
+    ASSERT_EQ(pr.code, 0) << pr.err;
+    const json pj = json::parse(read(fs::path(out).replace_extension(".json")));
+    const json& spheres = pj["spheres"];
+    ASSERT_EQ(spheres.size(), 72u);
+    ASSERT_EQ(p["sphere_rms"].size(), 72u);
+    std::vector<double> rms;
+    for (size_t s = 0; s < spheres.size(); ++s) {
+      const json& e = spheres[s]["error"]["linear"];
+      EXPECT_EQ(p["sphere_rms"][s].get<double>(), e["rms"].get<double>()) << s;
+      EXPECT_EQ(p["sphere_p99"][s].get<double>(), e["p99"].get<double>()) << s;
+      EXPECT_EQ(p["sphere_max"][s].get<double>(), e["max"].get<double>()) << s;
+      rms.push_back(e["rms"].get<double>());
+    }
+    std::sort(rms.begin(), rms.end());
+    EXPECT_DOUBLE_EQ(p["error"].get<double>(), 0.5 * (rms[35] + rms[36]));  // the median of 72
+    EXPECT_EQ(p["groups"].size(), 6u);
+    EXPECT_TRUE(p["groups"].contains("gold"));
+  }
+  // The 16^2 DFG table and the 32^2 chain change the render: not the default's numbers.
+  EXPECT_NE(pts[1]["error"].get<double>(), pts[0]["error"].get<double>());
+  EXPECT_NE(pts[2]["error"].get<double>(), pts[0]["error"].get<double>());
+  // The Pareto flags, checked by brute force; the recommendation by its rule.
+  double best = HUGE_VAL;
+  for (const json& p : pts) best = std::min(best, p["error"].get<double>());
+  std::string fastest;
+  double fastest_seconds = HUGE_VAL;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_EQ(pts[i]["pareto_time"].get<bool>(), on_front(pts, i, "seconds")) << i;
+    EXPECT_EQ(pts[i]["pareto_bytes"].get<bool>(), on_front(pts, i, "bytes")) << i;
+    if (pts[i]["error"].get<double>() <= kBakeRecommendWithin * best && pts[i]["seconds"].get<double>() < fastest_seconds) {
+      fastest_seconds = pts[i]["seconds"].get<double>();
+      fastest = pts[i]["label"].get<std::string>();
+    }
+  }
+  EXPECT_EQ(t["recommended"], fastest);
+  const std::string html = read(dir / "r.html");
+  EXPECT_NE(html.find("What each bake setting costs"), std::string::npos);
+  EXPECT_NE(html.find("Pareto front"), std::string::npos);
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+}
+
+// The front and the recommendation on numbers whose answer is known.
+TEST(BakeSweep, ParetoFrontAndRecommendation) {
+  BakeSweepTarget t;
+  const double at[][3] = {{1.0, 0.5, 10}, {2.0, 0.3, 30}, {3.0, 0.3, 20}, {0.5, 0.9, 40}, {4.0, 0.29, 50}};
+  for (const auto& a : at) {
+    BakeSweepPoint p;
+    p.seconds = a[0];
+    p.error = a[1];
+    p.bytes = std::uint64_t(a[2]);
+    t.points.push_back(p);
+  }
+  mark_bake_sweep(t);
+  // time: (3 s, 0.3) is dominated by (2 s, 0.3); every other point is best at something.
+  const bool time_front[] = {true, true, false, true, true};
+  // bytes: (30, 0.3) is dominated by (20, 0.3); (40, 0.9) by (10, 0.5).
+  const bool bytes_front[] = {true, false, true, false, true};
+  for (size_t i = 0; i < t.points.size(); ++i) {
+    EXPECT_EQ(t.points[i].pareto_time, time_front[i]) << i;
+    EXPECT_EQ(t.points[i].pareto_bytes, bytes_front[i]) << i;
+  }
+  // Within 10% of the best 0.29 (<= 0.319): 0.3 at 2 s and 3 s, 0.29 at 4 s; the fastest is 2 s.
+  EXPECT_EQ(t.recommended, 1);
+}
+
 TEST(CliReport, BadUsageIsOneLineAndExitTwo) {
   const fs::path dir = temp_dir("bad");
   for (const std::string args :
-       {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium"}) {
+       {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium",
+        "--kinds bake --targets nope", "--kinds bake --vary cube_size", "--kinds bake --vary colour=red",
+        "--kinds bake --preview-width 8", "--kinds bake --runs 0"}) {
     const CliRun r = run_cli("report " + args + " --size 4 -o " + (dir / "r.html").string());
     EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     EXPECT_EQ(test::count_lines(r.err), 1) << args << ": " << r.err;

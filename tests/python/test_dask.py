@@ -142,3 +142,57 @@ def test_a_batch_larger_than_the_free_space_is_refused_before_baking(tmp_path, m
     batch = bdask.bake(None, merl_materials(4)[:1], kind="tabulate", layout="merl", output_root=tmp_path / "n",
                        output_format="npy")
     assert not batch.failed
+
+
+def test_a_sweep_of_settings_over_two_environments(client, shared_dir, tmp_path):
+    """brdfbake.dask.sweep: 2 environments x 2 settings, one task per environment; each row's
+    numbers are those of the same bake made and previewed here directly."""
+    import time
+
+    tiny = None if shared_dir is None else shared_dir / "envmaps" / "derived" / "venice_sunset_256x128_derived.hdr"
+    if tiny is None or not tiny.exists():
+        pytest.skip("../shared/envmaps/derived/venice_sunset_256x128_derived.hdr is not there")
+    envs = ["builtin:sun", str(tiny)]
+    t0 = time.perf_counter()
+    rows = bdask.sweep(client, envs, [{}, {"cube_size": 32}], width=96, height=48)
+    assert time.perf_counter() - t0 < 240  # 4 bakes of about a second and 2 small references
+    assert [(r["env"], r["setting"]) for r in rows] == [
+        ("builtin:sun", "default"), ("builtin:sun", "cube_size=32"),
+        ("venice_sunset_256x128_derived", "default"), ("venice_sunset_256x128_derived", "cube_size=32")]
+    for r in rows:
+        assert "failed" not in r, r.get("failed")
+        assert r["seconds"] > 0 and r["bytes"] == sum(r["file_sizes"].values()) and "manifest.json" in r["file_sizes"]
+        assert len(r["spheres"]) == 72 and 0 < r["error"] < 10
+        assert set(k for k in r if k.startswith("error_")) == {f"error_{g}" for g in
+                                                               ("white", "grey", "dark", "gold", "copper", "silver")}
+    # The reference is rendered once per environment (on its first row), and the two maps differ.
+    assert "reference_seconds" in rows[0] and "reference_seconds" not in rows[1]
+    assert rows[0]["error"] != rows[2]["error"]
+    # The 32^2 chain is smaller and, against the same reference, further from it.
+    assert rows[1]["bytes"] < rows[0]["bytes"] and rows[1]["error"] > rows[0]["error"]
+
+    # One row made here: the same bake (its files' sizes; the manifest holds times and paths) and a
+    # direct preview of it, whose per-sphere errors are the row's (the library sums in double in
+    # pixel order, NumPy pairwise: equal to rounding).
+    folder = tmp_path / "tiny32"
+    brdfbake.bake_scene(None, folder, env=str(tiny), cube_size=32)
+    sizes = {str(p.relative_to(folder)): p.stat().st_size for p in folder.rglob("*") if p.is_file()}
+    row = rows[3]
+    assert sizes.keys() == row["file_sizes"].keys()
+    assert {k: v for k, v in sizes.items() if k != "manifest.json"} == \
+           {k: v for k, v in row["file_sizes"].items() if k != "manifest.json"}
+    direct = brdfbake.preview(str(tiny), target="generic", bake=str(folder), width=96, height=48).preview
+    for want, got in zip(direct["spheres"], row["spheres"]):
+        assert got["name"] == want["name"]
+        for stat in ("rms", "p99", "max"):
+            assert got[stat] == pytest.approx(want["linear"][stat], rel=1e-9, abs=1e-12), (want["name"], stat)
+
+
+def test_a_sweep_without_a_cluster_and_a_failing_setting():
+    rows = bdask.sweep(None, ["builtin:sun"], {"small": {"cube_size": 16}, "bad": {"cube_size": 0}},
+                       width=96, height=48)
+    assert [r["setting"] for r in rows] == ["small", "bad"]
+    assert "failed" not in rows[0] and rows[0]["bytes"] > 0
+    assert "cube_size" in rows[1]["failed"] and "error" not in rows[1]
+    with pytest.raises(brdfbake.InputError, match="sweep.envs"):
+        bdask.sweep(None, [], [{}])

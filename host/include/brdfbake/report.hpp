@@ -4,10 +4,16 @@
 //     converged reference (brdfbake/accuracy.hpp), device time from event profiling;
 //   fresnel: every model against the exact one for a few measured materials, with device rates;
 //   prefilter: the error and device time of each level of a small chain against the brute-force
-//     reference, for both estimators.
+//     reference, for both estimators;
+//   bake: what each bake setting costs at the level of the render (report/bake_sweep.cpp): for each
+//     target, its default bake and one setting changed at a time (cube size, min size, schedule, DFG
+//     size and axis, pixel, SH order, the chain's max error), each baked as `brdfbake bake` does
+//     (wall time, bytes written) and rendered by the preview's split-sum against one reference
+//     render per target (docs/REPORT.md).
 // The page states the machine's load, which the times depend on (docs/BENCHMARKS.md).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -19,6 +25,18 @@ namespace brdfbake {
 
 // The sample counts of the report's DFG sweep: the full sweep's without its slowest counts.
 inline const std::vector<int> kReportCounts = {16, 32, 64, 128, 256, 384, 512, 768, 1024, 2048, 4096};
+
+// The bake sweep's choices (kind "bake").
+struct BakeSweepOptions {
+  std::vector<std::string> targets = {"generic", "filament", "gltf", "babylon", "khronos-viewer"};
+  // The factors: a bake option (bake_option_schema: cube_size, min_size, schedule, lut_size,
+  // sh_order, pixel, prefilter_max_error) or n_dot_v_axis (the DFG table's), each with the values
+  // tried one at a time around every target's default; empty: kDefaultBakeFactors.
+  std::vector<std::pair<std::string, std::vector<std::string>>> factors;
+  int preview_width = 512;  // the preview's width; its height is half (the default grid's 12 x 6 square cells)
+  int runs = 3;            // bakes per setting, the median is reported; a bake over 1 s runs once
+  std::string keep_bakes;  // a folder: each setting's bake kept as DIR/TARGET/LABEL (else removed)
+};
 
 struct ReportOptions {
   std::vector<std::string> kinds = {"ggx", "ggx-multiscatter", "charlie"};  // and "fresnel", "prefilter"
@@ -34,6 +52,7 @@ struct ReportOptions {
   int fresnel_rate_cells = 1 << 18;
   std::string environment = "builtin:studio";  // prefilter
   int prefilter_size = 32;
+  BakeSweepOptions bake;  // bake: the sweep of bake settings
   std::string command;  // the command line, recorded for reproduction
   std::function<void(const std::string&)> log;
 };
@@ -61,6 +80,59 @@ struct PrefilterReport {
   std::vector<PrefilterLevelReport> levels;
 };
 
+// ---- bake: the sweep of bake settings --------------------------------------------------------------
+
+// The default factors of the bake sweep (one changed at a time around each target's default).
+extern const std::vector<std::pair<std::string, std::vector<std::string>>> kDefaultBakeFactors;
+
+// The error of one material group (a row of the default grid: white, grey, dark, gold, copper,
+// silver): over its spheres, the median and the largest relative RMS error in linear radiance.
+struct BakeSweepGroup {
+  std::string name;
+  double median_rms = 0.0, max_rms = 0.0;
+};
+struct BakeSweepPoint {
+  std::string label;           // "default", "cube_size=128", ...
+  std::string option, value;   // empty for the default
+  std::vector<double> wall_seconds;  // each run of the bake
+  double seconds = 0.0;        // their median
+  std::uint64_t bytes = 0;     // every file the bake wrote (manifest.json included)
+  int files = 0;
+  double splitsum_seconds = 0.0;  // the split-sum render
+  double error = 0.0;          // the median over every sphere of its relative RMS error
+  std::vector<BakeSweepGroup> groups;
+  std::vector<double> sphere_rms, sphere_p99, sphere_max;  // per sphere, linear radiance
+  bool pareto_time = false;    // no other point of the target is at most as slow and as wrong, one strictly
+  bool pareto_bytes = false;   // the same with bytes
+  std::string folder;          // the kept bake (keep_bakes), else empty
+};
+struct BakeSweepTarget {
+  std::string target;
+  double reference_seconds = 0.0;  // the reference render (once per target and BRDF)
+  double reference_bound = 0.0;    // the reference's largest per-sphere RMS bound
+  std::vector<BakeSweepPoint> points;  // points[0] is the target's default
+  int recommended = -1;                // index into points (kBakeRecommendRule), -1: none
+  std::vector<std::string> skipped;    // "cube_size=100: why"
+};
+// The recommended setting: the fastest whose error is within this factor of the target's best.
+inline constexpr double kBakeRecommendWithin = 1.10;
+struct BakeSweep {
+  std::string environment;
+  int preview_width = 0;
+  std::vector<BakeSweepTarget> targets;
+  double seconds = 0.0;
+};
+
+// Runs the sweep on `device` under `environment` (a file or builtin:NAME). Throws Error for an unknown
+// target or factor, or a target whose default cannot be baked; a setting that cannot be baked is
+// listed in the target's `skipped` with the reason.
+// Throws Error for an unknown target or factor, runs or a preview width out of range.
+void check_bake_sweep(const BakeSweepOptions& options);
+BakeSweep sweep_bake(const std::string& environment, const std::string& device, const BakeSweepOptions& options,
+                     const std::function<void(const std::string&)>& log = {});
+// Marks each point's Pareto flags (time and bytes against error) and the recommended setting.
+void mark_bake_sweep(BakeSweepTarget& target);
+
 struct Report {
   std::string generator;
   std::string date;            // UTC, ISO 8601
@@ -74,6 +146,7 @@ struct Report {
   std::vector<DfgSweep> dfg;
   std::vector<FresnelComparison> fresnel;
   std::vector<PrefilterReport> prefilter;
+  std::vector<BakeSweep> bake;  // at most one
 };
 
 // Runs every measurement the options ask for. Throws Error for an unknown kind, material or device.

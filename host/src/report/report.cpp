@@ -145,12 +145,68 @@ PrefilterReport prefilter_report(Device& dev, const EnvImage& env, const std::st
 
 json errors_json(const TableErrors& e) { return json{{"max", e.max}, {"rms", e.rms}}; }
 
+json bake_json(const BakeSweep& s) {
+  json b;
+  b["environment"] = s.environment;
+  b["preview"] = {{"width", s.preview_width}, {"height", s.preview_width / 2}, {"materials", "the default grid"}};
+  b["seconds"] = s.seconds;
+  b["time_definition"] =
+      "wall seconds of the whole bake as `brdfbake bake --target T` runs it (planner, environment load, every table, "
+      "the engine's files, manifest; programs cached, the backend warm), the median of up to 3 runs (one above 1 s)";
+  b["bytes_definition"] = "every file the bake wrote, manifest.json included";
+  b["error_definition"] =
+      "per sphere, the relative RMS over its pixels of |split-sum - reference| / |reference| (linear RGB norms), the "
+      "split-sum render from the setting's files, the reference rendered once per target (brdfbake preview); "
+      "'error' is the median over the spheres, groups the median and max over each row of the default grid";
+  b["pareto_definition"] =
+      "a point is on the front when no other point of its target is at most as slow (or as large) and at most as "
+      "wrong, one of them strictly";
+  b["recommended_rule"] = "the fastest setting whose error is within " +
+                          std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
+                          "% of the target's best";
+  json targets = json::array();
+  for (const auto& t : s.targets) {
+    json tj;
+    tj["target"] = t.target;
+    tj["reference_seconds"] = t.reference_seconds;
+    tj["reference_bound"] = t.reference_bound;
+    json pts = json::array();
+    for (const auto& p : t.points) {
+      json groups = json::object();
+      for (const auto& g : p.groups) groups[g.name] = {{"median_rms", g.median_rms}, {"max_rms", g.max_rms}};
+      json pj = {{"label", p.label},
+                 {"option", p.option},
+                 {"value", p.value},
+                 {"seconds", p.seconds},
+                 {"wall_seconds", p.wall_seconds},
+                 {"bytes", p.bytes},
+                 {"files", p.files},
+                 {"splitsum_seconds", p.splitsum_seconds},
+                 {"error", p.error},
+                 {"groups", groups},
+                 {"sphere_rms", p.sphere_rms},
+                 {"sphere_p99", p.sphere_p99},
+                 {"sphere_max", p.sphere_max},
+                 {"pareto_time", p.pareto_time},
+                 {"pareto_bytes", p.pareto_bytes}};
+      if (!p.folder.empty()) pj["folder"] = p.folder;
+      pts.push_back(pj);
+    }
+    tj["points"] = pts;
+    tj["recommended"] = t.recommended >= 0 ? json(t.points[size_t(t.recommended)].label) : json(nullptr);
+    tj["skipped"] = t.skipped;
+    targets.push_back(tj);
+  }
+  b["targets"] = targets;
+  return b;
+}
+
 json rgb_json(const Rgb& v) { return json::array({v.r, v.g, v.b}); }
 
 }  // namespace
 
 const std::vector<std::string>& report_kinds() {
-  static const std::vector<std::string> k = {"ggx", "ggx-multiscatter", "charlie", "fresnel", "prefilter"};
+  static const std::vector<std::string> k = {"ggx", "ggx-multiscatter", "charlie", "fresnel", "prefilter", "bake"};
   return k;
 }
 
@@ -163,7 +219,7 @@ std::string report_json_path(const std::string& html_path) {
 Report run_report(const ReportOptions& o) {
   for (const auto& k : o.kinds)
     if (std::find(report_kinds().begin(), report_kinds().end(), k) == report_kinds().end())
-      throw Error("unknown report kind '" + k + "' (expected ggx, ggx-multiscatter, charlie, fresnel or prefilter)");
+      throw Error("unknown report kind '" + k + "' (expected ggx, ggx-multiscatter, charlie, fresnel, prefilter or bake)");
   if (o.kinds.empty()) throw Error("the report needs at least one kind");
   if (o.device == "reference")
     throw Error(
@@ -171,6 +227,7 @@ Report run_report(const ReportOptions& o) {
         "choose an OpenCL device");
   for (const auto& m : o.materials)
     if (!find_material_preset(m)) throw Error("unknown material '" + m + "' (brdfbake fresnel --list-materials)");
+  if (std::find(o.kinds.begin(), o.kinds.end(), "bake") != o.kinds.end()) check_bake_sweep(o.bake);
   const auto t0 = std::chrono::steady_clock::now();
   Report r;
   r.generator = std::string("brdfbake ") + kVersion;
@@ -206,6 +263,10 @@ Report run_report(const ReportOptions& o) {
       const EnvImage env = load_environment(o.environment, lo);
       for (EnvEstimator e : {EnvEstimator::Quadrature, EnvEstimator::Sampling})
         r.prefilter.push_back(prefilter_report(dev, env, o.environment, e, o.prefilter_size, o.log));
+    } else if (k == "bake") {
+      log("bake: " + o.environment + ", targets and settings one at a time, preview " +
+          std::to_string(o.bake.preview_width) + "x" + std::to_string(o.bake.preview_width / 2));
+      r.bake.push_back(sweep_bake(o.environment, o.device, o.bake, o.log));
     }
   }
   read_load(r.load_after);
@@ -296,6 +357,7 @@ std::string report_json(const Report& r) {
     pre.push_back(e);
   }
   j["prefilter"] = pre;
+  if (!r.bake.empty()) j["bake"] = bake_json(r.bake.front());
   return j.dump(2) + "\n";
 }
 

@@ -49,6 +49,7 @@ struct Series {
 // An axis: log10 over whole decades, or linear over [lo, hi] with round ticks.
 struct Axis {
   bool log = true;
+  bool tight = false;  // log: the data's own range (a margin of 5 %) with 1-2-5 ticks, not whole decades
   double lo = 0, hi = 1;
   double map(double v, double a, double b) const {  // to pixels a..b
     const double t = log ? (std::log10(v) - lo) / (hi - lo) : (v - lo) / (hi - lo);
@@ -56,7 +57,27 @@ struct Axis {
   }
   std::vector<std::pair<double, std::string>> ticks() const {
     std::vector<std::pair<double, std::string>> t;
-    if (log) {
+    if (log && tight) {
+      // Mantissas at 1, 1.5, 2, 3, 5, 7 of each decade inside the range; finer (every 0.5, then every
+      // 0.1) while that gives fewer than 3 ticks; thinned to at most 8.
+      std::vector<double> all;
+      for (double step : {0.0, 0.5, 0.1}) {
+        std::vector<double> mantissas = {1.0, 1.5, 2.0, 3.0, 5.0, 7.0};
+        if (step > 0) {
+          mantissas.clear();
+          for (double m = 1.0; m < 9.99; m += step) mantissas.push_back(m);
+        }
+        all.clear();
+        for (int e = static_cast<int>(std::floor(lo)); e <= static_cast<int>(std::ceil(hi)); ++e)
+          for (double m : mantissas) {
+            const double v = m * std::pow(10.0, e);
+            if (std::log10(v) >= lo && std::log10(v) <= hi) all.push_back(v);
+          }
+        if (all.size() >= 3) break;
+      }
+      const size_t stride = (all.size() + 7) / 8;
+      for (size_t k = 0; k < all.size(); k += std::max<size_t>(1, stride)) t.push_back({all[k], fmt(all[k], "%g")});
+    } else if (log) {
       const int step = std::max(1, static_cast<int>(std::ceil((hi - lo) / 8)));
       for (int e = static_cast<int>(lo); e <= static_cast<int>(hi); e += step)
         t.push_back({std::pow(10.0, e), "1e" + std::to_string(e)});
@@ -70,7 +91,7 @@ struct Axis {
   }
 };
 
-Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
+Axis make_axis(const std::vector<Series>& s, bool x, bool log, bool tight = false) {
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& ser : s)
     for (double v : x ? ser.x : ser.y) {
@@ -84,7 +105,12 @@ Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
     lo = log ? 1e-3 : 0;
     hi = log ? 1 : 1;
   }
-  if (log) {
+  if (log && tight) {
+    const double l = std::log10(lo), h = std::log10(hi), margin = std::max(0.05 * (h - l), 0.02);
+    a.tight = true;
+    a.lo = l - margin;
+    a.hi = h + margin;
+  } else if (log) {
     a.lo = std::floor(std::log10(lo));
     a.hi = std::ceil(std::log10(hi));
     if (a.hi <= a.lo) a.hi = a.lo + 1;
@@ -96,9 +122,9 @@ Axis make_axis(const std::vector<Series>& s, bool x, bool log) {
 }
 
 std::string svg_plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                     const std::vector<Series>& series, bool logx, bool logy) {
+                     const std::vector<Series>& series, bool logx, bool logy, bool tight = false) {
   const int w = 620, h = 380, left = 70, right = 150, top = 30, bottom = 50;
-  const Axis ax = make_axis(series, true, logx), ay = make_axis(series, false, logy);
+  const Axis ax = make_axis(series, true, logx, tight), ay = make_axis(series, false, logy, tight);
   const double x0 = left, x1 = w - right, y0 = h - bottom, y1 = top;
   std::ostringstream o;
   // Styles are attributes, not CSS: the SVG stands alone when saved from the page.
@@ -296,6 +322,98 @@ void prefilter_section(std::ostringstream& o, const std::vector<PrefilterReport>
   o << "</table>\n";
 }
 
+std::string pct(double v) { return fmt(100.0 * v, v < 0.01 ? "%.2f%%" : "%.1f%%"); }
+std::string megabytes(std::uint64_t b) { return fmt(double(b) / 1e6, b < 10000000 ? "%.2f MB" : "%.1f MB"); }
+
+// Error against a cost, one series of every setting (markers, labelled) and the Pareto front (the
+// points not dominated, joined in order of cost).
+std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
+  Series all, front;
+  all.name = "settings";
+  all.line = false;
+  front.name = "Pareto front";
+  front.dashed = true;
+  std::vector<const BakeSweepPoint*> f;
+  auto cost = [&](const BakeSweepPoint& p) { return bytes ? double(p.bytes) / 1e6 : p.seconds; };
+  for (const auto& p : t.points) {
+    all.x.push_back(cost(p));
+    all.y.push_back(p.error);
+    all.labels.push_back(p.label);
+    if (bytes ? p.pareto_bytes : p.pareto_time) f.push_back(&p);
+  }
+  std::sort(f.begin(), f.end(), [&](const BakeSweepPoint* a, const BakeSweepPoint* b) { return cost(*a) < cost(*b); });
+  for (const BakeSweepPoint* p : f) {
+    front.x.push_back(cost(*p));
+    front.y.push_back(p->error);
+  }
+  return svg_plot(t.target + ": render error against " + (bytes ? "bytes" : "bake time"),
+                  bytes ? "bytes written (MB)" : "whole bake, wall seconds", "median sphere RMS error (split-sum vs ref)",
+                  {all, front}, true, true, true);
+}
+
+void bake_section(std::ostringstream& o, const BakeSweep& s) {
+  o << "<h2>What each bake setting costs, at the level of the render</h2>\n";
+  o << "<p>Environment <code>" << esc(s.environment) << "</code>. For each target, its default bake and one setting "
+    << "changed at a time, each baked as <code>brdfbake bake --target T --OPTION VALUE</code> runs it (wall seconds of "
+       "the whole bake with the programs cached: the median of up to 3 runs, one above 1 s; bytes: every file written) "
+       "and rendered by the target's split-sum shader (<code>brdfbake preview</code>, the default grid at "
+    << s.preview_width << "&times;" << s.preview_width / 2
+    << ") against the converged reference render (once per target). Error: per sphere the relative RMS of "
+       "|split-sum &minus; reference| / |reference| in linear radiance; a point's error is the median over the 72 "
+       "spheres. Recommended: the fastest setting whose error is within "
+    << fmt((kBakeRecommendWithin - 1) * 100, "%.0f")
+    << "% of the target's best. Most of the error is the split-sum approximation itself, which no setting removes: "
+       "the settings move it little, and the cheapest that reaches the floor is the one to bake. The sweep took "
+    << fmt(s.seconds, "%.0f") << " s.</p>\n";
+  o << "<table><tr><th>target</th><th>recommended</th><th>bake (s)</th><th>bytes</th><th>error</th>"
+       "<th>default: bake (s)</th><th>bytes</th><th>error</th><th>best error (setting)</th></tr>\n";
+  for (const auto& t : s.targets) {
+    if (t.points.empty()) continue;
+    const BakeSweepPoint& d = t.points.front();
+    const BakeSweepPoint* best = &d;
+    for (const auto& p : t.points)
+      if (p.error < best->error) best = &p;
+    o << "<tr><td>" << esc(t.target) << "</td>";
+    if (t.recommended >= 0) {
+      const BakeSweepPoint& r = t.points[size_t(t.recommended)];
+      o << "<td><b>" << esc(r.label) << "</b></td><td>" << fmt(r.seconds, "%.2f") << "</td><td>" << megabytes(r.bytes)
+        << "</td><td>" << pct(r.error) << "</td>";
+    } else {
+      o << "<td>&ndash;</td><td></td><td></td><td></td>";
+    }
+    o << "<td>" << fmt(d.seconds, "%.2f") << "</td><td>" << megabytes(d.bytes) << "</td><td>" << pct(d.error)
+      << "</td><td>" << pct(best->error) << " (" << esc(best->label) << ")</td></tr>\n";
+  }
+  o << "</table>\n";
+  for (const auto& t : s.targets) {
+    if (t.points.empty()) continue;
+    o << "<h3>" << esc(t.target) << "</h3>\n<div class=\"plots\">" << bake_plot(t, false) << bake_plot(t, true)
+      << "</div>\n";
+    o << "<p class=\"note\">Reference render: " << fmt(t.reference_seconds, "%.1f")
+      << " s; its own bound (worst sphere, relative RMS): " << pct(t.reference_bound)
+      << ". Group columns: the median sphere RMS error over the row's 12 roughnesses (the worst in brackets).</p>\n";
+    o << "<table><tr><th>setting</th><th>bake (s)</th><th>runs</th><th>bytes</th><th>files</th><th>error</th>";
+    if (!t.points.front().groups.empty())
+      for (const auto& g : t.points.front().groups) o << "<th>" << esc(g.name) << "</th>";
+    o << "<th>Pareto (time, bytes)</th></tr>\n";
+    for (size_t i = 0; i < t.points.size(); ++i) {
+      const BakeSweepPoint& p = t.points[i];
+      o << "<tr><td>" << (int(i) == t.recommended ? "<b>" + esc(p.label) + "</b> (recommended)" : esc(p.label))
+        << "</td><td>" << fmt(p.seconds, "%.2f") << "</td><td>" << p.wall_seconds.size() << "</td><td>"
+        << megabytes(p.bytes) << "</td><td>" << p.files << "</td><td>" << pct(p.error) << "</td>";
+      for (const auto& g : p.groups) o << "<td>" << pct(g.median_rms) << " (" << pct(g.max_rms) << ")</td>";
+      o << "<td>" << (p.pareto_time ? "time" : "") << (p.pareto_time && p.pareto_bytes ? ", " : "")
+        << (p.pareto_bytes ? "bytes" : "") << "</td></tr>\n";
+    }
+    o << "</table>\n";
+    if (!t.skipped.empty()) {
+      o << "<p class=\"note\">Not baked: ";
+      for (size_t k = 0; k < t.skipped.size(); ++k) o << (k ? "; " : "") << esc(t.skipped[k]);
+      o << ".</p>\n";
+    }
+  }
+}
+
 }  // namespace
 
 std::string report_html(const Report& r) {
@@ -316,6 +434,7 @@ std::string report_html(const Report& r) {
        "cell of |table &minus; reference| / max(1, |reference|) against the converged scalar double reference at the "
        "same "
        "cells. The numbers are also in the JSON file beside this page.</p>\n";
+  for (const auto& b : r.bake) bake_section(o, b);  // first: "which settings, for how long, at what error"
   for (const auto& s : r.dfg) dfg_section(o, s);
   if (!r.fresnel.empty()) fresnel_section(o, r.fresnel);
   prefilter_section(o, r.prefilter);
