@@ -87,6 +87,32 @@ TEST(Runner, EveryDeliveryIsTheSameFileWithItsBound) {
   EXPECT_EQ(d.error_bound_text, written.delivery.error_bound_text);
 }
 
+// POST /v1/tables's delivery makes a table's file in memory where the format is built there (.exr,
+// .ktx2, .csv, .h): the bytes the file delivery writes, with no scratch folder at all (the scratch
+// path here cannot be created: a run that needed it fails); .png still goes through the scratch
+// folder.
+TEST(Runner, BytesOfATableAreMadeInMemory) {
+  const fs::path dir = temp_dir("in-memory");
+  std::ofstream(dir / "a-file") << "not a folder";
+  TableRunOptions o;
+  o.delivery = TableDelivery::Bytes;
+  o.scratch_dir = (dir / "a-file" / "scratch").string();
+  for (const std::string ext : {".exr", ".ktx2", ".csv", ".h"}) {
+    TableRequest t = dfg((dir / ("dfg" + ext)).string(), 8, "");
+    t.kind = TableKind::GgxMultiscatter;
+    validate_table(t);
+    const TableRun file = run_table(t);
+    const TableRun handed = run_table(t, o);
+    ASSERT_EQ(handed.delivery.files.size(), 1u) << ext;
+    EXPECT_EQ(handed.delivery.files[0].name, "dfg" + ext);
+    EXPECT_EQ(handed.delivery.files[0].bytes, read_file(t.output)) << ext;
+    EXPECT_EQ(handed.delivery.error_bound_text, file.delivery.error_bound_text) << ext;
+    EXPECT_EQ(handed.delivery.report.encoding, file.delivery.report.encoding) << ext;
+  }
+  const TableRequest png = dfg((dir / "dfg.png").string(), 8, "");
+  EXPECT_THROW(run_table(png, o), Error) << "a PNG is written to the scratch folder, which cannot be made here";
+}
+
 TEST(Runner, LookupErrorMeasuredOnceGivesTheSameBytes) {
   // The second bake of a table reuses the first's lookup error measurement: its file is the first's
   // byte for byte, and a bake of another size measures its own.

@@ -84,6 +84,40 @@ CubeLevels constant_cube(int size, int levels, float value) {
 // Where the faces sit in a cross of face f: -X +Z +X -Z in the middle row, +Y above +Z, -Y below.
 const int kFaceCells[6][2] = {{2, 1}, {0, 1}, {1, 0}, {1, 2}, {1, 1}, {3, 1}};
 
+// view::srgb8 finds its code among thresholds instead of calling pow: every value must get the
+// formula's own code (IEC 61966-2-1, rounded to 8 bits; written out here as aces_srgb8 does): on
+// a sweep of [0, 1] in linear and in log steps, and on both sides of every step between codes.
+TEST(View, Srgb8IsTheFormulaItStandsFor) {
+  auto formula = [](double v) {
+    if (!(v > 0.0)) return 0;
+    if (v >= 1.0) return 255;
+    const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    return static_cast<int>(std::lround(e * 255.0));
+  };
+  int checked = 0;
+  auto check = [&](double v) {
+    ASSERT_EQ(int(view::srgb8(v)), formula(v)) << "at " << v;
+    ++checked;
+  };
+  for (int i = 0; i <= 200000; ++i) check(i / 200000.0);
+  for (int i = 0; i <= 200000; ++i) check(std::exp2(-40.0 + 40.0 * i / 200000.0));
+  // the last double below each step and the step itself (the step found from the formula)
+  for (int k = 1; k < 256; ++k) {
+    double lo = 0.0, hi = 1.0;
+    for (int i = 0; i < 200 && std::nextafter(lo, 1.0) < hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (formula(mid) >= k ? hi : lo) = mid;
+    }
+    check(hi);
+    check(std::nextafter(hi, 0.0));
+    check(std::nextafter(hi, 1.0));
+  }
+  EXPECT_GT(checked, 400000);
+  EXPECT_EQ(view::srgb8(-1.0), 0);
+  EXPECT_EQ(view::srgb8(std::nan("")), 0);
+  EXPECT_EQ(view::srgb8(2.0), 255);
+}
+
 TEST(View, ConstantCubeIsAConstantCrossInEveryContainer) {
   const fs::path dir = temp_dir("constant");
   const CubeLevels cube = constant_cube(16, 3, 0.25f);  // 0.25 is exact in binary16

@@ -2,6 +2,7 @@
 // renames it when complete, so a failed write leaves no partial file; errors throw brdfbake::Error.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -28,6 +29,11 @@ struct TableWriteOptions {
 // Writes `table` to `path` in `format`, atomically.
 void write_table(const Table& table, const std::string& path, TableFormat format,
                  const TableWriteOptions& options = {});
+// The bytes write_table would write to `path`, made in memory, for the formats of one file built
+// there (.exr, .ktx2, .csv, .h); std::nullopt for .png and .hdr (and its JSON sidecar), which only
+// write_table writes. Errors name `path` as write_table's do.
+std::optional<std::string> encode_table(const Table& table, const std::string& path, TableFormat format,
+                                        const TableWriteOptions& options = {});
 // Throws the Error a write to `path` would give (missing folder, no permission, a path through a
 // regular file), by creating and removing a temporary file beside it: commands call it before
 // slow work so that a bad output path fails at once. A FIFO, a device or standard output named as

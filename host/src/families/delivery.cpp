@@ -167,8 +167,12 @@ void record_table_bound(Table& out, WriteReport& w, const io::StorageReport& s, 
 
 }  // namespace
 
-WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
-                               std::optional<double> bound, std::optional<double> limit) {
+namespace {
+
+// write_table_result, or with `bytes` its file made in memory (the format must be one encode_table
+// makes).
+WriteReport write_or_encode_table(const Table& table, const TableRequest& t, const std::string& path,
+                                  std::optional<double> bound, std::optional<double> limit, std::string* bytes) {
   const TableFormat format = path == "-" && t.format.empty() ? TableFormat::Csv : table_output_format(t);
   const PixelType pixel = pixel_of(t);
   Table out = table;
@@ -194,8 +198,31 @@ WriteReport write_table_result(const Table& table, const TableRequest& t, const 
   TableWriteOptions o;
   o.pixel = pixel;
   o.symbol = t.text("symbol");
+  if (bytes) {
+    std::optional<std::string> encoded = encode_table(out, path, format, o);
+    if (!encoded) throw Error("'" + path + "': internal: this format is not made in memory");
+    *bytes = std::move(*encoded);
+    return w;
+  }
   write_table(out, path, format, o);
   return w;
+}
+
+}  // namespace
+
+WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
+                               std::optional<double> bound, std::optional<double> limit) {
+  return write_or_encode_table(table, t, path, bound, limit, nullptr);
+}
+
+std::optional<WrittenBytes> table_result_bytes(const Table& table, const TableRequest& t, std::optional<double> bound,
+                                               std::optional<double> limit) {
+  const TableFormat format = table_output_format(t);
+  if (format == TableFormat::Png || format == TableFormat::Hdr || pixel_of(t) == PixelType::R11G11B10)
+    return std::nullopt;
+  WrittenBytes out;
+  out.report = write_or_encode_table(table, t, t.output, bound, limit, &out.bytes);
+  return out;
 }
 
 // ---- Cubes -----------------------------------------------------------------------------------------

@@ -52,6 +52,21 @@ void add_table_output_params(std::vector<ParamDef>& schema);
 WriteReport write_table_result(const Table& table, const TableRequest& t, const std::string& path,
                                std::optional<double> bound, std::optional<double> limit = std::nullopt);
 
+// A file's bytes made in memory, and what write() would have reported for it.
+struct WrittenBytes {
+  WriteReport report;
+  std::string bytes;
+};
+// The file write_table_result would write to t.output, made in memory (the same bytes, the same
+// report, messages naming t.output), where its format is built there (io encode_table: .exr,
+// .ktx2, .csv, .h); std::nullopt, having done nothing, for the others.
+std::optional<WrittenBytes> table_result_bytes(const Table& table, const TableRequest& t, std::optional<double> bound,
+                                               std::optional<double> limit = std::nullopt);
+// write_result's file in memory where the family makes it there (Family::write_bytes), after the
+// same finiteness check; std::nullopt: write it. The server's POST /v1/tables sends these bytes
+// (runner.cpp, deliver_bytes) without a scratch file.
+std::optional<WrittenBytes> write_result_bytes(const BakeResult& r, const TableRequest& t);
+
 // ---- Cubes -----------------------------------------------------------------------------------------
 
 // The containers a cube family writes, and the request's.

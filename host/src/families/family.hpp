@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,9 @@ class Family {
   virtual BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& inputs,
                           const BakeProgress& progress) const = 0;
   virtual WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const = 0;
+  // The file write() makes at t.output, made in memory where the family can (a table in a format
+  // built there: table_result_bytes); std::nullopt: write() it. Tables override it.
+  virtual std::optional<WrittenBytes> write_bytes(const BakeResult&, const TableRequest&) const { return std::nullopt; }
 
   // About how many bytes a bake of the validated request holds at its peak, host and device
   // together: the result, its device buffers and the copy the writer encodes (the environment image

@@ -496,6 +496,15 @@ BakeResult bake_table(const TableRequest& t, Backend& backend, const BakeInputs&
   return r;
 }
 
+namespace detail {
+
+std::optional<WrittenBytes> write_result_bytes(const BakeResult& r, const TableRequest& t) {
+  check_finite(r);
+  return family_of(t.kind).write_bytes(r, t);
+}
+
+}  // namespace detail
+
 WriteReport write_result(const BakeResult& r, const TableRequest& t, const std::string& path) {
   check_finite(r);
   if (path == "-") return family_of(t.kind).write(r, t, path);

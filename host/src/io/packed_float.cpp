@@ -65,9 +65,19 @@ uint32_t pack_r11g11b10(float r, float g, float b, int* saturated) {
 }
 
 void unpack_r11g11b10(uint32_t packed, float rgb[3]) {
-  rgb[0] = float(decode_unsigned_float(packed & 0x7FFu, kUf11MantissaBits));
-  rgb[1] = float(decode_unsigned_float((packed >> 11) & 0x7FFu, kUf11MantissaBits));
-  rgb[2] = float(decode_unsigned_float(packed >> 22, kUf10MantissaBits));
+  // Every code of both widths decoded once (3,072 floats): the same values as decode_unsigned_float,
+  // without its two ldexp calls a channel (a 256^2 chain is 1.2 M channels: 20 ms of a preview).
+  struct Tables {
+    float uf11[1u << 11], uf10[1u << 10];
+    Tables() {
+      for (uint32_t c = 0; c < (1u << 11); ++c) uf11[c] = float(decode_unsigned_float(c, kUf11MantissaBits));
+      for (uint32_t c = 0; c < (1u << 10); ++c) uf10[c] = float(decode_unsigned_float(c, kUf10MantissaBits));
+    }
+  };
+  static const Tables t;
+  rgb[0] = t.uf11[packed & 0x7FFu];
+  rgb[1] = t.uf11[(packed >> 11) & 0x7FFu];
+  rgb[2] = t.uf10[packed >> 22];
 }
 
 double unsigned_float_half_ulp(double value, int mantissa_bits) {

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string_view>
 
@@ -145,6 +146,12 @@ std::vector<std::pair<std::string, std::string>> prefixed(const Metadata& metada
 
 // .exr: float32, channels named R, G, B, A in table order (a 1-channel table is just "R"),
 // ZIP compression, every metadata entry as a string attribute "brdfbake:KEY".
+std::string encode_exr(const Table& table, const std::string& path) {
+  check_channel_limit(table, path, 4, ".exr");
+  return io::encode_exr(path, table.width, table.height, table.channel_count(), table.data.data(),
+                        prefixed(image_metadata(table)));
+}
+
 void write_exr(const Table& table, const std::string& path) {
   check_channel_limit(table, path, 4, ".exr");
   io::TempFile temp(path);
@@ -248,7 +255,7 @@ void write_hdr(const Table& table, const std::string& path) {
 // rounded to nearest even, beyond 65504 infinite) or VK_FORMAT_R32G32B32A32_SFLOAT (F32); missing
 // colour channels 0, missing alpha 1. Metadata as key/value pairs "brdfbake:KEY", plus KTXwriter
 // and KTXorientation "rd".
-void write_ktx2_table(const Table& table, const std::string& path, const TableWriteOptions& options) {
+std::string encode_ktx2_table(const Table& table, const std::string& path, const TableWriteOptions& options) {
   check_channel_limit(table, path, 4, ".ktx2");
   const bool half = options.pixel == PixelType::F16;
   const size_t channels = channel_count(table);
@@ -285,7 +292,7 @@ void write_ktx2_table(const Table& table, const std::string& path, const TableWr
   } catch (const Error& e) {
     io::throw_write_error(path, e.what());
   }
-  io::write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
 }
 
 // ---- Text formats -------------------------------------------------------------------------------
@@ -451,7 +458,7 @@ void write_table(const Table& table, const std::string& path, TableFormat format
       write_hdr(table, path);
       return;
     case TableFormat::Ktx2:
-      write_ktx2_table(table, path, options);
+      io::write_file_atomically(path, encode_ktx2_table(table, path, options));
       return;
     case TableFormat::Csv: {
       check_coordinates(table, path);
@@ -465,6 +472,30 @@ void write_table(const Table& table, const std::string& path, TableFormat format
       return;
   }
   throw Error("cannot write '" + path + "': invalid TableFormat value");
+}
+
+std::optional<std::string> encode_table(const Table& table, const std::string& path, TableFormat format,
+                                        const TableWriteOptions& options) {
+  check_table(table, path);
+  if (options.pixel == PixelType::R11G11B10) return std::nullopt;  // write_table says why not
+  switch (format) {
+    case TableFormat::Exr:
+      return encode_exr(table, path);
+    case TableFormat::Ktx2:
+      return encode_ktx2_table(table, path, options);
+    case TableFormat::Csv: {
+      check_coordinates(table, path);
+      std::ostringstream text;
+      write_csv_to(table, text);
+      return text.str();
+    }
+    case TableFormat::CHeader:
+      return c_header_text(table, path, options);
+    case TableFormat::Png:
+    case TableFormat::Hdr:
+      break;
+  }
+  return std::nullopt;
 }
 
 void write_table_csv(const Table& table, std::ostream& out) {

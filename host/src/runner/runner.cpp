@@ -16,6 +16,7 @@
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/io.hpp"
 #include "brdfbake/output_lock.hpp"
+#include "families/delivery.hpp"
 
 namespace brdfbake {
 
@@ -86,9 +87,23 @@ class ScratchDir {
   fs::path path_;
 };
 
-// Writes into a scratch folder and reads every file back; messages and warnings name the output
-// as the request does.
+// The output's bytes made in memory where the family makes them there (a table as .exr, .ktx2, .csv
+// or .h, and no second output file); else written into a scratch folder and every file read back.
+// Messages and warnings name the output as the request does.
 Delivery deliver_bytes(const BakeResult& result, const TableRequest& t, const std::string& scratch_dir) {
+  bool sidecar = false;
+  for (const auto& d : table_schema(t.kind))
+    if (d.type == ParamType::Path && d.output_only && t.find(d.name)) sidecar = true;
+  if (!sidecar) {
+    std::optional<detail::WrittenBytes> memory = detail::write_result_bytes(result, t);
+    if (memory) {
+      Delivery d;
+      d.to = TableDelivery::Bytes;
+      d.report = std::move(memory->report);
+      d.files.push_back({fs::path(t.output).filename().string(), std::move(memory->bytes)});
+      return d;
+    }
+  }
   const ScratchDir scratch(scratch_dir);
   TableRequest w = t;
   const fs::path name = fs::path(t.output).filename();

@@ -1,7 +1,10 @@
 #include "view/canvas.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 // stb_easy_font (public domain, Sean Barrett): text as axis-aligned quads, no font files.
 #include <stb/stb_easy_font.h>
@@ -87,11 +90,75 @@ int text_width(const std::string& s, int scale) {
   return scale * stb_easy_font_width(t.data());
 }
 
+namespace {
+
+// The sRGB encoding (IEC 61966-2-1) of v in (0, 1), rounded to 8 bits.
+int srgb8_formula(double v) {
+  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  return static_cast<int>(std::lround(e * 255.0));
+}
+
+// The code of v in (0, 1) without a pow a channel (a preview sheet tone-maps 0.8 M channels): t[k]
+// (k = 1..255) is the smallest double with srgb8_formula >= k, found by bisection over the bit
+// patterns of the positive doubles (ordered as integers); the formula is monotone, so the code of v
+// is the number of thresholds at or below it. [0, 1) is cut into kCells equal cells (v kCells is
+// exact: a power of two), none of which holds two thresholds (the steepest slope, 255 x 12.92 at
+// 0, is 0.8 codes a cell; checked when the table is made, a cell that did would take the binary
+// search): a cell's first code and the next threshold give the code with one comparison. The
+// formula's own results (tests/host/test_view.cpp compares them).
+class Srgb8Table {
+ public:
+  Srgb8Table() {
+    auto bits = [](double d) {
+      uint64_t b = 0;
+      std::memcpy(&b, &d, sizeof b);
+      return b;
+    };
+    auto value = [](uint64_t b) {
+      double d = 0;
+      std::memcpy(&d, &b, sizeof d);
+      return d;
+    };
+    t_[0] = 0.0;
+    for (int k = 1; k < 256; ++k) {
+      uint64_t lo = 0, hi = bits(1.0);  // formula(lo) < k <= formula(hi)
+      while (hi - lo > 1) {
+        const uint64_t mid = lo + (hi - lo) / 2;
+        (srgb8_formula(value(mid)) >= k ? hi : lo) = mid;
+      }
+      t_[size_t(k)] = value(hi);
+    }
+    t_[256] = t_[257] = 2.0;  // beyond every v < 1
+    for (int i = 0; i < kCells; ++i) {
+      const double start = double(i) / kCells, end = double(i + 1) / kCells;
+      const int first = search(start);
+      first_[size_t(i)] = uint8_t(first);
+      next_[size_t(i)] = t_[size_t(first) + 1];
+      searched_[size_t(i)] = t_[size_t(first) + 2] < end;  // two steps inside: search
+    }
+  }
+  uint8_t code(double v) const {
+    const size_t i = size_t(v * kCells);
+    if (searched_[i]) return uint8_t(search(v));
+    return uint8_t(first_[i] + (v >= next_[i] ? 1 : 0));
+  }
+
+ private:
+  static constexpr int kCells = 4096;
+  int search(double v) const { return int(std::upper_bound(t_.begin() + 1, t_.begin() + 256, v) - (t_.begin() + 1)); }
+  std::array<double, 258> t_{};
+  std::array<uint8_t, kCells> first_{};
+  std::array<double, kCells> next_{};
+  std::array<bool, kCells> searched_{};
+};
+
+}  // namespace
+
 uint8_t srgb8(double v) {
   if (!(v > 0.0)) return 0;
   if (v >= 1.0) return 255;
-  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(e * 255.0));
+  static const Srgb8Table table;
+  return table.code(v);
 }
 
 double tone_curve(double x, ToneMap map) {

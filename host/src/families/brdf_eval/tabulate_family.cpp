@@ -170,6 +170,10 @@ class TabulateFamily final : public Family {
     }
     return write_table_result(*r.table(), t, path, r.error_bound);
   }
+  std::optional<WrittenBytes> write_bytes(const BakeResult& r, const TableRequest& t) const override {
+    if (!r.table()) return std::nullopt;  // a MERL file is written
+    return table_result_bytes(*r.table(), t, r.error_bound);
+  }
 
  private:
   static TabulateSpec spec_of(const TableRequest& t, const FieldName& name) {

@@ -316,6 +316,10 @@ class DfgLutFamily final : public Family {
     return write_table_result(*r.table(), t, path, r.error_bound,
                               t.find("max_error") ? std::optional<double>(t.number("max_error")) : std::nullopt);
   }
+  std::optional<WrittenBytes> write_bytes(const BakeResult& r, const TableRequest& t) const override {
+    return table_result_bytes(*r.table(), t, r.error_bound,
+                              t.find("max_error") ? std::optional<double>(t.number("max_error")) : std::nullopt);
+  }
 
  private:
   // resolve_lut_spec, its message naming the field and, for an unreachable max_error, what reaches it.

@@ -172,6 +172,9 @@ class FresnelFamily final : public Family {
   WriteReport write(const BakeResult& r, const TableRequest& t, const std::string& path) const override {
     return write_table_result(*r.table(), t, path, r.error_bound);
   }
+  std::optional<WrittenBytes> write_bytes(const BakeResult& r, const TableRequest& t) const override {
+    return table_result_bytes(*r.table(), t, r.error_bound);
+  }
 
  private:
   static FresnelSpec spec_of(const TableRequest& t) { return fresnel_schema().fill(t); }

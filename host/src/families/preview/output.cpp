@@ -337,16 +337,19 @@ void write_preview(const PreviewResult& r, const std::string& environment, const
       {"brdfbake:target", engine_target_name(r.spec.target)},
       {"brdfbake:json", fs::path(sibling(sheet_path, ".json")).filename().string()},
       {"brdfbake:pixel", "linear RGB radiance, row 0 at the top"}};
-  // The float images (ZIP-compressed by the EXR writer) on a second thread while the sheet is drawn
-  // and encoded here; everything is staged and renamed after the sheet.
+  // The float images (uncompressed: io::ExrCompression::None says why) on a second thread while the
+  // sheet is drawn and encoded here; everything is staged and renamed after the sheet.
   io::TempFile split(sibling(sheet_path, "_splitsum.exr"));
   std::optional<io::TempFile> ref;
   if (!r.reference.rgb.empty()) ref.emplace(sibling(sheet_path, "_reference.exr"));
   std::exception_ptr failed;
   std::thread exr([&] {
     try {
-      io::write_exr(split, r.splitsum.width, r.splitsum.height, 3, r.splitsum.rgb.data(), attributes);
-      if (ref) io::write_exr(*ref, r.reference.width, r.reference.height, 3, r.reference.rgb.data(), attributes);
+      io::write_exr(split, r.splitsum.width, r.splitsum.height, 3, r.splitsum.rgb.data(), attributes,
+                    io::ExrCompression::None);
+      if (ref)
+        io::write_exr(*ref, r.reference.width, r.reference.height, 3, r.reference.rgb.data(), attributes,
+                      io::ExrCompression::None);
     } catch (...) {
       failed = std::current_exception();
     }
