@@ -14,6 +14,7 @@
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/runner.hpp"
+#include "families/delivery.hpp"
 #include "families/family.hpp"
 #include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
@@ -143,6 +144,7 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
 // targets that load one: khronos-viewer's NAME_charlie.ktx2) and first SH, staged in `staged`.
 struct EngineInputs {
   std::optional<BakeResult> ggx_chain, charlie_chain, irradiance;
+  std::string chain_pixel;  // the GGX chain's table's pixel: astc4x4 / astc6x6 make the engine's KTX2 ASTC
 };
 void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
                       const EngineInputs& in, const std::string& name, const fs::path& staged) {
@@ -160,6 +162,10 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   if (in.charlie_chain) eb.charlie = in.charlie_chain->cube();
   EngineWriteOptions wo;
   wo.name = name;
+  if (in.chain_pixel == "astc4x4" || in.chain_pixel == "astc6x6") {
+    wo.astc = in.chain_pixel == "astc4x4" ? AstcBlock::Astc4x4 : AstcBlock::Astc6x6;
+    wo.astc_quality = detail::kAstcQuality;
+  }
   const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
   manifest.target = job.target;
   for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
@@ -265,7 +271,10 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     const BakeResult r = run_table(t, bake).result;
     // What an engine's file set is made of: the first GGX chain and the first SH.
     if (engine != EngineTarget::Generic) {
-      if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") ggx_chain = r;
+      if (!ggx_chain && r.cube() && t.text("distribution") == "ggx") {
+        ggx_chain = r;
+        engine_inputs.chain_pixel = t.pixel;
+      }
       if (!engine_inputs.charlie_chain && r.cube() && t.text("distribution") == "charlie")
         engine_inputs.charlie_chain = r;
       if (!irradiance && r.irradiance()) irradiance = r;
