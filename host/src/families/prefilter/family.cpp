@@ -228,7 +228,6 @@ class PrefilterFamily final : public Family {
     cube.set_meta("bound_samples_per_level", comma_join(sample_text));
     r.error_bound = bound.bound;
     r.error_bound_definition = std::string(kChainBoundDefinition) + "; the largest over the levels";
-    r.details.push_back({"bound_seconds", fmt_number(bound.seconds, "%.3f")});
     if (spec.max_error > 0 && timing.measured_error > bound.bound) {
       // the search's last difference, where it says more than the comparison
       r.error_bound = timing.measured_error;
