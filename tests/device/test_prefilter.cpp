@@ -563,38 +563,48 @@ TEST(Prefilter, ProgressMovesWithTheWork) {
     s.size = 64;
     s.min_size = 4;
     s.distribution = d;
-    std::vector<double> f;
-    std::vector<std::string> labels;
-    PrefilterTiming timing;
-    prefilter_cube(*dev, source, s, &timing, [&](double x, const std::string& label) {
-      f.push_back(x);
-      labels.push_back(label);
-    });
-    ASSERT_GE(f.size(), 2u);
-    for (size_t k = 1; k < f.size(); ++k) {
-      EXPECT_GE(f[k], f[k - 1]) << labels[k];
-      EXPECT_LE(f[k] - f[k - 1], 0.5) << labels[k - 1] << " -> " << labels[k];
-    }
-    const size_t levels = timing.level_device_seconds.size();
-    ASSERT_EQ(levels, 5u);    
-    double total = 0.0;
-    for (size_t l = 1; l < levels; ++l) total += timing.level_device_seconds[l];
-    for (size_t l = 1; l < levels; ++l) {
-      const std::string name = "level " + std::to_string(l) + "/", next = "level " + std::to_string(l + 1) + "/";
-      double begin = -1.0, end = 1.0;
-      for (size_t k = 0; k < f.size(); ++k) {
-        if (begin < 0 && labels[k].rfind(name, 0) == 0) begin = f[k];
-        if (labels[k].rfind(next, 0) == 0) {
-          end = f[k];
-          break;
-        }
+    // Up to 3 runs: the device time of a small level doubles now and then on a loaded machine; a
+    // line weighted by texels alone fails every run (a Charlie level with 20-40 % of the time
+    // held 4.7 % of the line).
+    std::string misfit;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      std::vector<double> f;
+      std::vector<std::string> labels;
+      PrefilterTiming timing;
+      prefilter_cube(*dev, source, s, &timing, [&](double x, const std::string& label) {
+        f.push_back(x);
+        labels.push_back(label);
+      });
+      ASSERT_GE(f.size(), 2u);
+      for (size_t k = 1; k < f.size(); ++k) {
+        EXPECT_GE(f[k], f[k - 1]) << labels[k];
+        EXPECT_LE(f[k] - f[k - 1], 0.5) << labels[k - 1] << " -> " << labels[k];
       }
-      ASSERT_GE(begin, 0.0) << name;
-      const double share = end - begin, time_share = timing.level_device_seconds[l] / total;
-      if (time_share < 0.1) continue;  // a level of a few ms: its time varies most with the load
-      EXPECT_GE(share, time_share / 4.0) << name << " device " << timing.level_device_seconds[l] << " s";
-      EXPECT_LE(share, time_share * 4.0) << name << " device " << timing.level_device_seconds[l] << " s";
+      const size_t levels = timing.level_device_seconds.size();
+      ASSERT_EQ(levels, 5u);
+      double total = 0.0;
+      for (size_t l = 1; l < levels; ++l) total += timing.level_device_seconds[l];
+      misfit.clear();
+      for (size_t l = 1; l < levels; ++l) {
+        const std::string name = "level " + std::to_string(l) + "/", next = "level " + std::to_string(l + 1) + "/";
+        double begin = -1.0, end = 1.0;
+        for (size_t k = 0; k < f.size(); ++k) {
+          if (begin < 0 && labels[k].rfind(name, 0) == 0) begin = f[k];
+          if (labels[k].rfind(next, 0) == 0) {
+            end = f[k];
+            break;
+          }
+        }
+        ASSERT_GE(begin, 0.0) << name;
+        const double share = end - begin, time_share = timing.level_device_seconds[l] / total;
+        if (time_share < 0.1) continue;  // a level of a few ms: its time varies most with the load
+        if (share < time_share / 4.0 || share > time_share * 4.0)
+          misfit += name + " has " + std::to_string(share) + " of the line, " + std::to_string(time_share) +
+                    " of the device time; ";
+      }
+      if (misfit.empty()) break;
     }
+    EXPECT_EQ(misfit, "");
   }
 }
 
