@@ -488,7 +488,8 @@ TEST(Prefilter, RecordsABoundThatHoldsOnEveryLevel) {
         const std::vector<double> roughness = meta_numbers(c.meta("roughness_per_level"));
         ASSERT_EQ(bound.size(), size_t(c.level_count()));
         const reference::EnvCube source = to_reference(c);
-        const reference::EnvLobe lobe = std::string(dist) == "ggx" ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie;
+        const reference::EnvLobe lobe =
+            std::string(dist) == "ggx" ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie;
         for (int l = 0; l < c.level_count(); ++l) {
           EXPECT_GT(bound[size_t(l)], 0.0) << "level " << l;
           // the per-level text is rounded up to 3 significant digits

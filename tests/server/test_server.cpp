@@ -241,8 +241,8 @@ TEST_F(ServerApi, AstcChainsAndTheirBound) {
   ASSERT_FALSE(storage.empty());
   EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
   EXPECT_GE(std::stod(recorded), std::stod(storage));
-  auto bad = c.Post("/v1/tables", R"({"kind": "ggx", "size": 8, "pixel": "astc4x4", "output": "d.ktx2"})",
-                    "application/json");
+  auto bad =
+      c.Post("/v1/tables", R"({"kind": "ggx", "size": 8, "pixel": "astc4x4", "output": "d.ktx2"})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400) << bad->body;
   EXPECT_NE(bad->body.find("pixel"), std::string::npos) << bad->body;

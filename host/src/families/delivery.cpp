@@ -237,7 +237,8 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
   if (!t.format.empty() && lower_extension(t.output) != ext)
     throw FieldError("format", "'" + t.format + "' does not match the extension of '" + t.output + "'");
   if (astc_block_of(t) && cube_format_from_path(t.output) != CubeFormat::Ktx2)
-    throw FieldError("pixel", t.pixel + " is stored in KTX2 only (the output is '" + t.output + "'; give a .ktx2 file)");
+    throw FieldError("pixel",
+                     t.pixel + " is stored in KTX2 only (the output is '" + t.output + "'; give a .ktx2 file)");
   if (!folder && (t.find("layout") && t.text("layout") != "faces"))
     throw FieldError("layout", "is for folder outputs (the output is '" + t.output + "')");
   (void)name;

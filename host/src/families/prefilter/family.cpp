@@ -231,8 +231,8 @@ class PrefilterFamily final : public Family {
     if (spec.max_error > 0 && timing.measured_error > bound.bound) {
       // the search's last difference, where it says more than the comparison
       r.error_bound = timing.measured_error;
-      r.error_bound_definition += ", or max_error's measured difference (" +
-                                  fmt_number(timing.measured_error, "%.3g") + ") where larger";
+      r.error_bound_definition +=
+          ", or max_error's measured difference (" + fmt_number(timing.measured_error, "%.3g") + ") where larger";
     }
     if (spec.estimator == EnvEstimator::Quadrature && spec.max_error <= 0)
       r.parameters.push_back({"refinement", spec.refinement});

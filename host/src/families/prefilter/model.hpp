@@ -102,7 +102,8 @@ inline constexpr double kChainBoundFloor = 1e-6;
 inline constexpr const char* kChainBoundDefinition =
     "bound on the RMS relative luminance distance of a level's stored values from the converged ones (the double "
     "reference: the lobe's integral over the bilinear interpolation of level 0): the larger of 2 x the RMS and "
-    "the largest of |Y - Y_ref| / Y_ref over a deterministic sample of its texels (bound_samples_per_level: the brightest texel, its 3 x 3 "
+    "the largest of |Y - Y_ref| / Y_ref over a deterministic sample of its texels (bound_samples_per_level: the "
+    "brightest texel, its 3 x 3 "
     "neighbourhood where 16 or more are compared, R2 points over the faces), at least 1e-6 (fp32 rounding)";
 
 struct ChainBound {
