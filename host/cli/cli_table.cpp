@@ -155,7 +155,8 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
                                   " (default: a name made of the kind and parameters)",
                         cxxopts::value<std::string>())("format", "output format when it cannot come from the file name",
                                                        cxxopts::value<std::string>())(
-      "pixel", "f16 | f32: the texels of .ktx2, .h and cube containers", cxxopts::value<std::string>());
+      "pixel", "f16 | f32: the texels of .ktx2, .h and cube containers (prefilter .ktx2: also astc4x4 | astc6x6)",
+      cxxopts::value<std::string>());
   if (command.add_extra) command.add_extra(options);
   add_common_options(options);
 

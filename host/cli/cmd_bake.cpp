@@ -183,8 +183,11 @@ int cmd_bake(int argc, char** argv) {
       "o,output", "output folder", cxxopts::value<std::string>()->default_value("out"))(
       "dry-run", "print the plan and bake nothing")(
       "json", "with --dry-run: print the plan as a job document (brdfbake run accepts it)")(
-      "pixel", "f16 | f32 for .ktx2, .h and cube containers (default: each kind's)", cxxopts::value<std::string>())(
-      "contact-sheet", "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)")(
+      "pixel",
+      "f16 | f32 for .ktx2, .h and cube containers (default: each kind's); astc4x4 | astc6x6: the chains as ASTC HDR "
+      "(targets generic, khronos-viewer)",
+      cxxopts::value<std::string>())("contact-sheet",
+                                     "also draw every output into OUTPUT/contact_sheet.png (brdfbake view)")(
       "preview",
       "also render the target's preview of the files: OUTPUT/preview.png, preview_splitsum.exr, preview_reference.exr, "
       "preview.json (brdfbake preview, docs/PREVIEW.md)");

@@ -241,7 +241,8 @@ class Result:
         The extension picks the format as on the command line (tables: .exr .png .hdr .ktx2 .csv .h;
         prefilter: .ktx2 .ktx .dds or a folder; irradiance: .json, or a cube container when baked
         with ``cube_size``; merl: .binary with a .json beside it; eval: CSV, or float32 for .f32
-        .bin .raw). ``format`` and ``pixel`` (``"f16"`` or ``"f32"``) and the family's output
+        .bin .raw). ``format`` and ``pixel`` (``"f16"`` or ``"f32"``; a prefilter chain's .ktx2 also
+        ``"astc4x4"`` or ``"astc6x6"``, ASTC HDR with its measured error) and the family's output
         parameters (``symbol``, ``layout``, ``image_format``, ``sh_json``) are those of the CLI.
         Returns the path.
         """

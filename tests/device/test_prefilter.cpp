@@ -15,6 +15,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
+#include "brdfbake/tables.hpp"
 #include "families/prefilter/lobes.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -458,6 +459,63 @@ TEST(Prefilter, MaxErrorChoosesPerLevel) {
   }
 }
 
+// Every chain records its error bound (families/prefilter/bound.cpp), with or without max_error:
+// every level's is above 0 (a max_error search's difference of successive refinements is 0 on
+// every Charlie level and on a GGX chain's last), and it holds: at least the RMS relative luminance
+// distance of the stored level from the double reference over all its texels (the sample the bake
+// compared was a few dozen of them), on a sun (a bright spot: the hardest case) and a studio.
+TEST(Prefilter, RecordsABoundThatHoldsOnEveryLevel) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const std::shared_ptr<Backend> backend = Backend::open(*dev);
+  for (const char* env_name : {"sun", "studio"})
+    for (const char* dist : {"ggx", "charlie"})
+      for (double max_error : {0.0, 0.02}) {
+        if (std::string(env_name) == "studio" && max_error > 0) continue;  // the sun's cases are the hard ones
+        SCOPED_TRACE(std::string(env_name) + " " + dist + " max_error " + std::to_string(max_error));
+        const EnvImage env = builtin_environment(env_name, 128);
+        TableRequest q;
+        q.kind = TableKind::Prefilter;
+        q.environment = std::string("builtin:") + env_name;
+        q.params = {{"distribution", std::string(dist)}, {"size", 32.0}, {"min_size", 2.0}};
+        if (max_error > 0) q.params.push_back({"max_error", max_error});
+        validate_table(q);
+        BakeInputs in;
+        in.environment = &env;
+        const BakeResult r = bake_table(q, *backend, in);
+        ASSERT_TRUE(r.error_bound.has_value()) << "recorded without max_error too";
+        const CubeLevels& c = *r.cube();
+        const std::vector<double> bound = meta_numbers(c.meta("integration_error_bound_per_level"));
+        const std::vector<double> roughness = meta_numbers(c.meta("roughness_per_level"));
+        ASSERT_EQ(bound.size(), size_t(c.level_count()));
+        const reference::EnvCube source = to_reference(c);
+        const reference::EnvLobe lobe =
+            std::string(dist) == "ggx" ? reference::EnvLobe::Ggx : reference::EnvLobe::Charlie;
+        for (int l = 0; l < c.level_count(); ++l) {
+          EXPECT_GT(bound[size_t(l)], 0.0) << "level " << l;
+          // the per-level text is rounded up to 3 significant digits
+          EXPECT_LE(bound[size_t(l)], *r.error_bound * 1.01) << "level " << l << ": the file's bound is the largest";
+          if (l == 0) continue;
+          const int n = c.level_size(l);
+          const reference::EnvCube want = reference::prefilter_cube(source, lobe, roughness[size_t(l)], n, 0);
+          double y_max = 0.0;
+          std::vector<double> y_ref(want.rgb.size() / 3);
+          for (size_t t = 0; t < y_ref.size(); ++t) {
+            y_ref[t] = 0.2126 * want.rgb[3 * t] + 0.7152 * want.rgb[3 * t + 1] + 0.0722 * want.rgb[3 * t + 2];
+            y_max = std::max(y_max, y_ref[t]);
+          }
+          double sum = 0.0;
+          for (size_t t = 0; t < y_ref.size(); ++t) {
+            const float* p = &c.levels[size_t(l)][4 * t];
+            const double y = 0.2126 * double(p[0]) + 0.7152 * double(p[1]) + 0.0722 * double(p[2]);
+            const double d = std::fabs(y - y_ref[t]) / std::max(y_ref[t], 1e-6 * y_max);
+            sum += d * d;
+          }
+          const double rms = std::sqrt(sum / double(y_ref.size()));
+          EXPECT_GE(bound[size_t(l)], rms) << "level " << l << " (" << n << "^2)";
+        }
+      }
+}
+
 // Progress follows the rows of each level (the first levels hold most of the work: a progress line
 // that moved only between levels sat at 0% through most of a bake), goes only forward, and names
 // the refinement a --max-error search is at.
@@ -487,6 +545,67 @@ TEST(Prefilter, ProgressMovesWithinEveryLevel) {
     bool refinement = false;
     for (const auto& l : labels) refinement |= l.find("refinement") != std::string::npos;
     EXPECT_EQ(refinement, max_error > 0.0);
+  }
+}
+
+// Progress moves with the work: each level's share of the line (from its first report to the next
+// level's) is its share of the device time within a factor of 4 where that is 10 % or more (the
+// estimate of a quadrature walk counts the texels it refines; a small level's device time varies
+// by 2x between runs on a loaded machine), for a Charlie
+// chain (whose rough levels cost many times more a texel than its sharp ones: weighted by texel
+// count, the line sat near its end through most of the bake) and a GGX one; it only goes forward,
+// and no step jumps by half the line.
+TEST(Prefilter, ProgressMovesWithTheWork) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  const CubeLevels source = environment_to_cube(*dev, builtin_environment("studio", 256), 64);
+  for (EnvDistribution d : {EnvDistribution::Charlie, EnvDistribution::Ggx}) {
+    SCOPED_TRACE(env_distribution_name(d));
+    PrefilterSpec s;
+    s.size = 64;
+    s.min_size = 4;
+    s.distribution = d;
+    // Up to 3 runs: the device time of a small level doubles now and then on a loaded machine; a
+    // line weighted by texels alone fails every run (a Charlie level with 20-40 % of the time
+    // held 4.7 % of the line).
+    std::string misfit;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      std::vector<double> f;
+      std::vector<std::string> labels;
+      PrefilterTiming timing;
+      prefilter_cube(*dev, source, s, &timing, [&](double x, const std::string& label) {
+        f.push_back(x);
+        labels.push_back(label);
+      });
+      ASSERT_GE(f.size(), 2u);
+      for (size_t k = 1; k < f.size(); ++k) {
+        EXPECT_GE(f[k], f[k - 1]) << labels[k];
+        EXPECT_LE(f[k] - f[k - 1], 0.5) << labels[k - 1] << " -> " << labels[k];
+      }
+      const size_t levels = timing.level_device_seconds.size();
+      ASSERT_EQ(levels, 5u);
+      double total = 0.0;
+      for (size_t l = 1; l < levels; ++l) total += timing.level_device_seconds[l];
+      misfit.clear();
+      for (size_t l = 1; l < levels; ++l) {
+        const std::string name = "level " + std::to_string(l) + "/", next = "level " + std::to_string(l + 1) + "/";
+        double begin = -1.0, end = 1.0;
+        for (size_t k = 0; k < f.size(); ++k) {
+          if (begin < 0 && labels[k].rfind(name, 0) == 0) begin = f[k];
+          if (labels[k].rfind(next, 0) == 0) {
+            end = f[k];
+            break;
+          }
+        }
+        ASSERT_GE(begin, 0.0) << name;
+        const double share = end - begin, time_share = timing.level_device_seconds[l] / total;
+        if (time_share < 0.1) continue;  // a level of a few ms: its time varies most with the load
+        if (share < time_share / 4.0 || share > time_share * 4.0)
+          misfit += name + " has " + std::to_string(share) + " of the line, " + std::to_string(time_share) +
+                    " of the device time; ";
+      }
+      if (misfit.empty()) break;
+    }
+    EXPECT_EQ(misfit, "");
   }
 }
 

@@ -90,6 +90,21 @@ TEST(Cli, CsvToStandardOutput) {
   EXPECT_NE(r.out.find("0.125,0.166666"), std::string::npos) << "first cell centre (0.5/4, 0.5/3)";
 }
 
+// The one-table prefilter records its error bound without --max-error (every output does): in the
+// summary line and in the file's metadata, with its parts.
+TEST(Cli, PrefilterRecordsItsBoundWithoutMaxError) {
+  const fs::path out = temp_dir() / "bound.ktx2";
+  const CliRun r = run("prefilter --env builtin:sun --size 16 --min-size 4 -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE((r.out + r.err).find("stored values within "), std::string::npos) << r.out << r.err;
+  std::ifstream in(out, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* key : {"brdfbake:error_bound", "brdfbake:integration_error_bound_per_level",
+                          "brdfbake:integration_error_bound_definition", "brdfbake:storage_error"})
+    EXPECT_NE(bytes.find(std::string(key) + '\0'), std::string::npos) << key;
+  fs::remove(out);
+}
+
 // Every format holds the table the CSV holds (read back: values within the format's step, the
 // shape, the channels and the metadata).
 TEST(Cli, ReferenceDeviceAndEveryFormat) {

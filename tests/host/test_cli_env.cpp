@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "brdfbake/environment.hpp"
+#include "io/gpu_cube_read.hpp"
 #include "io/ktx2.hpp"
 #include "support/cli_runner.hpp"
 #include "support/tolerances.hpp"
@@ -267,6 +269,83 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
   EXPECT_EQ(entries(dir), 1u);
   fs::remove_all(dir);
   fs::remove_all(inputs);
+}
+
+// --pixel astc4x4 | astc6x6 (issue 24 item 9): a prefilter chain as ASTC HDR KTX2. Decoded by
+// astcenc (io::read_gpu_cube, as a GPU decodes it), every level is within the storage error the
+// file records of the same chain stored as f32 (the RMS relative difference over the channels
+// above 0: the measure it records), and its error_bound holds both parts. A job's table reaches it
+// (tables[].pixel) and bake --target khronos-viewer writes its KTX2 as ASTC; a kind, container or
+// target that cannot hold ASTC is refused with exit 2 and nothing written.
+TEST(CliEnv, AstcChains) {
+  const fs::path dir = temp_dir("astc");
+  const std::string chain = "prefilter --env builtin:sun --size 32 --min-size 4 ";
+  const CliRun f32 = run(chain + "--pixel f32 --quiet -o " + (dir / "f32.ktx2").string());
+  ASSERT_EQ(f32.code, 0) << f32.err;
+  const brdfbake::CubeLevels want = brdfbake::io::read_gpu_cube((dir / "f32.ktx2").string());
+  for (const char* block : {"astc4x4", "astc6x6"}) {
+    SCOPED_TRACE(block);
+    const fs::path out = dir / (std::string(block) + ".ktx2");
+    const CliRun r = run(chain + "--pixel " + block + " -o " + out.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE((r.out + r.err).find("ASTC"), std::string::npos) << "the summary names the encoding: " << r.out << r.err;
+    std::string format;
+    std::vector<std::pair<std::string, std::string>> kv;
+    const brdfbake::CubeLevels got = brdfbake::io::read_gpu_cube(out.string(), &format, &kv);
+    EXPECT_EQ(format, std::string(block) == "astc4x4" ? "ASTC 4x4 SFLOAT" : "ASTC 6x6 SFLOAT");
+    std::map<std::string, std::string> meta(kv.begin(), kv.end());
+    ASSERT_TRUE(meta.count("brdfbake:storage_error") && meta.count("brdfbake:error_bound"));
+    const double storage = std::stod(meta["brdfbake:storage_error"]), bound = std::stod(meta["brdfbake:error_bound"]);
+    EXPECT_GT(storage, 0.0);
+    EXPECT_GE(bound, storage);
+    ASSERT_EQ(got.level_count(), want.level_count());
+    for (int l = 0; l < got.level_count(); ++l) {
+      double sum = 0.0;
+      size_t n = 0;
+      const auto& a = got.levels[size_t(l)];
+      const auto& b = want.levels[size_t(l)];
+      for (size_t t = 0; t < a.size(); t += 4)
+        for (size_t c = 0; c < 3; ++c)
+          if (b[t + c] > 0.0f) {
+            const double d = (double(a[t + c]) - double(b[t + c])) / double(b[t + c]);
+            sum += d * d;
+            ++n;
+          }
+      EXPECT_LE(std::sqrt(sum / double(std::max<size_t>(n, 1))), storage) << "level " << l;
+    }
+  }
+  // a job's table, and the target that loads ASTC
+  const fs::path job = dir / "job.json";
+  std::ofstream(job) << R"({"brdfbake_job": 1, "environment": "builtin:sun", "tables": [)"
+                        R"({"kind": "prefilter", "size": 16, "min_size": 4, "pixel": "astc6x6", "output": "c.ktx2"}]})";
+  const CliRun j = run("run " + job.string() + " -o " + (dir / "job").string() + " --quiet");
+  ASSERT_EQ(j.code, 0) << j.err;
+  std::string format;
+  brdfbake::io::read_gpu_cube((dir / "job" / "c.ktx2").string(), &format);
+  EXPECT_EQ(format, "ASTC 6x6 SFLOAT");
+  const CliRun k = run("bake --env builtin:sun --target khronos-viewer --cube-size 32 --pixel astc4x4 --quiet -o " +
+                       (dir / "kv").string());
+  ASSERT_EQ(k.code, 0) << k.err;
+  brdfbake::io::read_gpu_cube((dir / "kv" / "kv_ggx.ktx2").string(), &format);
+  EXPECT_EQ(format, "ASTC 4x4 SFLOAT");
+  // refused: a kind that is no chain, a container without ASTC, targets that cannot load it
+  for (const std::string& args :
+       {std::string("lut --size 8 --pixel astc4x4 -o ") + (dir / "x.ktx2").string(),
+        chain + "--pixel astc4x4 -o " + (dir / "x.dds").string(),
+        std::string("bake --env builtin:sun --target filament --pixel astc4x4 -o ") + (dir / "x").string(),
+        std::string("bake --env builtin:sun --target babylon --pixel astc6x6 -o ") + (dir / "x").string()}) {
+    const CliRun bad = run(args + " --quiet");
+    EXPECT_EQ(bad.code, 2) << args << " -> " << bad.err;
+    EXPECT_EQ(count_lines(bad.err), 1) << args << " -> " << bad.err;
+    EXPECT_NE(bad.err.find("pixel"), std::string::npos) << bad.err;
+  }
+  std::ofstream(job) << R"({"brdfbake_job": 1, "environment": "builtin:sun", "target": "gltf", "tables": [)"
+                        R"({"kind": "prefilter", "size": 16, "pixel": "astc4x4", "output": "c.ktx2"}]})";
+  const CliRun bad_job = run("run " + job.string() + " -o " + (dir / "badjob").string() + " --quiet");
+  EXPECT_EQ(bad_job.code, 2) << bad_job.err;
+  EXPECT_NE(bad_job.err.find("tables[0].pixel"), std::string::npos) << bad_job.err;
+  for (const char* left : {"x.ktx2", "x.dds", "x", "badjob"}) EXPECT_FALSE(fs::exists(dir / left)) << left;
+  fs::remove_all(dir);
 }
 
 }  // namespace

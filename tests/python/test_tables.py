@@ -86,6 +86,25 @@ def test_prefilter_of_a_constant_environment_is_constant():
     assert r.request["environment"] == "array 64x32"
 
 
+def test_prefilter_saves_as_astc_hdr_with_its_bound(tmp_path):
+    # pixel astc4x4 / astc6x6 (issue 24 item 9): the chain as ASTC HDR KTX2 (VK_FORMAT_ASTC_4x4_SFLOAT_BLOCK
+    # = 1000066000, 6x6 = 1000066004 at byte 12 of the header), its measured storage error in the
+    # metadata and in the error bound; the chain records its integration bound (item 7) as well.
+    r = brdfbake.prefilter("builtin:sun", size=16, min_size=4)
+    assert r.error_bound is not None and r.error_bound > 0
+    for pixel, vk_format in (("astc4x4", 1000066000), ("astc6x6", 1000066004)):
+        out = tmp_path / f"{pixel}.ktx2"
+        r.save(out, pixel=pixel)
+        data = out.read_bytes()
+        assert int.from_bytes(data[12:16], "little") == vk_format
+        assert b"brdfbake:astc_rms_rel_error_per_level" in data and b"brdfbake:storage_error" in data
+    with pytest.raises(brdfbake.InputError, match="pixel"):
+        r.save(tmp_path / "x.dds", pixel="astc4x4")
+    with pytest.raises(brdfbake.InputError, match="pixel"):
+        brdfbake.lut(size=4).save(tmp_path / "x.ktx2", pixel="astc4x4")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["astc4x4.ktx2", "astc6x6.ktx2"]
+
+
 def test_sh_is_float64_coefficients_as_python_md_says(tmp_path):
     # docs/PYTHON.md: `.array` the SH coefficients of E/pi, (order^2, 3) float32; `.sh` the same
     # coefficients in float64; what they mean beside them in `.meta`. Held to the JSON file the CLI's

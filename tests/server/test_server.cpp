@@ -9,6 +9,8 @@
 #include <sys/socket.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <map>
 
 #include "brdfbake/job.hpp"
@@ -216,6 +218,34 @@ TEST_F(ServerApi, TableErrorBoundHeaderIsWhatTheFileRecords) {
   ASSERT_TRUE(exr);
   ASSERT_EQ(exr->status, 200) << exr->body;
   EXPECT_EQ(exr->get_header_value("X-Brdfbake-Error-Bound"), integration);
+}
+
+// pixel astc4x4 (issue 24 item 9) reaches the server as every other front end: the chain comes back
+// as ASTC HDR KTX2 (vkFormat VK_FORMAT_ASTC_4x4_SFLOAT_BLOCK = 1000066000 at byte 12) whose header
+// bound is the file's (integration plus the measured compression error); a kind that is no chain
+// is refused with 400 before anything is baked.
+TEST_F(ServerApi, AstcChainsAndTheirBound) {
+  auto c = server_->client();
+  auto r = c.Post(
+      "/v1/tables",
+      R"({"kind": "prefilter", "environment": "builtin:sun", "size": 16, "min_size": 4, "pixel": "astc4x4", "output": "c.ktx2"})",
+      "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  ASSERT_GE(r->body.size(), 16u);
+  uint32_t vk_format = 0;
+  std::memcpy(&vk_format, r->body.data() + 12, 4);
+  EXPECT_EQ(vk_format, 1000066000u);
+  const std::string recorded = ktx2_value(r->body, "error_bound"), storage = ktx2_value(r->body, "storage_error");
+  ASSERT_FALSE(recorded.empty());
+  ASSERT_FALSE(storage.empty());
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
+  EXPECT_GE(std::stod(recorded), std::stod(storage));
+  auto bad =
+      c.Post("/v1/tables", R"({"kind": "ggx", "size": 8, "pixel": "astc4x4", "output": "d.ktx2"})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400) << bad->body;
+  EXPECT_NE(bad->body.find("pixel"), std::string::npos) << bad->body;
 }
 
 TEST_F(ServerApi, ClampWarningsReachTheClient) {

@@ -10,6 +10,9 @@
 #include <iostream>
 
 #include "families/family.hpp"
+#include "io/astc_ktx2.hpp"
+#include "io/atomic_file.hpp"
+#include "io/ktx2.hpp"
 #include "io/storage.hpp"
 
 namespace brdfbake {
@@ -272,6 +275,9 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
     throw FieldError("format", "dds-legacy writes a .dds file (got '" + t.output + "')");
   if (!t.format.empty() && lower_extension(t.output) != ext)
     throw FieldError("format", "'" + t.format + "' does not match the extension of '" + t.output + "'");
+  if (astc_block_of(t) && cube_format_from_path(t.output) != CubeFormat::Ktx2)
+    throw FieldError("pixel",
+                     t.pixel + " is stored in KTX2 only (the output is '" + t.output + "'; give a .ktx2 file)");
   if (!folder && (t.find("layout") && t.text("layout") != "faces"))
     throw FieldError("layout", "is for folder outputs (the output is '" + t.output + "')");
   (void)name;
@@ -279,8 +285,48 @@ void check_cube_output(const TableRequest& t, const FieldName& name) {
 
 // Writes a cube with the request's container and pixel type, refusing texels the pixel type cannot
 // hold (binary16 beyond 65504: a real sun) and adding the storage rounding to `bound`.
+int astc_block_of(const TableRequest& t) { return t.pixel == "astc4x4" ? 4 : t.pixel == "astc6x6" ? 6 : 0; }
+
+namespace {
+
+// ASTC HDR KTX2 (pixel astc4x4 / astc6x6): compressed, decoded again by astcenc and compared
+// (io/astc_ktx2). The storage error is the largest over the levels of the RMS relative difference
+// of the decoded values (the chains' bound is an RMS; a block's darkest channels beside a sun
+// differ by up to 100 % and more, recorded per level in astc_max_rel_error_per_level), added to
+// `bound` as binary16's rounding is.
+WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string& path, std::optional<double> bound) {
+  const io::AstcCube astc = io::compress_astc_cube(cube, block, kAstcQuality);
+  WriteReport w;
+  w.storage_error = 0.0;
+  for (double e : astc.rms_rel_error) w.storage_error = std::max(w.storage_error, e);
+  w.encoding = "ASTC " + std::to_string(block) + "x" + std::to_string(block) + " HDR (astcenc, quality " +
+               fmt_number(kAstcQuality) + "; the largest RMS relative difference of a level's decoded values)";
+  CubeLevels out;
+  out.size = cube.size;
+  out.metadata = cube.metadata;
+  out.set_meta("storage_error", bound_text(w.storage_error));
+  out.set_meta("storage_encoding", w.encoding);
+  if (bound) {
+    w.error_bound = *bound + w.storage_error;
+    out.set_meta("error_bound", bound_text(*w.error_bound));
+  }
+  io::Ktx2Image image;
+  image.vk_format = astc.vk_format;
+  image.width = image.height = uint32_t(cube.size);
+  image.faces = 6;
+  image.levels = uint32_t(cube.level_count());
+  image.level_data = astc.level_data;
+  image.key_values = io::astc_key_values(out, astc, kAstcQuality);
+  const std::vector<uint8_t> bytes = io::encode_ktx2(image);
+  io::write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  return w;
+}
+
+}  // namespace
+
 WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
                               const std::string& stem, std::optional<double> bound) {
+  if (const int block = astc_block_of(t)) return write_astc_cube(cube, block, path, bound);
   const PixelType pixel = pixel_of(t);
   io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
   WriteReport w;

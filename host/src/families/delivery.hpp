@@ -79,6 +79,11 @@ void add_cube_output_params(std::vector<ParamDef>& schema);
 void check_cube_output(const TableRequest& t, const FieldName& name);
 // Writes a cube with the request's container and pixel type, refusing texels the pixel type cannot
 // hold (binary16 beyond 65504: a real sun) and adding the storage rounding to `bound`.
+// pixel astc4x4 / astc6x6: the ASTC block size (4 or 6), else 0; astcenc's effort for them
+// (ASTCENC_PRE_MEDIUM: a 256^2 chain in about a second a block size on two cores).
+int astc_block_of(const TableRequest& t);
+inline constexpr double kAstcQuality = 60.0;
+
 WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
                               const std::string& stem, std::optional<double> bound);
 

@@ -381,8 +381,17 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
   }
   t.params = std::move(ordered);
   if (t.pixel.empty()) t.pixel = family.default_pixel();
-  if (t.pixel != "f16" && t.pixel != "f32")
-    throw Error(field("pixel") + ": must be f16 or f32 (got '" + t.pixel.substr(0, 60) + "')");
+  if (t.pixel == "astc4x4" || t.pixel == "astc6x6") {
+    // ASTC HDR (io/astc_ktx2): the prefiltered chains' KTX2 (docs/ENGINES.md); the output's
+    // container is checked with the family's (check_cube_output)
+    if (t.kind != TableKind::Prefilter)
+      throw Error(field("pixel") + ": " + t.pixel +
+                  " is for prefiltered chains written as .ktx2 (kind prefilter), not " + table_kind_name(t.kind) +
+                  " (give f16 or f32)");
+  } else if (t.pixel != "f16" && t.pixel != "f32") {
+    throw Error(field("pixel") + ": must be f16, f32, or for a prefilter chain's .ktx2 astc4x4 or astc6x6 (got '" +
+                t.pixel.substr(0, 60) + "')");
+  }
   const detail::FieldName name = [&](const std::string& f) { return naming.cli ? field(f) : f; };
   try {
     family.check(t, name);

@@ -64,8 +64,10 @@ const std::vector<ParamDef>& bake_option_schema() {
     out.push_back(ParamDef("sanitize", T::Flag,
                            "replace NaN, infinite and negative environment pixels instead of refusing the input")
                       .def(false));
-    out.push_back(ParamDef("pixel", T::Name, "the texels of .ktx2, .h and cube containers (default: each kind's)")
-                      .one_of({"f16", "f32"}));
+    out.push_back(ParamDef("pixel", T::Name,
+                           "the texels of .ktx2, .h and cube containers (default: each kind's); astc4x4 | astc6x6: "
+                           "the prefiltered chains as ASTC HDR KTX2 (targets generic, khronos-viewer)")
+                      .one_of({"f16", "f32", "astc4x4", "astc6x6"}));
     out.push_back(ParamDef("precision", T::Name, "the precision of the kernels")
                       .one_of({"fp32", "fp64"})
                       .def(std::string("fp32")));
@@ -116,6 +118,9 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
   const auto named = [&](const char* name) { return naming.field(*find_param_def(schema, name)); };
   if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
     throw Error(named("sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");
+  if ((o.pixel == "astc4x4" || o.pixel == "astc6x6") && o.target != "generic" && o.target != "khronos-viewer")
+    throw Error(named("pixel") + ": " + o.pixel + ": the target " + o.target +
+                " cannot load ASTC (generic and khronos-viewer can; give f16 or f32)");
   const int size = o.cube_size.value_or(
       static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "size")->fallback)));
   if (o.cube_min_size && *o.cube_min_size > size)

@@ -163,6 +163,10 @@ void validate_job(Job& job) {
     naming.prefix = where;
     validate_table(t, naming);
     check_job_path(t.output, where + ".output");
+    // ASTC HDR chains: the engines that load KTX2 (an engine target's files hold the job's chain)
+    if ((t.pixel == "astc4x4" || t.pixel == "astc6x6") && job.target != "generic" && job.target != "khronos-viewer")
+      throw Error(where + ".pixel: " + t.pixel + ": the target " + job.target +
+                  " cannot load ASTC (generic and khronos-viewer can; give f16 or f32)");
     // Every other file a table writes (e.g. irradiance's sh_json) stays inside the folder too.
     for (const auto& d : table_schema(t.kind))
       if (d.type == ParamType::Path && d.output_only && t.find(d.name))

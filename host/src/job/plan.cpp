@@ -66,7 +66,8 @@ class Planner {
   // Adds `t` (or finds the identical table already planned) and records who asked for it.
   void ask(TableRequest t, const std::string& rule, const std::string& purpose, const std::string& material) {
     t.precision = o_.precision;
-    t.pixel = o_.pixel;
+    // ASTC is for the chains; every other table keeps its kind's pixel
+    t.pixel = (o_.pixel == "astc4x4" || o_.pixel == "astc6x6") && t.kind != TableKind::Prefilter ? "" : o_.pixel;
     if (o_.clamp_f16 && find_param_def(table_schema(t.kind), "clamp_f16")) t.set("clamp_f16", true);
     const std::string key = key_of(t);
     auto it = index_.find(key);

@@ -15,6 +15,7 @@
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/runner.hpp"
+#include "families/delivery.hpp"
 #include "families/family.hpp"
 #include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
@@ -141,6 +142,7 @@ ManifestFile manifest_entry(const TableRequest& o, const BakeResult& r, const Wr
 // targets that load one: khronos-viewer's NAME_charlie.ktx2) and first SH, staged in `staged`.
 struct EngineInputs {
   std::optional<BakeResult> ggx_chain, charlie_chain, irradiance;
+  std::string chain_pixel;  // the GGX chain's table's pixel: astc4x4 / astc6x6 make the engine's KTX2 ASTC
 };
 void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, const std::string& origin,
                       const EngineInputs& in, const std::string& name, const fs::path& staged) {
@@ -158,6 +160,10 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   if (in.charlie_chain) eb.charlie = in.charlie_chain->cube();
   EngineWriteOptions wo;
   wo.name = name;
+  if (in.chain_pixel == "astc4x4" || in.chain_pixel == "astc6x6") {
+    wo.astc = in.chain_pixel == "astc4x4" ? AstcBlock::Astc4x4 : AstcBlock::Astc6x6;
+    wo.astc_quality = detail::kAstcQuality;
+  }
   const EngineWriteResult w = write_engine_files(engine, eb, staged.string(), wo);
   manifest.target = job.target;
   for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
@@ -214,7 +220,10 @@ Manifest start_manifest(const Job& job, const std::string& origin, size_t bakes,
 
 // What an engine's file set is made of: the first GGX chain, the first Charlie chain, the first SH.
 void keep_engine_input(EngineInputs& in, const TableRequest& t, const BakeResult& r) {
-  if (!in.ggx_chain && r.cube() && t.text("distribution") == "ggx") in.ggx_chain = r;
+  if (!in.ggx_chain && r.cube() && t.text("distribution") == "ggx") {
+    in.ggx_chain = r;
+    in.chain_pixel = t.pixel;  // the chain's requested texels (astc4x4 / astc6x6 reach the engine's KTX2)
+  }
   if (!in.charlie_chain && r.cube() && t.text("distribution") == "charlie") in.charlie_chain = r;
   if (!in.irradiance && r.irradiance()) in.irradiance = r;
 }

@@ -44,6 +44,9 @@ double rms_difference(const std::vector<float>& a, const std::vector<float>& b) 
   return std::sqrt(sum / double(std::max<size_t>(count, 1)));
 }
 
+// Progress: every level's fixed cost, as a share of the chain's estimated work.
+constexpr double kProgressLevelOverhead = 0.05;
+
 // What one level's launches read beside the source: the bright texels' points and the estimator's
 // tables (the quadrature's thresholds, or the lobe samples).
 struct LevelInputs {
@@ -90,17 +93,34 @@ class ChainBaker {
   }
 
   // Every level (throws cl::Error from the device); returns the device seconds.
-  double bake(const EnvProgress& progress) {
+  double bake(const EnvProgress& report) {
+    // forward only, whatever the rounding of the levels' shares
+    double last = 0.0;
+    EnvProgress progress;
+    if (report)
+      progress = [&](double f, const std::string& label) {
+        last = std::max(last, std::min(f, 1.0));
+        report(last, label);
+      };
     filter_prog_ = filter_program(dev_, s_);
     stage("program");
     prepare_source();
     stage(quadrature_ ? "pyramid" : "source chain");
-    // Progress by texel count (the cost per texel is about the same on every level).
+    // Progress by the work of each level, its texels times the evaluations of one (texel_work): a
+    // texel of a rough Charlie level costs many times one of a sharp GGX level.
+    std::vector<double> work(size_t(levels_), 0.0);
     double total_work = 0.0, done_work = 0.0;
-    for (int l = 1; l < levels_; ++l) total_work += double(face_texels(out_.level_size(l)));
     for (int l = 1; l < levels_; ++l) {
-      device_seconds_ += bake_level(l, progress, total_work, done_work);
-      done_work += double(face_texels(out_.level_size(l)));
+      work[size_t(l)] = double(face_texels(out_.level_size(l))) * texel_work(l);
+      total_work += work[size_t(l)];
+    }
+    // Plus what every level costs whatever its texels (its launches, at least 4 with progress).
+    const double overhead = kProgressLevelOverhead * total_work;
+    for (int l = 1; l < levels_; ++l) work[size_t(l)] += overhead;
+    total_work += overhead * (levels_ - 1);
+    for (int l = 1; l < levels_; ++l) {
+      device_seconds_ += bake_level(l, progress, total_work, done_work, work[size_t(l)]);
+      done_work += work[size_t(l)];
       stage("level " + std::to_string(l));
     }
     if (progress) progress(1.0, "done");
@@ -156,13 +176,49 @@ class ChainBaker {
     device_seconds_ += rec_.seconds[0];
   }
 
+  // The evaluations one texel of level l costs, for progress. Sampling: its lobe samples. The
+  // quadrature: the walk visits the top level's texels, then at each level k >= 1 the children of
+  // the texels it refines there (a core c > cos_core[k] or a band lo < c < hi of c = R.d), about
+  // their share of the sphere (a cap is 2 pi (1 - c), a band 2 pi (hi - lo), of 4 pi) times the
+  // texels of level k - 1; a block of 8 x 8 texels (strips) walks the union of its texels' regions
+  // (each widened by the block's half diagonal) once, evaluating every visited texel for each of
+  // its 64. Both: plus the bright texels' points.
+  double texel_work(int l) const {
+    const double alpha = alpha_of(l);
+    const int q = std::min(bright_subdivision(s_.distribution, alpha, s0_, bright_.size()),
+                           bright_lobe_subdivision(s_.distribution, alpha, s0_));
+    const double bright = double(bright_.size()) * 4.0 * q * q;
+    if (!quadrature_) return double(std::max(rec_.samples[size_t(l)], 1)) + bright;
+    const int size = out_.level_size(l);
+    const bool strips = s_.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
+    const double widen = strips ? std::sqrt(2.0) * 8.0 / size : 0.0;  // radians, at a face's centre
+    std::vector<double> cos_core, band;
+    pyramid_thresholds(pyramid_, s_.distribution, alpha, s_, rec_.refinement[size_t(l)], cos_core, band);
+    const auto texels = [&](int k) { return 6.0 * double(pyramid_.sizes[size_t(k)]) * pyramid_.sizes[size_t(k)]; };
+    double w = texels(pyramid_.levels - 1);
+    for (int k = 1; k < pyramid_.levels; ++k) {
+      double share = 0.0;
+      if (cos_core[size_t(k)] <= 1.0) {
+        const double theta = std::acos(std::max(cos_core[size_t(k)], -1.0)) + widen;
+        share += 0.5 * (1.0 - std::cos(std::min(theta, math::kPi)));
+      }
+      if (band[2 * size_t(k)] < band[2 * size_t(k) + 1]) {
+        const double lo = std::max(band[2 * size_t(k)] - widen, -1.0);
+        const double hi = std::min(band[2 * size_t(k) + 1] + widen, 1.0);
+        share += 0.5 * (hi - lo);
+      }
+      w += std::min(share, 1.0) * texels(k - 1);
+    }
+    return w + bright;
+  }
+
   // One level with progress: a single run, or with max_error the search. Returns its device seconds.
-  double bake_level(int l, const EnvProgress& progress, double total_work, double done_work) {
+  double bake_level(int l, const EnvProgress& progress, double total_work, double done_work, double level_work) {
     const std::string label = "level " + std::to_string(l) + "/" + std::to_string(levels_ - 1);
     if (progress) progress(total_work > 0 ? done_work / total_work : 0.0, label);
     // Within the level's share of the work: run k of a search (refinement or sample count, each
     // dearer than the last) fills [1 - 2^-k, 1 - 2^-(k+1)) of it, so the line moves on and never back.
-    const double share = total_work > 0 ? double(face_texels(out_.level_size(l))) / total_work : 0.0;
+    const double share = total_work > 0 ? level_work / total_work : 0.0;
     const double start = total_work > 0 ? done_work / total_work : 0.0;
     int run = 0;
     std::string step_label = label;

@@ -2,8 +2,8 @@
 // source cube into the prefiltered levels: the bright texels leave the source (env/bright_texels.cpp,
 // bright.cpp), the rest is read through the quadrature's pyramid (pyramid.cpp) or the sampling
 // estimator's lobe samples (samples.cpp) and padded mip chain (env/device.cpp), each level launched
-// by launch.hpp's kernels and recorded by metadata.cpp. The roughness schedules and names are
-// schedule.cpp's, the spec's limits spec.cpp's.
+// by launch.hpp's kernels and recorded by metadata.cpp; its error bound is measured by bound.cpp.
+// The roughness schedules and names are schedule.cpp's, the spec's limits spec.cpp's.
 #pragma once
 
 #include <cstdint>
@@ -97,6 +97,38 @@ void pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double alpha, co
                         std::vector<double>& cos_core, std::vector<double>& band);
 // The finest level of the full pyramid that the quadrature visits for any of the lobes `alphas`.
 int pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas, const PrefilterSpec& s);
+
+// ---- The error bound every chain records (bound.cpp) ----------------------------------------------
+
+// Reference terms (source sub-cells x directions) the comparison may spend over a chain (a quarter
+// of a second on two quiet cores; a 1024^2 source's 3 texels a level take more), the sample texels
+// a level (the brightest's 3 x 3 neighbourhood from kChainBoundNeighbourhood on), the factor on
+// the sample's RMS and the floor (fp32 rounding) of every level's bound.
+inline constexpr double kChainBoundWork = 2.5e7;
+inline constexpr int kChainBoundMinSamples = 3;
+inline constexpr int kChainBoundMaxSamples = 64;
+inline constexpr int kChainBoundNeighbourhood = 16;
+inline constexpr double kChainBoundSafety = 2.0;
+inline constexpr double kChainBoundFloor = 1e-6;
+
+inline constexpr const char* kChainBoundDefinition =
+    "bound on the RMS relative luminance distance of a level's stored values from the converged ones (the double "
+    "reference: the lobe's integral over the bilinear interpolation of level 0): the larger of 2 x the RMS and "
+    "the largest of |Y - Y_ref| / Y_ref over a deterministic sample of its texels (bound_samples_per_level: the "
+    "brightest texel, its 3 x 3 "
+    "neighbourhood where 16 or more are compared, R2 points over the faces), at least 1e-6 (fp32 rounding)";
+
+struct ChainBound {
+  std::vector<double> per_level;       // the bound of each level (level 0: the floor)
+  std::vector<double> max_difference;  // the largest relative difference on the sample
+  std::vector<int> samples;            // texels compared per level
+  double bound = 0.0;                  // the largest of per_level
+  double seconds = 0.0;                // wall seconds of the comparison
+};
+// Every level of `cube` (level 0 its source) compared with the double reference on a sample of its
+// texels (bound.cpp says how); roughness: of each level.
+ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,
+                             const std::vector<double>& roughness);
 
 // ---- The reference (reference.cpp) -----------------------------------------------------------------
 

@@ -9,6 +9,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   pyramid.cpp
   chain.cpp
   metadata.cpp
+  bound.cpp
   kernel.cpp
   opencl.cpp
   reference.cpp

@@ -1,0 +1,132 @@
+// The error bound every prefiltered chain records (docs/CONVENTIONS.md, "Error bounds"): each
+// stored level compared with the double reference (host/reference/src/prefilter.cpp, the definition
+// itself: the lobe's integral over the bilinear interpolation of level 0) on a deterministic sample
+// of its texels.
+//
+// Per level l >= 1, with Y the luminance of a texel:
+//   d_k   = |Y_stored(k) - Y_ref(k)| / max(Y_ref(k), 1e-6 max_k Y_ref(k))   on the sample texels k,
+//   bound = max(kChainBoundSafety * RMS_k d_k, max_k d_k, kChainBoundFloor).
+// The safety factor and the sample's largest difference stand for what a sample of the level does
+// not see (the RMS over a few dozen texels against the RMS over all of them: a sun's neighbourhood
+// holds most of a level's error, and the sample holds the brightest texel's); the floor is the fp32
+// rounding of a stored value, the preview reference's floor: no level that is not exact records 0.
+// Level 0 is the source itself (exact up to its fp32 storage): the floor.
+//
+// The sample: as many texels as kChainBoundWork reference terms allow (kChainBoundMinSamples to
+// kChainBoundMaxSamples a level): the level's brightest texel with its 3 x 3 neighbourhood (a sun's
+// edge is where a quadrature errs most; the neighbourhood from kChainBoundNeighbourhood texels on),
+// the rest spread over the six faces by the R2 sequence (Roberts 2018, "The Unreasonable
+// Effectiveness of Quasirandom Sequences": u_k = frac(0.5 + k / g), v_k = frac(0.5 + k / g^2), g
+// the plastic number); a level with no more texels than that is compared whole.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "brdfbake/math/cubemap.hpp"
+#include "brdfbake/reference/envmap.hpp"
+#include "env/cube.hpp"
+#include "env/reference_cube.hpp"
+#include "families/prefilter/model.hpp"
+
+namespace brdfbake::detail {
+
+namespace {
+
+struct Texel {
+  int face, i, j;
+  bool operator==(const Texel& o) const { return face == o.face && i == o.i && j == o.j; }
+};
+
+// The `count` sample texels of a level of face size n: the brightest texel with (from
+// kChainBoundNeighbourhood texels on) its 3 x 3 neighbourhood within its face, the rest R2 points
+// over the faces; the whole level when it has no more texels.
+std::vector<Texel> sample_texels(const CubeLevels& cube, int level, int count) {
+  const int n = cube.level_size(level);
+  std::vector<Texel> out;
+  if (6 * n * n <= count) {
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) out.push_back({f, i, j});
+    return out;
+  }
+  auto add = [&](Texel t) {
+    if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+  };
+  Texel bright{0, 0, 0};
+  double best = -1.0;
+  for (int f = 0; f < 6; ++f)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double y = luminance(cube.texel(level, f, i, j));
+        if (y > best) {
+          best = y;
+          bright = {f, i, j};
+        }
+      }
+  const int reach = count >= kChainBoundNeighbourhood ? 1 : 0;
+  for (int dj = -reach; dj <= reach; ++dj)
+    for (int di = -reach; di <= reach; ++di) {
+      const int i = bright.i + di, j = bright.j + dj;
+      if (i >= 0 && j >= 0 && i < n && j < n) add({bright.face, i, j});
+    }
+  constexpr double kG = 1.32471795724474602596;  // the plastic number
+  for (int k = 0; static_cast<int>(out.size()) < count && k < 4 * count; ++k) {
+    const double u = std::fmod(0.5 + k / kG, 1.0), v = std::fmod(0.5 + k / (kG * kG), 1.0);
+    add({k % 6, std::min(int(u * n), n - 1), std::min(int(v * n), n - 1)});
+  }
+  return out;
+}
+
+}  // namespace
+
+ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,
+                             const std::vector<double>& roughness) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int levels = cube.level_count();
+  ChainBound b;
+  b.per_level.assign(size_t(levels), kChainBoundFloor);
+  b.max_difference.assign(size_t(levels), 0.0);
+  b.samples.assign(size_t(levels), 0);
+  if (levels > 1) {
+    const reference::EnvCube source = to_reference_cube(cube.levels[0], cube.size);
+    const reference::EnvLobe lobe =
+        distribution == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
+    const double cells = 6.0 * double(cube.size) * double(cube.size);
+    for (int l = 1; l < levels; ++l) {
+      const double r = roughness.at(size_t(l));
+      const int q = reference::env_default_subdivision(lobe, r * r, cube.size);
+      const double per_direction = cells * q * q;
+      const int count = static_cast<int>(std::clamp(kChainBoundWork / (levels - 1) / per_direction,
+                                                    double(kChainBoundMinSamples), double(kChainBoundMaxSamples)));
+      const std::vector<Texel> texels = sample_texels(cube, l, count);
+      std::vector<Vec3> dirs;
+      for (const Texel& t : texels) dirs.push_back(math::cube_texel_direction(t.face, cube.level_size(l), t.i, t.j));
+      const std::vector<double> ref = reference::prefilter_directions(source, lobe, r, dirs, q);
+      std::vector<double> y_ref(texels.size());
+      double y_max = 0.0;
+      for (size_t k = 0; k < texels.size(); ++k) {
+        // in double, with luminance()'s weights (Rec. 709)
+        y_ref[k] = 0.2126 * ref[3 * k] + 0.7152 * ref[3 * k + 1] + 0.0722 * ref[3 * k + 2];
+        y_max = std::max(y_max, y_ref[k]);
+      }
+      double sum = 0.0, worst = 0.0;
+      for (size_t k = 0; k < texels.size(); ++k) {
+        const double y = luminance(cube.texel(l, texels[k].face, texels[k].i, texels[k].j));
+        const double d = std::fabs(y - y_ref[k]) / std::max({y_ref[k], 1e-6 * y_max, 1e-300});
+        sum += d * d;
+        worst = std::max(worst, d);
+      }
+      const double rms = std::sqrt(sum / double(std::max<size_t>(texels.size(), 1)));
+      b.per_level[size_t(l)] = std::max({kChainBoundSafety * rms, worst, kChainBoundFloor});
+      b.max_difference[size_t(l)] = worst;
+      b.samples[size_t(l)] = static_cast<int>(texels.size());
+    }
+  }
+  b.bound = *std::max_element(b.per_level.begin(), b.per_level.end());
+  b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return b;
+}
+
+}  // namespace brdfbake::detail
