@@ -34,6 +34,7 @@
 #include "server/connections.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
+#include "server/reply.hpp"
 #include "server/scheduler.hpp"
 #include "server/web_routes.hpp"
 
@@ -106,17 +107,6 @@ std::string header_text(const std::string& s) {
   for (char c : s)
     if (c >= 0x20 && c < 0x7f) out += c;
   return out.substr(0, 300);
-}
-
-void reply_json(httplib::Response& res, int status, const json& body) {
-  res.status = status;
-  res.set_content(body.dump(2) + "\n", "application/json");
-}
-
-void reply_error(httplib::Response& res, int status, const std::string& message) {
-  json o;
-  o["error"] = message;
-  reply_json(res, status, o);
 }
 
 // What a client calls its job in messages (?source=job.json; `run --server` sends the file's path as
@@ -621,40 +611,7 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
   json doc;
   Plan plan;
   try {
-    const json body = io::parse_json(req.body.empty() ? std::string("{}") : req.body, origin);
-    if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
-    // JSON values as the options' types take them; their checks, names and messages are the
-    // parser's, shared with the command line and Python.
-    Params given;
-    for (auto it = body.begin(); it != body.end(); ++it) {
-      const std::string key = it.key() == "env" ? std::string("environment") : it.key();
-      ParamValue v;
-      if (it->is_boolean())
-        v = it->get<bool>();
-      else if (it->is_number())
-        v = it->get<double>();
-      else if (it->is_string())
-        v = it->get<std::string>();
-      else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
-        v = it->get<std::vector<double>>();
-      else
-        throw Error(origin + ": " + key.substr(0, 60) +
-                    ": must be a number, a string, a boolean or a list of numbers (got " + io::json_excerpt(*it) + ")");
-      given.push_back({key, v});
-    }
-    OptionNaming naming;
-    naming.prefix = origin;
-    const BakeOptions options = parse_bake_options(given, naming);
-    if (!options.scene.empty()) {
-      const std::string path = roots->input_file(options.scene, origin + ": scene");
-      const std::string bytes = io::read_text_file(path, "scene");
-      // Parsed from memory with no base folder: the server looks at no file the scene refers to.
-      const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-      const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
-      plan = plan_scene(s, options.plan);
-    } else {
-      plan = plan_default(options.plan);
-    }
+    plan = bake_plan(req.body, origin, *roots);
     doc = json::parse(job_to_json(plan.job));
   } catch (const Error& e) {
     return fail(res, 400, e.what());
@@ -981,7 +938,11 @@ void Server::Impl::routes() {
               [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))",
            [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
-  register_web_routes(http, WebContext{store.get(), roots.get(), jobs_dir(), tmp_dir()});  // GET / (web_routes.hpp)
+  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), {}};
+  web.on_device = [this](const std::string& selector, const std::function<void(Backend&)>& work) {
+    scheduler->run_now(scheduler->device_key(selector), "dry-run estimate", [&work](Backend& b) { work(b); }).get();
+  };
+  register_web_routes(http, web);  // GET / (web_routes.hpp)
 }
 
 Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {

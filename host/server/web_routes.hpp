@@ -9,11 +9,17 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace httplib {
 class Server;
+}
+
+namespace brdfbake {
+class Backend;
+struct Plan;
 }
 
 namespace brdfbake::server {
@@ -37,7 +43,16 @@ struct WebContext {
   JobStore* store = nullptr;
   const Roots* roots = nullptr;
   std::filesystem::path jobs_dir, tmp_dir;
+  // Runs a dry run's measuring bakes on the device a selector names (the scheduler's run_now: a warm
+  // device, before its queued jobs); empty: POST /v1/plan gives no time estimate.
+  std::function<void(const std::string& selector, const std::function<void(Backend&)>& work)> on_device;
 };
+
+// The plan of a bake's options as POST /v1/bake and POST /v1/plan take them (a JSON object; "{}" or
+// an empty body: the default bake): JSON values into the options' types, parse_bake_options, and a
+// scene read under the input root (parsed from memory: no file it refers to is opened). Throws
+// Error with the one line a 400 answers.
+Plan bake_plan(const std::string& body, const std::string& origin, const Roots& roots);
 
 // The page's own files, served without a token: they hold no data (the page asks for the token and
 // sends it with every API call it makes).

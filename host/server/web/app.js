@@ -289,7 +289,16 @@ async function dryRun() {
     const plan = await planJob();
     const body = $('plan-table').tBodies[0];
     body.textContent = '';
-    for (const t of plan.tables) body.append(el('tr', {}, el('td', { class: 'mono', text: t.output }), el('td', { text: t.kind }), el('td', { text: humanBytes(t.estimated_bytes) })));
+    const secs = (s) => (s === undefined ? '' : s.toFixed(2) + ' s');
+    for (const t of plan.tables) {
+      body.append(el('tr', {}, el('td', { class: 'mono', text: t.output }), el('td', { text: t.kind }),
+        el('td', { text: secs(t.seconds) }), el('td', { text: t.bytes === undefined ? '' : humanBytes(t.bytes) }),
+        el('td', { text: humanBytes(t.estimated_bytes) })));
+    }
+    const w = plan.estimate;
+    $('plan-total').textContent = w ? 'Whole bake: about ' + secs(w.seconds) + ' (environment ' + secs(w.environment_seconds) +
+      '), ' + humanBytes(w.bytes) + ' of tables; measured on the server\'s device by bakes at reduced size' +
+      (w.calibration_seconds > 0 ? ' (' + secs(w.calibration_seconds) + ')' : ' (cached)') + '.' : '';
     $('plan').hidden = false;
   } catch (e) {
     showError(e.message);
