@@ -504,6 +504,15 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
+    // Each file's delivered bound as the command line prints it and the file records it
+    // (error_bound_text: rounded up to three digits), by its path in the manifest.
+    json bounds = json::object();
+    if (m.is_object() && m.contains("files") && m["files"].is_array())
+      for (const auto& f : m["files"])
+        if (f.is_object() && f.contains("path") && f["path"].is_string() && f.contains("error_bound") &&
+            f["error_bound"].is_number())
+          bounds[f["path"].get<std::string>()] = error_bound_text(f["error_bound"].get<double>());
+    o["error_bounds"] = bounds;
     o["manifest"] = m;
   }
   return o;
@@ -891,6 +900,7 @@ void Server::Impl::routes() {
       e["table"] = d.table.empty() ? json(nullptr) : json(d.table);
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
+      e["load"] = d.load;
       a.push_back(e);
     }
     json o;

@@ -5,6 +5,7 @@
 // file's picture as `brdfbake view` draws it. The browser test is tests/python/test_web_page.py.
 #include <gtest/gtest.h>
 
+#include "brdfbake/tables.hpp"
 #include "server/server_process.hpp"
 #include "support/cli_runner.hpp"
 
@@ -13,35 +14,21 @@ namespace {
 
 const std::string kToken = "web-routes-token-0123456789";
 
-class ServerWeb : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new TempDir("web");
-    write_file(dir_->path / "inputs" / "maps" / "sky.hdr", "not really an image: only listed");
-    write_file(dir_->path / "inputs" / "scene.gltf", "{}");
-    write_file(dir_->path / "inputs" / ".hidden" / "secret.hdr", "x");
-    write_file(dir_->path / "inputs" / "notes.txt", "x");
-    write_file(dir_->path / "outside" / "far.hdr", "x");
-    fs::create_symlink(dir_->path / "outside" / "far.hdr", dir_->path / "inputs" / "link.hdr");
-    write_file(dir_->path / "token", kToken + "\n");
-    server_ = new ServerProcess(
-        dir_->path, {"--data", (dir_->path / "data").string(), "--input-root", (dir_->path / "inputs").string(),
-                     "--token-file", (dir_->path / "token").string()});
-    started_ = server_->start();
+class ServerWeb : public SharedServer<ServerWeb> {
+ public:
+  static constexpr const char* kFolder = "web";
+  static std::vector<std::string> arguments(const fs::path& dir) {
+    write_file(dir / "inputs" / "maps" / "sky.hdr", "not really an image: only listed");
+    write_file(dir / "inputs" / "scene.gltf", "{}");
+    write_file(dir / "inputs" / ".hidden" / "secret.hdr", "x");
+    write_file(dir / "inputs" / "notes.txt", "x");
+    write_file(dir / "outside" / "far.hdr", "x");
+    fs::create_symlink(dir / "outside" / "far.hdr", dir / "inputs" / "link.hdr");
+    write_file(dir / "token", kToken + "\n");
+    return {"--data", (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--token-file",
+            (dir / "token").string()};
   }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete dir_;
-  }
-  void SetUp() override { ASSERT_TRUE(started_) << server_->error(); }
-
-  static TempDir* dir_;
-  static ServerProcess* server_;
-  static bool started_;
 };
-TempDir* ServerWeb::dir_ = nullptr;
-ServerProcess* ServerWeb::server_ = nullptr;
-bool ServerWeb::started_ = false;
 
 TEST_F(ServerWeb, PageFilesAreServedWithoutTheTokenAsTheSourcesAre) {
   auto anonymous = server_->client();
@@ -186,6 +173,24 @@ TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
     }
   }
   EXPECT_GT(compared, 0) << "the SH is always baked at its own size";
+  // Each file's bound as the command line prints it (the page shows these).
+  int bounds = 0;
+  for (const auto& f : files)
+    if (f["error_bound"].is_number()) {
+      EXPECT_EQ(job["error_bounds"].value(f["path"].get<std::string>(), ""),
+                error_bound_text(f["error_bound"].get<double>()));
+      ++bounds;
+    }
+  EXPECT_GT(bounds, 0);
+  EXPECT_EQ(job["error_bounds"].size(), size_t(bounds));
+  // The device's load over the last minute counts at least the job it just ran (the estimate's
+  // bakes and the job, within the minute: at least half the job's seconds, the two clocks apart).
+  const json devices = body_json(c.Get("/v1/devices"));
+  ASSERT_FALSE(devices["devices"].empty());
+  const double load = devices["devices"][0]["load"].get<double>();
+  EXPECT_LE(load, 1.0);
+  EXPECT_GE(load * 60.0, 0.5 * job["seconds"].get<double>()) << devices.dump();
+  EXPECT_GT(load, 0.0);
   // Refusals are the submission's, one line naming the option.
   auto bad = c.Post("/v1/plan", R"({"cube_size": -1})", "application/json");
   ASSERT_TRUE(bad);

@@ -445,7 +445,7 @@ function describe(f) {
   const parts = [];
   if (f.kind) parts.push(f.kind);
   if (typeof f.bytes === 'number') parts.push(humanBytes(f.bytes));
-  if (f.picture) parts.push('delivered error bound: ' + (f.error_bound !== undefined && f.error_bound !== null ? String(f.error_bound) : '— (none recorded)'));
+  if (f.picture) parts.push('delivered error bound: ' + (f.bound_text || '— (none recorded)'));
   if (typeof f.seconds === 'number') parts.push(`${f.seconds.toFixed(2)} s`);
   return parts.join(' · ');
 }
@@ -454,7 +454,9 @@ function showResults(job, s) {
   const box = $('results');
   box.textContent = '';
   const manifest = s.manifest || {};
-  const files = (manifest.files || []).map((f) => ({ ...f, picture: true }));
+  // Bounds as the command line prints them (error_bound_text: rounded up to three digits).
+  const bounds = s.error_bounds || {};
+  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, bound_text: bounds[f.path] }));
   const engine = manifest.engine || {};
   for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: false });
   files.push({ path: 'manifest.json', kind: 'manifest', picture: false });
@@ -522,7 +524,7 @@ async function refreshServer() {
     const db = $('devices').tBodies[0];
     db.textContent = '';
     for (const d of devices.devices)
-      db.append(el('tr', {}, ...[d.key, d.name, d.type, d.warm ? 'yes' : 'no', d.busy ? 'yes' : 'no', d.running || '', d.queued, d.busy_seconds.toFixed(1)].map((v) => el('td', { text: String(v) }))));
+      db.append(el('tr', {}, ...[d.key, d.name, d.type, d.warm ? 'yes' : 'no', d.busy ? 'yes' : 'no', d.running || '', d.queued, d.busy_seconds.toFixed(1), `${Math.round(100 * (d.load || 0))} %`].map((v) => el('td', { text: String(v) }))));
     const jb = $('jobs').tBodies[0];
     jb.textContent = '';
     for (const j of jobs.jobs) {
