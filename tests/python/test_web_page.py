@@ -256,6 +256,16 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     command = _text(browser, "command-text")
     assert command.startswith("brdfbake bake ") and f"--environment {HDR}" in command and "--target filament" in command
     assert "--cube-size 64" in command
+    # The dry run: each table's estimated time on the server's device and the bytes of its files
+    # (POST /v1/plan, measured by bakes at reduced size), and the whole bake's.
+    browser.find_element("id", "plan-button").click()
+    _wait(browser, lambda d: _text(d, "plan-total").startswith("Whole bake: about"), "the dry run's estimate")
+    rows = browser.find_elements("css selector", "#plan-table tbody tr")
+    assert len(rows) >= 3
+    for row in rows:
+        cells = [c.text for c in row.find_elements("css selector", "td")]
+        assert re.fullmatch(r"\d+\.\d\d s", cells[2]), cells
+        assert re.fullmatch(r"\d+(\.\d)? (B|KiB|MiB)", cells[3]), cells
 
     browser.find_element("id", "bake-button").click()
     _wait(browser, lambda d: d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
@@ -274,7 +284,10 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     manifest = json.loads(body)["manifest"]
     bound_texts = json.loads(body)["error_bounds"]
     pictures = browser.execute_script(PIXELS_JS)
-    assert len(pictures) == len(manifest["files"]) >= 3
+    # ... and Filament's KTX1 cubes (the IBL and the skybox), which `brdfbake view` reads too.
+    ktx = [p for p in manifest.get("engine", {}).get("files", []) if p.endswith(".ktx")]
+    assert len(ktx) == 2, manifest.get("engine")
+    assert len(pictures) == len(manifest["files"]) + len(ktx) >= 5
     for p in pictures:
         assert p["complete"] and p["width"] > 0 and p["height"] > 0, p
         assert p["variance"] > 0, p

@@ -445,7 +445,7 @@ function describe(f) {
   const parts = [];
   if (f.kind) parts.push(f.kind);
   if (typeof f.bytes === 'number') parts.push(humanBytes(f.bytes));
-  if (f.picture) parts.push('delivered error bound: ' + (f.bound_text || '— (none recorded)'));
+  if (f.table) parts.push('delivered error bound: ' + (f.bound_text || '— (none recorded)'));
   if (typeof f.seconds === 'number') parts.push(`${f.seconds.toFixed(2)} s`);
   return parts.join(' · ');
 }
@@ -456,9 +456,10 @@ function showResults(job, s) {
   const manifest = s.manifest || {};
   // Bounds as the command line prints them (error_bound_text: rounded up to three digits).
   const bounds = s.error_bounds || {};
-  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, bound_text: bounds[f.path] }));
+  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, table: true, bound_text: bounds[f.path] }));
   const engine = manifest.engine || {};
-  for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: false });
+  // Filament's KTX1 cubes (R11F_G11F_B10F, RGBM) are drawn too: the view code reads them.
+  for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: /\.ktx$/i.test(p) });
   files.push({ path: 'manifest.json', kind: 'manifest', picture: false });
   const pictures = [];
   for (const f of files) {
