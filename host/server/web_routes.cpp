@@ -6,12 +6,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
 #include <sstream>
+#include <vector>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
@@ -21,6 +24,7 @@
 #include "brdfbake/scene.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/view.hpp"
+#include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
@@ -120,6 +124,93 @@ void post_plan(const WebContext& c, const httplib::Request& req, httplib::Respon
   } catch (const Error& e) {
     reply_error(res, 400, c.roots->public_text(e.what()));  // no server path in a message
   }
+}
+
+// POST /v1/uploads?name=FILE: a file from the page (the body, raw: --max-body applies, 413 before it is
+// read), an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb), read through the readers
+// and limits a bake uses before it is kept; stored as DATA/uploads/<random>-<name> and answered with
+// the name requests give it ("upload:..."). Uploads older than kUploadMaxAgeSeconds go, then the
+// oldest while they hold more than kUploadMaxTotalBytes.
+void prune_uploads(const fs::path& dir, std::uint64_t incoming) {
+  std::error_code ec;
+  struct Entry {
+    fs::path path;
+    fs::file_time_type time;
+    std::uint64_t bytes;
+  };
+  std::vector<Entry> entries;
+  const auto now = fs::file_time_type::clock::now();
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_regular_file(ec)) continue;
+    const auto t = e.last_write_time(ec);
+    if (ec) continue;
+    if (std::chrono::duration<double>(now - t).count() > kUploadMaxAgeSeconds) {
+      fs::remove(e.path(), ec);
+      continue;
+    }
+    entries.push_back({e.path(), t, static_cast<std::uint64_t>(e.file_size(ec))});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.time < b.time; });
+  std::uint64_t total = incoming;
+  for (const auto& e : entries) total += e.bytes;
+  for (const auto& e : entries) {
+    if (total <= kUploadMaxTotalBytes) break;
+    fs::remove(e.path, ec);
+    total -= e.bytes;
+  }
+}
+
+void post_upload(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
+  const std::string origin = "upload";
+  const std::string name = req.has_param("name") ? req.get_param_value("name") : std::string();
+  if (name.empty()) return reply_error(res, 400, origin + ": name: the file's name is required (?name=sky.hdr)");
+  // Its name is a label and an extension, never a path: one component of plain characters.
+  if (name.size() > 100 || name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+                               std::string::npos ||
+      name[0] == '.')
+    return reply_error(res, 400,
+                       origin + ": name: '" + name.substr(0, 60) +
+                           "' must be a file name of letters, digits, '.', '_' and '-' (at most 100, not starting "
+                           "with '.')");
+  const std::string ext = lower_extension(fs::path(name));
+  const bool scene = ext == ".gltf" || ext == ".glb";
+  if (!scene && ext != ".hdr" && ext != ".exr" && ext != ".png" && ext != ".ktx2")
+    return reply_error(res, 400,
+                       origin + ": name: '" + name.substr(0, 60) +
+                           "': an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb) is expected");
+  if (req.body.empty()) return reply_error(res, 400, origin + ": the body is empty: it is the file's bytes");
+  const fs::path dir = c.roots->uploads_dir();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  prune_uploads(dir, req.body.size());
+  static std::atomic<unsigned> counter{0};
+  char stamp[40];
+  std::snprintf(stamp, sizeof stamp, "%08x%04x-", static_cast<unsigned>(std::random_device{}()),
+                (counter++) & 0xffffu);
+  const std::string stored = stamp + name;
+  const fs::path path = dir / stored;
+  const std::string public_name = std::string(kUploadPrefix) + stored;
+  try {
+    io::write_file_atomically(path.string(), req.body);
+  } catch (const Error& e) {
+    return reply_error(res, 507, origin + ": cannot store the upload: " + c.roots->public_text(e.what()));
+  }
+  try {
+    if (scene) {
+      const bool glb = req.body.size() >= 4 && req.body.compare(0, 4, "glTF") == 0;
+      (void)(glb ? parse_glb(req.body, public_name, "") : parse_scene_json(req.body, public_name, ""));
+    } else {
+      (void)load_environment(path.string(), EnvLoadOptions{});
+    }
+  } catch (const Error& e) {
+    fs::remove(path, ec);
+    return reply_error(res, 400, c.roots->public_text(e.what()));
+  }
+  json o;
+  o["name"] = public_name;
+  o["kind"] = scene ? "scene" : "environment";
+  o["bytes"] = req.body.size();
+  reply_json(res, 201, o);
 }
 
 // GET /v1/inputs: the environments and scenes under --input-root that a request may name (relative
@@ -363,6 +454,7 @@ void register_web_routes(httplib::Server& http, const WebContext& context) {
   });
   http.Get("/v1/inputs", [c](const httplib::Request&, httplib::Response& res) { get_inputs(c, res); });
   http.Post("/v1/plan", [c](const httplib::Request& req, httplib::Response& res) { post_plan(c, req, res); });
+  http.Post("/v1/uploads", [c](const httplib::Request& req, httplib::Response& res) { post_upload(c, req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/job)", [c](const httplib::Request& req, httplib::Response& res) {
     const std::string id = req.matches[1];
     const auto r = c.store->get(id);

@@ -59,7 +59,7 @@ def server(cli, shared_dir, tmp_path_factory):
     log = open(base / "server.log", "w")
     proc = subprocess.Popen(
         [cli, "serve", "--listen", "127.0.0.1:0", "--url-file", str(url_file), "--data", str(base / "data"),
-         "--input-root", str(inputs), "--token-file", str(base / "token")],
+         "--input-root", str(inputs), "--token-file", str(base / "token"), "--max-body", "4M"],
         stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + WAIT_S
     while not (url_file.exists() and url_file.read_text().endswith("\n")):
@@ -328,6 +328,52 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
         assert set(json.loads(body)["files"]) <= set(names)
         for f in manifest["files"]:
             assert tar.extractfile(f["path"]).read() == (browser.downloads / f["path"]).read_bytes()
+
+
+def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_path):
+    """An environment uploaded from the browser (POST /v1/uploads, under --max-body: 4M here), its
+    name put in the field, baked; a bad upload's line next to the field; a download byte for byte
+    what `brdfbake run` makes of the job the page copies, whose environment is the stored upload."""
+    _login(browser, server["url"])
+    hdr = shared_dir / "envmaps" / HDR
+    bad = tmp_path / "not an image.hdr"
+    bad.write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 8\n" + b"\x01" * 7)
+    browser.find_element("id", "upload-environment").send_keys(str(bad))
+    _wait(browser, lambda d: _text(d, "error-environment") != "", "the bad upload's error next to its field")
+    message = _text(browser, "error-environment")
+    assert "not_an_image.hdr" in message and "\n" not in message, message
+    assert str(server["base"]) not in message, message
+    browser.find_element("id", "upload-environment").send_keys(str(hdr))
+    _wait(browser, lambda d: d.find_element("id", "opt-environment").get_attribute("value").startswith("upload:"),
+          "the upload's name in the environment field")
+    assert _text(browser, "error-environment") == ""
+    name = browser.find_element("id", "opt-environment").get_attribute("value")
+    stored = server["base"] / "data" / "uploads" / name[len("upload:"):]
+    assert stored.read_bytes() == hdr.read_bytes()
+    _set(browser, "target", "generic")
+    browser.find_element("id", "preset-draft").click()
+    before = _text(browser, "job-id")
+    browser.find_element("id", "bake-button").click()
+    _wait(browser, lambda d: _text(d, "job-id") not in ("", before)
+          and d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
+          "the bake of the upload done and its pictures shown")
+    assert _text(browser, "job-state") == "done"
+    browser.find_element("id", "copy-result-job").click()
+    _wait(browser, lambda d: _text(d, "command-text").startswith("{"), "the job JSON shown")
+    job = json.loads(_text(browser, "command-text"))
+    assert job["environment"] == str(stored.resolve())
+    (tmp_path / "job.json").write_text(json.dumps(job))
+    run = subprocess.run([cli, "run", str(tmp_path / "job.json"), "-o", str(tmp_path / "cli"), "--quiet"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    chain = next(t["output"] for t in job["tables"] if t["kind"] == "prefilter")
+    target = browser.downloads / chain
+    target.unlink(missing_ok=True)  # the Filament test downloaded a chain of this name before
+    button = browser.find_element("css selector", f"#results button.download[data-path='{chain}']")
+    button.click()
+    _wait(browser, lambda d: target.exists() and not (browser.downloads / (chain + ".crdownload")).exists(),
+          f"the download of {chain}")
+    assert target.read_bytes() == (tmp_path / "cli" / chain).read_bytes(), chain
 
 
 def test_progress_moves_and_cancel_stops_the_job(server, browser):

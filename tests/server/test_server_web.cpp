@@ -5,6 +5,8 @@
 // file's picture as `brdfbake view` draws it. The browser test is tests/python/test_web_page.py.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "brdfbake/tables.hpp"
 #include "server/server_process.hpp"
 #include "support/cli_runner.hpp"
@@ -263,6 +265,93 @@ TEST_F(ServerWeb, ViewIsTheContactSheetOfBrdfbakeView) {
   ASSERT_TRUE(doc);
   EXPECT_EQ(doc->status, 200);
   EXPECT_EQ(body_json(doc)["tables"][0]["output"], "dfg.exr");
+}
+
+// POST /v1/uploads: a file from the page, checked by the readers a bake uses before it is kept,
+// stored under the data folder with a generated name, named "upload:..." in requests; refusals are
+// the API's one line.
+TEST_F(ServerWeb, UploadsAreCheckedConfinedAndBaked) {
+  auto c = server_->client(kToken);
+  const auto upload = [&](const std::string& name, const std::string& body) {
+    return c.Post("/v1/uploads?name=" + name, body, "application/octet-stream");
+  };
+  const auto error_of = [](const httplib::Result& r) {
+    const std::string e = body_json(r).value("error", "");
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;                        // one line
+    EXPECT_EQ(e.find(dir_->path.string()), std::string::npos) << e;        // no server folder
+    return e;
+  };
+  // A 4 x 2 Radiance HDR, flat scanlines, every pixel 1.0 (mantissa 128, exponent 129).
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int i = 0; i < 8; ++i) hdr += std::string("\x80\x80\x80\x81", 4);
+
+  EXPECT_EQ(server_->client().Post("/v1/uploads?name=sky.hdr", hdr, "application/octet-stream")->status, 401);
+  // Beyond --max-body (1 MiB): 413, answered from Content-Length.
+  auto big = upload("big.hdr", std::string((1 << 20) + 1, 'x'));
+  ASSERT_TRUE(big);
+  EXPECT_EQ(big->status, 413);
+  // Not an image: the reader's line, naming the upload, and nothing kept.
+  auto bad = upload("broken.hdr", "not an image");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  const std::string bad_error = error_of(bad);
+  EXPECT_NE(bad_error.find("broken.hdr"), std::string::npos) << bad_error;
+  // Names are labels, never paths; unknown kinds are refused.
+  for (const char* name : {"..%2Fx.hdr", "a%2Fb.hdr", ".hidden.hdr", "notes.txt", ""}) {
+    auto r = upload(name, hdr);
+    ASSERT_TRUE(r) << name;
+    EXPECT_EQ(r->status, 400) << name;
+    EXPECT_EQ(error_of(r).rfind("upload: name: ", 0), 0u) << name;
+  }
+  int kept = 0;
+  for (const auto& e : fs::directory_iterator(dir_->path / "data" / "uploads")) kept += e.is_regular_file();
+  EXPECT_EQ(kept, 0) << "refused uploads leave no file";
+
+  // A good one: stored byte for byte under a generated name, then baked by that name.
+  auto ok = upload("sky.hdr", hdr);
+  ASSERT_TRUE(ok);
+  ASSERT_EQ(ok->status, 201) << ok->body;
+  const json u = body_json(ok);
+  const std::string name = u.value("name", "");
+  ASSERT_EQ(name.rfind("upload:", 0), 0u) << name;
+  EXPECT_EQ(name.substr(name.size() - 8), "-sky.hdr");
+  EXPECT_EQ(u["kind"], "environment");
+  EXPECT_EQ(u["bytes"], hdr.size());
+  EXPECT_EQ(read_file(dir_->path / "data" / "uploads" / name.substr(7)), hdr);
+  auto posted = c.Post("/v1/bake", json{{"environment", name}, {"cube_size", 16}, {"lut_size", 8}}.dump(),
+                       "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 202) << posted->body;
+  const json bake = body_json(posted);
+  const json job = wait_job(c, bake.value("id", ""));
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  // A uniform white environment: the SH's L00 is 2 sqrt(pi) (the radiance's projection on Y00).
+  auto sh = c.Get("/v1/jobs/" + bake.value("id", "") + "/files/irradiance_sh3.json");
+  ASSERT_TRUE(sh);
+  const json coefficients = json::parse(sh->body)["radiance"];
+  EXPECT_NEAR(coefficients[0][0].get<double>(), 2 * std::sqrt(M_PI), 1e-3) << coefficients.dump();
+
+  // Names that are not this server's uploads: refused by the bake like any path out of its roots.
+  for (const char* env : {"upload:../token", "upload:nothing.hdr"}) {
+    auto r = c.Post("/v1/bake", json{{"environment", env}}.dump(), "application/json");
+    ASSERT_TRUE(r) << env;
+    EXPECT_EQ(r->status, 400) << env;
+    EXPECT_NE(error_of(r).find("is not an upload of this server"), std::string::npos) << env;
+  }
+  // A scene: read as a bake reads it, then planned by its name.
+  auto scene = upload("chair.gltf", R"({"asset": {"version": "2.0"}, "materials": [{"name": "Velvet",
+      "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}}]})");
+  ASSERT_TRUE(scene);
+  ASSERT_EQ(scene->status, 201) << scene->body;
+  EXPECT_EQ(body_json(scene)["kind"], "scene");
+  auto plan = c.Post("/v1/plan", json{{"scene", body_json(scene)["name"]}}.dump(), "application/json");
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->status, 200) << plan->body;
+  EXPECT_NE(plan->body.find("charlie"), std::string::npos) << "the sheen rule fired";
+  auto bad_scene = upload("bad.glb", "glTF but not really");
+  ASSERT_TRUE(bad_scene);
+  EXPECT_EQ(bad_scene->status, 400);
+  error_of(bad_scene);
 }
 
 }  // namespace

@@ -110,6 +110,35 @@ async function useToken(event) {
 
 // ---- The options form, from the schema -------------------------------------------------------------
 
+// Uploads (POST /v1/uploads: the file's bytes as the body, under the API's --max-body): the server
+// reads the file as a bake would and answers the name to give the field ("upload:...").
+const UPLOADS = { environment: '.hdr,.exr,.png,.ktx2', scene: '.gltf,.glb' };
+
+function uploadInput(name) {
+  const input = el('input', { id: 'upload-' + name, type: 'file', accept: UPLOADS[name], 'aria-describedby': 'error-' + name });
+  input.addEventListener('change', async () => {
+    const file = input.files[0];
+    if (!file) return;
+    clearErrors();
+    $('help-' + name).dataset.uploading = 'true';
+    try {
+      // the server takes plain names: other characters become '_'
+      const label = file.name.replace(/[^A-Za-z0-9._-]/g, '_').replace(/^\./, '_').slice(-100);
+      const reply = await apiJson('/v1/uploads?name=' + encodeURIComponent(label), {
+        method: 'POST', body: file, headers: { 'Content-Type': 'application/octet-stream' },
+      });
+      $('opt-' + name).value = reply.name;
+    } catch (e) {
+      $('error-' + name).textContent = e.message;
+      $('field-' + name).classList.add('invalid');
+    } finally {
+      delete $('help-' + name).dataset.uploading;
+      input.value = '';
+    }
+  });
+  return el('label', { class: 'upload', for: 'upload-' + name }, 'or upload a file ', input);
+}
+
 function defaultText(d) {
   if (d.default !== undefined) return Array.isArray(d.default) ? d.default.join(',') : String(d.default);
   return d.default_text || '';
@@ -155,7 +184,10 @@ function buildForm(inputs) {
   other.textContent = '';
   for (const name of MAIN_OPTIONS) {
     const d = state.options.find((o) => o.name === name);
-    if (d) main.append(makeField(d, datalists));
+    if (!d) continue;
+    const field = makeField(d, datalists);
+    if (UPLOADS[name]) field.insertBefore(uploadInput(name), field.querySelector('.field-error'));
+    main.append(field);
   }
   for (const d of state.options) if (!MAIN_OPTIONS.includes(d.name)) other.append(makeField(d, datalists));
   if (!inputs.input_root) {
