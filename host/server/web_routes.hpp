@@ -1,7 +1,8 @@
 // The web page of `brdfbake serve` (docs/SERVICE.md, "The web page"): GET / and its files, embedded
 // in the binary at build time (host/server/web/, cmake/EmbedWebAssets.cmake), and the small JSON
 // and picture routes the page needs beside the job API: the schemas (GET /v1/kinds, GET
-// /v1/bake/options), the files a request may read (GET /v1/inputs), a bake's plan without baking
+// /v1/bake/options), the files a request may read (GET /v1/inputs), a file uploaded from the page
+// (POST /v1/uploads), a bake's plan without baking, with each table's estimated time and bytes
 // (POST /v1/plan), a job's document (GET /v1/jobs/ID/job), its folder as one tar file (GET
 // /v1/jobs/ID/archive) and a picture of each file a job wrote, drawn by `brdfbake view`'s code
 // (GET /v1/jobs/ID/view/NAME).

@@ -266,6 +266,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
         cells = [c.text for c in row.find_elements("css selector", "td")]
         assert re.fullmatch(r"\d+\.\d\d s", cells[2]), cells
         assert re.fullmatch(r"\d+(\.\d)? (B|KiB|MiB)", cells[3]), cells
+    _shot(browser, "dry_run")
 
     browser.find_element("id", "bake-button").click()
     _wait(browser, lambda d: d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
@@ -343,6 +344,7 @@ def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_p
     message = _text(browser, "error-environment")
     assert "not_an_image.hdr" in message and "\n" not in message, message
     assert str(server["base"]) not in message, message
+    _shot(browser, "upload_error")
     browser.find_element("id", "upload-environment").send_keys(str(hdr))
     _wait(browser, lambda d: d.find_element("id", "opt-environment").get_attribute("value").startswith("upload:"),
           "the upload's name in the environment field")
