@@ -90,6 +90,38 @@ void print_plan(const Plan& plan, std::ostream& out) {
   }
 }
 
+// The dry run's estimate of each table's time on this device and its bytes (estimate_job), and the
+// whole bake's. An estimate that cannot be made (an environment that does not read, no device) says
+// why on its own line: the plan above stands.
+static void print_estimate(const Job& job, std::ostream& out) {
+  PlanEstimate e;
+  try {
+    e = estimate_job(job);
+  } catch (const Error& x) {
+    out << "no estimate: " << x.what() << "\n";
+    return;
+  }
+  size_t width = 13;
+  for (const auto& t : e.tables) width = std::max(width, t.output.size());
+  char buf[64];
+  out << "estimate on this device (measured by bakes at reduced size, " << (e.calibration_seconds > 0 ? "" : "cached, ");
+  std::snprintf(buf, sizeof buf, "%.2f s", e.calibration_seconds);
+  out << buf << "):\n";
+  for (const auto& t : e.tables) {
+    std::snprintf(buf, sizeof buf, "%8.2f s", t.seconds);
+    out << "  " << t.output << std::string(width - t.output.size(), ' ') << buf << "  " << human_bytes(t.bytes)
+        << (t.method == "scaled" ? "  (scaled from 1/2 and 1/4 size)" : "") << "\n";
+  }
+  if (e.environment_seconds > 0) {
+    std::snprintf(buf, sizeof buf, "%8.2f s", e.environment_seconds);
+    out << "  " << std::string("(environment)") << std::string(width - 13, ' ') << buf << "\n";
+  }
+  std::snprintf(buf, sizeof buf, "%8.2f s", e.seconds);
+  out << "  " << std::string("whole bake") << std::string(width - 10, ' ') << buf << "  " << human_bytes(e.bytes)
+      << (job.target != "generic" && !job.target.empty() ? " (tables; the engine's files come beside them)" : "")
+      << "\n";
+}
+
 // What a run wrote, for people.
 void print_manifest_summary(const Manifest& m, std::ostream& out) {
   std::uint64_t total = 0;
@@ -224,8 +256,11 @@ int cmd_bake(int argc, char** argv) {
   if (dry_run) {
     if (as_json)
       std::cout << plan_to_json(plan);
-    else
+    else {
       print_plan(plan, std::cout);
+      std::cout.flush();
+      print_estimate(plan.job, std::cout);
+    }
     return 0;
   }
   if (remote_requested(r)) {  // the server reads the environment under its input root

@@ -45,6 +45,15 @@ bool Roots::inside(const fs::path& p, const fs::path& root) {
 std::string Roots::input_file(const std::string& path, const std::string& field) const {
   if (path.empty()) throw Error(field + ": must not be empty");
   if (path.find('\0') != std::string::npos) throw Error(field + ": must not contain a NUL character");
+  // A file the page uploaded (POST /v1/uploads): by the name the upload answered, in DATA/uploads/.
+  if (path.rfind(kUploadPrefix, 0) == 0) {
+    const std::string name = path.substr(std::char_traits<char>::length(kUploadPrefix));
+    const std::string file = name.find('/') == std::string::npos ? data_file(uploads_dir(), name) : std::string();
+    if (file.empty())
+      throw Error(field + ": " + quoted(path) + " is not an upload of this server (or it was removed: uploads are kept " +
+                  std::to_string(int(kUploadMaxAgeSeconds / 3600)) + " hours)");
+    return file;
+  }
   if (input_.empty())
     throw Error(field + ": " + quoted(path) +
                 ": this server reads no files (it was started without --input-root); use builtin: environments");
@@ -164,6 +173,8 @@ std::string Roots::public_text(const std::string& text) const {
     size_t first = 0;
     // jobs/<id>/..., jobs/.<id>.tmp-<pid>-<n>/... (staging), tmp/.brdfbake-run-<pid>-<n>/... (scratch)
     if (parts.size() >= 2 && (parts[0] == "jobs" || parts[0] == "tmp")) first = 2;
+    // uploads/NAME: the name a request gives it
+    if (parts.size() == 2 && parts[0] == "uploads") return kUploadPrefix + without_temporary(parts[1]);
     std::string shown;
     for (size_t i = first; i < parts.size(); ++i)
       if (!parts[i].empty()) shown += (shown.empty() ? "" : "/") + without_temporary(parts[i]);

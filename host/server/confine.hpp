@@ -5,6 +5,7 @@
 // "Security").
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +13,12 @@
 #include "brdfbake/job.hpp"
 
 namespace brdfbake::server {
+
+// A file uploaded through POST /v1/uploads is named "upload:NAME" in requests; it is kept in
+// DATA/uploads/ for kUploadMaxAgeSeconds, and the oldest go first beyond kUploadMaxTotalBytes.
+inline constexpr const char* kUploadPrefix = "upload:";
+inline constexpr double kUploadMaxAgeSeconds = 24 * 3600.0;
+inline constexpr std::uint64_t kUploadMaxTotalBytes = std::uint64_t(1) << 30;
 
 class Roots {
  public:
@@ -21,9 +28,11 @@ class Roots {
 
   const std::filesystem::path& input_root() const { return input_; }
   const std::filesystem::path& data_dir() const { return data_; }
+  std::filesystem::path uploads_dir() const { return data_ / "uploads"; }
 
   // The canonical path of an existing input file named by a request: relative paths are relative to
-  // the input root; absolute ones must lie inside it. Throws Error "<field>: ..." otherwise.
+  // the input root; absolute ones must lie inside it; "upload:NAME" is an upload (data_file in
+  // uploads_dir()). Throws Error "<field>: ..." otherwise.
   std::string input_file(const std::string& path, const std::string& field) const;
   // An environment source: builtin:NAME as it is; a file, six comma-separated files or a path with
   // {face}: each file confined (the result names the six files when there were six).

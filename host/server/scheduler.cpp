@@ -19,6 +19,13 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+double steady_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// The window of DeviceStatus::load.
+constexpr double kLoadWindowSeconds = 60.0;
+
 // Thrown by a job's checkpoint: why the job stops before its next bake.
 struct Stopped {
   enum Why { Cancel, Shutdown, Timeout } why;
@@ -43,6 +50,10 @@ struct Scheduler::Slot {
   std::string table;  // the fast-path table being baked
   bool warm = false;
   double busy_seconds = 0;
+  // The device load of the last minute (DeviceStatus::load): when the worker's current task or job
+  // began (steady seconds, -1 when idle), and the busy intervals that ended within the last minute.
+  double busy_since = -1;
+  std::deque<std::pair<double, double>> recent;
   std::thread thread;
 };
 
@@ -225,6 +236,14 @@ void Scheduler::warm_up(Slot& s) {
   s.warm = true;
 }
 
+// Called with queue_mutex_ held: the worker's task or job ended.
+void Scheduler::end_busy(Slot& s) {
+  const double now = steady_seconds();
+  if (s.busy_since >= 0) s.recent.emplace_back(s.busy_since, now);
+  s.busy_since = -1;
+  while (!s.recent.empty() && s.recent.front().second < now - kLoadWindowSeconds) s.recent.pop_front();
+}
+
 void Scheduler::worker(Slot& s) {
   if (options_.warm_up && !s.warm) warm_up(s);
   for (;;) {
@@ -234,18 +253,23 @@ void Scheduler::worker(Slot& s) {
     if (!s.tasks.empty()) {
       std::packaged_task<void()> task = std::move(s.tasks.front());
       s.tasks.pop_front();
+      s.busy_since = steady_seconds();
       lock.unlock();
       task();
+      lock.lock();
+      end_busy(s);
       continue;
     }
     const std::string id = s.jobs.front();
     s.jobs.pop_front();
     s.running = id;
+    s.busy_since = steady_seconds();
     auto control = std::make_shared<Control>();
     running_[id] = control;
     lock.unlock();
     run_job(s, id);
     lock.lock();
+    end_busy(s);
     s.running.clear();
     running_.erase(id);
     lock.unlock();
@@ -450,6 +474,12 @@ std::vector<DeviceStatus> Scheduler::devices() const {
     d.busy = !s->running.empty() || !s->table.empty();
     d.queued = static_cast<int>(s->jobs.size());
     d.busy_seconds = s->busy_seconds;
+    // The busy part of the last minute: finished intervals and the one under way, clipped to it.
+    const double now = steady_seconds(), from = now - kLoadWindowSeconds;
+    double busy = s->busy_since >= 0 ? now - std::max(s->busy_since, from) : 0.0;
+    for (const auto& [start, end] : s->recent)
+      if (end > from) busy += end - std::max(start, from);
+    d.load = std::min(1.0, busy / kLoadWindowSeconds);
     out.push_back(d);
   }
   return out;

@@ -60,6 +60,9 @@ struct DeviceStatus {
   bool busy = false;                // running a job or a table
   int queued = 0;                   // jobs waiting for it
   double busy_seconds = 0;
+  // The fraction of the last minute it worked on jobs and tables (0..1), from its worker's busy
+  // intervals (a job that also uses another device counts on its own device).
+  double load = 0;
 };
 
 enum class CancelResult { Cancelled, Stopping, Finished, Unknown };
@@ -109,6 +112,7 @@ class Scheduler {
   struct Slot;
   struct Control;
   void worker(Slot& slot);
+  void end_busy(Slot& slot);
   void run_job(Slot& slot, const std::string& id);
   void warm_up(Slot& slot);
   Slot* slot(const std::string& key) const;

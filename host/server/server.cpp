@@ -34,6 +34,7 @@
 #include "server/connections.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
+#include "server/reply.hpp"
 #include "server/scheduler.hpp"
 #include "server/web_routes.hpp"
 
@@ -106,17 +107,6 @@ std::string header_text(const std::string& s) {
   for (char c : s)
     if (c >= 0x20 && c < 0x7f) out += c;
   return out.substr(0, 300);
-}
-
-void reply_json(httplib::Response& res, int status, const json& body) {
-  res.status = status;
-  res.set_content(body.dump(2) + "\n", "application/json");
-}
-
-void reply_error(httplib::Response& res, int status, const std::string& message) {
-  json o;
-  o["error"] = message;
-  reply_json(res, status, o);
 }
 
 // What a client calls its job in messages (?source=job.json; `run --server` sends the file's path as
@@ -514,6 +504,15 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
+    // Each file's delivered bound as the command line prints it and the file records it
+    // (error_bound_text: rounded up to three digits), by its path in the manifest.
+    json bounds = json::object();
+    if (m.is_object() && m.contains("files") && m["files"].is_array())
+      for (const auto& f : m["files"])
+        if (f.is_object() && f.contains("path") && f["path"].is_string() && f.contains("error_bound") &&
+            f["error_bound"].is_number())
+          bounds[f["path"].get<std::string>()] = error_bound_text(f["error_bound"].get<double>());
+    o["error_bounds"] = bounds;
     o["manifest"] = m;
   }
   return o;
@@ -621,40 +620,7 @@ void Server::Impl::post_bake(const httplib::Request& req, httplib::Response& res
   json doc;
   Plan plan;
   try {
-    const json body = io::parse_json(req.body.empty() ? std::string("{}") : req.body, origin);
-    if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
-    // JSON values as the options' types take them; their checks, names and messages are the
-    // parser's, shared with the command line and Python.
-    Params given;
-    for (auto it = body.begin(); it != body.end(); ++it) {
-      const std::string key = it.key() == "env" ? std::string("environment") : it.key();
-      ParamValue v;
-      if (it->is_boolean())
-        v = it->get<bool>();
-      else if (it->is_number())
-        v = it->get<double>();
-      else if (it->is_string())
-        v = it->get<std::string>();
-      else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
-        v = it->get<std::vector<double>>();
-      else
-        throw Error(origin + ": " + key.substr(0, 60) +
-                    ": must be a number, a string, a boolean or a list of numbers (got " + io::json_excerpt(*it) + ")");
-      given.push_back({key, v});
-    }
-    OptionNaming naming;
-    naming.prefix = origin;
-    const BakeOptions options = parse_bake_options(given, naming);
-    if (!options.scene.empty()) {
-      const std::string path = roots->input_file(options.scene, origin + ": scene");
-      const std::string bytes = io::read_text_file(path, "scene");
-      // Parsed from memory with no base folder: the server looks at no file the scene refers to.
-      const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-      const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
-      plan = plan_scene(s, options.plan);
-    } else {
-      plan = plan_default(options.plan);
-    }
+    plan = bake_plan(req.body, origin, *roots);
     doc = json::parse(job_to_json(plan.job));
   } catch (const Error& e) {
     return fail(res, 400, e.what());
@@ -934,6 +900,7 @@ void Server::Impl::routes() {
       e["table"] = d.table.empty() ? json(nullptr) : json(d.table);
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
+      e["load"] = d.load;
       a.push_back(e);
     }
     json o;
@@ -981,7 +948,11 @@ void Server::Impl::routes() {
               [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))",
            [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
-  register_web_routes(http, WebContext{store.get(), roots.get(), jobs_dir(), tmp_dir()});  // GET / (web_routes.hpp)
+  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), {}};
+  web.on_device = [this](const std::string& selector, const std::function<void(Backend&)>& work) {
+    scheduler->run_now(scheduler->device_key(selector), "dry-run estimate", [&work](Backend& b) { work(b); }).get();
+  };
+  register_web_routes(http, web);  // GET / (web_routes.hpp)
 }
 
 Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {

@@ -6,11 +6,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
 #include <sstream>
+#include <vector>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
@@ -20,9 +24,11 @@
 #include "brdfbake/scene.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/view.hpp"
+#include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
+#include "server/reply.hpp"
 
 namespace brdfbake::server {
 
@@ -40,17 +46,6 @@ constexpr const char* kContentSecurityPolicy =
 // convenience, bounded so that a large root costs a request little.
 constexpr int kInputsMaxDepth = 4;
 constexpr int kInputsMaxEntries = 5000;
-
-void reply_json(httplib::Response& res, int status, const json& body) {
-  res.status = status;
-  res.set_content(body.dump(2) + "\n", "application/json");
-}
-
-void reply_error(httplib::Response& res, int status, const std::string& message) {
-  json o;
-  o["error"] = message;
-  reply_json(res, status, o);
-}
 
 std::string lower_extension(const fs::path& p) {
   std::string ext = p.extension().string();
@@ -84,66 +79,138 @@ const detail::WebAsset* find_asset(const std::string& route) {
   return nullptr;
 }
 
-// The options of a bake as JSON (as POST /v1/bake takes them) into typed values for the one parser.
-Params bake_params(const json& body, const std::string& origin) {
-  if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
-  Params given;
-  for (auto it = body.begin(); it != body.end(); ++it) {
-    const std::string key = it.key() == "env" ? std::string("environment") : it.key();
-    ParamValue v;
-    if (it->is_boolean())
-      v = it->get<bool>();
-    else if (it->is_number())
-      v = it->get<double>();
-    else if (it->is_string())
-      v = it->get<std::string>();
-    else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
-      v = it->get<std::vector<double>>();
-    else
-      throw Error(origin + ": " + key.substr(0, 60) +
-                  ": must be a number, a string, a boolean or a list of numbers (got " + io::json_excerpt(*it) + ")");
-    given.push_back({key, v});
-  }
-  return given;
-}
 
 // POST /v1/plan: what POST /v1/bake would submit, checked as a submission is (paths confined, the
 // job validated), with each table's estimated peak memory; nothing is baked.
 void post_plan(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
   const std::string origin = "bake";
   try {
-    const json body = io::parse_json(req.body.empty() ? std::string("{}") : req.body, origin);
-    OptionNaming naming;
-    naming.prefix = origin;
-    const BakeOptions options = parse_bake_options(bake_params(body, origin), naming);
-    Plan plan;
-    if (!options.scene.empty()) {
-      const std::string path = c.roots->input_file(options.scene, origin + ": scene");
-      const std::string bytes = io::read_text_file(path, "scene");
-      const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-      const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
-      plan = plan_scene(s, options.plan);
-    } else {
-      plan = plan_default(options.plan);
-    }
+    const Plan plan = bake_plan(req.body, origin, *c.roots);
     json doc = json::parse(plan_to_json(plan));
     c.roots->confine_job_document(doc, origin);
     const Job job = parse_job(doc.dump(), origin);
+    std::optional<PlanEstimate> estimate;
+    if (c.on_device) {
+      EstimateOptions eo;
+      eo.on_device = c.on_device;
+      estimate = estimate_job(job, eo);
+    }
     json tables = json::array();
-    for (const auto& t : job.tables) {
+    for (size_t i = 0; i < job.tables.size(); ++i) {
+      const TableRequest& t = job.tables[i];
       json e;
       e["kind"] = table_kind_name(t.kind);
       e["output"] = t.output;
       e["estimated_bytes"] = estimate_table_bytes(t);
+      if (estimate) {
+        e["seconds"] = estimate->tables[i].seconds;
+        e["bytes"] = estimate->tables[i].bytes;
+        e["method"] = estimate->tables[i].method;
+      }
       tables.push_back(e);
     }
     json o;
     o["job"] = doc;
     o["tables"] = tables;
+    if (estimate) {
+      json w;
+      w["seconds"] = estimate->seconds;
+      w["bytes"] = estimate->bytes;
+      w["environment_seconds"] = estimate->environment_seconds;
+      w["calibration_seconds"] = estimate->calibration_seconds;
+      o["estimate"] = w;
+    }
     reply_json(res, 200, o);
   } catch (const Error& e) {
     reply_error(res, 400, c.roots->public_text(e.what()));  // no server path in a message
   }
+}
+
+// POST /v1/uploads?name=FILE: a file from the page (the body, raw: --max-body applies, 413 before it is
+// read), an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb), read through the readers
+// and limits a bake uses before it is kept; stored as DATA/uploads/<random>-<name> and answered with
+// the name requests give it ("upload:..."). Uploads older than kUploadMaxAgeSeconds go, then the
+// oldest while they hold more than kUploadMaxTotalBytes.
+void prune_uploads(const fs::path& dir, std::uint64_t incoming) {
+  std::error_code ec;
+  struct Entry {
+    fs::path path;
+    fs::file_time_type time;
+    std::uint64_t bytes;
+  };
+  std::vector<Entry> entries;
+  const auto now = fs::file_time_type::clock::now();
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_regular_file(ec)) continue;
+    const auto t = e.last_write_time(ec);
+    if (ec) continue;
+    if (std::chrono::duration<double>(now - t).count() > kUploadMaxAgeSeconds) {
+      fs::remove(e.path(), ec);
+      continue;
+    }
+    entries.push_back({e.path(), t, static_cast<std::uint64_t>(e.file_size(ec))});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.time < b.time; });
+  std::uint64_t total = incoming;
+  for (const auto& e : entries) total += e.bytes;
+  for (const auto& e : entries) {
+    if (total <= kUploadMaxTotalBytes) break;
+    fs::remove(e.path, ec);
+    total -= e.bytes;
+  }
+}
+
+void post_upload(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
+  const std::string origin = "upload";
+  const std::string name = req.has_param("name") ? req.get_param_value("name") : std::string();
+  if (name.empty()) return reply_error(res, 400, origin + ": name: the file's name is required (?name=sky.hdr)");
+  // Its name is a label and an extension, never a path: one component of plain characters.
+  if (name.size() > 100 || name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+                               std::string::npos ||
+      name[0] == '.')
+    return reply_error(res, 400,
+                       origin + ": name: '" + name.substr(0, 60) +
+                           "' must be a file name of letters, digits, '.', '_' and '-' (at most 100, not starting "
+                           "with '.')");
+  const std::string ext = lower_extension(fs::path(name));
+  const bool scene = ext == ".gltf" || ext == ".glb";
+  if (!scene && ext != ".hdr" && ext != ".exr" && ext != ".png" && ext != ".ktx2")
+    return reply_error(res, 400,
+                       origin + ": name: '" + name.substr(0, 60) +
+                           "': an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb) is expected");
+  if (req.body.empty()) return reply_error(res, 400, origin + ": the body is empty: it is the file's bytes");
+  const fs::path dir = c.roots->uploads_dir();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  prune_uploads(dir, req.body.size());
+  static std::atomic<unsigned> counter{0};
+  char stamp[40];
+  std::snprintf(stamp, sizeof stamp, "%08x%04x-", static_cast<unsigned>(std::random_device{}()),
+                (counter++) & 0xffffu);
+  const std::string stored = stamp + name;
+  const fs::path path = dir / stored;
+  const std::string public_name = std::string(kUploadPrefix) + stored;
+  try {
+    io::write_file_atomically(path.string(), req.body);
+  } catch (const Error& e) {
+    return reply_error(res, 507, origin + ": cannot store the upload: " + c.roots->public_text(e.what()));
+  }
+  try {
+    if (scene) {
+      const bool glb = req.body.size() >= 4 && req.body.compare(0, 4, "glTF") == 0;
+      (void)(glb ? parse_glb(req.body, public_name, "") : parse_scene_json(req.body, public_name, ""));
+    } else {
+      (void)load_environment(path.string(), EnvLoadOptions{});
+    }
+  } catch (const Error& e) {
+    fs::remove(path, ec);
+    return reply_error(res, 400, c.roots->public_text(e.what()));
+  }
+  json o;
+  o["name"] = public_name;
+  o["kind"] = scene ? "scene" : "environment";
+  o["bytes"] = req.body.size();
+  reply_json(res, 201, o);
 }
 
 // GET /v1/inputs: the environments and scenes under --input-root that a request may name (relative
@@ -387,6 +454,7 @@ void register_web_routes(httplib::Server& http, const WebContext& context) {
   });
   http.Get("/v1/inputs", [c](const httplib::Request&, httplib::Response& res) { get_inputs(c, res); });
   http.Post("/v1/plan", [c](const httplib::Request& req, httplib::Response& res) { post_plan(c, req, res); });
+  http.Post("/v1/uploads", [c](const httplib::Request& req, httplib::Response& res) { post_upload(c, req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/job)", [c](const httplib::Request& req, httplib::Response& res) {
     const std::string id = req.matches[1];
     const auto r = c.store->get(id);
@@ -397,6 +465,41 @@ void register_web_routes(httplib::Server& http, const WebContext& context) {
            [c](const httplib::Request& req, httplib::Response& res) { get_archive(c, req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/view/(.+))",
            [c](const httplib::Request& req, httplib::Response& res) { get_view(c, req, res); });
+}
+
+
+Plan bake_plan(const std::string& body_text, const std::string& origin, const Roots& roots) {
+  const json body = io::parse_json(body_text.empty() ? std::string("{}") : body_text, origin);
+  if (!body.is_object()) throw Error(origin + ": the request is a JSON object of bake options (docs/SERVICE.md)");
+  // JSON values as the options' types take them; their checks, names and messages are the parser's,
+  // shared with the command line and Python.
+  Params given;
+  for (auto it = body.begin(); it != body.end(); ++it) {
+    const std::string key = it.key() == "env" ? std::string("environment") : it.key();
+    ParamValue v;
+    if (it->is_boolean())
+      v = it->get<bool>();
+    else if (it->is_number())
+      v = it->get<double>();
+    else if (it->is_string())
+      v = it->get<std::string>();
+    else if (it->is_array() && std::all_of(it->begin(), it->end(), [](const json& x) { return x.is_number(); }))
+      v = it->get<std::vector<double>>();
+    else
+      throw Error(origin + ": " + key.substr(0, 60) +
+                  ": must be a number, a string, a boolean or a list of numbers (got " + io::json_excerpt(*it) + ")");
+    given.push_back({key, v});
+  }
+  OptionNaming naming;
+  naming.prefix = origin;
+  const BakeOptions options = parse_bake_options(given, naming);
+  if (options.scene.empty()) return plan_default(options.plan);
+  const std::string path = roots.input_file(options.scene, origin + ": scene");
+  const std::string bytes = io::read_text_file(path, "scene");
+  // Parsed from memory with no base folder: the server looks at no file the scene refers to.
+  const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+  const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
+  return plan_scene(s, options.plan);
 }
 
 }  // namespace brdfbake::server

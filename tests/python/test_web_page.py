@@ -59,7 +59,7 @@ def server(cli, shared_dir, tmp_path_factory):
     log = open(base / "server.log", "w")
     proc = subprocess.Popen(
         [cli, "serve", "--listen", "127.0.0.1:0", "--url-file", str(url_file), "--data", str(base / "data"),
-         "--input-root", str(inputs), "--token-file", str(base / "token")],
+         "--input-root", str(inputs), "--token-file", str(base / "token"), "--max-body", "4M"],
         stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + WAIT_S
     while not (url_file.exists() and url_file.read_text().endswith("\n")):
@@ -256,6 +256,17 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     command = _text(browser, "command-text")
     assert command.startswith("brdfbake bake ") and f"--environment {HDR}" in command and "--target filament" in command
     assert "--cube-size 64" in command
+    # The dry run: each table's estimated time on the server's device and the bytes of its files
+    # (POST /v1/plan, measured by bakes at reduced size), and the whole bake's.
+    browser.find_element("id", "plan-button").click()
+    _wait(browser, lambda d: _text(d, "plan-total").startswith("Whole bake: about"), "the dry run's estimate")
+    rows = browser.find_elements("css selector", "#plan-table tbody tr")
+    assert len(rows) >= 3
+    for row in rows:
+        cells = [c.text for c in row.find_elements("css selector", "td")]
+        assert re.fullmatch(r"\d+\.\d\d s", cells[2]), cells
+        assert re.fullmatch(r"\d+(\.\d)? (B|KiB|MiB)", cells[3]), cells
+    _shot(browser, "dry_run")
 
     browser.find_element("id", "bake-button").click()
     _wait(browser, lambda d: d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
@@ -272,17 +283,24 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     # Every table of the manifest has its picture, decoded and not blank.
     status, _, body = _http(f"{server['url']}/v1/jobs/{job_id}", TOKEN)
     manifest = json.loads(body)["manifest"]
+    bound_texts = json.loads(body)["error_bounds"]
     pictures = browser.execute_script(PIXELS_JS)
-    assert len(pictures) == len(manifest["files"]) >= 3
+    # ... and Filament's KTX1 cubes (the IBL and the skybox), which `brdfbake view` reads too.
+    ktx = [p for p in manifest.get("engine", {}).get("files", []) if p.endswith(".ktx")]
+    assert len(ktx) == 2, manifest.get("engine")
+    assert len(pictures) == len(manifest["files"]) + len(ktx) >= 5
     for p in pictures:
         assert p["complete"] and p["width"] > 0 and p["height"] > 0, p
         assert p["variance"] > 0, p
-    # Each file's delivered bound is shown as the manifest records it.
+    # Each file's delivered bound is shown as the command line prints it (error_bound_text): at
+    # most three significant digits, rounded up, never below the manifest's bound.
     for f in manifest["files"]:
         shown = browser.find_element("css selector", f"#results div.file[data-path='{f['path']}'] p").text
         bound = re.search(r"delivered error bound: (\S+)", shown).group(1)
         if f.get("error_bound") is not None:
-            assert float(bound) == f["error_bound"], shown  # the shortest text that reads back the same
+            assert bound == bound_texts[f["path"]], shown
+            assert float(bound) >= f["error_bound"], shown
+            assert len(re.sub(r"e.*$", "", bound).replace("0.", "").lstrip("0").replace(".", "")) <= 3, shown
         else:
             assert bound == "—", shown
 
@@ -311,6 +329,53 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
         assert set(json.loads(body)["files"]) <= set(names)
         for f in manifest["files"]:
             assert tar.extractfile(f["path"]).read() == (browser.downloads / f["path"]).read_bytes()
+
+
+def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_path):
+    """An environment uploaded from the browser (POST /v1/uploads, under --max-body: 4M here), its
+    name put in the field, baked; a bad upload's line next to the field; a download byte for byte
+    what `brdfbake run` makes of the job the page copies, whose environment is the stored upload."""
+    _login(browser, server["url"])
+    hdr = shared_dir / "envmaps" / HDR
+    bad = tmp_path / "not an image.hdr"
+    bad.write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 8\n" + b"\x01" * 7)
+    browser.find_element("id", "upload-environment").send_keys(str(bad))
+    _wait(browser, lambda d: _text(d, "error-environment") != "", "the bad upload's error next to its field")
+    message = _text(browser, "error-environment")
+    assert "not_an_image.hdr" in message and "\n" not in message, message
+    assert str(server["base"]) not in message, message
+    _shot(browser, "upload_error")
+    browser.find_element("id", "upload-environment").send_keys(str(hdr))
+    _wait(browser, lambda d: d.find_element("id", "opt-environment").get_attribute("value").startswith("upload:"),
+          "the upload's name in the environment field")
+    assert _text(browser, "error-environment") == ""
+    name = browser.find_element("id", "opt-environment").get_attribute("value")
+    stored = server["base"] / "data" / "uploads" / name[len("upload:"):]
+    assert stored.read_bytes() == hdr.read_bytes()
+    _set(browser, "target", "generic")
+    browser.find_element("id", "preset-draft").click()
+    before = _text(browser, "job-id")
+    browser.find_element("id", "bake-button").click()
+    _wait(browser, lambda d: _text(d, "job-id") not in ("", before)
+          and d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
+          "the bake of the upload done and its pictures shown")
+    assert _text(browser, "job-state") == "done"
+    browser.find_element("id", "copy-result-job").click()
+    _wait(browser, lambda d: _text(d, "command-text").startswith("{"), "the job JSON shown")
+    job = json.loads(_text(browser, "command-text"))
+    assert job["environment"] == str(stored.resolve())
+    (tmp_path / "job.json").write_text(json.dumps(job))
+    run = subprocess.run([cli, "run", str(tmp_path / "job.json"), "-o", str(tmp_path / "cli"), "--quiet"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    chain = next(t["output"] for t in job["tables"] if t["kind"] == "prefilter")
+    target = browser.downloads / chain
+    target.unlink(missing_ok=True)  # the Filament test downloaded a chain of this name before
+    button = browser.find_element("css selector", f"#results button.download[data-path='{chain}']")
+    button.click()
+    _wait(browser, lambda d: target.exists() and not (browser.downloads / (chain + ".crdownload")).exists(),
+          f"the download of {chain}")
+    assert target.read_bytes() == (tmp_path / "cli" / chain).read_bytes(), chain
 
 
 def test_progress_moves_and_cancel_stops_the_job(server, browser):

@@ -2,6 +2,7 @@
 // port (the URL comes back through --url-file), stopped by signal, killed when the test ends.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <httplib.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -194,5 +195,29 @@ inline std::vector<std::vector<double>> csv_rows(const std::string& text) {
   }
   return rows;
 }
+
+// A test suite sharing one server, started once for the suite: `Suite` (the derived fixture) names
+// its folder (`static constexpr const char* kFolder`) and writes its inputs there, returning the
+// server's arguments (`static std::vector<std::string> arguments(const fs::path& dir)`).
+template <class Suite>
+class SharedServer : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir(Suite::kFolder);
+    server_ = new ServerProcess(dir_->path, Suite::arguments(dir_->path));
+    started_ = server_->start();
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    delete dir_;
+    server_ = nullptr;
+    dir_ = nullptr;
+  }
+  void SetUp() override { ASSERT_TRUE(started_) << server_->error(); }
+
+  static inline TempDir* dir_ = nullptr;
+  static inline ServerProcess* server_ = nullptr;
+  static inline bool started_ = false;
+};
 
 }  // namespace brdfbake::test

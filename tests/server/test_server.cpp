@@ -64,37 +64,22 @@ bool wait_running(httplib::Client& c, const std::string& id) {
 }
 
 // One server for the API tests that need no special options.
-class ServerApi : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new TempDir("api");
-    write_file(dir_->path / "inputs" / "materials.json",
+class ServerApi : public SharedServer<ServerApi> {
+ public:
+  static constexpr const char* kFolder = "api";
+  static std::vector<std::string> arguments(const fs::path& dir) {
+    write_file(dir / "inputs" / "materials.json",
                R"({"materials": [{"name": "red", "model": "lambert", "baseColor": [0.8, 0.2, 0.1]}]})");
-    write_file(dir_->path / "inputs" / "pairs.csv",
-               "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n");
+    write_file(dir / "inputs" / "pairs.csv", "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,0.8\n");
     // A Phong lobe of shininess 1e6: its slice peaks at 152 098, beyond binary16's 65504.
-    write_file(dir_->path / "inputs" / "sharp.json",
+    write_file(dir / "inputs" / "sharp.json",
                R"({"materials": [{"name": "a", "model": "phong", "shininess": 1000000, "specularColor": [1, 1, 1]}]})");
-    write_file(dir_->path / "outside" / "secret.json", R"({"materials": []})");
-    fs::create_symlink(dir_->path / "outside" / "secret.json", dir_->path / "inputs" / "link.json");
-    server_ =
-        new ServerProcess(dir_->path, {"--data", (dir_->path / "data").string(), "--input-root",
-                                       (dir_->path / "inputs").string(), "--max-body", "64K", "--max-memory", "256M"});
-    started_ = server_->start();
+    write_file(dir / "outside" / "secret.json", R"({"materials": []})");
+    fs::create_symlink(dir / "outside" / "secret.json", dir / "inputs" / "link.json");
+    return {"--data",      (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--max-body", "64K",
+            "--max-memory", "256M"};
   }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete dir_;
-  }
-  void SetUp() override { ASSERT_TRUE(started_) << server_->error(); }
-
-  static TempDir* dir_;
-  static ServerProcess* server_;
-  static bool started_;
 };
-TempDir* ServerApi::dir_ = nullptr;
-ServerProcess* ServerApi::server_ = nullptr;
-bool ServerApi::started_ = false;
 
 TEST_F(ServerApi, HealthDevicesAndMetrics) {
   auto c = server_->client();

@@ -5,6 +5,9 @@
 // file's picture as `brdfbake view` draws it. The browser test is tests/python/test_web_page.py.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "brdfbake/tables.hpp"
 #include "server/server_process.hpp"
 #include "support/cli_runner.hpp"
 
@@ -13,35 +16,21 @@ namespace {
 
 const std::string kToken = "web-routes-token-0123456789";
 
-class ServerWeb : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new TempDir("web");
-    write_file(dir_->path / "inputs" / "maps" / "sky.hdr", "not really an image: only listed");
-    write_file(dir_->path / "inputs" / "scene.gltf", "{}");
-    write_file(dir_->path / "inputs" / ".hidden" / "secret.hdr", "x");
-    write_file(dir_->path / "inputs" / "notes.txt", "x");
-    write_file(dir_->path / "outside" / "far.hdr", "x");
-    fs::create_symlink(dir_->path / "outside" / "far.hdr", dir_->path / "inputs" / "link.hdr");
-    write_file(dir_->path / "token", kToken + "\n");
-    server_ = new ServerProcess(
-        dir_->path, {"--data", (dir_->path / "data").string(), "--input-root", (dir_->path / "inputs").string(),
-                     "--token-file", (dir_->path / "token").string()});
-    started_ = server_->start();
+class ServerWeb : public SharedServer<ServerWeb> {
+ public:
+  static constexpr const char* kFolder = "web";
+  static std::vector<std::string> arguments(const fs::path& dir) {
+    write_file(dir / "inputs" / "maps" / "sky.hdr", "not really an image: only listed");
+    write_file(dir / "inputs" / "scene.gltf", "{}");
+    write_file(dir / "inputs" / ".hidden" / "secret.hdr", "x");
+    write_file(dir / "inputs" / "notes.txt", "x");
+    write_file(dir / "outside" / "far.hdr", "x");
+    fs::create_symlink(dir / "outside" / "far.hdr", dir / "inputs" / "link.hdr");
+    write_file(dir / "token", kToken + "\n");
+    return {"--data", (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--token-file",
+            (dir / "token").string()};
   }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete dir_;
-  }
-  void SetUp() override { ASSERT_TRUE(started_) << server_->error(); }
-
-  static TempDir* dir_;
-  static ServerProcess* server_;
-  static bool started_;
 };
-TempDir* ServerWeb::dir_ = nullptr;
-ServerProcess* ServerWeb::server_ = nullptr;
-bool ServerWeb::started_ = false;
 
 TEST_F(ServerWeb, PageFilesAreServedWithoutTheTokenAsTheSourcesAre) {
   auto anonymous = server_->client();
@@ -158,6 +147,52 @@ TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
   EXPECT_EQ(plan["job"]["tables"], want["tables"]);
   ASSERT_EQ(plan["tables"].size(), want["tables"].size());
   for (const auto& t : plan["tables"]) EXPECT_GT(t["estimated_bytes"].get<double>(), 0);
+  // Each table's time and bytes, measured on the server's device (estimate_job): the bake of the
+  // same options writes those bytes (tables baked at their own size for the estimate: exactly; the
+  // fit of larger ones is held to its bound in tests/host/test_job.cpp).
+  double bytes = 0, seconds = 0;
+  for (const auto& t : plan["tables"]) {
+    EXPECT_GE(t["seconds"].get<double>(), 0.0);
+    EXPECT_GT(t["bytes"].get<double>(), 0.0);
+    bytes += t["bytes"].get<double>();
+    seconds += t["seconds"].get<double>();
+  }
+  EXPECT_EQ(plan["estimate"]["bytes"].get<double>(), bytes);
+  EXPECT_GE(plan["estimate"]["seconds"].get<double>(), seconds);
+  const std::string id = body_json(c.Post("/v1/bake", R"({"cube_size": 32, "target": "filament"})", "application/json"))
+                             .value("id", "");
+  const json job = wait_job(c, id);
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  const json& files = job["manifest"]["files"];
+  ASSERT_EQ(files.size(), plan["tables"].size());
+  int compared = 0;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const json& t = plan["tables"][i];
+    EXPECT_EQ(files[i]["path"], t["output"]);
+    if (t["method"] == "measured") {
+      EXPECT_EQ(files[i]["bytes"], t["bytes"]) << t.dump();
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 0) << "the SH is always baked at its own size";
+  // Each file's bound as the command line prints it (the page shows these).
+  int bounds = 0;
+  for (const auto& f : files)
+    if (f["error_bound"].is_number()) {
+      EXPECT_EQ(job["error_bounds"].value(f["path"].get<std::string>(), ""),
+                error_bound_text(f["error_bound"].get<double>()));
+      ++bounds;
+    }
+  EXPECT_GT(bounds, 0);
+  EXPECT_EQ(job["error_bounds"].size(), size_t(bounds));
+  // The device's load over the last minute counts at least the job it just ran (the estimate's
+  // bakes and the job, within the minute: at least half the job's seconds, the two clocks apart).
+  const json devices = body_json(c.Get("/v1/devices"));
+  ASSERT_FALSE(devices["devices"].empty());
+  const double load = devices["devices"][0]["load"].get<double>();
+  EXPECT_LE(load, 1.0);
+  EXPECT_GE(load * 60.0, 0.5 * job["seconds"].get<double>()) << devices.dump();
+  EXPECT_GT(load, 0.0);
   // Refusals are the submission's, one line naming the option.
   auto bad = c.Post("/v1/plan", R"({"cube_size": -1})", "application/json");
   ASSERT_TRUE(bad);
@@ -230,6 +265,93 @@ TEST_F(ServerWeb, ViewIsTheContactSheetOfBrdfbakeView) {
   ASSERT_TRUE(doc);
   EXPECT_EQ(doc->status, 200);
   EXPECT_EQ(body_json(doc)["tables"][0]["output"], "dfg.exr");
+}
+
+// POST /v1/uploads: a file from the page, checked by the readers a bake uses before it is kept,
+// stored under the data folder with a generated name, named "upload:..." in requests; refusals are
+// the API's one line.
+TEST_F(ServerWeb, UploadsAreCheckedConfinedAndBaked) {
+  auto c = server_->client(kToken);
+  const auto upload = [&](const std::string& name, const std::string& body) {
+    return c.Post("/v1/uploads?name=" + name, body, "application/octet-stream");
+  };
+  const auto error_of = [](const httplib::Result& r) {
+    const std::string e = body_json(r).value("error", "");
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;                        // one line
+    EXPECT_EQ(e.find(dir_->path.string()), std::string::npos) << e;        // no server folder
+    return e;
+  };
+  // A 4 x 2 Radiance HDR, flat scanlines, every pixel 1.0 (mantissa 128, exponent 129).
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int i = 0; i < 8; ++i) hdr += std::string("\x80\x80\x80\x81", 4);
+
+  EXPECT_EQ(server_->client().Post("/v1/uploads?name=sky.hdr", hdr, "application/octet-stream")->status, 401);
+  // Beyond --max-body (1 MiB): 413, answered from Content-Length.
+  auto big = upload("big.hdr", std::string((1 << 20) + 1, 'x'));
+  ASSERT_TRUE(big);
+  EXPECT_EQ(big->status, 413);
+  // Not an image: the reader's line, naming the upload, and nothing kept.
+  auto bad = upload("broken.hdr", "not an image");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  const std::string bad_error = error_of(bad);
+  EXPECT_NE(bad_error.find("broken.hdr"), std::string::npos) << bad_error;
+  // Names are labels, never paths; unknown kinds are refused.
+  for (const char* name : {"..%2Fx.hdr", "a%2Fb.hdr", ".hidden.hdr", "notes.txt", ""}) {
+    auto r = upload(name, hdr);
+    ASSERT_TRUE(r) << name;
+    EXPECT_EQ(r->status, 400) << name;
+    EXPECT_EQ(error_of(r).rfind("upload: name: ", 0), 0u) << name;
+  }
+  int kept = 0;
+  for (const auto& e : fs::directory_iterator(dir_->path / "data" / "uploads")) kept += e.is_regular_file();
+  EXPECT_EQ(kept, 0) << "refused uploads leave no file";
+
+  // A good one: stored byte for byte under a generated name, then baked by that name.
+  auto ok = upload("sky.hdr", hdr);
+  ASSERT_TRUE(ok);
+  ASSERT_EQ(ok->status, 201) << ok->body;
+  const json u = body_json(ok);
+  const std::string name = u.value("name", "");
+  ASSERT_EQ(name.rfind("upload:", 0), 0u) << name;
+  EXPECT_EQ(name.substr(name.size() - 8), "-sky.hdr");
+  EXPECT_EQ(u["kind"], "environment");
+  EXPECT_EQ(u["bytes"], hdr.size());
+  EXPECT_EQ(read_file(dir_->path / "data" / "uploads" / name.substr(7)), hdr);
+  auto posted = c.Post("/v1/bake", json{{"environment", name}, {"cube_size", 16}, {"lut_size", 8}}.dump(),
+                       "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 202) << posted->body;
+  const json bake = body_json(posted);
+  const json job = wait_job(c, bake.value("id", ""));
+  ASSERT_EQ(job["state"], "done") << job.dump();
+  // A uniform white environment: the SH's L00 is 2 sqrt(pi) (the radiance's projection on Y00).
+  auto sh = c.Get("/v1/jobs/" + bake.value("id", "") + "/files/irradiance_sh3.json");
+  ASSERT_TRUE(sh);
+  const json coefficients = json::parse(sh->body)["radiance"];
+  EXPECT_NEAR(coefficients[0][0].get<double>(), 2 * std::sqrt(M_PI), 1e-3) << coefficients.dump();
+
+  // Names that are not this server's uploads: refused by the bake like any path out of its roots.
+  for (const char* env : {"upload:../token", "upload:nothing.hdr"}) {
+    auto r = c.Post("/v1/bake", json{{"environment", env}}.dump(), "application/json");
+    ASSERT_TRUE(r) << env;
+    EXPECT_EQ(r->status, 400) << env;
+    EXPECT_NE(error_of(r).find("is not an upload of this server"), std::string::npos) << env;
+  }
+  // A scene: read as a bake reads it, then planned by its name.
+  auto scene = upload("chair.gltf", R"({"asset": {"version": "2.0"}, "materials": [{"name": "Velvet",
+      "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}}]})");
+  ASSERT_TRUE(scene);
+  ASSERT_EQ(scene->status, 201) << scene->body;
+  EXPECT_EQ(body_json(scene)["kind"], "scene");
+  auto plan = c.Post("/v1/plan", json{{"scene", body_json(scene)["name"]}}.dump(), "application/json");
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->status, 200) << plan->body;
+  EXPECT_NE(plan->body.find("charlie"), std::string::npos) << "the sheen rule fired";
+  auto bad_scene = upload("bad.glb", "glTF but not really");
+  ASSERT_TRUE(bad_scene);
+  EXPECT_EQ(bad_scene->status, 400);
+  error_of(bad_scene);
 }
 
 }  // namespace

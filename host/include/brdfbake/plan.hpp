@@ -2,6 +2,8 @@
 // what they call for; every table records the rules and the materials that asked for it.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,5 +94,49 @@ struct BakeOptions {
 BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming);
 // The plan of the options: the scene read (read_scene) and planned, or the standard set.
 Plan plan_bake(const BakeOptions& options);
+
+}  // namespace brdfbake
+
+// ---- Dry-run estimates: each table's wall time on a device and the bytes of its files -----------
+
+namespace brdfbake {
+
+class Backend;
+
+// What a bake of one table of a job would cost (docs/SCENES.md, "Before a long bake").
+struct TableEstimate {
+  std::string output;  // as the job names it
+  TableKind kind = TableKind::Ggx;
+  // Wall time of its bake and of writing its files, in seconds; 0 for a second output of one bake
+  // (as the manifest records it).
+  double seconds = 0.0;
+  std::uint64_t bytes = 0;  // its files: the output and any sidecar
+  // "measured": baked at its own size; "scaled": fitted from bakes at 1/2 and 1/4 of its sizes.
+  std::string method;
+};
+
+struct PlanEstimate {
+  std::vector<TableEstimate> tables;  // in the job's order
+  double environment_seconds = 0.0;   // reading each environment once
+  double seconds = 0.0;               // the whole bake: environments and tables (not an engine's file set)
+  std::uint64_t bytes = 0;            // every table's files
+  double calibration_seconds = 0.0;   // what making the estimate took (0 when every table was cached)
+};
+
+struct EstimateOptions {
+  // Runs `work` on the device a selector names (the server: on its warm device, before queued jobs);
+  // empty: a backend opened once per selector.
+  std::function<void(const std::string& selector, const std::function<void(Backend&)>& work)> on_device;
+  std::uint64_t memory_budget = 0;  // for reading environments (EnvLoadOptions), 0 = its default
+};
+
+// Estimates a job's bake (validated or not: a validated copy is estimated) from measured speed on
+// the device: a table of at most kEstimateMeasureBelow work units is baked at its own size, a
+// larger one at 1/2 and 1/4 of its sizes and its time and bytes fitted as a + b * work (work: the
+// texels it bakes, every level and face), then extrapolated. Nothing is written beside a scratch
+// folder in the system's temporary folder. Measurements are kept for the process (by device, table
+// and environment), so a second estimate of the same tables bakes nothing.
+PlanEstimate estimate_job(const Job& job, const EstimateOptions& options = {});
+inline constexpr double kEstimateMeasureBelow = 8192.0;
 
 }  // namespace brdfbake

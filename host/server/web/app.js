@@ -110,6 +110,35 @@ async function useToken(event) {
 
 // ---- The options form, from the schema -------------------------------------------------------------
 
+// Uploads (POST /v1/uploads: the file's bytes as the body, under the API's --max-body): the server
+// reads the file as a bake would and answers the name to give the field ("upload:...").
+const UPLOADS = { environment: '.hdr,.exr,.png,.ktx2', scene: '.gltf,.glb' };
+
+function uploadInput(name) {
+  const input = el('input', { id: 'upload-' + name, type: 'file', accept: UPLOADS[name], 'aria-describedby': 'error-' + name });
+  input.addEventListener('change', async () => {
+    const file = input.files[0];
+    if (!file) return;
+    clearErrors();
+    $('help-' + name).dataset.uploading = 'true';
+    try {
+      // the server takes plain names: other characters become '_'
+      const label = file.name.replace(/[^A-Za-z0-9._-]/g, '_').replace(/^\./, '_').slice(-100);
+      const reply = await apiJson('/v1/uploads?name=' + encodeURIComponent(label), {
+        method: 'POST', body: file, headers: { 'Content-Type': 'application/octet-stream' },
+      });
+      $('opt-' + name).value = reply.name;
+    } catch (e) {
+      $('error-' + name).textContent = e.message;
+      $('field-' + name).classList.add('invalid');
+    } finally {
+      delete $('help-' + name).dataset.uploading;
+      input.value = '';
+    }
+  });
+  return el('label', { class: 'upload', for: 'upload-' + name }, 'or upload a file ', input);
+}
+
 function defaultText(d) {
   if (d.default !== undefined) return Array.isArray(d.default) ? d.default.join(',') : String(d.default);
   return d.default_text || '';
@@ -155,7 +184,10 @@ function buildForm(inputs) {
   other.textContent = '';
   for (const name of MAIN_OPTIONS) {
     const d = state.options.find((o) => o.name === name);
-    if (d) main.append(makeField(d, datalists));
+    if (!d) continue;
+    const field = makeField(d, datalists);
+    if (UPLOADS[name]) field.insertBefore(uploadInput(name), field.querySelector('.field-error'));
+    main.append(field);
   }
   for (const d of state.options) if (!MAIN_OPTIONS.includes(d.name)) other.append(makeField(d, datalists));
   if (!inputs.input_root) {
@@ -289,7 +321,16 @@ async function dryRun() {
     const plan = await planJob();
     const body = $('plan-table').tBodies[0];
     body.textContent = '';
-    for (const t of plan.tables) body.append(el('tr', {}, el('td', { class: 'mono', text: t.output }), el('td', { text: t.kind }), el('td', { text: humanBytes(t.estimated_bytes) })));
+    const secs = (s) => (s === undefined ? '' : s.toFixed(2) + ' s');
+    for (const t of plan.tables) {
+      body.append(el('tr', {}, el('td', { class: 'mono', text: t.output }), el('td', { text: t.kind }),
+        el('td', { text: secs(t.seconds) }), el('td', { text: t.bytes === undefined ? '' : humanBytes(t.bytes) }),
+        el('td', { text: humanBytes(t.estimated_bytes) })));
+    }
+    const w = plan.estimate;
+    $('plan-total').textContent = w ? 'Whole bake: about ' + secs(w.seconds) + ' (environment ' + secs(w.environment_seconds) +
+      '), ' + humanBytes(w.bytes) + ' of tables; measured on the server\'s device by bakes at reduced size' +
+      (w.calibration_seconds > 0 ? ' (' + secs(w.calibration_seconds) + ')' : ' (cached)') + '.' : '';
     $('plan').hidden = false;
   } catch (e) {
     showError(e.message);
@@ -436,7 +477,7 @@ function describe(f) {
   const parts = [];
   if (f.kind) parts.push(f.kind);
   if (typeof f.bytes === 'number') parts.push(humanBytes(f.bytes));
-  if (f.picture) parts.push('delivered error bound: ' + (f.error_bound !== undefined && f.error_bound !== null ? String(f.error_bound) : '— (none recorded)'));
+  if (f.table) parts.push('delivered error bound: ' + (f.bound_text || '— (none recorded)'));
   if (typeof f.seconds === 'number') parts.push(`${f.seconds.toFixed(2)} s`);
   return parts.join(' · ');
 }
@@ -445,9 +486,12 @@ function showResults(job, s) {
   const box = $('results');
   box.textContent = '';
   const manifest = s.manifest || {};
-  const files = (manifest.files || []).map((f) => ({ ...f, picture: true }));
+  // Bounds as the command line prints them (error_bound_text: rounded up to three digits).
+  const bounds = s.error_bounds || {};
+  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, table: true, bound_text: bounds[f.path] }));
   const engine = manifest.engine || {};
-  for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: false });
+  // Filament's KTX1 cubes (R11F_G11F_B10F, RGBM) are drawn too: the view code reads them.
+  for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: /\.ktx$/i.test(p) });
   files.push({ path: 'manifest.json', kind: 'manifest', picture: false });
   const pictures = [];
   for (const f of files) {
@@ -513,7 +557,7 @@ async function refreshServer() {
     const db = $('devices').tBodies[0];
     db.textContent = '';
     for (const d of devices.devices)
-      db.append(el('tr', {}, ...[d.key, d.name, d.type, d.warm ? 'yes' : 'no', d.busy ? 'yes' : 'no', d.running || '', d.queued, d.busy_seconds.toFixed(1)].map((v) => el('td', { text: String(v) }))));
+      db.append(el('tr', {}, ...[d.key, d.name, d.type, d.warm ? 'yes' : 'no', d.busy ? 'yes' : 'no', d.running || '', d.queued, d.busy_seconds.toFixed(1), `${Math.round(100 * (d.load || 0))} %`].map((v) => el('td', { text: String(v) }))));
     const jb = $('jobs').tBodies[0];
     jb.textContent = '';
     for (const j of jobs.jobs) {
