@@ -203,6 +203,189 @@ PreviewErrorStats error_stats(std::vector<double> e) {
 
 }  // namespace detail::preview
 
+namespace detail::preview {
+
+namespace {
+
+// The split-sum render: the background (the bake's level 0, or grey) and each sphere pixel shaded
+// as the target's shader does from the bake's files.
+void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixels, SplitSum& split, const Vec3& v,
+                      PreviewResult& res) {
+  const bool grey = res.spec.background == PreviewBackground::Grey;
+  res.splitsum.width = layout.width;
+  res.splitsum.height = layout.height;
+  res.splitsum.rgb.assign(3 * size_t(layout.width) * size_t(layout.height), 0.18f);
+  if (!grey)
+    for (int y = 0; y < layout.height; ++y)
+      for (int x = 0; x < layout.width; ++x) put(res.splitsum, x, y, split.sky(background_direction(layout, x, y)));
+  for (const SpherePixel& p : pixels)
+    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material));
+}
+
+// The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
+// that would put the spheres' median luminance above 0.8 (a dark studio lit by small softboxes:
+// its median is 0.009, and +4.4 EV turned every sphere white).
+double sheet_exposure(const PreviewResult& res, const std::vector<SpherePixel>& pixels, int width) {
+  double exposure =
+      res.environment_median > 0.0 ? std::clamp(std::log2(0.18 / res.environment_median), -30.0, 30.0) : 0.0;
+  std::vector<double> lum;
+  for (const SpherePixel& p : pixels)
+    lum.push_back(luminance(&res.splitsum.rgb[3 * (size_t(p.y) * size_t(width) + size_t(p.x))]));
+  if (!lum.empty()) {
+    std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(lum.size() / 2), lum.end());
+    const double m = lum[lum.size() / 2];
+    if (m > 0.0) exposure = std::min(exposure, std::log2(0.8 / m));
+  }
+  return exposure;
+}
+
+// The reference's work: each distinct (normal, alpha) once, with the exact albedos at its n.v and
+// roughness, and the bound's pixels (each distinct one once more, at twice the refinement).
+struct ReferenceWork {
+  ReferenceTask task;
+  std::vector<size_t> task_of;        // per sphere pixel: its entry of task.pixels
+  std::vector<size_t> bound_index;    // the sphere pixels the bound is measured on
+  std::vector<size_t> bound_task_of;  // per bound pixel: its entry of task.bound_pixels
+  double lut_seconds = 0.0;
+};
+
+ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const std::vector<SpherePixel>& pixels) {
+  ReferenceWork w;
+  ReferenceTask& task = w.task;
+  // The exact albedos at every pixel's n.v (every sphere covers the same offsets) and roughness.
+  std::set<double> nv_set, r_set;
+  for (const SpherePixel& p : pixels) nv_set.insert(std::max(p.n_dot_v, 1e-7));
+  for (const PreviewSphere& s : res.spheres) r_set.insert(s.material.roughness);
+  const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
+  const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &w.lut_seconds);
+  auto albedos = [&](const SpherePixel& p, double* a, double* b) {
+    const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
+    const size_t j =
+        size_t(std::lower_bound(rs.begin(), rs.end(), res.spheres[size_t(p.sphere)].material.roughness) - rs.begin());
+    *a = ab[2 * (j * nvs.size() + i)];
+    *b = ab[2 * (j * nvs.size() + i) + 1];
+  };
+
+  auto to_pixel = [&](const SpherePixel& p) {
+    ReferencePixel r;
+    r.n[0] = float(p.n.x);
+    r.n[1] = float(p.n.y);
+    r.n[2] = float(p.n.z);
+    r.alpha = float(material_alpha(res.spheres[size_t(p.sphere)].material));
+    double a = 0, b = 0;
+    albedos(p, &a, &b);
+    r.albedo = float(a);
+    r.bias = float(b);
+    return r;
+  };
+  // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
+  // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
+  // grid's 72 spheres are 12 roughnesses).
+  std::map<std::array<float, 4>, size_t> unique;
+  w.task_of.resize(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const ReferencePixel r = to_pixel(pixels[i]);
+    const std::array<float, 4> key = {r.n[0], r.n[1], r.n[2], r.alpha};
+    const auto [it, added] = unique.emplace(key, task.pixels.size());
+    if (added) task.pixels.push_back(r);
+    w.task_of[i] = it->second;
+  }
+  // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
+  // distinct one integrated once more at twice the refinement.
+  std::vector<std::vector<size_t>> of_sphere(res.spheres.size());
+  for (size_t i = 0; i < pixels.size(); ++i) of_sphere[size_t(pixels[i].sphere)].push_back(i);
+  std::map<size_t, size_t> bound_unique;
+  for (const auto& list : of_sphere) {
+    const size_t n = list.size();
+    const size_t stride = std::max<size_t>(1, std::min<size_t>(size_t(res.spec.bound_stride), n / 16));
+    for (size_t k = stride / 2; k < n; k += stride) {
+      w.bound_index.push_back(list[k]);
+      const size_t t = w.task_of[list[k]];
+      const auto [it, added] = bound_unique.emplace(t, task.bound_pixels.size());
+      if (added) task.bound_pixels.push_back(task.pixels[t]);
+      w.bound_task_of.push_back(it->second);
+    }
+  }
+  return w;
+}
+
+// The reference render: the background (the environment's cells, or grey) and each sphere pixel's
+// radiance from its integrals. Returns the sphere pixels' radiance.
+std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, const std::vector<SpherePixel>& pixels,
+                                const TargetBrdf& brdf, const ReferenceWork& w, const ReferenceSums& sums,
+                                PreviewResult& res) {
+  const bool grey = res.spec.background == PreviewBackground::Grey;
+  const ReferenceTask& task = w.task;
+  res.reference.width = layout.width;
+  res.reference.height = layout.height;
+  res.reference.rgb.assign(res.splitsum.rgb.size(), 0.18f);
+  if (!grey)
+    for (int y = 0; y < layout.height; ++y)
+      for (int x = 0; x < layout.width; ++x)
+        put(res.reference, x, y, equirect_cell(equirect, background_direction(layout, x, y)));
+  std::vector<Rgb> ref(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const SpherePixel& p = pixels[i];
+    const size_t t = w.task_of[i];
+    ref[i] = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo,
+                                task.pixels[t].bias, &sums.values[9 * t]);
+    put(res.reference, p.x, p.y, ref[i]);
+  }
+  return ref;
+}
+
+// Per sphere: the split-sum render's error against the reference (linear and in 8-bit sRGB steps
+// after the sheet's exposure), and the reference's own bound from the bound's pixels.
+void sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels, const TargetBrdf& brdf,
+                   const ReferenceWork& w, const ReferenceSums& sums, const std::vector<Rgb>& ref, PreviewResult& res) {
+  const ReferenceTask& task = w.task;
+  ViewOptions vo;
+  vo.exposure = res.exposure;
+  std::vector<std::vector<double>> lin(res.spheres.size()), steps(res.spheres.size()), bound(res.spheres.size());
+  for (const SpherePixel& p : pixels) {
+    const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
+    const float* s = &res.splitsum.rgb[at];
+    const float* r = &res.reference.rgb[at];
+    const double n = rgb_norm(r), d = rgb_distance(s, r);
+    lin[size_t(p.sphere)].push_back(n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0));
+    const view::Rgb8 a = view::tone_map(s, vo), b = view::tone_map(r, vo);
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[size_t(c)]) - int(b[size_t(c)])));
+    steps[size_t(p.sphere)].push_back(worst);
+  }
+  for (size_t k = 0; k < w.bound_index.size(); ++k) {
+    const SpherePixel& p = pixels[w.bound_index[k]];
+    const size_t t = w.bound_task_of[k];
+    const Rgb fine = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo,
+                                        task.bound_pixels[t].bias, &sums.bound_values[9 * t]);
+    const Rgb coarse = ref[w.bound_index[k]];
+    const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
+    // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
+    bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
+  }
+  for (size_t s = 0; s < res.spheres.size(); ++s) {
+    PreviewSphereStats st;
+    st.pixels = int(lin[s].size());
+    st.linear = error_stats(lin[s]);
+    st.srgb8 = error_stats(steps[s]);
+    const PreviewErrorStats b = error_stats(bound[s]);
+    st.reference_rms_bound = kPreviewBoundFactor * b.rms;
+    st.reference_max_bound = kPreviewBoundFactor * b.max;
+    st.bound_pixels = int(bound[s].size());
+    res.stats.push_back(st);
+  }
+  res.bound_definition =
+      "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
+      std::to_string(res.spec.bound_stride) +
+      "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
+      "(RGB norms); the reference is " +
+      sums.method;
+}
+
+}  // namespace
+
+}  // namespace detail::preview
+
 PreviewResult render_preview(Backend& backend, const EnvImage& environment, const PreviewSpec& spec,
                              const PreviewProgress& progress) {
   using namespace detail::preview;
@@ -239,7 +422,6 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
 
   const EnvImage equirect = reference_equirect(environment);
   res.environment_median = median_luminance(equirect);
-  res.exposure = res.environment_median > 0.0 ? std::clamp(std::log2(0.18 / res.environment_median), -30.0, 30.0) : 0.0;
   res.environment_model =
       "each pixel of the " + std::to_string(equirect.width) + "x" + std::to_string(equirect.height) +
       " equirect constant over its cell of longitude x latitude (docs/CONVENTIONS.md's mapping)" +
@@ -248,160 +430,26 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   // The split-sum render.
   t0 = Clock::now();
   const Vec3 v = view_vector(layout.camera);
-  const bool grey = res.spec.background == PreviewBackground::Grey;
-  res.splitsum.width = layout.width;
-  res.splitsum.height = layout.height;
-  res.splitsum.rgb.assign(3 * size_t(layout.width) * size_t(layout.height), 0.18f);
-  if (!grey)
-    for (int y = 0; y < layout.height; ++y)
-      for (int x = 0; x < layout.width; ++x) put(res.splitsum, x, y, split.sky(background_direction(layout, x, y)));
-  for (const SpherePixel& p : pixels)
-    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material));
+  render_split_sum(layout, pixels, split, v, res);
   res.times.splitsum = since(t0);
-  // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
-  // that would put the spheres' median luminance above 0.8 (a dark studio lit by small softboxes:
-  // its median is 0.009, and +4.4 EV turned every sphere white).
-  {
-    std::vector<double> lum;
-    for (const SpherePixel& p : pixels)
-      lum.push_back(luminance(&res.splitsum.rgb[3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x))]));
-    if (!lum.empty()) {
-      std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(lum.size() / 2), lum.end());
-      const double m = lum[lum.size() / 2];
-      if (m > 0.0) res.exposure = std::min(res.exposure, std::log2(0.8 / m));
-    }
-  }
+  res.exposure = sheet_exposure(res, pixels, layout.width);
   if (progress) progress(0.15, "split-sum render");
 
   if (res.spec.reference) {
-    // The exact albedos at every pixel's n.v (every sphere covers the same offsets) and roughness.
-    std::set<double> nv_set, r_set;
-    for (const SpherePixel& p : pixels) nv_set.insert(std::max(p.n_dot_v, 1e-7));
-    for (const PreviewSphere& s : res.spheres) r_set.insert(s.material.roughness);
-    const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
-    double lut_seconds = 0.0;
-    const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &lut_seconds);
-    auto albedos = [&](const SpherePixel& p, double* a, double* b) {
-      const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
-      const size_t j =
-          size_t(std::lower_bound(rs.begin(), rs.end(), res.spheres[size_t(p.sphere)].material.roughness) - rs.begin());
-      *a = ab[2 * (j * nvs.size() + i)];
-      *b = ab[2 * (j * nvs.size() + i) + 1];
-    };
-
-    detail::ReferenceTask task;
-    task.environment = &equirect;
-    task.view = v;
-    task.refinement = res.spec.refinement;
-    task.radiance_scale = M_PI * std::max(res.environment_median, 1e-30);
-    task.precision = res.spec.precision;
-    auto to_pixel = [&](const SpherePixel& p) {
-      detail::ReferencePixel r;
-      r.n[0] = float(p.n.x);
-      r.n[1] = float(p.n.y);
-      r.n[2] = float(p.n.z);
-      r.alpha = float(material_alpha(res.spheres[size_t(p.sphere)].material));
-      double a = 0, b = 0;
-      albedos(p, &a, &b);
-      r.albedo = float(a);
-      r.bias = float(b);
-      return r;
-    };
-    // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
-    // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
-    // grid's 72 spheres are 12 roughnesses).
-    std::map<std::array<float, 4>, size_t> unique;
-    std::vector<size_t> task_of(pixels.size());
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      const detail::ReferencePixel r = to_pixel(pixels[i]);
-      const std::array<float, 4> key = {r.n[0], r.n[1], r.n[2], r.alpha};
-      const auto [it, added] = unique.emplace(key, task.pixels.size());
-      if (added) task.pixels.push_back(r);
-      task_of[i] = it->second;
-    }
-    // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
-    // distinct one integrated once more at twice the refinement.
-    std::vector<std::vector<size_t>> of_sphere(res.spheres.size());
-    for (size_t i = 0; i < pixels.size(); ++i) of_sphere[size_t(pixels[i].sphere)].push_back(i);
-    std::vector<size_t> bound_index, bound_task_of;
-    std::map<size_t, size_t> bound_unique;
-    for (const auto& list : of_sphere) {
-      const size_t n = list.size();
-      const size_t stride = std::max<size_t>(1, std::min<size_t>(size_t(res.spec.bound_stride), n / 16));
-      for (size_t k = stride / 2; k < n; k += stride) {
-        bound_index.push_back(list[k]);
-        const size_t t = task_of[list[k]];
-        const auto [it, added] = bound_unique.emplace(t, task.bound_pixels.size());
-        if (added) task.bound_pixels.push_back(task.pixels[t]);
-        bound_task_of.push_back(it->second);
-      }
-    }
-
-    const detail::ReferenceSums sums = detail::run_preview_reference(backend, task, [&](double f) {
+    ReferenceWork w = reference_work(backend, res, pixels);
+    w.task.environment = &equirect;
+    w.task.view = v;
+    w.task.refinement = res.spec.refinement;
+    w.task.radiance_scale = M_PI * std::max(res.environment_median, 1e-30);
+    w.task.precision = res.spec.precision;
+    const detail::ReferenceSums sums = detail::run_preview_reference(backend, w.task, [&](double f) {
       if (progress) progress(0.15 + 0.85 * f, "reference render");
     });
     res.times.reference = sums.wall_seconds;
-    res.times.reference_device = sums.device_seconds + lut_seconds;
+    res.times.reference_device = sums.device_seconds + w.lut_seconds;
     res.times.bound = sums.bound_wall_seconds;
-
-    res.reference.width = layout.width;
-    res.reference.height = layout.height;
-    res.reference.rgb.assign(res.splitsum.rgb.size(), 0.18f);
-    if (!grey)
-      for (int y = 0; y < layout.height; ++y)
-        for (int x = 0; x < layout.width; ++x)
-          put(res.reference, x, y, equirect_cell(equirect, background_direction(layout, x, y)));
-    std::vector<Rgb> ref(pixels.size());
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      const SpherePixel& p = pixels[i];
-      const size_t t = task_of[i];
-      ref[i] = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo,
-                                  task.pixels[t].bias, &sums.values[9 * t]);
-      put(res.reference, p.x, p.y, ref[i]);
-    }
-
-    // The error per sphere, and the reference's own from the bound's pixels.
-    ViewOptions vo;
-    vo.exposure = res.exposure;
-    std::vector<std::vector<double>> lin(res.spheres.size()), steps(res.spheres.size()), bound(res.spheres.size());
-    for (const SpherePixel& p : pixels) {
-      const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
-      const float* s = &res.splitsum.rgb[at];
-      const float* r = &res.reference.rgb[at];
-      const double n = rgb_norm(r), d = rgb_distance(s, r);
-      lin[size_t(p.sphere)].push_back(n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0));
-      const view::Rgb8 a = view::tone_map(s, vo), b = view::tone_map(r, vo);
-      int worst = 0;
-      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[size_t(c)]) - int(b[size_t(c)])));
-      steps[size_t(p.sphere)].push_back(worst);
-    }
-    for (size_t k = 0; k < bound_index.size(); ++k) {
-      const SpherePixel& p = pixels[bound_index[k]];
-      const size_t t = bound_task_of[k];
-      const Rgb fine = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo,
-                                          task.bound_pixels[t].bias, &sums.bound_values[9 * t]);
-      const Rgb coarse = ref[bound_index[k]];
-      const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
-      // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
-      bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
-    }
-    for (size_t s = 0; s < res.spheres.size(); ++s) {
-      PreviewSphereStats st;
-      st.pixels = int(lin[s].size());
-      st.linear = error_stats(lin[s]);
-      st.srgb8 = error_stats(steps[s]);
-      const PreviewErrorStats b = error_stats(bound[s]);
-      st.reference_rms_bound = kPreviewBoundFactor * b.rms;
-      st.reference_max_bound = kPreviewBoundFactor * b.max;
-      st.bound_pixels = int(bound[s].size());
-      res.stats.push_back(st);
-    }
-    res.bound_definition =
-        "per sphere, " + std::to_string(int(kPreviewBoundFactor)) +
-        " x the RMS (and max) over its bound pixels (every " + std::to_string(res.spec.bound_stride) +
-        "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
-        "(RGB norms); the reference is " +
-        sums.method;
+    const std::vector<Rgb> ref = fill_reference(equirect, layout, pixels, brdf, w, sums, res);
+    sphere_errors(layout, pixels, brdf, w, sums, ref, res);
   }
   res.device = backend.name();  // opened by now where the device was used
   res.times.total = since(t_start);
