@@ -132,14 +132,22 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--scenes") o.scenes = next();
-    else if (a == "--env") o.env = next();
-    else if (a == "--reps") o.reps = std::max(1, std::atoi(next().c_str()));
-    else if (a == "--lut-size") o.lut_size = std::atoi(next().c_str());
-    else if (a == "--cube-size") o.cube_size = std::atoi(next().c_str());
-    else if (a == "--out") o.out = next();
+    if (a == "--scenes")
+      o.scenes = next();
+    else if (a == "--env")
+      o.env = next();
+    else if (a == "--reps")
+      o.reps = std::max(1, std::atoi(next().c_str()));
+    else if (a == "--lut-size")
+      o.lut_size = std::atoi(next().c_str());
+    else if (a == "--cube-size")
+      o.cube_size = std::atoi(next().c_str());
+    else if (a == "--out")
+      o.out = next();
     else {
-      std::fprintf(stderr, "usage: bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--cube-size N] [--out FILE]\n");
+      std::fprintf(
+          stderr,
+          "usage: bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--cube-size N] [--out FILE]\n");
       return 2;
     }
   }
@@ -168,7 +176,8 @@ int main(int argc, char** argv) {
   md << "Environment `" << o.env << "`, DFG tables " << o.lut_size << "², chains " << o.cube_size
      << "² (prefilter max_error " << po.prefilter_max_error << "), device " << device << ", fastest of " << o.reps
      << " runs.\n\n";
-  md << "| scene | planned tables | every table | bake wall (s) | every table wall (s) | saving (wall) | bake CPU (s) | "
+  md << "| scene | planned tables | every table | bake wall (s) | every table wall (s) | saving (wall) | bake CPU (s) "
+        "| "
         "every table CPU (s) | saving (CPU) |\n";
   md << "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   std::printf("%s", md.str().c_str());
@@ -213,8 +222,8 @@ int main(int argc, char** argv) {
   md << line;
   std::printf("%s", line);
   if (dropped_total > 0) {
-    std::snprintf(line, sizeof line, "\n%d planned tables of kinds this build cannot bake were left out of both sides.\n",
-                  dropped_total);
+    std::snprintf(line, sizeof line,
+                  "\n%d planned tables of kinds this build cannot bake were left out of both sides.\n", dropped_total);
     md << line;
     std::printf("%s", line);
   }

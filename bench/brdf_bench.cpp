@@ -70,9 +70,14 @@ Material full_material(BrdfModel model) {
       m.ior = 1.6;
       break;
     case BrdfModel::Phong:
-    case BrdfModel::BlinnPhong: m.shininess = 64.0; break;
-    case BrdfModel::CookTorrance: m.distribution = MicrofacetDistribution::Beckmann; break;
-    default: break;
+    case BrdfModel::BlinnPhong:
+      m.shininess = 64.0;
+      break;
+    case BrdfModel::CookTorrance:
+      m.distribution = MicrofacetDistribution::Beckmann;
+      break;
+    default:
+      break;
   }
   return m;
 }
@@ -175,14 +180,16 @@ int main(int argc, char** argv) {
     const double ref_seconds = quick ? 0.2 : 1.0;
     const std::vector<double> pairs = upper_pairs(n_pairs, 7u);
     std::ostringstream md;
-    md << "Device: " << dev.info().name << " (" << dev.info().platform_name << ", " << dev.info().driver_version
-       << ", " << dev.info().compute_units << " compute units). " << n_pairs
+    md << "Device: " << dev.info().name << " (" << dev.info().platform_name << ", " << dev.info().driver_version << ", "
+       << dev.info().compute_units << " compute units). " << n_pairs
        << " direction pairs a launch (the eval command's chunk) in the upper hemisphere, one material with "
           "every lobe of its model on; device time is the median of "
-       << reps << " profiled launches after a warm-up. Rates in millions of evaluations per second; errors are "
-                  "the max of |f - f_ref| / max(1, |f_ref|) over "
+       << reps
+       << " profiled launches after a warm-up. Rates in millions of evaluations per second; errors are "
+          "the max of |f - f_ref| / max(1, |f_ref|) over "
        << checked << " pairs.\n\n";
-    md << "| model | reference (1 thread) | fp32 | fp32 error | fp64 | fp64 error | fp32 fast-math | fast-math error | fp32 / reference |\n";
+    md << "| model | reference (1 thread) | fp32 | fp32 error | fp64 | fp64 error | fp32 fast-math | fast-math error | "
+          "fp32 / reference |\n";
     md << "|---|---|---|---|---|---|---|---|---|\n";
     for (BrdfModel model : brdf_models()) {
       if (!only.empty() && only != brdf_model_name(model)) continue;
@@ -224,15 +231,18 @@ int main(int argc, char** argv) {
          << " | " << fmt("%.2fx", a.evals_per_second / b.evals_per_second) << " |\n";
     }
 
-    md << "\nBatch size (disney with every lobe, fp32): pairs a launch. Each pair reads 36 bytes (wi, wo and the half vector the host forms in double) and writes 12; "
+    md << "\nBatch size (disney with every lobe, fp32): pairs a launch. Each pair reads 36 bytes (wi, wo and the half "
+          "vector the host forms in double) and writes 12; "
           "large batches leave the caches and run at memory bandwidth.\n\n| pairs | fp32 |\n|---|---|\n";
     for (size_t n : {size_t(1) << 14, size_t(1) << 16, size_t(1) << 18, size_t(1) << 21}) {
       const std::vector<double> batch = upper_pairs(n, 11u);
-      const DeviceRun a = run_device(dev, BrdfModel::Disney, full_material(BrdfModel::Disney), EvalOptions{}, batch, reps, 256);
+      const DeviceRun a =
+          run_device(dev, BrdfModel::Disney, full_material(BrdfModel::Disney), EvalOptions{}, batch, reps, 256);
       md << "| " << n << " | " << rate(a.evals_per_second) << " |\n";
     }
 
-    md << "\nLane width (fp32, disney with every lobe): directions per work-item.\n\n| lanes | fp32 | fp64 |\n|---|---|---|\n";
+    md << "\nLane width (fp32, disney with every lobe): directions per work-item.\n\n| lanes | fp32 | fp64 "
+          "|\n|---|---|---|\n";
     for (int lanes : {8, 16}) {
       EvalOptions o;
       o.lanes = lanes;
@@ -240,15 +250,17 @@ int main(int argc, char** argv) {
       std::string b = "-";
       if (dev.info().fp64) {
         o.precision = Precision::Fp64;
-        b = rate(run_device(dev, BrdfModel::Disney, full_material(BrdfModel::Disney), o, pairs, reps, 256).evals_per_second);
+        b = rate(
+            run_device(dev, BrdfModel::Disney, full_material(BrdfModel::Disney), o, pairs, reps, 256).evals_per_second);
       }
       md << "| " << lanes << " | " << rate(a.evals_per_second) << " | " << b << " |\n";
     }
 
     md << "\nA full MERL table (90 x 90 x 180 = 1,458,000 bins, directions generated on the device), one "
           "material with every lobe on; device time median of "
-       << reps << ", wall time of the whole call (program from the cache, read-back included) and the reference "
-                  "on every core.\n\n| model | precision | device s | wall s | reference s |\n|---|---|---|---|---|\n";
+       << reps
+       << ", wall time of the whole call (program from the cache, read-back included) and the reference "
+          "on every core.\n\n| model | precision | device s | wall s | reference s |\n|---|---|---|---|---|\n";
     for (BrdfModel model : {BrdfModel::Disney, BrdfModel::Gltf}) {
       TabulateSpec s;
       s.model = model;

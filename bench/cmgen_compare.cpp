@@ -45,12 +45,12 @@
 #include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "io/image_file.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 #ifndef BRDFBAKE_CLI
 #define BRDFBAKE_CLI "brdfbake"

@@ -63,8 +63,8 @@ void cmgen_row(const fs::path& dir, int size) {
     return;
   }
   const fs::path exr = dir / "filament_dfg.exr";
-  const std::string cmd = "cmgen --quiet --ibl-dfg=" + exr.string() + " --ibl-dfg-multiscatter --size=" +
-                          std::to_string(size) + " >/dev/null 2>&1";
+  const std::string cmd = "cmgen --quiet --ibl-dfg=" + exr.string() +
+                          " --ibl-dfg-multiscatter --size=" + std::to_string(size) + " >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0 || !fs::exists(exr)) {
     std::printf("\n(cmgen failed to write its DFG table)\n");
     return;
@@ -96,9 +96,10 @@ void cmgen_row(const fs::path& dir, int size) {
       order = flip ? "row 0 = roughness 1" : "row 0 = roughness 0";
     }
   }
-  std::printf("\nFilament's table (`cmgen --ibl-dfg-multiscatter --size=%d`, float EXR, %s): max |value - "
-              "converged| at its texel centres = %.2g (channels bias, albedo)\n",
-              size, order, best);
+  std::printf(
+      "\nFilament's table (`cmgen --ibl-dfg-multiscatter --size=%d`, float EXR, %s): max |value - "
+      "converged| at its texel centres = %.2g (channels bias, albedo)\n",
+      size, order, best);
 }
 
 }  // namespace
@@ -111,7 +112,9 @@ int main(int argc, char** argv) {
   const fs::path dir = fs::temp_directory_path() / ("brdfbake-delivered-bench-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::printf("device: %s\n\n", backend->name().c_str());
-  std::printf("| kind | size | storage | stored within (file's error_bound) | bilinear between centres | bilinear at the edges |\n");
+  std::printf(
+      "| kind | size | storage | stored within (file's error_bound) | bilinear between centres | bilinear at the edges "
+      "|\n");
   std::printf("|---|---:|---|---:|---:|---:|\n");
   for (TableKind kind : {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie})
     for (int size : {16, 32, 64, 128})
@@ -121,7 +124,9 @@ int main(int argc, char** argv) {
                     r.interior, r.edge);
       }
   std::printf("\nThe configurations engines ship, baked by brdfbake:\n\n");
-  std::printf("| engine configuration | our kind | stored within | bilinear between centres | at the edges |\n|---|---|---:|---:|---:|\n");
+  std::printf(
+      "| engine configuration | our kind | stored within | bilinear between centres | at the edges "
+      "|\n|---|---|---:|---:|---:|\n");
   const struct {
     const char* engine;
     TableKind kind;

@@ -173,7 +173,8 @@ int main(int argc, char** argv) {
         max_errors[k].push_back(fresnel_error(bake_fresnel(dev, small), bake_fresnel_reference(small)).max_abs);
       }
     for (int size : sizes) {
-      md << "\n" << size << " cells:\n\n"
+      md << "\n"
+         << size << " cells:\n\n"
          << "| model | setting | precision | median (ms) | fastest (ms) | Mcells/s | vs schlick (median) "
             "| vs schlick (fastest) | max error |\n"
          << "|---|---|---|---:|---:|---:|---:|---:|---:|\n";
@@ -188,14 +189,16 @@ int main(int argc, char** argv) {
              << fmt("%.3f", d.seconds[i] * 1e3) << " | " << fmt("%.3f", d.fastest[i] * 1e3) << " | "
              << fmt("%.1f", size / d.fastest[i] * 1e-6) << " | " << fmt("%.2f", d.ratio[i]) << " | "
              << fmt("%.2f", d.fastest[i] / d.fastest[0]) << " | " << fmt("%.1e", max_errors[k][i]) << " |\n";
-          std::fprintf(stderr, "%d cells %s %-17s median %9.3f ms fastest %9.3f ms  x%.2f / x%.2f of schlick (%d rounds)\n",
+          std::fprintf(stderr,
+                       "%d cells %s %-17s median %9.3f ms fastest %9.3f ms  x%.2f / x%.2f of schlick (%d rounds)\n",
                        size, precision_name(p), fresnel_model_name(m), d.seconds[i] * 1e3, d.fastest[i] * 1e3,
                        d.ratio[i], d.fastest[i] / d.fastest[0], d.rounds);
         }
       }
       const char* threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
       md << "\nRounds per precision: 15 to 51 (about 1 s of the slowest kernel). Load average (1 min) "
-            "at the start: " << loads << " on " << info.compute_units << " compute units"
+            "at the start: "
+         << loads << " on " << info.compute_units << " compute units"
          << (threads ? std::string(", POCL_MAX_PTHREAD_COUNT=") + threads : std::string()) << ".\n";
     }
 

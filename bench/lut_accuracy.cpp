@@ -34,7 +34,9 @@ double device_time(Device& dev, const LutSpec& spec, int runs, Table* out) {
 }
 
 const char* kind_enum(LutKind k) {
-  return k == LutKind::Ggx ? "LutKind::Ggx" : k == LutKind::GgxMultiscatter ? "LutKind::GgxMultiscatter" : "LutKind::Charlie";
+  return k == LutKind::Ggx               ? "LutKind::Ggx"
+         : k == LutKind::GgxMultiscatter ? "LutKind::GgxMultiscatter"
+                                         : "LutKind::Charlie";
 }
 const char* est_enum(Estimator e) {
   return e == Estimator::Quadrature ? "Estimator::Quadrature"
@@ -51,11 +53,16 @@ int main(int argc, char** argv) {
   int size = 128;
   std::string out_dir = "bench-out";
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--only-quadrature")) only_quadrature = true;
-    else if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--kind") && i + 1 < argc) only_kind = argv[++i];
-    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--only-quadrature"))
+      only_quadrature = true;
+    else if (!std::strcmp(argv[i], "--size") && i + 1 < argc)
+      size = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--kind") && i + 1 < argc)
+      only_kind = argv[++i];
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
+      out_dir = argv[++i];
     else {
       std::fprintf(stderr, "usage: lut_accuracy [--quick] [--only-quadrature] [--size N] [--kind K] [--out DIR]\n");
       return 2;
@@ -83,14 +90,13 @@ int main(int argc, char** argv) {
     // The reference, single-threaded: the scalar baseline.
     const uint64_t evals0 = reference::lobe_evaluations_this_thread();
     const auto r0 = std::chrono::steady_clock::now();
-    const auto ref_values = reference::lut_table(
-        kind == LutKind::Ggx ? reference::LutKind::Ggx
-        : kind == LutKind::GgxMultiscatter ? reference::LutKind::GgxMultiscatter
-                                           : reference::LutKind::Charlie,
-        size, size, reference::SheenVisibility::EstevezKulla, 1);
+    const auto ref_values =
+        reference::lut_table(kind == LutKind::Ggx               ? reference::LutKind::Ggx
+                             : kind == LutKind::GgxMultiscatter ? reference::LutKind::GgxMultiscatter
+                                                                : reference::LutKind::Charlie,
+                             size, size, reference::SheenVisibility::EstevezKulla, 1);
     const double ref_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
-    const double ref_evals_per_texel =
-        double(reference::lobe_evaluations_this_thread() - evals0) / double(size * size);
+    const double ref_evals_per_texel = double(reference::lobe_evaluations_this_thread() - evals0) / double(size * size);
     Table ref = bake_lut_reference(base);  // the same values, with the table's shape and metadata
     for (size_t k = 0; k < ref.data.size(); ++k) ref.data[k] = float(ref_values[k]);
 
@@ -111,12 +117,13 @@ int main(int argc, char** argv) {
       equal += line;
     }
     md << "\n### `" << lut_kind_name(kind) << "`, " << size << "x" << size
-       << "\n\nScalar double reference (converged, one thread): " << ref_seconds << " s, "
-       << ref_evals_per_texel << " lobe evaluations per texel (GGX or Charlie; the Burley channel is extra).\n"
+       << "\n\nScalar double reference (converged, one thread): " << ref_seconds << " s, " << ref_evals_per_texel
+       << " lobe evaluations per texel (GGX or Charlie; the Burley channel is extra).\n"
        << "Device quadrature at equal samples: " << equal << ".\n\n"
        << "| estimator | precision | samples | evaluations/texel | device time (ms) | max error | RMS error |\n"
        << "|---|---|---:|---:|---:|---:|---:|\n";
-    std::printf("%s: reference %.2f s (one thread), %.0f evaluations/texel; %s\n", lut_kind_name(kind), ref_seconds, ref_evals_per_texel, equal.c_str());
+    std::printf("%s: reference %.2f s (one thread), %.0f evaluations/texel; %s\n", lut_kind_name(kind), ref_seconds,
+                ref_evals_per_texel, equal.c_str());
 
     // The sweep (brdfbake/accuracy.hpp), against the reference computed above.
     DfgSweepOptions o;
@@ -138,8 +145,9 @@ int main(int argc, char** argv) {
           << p.evaluations_per_texel << "," << t << "," << p.error.max << "," << p.error.rms << "\n";
       char bound[32];
       std::snprintf(bound, sizeof bound, "%.2g", p.error.max * 1.25);  // 25% margin over the measurement
-      inc << "{" << kind_enum(kind) << ", " << est_enum(est) << ", Precision::"
-          << (prec == Precision::Fp64 ? "Fp64" : "Fp32") << ", " << p.samples << ", " << bound << "},\n";
+      inc << "{" << kind_enum(kind) << ", " << est_enum(est)
+          << ", Precision::" << (prec == Precision::Fp64 ? "Fp64" : "Fp32") << ", " << p.samples << ", " << bound
+          << "},\n";
       std::printf("  %-10s %s %6d samples: %9.3f ms  max %.2e  rms %.2e\n", estimator_name(est), precision_name(prec),
                   p.samples, t * 1e3, p.error.max, p.error.rms);
       std::fflush(stdout);

@@ -1,6 +1,7 @@
 // Prefiltered environment maps: device time and error against the brute-force reference.
 //
-//   prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out DIR] [--shared DIR] [--env SPEC]...
+//   prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out DIR] [--shared DIR]
+//   [--env SPEC]...
 //
 // --default-only: the default chain's time and per-level errors, no sweep (the accuracy check of a
 // change to the default path); --charlie: the same chain with the Charlie lobe; --per-texel: the
@@ -19,6 +20,8 @@
 //   * the reference's time per texel and its extrapolation to the whole chain, the baseline.
 // Writes DIR/prefilter_bench.md (tables for docs/BENCHMARKS.md) and DIR/prefilter_bench.csv
 // (one row a run, for bench/plot_prefilter.gp).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,7 +30,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sys/resource.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -152,24 +154,34 @@ int main(int argc, char** argv) {
   std::string out_dir = "bench-out", shared = "";
   std::vector<std::string> envs;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--timing-only")) timing_only = true;
-    else if (!std::strcmp(argv[i], "--default-only")) default_only = true;
-    else if (!std::strcmp(argv[i], "--charlie")) charlie = true;
-    else if (!std::strcmp(argv[i], "--per-texel")) per_texel = true;
-    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
-    else if (!std::strcmp(argv[i], "--shared") && i + 1 < argc) shared = argv[++i];
-    else if (!std::strcmp(argv[i], "--env") && i + 1 < argc) envs.push_back(argv[++i]);
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--timing-only"))
+      timing_only = true;
+    else if (!std::strcmp(argv[i], "--default-only"))
+      default_only = true;
+    else if (!std::strcmp(argv[i], "--charlie"))
+      charlie = true;
+    else if (!std::strcmp(argv[i], "--per-texel"))
+      per_texel = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
+      out_dir = argv[++i];
+    else if (!std::strcmp(argv[i], "--shared") && i + 1 < argc)
+      shared = argv[++i];
+    else if (!std::strcmp(argv[i], "--env") && i + 1 < argc)
+      envs.push_back(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out DIR] [--shared DIR] [--env SPEC]...\n");
+      std::fprintf(stderr,
+                   "usage: prefilter_bench [--quick] [--timing-only] [--default-only] [--charlie] [--per-texel] [--out "
+                   "DIR] [--shared DIR] [--env SPEC]...\n");
       return 2;
     }
   }
   if (envs.empty()) {
     envs = {"builtin:studio", "builtin:sun"};
     if (shared.empty()) shared = "../shared";
-    for (const char* f : {"rooitou_park_1k.hdr", "venice_sunset_1k.hdr", "studio_small_03_1k.hdr",
-                          "potsdamer_platz_1k.hdr"}) {
+    for (const char* f :
+         {"rooitou_park_1k.hdr", "venice_sunset_1k.hdr", "studio_small_03_1k.hdr", "potsdamer_platz_1k.hdr"}) {
       const fs::path p = fs::path(shared) / "envmaps" / f;
       if (fs::exists(p)) envs.push_back(p.string());
     }
@@ -213,10 +225,9 @@ int main(int argc, char** argv) {
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     std::printf("default chain: %.3f s device, %.3f s wall, %.3f CPU s (%.3f s on %u idle cores)\n", chain, wall, cpu,
                 cpu / cores, cores);
-    md << "\n### " << label << "\n\nDefault chain (256^2 -> 16^2, " << levels << " levels, GGX) from "
-       << env.width << "x" << env.height << ": **" << chain << " s** device time (load average "
-       << load_average() << "), " << wall << " s wall; the process used " << cpu << " CPU s, **" << cpu / cores
-       << " s** on " << cores << " idle cores.\n";
+    md << "\n### " << label << "\n\nDefault chain (256^2 -> 16^2, " << levels << " levels, GGX) from " << env.width
+       << "x" << env.height << ": **" << chain << " s** device time (load average " << load_average() << "), " << wall
+       << " s wall; the process used " << cpu << " CPU s, **" << cpu / cores << " s** on " << cores << " idle cores.\n";
     csv << label << ",default,chain,0," << chain << ",0,0\n";
     if (timing_only) continue;
 
@@ -229,7 +240,8 @@ int main(int argc, char** argv) {
       ref_seconds += refs[size_t(l)].seconds;
       ref_texels += double(refs[size_t(l)].probes.size());
       chain_texels += 6.0 * size * size;
-      std::printf("  reference level %d: %zu texels, %.2f s\n", l, refs[size_t(l)].probes.size(), refs[size_t(l)].seconds);
+      std::printf("  reference level %d: %zu texels, %.2f s\n", l, refs[size_t(l)].probes.size(),
+                  refs[size_t(l)].seconds);
     }
     md << "\nReference (scalar double, brute force over all " << 6 * base.size * base.size
        << " source texels, 2 threads): " << ref_seconds / ref_texels * 1e3 << " ms per texel, "
@@ -238,12 +250,13 @@ int main(int argc, char** argv) {
     // Per-level errors of the default.
     {
       const Run r = timed(dev, source, base, quick ? 1 : 3);
-      md << "| level | size | roughness | refinement | device ms | RMS rel. error | max rel. error |\n|---:|---:|---:|---:|---:|---:|---:|\n";
+      md << "| level | size | roughness | refinement | device ms | RMS rel. error | max rel. error "
+            "|\n|---:|---:|---:|---:|---:|---:|---:|\n";
       for (int l = 1; l < levels; ++l) {
         const Errors e = level_errors(r.cube, l, refs[size_t(l)]);
         md << "| " << l << " | " << (base.size >> l) << " | " << schedule_roughness(base.schedule, l, levels) << " | "
-           << base.refinement << " | " << r.level_seconds[size_t(l)] * 1e3 << " | " << e.rms << " | "
-           << e.max << " |\n";
+           << base.refinement << " | " << r.level_seconds[size_t(l)] * 1e3 << " | " << e.rms << " | " << e.max
+           << " |\n";
         std::printf("  level %d: rms %.4f max %.4f (%.1f ms)\n", l, e.rms, e.max, r.level_seconds[size_t(l)] * 1e3);
       }
     }
@@ -261,7 +274,8 @@ int main(int argc, char** argv) {
                                 {"sampling", "plain+env", false, -1},       {"sampling", "plain", false, 0}};
     const std::vector<double> refinements = quick ? std::vector<double>{2, 4} : std::vector<double>{2, 3, 4, 6};
     const std::vector<int> counts = quick ? std::vector<int>{32, 256} : std::vector<int>{16, 64, 256, 1024};
-    md << "\n| estimator | variant | refinement / samples | device s (filtering) | worst level RMS | worst level max |\n"
+    md << "\n| estimator | variant | refinement / samples | device s (filtering) | worst level RMS | worst level max "
+          "|\n"
           "|---|---|---:|---:|---:|---:|\n";
     for (const Variant& v : variants) {
       const bool quadrature = std::string(v.estimator) == "quadrature";
@@ -269,8 +283,10 @@ int main(int argc, char** argv) {
       for (size_t k = 0; k < n; ++k) {
         PrefilterSpec s = base;
         s.estimator = quadrature ? EnvEstimator::Quadrature : EnvEstimator::Sampling;
-        if (quadrature) s.refinement = refinements[k];
-        else s.samples = counts[k];
+        if (quadrature)
+          s.refinement = refinements[k];
+        else
+          s.samples = counts[k];
         s.filtered_importance_sampling = v.fis;
         s.bright_texels = v.bright;
         const Run r = timed(dev, source, s, quick ? 1 : 2);
@@ -285,8 +301,8 @@ int main(int argc, char** argv) {
            << " | " << worst_max << " |\n";
         csv << label << "," << v.estimator << "," << v.name << "," << param << "," << r.seconds << "," << worst_rms
             << "," << worst_max << "\n";
-        std::printf("  %-10s %-15s %6g: %.3f s  rms %.4f  max %.4f\n", v.estimator, v.name, param, r.seconds,
-                    worst_rms, worst_max);
+        std::printf("  %-10s %-15s %6g: %.3f s  rms %.4f  max %.4f\n", v.estimator, v.name, param, r.seconds, worst_rms,
+                    worst_max);
         std::fflush(stdout);
       }
     }

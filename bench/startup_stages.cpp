@@ -20,9 +20,9 @@
 #include <filesystem>
 #include <string>
 
+#include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
-#include "brdfbake/dfg_lut.hpp"
 
 using namespace brdfbake;
 
@@ -36,8 +36,8 @@ class Stages {
     const auto now = Clock::now();
     rusage usage{};
     ::getrusage(RUSAGE_SELF, &usage);
-    std::printf("%-44s %8.2f ms  (peak so far %.0f MiB)\n", what, std::chrono::duration<double, std::milli>(now - last_).count(),
-                double(usage.ru_maxrss) / 1024.0);
+    std::printf("%-44s %8.2f ms  (peak so far %.0f MiB)\n", what,
+                std::chrono::duration<double, std::milli>(now - last_).count(), double(usage.ru_maxrss) / 1024.0);
     last_ = now;
   }
   void total() const {
@@ -139,11 +139,14 @@ int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "lut") == 0) return lut(argc >= 3 ? std::atoi(argv[2]) : 128);
     if (argc >= 3 && std::strcmp(argv[1], "irradiance") == 0) return irradiance(argv[2]);
     if (argc >= 3 && std::strcmp(argv[1], "prefilter") == 0)
-      return prefilter(argv[2], argc >= 4 ? std::atoi(argv[3]) : 256, argc >= 5 && std::strcmp(argv[4], "charlie") == 0);
+      return prefilter(argv[2], argc >= 4 ? std::atoi(argv[3]) : 256,
+                       argc >= 5 && std::strcmp(argv[4], "charlie") == 0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "startup_stages: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: startup_stages lut [SIZE] | startup_stages irradiance ENV | startup_stages prefilter ENV [SIZE [charlie]]\n");
+  std::fprintf(stderr,
+               "usage: startup_stages lut [SIZE] | startup_stages irradiance ENV | startup_stages prefilter ENV [SIZE "
+               "[charlie]]\n");
   return 2;
 }

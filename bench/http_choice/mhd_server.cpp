@@ -1,21 +1,20 @@
 // The HTTP library comparison (docs/BENCHMARKS.md, "Choosing the HTTP library"): libmicrohttpd
 // serving the same two routes as httplib_server.cpp, with its internal epoll thread pool.
 #include <microhttpd.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
 std::string g_table(128 * 128 * 3 * 4, 'x');
 const char kHealth[] = "{\"status\":\"ok\"}";
 
-MHD_Result answer(void*, MHD_Connection* c, const char* url, const char*, const char*, const char*, size_t*,
-                  void**) {
+MHD_Result answer(void*, MHD_Connection* c, const char* url, const char*, const char*, const char*, size_t*, void**) {
   MHD_Response* r = nullptr;
   if (std::strcmp(url, "/table") == 0)
     r = MHD_create_response_from_buffer(g_table.size(), g_table.data(), MHD_RESPMEM_PERSISTENT);

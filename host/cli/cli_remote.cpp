@@ -11,11 +11,11 @@ namespace brdfbake::cli {
 void print_manifest_summary(const Manifest& m, std::ostream& out);
 
 void add_remote_options(cxxopts::Options& options) {
-  options.add_options()
-      ("server", "run on a brdfbake server (http://HOST:PORT; docs/SERVICE.md) and download the files here",
-       cxxopts::value<std::string>())
-      ("token-file", "with --server: the file holding the server's bearer token (default: $BRDFBAKE_TOKEN)",
-       cxxopts::value<std::string>());
+  options.add_options()("server",
+                        "run on a brdfbake server (http://HOST:PORT; docs/SERVICE.md) and download the files here",
+                        cxxopts::value<std::string>())(
+      "token-file", "with --server: the file holding the server's bearer token (default: $BRDFBAKE_TOKEN)",
+      cxxopts::value<std::string>());
 }
 
 bool remote_requested(const cxxopts::ParseResult& r) {

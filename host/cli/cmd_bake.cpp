@@ -104,7 +104,8 @@ static void print_estimate(const Job& job, std::ostream& out) {
   size_t width = 13;
   for (const auto& t : e.tables) width = std::max(width, t.output.size());
   char buf[64];
-  out << "estimate on this device (measured by bakes at reduced size, " << (e.calibration_seconds > 0 ? "" : "cached, ");
+  out << "estimate on this device (measured by bakes at reduced size, "
+      << (e.calibration_seconds > 0 ? "" : "cached, ");
   std::snprintf(buf, sizeof buf, "%.2f s", e.calibration_seconds);
   out << buf << "):\n";
   for (const auto& t : e.tables) {

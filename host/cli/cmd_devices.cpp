@@ -42,17 +42,14 @@ int cmd_devices(int argc, char** argv) {
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  if (devices.empty())
-    std::cout << "No OpenCL device found (install an ICD such as pocl-opencl-icd).\n";
+  if (devices.empty()) std::cout << "No OpenCL device found (install an ICD such as pocl-opencl-icd).\n";
   int last_platform = -1;
   for (const auto& d : devices) {
     if (d.platform_index != last_platform) {
-      std::cout << "Platform " << d.platform_index << ": " << d.platform_name << " (" << d.platform_version
-                << ")\n";
+      std::cout << "Platform " << d.platform_index << ": " << d.platform_name << " (" << d.platform_version << ")\n";
       last_platform = d.platform_index;
     }
-    std::cout << "  " << d.platform_index << ":" << d.device_index << (d.is_default ? " * " : "   ")
-              << d.name << "\n"
+    std::cout << "  " << d.platform_index << ":" << d.device_index << (d.is_default ? " * " : "   ") << d.name << "\n"
               << "        type " << d.type << ", " << d.version << ", driver " << d.driver_version << "\n"
               << "        " << d.compute_units << " compute units, " << (d.global_memory >> 20)
               << " MiB global memory, fp64 " << (d.fp64 ? "yes" : "no") << "\n";

@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "brdfbake/fresnel.hpp"
-#include <optional>
 #include "brdfbake/io.hpp"
 #include "cli_table.hpp"
 
@@ -45,17 +45,14 @@ std::string signed3(double v) {
   std::snprintf(b, sizeof b, "%+.3f", v);
   return b;
 }
-std::string triple(const Rgb& c, std::string (*f)(double) = f3) {
-  return f(c.r) + " " + f(c.g) + " " + f(c.b);
-}
+std::string triple(const Rgb& c, std::string (*f)(double) = f3) { return f(c.r) + " " + f(c.g) + " " + f(c.b); }
 std::string pad(std::string s, size_t width) {
   if (s.size() < width) s.append(width - s.size(), ' ');
   return s;
 }
 
 // Options other than `allowed` that were given: a mode that does not use them rejects them.
-void reject_others(const cxxopts::ParseResult& r, const std::vector<std::string>& allowed,
-                   const std::string& mode) {
+void reject_others(const cxxopts::ParseResult& r, const std::vector<std::string>& allowed, const std::string& mode) {
   for (const auto& kv : r.arguments()) {
     const std::string& key = kv.key();
     bool ok = false;
@@ -66,23 +63,22 @@ void reject_others(const cxxopts::ParseResult& r, const std::vector<std::string>
 
 int list_materials() {
   const Rgb& wl = kPresetWavelengthsNm;
-  std::cout << "Material presets: complex index n + ik at R " << wl.r << " nm, G " << wl.g << " nm, B "
-            << wl.b << " nm; F0 = reflectance at normal incidence from air, linear.\n"
+  std::cout << "Material presets: complex index n + ik at R " << wl.r << " nm, G " << wl.g << " nm, B " << wl.b
+            << " nm; F0 = reflectance at normal incidence from air, linear.\n"
             << "'hard-coded' are F0 colours that shaders commonly use for the material, with the\n"
             << "difference hard-coded - exact per channel.\n\n";
   std::cout << pad("name", 14) << pad("kind", 11) << pad("exact F0 (r g b)", 20) << pad("hard-coded F0", 20)
             << pad("difference", 23) << "source of the hard-coded F0\n";
   for (const MaterialPreset& p : material_presets()) {
     const Rgb f0 = exact_f0(p);
-    const std::string head = pad(p.name, 14) +
-                             pad(p.kind == MaterialKind::Conductor ? "conductor" : "dielectric", 11) +
-                             pad(triple(f0), 20);
+    const std::string head =
+        pad(p.name, 14) + pad(p.kind == MaterialKind::Conductor ? "conductor" : "dielectric", 11) + pad(triple(f0), 20);
     const std::vector<HardCodedF0> hard = hard_coded_f0(p);
     if (hard.empty()) std::cout << head << "(none published)\n";
     for (size_t i = 0; i < hard.size(); ++i) {
       const Rgb d{hard[i].f0.r - f0.r, hard[i].f0.g - f0.g, hard[i].f0.b - f0.b};
-      std::cout << (i == 0 ? head : std::string(45, ' ')) << pad(triple(hard[i].f0), 20)
-                << pad(triple(d, signed3), 23) << hard[i].source << "\n";
+      std::cout << (i == 0 ? head : std::string(45, ' ')) << pad(triple(hard[i].f0), 20) << pad(triple(d, signed3), 23)
+                << hard[i].source << "\n";
     }
   }
   std::cout << "\nSources of n and k:\n";
@@ -133,16 +129,21 @@ int compare(const cxxopts::ParseResult& r) {
       std::snprintf(rate, sizeof rate, "-");
     char worst[32];
     std::snprintf(worst, sizeof worst, "%.4f", row.cos_at_worst);
-    std::cout << pad(fresnel_model_name(row.model), 18) << pad(triple(row.max_abs, [](double v) {
-                   char b[32];
-                   std::snprintf(b, sizeof b, "%.4f", v);
-                   return std::string(b);
-                 }), 21)
-              << pad(triple(row.mean_abs, [](double v) {
-                   char b[32];
-                   std::snprintf(b, sizeof b, "%.4f", v);
-                   return std::string(b);
-                 }), 21)
+    std::cout << pad(fresnel_model_name(row.model), 18)
+              << pad(triple(row.max_abs,
+                            [](double v) {
+                              char b[32];
+                              std::snprintf(b, sizeof b, "%.4f", v);
+                              return std::string(b);
+                            }),
+                     21)
+              << pad(triple(row.mean_abs,
+                            [](double v) {
+                              char b[32];
+                              std::snprintf(b, sizeof b, "%.4f", v);
+                              return std::string(b);
+                            }),
+                     21)
               << pad(row.worst > 0 ? worst : "-", 14) << pad(rate, 10) << row.setting << "\n";
   }
   return 0;
@@ -184,8 +185,7 @@ int fit(const cxxopts::ParseResult& r) {
             << triple(f.schlick_max_error) << "\n"
             << "  F82 tint with that F0 (exact at cos 1/7): " << triple(f.f82_tint) << "   max error left "
             << triple(f.f82_max_error) << "\n"
-            << "  (max |approximation - exact| over " << kFresnelErrorGrid
-            << " cosines in [0, 1])\n";
+            << "  (max |approximation - exact| over " << kFresnelErrorGrid << " cosines in [0, 1])\n";
   return 0;
 }
 
@@ -194,12 +194,17 @@ int fit(const cxxopts::ParseResult& r) {
 int cmd_fresnel(int argc, char** argv) {
   // The modes beside table mode; their options are the schema's where they share a name
   // (--material, --n, --k, --ior, --ior-outside, --bias, --scale, --power).
-  TableCommand c{"fresnel", "Bake a Fresnel reflectance table, or compare the models",
-                 "brdfbake fresnel --model conductor --material gold -o gold.exr", {}, {}, {"list-materials", "compare", "fit", "rate-cells"}};
+  TableCommand c{"fresnel",
+                 "Bake a Fresnel reflectance table, or compare the models",
+                 "brdfbake fresnel --model conductor --material gold -o gold.exr",
+                 {},
+                 {},
+                 {"list-materials", "compare", "fit", "rate-cells"}};
   c.add_extra = [](cxxopts::Options& options) {
     options.add_options()("list-materials", "list the material presets with their exact and hard-coded F0")(
         "compare", "every model's error against the exact one for --material, and its device rate")(
-        "rate-cells", "--compare: cells of the table the rates are measured on (default 1048576)", cxxopts::value<std::string>())(
+        "rate-cells", "--compare: cells of the table the rates are measured on (default 1048576)",
+        cxxopts::value<std::string>())(
         "fit", "Schlick F0 and F82 tint of --material, --n/--k or --ior, with the error each leaves");
   };
   c.handle_extra = [](const cxxopts::ParseResult& r) -> std::optional<int> {

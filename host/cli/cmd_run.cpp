@@ -12,15 +12,13 @@ void print_manifest_summary(const Manifest& m, std::ostream& out);
 
 int cmd_run(int argc, char** argv) {
   cxxopts::Options options("brdfbake run", "Run a job: bake every table it lists (docs/SCENES.md, \"Jobs\")");
-  options.add_options()
-      ("job", "the job file (JSON)", cxxopts::value<std::string>())
-      ("o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())
-      ("dry-run", "check the job and print it with every default filled in; bake nothing")
-      ("sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")
-      ("memory-budget", memory_budget_help(), cxxopts::value<std::string>())
-      ("wait", "when another run is writing the output folder, wait for it (default: fail at once)")
-      ("quiet", "no progress or summary")
-      ("h,help", "this help");
+  options.add_options()("job", "the job file (JSON)", cxxopts::value<std::string>())(
+      "o,output", "output folder (overrides the job's output_dir)", cxxopts::value<std::string>())(
+      "dry-run", "check the job and print it with every default filled in; bake nothing")(
+      "sanitize", "replace NaN, infinite and negative environment pixels instead of refusing the input")(
+      "memory-budget", memory_budget_help(), cxxopts::value<std::string>())(
+      "wait", "when another run is writing the output folder, wait for it (default: fail at once)")(
+      "quiet", "no progress or summary")("h,help", "this help");
   add_remote_options(options);
   options.parse_positional({"job"});
   options.positional_help("JOB.json");

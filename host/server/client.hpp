@@ -21,8 +21,8 @@ class RemoteError : public Error {
 };
 
 struct RemoteOptions {
-  std::string url;          // http://host:port
-  std::string token_file;   // "" = $BRDFBAKE_TOKEN, else no token
+  std::string url;         // http://host:port
+  std::string token_file;  // "" = $BRDFBAKE_TOKEN, else no token
   double poll_seconds = 0.2;
 };
 

@@ -50,7 +50,8 @@ std::string Roots::input_file(const std::string& path, const std::string& field)
     const std::string name = path.substr(std::char_traits<char>::length(kUploadPrefix));
     const std::string file = name.find('/') == std::string::npos ? data_file(uploads_dir(), name) : std::string();
     if (file.empty())
-      throw Error(field + ": " + quoted(path) + " is not an upload of this server (or it was removed: uploads are kept " +
+      throw Error(field + ": " + quoted(path) +
+                  " is not an upload of this server (or it was removed: uploads are kept " +
                   std::to_string(int(kUploadMaxAgeSeconds / 3600)) + " hours)");
     return file;
   }

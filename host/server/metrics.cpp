@@ -1,22 +1,24 @@
 #include "server/metrics.hpp"
-#include "text.hpp"
 
 #include <cstdio>
 
+#include "text.hpp"
+
 namespace brdfbake::server {
 
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 std::string prometheus_label(const std::string& v) {
   std::string out;
   for (char c : v) {
-    if (c == '\\') out += "\\\\";
-    else if (c == '"') out += "\\\"";
-    else if (c == '\n') out += "\\n";
-    else out += c;
+    if (c == '\\')
+      out += "\\\\";
+    else if (c == '"')
+      out += "\\\"";
+    else if (c == '\n')
+      out += "\\n";
+    else
+      out += c;
   }
   return out;
 }

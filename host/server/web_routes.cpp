@@ -79,7 +79,6 @@ const detail::WebAsset* find_asset(const std::string& route) {
   return nullptr;
 }
 
-
 // POST /v1/plan: what POST /v1/bake would submit, checked as a submission is (paths confined, the
 // job validated), with each table's estimated peak memory; nothing is baked.
 void post_plan(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
@@ -165,8 +164,9 @@ void post_upload(const WebContext& c, const httplib::Request& req, httplib::Resp
   const std::string name = req.has_param("name") ? req.get_param_value("name") : std::string();
   if (name.empty()) return reply_error(res, 400, origin + ": name: the file's name is required (?name=sky.hdr)");
   // Its name is a label and an extension, never a path: one component of plain characters.
-  if (name.size() > 100 || name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
-                               std::string::npos ||
+  if (name.size() > 100 ||
+      name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+          std::string::npos ||
       name[0] == '.')
     return reply_error(res, 400,
                        origin + ": name: '" + name.substr(0, 60) +
@@ -185,8 +185,7 @@ void post_upload(const WebContext& c, const httplib::Request& req, httplib::Resp
   prune_uploads(dir, req.body.size());
   static std::atomic<unsigned> counter{0};
   char stamp[40];
-  std::snprintf(stamp, sizeof stamp, "%08x%04x-", static_cast<unsigned>(std::random_device{}()),
-                (counter++) & 0xffffu);
+  std::snprintf(stamp, sizeof stamp, "%08x%04x-", static_cast<unsigned>(std::random_device{}()), (counter++) & 0xffffu);
   const std::string stored = stamp + name;
   const fs::path path = dir / stored;
   const std::string public_name = std::string(kUploadPrefix) + stored;
@@ -466,7 +465,6 @@ void register_web_routes(httplib::Server& http, const WebContext& context) {
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/view/(.+))",
            [c](const httplib::Request& req, httplib::Response& res) { get_view(c, req, res); });
 }
-
 
 Plan bake_plan(const std::string& body_text, const std::string& origin, const Roots& roots) {
   const json body = io::parse_json(body_text.empty() ? std::string("{}") : body_text, origin);

@@ -21,7 +21,7 @@ class Server;
 namespace brdfbake {
 class Backend;
 struct Plan;
-}
+}  // namespace brdfbake
 
 namespace brdfbake::server {
 

@@ -35,7 +35,6 @@ std::string name_list(const std::vector<NamedMaterial>& materials, size_t shown 
   return names;
 }
 
-
 // ---- Range checks ---------------------------------------------------------------------------------
 
 void check_unit(const std::string& where, const char* field, double v) {
@@ -46,8 +45,8 @@ void check_unit(const std::string& where, const char* field, double v) {
 void check_unit(const std::string& where, const char* field, const Rgb& c) {
   for (double v : {c.r, c.g, c.b})
     if (!(v >= 0.0 && v <= 1.0))
-      throw Error(where + ": " + field + " must have every channel in [0, 1] (got [" + detail::fmt_number(c.r) + ", " + detail::fmt_number(c.g) +
-                  ", " + detail::fmt_number(c.b) + "])");
+      throw Error(where + ": " + field + " must have every channel in [0, 1] (got [" + detail::fmt_number(c.r) + ", " +
+                  detail::fmt_number(c.g) + ", " + detail::fmt_number(c.b) + "])");
 }
 
 // ---- Field names --------------------------------------------------------------------------------
@@ -78,8 +77,8 @@ const Field kFields[] = {
     {"clearcoatGloss", "", Kind::Scalar, &Material::clearcoat_gloss, nullptr, nullptr, nullptr},
     {"sheenColor", "sheenColorFactor", Kind::Colour, nullptr, &Material::sheen_color, nullptr, nullptr},
     {"sheenRoughness", "sheenRoughnessFactor", Kind::Scalar, &Material::sheen_roughness, nullptr, nullptr, nullptr},
-    {"clearcoatRoughness", "clearcoatRoughnessFactor", Kind::Scalar, &Material::clearcoat_roughness, nullptr,
-     nullptr, nullptr},
+    {"clearcoatRoughness", "clearcoatRoughnessFactor", Kind::Scalar, &Material::clearcoat_roughness, nullptr, nullptr,
+     nullptr},
     {"ior", "", Kind::Scalar, &Material::ior, nullptr, nullptr, nullptr},
     {"specularFactor", "", Kind::Scalar, &Material::specular_factor, nullptr, nullptr, nullptr},
     {"specularColorFactor", "", Kind::Colour, nullptr, &Material::specular_color_factor, nullptr, nullptr},
@@ -113,24 +112,34 @@ Rgb colour(const json& v, const std::string& where, const std::string& key, bool
 
 void set_field(const Field& f, Material& m, const json& v, const std::string& where, const std::string& key) {
   switch (f.kind) {
-    case Kind::Scalar: m.*(f.scalar) = number(v, where, key); break;
-    case Kind::Colour: m.*(f.colour) = colour(v, where, key, std::string(f.name) == "baseColor"); break;
-    case Kind::OptionalColour: m.*(f.optional_colour) = colour(v, where, key, false); break;
-    case Kind::OptionalScalar: m.*(f.optional_scalar) = number(v, where, key); break;
+    case Kind::Scalar:
+      m.*(f.scalar) = number(v, where, key);
+      break;
+    case Kind::Colour:
+      m.*(f.colour) = colour(v, where, key, std::string(f.name) == "baseColor");
+      break;
+    case Kind::OptionalColour:
+      m.*(f.optional_colour) = colour(v, where, key, false);
+      break;
+    case Kind::OptionalScalar:
+      m.*(f.optional_scalar) = number(v, where, key);
+      break;
     case Kind::Boolean:
       if (!v.is_boolean()) throw Error(where + ": " + key + " must be true or false (got " + json_excerpt(v) + ")");
       m.normalized = v.get<bool>();
       break;
     case Kind::Distribution: {
       const std::string d = v.is_string() ? v.get<std::string>() : std::string();
-      if (d == "ggx") m.distribution = MicrofacetDistribution::Ggx;
-      else if (d == "beckmann") m.distribution = MicrofacetDistribution::Beckmann;
-      else throw Error(where + ": distribution must be \"ggx\" or \"beckmann\" (got " + json_excerpt(v) + ")");
+      if (d == "ggx")
+        m.distribution = MicrofacetDistribution::Ggx;
+      else if (d == "beckmann")
+        m.distribution = MicrofacetDistribution::Beckmann;
+      else
+        throw Error(where + ": distribution must be \"ggx\" or \"beckmann\" (got " + json_excerpt(v) + ")");
       break;
     }
   }
 }
-
 
 }  // namespace
 
@@ -157,7 +166,8 @@ void validate_material(const Material& m, const std::string& where) {
   // KHR_materials_specular: specularColorFactor may exceed 1 (F0 is clamped to 1 after scaling).
   for (double v : {m.specular_color_factor.r, m.specular_color_factor.g, m.specular_color_factor.b})
     if (!(v >= 0.0 && std::isfinite(v)))
-      throw Error(where + ": specularColorFactor must have every channel finite and >= 0 (got " + detail::fmt_number(v) + ")");
+      throw Error(where + ": specularColorFactor must have every channel finite and >= 0 (got " +
+                  detail::fmt_number(v) + ")");
   if (m.diffuse_color) check_unit(where, "diffuseColor", *m.diffuse_color);
   if (m.specular_color) check_unit(where, "specularColor", *m.specular_color);
   if (m.shininess && !(*m.shininess >= 0.0 && *m.shininess <= kMaxShininess))
@@ -264,7 +274,8 @@ std::vector<NamedMaterial> read_materials(const std::string& path) {
     const std::string e(ext);
     if (path.size() < e.size()) return false;
     std::string tail = path.substr(path.size() - e.size());
-    std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(tail.begin(), tail.end(), tail.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return tail == e;
   };
   if (ends_with(".glb") || ends_with(".gltf")) return gltf_materials(read_scene(path), path);
@@ -305,7 +316,9 @@ std::string material_to_json(const NamedMaterial& nm) {
   const Material& m = nm.params;
   for (const Field& f : kFields) {
     switch (f.kind) {
-      case Kind::Scalar: j[f.name] = m.*(f.scalar); break;
+      case Kind::Scalar:
+        j[f.name] = m.*(f.scalar);
+        break;
       case Kind::Colour: {
         const Rgb c = m.*(f.colour);
         j[f.name] = {c.r, c.g, c.b};
@@ -317,7 +330,9 @@ std::string material_to_json(const NamedMaterial& nm) {
       case Kind::OptionalScalar:
         if (const auto& v = m.*(f.optional_scalar)) j[f.name] = *v;
         break;
-      case Kind::Boolean: j[f.name] = m.normalized; break;
+      case Kind::Boolean:
+        j[f.name] = m.normalized;
+        break;
       case Kind::Distribution:
         j[f.name] = m.distribution == MicrofacetDistribution::Beckmann ? "beckmann" : "ggx";
         break;

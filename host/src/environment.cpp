@@ -16,10 +16,10 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "io/image_file.hpp"
 #include "io/special_files.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

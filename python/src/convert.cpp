@@ -42,8 +42,7 @@ ParamValue to_param(const py::handle& v, const std::string& field) {
   if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     std::vector<double> out;
     for (const py::handle e : v) {
-      if (!is_number(e))
-        throw Error(field + ": must be a number or a list of numbers (got " + excerpt(v) + ")");
+      if (!is_number(e)) throw Error(field + ": must be a number or a list of numbers (got " + excerpt(v) + ")");
       out.push_back(number_of(e, field));
     }
     return out;
@@ -61,8 +60,10 @@ py::object from_param(const ParamValue& v, const ParamDef* d) {
   if (const std::string* s = std::get_if<std::string>(&v)) return py::str(*s);
   py::list out;
   for (double x : std::get<std::vector<double>>(v)) {
-    if (integral && std::isfinite(x)) out.append(py::int_(static_cast<long long>(x)));
-    else out.append(py::float_(x));
+    if (integral && std::isfinite(x))
+      out.append(py::int_(static_cast<long long>(x)));
+    else
+      out.append(py::float_(x));
   }
   return std::move(out);
 }

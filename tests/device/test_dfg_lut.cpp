@@ -8,8 +8,8 @@
 #include <tuple>
 
 #include "brdfbake/backend.hpp"
-#include "brdfbake/error.hpp"
 #include "brdfbake/dfg_lut.hpp"
+#include "brdfbake/error.hpp"
 #include "identities/dfg_identities.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -65,7 +65,8 @@ void make_dfg_backend(Backend b, std::unique_ptr<DfgBackend>& out) {
     FAIL() << "this test needs an OpenCL device and found none";
   }
   if (b == Backend::Fp64 && !dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
-  out = std::make_unique<BackendDfg>(brdfbake::Backend::open(*dev), b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
+  out = std::make_unique<BackendDfg>(brdfbake::Backend::open(*dev),
+                                     b == Backend::Fp64 ? Precision::Fp64 : Precision::Fp32);
 }
 
 INSTANTIATE_TEST_SUITE_P(Device, DfgIdentities, ::testing::Values(Backend::Fp32, Backend::Fp64), BackendName());
@@ -176,15 +177,14 @@ TEST_P(LutVsReference, Corners) {
       }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllKinds, LutVsReference,
-    ::testing::Combine(::testing::Values(LutKind::Ggx, LutKind::GgxMultiscatter, LutKind::Charlie),
-                       ::testing::Values(Precision::Fp32, Precision::Fp64)),
-    [](const auto& param_info) {
-      std::string n = lut_kind_name(std::get<0>(param_info.param));
-      std::replace(n.begin(), n.end(), '-', '_');
-      return n + "_" + precision_name(std::get<1>(param_info.param));
-    });
+INSTANTIATE_TEST_SUITE_P(AllKinds, LutVsReference,
+                         ::testing::Combine(::testing::Values(LutKind::Ggx, LutKind::GgxMultiscatter, LutKind::Charlie),
+                                            ::testing::Values(Precision::Fp32, Precision::Fp64)),
+                         [](const auto& param_info) {
+                           std::string n = lut_kind_name(std::get<0>(param_info.param));
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n + "_" + precision_name(std::get<1>(param_info.param));
+                         });
 
 // The mirror limit and Burley's closed form at normal incidence are in the identity body
 // (tests/identities/dfg_identities.hpp), with the reference's.
@@ -230,8 +230,8 @@ TEST(LutDevice, QuadratureConvergesInFp64) {
   for (LutKind k : {LutKind::Ggx, LutKind::Charlie}) {
     spec.kind = k;
     const Diff d = compare(bake_lut(*dev, spec), bake_lut_reference(spec));
-    EXPECT_LE(d.max_abs, kLutQuadratureFp64) << lut_kind_name(k) << " channel " << d.at_c << " at ("
-                                             << d.at_i << ", " << d.at_j << ")";
+    EXPECT_LE(d.max_abs, kLutQuadratureFp64)
+        << lut_kind_name(k) << " channel " << d.at_c << " at (" << d.at_i << ", " << d.at_j << ")";
   }
 }
 
@@ -243,9 +243,9 @@ TEST(LutDevice, MonteCarloEstimators) {
     Estimator est;
     int samples;
   };
-  for (const Case c : {Case{LutKind::Ggx, Estimator::Vndf, 4096}, Case{LutKind::Ggx, Estimator::Ndf, 4096},
-                       Case{LutKind::Charlie, Estimator::Ndf, 4096},
-                       Case{LutKind::Charlie, Estimator::Uniform, 4096}}) {
+  for (const Case c :
+       {Case{LutKind::Ggx, Estimator::Vndf, 4096}, Case{LutKind::Ggx, Estimator::Ndf, 4096},
+        Case{LutKind::Charlie, Estimator::Ndf, 4096}, Case{LutKind::Charlie, Estimator::Uniform, 4096}}) {
     LutSpec spec;
     spec.kind = c.kind;
     spec.estimator = c.est;

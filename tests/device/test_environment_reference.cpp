@@ -11,9 +11,9 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

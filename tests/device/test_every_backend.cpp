@@ -63,7 +63,7 @@ double device_tolerance(TableKind kind, Precision p) {
       return test::kBrdfAlbedoQuadrature;
     case TableKind::Prefilter:
     case TableKind::Irradiance:
-      return 0;  // per level: env_tolerance
+      return 0;               // per level: env_tolerance
     case TableKind::Preview:  // its renders against the reference: tests/device/test_preview.cpp
       return -1;
   }

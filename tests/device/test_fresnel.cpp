@@ -110,9 +110,7 @@ namespace {
 Rgb grey(double v) { return {v, v, v}; }
 
 // The kernel tolerance of a precision, against the reference rounded to float storage.
-double tolerance(Precision p) {
-  return p == Precision::Fp64 ? test::kFresnelFp64 : test::kFresnelFp32;
-}
+double tolerance(Precision p) { return p == Precision::Fp64 ? test::kFresnelFp64 : test::kFresnelFp32; }
 
 const char* what(Precision p) { return precision_name(p); }
 
@@ -127,8 +125,7 @@ std::vector<FresnelSpec> preset_specs(FresnelModel model) {
   std::vector<FresnelSpec> out;
   for (const MaterialPreset& p : material_presets()) {
     if (model == FresnelModel::Empirical) break;
-    if ((model == FresnelModel::SchlickIor || model == FresnelModel::Dielectric) &&
-        p.kind == MaterialKind::Conductor)
+    if ((model == FresnelModel::SchlickIor || model == FresnelModel::Dielectric) && p.kind == MaterialKind::Conductor)
       continue;
     FresnelSpec s;
     s.model = model;
@@ -189,9 +186,12 @@ std::vector<FresnelSpec> parameter_specs(FresnelModel model) {
       out.push_back(s);
       break;
     case FresnelModel::Empirical:
-      for (const auto& [b, sc, p] : std::vector<std::tuple<double, double, double>>{
-               {0.0, 1.0, 5.0}, {0.1, 0.9, 5.0}, {0.2, 2.0, 1.5}, {-0.5, 1.0, 0.7}, {0.3, 0.5, 0.0},
-               {0.04, 0.96, 5.0}}) {
+      for (const auto& [b, sc, p] : std::vector<std::tuple<double, double, double>>{{0.0, 1.0, 5.0},
+                                                                                    {0.1, 0.9, 5.0},
+                                                                                    {0.2, 2.0, 1.5},
+                                                                                    {-0.5, 1.0, 0.7},
+                                                                                    {0.3, 0.5, 0.0},
+                                                                                    {0.04, 0.96, 5.0}}) {
         s.bias = b;
         s.scale = sc;
         s.power = p;
@@ -237,8 +237,8 @@ void expect_matches_reference(Device& dev, FresnelSpec spec, Precision precision
   const FresnelError e = fresnel_error(got, want);
   const double tol = tolerance(spec, precision);
   EXPECT_LE(e.max_abs, tol) << describe(spec) << " " << what(precision) << " (" << spec.size
-                            << (spec.endpoints ? " endpoints" : " centres") << "): worst at cos "
-                            << e.x_at_max << ", channel " << e.channel_at_max;
+                            << (spec.endpoints ? " endpoints" : " centres") << "): worst at cos " << e.x_at_max
+                            << ", channel " << e.channel_at_max;
 }
 
 // ---- Kernel against reference: every model, every preset, both precisions ------------------------
@@ -280,18 +280,17 @@ TEST_P(FresnelVsReference, EverySizeTail) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllModels, FresnelVsReference,
-    ::testing::Combine(::testing::Values(FresnelModel::Schlick, FresnelModel::SchlickMetallic,
-                                         FresnelModel::SchlickIor, FresnelModel::Dielectric,
-                                         FresnelModel::Conductor, FresnelModel::F82Tint,
-                                         FresnelModel::Empirical),
-                       ::testing::Values(Precision::Fp32, Precision::Fp64)),
-    [](const auto& test_info) {
-      std::string name = fresnel_model_name(std::get<0>(test_info.param));
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name + "_" + precision_name(std::get<1>(test_info.param));
-    });
+INSTANTIATE_TEST_SUITE_P(AllModels, FresnelVsReference,
+                         ::testing::Combine(::testing::Values(FresnelModel::Schlick, FresnelModel::SchlickMetallic,
+                                                              FresnelModel::SchlickIor, FresnelModel::Dielectric,
+                                                              FresnelModel::Conductor, FresnelModel::F82Tint,
+                                                              FresnelModel::Empirical),
+                                            ::testing::Values(Precision::Fp32, Precision::Fp64)),
+                         [](const auto& test_info) {
+                           std::string name = fresnel_model_name(std::get<0>(test_info.param));
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name + "_" + precision_name(std::get<1>(test_info.param));
+                         });
 
 // ---- The identities' device-side extensions: presets, the reference's own steps, 2-D tables ------
 
@@ -389,9 +388,9 @@ TEST_P(FresnelDevice, IndexOneRowOfATwoDimensionalTable) {
 // Extreme indices against the reference (the identity body checks they stay finite and bounded).
 TEST_P(FresnelDevice, ExtremeIndicesMatchTheReference) {
   const std::vector<double> g = endpoints_grid(4097);
-  std::vector<FresnelSpec> specs = {
-      conductor({10.0, 0.01, 1.0}, {100.0, 100.0, 100.0}), conductor({10.0, 0.01, 0.5}, {0.0, 1e-6, 1.0}),
-      dielectric(10.0), dielectric(1.0, 10.0)};
+  std::vector<FresnelSpec> specs = {conductor({10.0, 0.01, 1.0}, {100.0, 100.0, 100.0}),
+                                    conductor({10.0, 0.01, 0.5}, {0.0, 1e-6, 1.0}), dielectric(10.0),
+                                    dielectric(1.0, 10.0)};
   FresnelSpec si;
   si.model = FresnelModel::SchlickIor;
   si.ior = grey(10.0);
@@ -438,11 +437,8 @@ TEST_P(FresnelDevice, TwoDimensionalTables) {
       ASSERT_EQ(got.channels, std::vector<std::string>{"f"});
       const FresnelError e = fresnel_error(got, want);
       // ior_outside = 1.333 puts rows below 1.333 into internal reflection
-      const double limit = spec.ior_outside && GetParam() == Precision::Fp32
-                               ? test::kFresnelCriticalAngleFp32
-                               : tol();
-      EXPECT_LE(e.max_abs, limit) << describe(spec) << " 2d, worst at cos " << e.x_at_max
-                                  << ", row " << e.row_at_max;
+      const double limit = spec.ior_outside && GetParam() == Precision::Fp32 ? test::kFresnelCriticalAngleFp32 : tol();
+      EXPECT_LE(e.max_abs, limit) << describe(spec) << " 2d, worst at cos " << e.x_at_max << ", row " << e.row_at_max;
     }
   }
 }
@@ -465,9 +461,8 @@ TEST(FresnelTable, AxesAndMetadata) {
   EXPECT_TRUE(t.y_name.empty());
   EXPECT_EQ(t.x_name, "cos_theta");
   EXPECT_EQ(t.channels, (std::vector<std::string>{"r", "g", "b"}));
-  for (const char* key : {"generator", "model", "definition", "parameters", "material",
-                          "material_source", "table", "width", "height", "channels", "x_axis",
-                          "layout", "conventions", "precision", "device"})
+  for (const char* key : {"generator", "model", "definition", "parameters", "material", "material_source", "table",
+                          "width", "height", "channels", "x_axis", "layout", "conventions", "precision", "device"})
     EXPECT_FALSE(t.meta(key).empty()) << key;
   EXPECT_EQ(t.meta("model"), "conductor");
   EXPECT_EQ(t.meta("material"), "gold");
@@ -634,8 +629,7 @@ TEST(FresnelConversions, ConductorFitAndHardCodedF0) {
   const auto hard = hard_coded_f0(gold);
   ASSERT_EQ(hard.size(), 2u);  // RTR4's and Hoffman 2010's
   EXPECT_DOUBLE_EQ(hard[1].f0.g, 0.71);
-  EXPECT_EQ(hard_coded_f0(*find_material_preset("water")).size(), 1u)
-      << "both tables give water 0.02: listed once";
+  EXPECT_EQ(hard_coded_f0(*find_material_preset("water")).size(), 1u) << "both tables give water 0.02: listed once";
   EXPECT_THROW(fit_conductor(Rgb{-1, 1, 1}, Rgb{1, 1, 1}), Error);
 }
 

@@ -8,11 +8,11 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

@@ -2,7 +2,6 @@
 // prints during clBuildProgram is contained, a cold build with --quiet leaves stderr empty, and
 // --verbose shows each build.
 #include <gtest/gtest.h>
-
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -132,7 +131,8 @@ TEST(BuildOutput, ColdBuildIsSilentAndVerboseShowsIt) {
   const fs::path dir = fs::temp_directory_path() / ("brdfbake-cold-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string env = "BRDFBAKE_CACHE_DIR=" + (dir / "ours").string() + " POCL_CACHE_DIR=" + (dir / "pocl").string();
+  const std::string env =
+      "BRDFBAKE_CACHE_DIR=" + (dir / "ours").string() + " POCL_CACHE_DIR=" + (dir / "pocl").string();
   const std::string out = (dir / "t.exr").string();
   const test::CliRun quiet = test::run_cli("lut --kind ggx --size 8 --quiet -o " + out, {}, env);
   ASSERT_EQ(quiet.code, 0) << quiet.err;

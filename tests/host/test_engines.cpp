@@ -21,6 +21,7 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
@@ -28,7 +29,6 @@
 #include "io/packed_float.hpp"
 #include "io/png_rgbd.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

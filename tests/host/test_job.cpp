@@ -362,8 +362,8 @@ TEST(EstimateJob, TimeAndBytesOfTheBakeItEstimates) {
   // bakes at 1/2 and 1/4 of each side carry a fixed part (launches, refinement passes) that a linear
   // fit separates only roughly, and a loaded machine's noise hits small bakes hardest (docs/SCENES.md,
   // "Before a long bake").
-  std::cout << "whole bake: estimated " << e.seconds << " s (environment " << e.environment_seconds
-            << " s), baked " << measured << " s; the estimate took " << e.calibration_seconds << " s\n";
+  std::cout << "whole bake: estimated " << e.seconds << " s (environment " << e.environment_seconds << " s), baked "
+            << measured << " s; the estimate took " << e.calibration_seconds << " s\n";
   EXPECT_GT(e.seconds, measured / 3) << "estimate " << e.seconds << " s, bake " << measured << " s";
   EXPECT_LT(e.seconds, measured * 3) << "estimate " << e.seconds << " s, bake " << measured << " s";
   // A second estimate of the same tables is answered from the measurements kept for the process.

@@ -24,8 +24,7 @@ const uint8_t kIdentifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r',
 
 uint32_t u32(const std::vector<uint8_t>& bytes, size_t at) {
   return static_cast<uint32_t>(bytes.at(at)) | static_cast<uint32_t>(bytes.at(at + 1)) << 8 |
-         static_cast<uint32_t>(bytes.at(at + 2)) << 16 |
-         static_cast<uint32_t>(bytes.at(at + 3)) << 24;
+         static_cast<uint32_t>(bytes.at(at + 2)) << 16 | static_cast<uint32_t>(bytes.at(at + 3)) << 24;
 }
 
 uint64_t u64(const std::vector<uint8_t>& bytes, size_t at) {
@@ -45,8 +44,8 @@ std::string text_at(const std::vector<uint8_t>& bytes, size_t at, size_t length)
 }
 
 // An image whose level data is a recognisable byte pattern, distinct per level.
-Ktx2Image make_image(uint32_t vk_format, uint32_t width, uint32_t height, uint32_t faces,
-                     uint32_t levels, std::vector<std::pair<std::string, std::string>> kv) {
+Ktx2Image make_image(uint32_t vk_format, uint32_t width, uint32_t height, uint32_t faces, uint32_t levels,
+                     std::vector<std::pair<std::string, std::string>> kv) {
   Ktx2Image image;
   image.vk_format = vk_format;
   image.width = width;
@@ -88,8 +87,8 @@ void expect_header(const std::vector<uint8_t>& file, const Expected& e) {
   EXPECT_EQ(u64(file, 72), 0u) << "sgdByteLength";
 }
 
-void expect_level(const std::vector<uint8_t>& file, uint32_t level, uint64_t offset,
-                  uint64_t length, const std::vector<uint8_t>& data) {
+void expect_level(const std::vector<uint8_t>& file, uint32_t level, uint64_t offset, uint64_t length,
+                  const std::vector<uint8_t>& data) {
   const size_t entry = 80 + 24 * static_cast<size_t>(level);
   EXPECT_EQ(u64(file, entry), offset) << "levels[" << level << "].byteOffset";
   EXPECT_EQ(u64(file, entry + 8), length) << "levels[" << level << "].byteLength";
@@ -102,8 +101,7 @@ void expect_level(const std::vector<uint8_t>& file, uint32_t level, uint64_t off
 
 // The basic descriptor block for an n-component SFLOAT format (KDF 1.3 "Khronos Basic Data Format
 // Descriptor Block", KTX2 "Data Format Descriptor").
-void expect_dfd(const std::vector<uint8_t>& file, size_t at, uint32_t components,
-                uint32_t component_bits) {
+void expect_dfd(const std::vector<uint8_t>& file, size_t at, uint32_t components, uint32_t component_bits) {
   const uint32_t block_size = 24 + 16 * components;
   EXPECT_EQ(u32(file, at), 4 + block_size) << "dfdTotalSize";
   EXPECT_EQ(u32(file, at + 4), 0u) << "vendorId 0 (Khronos), descriptorType 0 (basic)";
@@ -117,8 +115,7 @@ void expect_dfd(const std::vector<uint8_t>& file, size_t at, uint32_t components
   for (uint32_t c = 0; c < components; ++c) {
     const size_t sample = at + 28 + 16 * c;
     // bitOffset | (bitLength - 1) << 16 | (channelType | FLOAT 0x80 | SIGNED 0x40) << 24
-    const uint32_t word0 =
-        c * component_bits | (component_bits - 1) << 16 | (channel_ids[c] | 0xC0u) << 24;
+    const uint32_t word0 = c * component_bits | (component_bits - 1) << 16 | (channel_ids[c] | 0xC0u) << 24;
     EXPECT_EQ(u32(file, sample), word0) << "sample " << c << " word 0";
     EXPECT_EQ(u32(file, sample + 4), 0u) << "sample " << c << " samplePosition0..3";
     EXPECT_EQ(u32(file, sample + 8), 0xBF800000u) << "sample " << c << " sampleLower -1.0f";
@@ -145,8 +142,8 @@ void expect_same(const Ktx2Image& decoded, const Ktx2Image& original) {
 //   KVD 196..248: "KTXorientation\0rd\0" (18 + 2 padding) and "KTXwriter\0brdfbake test\0" (24),
 //   level 0 at 248 (already a multiple of lcm(8, 4) = 8), 4 x 2 x 8 = 64 bytes, file 312 bytes.
 TEST(Ktx2Layout, TwoDimensionalHalfFloatFieldByField) {
-  const Ktx2Image image = make_image(kVkFormatR16G16B16A16Sfloat, 4, 2, 1, 1,
-                                     {{"KTXwriter", "brdfbake test"}, {"KTXorientation", "rd"}});
+  const Ktx2Image image =
+      make_image(kVkFormatR16G16B16A16Sfloat, 4, 2, 1, 1, {{"KTXwriter", "brdfbake test"}, {"KTXorientation", "rd"}});
   const std::vector<uint8_t> file = encode_ktx2(image);
   ASSERT_EQ(file.size(), 312u);
   expect_header(file, {97, 2, 4, 2, 1, 1, 104, 92, 196, 52});
@@ -165,8 +162,7 @@ TEST(Ktx2Layout, TwoDimensionalHalfFloatFieldByField) {
 // lcm(16, 4) = 16: level 2 (6 x 2 x 2 x 16 = 384) at 272 after 8 bytes of mipPadding, level 1
 // (6 x 4 x 4 x 16 = 1536) at 656, level 0 (6 x 8 x 8 x 16 = 6144) at 2192; file 8336 bytes.
 TEST(Ktx2Layout, CubemapWithThreeLevelsFieldByField) {
-  const Ktx2Image image =
-      make_image(kVkFormatR32G32B32A32Sfloat, 8, 8, 6, 3, {{"brdfbake:test", "x"}});
+  const Ktx2Image image = make_image(kVkFormatR32G32B32A32Sfloat, 8, 8, 6, 3, {{"brdfbake:test", "x"}});
   const std::vector<uint8_t> file = encode_ktx2(image);
   ASSERT_EQ(file.size(), 8336u);
   expect_header(file, {109, 4, 8, 8, 6, 3, 152, 92, 244, 20});
@@ -236,10 +232,9 @@ TEST(Ktx2RoundTrip, EveryFormatAndShape) {
 }
 
 TEST(Ktx2RoundTrip, ThroughAFile) {
-  const fs::path path =
-      fs::temp_directory_path() / ("brdfbake_test_ktx2_" + std::to_string(::getpid()) + ".ktx2");
-  const Ktx2Image image = make_image(kVkFormatR32G32B32A32Sfloat, 16, 16, 6, 5,
-                                     {{"KTXwriter", "brdfbake test"}, {"a", ""}, {"b", "é"}});
+  const fs::path path = fs::temp_directory_path() / ("brdfbake_test_ktx2_" + std::to_string(::getpid()) + ".ktx2");
+  const Ktx2Image image =
+      make_image(kVkFormatR32G32B32A32Sfloat, 16, 16, 6, 5, {{"KTXwriter", "brdfbake test"}, {"a", ""}, {"b", "é"}});
   write_ktx2(image, path.string());
   expect_same(read_ktx2(path.string()), image);
   fs::remove(path);
@@ -316,16 +311,14 @@ TEST(Ktx2Writer, RejectsInvalidImages) {
 
 TEST(Ktx2Writer, RejectsInvalidKeys) {
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"", "x"}}), "empty metadata key");
-  expect_write_error(make_image(97, 2, 2, 1, 1, {{std::string("a\0b", 3), "x"}}),
-                     "key 'a\\0b' contains a NUL byte");
+  expect_write_error(make_image(97, 2, 2, 1, 1, {{std::string("a\0b", 3), "x"}}), "key 'a\\0b' contains a NUL byte");
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"k", "1"}, {"k", "2"}}), "duplicate");
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"KTXglFormat", "x"}}), "reserved");
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"ktxmine", "x"}}), "reserved");
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"KTXorientation", "ru?"}}), "KTXorientation");
   expect_write_error(make_image(97, 8, 0, 1, 1, {{"KTXorientation", "rd"}}), "1-D");
   expect_write_error(make_image(97, 2, 2, 1, 1, {{"KTXswizzle", "rgbx"}}), "KTXswizzle");
-  expect_write_error(make_image(97, 2, 2, 1, 1, {{"KTXwriterScParams", "-q"}}),
-                     "requires KTXwriter");
+  expect_write_error(make_image(97, 2, 2, 1, 1, {{"KTXwriterScParams", "-q"}}), "requires KTXwriter");
 }
 
 TEST(Ktx2Writer, UnwritablePathThrowsAndLeavesNothing) {
@@ -336,8 +329,7 @@ TEST(Ktx2Writer, UnwritablePathThrowsAndLeavesNothing) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("x.ktx2"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(folder));
 }
@@ -346,8 +338,8 @@ TEST(Ktx2Writer, UnwritablePathThrowsAndLeavesNothing) {
 
 // A valid file to corrupt: the 4x2 RGBA16F file of TwoDimensionalHalfFloatFieldByField.
 std::vector<uint8_t> valid_file() {
-  return encode_ktx2(make_image(kVkFormatR16G16B16A16Sfloat, 4, 2, 1, 1,
-                                {{"KTXwriter", "brdfbake test"}, {"KTXorientation", "rd"}}));
+  return encode_ktx2(
+      make_image(kVkFormatR16G16B16A16Sfloat, 4, 2, 1, 1, {{"KTXwriter", "brdfbake test"}, {"KTXorientation", "rd"}}));
 }
 
 void expect_read_error(const std::vector<uint8_t>& file, const std::string& fragment) {
@@ -369,13 +361,11 @@ TEST(Ktx2Reader, ValidFileDecodes) {
 }
 
 TEST(Ktx2Reader, EveryTruncationIsRejected) {
-  for (const std::vector<uint8_t>& file :
-       {valid_file(), encode_ktx2(make_image(90, 4, 4, 1, 2, {{"a", "b"}})),
-        encode_ktx2(make_image(109, 4, 4, 6, 3, {}))}) {
+  for (const std::vector<uint8_t>& file : {valid_file(), encode_ktx2(make_image(90, 4, 4, 1, 2, {{"a", "b"}})),
+                                           encode_ktx2(make_image(109, 4, 4, 6, 3, {}))}) {
     for (size_t size = 0; size < file.size(); ++size) {
       SCOPED_TRACE("truncated to " + std::to_string(size) + " of " + std::to_string(file.size()));
-      expect_read_error(std::vector<uint8_t>(file.begin(), file.begin() + static_cast<long>(size)),
-                        "truncated");
+      expect_read_error(std::vector<uint8_t>(file.begin(), file.begin() + static_cast<long>(size)), "truncated");
     }
   }
 }
@@ -525,8 +515,7 @@ TEST(Ktx2Reader, RejectsBadLevelIndex) {
 // Random byte corruption (a fixed generator, so the run is reproducible): every result is a
 // decoded image or an Error, never a crash or another exception (run under ASan to see reads).
 TEST(Ktx2Reader, RandomCorruptionIsDecodedOrRejected) {
-  const std::vector<uint8_t> original =
-      encode_ktx2(make_image(90, 4, 4, 6, 3, {{"KTXorientation", "rd"}, {"a", "b"}}));
+  const std::vector<uint8_t> original = encode_ktx2(make_image(90, 4, 4, 6, 3, {{"KTXorientation", "rd"}, {"a", "b"}}));
   uint32_t state = 2024;
   auto next = [&state] { return state = state * 1664525u + 1013904223u; };
   int rejected = 0;
@@ -562,8 +551,7 @@ TEST(Ktx2Reader, FileErrorsNameThePath) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "invalid KTX2 file '" + path.string() +
-                  "': truncated: 13 bytes, but the header and index take 80");
+              "invalid KTX2 file '" + path.string() + "': truncated: 13 bytes, but the header and index take 80");
   }
   fs::remove(path);
 }

@@ -1,7 +1,6 @@
 // The program binary cache: a second build of the same program comes from disk, a corrupt entry
 // falls back to building from source, and kernel source expansion resolves includes.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -118,7 +117,8 @@ TEST(KernelSource, BuildFailureCarriesTheLog) {
   fs::create_directories(dir / "common");
   for (const char* f : {"common/real.clh", "common/microfacet.clh", "common/sampling.clh"})
     std::ofstream(dir / f) << detail::kernel_source(f);
-  std::ofstream(dir / "dfg_lut.cl") << "#include \"common/real.clh\"\nkernel void dfg_lut(global float* o) { o[0] = undefined_thing; }\n";
+  std::ofstream(dir / "dfg_lut.cl")
+      << "#include \"common/real.clh\"\nkernel void dfg_lut(global float* o) { o[0] = undefined_thing; }\n";
   ::setenv("BRDFBAKE_KERNEL_DIR", dir.string().c_str(), 1);
   detail::set_program_cache_dir("");
   LutSpec spec;

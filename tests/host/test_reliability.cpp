@@ -53,7 +53,8 @@ long dead_pid() {
 TEST(JsonInput, OverflowNamesTheFieldPath) {
   const std::string e = error_of([] { io::parse_json(R"({"a": [1, {"b": 1e999}]})", "doc.json"); });
   EXPECT_EQ(e, "doc.json: a[1].b: the number 1e999 is out of range (not a finite double)");
-  EXPECT_NE(error_of([] { io::parse_json("-1e400", "x"); }).find("x: the document: the number -1e400"), std::string::npos);
+  EXPECT_NE(error_of([] { io::parse_json("-1e400", "x"); }).find("x: the document: the number -1e400"),
+            std::string::npos);
 }
 
 TEST(JsonInput, DepthLimitIs64) {
@@ -76,7 +77,8 @@ TEST(JsonInput, SizeLimitAndSyntaxErrors) {
 }
 
 TEST(JsonInput, TheDomIsWhatTheLibraryBuilds) {
-  const std::string text = R"({"a": [1, 2.5, -3, 18446744073709551615, true, null, "s", {"k": {}}], "b": {"c": []}, "a2": 1})";
+  const std::string text =
+      R"({"a": [1, 2.5, -3, 18446744073709551615, true, null, "s", {"k": {}}], "b": {"c": []}, "a2": 1})";
   EXPECT_EQ(io::parse_json(text, "x"), nlohmann::ordered_json::parse(text));
   // a repeated key: the last value, as nlohmann's own parser
   EXPECT_EQ(io::parse_json(R"({"a": 1, "a": 2})", "x")["a"], 2);
@@ -94,7 +96,8 @@ TEST(JsonInput, ExcerptsAreShortAndNeverRecurse) {
 TEST(JsonInput, FoldersAndMissingFilesAreNamed) {
   const fs::path d = temp_dir("read");
   EXPECT_NE(error_of([&] { io::read_text_file(d.string(), "job"); }).find("it is a folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { io::read_text_file((d / "none").string(), "job"); }).find("no such file"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::read_text_file((d / "none").string(), "job"); }).find("no such file"),
+            std::string::npos);
 }
 
 // ---- Outputs ---------------------------------------------------------------------------------------

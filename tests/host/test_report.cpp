@@ -16,8 +16,8 @@
 
 #include "brdfbake/accuracy.hpp"
 #include "brdfbake/dfg_lut.hpp"
-#include "brdfbake/report.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
+#include "brdfbake/report.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
 #include "support/tolerances.hpp"
@@ -219,7 +219,8 @@ TEST(CliReport, BakeSweepTimesBytesAndTheErrorsOfADirectPreview) {
   for (size_t i = 0; i < pts.size(); ++i) {
     EXPECT_EQ(pts[i]["pareto_time"].get<bool>(), on_front(pts, i, "seconds")) << i;
     EXPECT_EQ(pts[i]["pareto_bytes"].get<bool>(), on_front(pts, i, "bytes")) << i;
-    if (pts[i]["error"].get<double>() <= kBakeRecommendWithin * best && pts[i]["seconds"].get<double>() < fastest_seconds) {
+    if (pts[i]["error"].get<double>() <= kBakeRecommendWithin * best &&
+        pts[i]["seconds"].get<double>() < fastest_seconds) {
       fastest_seconds = pts[i]["seconds"].get<double>();
       fastest = pts[i]["label"].get<std::string>();
     }

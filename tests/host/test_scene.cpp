@@ -50,8 +50,8 @@ std::string gltf(const std::vector<std::string>& materials, const std::string& e
       mesh += (i ? "," : "") + std::string("{\"attributes\":{},\"material\":") + std::to_string(i) + "}";
     mesh += "]}]";
   }
-  return "{\"asset\":{\"version\":\"2.0\"},\"materials\":" + m + (mesh.empty() ? "" : ",\"meshes\":" + mesh) +
-         extra + "}";
+  return "{\"asset\":{\"version\":\"2.0\"},\"materials\":" + m + (mesh.empty() ? "" : ",\"meshes\":" + mesh) + extra +
+         "}";
 }
 
 Plan plan_text(const std::string& text, PlanOptions o = {}) {
@@ -125,7 +125,8 @@ TEST(Scene, ReadsFactorsWithTheSpecificationsDefaults) {
 }
 
 TEST(Scene, JsonExtensionIsReadAsGltf) {
-  const fs::path p = write_file("scene.json", gltf({R"({"extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1}}})"}));
+  const fs::path p =
+      write_file("scene.json", gltf({R"({"extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1}}})"}));
   const Scene s = read_scene(p.string());
   EXPECT_EQ(s.container, "gltf");
   EXPECT_TRUE(fired(plan_scene(s), "KHR_materials_clearcoat"));
@@ -144,12 +145,10 @@ TEST(Scene, MalformedJsonNamesTheFile) {
 TEST(Scene, BadFieldsAreNamed) {
   EXPECT_NE(error_of([] { parse_scene_json("{\"materials\":[]}", "x.gltf", ""); }).find("x.gltf: not a glTF 2.0"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_scene_json("{\"asset\":{\"version\":\"1.0\"}}", "x.gltf", ""); })
-                .find("asset.version"),
+  EXPECT_NE(error_of([] { parse_scene_json("{\"asset\":{\"version\":\"1.0\"}}", "x.gltf", ""); }).find("asset.version"),
             std::string::npos);
-  const std::string e = error_of([] {
-    parse_scene_json(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":"high"}})"}), "x.gltf", "");
-  });
+  const std::string e =
+      error_of([] { parse_scene_json(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":"high"}})"}), "x.gltf", ""); });
   EXPECT_NE(e.find("x.gltf: materials[0].pbrMetallicRoughness.metallicFactor: must be a number"), std::string::npos)
       << e;
   const std::string r = error_of([] {
@@ -158,9 +157,8 @@ TEST(Scene, BadFieldsAreNamed) {
   EXPECT_NE(r.find("materials[0].extensions.KHR_materials_clearcoat.clearcoatFactor: must be in [0, 1]"),
             std::string::npos)
       << r;
-  const std::string i = error_of([] {
-    parse_scene_json(gltf({"{}"}, "", R"([{"primitives":[{"attributes":{},"material":3}]}])"), "x.gltf", "");
-  });
+  const std::string i = error_of(
+      [] { parse_scene_json(gltf({"{}"}, "", R"([{"primitives":[{"attributes":{},"material":3}]}])"), "x.gltf", ""); });
   EXPECT_NE(i.find("meshes[0].primitives[0].material: 3 is not a material index"), std::string::npos) << i;
 }
 
@@ -172,7 +170,8 @@ TEST(Scene, UnknownRequiredExtensionIsAnError) {
   EXPECT_NE(e.find("x.gltf: extensionsRequired[0]: 'EXT_magic'"), std::string::npos) << e;
   // Known required extensions are fine; unknown optional ones are warnings.
   const Scene ok = parse_scene_json(
-      gltf({"{}"}, R"(,"extensionsUsed":["KHR_texture_transform","EXT_magic"],"extensionsRequired":["KHR_texture_transform"])"),
+      gltf({"{}"},
+           R"(,"extensionsUsed":["KHR_texture_transform","EXT_magic"],"extensionsRequired":["KHR_texture_transform"])"),
       "x.gltf", "");
   ASSERT_EQ(ok.warnings.size(), 1u);
   EXPECT_NE(ok.warnings[0].find("EXT_magic"), std::string::npos);
@@ -206,7 +205,8 @@ std::string glb(const std::string& json_text, uint32_t version = 2, bool bin = t
 }
 
 TEST(Scene, ReadsGlb) {
-  const fs::path p = write_file("ok.glb", glb(gltf({R"({"extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,1,1]}}})"})));
+  const fs::path p =
+      write_file("ok.glb", glb(gltf({R"({"extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,1,1]}}})"})));
   const Scene s = read_scene(p.string());
   EXPECT_EQ(s.container, "glb");
   ASSERT_EQ(s.materials.size(), 1u);
@@ -216,7 +216,8 @@ TEST(Scene, ReadsGlb) {
 // The material files of eval, tabulate and preview are read by the same reader: a .glb holds the
 // same materials as its JSON, with the glTF defaults and its textures listed as notes.
 TEST(Scene, MaterialFilesReadGltfAndGlbAlike) {
-  const std::string doc = gltf({R"({"name":"cloth","pbrMetallicRoughness":{"roughnessFactor":0.25,"baseColorTexture":{"index":0}},
+  const std::string doc =
+      gltf({R"({"name":"cloth","pbrMetallicRoughness":{"roughnessFactor":0.25,"baseColorTexture":{"index":0}},
       "extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0.5,0],"sheenRoughnessFactor":0.3}}})"});
   const fs::path json_file = write_file("m.gltf", doc), glb_file = write_file("m.glb", glb(doc));
   for (const fs::path& p : {json_file, glb_file}) {
@@ -266,7 +267,8 @@ TEST(Rules, CoreBakesTheGgxTablesAndIrradianceOnlyForNonMetals) {
   EXPECT_EQ(tables_of(metal, TableKind::GgxMultiscatter).size(), 1u);
   EXPECT_NE(prefilter_of(metal, "ggx"), nullptr);
   EXPECT_TRUE(tables_of(metal, TableKind::Irradiance).empty()) << "fully metallic: no diffuse";
-  const Plan textured = plan_text(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":1,"metallicRoughnessTexture":{"index":0}}})"}));
+  const Plan textured =
+      plan_text(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":1,"metallicRoughnessTexture":{"index":0}}})"}));
   EXPECT_EQ(tables_of(textured, TableKind::Irradiance).size(), 1u) << "a metallic texture may lower it";
   const Plan dielectric = plan_text(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":0.5}})"}));
   EXPECT_EQ(tables_of(dielectric, TableKind::Irradiance).size(), 1u);
@@ -294,8 +296,9 @@ TEST(Rules, DefaultPlanIsTheStandardSet) {
 }
 
 TEST(Rules, SheenBakesCharlieTablesUnlessItsColourIsZero) {
-  const Plan p = plan_text(gltf({R"({"name":"S","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0.5,0],"sheenRoughnessFactor":0.3}}})",
-                                 R"({"name":"Z","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[0,0,0],"sheenRoughnessFactor":0.3}}})"}));
+  const Plan p = plan_text(gltf(
+      {R"({"name":"S","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0.5,0],"sheenRoughnessFactor":0.3}}})",
+       R"({"name":"Z","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[0,0,0],"sheenRoughnessFactor":0.3}}})"}));
   EXPECT_TRUE(fired(p, "KHR_materials_sheen"));
   const auto charlie = tables_of(p, TableKind::Charlie);
   ASSERT_EQ(charlie.size(), 1u) << "the sheen DFG and the albedo table are the same table (estevez-kulla): baked once";
@@ -320,9 +323,10 @@ TEST(Rules, SheenBakesCharlieTablesUnlessItsColourIsZero) {
 }
 
 TEST(Rules, ClearcoatUsesTheGgxTablesAndNotesItsRoughnessRange) {
-  const Plan p = plan_text(gltf({R"({"name":"C","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1,"clearcoatRoughnessFactor":0.2}}})",
-                                 R"({"name":"T","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":0.5,"clearcoatRoughnessFactor":0.6,"clearcoatRoughnessTexture":{"index":0}}}})",
-                                 R"({"name":"Z","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":0,"clearcoatRoughnessFactor":0.9}}})"}));
+  const Plan p = plan_text(gltf(
+      {R"({"name":"C","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1,"clearcoatRoughnessFactor":0.2}}})",
+       R"({"name":"T","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":0.5,"clearcoatRoughnessFactor":0.6,"clearcoatRoughnessTexture":{"index":0}}}})",
+       R"({"name":"Z","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":0,"clearcoatRoughnessFactor":0.9}}})"}));
   EXPECT_TRUE(fired(p, "KHR_materials_clearcoat"));
   const auto dfg = tables_of(p, TableKind::GgxMultiscatter);
   ASSERT_EQ(dfg.size(), 1u);
@@ -431,8 +435,9 @@ TEST(Rules, IridescenceBakesAThinFilmTablePerFilmIor) {
 }
 
 TEST(Rules, AnisotropyUsesTheIsotropicTables) {
-  const Plan p = plan_text(gltf({R"({"name":"A","extensions":{"KHR_materials_anisotropy":{"anisotropyStrength":0.5}}})",
-                                 R"({"name":"Z","extensions":{"KHR_materials_anisotropy":{"anisotropyStrength":0}}})"}));
+  const Plan p =
+      plan_text(gltf({R"({"name":"A","extensions":{"KHR_materials_anisotropy":{"anisotropyStrength":0.5}}})",
+                      R"({"name":"Z","extensions":{"KHR_materials_anisotropy":{"anisotropyStrength":0}}})"}));
   EXPECT_TRUE(fired(p, "KHR_materials_anisotropy"));
   EXPECT_EQ(p.job.tables.size(), 2u) << "DFG and GGX chain, nothing of its own (fully metallic: no irradiance)";
   EXPECT_TRUE(requested_by(*prefilter_of(p, "ggx"), "KHR_materials_anisotropy", "#0 A"));
@@ -440,10 +445,11 @@ TEST(Rules, AnisotropyUsesTheIsotropicTables) {
 }
 
 TEST(Rules, UnlitAndEmissiveOnlyNeedNothing) {
-  const Plan p = plan_text(gltf({R"({"name":"U","extensions":{"KHR_materials_unlit":{}}})",
-                                 R"({"name":"E","emissiveFactor":[1,0.5,0],"pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1]},
+  const Plan p =
+      plan_text(gltf({R"({"name":"U","extensions":{"KHR_materials_unlit":{}}})",
+                      R"({"name":"E","emissiveFactor":[1,0.5,0],"pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1]},
                                      "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":5}}})"},
-                                R"(,"extensionsUsed":["KHR_materials_unlit"],"extensionsRequired":["KHR_materials_unlit"])"));
+                     R"(,"extensionsUsed":["KHR_materials_unlit"],"extensionsRequired":["KHR_materials_unlit"])"));
   EXPECT_TRUE(fired(p, "KHR_materials_unlit"));
   EXPECT_TRUE(fired(p, "emissive-only"));
   EXPECT_FALSE(fired(p, "metallic-roughness"));
@@ -457,10 +463,10 @@ TEST(Rules, UnlitAndEmissiveOnlyNeedNothing) {
 TEST(Rules, VariantOnlyMaterialsCountAndUnreferencedOnesDoNot) {
   const std::string meshes = R"([{"primitives":[{"attributes":{},"material":0,
       "extensions":{"KHR_materials_variants":{"mappings":[{"material":1,"variants":[0]}]}}}]}])";
-  const Plan p = plan_text(gltf({R"({"name":"Base"})",
-                                 R"({"name":"Velvet","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0,0]}}})",
-                                 R"({"name":"Orphan","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1}}})"},
-                                R"(,"extensions":{"KHR_materials_variants":{"variants":[{"name":"red"}]}})", meshes));
+  const Plan p = plan_text(gltf(
+      {R"({"name":"Base"})", R"({"name":"Velvet","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0,0]}}})",
+       R"({"name":"Orphan","extensions":{"KHR_materials_clearcoat":{"clearcoatFactor":1}}})"},
+      R"(,"extensions":{"KHR_materials_variants":{"variants":[{"name":"red"}]}})", meshes));
   EXPECT_EQ(material(p, "#1 Velvet").reached_by, "variant");
   EXPECT_TRUE(material(p, "#1 Velvet").counted);
   EXPECT_TRUE(fired(p, "KHR_materials_sheen")) << "reachable only through a variant: counts";
@@ -489,7 +495,8 @@ TEST(Rules, IdenticalTablesAreListedOnceWithEveryMaterial) {
 }
 
 TEST(Rules, PlanJsonIsAJobThatReadsBack) {
-  const Plan p = plan_text(gltf({R"({"name":"S","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,1,1]},"KHR_materials_ior":{"ior":1.4}}})"}));
+  const Plan p = plan_text(gltf(
+      {R"({"name":"S","extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,1,1]},"KHR_materials_ior":{"ior":1.4}}})"}));
   const std::string text = plan_to_json(p);
   const json j = json::parse(text);
   ASSERT_TRUE(j.contains("tables"));
@@ -525,13 +532,17 @@ std::map<std::string, SourcesRow> read_sources() {
   std::ifstream in(scenes_dir() / "SOURCES.md");
   std::string line;
   bool in_table = false;
-  const std::map<std::string, std::string> names = {
-      {"sheen", "KHR_materials_sheen"},           {"clearcoat", "KHR_materials_clearcoat"},
-      {"specular", "KHR_materials_specular"},     {"ior", "KHR_materials_ior"},
-      {"transmission", "KHR_materials_transmission"}, {"volume", "KHR_materials_volume"},
-      {"iridescence", "KHR_materials_iridescence"}, {"anisotropy", "KHR_materials_anisotropy"},
-      {"dispersion", "KHR_materials_dispersion"}, {"unlit", "KHR_materials_unlit"},
-      {"emissive_strength", "KHR_materials_emissive_strength"}};
+  const std::map<std::string, std::string> names = {{"sheen", "KHR_materials_sheen"},
+                                                    {"clearcoat", "KHR_materials_clearcoat"},
+                                                    {"specular", "KHR_materials_specular"},
+                                                    {"ior", "KHR_materials_ior"},
+                                                    {"transmission", "KHR_materials_transmission"},
+                                                    {"volume", "KHR_materials_volume"},
+                                                    {"iridescence", "KHR_materials_iridescence"},
+                                                    {"anisotropy", "KHR_materials_anisotropy"},
+                                                    {"dispersion", "KHR_materials_dispersion"},
+                                                    {"unlit", "KHR_materials_unlit"},
+                                                    {"emissive_strength", "KHR_materials_emissive_strength"}};
   while (std::getline(in, line)) {
     if (line.rfind("| file | #materials | material-level extensions", 0) == 0) {
       in_table = true;
@@ -567,9 +578,9 @@ std::map<std::string, SourcesRow> read_sources() {
   return rows;
 }
 
-#define REQUIRE_SCENES()                                                                             \
-  if (!fs::exists(scenes_dir() / "SOURCES.md"))                                                     \
-  GTEST_SKIP() << "the real scenes are not here (" << scenes_dir().string()                         \
+#define REQUIRE_SCENES()                                                    \
+  if (!fs::exists(scenes_dir() / "SOURCES.md"))                             \
+  GTEST_SKIP() << "the real scenes are not here (" << scenes_dir().string() \
                << " is missing): the glTF sample scenes of ../shared/scenes are not checked"
 
 Plan plan_of_scene(const std::string& file) { return plan_scene(read_scene((scenes_dir() / file).string())); }
@@ -579,10 +590,9 @@ TEST(RealScenes, EveryScenePlansWhatItsExtensionsCallFor) {
   const auto sources = read_sources();
   ASSERT_EQ(sources.size(), 18u) << "SOURCES.md lists 18 files";
   const std::set<std::string> extension_rules = {
-      "KHR_materials_sheen",       "KHR_materials_clearcoat",    "KHR_materials_specular",
-      "KHR_materials_ior",         "KHR_materials_transmission", "KHR_materials_volume",
-      "KHR_materials_iridescence", "KHR_materials_anisotropy",   "KHR_materials_dispersion",
-      "KHR_materials_unlit"};
+      "KHR_materials_sheen",        "KHR_materials_clearcoat", "KHR_materials_specular",    "KHR_materials_ior",
+      "KHR_materials_transmission", "KHR_materials_volume",    "KHR_materials_iridescence", "KHR_materials_anisotropy",
+      "KHR_materials_dispersion",   "KHR_materials_unlit"};
   for (const auto& [file, row] : sources) {
     SCOPED_TRACE(file);
     ASSERT_TRUE(fs::exists(scenes_dir() / file));

@@ -9,12 +9,12 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

@@ -14,10 +14,14 @@ enum class Backend { Reference, Fp32, Fp64, ReferenceBackend };
 
 inline const char* backend_name(Backend b) {
   switch (b) {
-    case Backend::Reference: return "reference";
-    case Backend::Fp32: return "fp32";
-    case Backend::Fp64: return "fp64";
-    case Backend::ReferenceBackend: return "reference_backend";
+    case Backend::Reference:
+      return "reference";
+    case Backend::Fp32:
+      return "fp32";
+    case Backend::Fp64:
+      return "fp64";
+    case Backend::ReferenceBackend:
+      return "reference_backend";
   }
   return "?";
 }

@@ -46,9 +46,12 @@ struct DfgTolerances {
 };
 inline DfgTolerances dfg_tolerances(Backend b) {
   switch (b) {
-    case Backend::Reference: return {kMirrorLimit, kRounding, kAnalytic, kRounding};
-    case Backend::Fp32: return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
-    case Backend::Fp64: return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
+    case Backend::Reference:
+      return {kMirrorLimit, kRounding, kAnalytic, kRounding};
+    case Backend::Fp32:
+      return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
+    case Backend::Fp64:
+      return {kLutMirrorDevice, kLutFp32Rounding, kLutDefaultBound, kLutFp32Rounding};
     // the reference's own, plus float32 storage of values up to ~1 (kLutFp32Rounding)
     case Backend::ReferenceBackend:
       return {kMirrorLimit + kLutFp32Rounding, kLutFp32Rounding, kLutFp32Rounding, kLutFp32Rounding};

@@ -44,7 +44,8 @@ inline FresnelCurve schlick(double f0, double f90 = 1.0) {
   return {FresnelCurve::Kind::Schlick, {f0, f90}, "schlick(" + fmt_params({f0, f90}) + ")"};
 }
 inline FresnelCurve schlick_metallic(double base, double metallic, double dielectric_f0 = 0.04) {
-  return {FresnelCurve::Kind::SchlickMetallic, {base, metallic, dielectric_f0},
+  return {FresnelCurve::Kind::SchlickMetallic,
+          {base, metallic, dielectric_f0},
           "schlick-metallic(" + fmt_params({base, metallic, dielectric_f0}) + ")"};
 }
 inline FresnelCurve schlick_ior(double ior, double outside = 1.0) {
@@ -85,10 +86,13 @@ inline FresnelTolerances fresnel_tolerances(Backend b) {
   switch (b) {
     case Backend::Reference:
       return {kFresnelReferenceRounding, kFresnelReferenceRounding, kFresnelReferenceRounding, kFresnelSpotValue};
-    case Backend::Fp32: return {kFresnelFp32, kFresnelGrazingOne, kFresnelCriticalAngleFp32, kFresnelSpotValue};
-    case Backend::Fp64: return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
+    case Backend::Fp32:
+      return {kFresnelFp32, kFresnelGrazingOne, kFresnelCriticalAngleFp32, kFresnelSpotValue};
+    case Backend::Fp64:
+      return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
     // the reference in double, stored as float32 like an fp64 table
-    case Backend::ReferenceBackend: return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
+    case Backend::ReferenceBackend:
+      return {kFresnelFp64, kFresnelGrazingOne, kFresnelFp64, kFresnelSpotValue};
   }
   return {};
 }
@@ -152,8 +156,8 @@ TEST_P(FresnelIdentities, GrazingIsOneForEveryModel) {
 // The empirical rim term is not a reflectance: at grazing it gives clamp(bias + scale, 0, 1), so 1
 // only where bias + scale >= 1 (power > 0).
 TEST_P(FresnelIdentities, EmpiricalAtGrazingIsBiasPlusScaleClamped) {
-  for (const auto& [b, sc] : std::vector<std::pair<double, double>>{
-           {0.0, 1.0}, {0.3, 0.7}, {0.5, 1.0}, {0.2, 0.5}, {-0.1, 0.6}})
+  for (const auto& [b, sc] :
+       std::vector<std::pair<double, double>>{{0.0, 1.0}, {0.3, 0.7}, {0.5, 1.0}, {0.2, 0.5}, {-0.1, 0.6}})
     EXPECT_NEAR(at(empirical(b, sc, 5.0), 0.0), std::clamp(b + sc, 0.0, 1.0), tol().value) << b << " + " << sc;
 }
 
@@ -205,7 +209,7 @@ TEST_P(FresnelIdentities, IndexOneReflectsNothing) {
 TEST_P(FresnelIdentities, InternalReflectionIsTotalPastTheCriticalAngle) {
   const double eta = 1.0 / 1.5;
   const double cos_critical = std::sqrt((1.0 - eta) * (1.0 + eta));  // sin = eta
-  std::vector<double> past;  // strictly past the critical angle, in fp32 too
+  std::vector<double> past;                                          // strictly past the critical angle, in fp32 too
   for (int i = 0; i < 1024; ++i) past.push_back(cos_critical * i / 1024.0 * (1.0 - 1e-6));
   const std::vector<double> f = at(dielectric(1.0, 1.5), past), k0 = at(conductor(eta, 0.0), past);
   for (size_t i = 0; i < past.size(); ++i) {
@@ -247,11 +251,20 @@ TEST_P(FresnelIdentities, MetallicWorkflowF0) {
 
 // Cosines a hair outside [0, 1] (rounding upstream) are clamped: the values at 0 and 1, not NaN.
 TEST_P(FresnelIdentities, CosinesJustOutsideTheRangeAreClamped) {
-  const std::vector<FresnelCurve> curves = {
-      schlick(0.04),          schlick(0.85, 0.9),       schlick_metallic(0.9, 0.5), schlick_ior(1.5),
-      dielectric(1.5),        dielectric(1.0, 1.5),     dielectric(10.0),           conductor(0.188, 3.403),
-      conductor(10.0, 100.0), conductor(0.01, 0.01),    f82_tint(0.56, 0.8),        f82_tint(0.0, 0.0),
-      empirical(0.1, 0.9, 5.0), empirical(0.3, 0.5, 0.0)};
+  const std::vector<FresnelCurve> curves = {schlick(0.04),
+                                            schlick(0.85, 0.9),
+                                            schlick_metallic(0.9, 0.5),
+                                            schlick_ior(1.5),
+                                            dielectric(1.5),
+                                            dielectric(1.0, 1.5),
+                                            dielectric(10.0),
+                                            conductor(0.188, 3.403),
+                                            conductor(10.0, 100.0),
+                                            conductor(0.01, 0.01),
+                                            f82_tint(0.56, 0.8),
+                                            f82_tint(0.0, 0.0),
+                                            empirical(0.1, 0.9, 5.0),
+                                            empirical(0.3, 0.5, 0.0)};
   for (const FresnelCurve& c : curves) {
     const std::vector<double> f = at(c, {-1e-7, 0.0, 1.0, 1.0 + 1e-7});
     EXPECT_TRUE(std::isfinite(f[0]) && std::isfinite(f[3])) << c.what;
@@ -262,10 +275,10 @@ TEST_P(FresnelIdentities, CosinesJustOutsideTheRangeAreClamped) {
 
 TEST_P(FresnelIdentities, ExtremeIndicesStayFiniteAndBounded) {
   const std::vector<double> g = endpoints_grid(4097);
-  const std::vector<FresnelCurve> curves = {
-      conductor(10.0, 100.0), conductor(0.01, 100.0), conductor(10.0, 0.0), conductor(10.0, 1e-6),
-      conductor(0.01, 0.01),  conductor(1.0, 1e-12),  conductor(0.5, 1.0),  dielectric(10.0),
-      dielectric(1.0, 10.0),  schlick_ior(10.0)};
+  const std::vector<FresnelCurve> curves = {conductor(10.0, 100.0), conductor(0.01, 100.0), conductor(10.0, 0.0),
+                                            conductor(10.0, 1e-6),  conductor(0.01, 0.01),  conductor(1.0, 1e-12),
+                                            conductor(0.5, 1.0),    dielectric(10.0),       dielectric(1.0, 10.0),
+                                            schlick_ior(10.0)};
   for (const FresnelCurve& c : curves)
     for (double v : at(c, g)) {
       ASSERT_TRUE(std::isfinite(v)) << c.what;

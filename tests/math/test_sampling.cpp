@@ -31,7 +31,8 @@ TEST(Sampling, HammersleyPointsAreStratified) {
     const int cols = 1 << a, rows = 1 << (m - a);
     std::vector<int> count(static_cast<size_t>(n), 0);
     for (const Point2& q : p) {
-      const int i = std::min(cols - 1, static_cast<int>(q.u * cols)), j = std::min(rows - 1, static_cast<int>(q.v * rows));
+      const int i = std::min(cols - 1, static_cast<int>(q.u * cols)),
+                j = std::min(rows - 1, static_cast<int>(q.v * rows));
       ++count[static_cast<size_t>(j * cols + i)];
     }
     for (int c : count) ASSERT_EQ(c, 1) << "a = " << a;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/fresnel.hpp"
@@ -17,7 +18,6 @@
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/brdf_cases.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;

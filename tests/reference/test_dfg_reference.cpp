@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
@@ -13,7 +14,6 @@
 #include "brdfbake/reference/quadrature.hpp"
 #include "identities/dfg_identities.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;

@@ -25,17 +25,28 @@ class ReferenceFresnel : public FresnelBackend {
     const std::vector<double>& p = c.p;
     for (double x : cosines) {
       switch (c.kind) {
-        case FresnelCurve::Kind::Schlick: out.push_back(reference::fresnel_schlick(x, p[0], p[1])); break;
+        case FresnelCurve::Kind::Schlick:
+          out.push_back(reference::fresnel_schlick(x, p[0], p[1]));
+          break;
         case FresnelCurve::Kind::SchlickMetallic:
-          out.push_back(reference::fresnel_schlick(x, reference::schlick_metallic_f0({p[0], p[0], p[0]}, p[1], p[2]).r));
+          out.push_back(
+              reference::fresnel_schlick(x, reference::schlick_metallic_f0({p[0], p[0], p[0]}, p[1], p[2]).r));
           break;
         case FresnelCurve::Kind::SchlickIor:
           out.push_back(reference::fresnel_schlick(x, reference::f0_from_ior(p[0], p[1])));
           break;
-        case FresnelCurve::Kind::Dielectric: out.push_back(reference::fresnel_dielectric(x, p[1] / p[0])); break;
-        case FresnelCurve::Kind::Conductor: out.push_back(reference::fresnel_conductor(x, p[0], p[1])); break;
-        case FresnelCurve::Kind::F82Tint: out.push_back(reference::fresnel_f82_tint(x, p[0], p[1])); break;
-        case FresnelCurve::Kind::Empirical: out.push_back(reference::fresnel_empirical(x, p[0], p[1], p[2])); break;
+        case FresnelCurve::Kind::Dielectric:
+          out.push_back(reference::fresnel_dielectric(x, p[1] / p[0]));
+          break;
+        case FresnelCurve::Kind::Conductor:
+          out.push_back(reference::fresnel_conductor(x, p[0], p[1]));
+          break;
+        case FresnelCurve::Kind::F82Tint:
+          out.push_back(reference::fresnel_f82_tint(x, p[0], p[1]));
+          break;
+        case FresnelCurve::Kind::Empirical:
+          out.push_back(reference::fresnel_empirical(x, p[0], p[1], p[2]));
+          break;
       }
     }
     return out;

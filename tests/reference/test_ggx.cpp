@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
 #include "support/tolerances.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace ref = brdfbake::reference;
 namespace test = brdfbake::test;

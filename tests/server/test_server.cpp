@@ -76,8 +76,8 @@ class ServerApi : public SharedServer<ServerApi> {
                R"({"materials": [{"name": "a", "model": "phong", "shininess": 1000000, "specularColor": [1, 1, 1]}]})");
     write_file(dir / "outside" / "secret.json", R"({"materials": []})");
     fs::create_symlink(dir / "outside" / "secret.json", dir / "inputs" / "link.json");
-    return {"--data",      (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--max-body", "64K",
-            "--max-memory", "256M"};
+    return {"--data", (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--max-body",
+            "64K",    "--max-memory",          "256M"};
   }
 };
 

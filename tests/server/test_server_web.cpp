@@ -27,8 +27,8 @@ class ServerWeb : public SharedServer<ServerWeb> {
     write_file(dir / "outside" / "far.hdr", "x");
     fs::create_symlink(dir / "outside" / "far.hdr", dir / "inputs" / "link.hdr");
     write_file(dir / "token", kToken + "\n");
-    return {"--data", (dir / "data").string(), "--input-root", (dir / "inputs").string(), "--token-file",
-            (dir / "token").string()};
+    return {"--data",       (dir / "data").string(), "--input-root", (dir / "inputs").string(),
+            "--token-file", (dir / "token").string()};
   }
 };
 
@@ -159,8 +159,8 @@ TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
   }
   EXPECT_EQ(plan["estimate"]["bytes"].get<double>(), bytes);
   EXPECT_GE(plan["estimate"]["seconds"].get<double>(), seconds);
-  const std::string id = body_json(c.Post("/v1/bake", R"({"cube_size": 32, "target": "filament"})", "application/json"))
-                             .value("id", "");
+  const std::string id =
+      body_json(c.Post("/v1/bake", R"({"cube_size": 32, "target": "filament"})", "application/json")).value("id", "");
   const json job = wait_job(c, id);
   ASSERT_EQ(job["state"], "done") << job.dump();
   const json& files = job["manifest"]["files"];
@@ -277,8 +277,8 @@ TEST_F(ServerWeb, UploadsAreCheckedConfinedAndBaked) {
   };
   const auto error_of = [](const httplib::Result& r) {
     const std::string e = body_json(r).value("error", "");
-    EXPECT_EQ(e.find('\n'), std::string::npos) << e;                        // one line
-    EXPECT_EQ(e.find(dir_->path.string()), std::string::npos) << e;        // no server folder
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;                 // one line
+    EXPECT_EQ(e.find(dir_->path.string()), std::string::npos) << e;  // no server folder
     return e;
   };
   // A 4 x 2 Radiance HDR, flat scanlines, every pixel 1.0 (mantissa 128, exponent 129).
@@ -318,8 +318,8 @@ TEST_F(ServerWeb, UploadsAreCheckedConfinedAndBaked) {
   EXPECT_EQ(u["kind"], "environment");
   EXPECT_EQ(u["bytes"], hdr.size());
   EXPECT_EQ(read_file(dir_->path / "data" / "uploads" / name.substr(7)), hdr);
-  auto posted = c.Post("/v1/bake", json{{"environment", name}, {"cube_size", 16}, {"lut_size", 8}}.dump(),
-                       "application/json");
+  auto posted =
+      c.Post("/v1/bake", json{{"environment", name}, {"cube_size", 16}, {"lut_size", 8}}.dump(), "application/json");
   ASSERT_TRUE(posted);
   ASSERT_EQ(posted->status, 202) << posted->body;
   const json bake = body_json(posted);

@@ -19,8 +19,8 @@ namespace brdfbake::test {
 template <class BrdfModel>
 const std::vector<BrdfModel>& all_models() {
   static const std::vector<BrdfModel> models = {
-      BrdfModel::Disney,     BrdfModel::Gltf,         BrdfModel::GltfCorrelated, BrdfModel::Lambert,
-      BrdfModel::Phong,      BrdfModel::BlinnPhong,   BrdfModel::CookTorrance,   BrdfModel::BlinnPhongFromPbr};
+      BrdfModel::Disney, BrdfModel::Gltf,       BrdfModel::GltfCorrelated, BrdfModel::Lambert,
+      BrdfModel::Phong,  BrdfModel::BlinnPhong, BrdfModel::CookTorrance,   BrdfModel::BlinnPhongFromPbr};
   return models;
 }
 
@@ -85,7 +85,8 @@ BrdfMaterial random_material(BrdfModel model, std::mt19937& rng) {
       m.distribution = u(rng) < 0.5 ? Distribution::Beckmann : Distribution::Ggx;
       if (u(rng) < 0.5) m.specular_color = Rgb{unit(), u(rng), u(rng)};
       break;
-    default: break;
+    default:
+      break;
   }
   return m;
 }
@@ -148,12 +149,12 @@ std::vector<std::pair<std::string, BrdfMaterial>> corner_materials(BrdfModel mod
       add("shininess", [](BrdfMaterial& m, double w) { m.shininess = w == 0.0 ? 0.0 : math::kMaxShininess; });
       break;
     case BrdfModel::CookTorrance:
-      add("beckmann", [](BrdfMaterial& m, double w) {
-        m.distribution = w > 0.5 ? Distribution::Beckmann : Distribution::Ggx;
-      });
+      add("beckmann",
+          [](BrdfMaterial& m, double w) { m.distribution = w > 0.5 ? Distribution::Beckmann : Distribution::Ggx; });
       add("specularColor", [](BrdfMaterial& m, double w) { m.specular_color = Rgb{w, w, w}; });
       break;
-    default: break;
+    default:
+      break;
   }
   return out;
 }
@@ -183,10 +184,10 @@ inline std::vector<std::pair<Vec3, Vec3>> corner_pairs() {
   out.push_back({n, n});
   for (double t : {0.3, 1.0, 1.5, pi / 2 - 1e-3, pi / 2 - 1e-6}) {
     const Vec3 a = from_angles(t, 0.4), b = from_angles(t, 0.4 + pi);
-    out.push_back({a, a});                                // wi = wo
-    out.push_back({a, b});                                // mirror pair: h = n exactly
-    out.push_back({a, {-a.x, -a.y, -a.z}});               // wi = -wo
-    out.push_back({a, {-a.x, -a.y, a.z}});                // mirror through the normal
+    out.push_back({a, a});                   // wi = wo
+    out.push_back({a, b});                   // mirror pair: h = n exactly
+    out.push_back({a, {-a.x, -a.y, -a.z}});  // wi = -wo
+    out.push_back({a, {-a.x, -a.y, a.z}});   // mirror through the normal
     out.push_back({from_angles(0.2, 1.0), a});
   }
   // grazing on both sides of the horizon, and on it

@@ -35,15 +35,15 @@ inline Device* test_device() {
   return device;
 }
 
-#define BRDFBAKE_REQUIRE_DEVICE(dev)                                                             \
-  ::brdfbake::Device* dev = ::brdfbake::test::test_device();                                     \
-  if (!dev) {                                                                                    \
-    if (::brdfbake::test::allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";       \
+#define BRDFBAKE_REQUIRE_DEVICE(dev)                                                              \
+  ::brdfbake::Device* dev = ::brdfbake::test::test_device();                                      \
+  if (!dev) {                                                                                     \
+    if (::brdfbake::test::allow_no_device()) GTEST_SKIP() << "no OpenCL device (allowed)";        \
     FAIL() << "this test needs an OpenCL device and found none; install pocl-opencl-icd, or set " \
-              "BRDFBAKE_ALLOW_NO_DEVICE=1 to skip";                                              \
+              "BRDFBAKE_ALLOW_NO_DEVICE=1 to skip";                                               \
   }
 
-#define BRDFBAKE_REQUIRE_FP64(dev)                                                 \
+#define BRDFBAKE_REQUIRE_FP64(dev) \
   if (!dev->info().fp64) GTEST_SKIP() << "device '" << dev->info().name << "' has no fp64";
 
 }  // namespace brdfbake::test

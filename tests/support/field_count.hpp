@@ -27,13 +27,15 @@ template <class T, class Indices, class = void>
 struct InitializableWith : std::false_type {};
 
 template <class T, std::size_t... I>
-struct InitializableWith<T, std::index_sequence<I...>,
-                         std::void_t<decltype(T{(void(I), AnyField{})...})>> : std::true_type {};
+struct InitializableWith<T, std::index_sequence<I...>, std::void_t<decltype(T{(void(I), AnyField{})...})>>
+    : std::true_type {};
 
 template <class T, std::size_t N>
 constexpr std::size_t count_fields() {
-  if constexpr (InitializableWith<T, std::make_index_sequence<N + 1>>::value) return count_fields<T, N + 1>();
-  else return N;
+  if constexpr (InitializableWith<T, std::make_index_sequence<N + 1>>::value)
+    return count_fields<T, N + 1>();
+  else
+    return N;
 }
 
 #if defined(__GNUC__)

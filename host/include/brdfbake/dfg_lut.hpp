@@ -55,10 +55,10 @@ inline constexpr double kLutMaxEvaluations = 1099511627776.0;
 
 struct LutSpec {
   LutKind kind = LutKind::Ggx;
-  int width = 128;             // cells along n_dot_v
-  int height = 0;              // cells along roughness; 0: same as width
-  int samples = 0;             // evaluations per texel; 0: the default (or from max_error)
-  double max_error = 0.0;      // > 0: the fewest samples whose measured max error is below it
+  int width = 128;         // cells along n_dot_v
+  int height = 0;          // cells along roughness; 0: same as width
+  int samples = 0;         // evaluations per texel; 0: the default (or from max_error)
+  double max_error = 0.0;  // > 0: the fewest samples whose measured max error is below it
   Estimator estimator = Estimator::Quadrature;
   Precision precision = Precision::Fp32;
   SheenVisibility sheen_visibility = SheenVisibility::EstevezKulla;
@@ -89,18 +89,15 @@ class Backend;
 // Bakes on a backend (brdfbake/backend.hpp): its OpenCL device or the scalar reference.
 Table bake_lut(Backend& backend, const LutSpec& spec, LutTiming* timing = nullptr, const Progress& progress = {});
 // Bakes on an OpenCL device.
-Table bake_lut(Device& device, const LutSpec& spec, LutTiming* timing = nullptr,
-               const Progress& progress = {});
+Table bake_lut(Device& device, const LutSpec& spec, LutTiming* timing = nullptr, const Progress& progress = {});
 // Bakes with the converged scalar double reference (spec.samples and estimator are ignored).
-Table bake_lut_reference(const LutSpec& spec, LutTiming* timing = nullptr,
-                         const Progress& progress = {});
+Table bake_lut_reference(const LutSpec& spec, LutTiming* timing = nullptr, const Progress& progress = {});
 
 // The measured max error (abs below 1, relative above; over every channel of the 128x128 table,
 // against the converged reference, plus a 25% margin) of an estimator at a sample count, from the
 // calibration that bench/lut_accuracy measures (docs/BENCHMARKS.md). For a count that was not
 // measured, the bound of the largest measured count below it, and *measured_at says which count
 // that was; a negative value when none is known.
-double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, int samples,
-                       int* measured_at = nullptr);
+double lut_error_bound(LutKind kind, Estimator estimator, Precision precision, int samples, int* measured_at = nullptr);
 
 }  // namespace brdfbake

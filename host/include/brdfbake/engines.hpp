@@ -41,21 +41,21 @@ enum class ShConvention {
 // Everything a target fixes. Text fields are what docs/ENGINES.md and the metadata say.
 struct EngineSettings {
   EngineTarget target = EngineTarget::Generic;
-  std::string engine;            // e.g. "Filament 1.9 (cmgen -x DIR -f ktx)"
+  std::string engine;  // e.g. "Filament 1.9 (cmgen -x DIR -f ktx)"
   RoughnessSchedule schedule = RoughnessSchedule::Linear;
-  std::string schedule_source;   // where the engine's mapping comes from
-  std::string lod_formula;       // the engine's shader lookup
-  int size = 256;                // face size of level 0
-  int min_size = 16;             // smallest level's face size (1: the full chain)
-  bool power_of_two = false;     // sizes must be powers of two
+  std::string schedule_source;       // where the engine's mapping comes from
+  std::string lod_formula;           // the engine's shader lookup
+  int size = 256;                    // face size of level 0
+  int min_size = 16;                 // smallest level's face size (1: the full chain)
+  bool power_of_two = false;         // sizes must be powers of two
   PixelType pixel = PixelType::F16;  // container texels (PNG targets: RGBD 8-bit, see pixel_format)
-  std::string pixel_format;      // e.g. "KTX1 GL_R11F_G11F_B10F"
+  std::string pixel_format;          // e.g. "KTX1 GL_R11F_G11F_B10F"
   ShWindow sh_window = ShWindow::None;
   ShConvention sh_convention = ShConvention::IrradianceOverPi;
   std::string sh_description;
-  std::string orientation;       // faces, rows, handedness notes
+  std::string orientation;         // faces, rows, handedness notes
   std::vector<std::string> files;  // the file set, NAME standing for the base name
-  bool skybox = false;           // the file set holds a skybox cube
+  bool skybox = false;             // the file set holds a skybox cube
 };
 
 EngineSettings engine_settings(EngineTarget target);
@@ -77,23 +77,23 @@ inline constexpr const char* kBabylonPolynomialNames[9] = {"x", "y", "z", "xx", 
 // What a bake produced. The chain must have been baked with engine_settings(target).schedule (the
 // writer checks the chain's "roughness_schedule" metadata and its sizes against the target).
 struct EngineBake {
-  const CubeLevels* prefiltered = nullptr;  // required: the GGX chain
-  const ShCoefficients* sh = nullptr;       // required by every target (order >= 3)
-  const CubeLevels* skybox = nullptr;       // optional: the skybox cube; default level 0 of the chain
+  const CubeLevels* prefiltered = nullptr;      // required: the GGX chain
+  const ShCoefficients* sh = nullptr;           // required by every target (order >= 3)
+  const CubeLevels* skybox = nullptr;           // optional: the skybox cube; default level 0 of the chain
   const CubeLevels* irradiance_cube = nullptr;  // khronos-viewer: the Lambertian cube (E/pi); optional
-  const CubeLevels* charlie = nullptr;      // khronos-viewer: a Charlie chain for sheen; optional
+  const CubeLevels* charlie = nullptr;          // khronos-viewer: a Charlie chain for sheen; optional
 };
 
 // ASTC HDR compression of KTX2 chains (generic, khronos-viewer).
 enum class AstcBlock { None, Astc4x4, Astc6x6 };
 
 struct EngineWriteOptions {
-  std::string name;               // base name of the files; default: the folder's name (as cmgen -x)
-  bool override_pixel = false;    // use `pixel` instead of the target's (containers only)
+  std::string name;             // base name of the files; default: the folder's name (as cmgen -x)
+  bool override_pixel = false;  // use `pixel` instead of the target's (containers only)
   PixelType pixel = PixelType::F16;
-  AstcBlock astc = AstcBlock::None;  // generic / khronos-viewer: ASTC HDR KTX2 instead of RGBA16F
-  double astc_quality = 60.0;        // astcenc effort 0..100 (ASTCENC_PRE_MEDIUM)
-  double intensity = 1.0;            // gltf: the light's intensity
+  AstcBlock astc = AstcBlock::None;                       // generic / khronos-viewer: ASTC HDR KTX2 instead of RGBA16F
+  double astc_quality = 60.0;                             // astcenc effort 0..100 (ASTCENC_PRE_MEDIUM)
+  double intensity = 1.0;                                 // gltf: the light's intensity
   std::array<double, 4> rotation = {0.0, 0.0, 0.0, 1.0};  // gltf: the light's quaternion
 };
 

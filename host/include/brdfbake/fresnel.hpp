@@ -58,21 +58,21 @@ struct FresnelSpec {
   FresnelModel model = FresnelModel::Schlick;
   std::string material;
 
-  std::optional<Rgb> f0;          // schlick, f82-tint: in [0, 1]
-  std::optional<Rgb> f90;         // schlick: in [0, 1] (default 1)
-  std::optional<Rgb> f82_tint;    // f82-tint: >= 0 (1 is plain Schlick)
-  std::optional<Rgb> base_color;  // schlick-metallic: in [0, 1]
+  std::optional<Rgb> f0;                     // schlick, f82-tint: in [0, 1]
+  std::optional<Rgb> f90;                    // schlick: in [0, 1] (default 1)
+  std::optional<Rgb> f82_tint;               // f82-tint: >= 0 (1 is plain Schlick)
+  std::optional<Rgb> base_color;             // schlick-metallic: in [0, 1]
   std::optional<double> metallic;            // schlick-metallic: in [0, 1]
   std::optional<double> dielectric_f0;       // schlick-metallic: in [0, 1] (default 0.04)
-  std::optional<Rgb> ior;         // schlick-ior, dielectric: index of the far side, > 0
+  std::optional<Rgb> ior;                    // schlick-ior, dielectric: index of the far side, > 0
   std::optional<double> ior_outside;         // schlick-ior, dielectric: > 0 (default 1, air)
-  std::optional<Rgb> n;           // conductor: real part of the index, > 0
-  std::optional<Rgb> k;           // conductor: extinction coefficient, >= 0
+  std::optional<Rgb> n;                      // conductor: real part of the index, > 0
+  std::optional<Rgb> k;                      // conductor: extinction coefficient, >= 0
   std::optional<double> bias, scale, power;  // empirical: finite, power >= 0
 
   FresnelTableKind table = FresnelTableKind::OneD;
-  int size = 256;        // cells along cos_theta
-  int height = 0;        // 2-D: cells along the y axis (0: same as size)
+  int size = 256;          // cells along cos_theta
+  int height = 0;          // 2-D: cells along the y axis (0: same as size)
   bool endpoints = false;  // cos_theta (and y) include both ends of their range as cells
   // 2-D: the y range, default [0, 1] for F0 and [1, 3] for IOR.
   std::optional<std::pair<double, double>> range;
@@ -102,7 +102,7 @@ struct FresnelTiming {
   // Kernel time from OpenCL event profiling. The output buffer is filled (made resident) by a
   // separate command first, so a CPU device's first-touch page faults are not counted here.
   double device_seconds = 0.0;
-  double wall_seconds = 0.0;    // the whole call: program build, transfers, fill, kernel
+  double wall_seconds = 0.0;  // the whole call: program build, transfers, fill, kernel
 };
 
 class Backend;
@@ -133,28 +133,28 @@ Table with_error_columns(const Table& table, const Table& exact);
 
 struct FresnelModelReport {
   FresnelModel model;
-  std::string setting;           // how the model was set from the material
-  Rgb max_abs;        // per channel, max |model - exact| over the cosine grid
-  Rgb mean_abs;       // per channel, mean |model - exact|
-  double worst = 0.0;            // the largest of max_abs
-  double cos_at_worst = 0.0;     // where it occurs
-  double cells_per_second = 0.0; // device evaluation rate (RGB cells), 0 when not measured
-  double device_seconds = 0.0;   // the median kernel time behind the rate
+  std::string setting;            // how the model was set from the material
+  Rgb max_abs;                    // per channel, max |model - exact| over the cosine grid
+  Rgb mean_abs;                   // per channel, mean |model - exact|
+  double worst = 0.0;             // the largest of max_abs
+  double cos_at_worst = 0.0;      // where it occurs
+  double cells_per_second = 0.0;  // device evaluation rate (RGB cells), 0 when not measured
+  double device_seconds = 0.0;    // the median kernel time behind the rate
 };
 struct FresnelComparison {
   std::string material;
-  FresnelModel exact_model;     // conductor or dielectric
-  int grid = 0;                 // cosines of the error grid, [0, 1] with both ends
-  int rate_cells = 0;           // cells of the table the rates were measured on
-  std::string device;           // "" when the rates were not measured
+  FresnelModel exact_model;  // conductor or dielectric
+  int grid = 0;              // cosines of the error grid, [0, 1] with both ends
+  int rate_cells = 0;        // cells of the table the rates were measured on
+  std::string device;        // "" when the rates were not measured
   std::vector<FresnelModelReport> rows;
 };
 // Cosines of the error grids of compare_fresnel_models and fit_conductor: [0, 1] with both ends.
 inline constexpr int kFresnelErrorGrid = 4097;
 struct FresnelCompareOptions {
   int grid = kFresnelErrorGrid;
-  int rate_cells = 1 << 20;     // 0: do not measure rates
-  int rate_runs = 5;            // timed runs after a warm-up; the median is kept
+  int rate_cells = 1 << 20;  // 0: do not measure rates
+  int rate_runs = 5;         // timed runs after a warm-up; the median is kept
   Precision precision = Precision::Fp32;
   // The empirical model's parameters (grey, as the Cg tutorial's); unset, bias = the mean of the
   // exact F0's channels, scale = 1 - bias, power = 5: a grey Schlick.

@@ -26,13 +26,13 @@ inline constexpr Rgb kPresetWavelengthsNm{630.0, 532.0, 465.0};
 enum class MaterialKind { Conductor, Dielectric };
 
 struct MaterialPreset {
-  std::string name;          // lowercase identifier, e.g. "gold", "fused_silica"
+  std::string name;  // lowercase identifier, e.g. "gold", "fused_silica"
   MaterialKind kind;
-  Rgb n;                     // real part of the index at kPresetWavelengthsNm
-  Rgb k;                     // extinction coefficient (0 for dielectrics)
-  std::string nk_source;     // author(s), year, journal reference of the dataset, where it was read
-  std::optional<Rgb> common_f0;   // the F0 commonly hard-coded in shaders, if one is published
-  std::string common_f0_source;   // where that F0 comes from ("" when common_f0 is empty)
+  Rgb n;                         // real part of the index at kPresetWavelengthsNm
+  Rgb k;                         // extinction coefficient (0 for dielectrics)
+  std::string nk_source;         // author(s), year, journal reference of the dataset, where it was read
+  std::optional<Rgb> common_f0;  // the F0 commonly hard-coded in shaders, if one is published
+  std::string common_f0_source;  // where that F0 comes from ("" when common_f0 is empty)
 };
 
 // Every preset, in a fixed order: conductors, then dielectrics.

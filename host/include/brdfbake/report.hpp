@@ -34,8 +34,8 @@ struct BakeSweepOptions {
   // tried one at a time around every target's default; empty: kDefaultBakeFactors.
   std::vector<std::pair<std::string, std::vector<std::string>>> factors;
   int preview_width = 512;  // the preview's width; its height is half (the default grid's 12 x 6 square cells)
-  int runs = 3;            // bakes per setting, the median is reported; a bake over 1 s runs once
-  std::string keep_bakes;  // a folder: each setting's bake kept as DIR/TARGET/LABEL (else removed)
+  int runs = 3;             // bakes per setting, the median is reported; a bake over 1 s runs once
+  std::string keep_bakes;   // a folder: each setting's bake kept as DIR/TARGET/LABEL (else removed)
 };
 
 struct ReportOptions {
@@ -53,7 +53,7 @@ struct ReportOptions {
   std::string environment = "builtin:studio";  // prefilter
   int prefilter_size = 32;
   BakeSweepOptions bake;  // bake: the sweep of bake settings
-  std::string command;  // the command line, recorded for reproduction
+  std::string command;    // the command line, recorded for reproduction
   std::function<void(const std::string&)> log;
 };
 
@@ -92,24 +92,24 @@ struct BakeSweepGroup {
   double median_rms = 0.0, max_rms = 0.0;
 };
 struct BakeSweepPoint {
-  std::string label;           // "default", "cube_size=128", ...
-  std::string option, value;   // empty for the default
+  std::string label;                 // "default", "cube_size=128", ...
+  std::string option, value;         // empty for the default
   std::vector<double> wall_seconds;  // each run of the bake
-  double seconds = 0.0;        // their median
-  std::uint64_t bytes = 0;     // every file the bake wrote (manifest.json included)
+  double seconds = 0.0;              // their median
+  std::uint64_t bytes = 0;           // every file the bake wrote (manifest.json included)
   int files = 0;
   double splitsum_seconds = 0.0;  // the split-sum render
-  double error = 0.0;          // the median over every sphere of its relative RMS error
+  double error = 0.0;             // the median over every sphere of its relative RMS error
   std::vector<BakeSweepGroup> groups;
   std::vector<double> sphere_rms, sphere_p99, sphere_max;  // per sphere, linear radiance
-  bool pareto_time = false;    // no other point of the target is at most as slow and as wrong, one strictly
-  bool pareto_bytes = false;   // the same with bytes
-  std::string folder;          // the kept bake (keep_bakes), else empty
+  bool pareto_time = false;   // no other point of the target is at most as slow and as wrong, one strictly
+  bool pareto_bytes = false;  // the same with bytes
+  std::string folder;         // the kept bake (keep_bakes), else empty
 };
 struct BakeSweepTarget {
   std::string target;
-  double reference_seconds = 0.0;  // the reference render (once per target and BRDF)
-  double reference_bound = 0.0;    // the reference's largest per-sphere RMS bound
+  double reference_seconds = 0.0;      // the reference render (once per target and BRDF)
+  double reference_bound = 0.0;        // the reference's largest per-sphere RMS bound
   std::vector<BakeSweepPoint> points;  // points[0] is the target's default
   int recommended = -1;                // index into points (kBakeRecommendRule), -1: none
   std::vector<std::string> skipped;    // "cube_size=100: why"

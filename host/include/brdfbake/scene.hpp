@@ -14,11 +14,11 @@ using Rgb3 = std::array<double, 3>;
 // One glTF material, as far as the rules need it: factors (with the specification's defaults),
 // which textures are present, and which extensions.
 struct SceneMaterial {
-  int index = -1;           // in materials[]; -1 for the default material
+  int index = -1;  // in materials[]; -1 for the default material
   std::string name;
-  std::string label;        // "#3 Name" (or "#3", or "default material")
-  bool by_mesh = false;     // referenced by a mesh primitive
-  bool by_variant = false;  // referenced by a KHR_materials_variants mapping
+  std::string label;                    // "#3 Name" (or "#3", or "default material")
+  bool by_mesh = false;                 // referenced by a mesh primitive
+  bool by_variant = false;              // referenced by a KHR_materials_variants mapping
   std::vector<std::string> extensions;  // the keys of its "extensions", in file order
   // Every texture it names, as the field's path inside the material, e.g.
   // "pbrMetallicRoughness.baseColorTexture", "normalTexture", "KHR_materials_sheen.sheenColorTexture".
@@ -79,13 +79,13 @@ struct SceneMaterial {
 
 struct Scene {
   std::string path;
-  std::string container;  // "gltf" or "glb"
-  std::vector<SceneMaterial> materials;        // every material of the file, in order
+  std::string container;                          // "gltf" or "glb"
+  std::vector<SceneMaterial> materials;           // every material of the file, in order
   std::optional<SceneMaterial> default_material;  // when some primitive has no material
   bool has_meshes = false;
-  std::vector<std::string> variants;           // KHR_materials_variants names
+  std::vector<std::string> variants;  // KHR_materials_variants names
   std::vector<std::string> extensions_used, extensions_required;
-  std::vector<std::string> warnings;           // missing .bin files and images, ignored extensions
+  std::vector<std::string> warnings;  // missing .bin files and images, ignored extensions
 };
 
 // Reads the materials of a glTF 2.0 file: .gltf (JSON) or .glb (the JSON chunk). Buffers and images

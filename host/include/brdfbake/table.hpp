@@ -13,8 +13,8 @@ namespace brdfbake {
 using Metadata = std::vector<std::pair<std::string, std::string>>;
 
 struct Table {
-  int width = 0;   // cells along x (n_dot_v for the DFG tables)
-  int height = 1;  // cells along y (roughness); 1 for a 1-D table
+  int width = 0;                      // cells along x (n_dot_v for the DFG tables)
+  int height = 1;                     // cells along y (roughness); 1 for a 1-D table
   std::vector<std::string> channels;  // channel names, e.g. {"scale", "bias", "diffuse"}
   std::string x_name;                 // CSV column of x, e.g. "n_dot_v"
   std::string y_name;                 // CSV column of y, e.g. "roughness"; empty for 1-D tables
@@ -25,12 +25,12 @@ struct Table {
 
   int channel_count() const { return static_cast<int>(channels.size()); }
   float& at(int i, int j, int c) {
-    return data[(static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) *
-                    channels.size() + static_cast<size_t>(c)];
+    return data[(static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) * channels.size() +
+                static_cast<size_t>(c)];
   }
   float at(int i, int j, int c) const {
-    return data[(static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) *
-                    channels.size() + static_cast<size_t>(c)];
+    return data[(static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)) * channels.size() +
+                static_cast<size_t>(c)];
   }
   // Sets or replaces a metadata entry.
   void set_meta(const std::string& key, const std::string& value);

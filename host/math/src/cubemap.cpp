@@ -12,13 +12,20 @@ namespace brdfbake::math {
 //   -Y: sc = +x, tc = -z    +Z: sc = +x, tc = -y    -Z: sc = -x, tc = -y
 Vec3 cube_plane_point(int face, double a, double b) {
   switch (face) {
-    case 0: return {1.0, -b, -a};
-    case 1: return {-1.0, -b, a};
-    case 2: return {a, 1.0, b};
-    case 3: return {a, -1.0, -b};
-    case 4: return {a, -b, 1.0};
-    case 5: return {-a, -b, -1.0};
-    default: throw std::invalid_argument("cube face must be 0..5, not " + std::to_string(face));
+    case 0:
+      return {1.0, -b, -a};
+    case 1:
+      return {-1.0, -b, a};
+    case 2:
+      return {a, 1.0, b};
+    case 3:
+      return {a, -1.0, -b};
+    case 4:
+      return {a, -b, 1.0};
+    case 5:
+      return {-a, -b, -1.0};
+    default:
+      throw std::invalid_argument("cube face must be 0..5, not " + std::to_string(face));
   }
 }
 

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "brdf_internal.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/dfg_lut.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {
 namespace {

@@ -5,12 +5,12 @@
 #include <string>
 
 #include "brdf_internal.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/brdf.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/fresnel.hpp"
 #include "brdfbake/reference/ggx.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {
 namespace {

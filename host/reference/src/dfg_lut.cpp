@@ -1,20 +1,20 @@
 #include "brdfbake/reference/dfg_lut.hpp"
 
-#include <cstdint>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/reference/burley.hpp"
 #include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/ggx.hpp"
 #include "brdfbake/reference/quadrature.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 // Frame: n = +z, v = (sin_v, 0, n.v) with sin_v = sqrt(1 - n.v^2), beta = asin(n.v) the elevation of
 // v. Half vectors h = (sin th cos ph, sin th sin ph, cos th); l = 2 (v.h) h - v.
@@ -103,8 +103,7 @@ Settings make_settings(const Quadrature& q) {
     throw std::invalid_argument("Quadrature::order " + std::to_string(q.order) + " outside [1, 512]");
   }
   if (q.refinement < 1 || q.refinement > 64) {
-    throw std::invalid_argument("Quadrature::refinement " + std::to_string(q.refinement) +
-                                " outside [1, 64]");
+    throw std::invalid_argument("Quadrature::refinement " + std::to_string(q.refinement) + " outside [1, 64]");
   }
   const double f = q.refinement;
   Settings s{};
@@ -380,9 +379,7 @@ double integrate_charlie(double n_dot_v, double alpha_in, SheenVisibility visibi
   auto density = [&](double e) {  // contribution per unit e, bounded
     return D_Charlie(std::sin(e), alpha) * std::cos(e) * 2.0 * kPi * g_max;
   };
-  auto horizon_size = [&](double e) {
-    return std::max(0.5 * feat.pole / s.pole_div, s.negligible / density(e));
-  };
+  auto horizon_size = [&](double e) { return std::max(0.5 * feat.pole / s.pole_div, s.negligible / density(e)); };
 
   std::vector<Break> breaks;
   const double m2 = horizon_size(e2);
@@ -465,9 +462,8 @@ double integrate_charlie(double n_dot_v, double alpha_in, SheenVisibility visibi
         const double n_dot_l = 2.0 * v_dot_h * sin_e - nv;
         if (!(n_dot_l > 0.0)) return;
         // 4 n.l V: Estevez-Kulla's as 1 / (n.v (1 + Lambda(v) + Lambda(l))), Lambda(v) hoisted.
-        const double four_nl_v =
-            ek ? 1.0 / (nv * (1.0 + lambda_v + Lambda_CharlieEstevezKulla(n_dot_l, alpha)))
-               : 4.0 * n_dot_l * V_Neubelt(nv, n_dot_l);
+        const double four_nl_v = ek ? 1.0 / (nv * (1.0 + lambda_v + Lambda_CharlieEstevezKulla(n_dot_l, alpha)))
+                                    : 4.0 * n_dot_l * V_Neubelt(nv, n_dot_l);
         sum += 2.0 * w_outer * w_phi * four_nl_v * v_dot_h;
       });
     });
@@ -485,9 +481,7 @@ DfgGgx dfg_ggx(double n_dot_v, double roughness, const Quadrature& quadrature) {
   return integrate_ggx(nv, r * r, make_settings(quadrature));
 }
 
-double burley_albedo(double n_dot_v, double roughness) {
-  return burley_albedo(n_dot_v, roughness, Quadrature{});
-}
+double burley_albedo(double n_dot_v, double roughness) { return burley_albedo(n_dot_v, roughness, Quadrature{}); }
 
 double burley_albedo(double n_dot_v, double roughness, const Quadrature& quadrature) {
   const double nv = unit_input("burley_albedo", "n_dot_v", n_dot_v);
@@ -528,8 +522,7 @@ int lut_channels(LutKind kind) {
   throw std::invalid_argument("lut_channels: unknown LutKind");
 }
 
-std::vector<double> lut_table(LutKind kind, int width, int height, SheenVisibility visibility,
-                              unsigned threads) {
+std::vector<double> lut_table(LutKind kind, int width, int height, SheenVisibility visibility, unsigned threads) {
   if (width < 1 || height < 1) {
     throw std::invalid_argument("lut_table: size " + std::to_string(width) + "x" + std::to_string(height) +
                                 " must be at least 1x1");

@@ -24,9 +24,7 @@ double pow6(double x) {
   return x3 * x3;
 }
 
-Rgb map3(const Rgb& a, const Rgb& b, double (*f)(double, double)) {
-  return {f(a.r, b.r), f(a.g, b.g), f(a.b, b.b)};
-}
+Rgb map3(const Rgb& a, const Rgb& b, double (*f)(double, double)) { return {f(a.r, b.r), f(a.g, b.g), f(a.b, b.b)}; }
 
 }  // namespace
 
@@ -155,8 +153,7 @@ double fresnel_f82_tint(double cos_theta, double f0, double f82_tint) {
 }
 
 Rgb fresnel_f82_tint(double cos_theta, const Rgb& f0, const Rgb& f82_tint) {
-  return {fresnel_f82_tint(cos_theta, f0.r, f82_tint.r),
-          fresnel_f82_tint(cos_theta, f0.g, f82_tint.g),
+  return {fresnel_f82_tint(cos_theta, f0.r, f82_tint.r), fresnel_f82_tint(cos_theta, f0.g, f82_tint.g),
           fresnel_f82_tint(cos_theta, f0.b, f82_tint.b)};
 }
 
@@ -191,8 +188,7 @@ Rgb fit_f82_tint(const Rgb& eta, const Rgb& k) {
 FresnelFitError fresnel_fit_error(const std::function<double(double)>& approx,
                                   const std::function<double(double)>& exact, int samples) {
   if (samples < 2)
-    throw std::invalid_argument("fresnel_fit_error: samples must be >= 2, got " +
-                                std::to_string(samples));
+    throw std::invalid_argument("fresnel_fit_error: samples must be >= 2, got " + std::to_string(samples));
   FresnelFitError e{0.0, 0.0, 0.0};
   double sum = 0.0;
   const double last = static_cast<double>(samples - 1);

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+
 #include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::reference {

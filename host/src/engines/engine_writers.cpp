@@ -11,8 +11,8 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
-#include "io/astc_ktx2.hpp"
 #include "families/delivery.hpp"
+#include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
 #include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
@@ -172,8 +172,8 @@ std::string filament_sh_txt(const std::array<Rgb3, 9>& sh) {
   static const char* const kNames[9] = {"L00", "L1-1", "L10", "L11", "L2-2", "L2-1", "L20", "L21", "L22"};
   std::string s;
   for (size_t k = 0; k < 9; ++k)
-    s += "(" + fmt(sh[k][0], "%18.15f") + ", " + fmt(sh[k][1], "%18.15f") + ", " + fmt(sh[k][2], "%18.15f") +
-         "); // " + kNames[k] + ", irradiance, pre-scaled base\n";
+    s += "(" + fmt(sh[k][0], "%18.15f") + ", " + fmt(sh[k][1], "%18.15f") + ", " + fmt(sh[k][2], "%18.15f") + "); // " +
+         kNames[k] + ", irradiance, pre-scaled base\n";
   return s;
 }
 
@@ -231,7 +231,8 @@ std::vector<uint8_t> rgbd_face_png(const CubeLevels& cube, int level, int face, 
 void add_rgbd_metadata(Metadata& delivered, const std::string& file, const RgbdStats& st) {
   delivered.emplace_back(file + ": format", "PNG RGBD 8-bit (Babylon.js toRGBD)");
   delivered.emplace_back(file + ": rgbd_max_error_rel_to_texel_max", detail::bound_text(st.max_rel));
-  delivered.emplace_back(file + ": rgbd_clamped_texels", std::to_string(st.clamped) + " (values above 255 are clamped)");
+  delivered.emplace_back(file + ": rgbd_clamped_texels",
+                         std::to_string(st.clamped) + " (values above 255 are clamped)");
 }
 
 nlohmann::ordered_json metadata_json(const Metadata& m) {
@@ -274,7 +275,8 @@ std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake,
   Metadata meta = chain.metadata;
   meta.emplace_back("sh_convention", s.sh_description);
   nlohmann::ordered_json gltf;
-  gltf["asset"] = {{"version", "2.0"}, {"generator", std::string("brdfbake ") + kVersion},
+  gltf["asset"] = {{"version", "2.0"},
+                   {"generator", std::string("brdfbake ") + kVersion},
                    {"extras", {{"brdfbake", metadata_json(meta)}}}};
   gltf["extensionsUsed"] = {"EXT_lights_image_based"};
   gltf["scene"] = 0;
@@ -313,7 +315,8 @@ void write_all(const std::string& out_dir, const std::vector<OutFile>& files, st
   std::error_code ec;
   const bool existed = fs::is_directory(out_dir, ec);
   if (!existed && fs::exists(out_dir, ec)) io::throw_write_error(out_dir, "exists and is not a folder");
-  if (!existed && !fs::create_directories(out_dir, ec)) io::throw_write_error(out_dir, ec ? ec.message() : "cannot create");
+  if (!existed && !fs::create_directories(out_dir, ec))
+    io::throw_write_error(out_dir, ec ? ec.message() : "cannot create");
   try {
     std::vector<std::unique_ptr<io::TempFile>> temps;
     for (const OutFile& f : files) {
@@ -340,7 +343,8 @@ EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake
   check_chain(*bake.prefiltered, s, "prefiltered chain");
   if (!bake.sh && target != EngineTarget::KhronosViewer)
     throw Error(std::string("engine files: ") + engine_target_name(target) + " needs the irradiance SH");
-  if (!(o.astc_quality >= 0.0 && o.astc_quality <= 100.0)) throw Error("engine files: astc_quality must be in [0, 100]");
+  if (!(o.astc_quality >= 0.0 && o.astc_quality <= 100.0))
+    throw Error("engine files: astc_quality must be in [0, 100]");
   if (o.astc != AstcBlock::None && target != EngineTarget::Generic && target != EngineTarget::KhronosViewer)
     throw Error(std::string("engine files: ASTC applies to KTX2 targets (generic, khronos-viewer), not ") +
                 engine_target_name(target));
@@ -349,7 +353,8 @@ EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake
   std::string name = o.name;
   if (name.empty()) {
     name = fs::path(out_dir).lexically_normal().filename().string();
-    if (name.empty() || name == "." || name == "..") name = fs::path(out_dir).lexically_normal().parent_path().filename().string();
+    if (name.empty() || name == "." || name == "..")
+      name = fs::path(out_dir).lexically_normal().parent_path().filename().string();
     if (name.empty() || name == "." || name == "..") name = "environment";
   }
   if (name.find('/') != std::string::npos) throw Error("engine files: the base name '" + name + "' contains '/'");
@@ -376,8 +381,7 @@ EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake
         files = babylon_files(s, bake, name, result.delivered);
         break;
       case EngineTarget::KhronosViewer: {
-        if (!bake.irradiance_cube)
-          throw Error("engine files: khronos-viewer needs the Lambertian (irradiance) cube");
+        if (!bake.irradiance_cube) throw Error("engine files: khronos-viewer needs the Lambertian (irradiance) cube");
         const PixelType pixel = o.override_pixel ? o.pixel : s.pixel;
         const CubeLevels chain = with_target_metadata(*bake.prefiltered, s);
         files.push_back({name + "_ggx.ktx2", ktx2_cube_bytes(chain, pixel, name + "_ggx.ktx2", o, result.delivered)});

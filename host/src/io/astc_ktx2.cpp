@@ -46,7 +46,8 @@ AstcCube compress_astc_cube(const CubeLevels& cube, int block, double quality) {
   for (int l = 0; l < cube.level_count(); ++l) {
     const unsigned s = unsigned(cube.level_size(l));
     const size_t face_texels = size_t(s) * s;
-    const size_t blocks = size_t((s + unsigned(block) - 1) / unsigned(block)) * ((s + unsigned(block) - 1) / unsigned(block));
+    const size_t blocks =
+        size_t((s + unsigned(block) - 1) / unsigned(block)) * ((s + unsigned(block) - 1) / unsigned(block));
     std::vector<uint8_t> level(6 * blocks * 16);
     std::vector<float> decoded(cube.levels[size_t(l)].size());
     double max_abs = 0.0, max_rel = 0.0, sum_rel2 = 0.0, peak = 0.0;

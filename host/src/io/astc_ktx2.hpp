@@ -18,15 +18,15 @@ namespace brdfbake::io {
 inline constexpr double kAstcHdrMax = 65504.0;
 
 struct AstcCube {
-  int block = 4;                                 // 4 or 6 (square blocks)
+  int block = 4;  // 4 or 6 (square blocks)
   uint32_t vk_format = 0;
   std::vector<std::vector<uint8_t>> level_data;  // per level: faces +X..-Z, blocks row-major
   std::vector<std::vector<float>> decoded;       // per level: what a GPU decodes, RGBA float, KTX order
   // Measured on the decoded values against the input, over R, G, B of every texel of the level:
-  std::vector<double> max_abs_error;             // max |decoded - input|
-  std::vector<double> max_rel_error;             // max |decoded - input| / max(|input|, 1e-6 max|input|)
-  std::vector<double> rms_rel_error;             // RMS of the relative error, over texels with input > 0
-  size_t clamped = 0;                            // channels beyond kAstcHdrMax, clamped before encoding
+  std::vector<double> max_abs_error;  // max |decoded - input|
+  std::vector<double> max_rel_error;  // max |decoded - input| / max(|input|, 1e-6 max|input|)
+  std::vector<double> rms_rel_error;  // RMS of the relative error, over texels with input > 0
+  size_t clamped = 0;                 // channels beyond kAstcHdrMax, clamped before encoding
 };
 
 // Compresses every level of `cube` (alpha ignored; stored as 1). `quality` is astcenc's effort,

@@ -75,7 +75,8 @@ BabylonEnv decode_babylon_env(const std::vector<uint8_t>& bytes) {
       throw Error(".env: unsupported version " + io::json_excerpt(manifest.at("version")));
     env.width = manifest.at("width").get<int>();
     const auto& irradiance = manifest.at("irradiance");
-    for (size_t k = 0; k < 9; ++k) env.polynomial[k] = irradiance.at(kBabylonPolynomialNames[k]).get<std::array<double, 3>>();
+    for (size_t k = 0; k < 9; ++k)
+      env.polynomial[k] = irradiance.at(kBabylonPolynomialNames[k]).get<std::array<double, 3>>();
     const auto& specular = manifest.at("specular");
     env.lod_generation_scale = specular.value("lodGenerationScale", 0.8);
     const auto& mipmaps = specular.at("mipmaps");

@@ -17,20 +17,19 @@
 
 #include <array>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace brdfbake::io {
 
 inline constexpr uint8_t kBabylonEnvMagic[8] = {0x86, 0x16, 0x87, 0x96, 0xF6, 0xD6, 0x96, 0x36};
 
 struct BabylonEnv {
-  int width = 0;                                     // face size of level 0
+  int width = 0;                                      // face size of level 0
   std::array<std::array<double, 3>, 9> polynomial{};  // x, y, z, xx, yy, zz, yz, zx, xy
   double lod_generation_scale = 0.8;
-  std::vector<std::vector<uint8_t>> images;          // 6 (log2(width) + 1) PNG files, level-major
+  std::vector<std::vector<uint8_t>> images;                         // 6 (log2(width) + 1) PNG files, level-major
   nlohmann::ordered_json extra = nlohmann::ordered_json::object();  // extra manifest members (ours: "brdfbake")
 };
 

@@ -18,8 +18,8 @@
 #include "io/half.hpp"
 #include "io/image_file.hpp"
 #include "io/ktx2.hpp"
-#include "io/rgbe.hpp"
 #include "io/packed_float.hpp"
+#include "io/rgbe.hpp"
 
 #ifndef BRDFBAKE_VERSION
 #define BRDFBAKE_VERSION "unknown"
@@ -29,8 +29,10 @@ namespace brdfbake {
 
 void CubeLevels::set_meta(const std::string& key, const std::string& value) {
   auto it = std::find_if(metadata.begin(), metadata.end(), [&](const auto& e) { return e.first == key; });
-  if (it != metadata.end()) it->second = value;
-  else metadata.emplace_back(key, value);
+  if (it != metadata.end())
+    it->second = value;
+  else
+    metadata.emplace_back(key, value);
 }
 
 std::string CubeLevels::meta(const std::string& key) const {
@@ -62,8 +64,8 @@ void check_cube(const CubeLevels& cube) {
   for (int l = 0; l < cube.level_count(); ++l) {
     const size_t s = static_cast<size_t>(cube.level_size(l));
     if (cube.levels[size_t(l)].size() != 24 * s * s)
-      throw Error("cube writer: level " + std::to_string(l) + " holds " + std::to_string(cube.levels[size_t(l)].size()) +
-                  " floats, expected " + std::to_string(24 * s * s));
+      throw Error("cube writer: level " + std::to_string(l) + " holds " +
+                  std::to_string(cube.levels[size_t(l)].size()) + " floats, expected " + std::to_string(24 * s * s));
   }
 }
 
@@ -326,10 +328,10 @@ std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
   append_u32(out, 0x04030201);  // endianness
   if (pixel == PixelType::R11G11B10) {
     append_u32(out, options.filament_r11_gltype ? kGlR11fG11fB10f : kGlUnsignedInt10f11f11fRev);  // glType
-    append_u32(out, 4);                       // glTypeSize: the packed UInt32
-    append_u32(out, kGlRgb);                  // glFormat
-    append_u32(out, kGlR11fG11fB10f);         // glInternalFormat
-    append_u32(out, kGlRgb);                  // glBaseInternalFormat
+    append_u32(out, 4);                // glTypeSize: the packed UInt32
+    append_u32(out, kGlRgb);           // glFormat
+    append_u32(out, kGlR11fG11fB10f);  // glInternalFormat
+    append_u32(out, kGlRgb);           // glBaseInternalFormat
   } else {
     append_u32(out, half ? kGlHalfFloat : kGlFloat);  // glType
     append_u32(out, half ? 2 : 4);                    // glTypeSize
@@ -337,11 +339,11 @@ std::vector<uint8_t> encode_ktx1_cube(const CubeLevels& cube, PixelType pixel,
     append_u32(out, half ? kGlRgba16f : kGlRgba32f);  // glInternalFormat
     append_u32(out, kGlRgba);                         // glBaseInternalFormat
   }
-  append_u32(out, static_cast<uint32_t>(cube.size));  // pixelWidth
-  append_u32(out, static_cast<uint32_t>(cube.size));  // pixelHeight
-  append_u32(out, 0);                               // pixelDepth
-  append_u32(out, 0);                               // numberOfArrayElements
-  append_u32(out, 6);                               // numberOfFaces
+  append_u32(out, static_cast<uint32_t>(cube.size));      // pixelWidth
+  append_u32(out, static_cast<uint32_t>(cube.size));      // pixelHeight
+  append_u32(out, 0);                                     // pixelDepth
+  append_u32(out, 0);                                     // numberOfArrayElements
+  append_u32(out, 6);                                     // numberOfFaces
   append_u32(out, static_cast<uint32_t>(levels.size()));  // numberOfMipmapLevels
   const size_t kvd_at = out.size();
   append_u32(out, 0);  // bytesOfKeyValueData, patched below
@@ -383,9 +385,9 @@ std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bo
   append_u32(out, static_cast<uint32_t>(cube.size));                // dwHeight
   append_u32(out, static_cast<uint32_t>(cube.size));                // dwWidth
   append_u32(out, static_cast<uint32_t>(cube.size) * texel_bytes);  // dwPitchOrLinearSize: row pitch
-  append_u32(out, 0);                                              // dwDepth
-  append_u32(out, static_cast<uint32_t>(levels.size()));           // dwMipMapCount
-  for (int k = 0; k < 11; ++k) append_u32(out, 0);                 // dwReserved1
+  append_u32(out, 0);                                               // dwDepth
+  append_u32(out, static_cast<uint32_t>(levels.size()));            // dwMipMapCount
+  for (int k = 0; k < 11; ++k) append_u32(out, 0);                  // dwReserved1
   // DDS_PIXELFORMAT
   append_u32(out, 32);
   append_u32(out, kDdpfFourCC);
@@ -432,8 +434,9 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
   switch (format) {
     case CubeFormat::Ktx2: {
       if (o.pixel == PixelType::R11G11B10)
-        io::throw_write_error(path, "R11F_G11F_B10F is written to .ktx (KTX1) and .dds only; use f16 or f32 for "
-                                    ".ktx2, or an ASTC HDR KTX2 (write_astc_ktx2_cube) for a compressed one");
+        io::throw_write_error(path,
+                              "R11F_G11F_B10F is written to .ktx (KTX1) and .dds only; use f16 or f32 for "
+                              ".ktx2, or an ASTC HDR KTX2 (write_astc_ktx2_cube) for a compressed one");
       io::Ktx2Image image;
       const bool half = o.pixel == PixelType::F16;
       image.vk_format = half ? io::kVkFormatR16G16B16A16Sfloat : io::kVkFormatR32G32B32A32Sfloat;
@@ -479,14 +482,25 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
 
 EnvImage read_ktx2_cube(const std::string& path, int level) {
   const io::Ktx2Image k = io::read_ktx2(path);
-  if (k.faces != 6)
-    throw Error("'" + path + "' is not a cubemap (faceCount " + std::to_string(k.faces) + ")");
+  if (k.faces != 6) throw Error("'" + path + "' is not a cubemap (faceCount " + std::to_string(k.faces) + ")");
   uint32_t components = 0, bytes = 0;
   switch (k.vk_format) {
-    case 90: components = 3; bytes = 2; break;   // R16G16B16_SFLOAT
-    case 97: components = 4; bytes = 2; break;   // R16G16B16A16_SFLOAT
-    case 106: components = 3; bytes = 4; break;  // R32G32B32_SFLOAT
-    case 109: components = 4; bytes = 4; break;  // R32G32B32A32_SFLOAT
+    case 90:
+      components = 3;
+      bytes = 2;
+      break;  // R16G16B16_SFLOAT
+    case 97:
+      components = 4;
+      bytes = 2;
+      break;  // R16G16B16A16_SFLOAT
+    case 106:
+      components = 3;
+      bytes = 4;
+      break;  // R32G32B32_SFLOAT
+    case 109:
+      components = 4;
+      bytes = 4;
+      break;  // R32G32B32A32_SFLOAT
     default:
       throw Error("KTX2 cube '" + path + "' has vkFormat " + std::to_string(k.vk_format) +
                   "; expected RGB or RGBA, 16- or 32-bit float");

@@ -30,9 +30,9 @@ inline std::string image_limits_problem(uint64_t w, uint64_t h, uint64_t channel
   if (w * h > limits.max_pixels) return "too large (" + std::to_string(w) + "x" + std::to_string(h) + ")";
   const uint64_t need = w * h * channels * 4 * copies;
   if (limits.max_bytes > 0 && need > limits.max_bytes)
-    return "the header promises " + std::to_string(w) + "x" + std::to_string(h) + " pixels of " + std::to_string(channels) +
-           " channel(s), " + mib_text(need) + " decoded, above the memory budget of " + mib_text(limits.max_bytes) +
-           " (--memory-budget)";
+    return "the header promises " + std::to_string(w) + "x" + std::to_string(h) + " pixels of " +
+           std::to_string(channels) + " channel(s), " + mib_text(need) + " decoded, above the memory budget of " +
+           mib_text(limits.max_bytes) + " (--memory-budget)";
   return {};
 }
 

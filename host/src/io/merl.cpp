@@ -12,10 +12,10 @@
 #include <string>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

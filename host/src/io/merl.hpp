@@ -28,8 +28,7 @@ MerlAngles merl_bin_centre(int i, int j, int k);
 
 // wi and wo of half/difference angles with phi_h = 0 (MERL's half_diff_coords_to_std_coords):
 // wi = R_y(theta_h) d, d = (sin td cos pd, sin td sin pd, cos td); wo = 2 (wi.h) h - wi.
-void half_diff_to_directions(double theta_h, double theta_d, double phi_d, Vec3& wi,
-                             Vec3& wo);
+void half_diff_to_directions(double theta_h, double theta_d, double phi_d, Vec3& wi, Vec3& wo);
 
 // The flat index (in one channel) of the bin a direction pair falls in, as lookup_brdf_val
 // computes it from std_coords_to_half_diff_coords.

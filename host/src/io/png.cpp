@@ -64,8 +64,8 @@ bool encode(PngJob& job) {
     return false;
   }
   png_set_write_fn(png, &job, on_png_write, on_png_flush);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(job.width), static_cast<png_uint_32>(job.height), 16,
-               job.color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(job.width), static_cast<png_uint_32>(job.height), 16, job.color_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_gAMA_fixed(png, info, PNG_GAMMA_LINEAR);  // linear data: gamma 1.0, no sRGB chunk
   if (job.text_count > 0) png_set_text(png, info, job.text, job.text_count);
   png_set_rows(png, info, job.rows);
@@ -89,10 +89,17 @@ void write_png16(const TempFile& temp, int width, int height, int channels, cons
   job.width = width;
   job.height = height;
   switch (channels) {
-    case 1: job.color_type = PNG_COLOR_TYPE_GRAY; break;
-    case 3: job.color_type = PNG_COLOR_TYPE_RGB; break;
-    case 4: job.color_type = PNG_COLOR_TYPE_RGB_ALPHA; break;
-    default: throw_write_error(temp.destination(), "PNG output holds 1, 3 or 4 channels, not " + std::to_string(channels));
+    case 1:
+      job.color_type = PNG_COLOR_TYPE_GRAY;
+      break;
+    case 3:
+      job.color_type = PNG_COLOR_TYPE_RGB;
+      break;
+    case 4:
+      job.color_type = PNG_COLOR_TYPE_RGB_ALPHA;
+      break;
+    default:
+      throw_write_error(temp.destination(), "PNG output holds 1, 3 or 4 channels, not " + std::to_string(channels));
   }
   std::vector<png_bytep> rows(static_cast<size_t>(height));
   for (size_t y = 0; y < rows.size(); ++y)

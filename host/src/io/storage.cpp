@@ -45,8 +45,10 @@ StorageReport measure_storage(const Table& table, TableFormat format, PixelType 
       r.encoding = "binary16 (round to nearest even)";
       for (float v : table.data) {
         const float s = half_round_trip(v);
-        if (!std::isfinite(s)) out_of_range(v);
-        else r.max_error = std::max(r.max_error, metric(s, v));
+        if (!std::isfinite(s))
+          out_of_range(v);
+        else
+          r.max_error = std::max(r.max_error, metric(s, v));
       }
       return r;
     case TableFormat::Png:

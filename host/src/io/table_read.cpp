@@ -2,7 +2,6 @@
 // the writers' (host/src/io/table_io.cpp): texel (i, j) is pixel (i, j), row 0 first; channels in
 // order in R, G, B, A; metadata as "brdfbake:KEY" attributes, text chunks or key/value pairs.
 #include "io/table_read.hpp"
-#include "text.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -19,6 +18,7 @@
 #include "io/json_input.hpp"
 #include "io/ktx2.hpp"
 #include "io/png_image.hpp"
+#include "text.hpp"
 
 namespace brdfbake::io {
 

@@ -338,12 +338,13 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     bake.stop_requested = options.stop_requested;
     const BakeResult r = run_table(t, bake).result;
     if (engine != EngineTarget::Generic) keep_engine_input(engine_inputs, t, r);
-    deliver_group(job, groups[g], static_cast<int>(g), r, backend, target, staging.path(), options,
-                  [&](size_t k) {
-                    report(kBakeShare + (1.0 - kBakeShare) * double(k) / double(groups[g].size()),
-                           "writing " + job.tables[groups[g][k]].output);
-                  },
-                  manifest);
+    deliver_group(
+        job, groups[g], static_cast<int>(g), r, backend, target, staging.path(), options,
+        [&](size_t k) {
+          report(kBakeShare + (1.0 - kBakeShare) * double(k) / double(groups[g].size()),
+                 "writing " + job.tables[groups[g][k]].output);
+        },
+        manifest);
     report(1.0, "");  // its files are written
   }
 

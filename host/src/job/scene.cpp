@@ -71,7 +71,6 @@ bool extension_known(const std::string& name) {
 // A name or text from the file, as messages quote it.
 std::string clip(const std::string& s, size_t n = 60) { return s.size() <= n ? s : s.substr(0, n) + "..."; }
 
-
 // Reads the fields of one JSON object, every error naming the file and the field's path.
 class Reader {
  public:
@@ -104,7 +103,8 @@ class Reader {
     const double v = it->get<double>();
     if (!std::isfinite(v)) fail(path, "must be finite");
     const double slack = 1e-6;
-    if (v < lo - slack || v > hi + slack) fail(path, "must be in " + range(lo, hi) + " (got " + detail::fmt_number(v) + ")");
+    if (v < lo - slack || v > hi + slack)
+      fail(path, "must be in " + range(lo, hi) + " (got " + detail::fmt_number(v) + ")");
     return std::clamp(v, lo, hi);
   }
   Rgb3 rgb(const json& parent, const std::string& key, const std::string& path, const Rgb3& fallback, double lo,

@@ -162,8 +162,7 @@ json bake_json(const BakeSweep& s) {
       "a point is on the front when no other point of its target is at most as slow (or as large) and at most as "
       "wrong, one of them strictly";
   b["recommended_rule"] = "the fastest setting whose error is within " +
-                          std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
-                          "% of the target's best";
+                          std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) + "% of the target's best";
   json targets = json::array();
   for (const auto& t : s.targets) {
     json tj;
@@ -219,7 +218,8 @@ std::string report_json_path(const std::string& html_path) {
 Report run_report(const ReportOptions& o) {
   for (const auto& k : o.kinds)
     if (std::find(report_kinds().begin(), report_kinds().end(), k) == report_kinds().end())
-      throw Error("unknown report kind '" + k + "' (expected ggx, ggx-multiscatter, charlie, fresnel, prefilter or bake)");
+      throw Error("unknown report kind '" + k +
+                  "' (expected ggx, ggx-multiscatter, charlie, fresnel, prefilter or bake)");
   if (o.kinds.empty()) throw Error("the report needs at least one kind");
   if (o.device == "reference")
     throw Error(

@@ -347,8 +347,8 @@ std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
     front.y.push_back(p->error);
   }
   return svg_plot(t.target + ": render error against " + (bytes ? "bytes" : "bake time"),
-                  bytes ? "bytes written (MB)" : "whole bake, wall seconds", "median sphere RMS error (split-sum vs ref)",
-                  {all, front}, true, true, true);
+                  bytes ? "bytes written (MB)" : "whole bake, wall seconds",
+                  "median sphere RMS error (split-sum vs ref)", {all, front}, true, true, true);
 }
 
 void bake_section(std::ostringstream& o, const BakeSweep& s) {

@@ -10,7 +10,6 @@
 #pragma GCC system_header  // the bindings are not -Wconversion clean
 #endif
 #include <CL/opencl.hpp>
-
 #include <string>
 #include <utility>
 

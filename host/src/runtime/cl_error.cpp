@@ -78,15 +78,15 @@ namespace {
 // What an error that ends a run (rather than a bug of ours) means for the user.
 const char* cl_hint(int code) {
   switch (code) {
-    case -4:  // CL_MEM_OBJECT_ALLOCATION_FAILURE
-    case -6:  // CL_OUT_OF_HOST_MEMORY
+    case -4:   // CL_MEM_OBJECT_ALLOCATION_FAILURE
+    case -6:   // CL_OUT_OF_HOST_MEMORY
     case -61:  // CL_INVALID_BUFFER_SIZE
       return "the device ran out of memory: try a smaller size, or another device (brdfbake devices)";
     case -5:  // CL_OUT_OF_RESOURCES: also what most drivers report after a watchdog reset
       return "the device ran out of resources, or its driver stopped a launch (a display watchdog): try a "
              "smaller size or another device";
-    case -2:   // CL_DEVICE_NOT_AVAILABLE
-    case -36:  // CL_INVALID_COMMAND_QUEUE: the queue of a lost device
+    case -2:     // CL_DEVICE_NOT_AVAILABLE
+    case -36:    // CL_INVALID_COMMAND_QUEUE: the queue of a lost device
     case -9999:  // NVIDIA: illegal address / device lost
       return "the device was lost or is not available: check the driver (brdfbake devices) and run again";
     default:

@@ -6,9 +6,9 @@
 #include <mutex>
 #include <sstream>
 
+#include "enum_names.hpp"
 #include "runtime/cache_dirs.hpp"
 #include "runtime/device_impl.hpp"
-#include "enum_names.hpp"
 
 namespace brdfbake {
 

@@ -16,12 +16,13 @@ std::string mib(double bytes) {
 void check_device_memory(const Device::Impl& dev, double bytes, double total, const std::string& what) {
   const DeviceInfo& d = dev.info;
   if (d.max_alloc > 0 && bytes > double(d.max_alloc))
-    throw RuntimeFailure(what + " needs " + mib(bytes) + " in one buffer; device '" + d.name +
-                         "' allows at most " + mib(double(d.max_alloc)) +
+    throw RuntimeFailure(what + " needs " + mib(bytes) + " in one buffer; device '" + d.name + "' allows at most " +
+                         mib(double(d.max_alloc)) +
                          " (CL_DEVICE_MAX_MEM_ALLOC_SIZE): choose a smaller size or another device");
   if (d.global_memory > 0 && total > double(d.global_memory))
     throw RuntimeFailure(what + " needs " + mib(total) + " of device memory; device '" + d.name + "' has " +
-                         mib(double(d.global_memory)) + " (CL_DEVICE_GLOBAL_MEM_SIZE): choose a smaller size or another device");
+                         mib(double(d.global_memory)) +
+                         " (CL_DEVICE_GLOBAL_MEM_SIZE): choose a smaller size or another device");
 }
 
 void check_work_group(const Device::Impl& dev, const cl::Kernel& kernel, size_t local, const std::string& what) {

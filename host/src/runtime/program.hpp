@@ -17,10 +17,10 @@ namespace brdfbake::detail {
 std::string kernel_source(const std::string& path);
 
 struct ProgramSpec {
-  std::string file;  // e.g. "dfg_lut.cl"
+  std::string file;                                          // e.g. "dfg_lut.cl"
   std::vector<std::pair<std::string, std::string>> defines;  // injected as #define NAME VALUE
   Precision precision = Precision::Fp32;                     // Fp64 defines BRDFBAKE_FP64 1
-  std::string options;                                        // extra build options
+  std::string options;                                       // extra build options
 };
 
 // Builds (or fetches from the in-memory and on-disk caches) the program for `spec` on `device`.

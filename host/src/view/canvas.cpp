@@ -8,6 +8,7 @@
 
 // stb_easy_font (public domain, Sean Barrett): text as axis-aligned quads, no font files.
 #include <stb/stb_easy_font.h>
+
 #include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake::view {

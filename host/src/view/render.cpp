@@ -18,17 +18,17 @@
 #include <set>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
 #include "brdfbake/view.hpp"
+#include "enum_names.hpp"
 #include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
 #include "text.hpp"
-#include "enum_names.hpp"
 #include "view/canvas.hpp"
 #include "view/exposure.hpp"
 #include "view/load.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 

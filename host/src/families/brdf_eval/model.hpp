@@ -22,8 +22,10 @@
 namespace brdfbake::detail {
 
 // The tabulate layouts' names (names.cpp's table_layout_from_name and table_layout_name; the schema offers them).
-inline constexpr EnumName<TableLayout> kTableLayoutNames[] = {
-    {TableLayout::Merl, "merl"}, {TableLayout::Grid, "grid"}, {TableLayout::Albedo, "albedo"}, {TableLayout::Slice, "slice"}};
+inline constexpr EnumName<TableLayout> kTableLayoutNames[] = {{TableLayout::Merl, "merl"},
+                                                              {TableLayout::Grid, "grid"},
+                                                              {TableLayout::Albedo, "albedo"},
+                                                              {TableLayout::Slice, "slice"}};
 
 inline double max3(const Rgb& c) { return std::max(c.r, std::max(c.g, c.b)); }
 inline double mix(double a, double b, double t) { return a + (b - a) * t; }

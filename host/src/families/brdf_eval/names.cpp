@@ -36,7 +36,6 @@ const ModelName& model_entry(BrdfModel model) {
   throw Error("unknown BRDF model");
 }
 
-
 }  // namespace
 
 const char* detail::brdf_model_define(BrdfModel model) { return model_entry(model).define; }

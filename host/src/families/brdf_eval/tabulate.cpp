@@ -26,7 +26,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-
 const char* kConventions =
     "f is the BRDF without the cosine (radiance per irradiance, 1/sr), linear RGB; directions in tangent "
     "space, normal +z, tangent +x (Disney's alpha_x axis), bitangent +y; f = 0 where wi or wo is at or "

@@ -34,7 +34,6 @@ bool same_estimator(const Calibration& c, LutKind kind, Estimator estimator, Pre
   return c.kind == kind && c.estimator == estimator && c.precision == precision;
 }
 
-
 }  // namespace
 
 int detail::default_lut_samples(LutKind kind, Estimator estimator, Precision precision) {

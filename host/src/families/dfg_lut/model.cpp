@@ -1,13 +1,14 @@
 // The DFG tables' model: the names of kinds, estimators, axes and visibilities, the resolution of
 // a spec (defaults, limits, the sample count a max_error needs) and the table a resolved spec makes,
 // with the metadata every DFG table carries whatever its backend.
+#include "families/dfg_lut/model.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
-#include "families/dfg_lut/model.hpp"
 #include "text.hpp"
 
 namespace brdfbake {
@@ -15,7 +16,6 @@ namespace brdfbake {
 namespace {
 
 constexpr long long kMaxTexels = kLutMaxTexels;
-
 
 bool has_custom_points(const LutSpec& in) { return !in.n_dot_v.empty() || !in.roughness.empty(); }
 
@@ -47,7 +47,8 @@ Table detail::make_lut_table(const LutSpec& s) {
   t.set_meta("n_dot_v_axis", lut_axis_name(s.n_dot_v_axis));
   t.set_meta("roughness_axis", lut_axis_name(s.roughness_axis));
   t.set_meta("layout", "row j = 0 (smallest roughness) stored first; sample at uv = (" +
-                           std::string(sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " + (sy ? "sqrt(" + rough + ")" : rough) + ")");
+                           std::string(sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " + (sy ? "sqrt(" + rough + ")" : rough) +
+                           ")");
   t.set_meta("lookup", std::string("uv = (") + (sx ? "sqrt(n_dot_v)" : "n_dot_v") + ", " +
                            (sy ? "sqrt(" + rough + ")" : rough) + "), bilinear, clamp to edge");
   switch (s.kind) {
@@ -73,7 +74,9 @@ Table detail::make_lut_table(const LutSpec& s) {
   return t;
 }
 
-LutKind lut_kind_from_name(const std::string& n) { return detail::enum_from_name(detail::kLutKindNames, n, "table kind"); }
+LutKind lut_kind_from_name(const std::string& n) {
+  return detail::enum_from_name(detail::kLutKindNames, n, "table kind");
+}
 const char* lut_kind_name(LutKind k) { return detail::enum_name(detail::kLutKindNames, k); }
 Estimator estimator_from_name(const std::string& n) {
   return detail::enum_from_name(detail::kEstimatorNames, n, "estimator");
@@ -90,9 +93,12 @@ double lut_axis_value(LutAxis a, double uv) { return a == LutAxis::Sqrt ? uv * u
 
 std::vector<std::string> lut_channels(LutKind kind) {
   switch (kind) {
-    case LutKind::Ggx: return {"scale", "bias", "diffuse"};
-    case LutKind::GgxMultiscatter: return {"bias", "albedo", "diffuse"};
-    case LutKind::Charlie: break;
+    case LutKind::Ggx:
+      return {"scale", "bias", "diffuse"};
+    case LutKind::GgxMultiscatter:
+      return {"bias", "albedo", "diffuse"};
+    case LutKind::Charlie:
+      break;
   }
   return {"albedo"};
 }
@@ -111,8 +117,8 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
   } else {
     if (s.height == 0) s.height = s.width;
     if (s.width < 1 || s.height < 1)
-      throw Error("table size must be at least 1x1 (got " + std::to_string(s.width) + "x" +
-                  std::to_string(s.height) + ")");
+      throw Error("table size must be at least 1x1 (got " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                  ")");
     if (s.width > kLutMaxSize || s.height > kLutMaxSize)
       throw Error("table size must be at most " + std::to_string(kLutMaxSize) + " per side");
   }
@@ -123,12 +129,11 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
     throw Error("the quadrature takes at most " + std::to_string(kLutMaxQuadratureSamples) +
                 " evaluations per texel (got " + std::to_string(s.samples) + "; its error is below 1e-7 long before)");
   if (s.samples > kLutMaxSamples)
-    throw Error("samples must be at most " + std::to_string(kLutMaxSamples) + " (got " + std::to_string(s.samples) + ")");
-  if (std::isnan(s.max_error) || s.max_error < 0.0)
-    throw Error("max-error must be a positive number");
+    throw Error("samples must be at most " + std::to_string(kLutMaxSamples) + " (got " + std::to_string(s.samples) +
+                ")");
+  if (std::isnan(s.max_error) || s.max_error < 0.0) throw Error("max-error must be a positive number");
   const bool ggx = s.kind != LutKind::Charlie;
-  if (ggx && s.estimator == Estimator::Uniform)
-    throw Error("estimator 'uniform' is for the charlie table only");
+  if (ggx && s.estimator == Estimator::Uniform) throw Error("estimator 'uniform' is for the charlie table only");
   if (!ggx && s.estimator == Estimator::Vndf)
     throw Error("estimator 'vndf' samples GGX visible normals; the charlie table takes quadrature, ndf or uniform");
   if (s.max_error > 0.0) {
@@ -145,7 +150,8 @@ LutSpec resolve_lut_spec(const LutSpec& in) {
   if (!has_custom_points(s)) {
     s.n_dot_v.resize(static_cast<size_t>(s.width));
     s.roughness.resize(static_cast<size_t>(s.height));
-    for (int i = 0; i < s.width; ++i) s.n_dot_v[static_cast<size_t>(i)] = lut_axis_value(s.n_dot_v_axis, (i + 0.5) / s.width);
+    for (int i = 0; i < s.width; ++i)
+      s.n_dot_v[static_cast<size_t>(i)] = lut_axis_value(s.n_dot_v_axis, (i + 0.5) / s.width);
     for (int j = 0; j < s.height; ++j)
       s.roughness[static_cast<size_t>(j)] = lut_axis_value(s.roughness_axis, (j + 0.5) / s.height);
   }

@@ -123,16 +123,15 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
         return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(double),
                           const_cast<double*>(v.data()));
       std::vector<float> f(v.begin(), v.end());
-      return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float),
-                        f.data());
+      return cl::Buffer(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, f.size() * sizeof(float), f.data());
     };
     const double table_bytes = double(t.data.size()) * sizeof(float);
-    detail::check_device_memory(dev, table_bytes, table_bytes, "a " + std::to_string(s.width) + "x" +
-                                                                   std::to_string(s.height) + " DFG table");
+    detail::check_device_memory(dev, table_bytes, table_bytes,
+                                "a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " DFG table");
     cl::Buffer xs = real_buffer(s.n_dot_v), ys = real_buffer(s.roughness), qb = real_buffer(q);
     cl::Buffer out(dev.context, CL_MEM_WRITE_ONLY, t.data.size() * sizeof(float));
-    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_uint, cl::Buffer, cl_int, cl_int>
-        dfg(program, "dfg_lut");
+    cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_uint, cl::Buffer, cl_int, cl_int> dfg(
+        program, "dfg_lut");
     // Rows go in launches of bounded work (runtime/launch.hpp): a progress line follows them, and a
     // stop request is honoured between them.
     const double seconds = detail::launch_in_tiles(
@@ -156,8 +155,7 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
   detail::set_lut_error_bound_meta(t, s);
   if (timing) {
     timing->device_seconds = device_seconds;
-    timing->wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return t;
 }

@@ -23,8 +23,7 @@ void add_errors(const Table& approx, const Table& exact, FresnelModelReport& row
   double max_c[3] = {0, 0, 0}, sum_c[3] = {0, 0, 0}, x_c[3] = {0, 0, 0};
   for (int i = 0; i < approx.width; ++i)
     for (int c = 0; c < 3; ++c) {
-      const double d = std::fabs(static_cast<double>(approx.at(i, 0, c)) -
-                                 static_cast<double>(exact.at(i, 0, c)));
+      const double d = std::fabs(static_cast<double>(approx.at(i, 0, c)) - static_cast<double>(exact.at(i, 0, c)));
       sum_c[c] += d;
       if (d > max_c[c]) {
         max_c[c] = d;
@@ -55,8 +54,7 @@ void measure_rate(Device& device, const FresnelSpec& s, const FresnelCompareOpti
     times.push_back(timing.device_seconds);
   }
   row.device_seconds = median(times);
-  row.cells_per_second =
-      row.device_seconds > 0 ? static_cast<double>(options.rate_cells) / row.device_seconds : 0.0;
+  row.cells_per_second = row.device_seconds > 0 ? static_cast<double>(options.rate_cells) / row.device_seconds : 0.0;
 }
 
 }  // namespace
@@ -68,8 +66,7 @@ FresnelComparison compare_fresnel_models(const std::string& material, Device* de
   if (options.rate_cells < 0) throw Error("rate cells must not be negative");
   FresnelComparison out;
   out.material = preset->name;
-  out.exact_model = preset->kind == MaterialKind::Conductor ? FresnelModel::Conductor
-                                                            : FresnelModel::Dielectric;
+  out.exact_model = preset->kind == MaterialKind::Conductor ? FresnelModel::Conductor : FresnelModel::Dielectric;
   out.grid = options.grid;
   out.rate_cells = device ? options.rate_cells : 0;
   if (device && options.rate_cells > 0) out.device = device->info().name;
@@ -83,8 +80,7 @@ FresnelComparison compare_fresnel_models(const std::string& material, Device* de
   const Rgb f0 = exact_f0(*preset);
 
   for (FresnelModel m : fresnel_models()) {
-    if (preset->kind == MaterialKind::Conductor &&
-        (m == FresnelModel::SchlickIor || m == FresnelModel::Dielectric))
+    if (preset->kind == MaterialKind::Conductor && (m == FresnelModel::SchlickIor || m == FresnelModel::Dielectric))
       continue;  // a real index cannot describe a metal
     FresnelSpec s;
     s.model = m;
@@ -124,13 +120,11 @@ struct LegacyF0 {
   Rgb f0;
 };
 const LegacyF0 kLegacyF0[] = {
-    {"gold", {1.00, 0.71, 0.29}},      {"silver", {0.95, 0.93, 0.88}},
-    {"copper", {0.95, 0.64, 0.54}},    {"iron", {0.56, 0.57, 0.58}},
-    {"aluminium", {0.91, 0.92, 0.92}}, {"water", {0.02, 0.02, 0.02}},
+    {"gold", {1.00, 0.71, 0.29}},    {"silver", {0.95, 0.93, 0.88}},    {"copper", {0.95, 0.64, 0.54}},
+    {"iron", {0.56, 0.57, 0.58}},    {"aluminium", {0.91, 0.92, 0.92}}, {"water", {0.02, 0.02, 0.02}},
     {"diamond", {0.17, 0.17, 0.17}},
 };
-constexpr const char* kLegacySource =
-    "Hoffman 2010 SIGGRAPH course notes, Table 1 (from Real-Time Rendering 3rd ed.)";
+constexpr const char* kLegacySource = "Hoffman 2010 SIGGRAPH course notes, Table 1 (from Real-Time Rendering 3rd ed.)";
 }  // namespace
 
 std::vector<HardCodedF0> hard_coded_f0(const MaterialPreset& preset) {
@@ -138,8 +132,8 @@ std::vector<HardCodedF0> hard_coded_f0(const MaterialPreset& preset) {
   if (preset.common_f0) out.push_back({*preset.common_f0, preset.common_f0_source});
   for (const LegacyF0& l : kLegacyF0) {
     if (preset.name != l.material) continue;
-    const bool same = preset.common_f0 && preset.common_f0->r == l.f0.r &&
-                      preset.common_f0->g == l.f0.g && preset.common_f0->b == l.f0.b;
+    const bool same = preset.common_f0 && preset.common_f0->r == l.f0.r && preset.common_f0->g == l.f0.g &&
+                      preset.common_f0->b == l.f0.b;
     if (!same) out.push_back({l.f0, kLegacySource});
   }
   return out;

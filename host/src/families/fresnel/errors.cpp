@@ -11,12 +11,11 @@ namespace brdfbake {
 namespace {
 
 void check_same_shape(const Table& a, const Table& b) {
-  if (a.width != b.width || a.height != b.height || a.channels != b.channels ||
-      a.data.size() != b.data.size())
-    throw Error("Fresnel tables of different shapes cannot be compared (" +
-                std::to_string(a.width) + "x" + std::to_string(a.height) + "x" +
-                std::to_string(a.channels.size()) + " against " + std::to_string(b.width) + "x" +
-                std::to_string(b.height) + "x" + std::to_string(b.channels.size()) + ")");
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels || a.data.size() != b.data.size())
+    throw Error("Fresnel tables of different shapes cannot be compared (" + std::to_string(a.width) + "x" +
+                std::to_string(a.height) + "x" + std::to_string(a.channels.size()) + " against " +
+                std::to_string(b.width) + "x" + std::to_string(b.height) + "x" + std::to_string(b.channels.size()) +
+                ")");
 }
 
 }  // namespace
@@ -29,8 +28,7 @@ FresnelError fresnel_error(const Table& approx, const Table& exact) {
   for (int j = 0; j < approx.height; ++j)
     for (int i = 0; i < approx.width; ++i)
       for (int c = 0; c < nc; ++c) {
-        const double d = std::fabs(static_cast<double>(approx.at(i, j, c)) -
-                                   static_cast<double>(exact.at(i, j, c)));
+        const double d = std::fabs(static_cast<double>(approx.at(i, j, c)) - static_cast<double>(exact.at(i, j, c)));
         sum += d;
         if (d > e.max_abs) {
           e.max_abs = d;
@@ -54,16 +52,16 @@ Table with_error_columns(const Table& table, const Table& exact) {
       for (int c = 0; c < nc; ++c) {
         t.at(i, j, c) = table.at(i, j, c);
         // The difference of two floats, formed in double and rounded once.
-        t.at(i, j, nc + c) = static_cast<float>(static_cast<double>(table.at(i, j, c)) -
-                                                static_cast<double>(exact.at(i, j, c)));
+        t.at(i, j, nc + c) =
+            static_cast<float>(static_cast<double>(table.at(i, j, c)) - static_cast<double>(exact.at(i, j, c)));
       }
   std::string channels;
   for (const auto& c : t.channels) channels += (channels.empty() ? "" : ",") + c;
   t.set_meta("channels", channels);
-  t.set_meta("error_columns",
-             "err_<c> = <c> - exact_<c>, signed, where exact is the " + exact.meta("model") +
-                 " model (" + exact.meta("parameters") + ") by the scalar double reference at the "
-                 "same cos_theta");
+  t.set_meta("error_columns", "err_<c> = <c> - exact_<c>, signed, where exact is the " + exact.meta("model") +
+                                  " model (" + exact.meta("parameters") +
+                                  ") by the scalar double reference at the "
+                                  "same cos_theta");
   const FresnelError e = fresnel_error(table, exact);
   t.set_meta("error_max_abs", detail::fresnel_number(e.max_abs));
   t.set_meta("error_mean_abs", detail::fresnel_number(e.mean_abs));

@@ -5,10 +5,11 @@
 // errors.cpp, compare.cpp; kernels: opencl.cpp (kernels/fresnel.cl), reference.cpp
 // (host/reference/src/fresnel.cpp); tests: tests/device/test_fresnel.cpp,
 // tests/reference/test_fresnel_reference.cpp.
+#include "families/family.hpp"
+
 #include <algorithm>
 
 #include "brdfbake/fresnel.hpp"
-#include "families/family.hpp"
 #include "families/fresnel/kernel.hpp"
 #include "families/fresnel/model.hpp"
 #include "families/kernels.hpp"
@@ -31,18 +32,23 @@ SpecSchema<FresnelSpec> make_fresnel_schema() {
   SpecSchema<FresnelSpec> s;
   s.bind(&S::model, "model", ParamDef("model", T::Name, "the Fresnel model").one_of(model_names()).needed(),
          by_name(fresnel_model_from_name))
-      .bind(&S::material, "material", ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"))
+      .bind(&S::material, "material",
+            ParamDef("material", T::Name, "a measured material preset (brdfbake fresnel --list-materials)"))
       .bind(&S::f0, "f0", ParamDef("f0", T::Color, "schlick, f82-tint: reflectance at normal incidence").range(0, 1))
-      .bind(&S::f90, "f90", ParamDef("f90", T::Color, "schlick: reflectance at grazing incidence").range(0, 1).defaults_to("1"))
-      .bind(&S::f82_tint, "f82_tint", ParamDef("f82", T::Color, "f82-tint: the F82 tint (1 is plain Schlick)").range(0, 1e3))
+      .bind(&S::f90, "f90",
+            ParamDef("f90", T::Color, "schlick: reflectance at grazing incidence").range(0, 1).defaults_to("1"))
+      .bind(&S::f82_tint, "f82_tint",
+            ParamDef("f82", T::Color, "f82-tint: the F82 tint (1 is plain Schlick)").range(0, 1e3))
       .bind(&S::base_color, "base_color", ParamDef("base_color", T::Color, "schlick-metallic: base colour").range(0, 1))
       .bind(&S::metallic, "metallic", ParamDef("metallic", T::Number, "schlick-metallic: metallic").range(0, 1))
       .bind(&S::dielectric_f0, "dielectric_f0",
             ParamDef("dielectric_f0", T::Number, "schlick-metallic: the dielectric F0").range(0, 1).defaults_to("0.04"))
-      .bind(&S::ior, "ior", ParamDef("ior", T::Color, "schlick-ior, dielectric: index of the far side").above(0, kFresnelMaxIndex))
+      .bind(&S::ior, "ior",
+            ParamDef("ior", T::Color, "schlick-ior, dielectric: index of the far side").above(0, kFresnelMaxIndex))
       .bind(&S::ior_outside, "ior_outside",
             ParamDef("ior_outside", T::Number, "schlick-ior, dielectric: index of the side the light comes from")
-                .above(0, kFresnelMaxIndex).defaults_to("1"))
+                .above(0, kFresnelMaxIndex)
+                .defaults_to("1"))
       .bind(&S::n, "n", ParamDef("n", T::Color, "conductor: real part of the complex index").above(0, kFresnelMaxIndex))
       .bind(&S::k, "k", ParamDef("k", T::Color, "conductor: extinction coefficient").range(0, kFresnelMaxIndex))
       .bind(&S::bias, "bias", ParamDef("bias", T::Number, "empirical: bias"))
@@ -50,20 +56,27 @@ SpecSchema<FresnelSpec> make_fresnel_schema() {
       .bind(&S::power, "power", ParamDef("power", T::Number, "empirical: power").range(0, HUGE_VAL))
       .bind(&S::table, "table",
             ParamDef("table", T::Name, "1d (cos_theta; r, g, b) or 2d (cos_theta x f0 or ior; one channel)")
-                .one_of(enum_names(kFresnelTableKindNames)).def(std::string(fresnel_table_kind_name(d.table))),
+                .one_of(enum_names(kFresnelTableKindNames))
+                .def(std::string(fresnel_table_kind_name(d.table))),
             by_name(fresnel_table_kind_from_name))
-      .bind(&S::size, "size", ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)))
+      .bind(&S::size, "size",
+            ParamDef("size", T::Int, "cells along cos_theta").range(1, double(kFresnelMaxCells)).def(double(d.size)))
       .bind(&S::height, "height",
-            ParamDef("height", T::Int, "2d: cells along the y axis").range(1, double(kFresnelMaxCells)).defaults_to("size"))
+            ParamDef("height", T::Int, "2d: cells along the y axis")
+                .range(1, double(kFresnelMaxCells))
+                .defaults_to("size"))
       .bind(&S::endpoints, "endpoints",
-            ParamDef("endpoints", T::Flag, "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
+            ParamDef("endpoints", T::Flag,
+                     "cos_theta = i / (N - 1), so that 0 and 1 are cells (default: cell centres (i + 0.5) / N)")
                 .def(d.endpoints))
-      .bind(&S::range, "range", ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
+      .bind(&S::range, "range",
+            ParamDef("range", T::Range, "2d: the y range lo,hi").defaults_to("0,1 for f0 and 1,3 for ior"),
             [](const ParamValue& v) {
               const auto& r = std::get<std::vector<double>>(v);
               return std::make_pair(r[0], r[1]);
             })
-      .param(ParamDef("vs_exact", T::Flag, "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
+      .param(ParamDef("vs_exact", T::Flag,
+                      "add err_r,err_g,err_b = value - the exact model for the same material (.csv or .h)")
                  .def(false))
       .common("precision", "precision", [](FresnelSpec& f, const TableRequest& t) { f.precision = t.precision; })
       .internal("cos_theta", "explicit cosines: tests only");
@@ -162,8 +175,9 @@ class FresnelFamily final : public Family {
     r.device_seconds = timing.device_seconds;
     r.summary = table.meta("model") + (spec.material.empty() ? "" : " " + spec.material) + " " +
                 std::to_string(table.width) + "x" + std::to_string(table.height) + ", " + table.meta("precision") +
-                ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " + fmt_number(timing.wall_seconds, "%.3f") +
-                " s (device " + fmt_number(timing.device_seconds * 1e3, "%.3f") + " ms)" +
+                ", max |table - reference| " + fmt_number(*r.error_bound, "%.2g") + ", " +
+                fmt_number(timing.wall_seconds, "%.3f") + " s (device " +
+                fmt_number(timing.device_seconds * 1e3, "%.3f") + " ms)" +
                 (t.flag("vs_exact") ? ", max |error| vs exact " + table.meta("error_max_abs") : "");
     r.artifact = std::move(table);
     return r;

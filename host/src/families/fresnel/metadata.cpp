@@ -56,13 +56,11 @@ Table detail::make_fresnel_table(const Resolved& r) {
   if (r.two_d) {
     const std::string lo = fmt(r.range.first), hi = fmt(r.range.second);
     t.set_meta("y_axis",
-               r.y_name + (s.endpoints ? " = lo + (hi - lo) j / (height - 1)"
-                                       : " = lo + (hi - lo) (j + 0.5) / height") +
-                   ", [lo, hi] = [" + lo + ", " + hi + "]" +
-                   (r.y_name == "ior" ? ", linear in the index" : ""));
+               r.y_name +
+                   (s.endpoints ? " = lo + (hi - lo) j / (height - 1)" : " = lo + (hi - lo) (j + 0.5) / height") +
+                   ", [lo, hi] = [" + lo + ", " + hi + "]" + (r.y_name == "ior" ? ", linear in the index" : ""));
     t.set_meta("y_range", lo + "," + hi);
-    t.set_meta("layout", "row j = 0 (smallest " + r.y_name +
-                             ") stored first; sample at uv = (cos_theta, (" + r.y_name +
+    t.set_meta("layout", "row j = 0 (smallest " + r.y_name + ") stored first; sample at uv = (cos_theta, (" + r.y_name +
                              " - lo) / (hi - lo)) with the same cell rule");
   } else {
     t.set_meta("layout", "one row; sample at u = cos_theta with the same cell rule");
@@ -84,7 +82,8 @@ Table detail::make_fresnel_table(const Resolved& r) {
       what = "an empirical rim term, not a solution of the Fresnel equations; ";
       break;
   }
-  t.set_meta("conventions", std::string(what) + "cos_theta outside [0, 1] is clamped (docs/CONVENTIONS.md, Fresnel tables)");
+  t.set_meta("conventions",
+             std::string(what) + "cos_theta outside [0, 1] is clamped (docs/CONVENTIONS.md, Fresnel tables)");
   return t;
 }
 

@@ -50,7 +50,7 @@ struct Resolved {
   std::vector<double> params;  // channels x fresnel_parameter_count(model), kernels/fresnel.cl's order
   std::string y_name;          // "f0" | "ior" for 2-D tables
   std::pair<double, double> range{0.0, 0.0};
-  std::string parameters;      // for the metadata
+  std::string parameters;  // for the metadata
 };
 
 // Validates a spec (Error with a one-line message) and resolves it: a material preset into the

@@ -20,14 +20,20 @@ double channel(const Rgb& c, int i) { return detail::channel_of(c, i); }
 // One channel of one cell by the scalar double reference, parameters in the kernel's order.
 double reference_value(FresnelModel m, const double* p, double c) {
   switch (m) {
-    case FresnelModel::Schlick: return reference::fresnel_schlick(c, p[0], p[1]);
+    case FresnelModel::Schlick:
+      return reference::fresnel_schlick(c, p[0], p[1]);
     case FresnelModel::SchlickMetallic:
       return reference::fresnel_schlick(c, reference::schlick_metallic_f0(splat(p[0]), p[1], p[2]).r);
-    case FresnelModel::SchlickIor: return reference::fresnel_schlick(c, reference::f0_from_ior(p[0], p[1]));
-    case FresnelModel::Dielectric: return reference::fresnel_dielectric(c, p[1] / p[0]);
-    case FresnelModel::Conductor: return reference::fresnel_conductor(c, p[0], p[1]);
-    case FresnelModel::F82Tint: return reference::fresnel_f82_tint(c, p[0], p[1]);
-    case FresnelModel::Empirical: return reference::fresnel_empirical(c, p[0], p[1], p[2]);
+    case FresnelModel::SchlickIor:
+      return reference::fresnel_schlick(c, reference::f0_from_ior(p[0], p[1]));
+    case FresnelModel::Dielectric:
+      return reference::fresnel_dielectric(c, p[1] / p[0]);
+    case FresnelModel::Conductor:
+      return reference::fresnel_conductor(c, p[0], p[1]);
+    case FresnelModel::F82Tint:
+      return reference::fresnel_f82_tint(c, p[0], p[1]);
+    case FresnelModel::Empirical:
+      return reference::fresnel_empirical(c, p[0], p[1], p[2]);
   }
   return 0.0;
 }
@@ -77,8 +83,7 @@ ConductorFit fit_conductor(const Rgb& n, const Rgb& k) {
   // ... and what each approximation leaves against the reference's exact conductor.
   double schlick[3], f82[3];
   for (int c = 0; c < 3; ++c) {
-    const double nc = channel(n, c), kc = channel(k, c), f0c = channel(fit.f0, c),
-                 tc = channel(fit.f82_tint, c);
+    const double nc = channel(n, c), kc = channel(k, c), f0c = channel(fit.f0, c), tc = channel(fit.f82_tint, c);
     const auto exact = [&](double x) { return reference::fresnel_conductor(x, nc, kc); };
     schlick[c] = reference::fresnel_fit_error([&](double x) { return reference::fresnel_schlick(x, f0c); }, exact,
                                               kFresnelErrorGrid)

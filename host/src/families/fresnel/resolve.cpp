@@ -47,13 +47,19 @@ namespace {
 
 std::vector<std::string> model_parameters(FresnelModel m) {
   switch (m) {
-    case FresnelModel::Schlick: return {"f0", "f90"};
-    case FresnelModel::SchlickMetallic: return {"base-color", "metallic", "dielectric-f0"};
+    case FresnelModel::Schlick:
+      return {"f0", "f90"};
+    case FresnelModel::SchlickMetallic:
+      return {"base-color", "metallic", "dielectric-f0"};
     case FresnelModel::SchlickIor:
-    case FresnelModel::Dielectric: return {"ior", "ior-outside"};
-    case FresnelModel::Conductor: return {"n", "k"};
-    case FresnelModel::F82Tint: return {"f0", "f82"};
-    case FresnelModel::Empirical: return {"bias", "scale", "power"};
+    case FresnelModel::Dielectric:
+      return {"ior", "ior-outside"};
+    case FresnelModel::Conductor:
+      return {"n", "k"};
+    case FresnelModel::F82Tint:
+      return {"f0", "f82"};
+    case FresnelModel::Empirical:
+      return {"bias", "scale", "power"};
   }
   return {};
 }
@@ -68,10 +74,8 @@ void check_unit(double v, const std::string& what) {
 void check_index(double v, const std::string& what, bool zero_allowed) {
   check_finite(v, what);
   if (zero_allowed ? v < 0.0 : v <= 0.0)
-    throw Error(what + (zero_allowed ? " must not be negative" : " must be positive") + " (got " +
-                fmt(v) + ")");
-  if (v > kFresnelMaxIndex)
-    throw Error(what + " must be at most " + fmt(kFresnelMaxIndex) + " (got " + fmt(v) + ")");
+    throw Error(what + (zero_allowed ? " must not be negative" : " must be positive") + " (got " + fmt(v) + ")");
+  if (v > kFresnelMaxIndex) throw Error(what + " must be at most " + fmt(kFresnelMaxIndex) + " (got " + fmt(v) + ")");
 }
 template <class Check>
 void check_rgb(const std::optional<Rgb>& c, const std::string& what, Check check) {
@@ -137,7 +141,6 @@ void check_values(const FresnelSpec& s) {
   }
 }
 
-
 // Parameters that belong to another model, values, sizes, and a material with what it excludes.
 void check_parameters(Resolved& r) {
   const FresnelSpec& s = r.spec;
@@ -158,7 +161,8 @@ void check_parameters(Resolved& r) {
                 detail::fresnel_join(given, " and ") + ")");
   if (m == FresnelModel::Empirical) throw Error("model 'empirical' takes bias, scale and power, not a material");
   if ((m == FresnelModel::SchlickIor || m == FresnelModel::Dielectric) && r.preset->kind == MaterialKind::Conductor)
-    throw Error("model '" + model + "' takes a real index; '" + s.material + "' is a conductor (use the conductor model)");
+    throw Error("model '" + model + "' takes a real index; '" + s.material +
+                "' is a conductor (use the conductor model)");
   if (r.two_d)
     throw Error("a 2-D table takes its " + std::string(detail::fresnel_y_parameter(m) == 1 ? "ior" : "f0") +
                 " from the y axis; give no material");
@@ -184,8 +188,10 @@ void resolve_y_axis(Resolved& r) {
       if (s.ior) throw Error("ior is the y axis of a 2-D " + model + " table; do not give it");
       break;
     default:
-      throw Error("a 2-D table is cos_theta x f0 (schlick, f82-tint) or cos_theta x ior "
-                  "(schlick-ior, dielectric); model '" + model + "' has neither");
+      throw Error(
+          "a 2-D table is cos_theta x f0 (schlick, f82-tint) or cos_theta x ior "
+          "(schlick-ior, dielectric); model '" +
+          model + "' has neither");
   }
   if (s.f90 && !detail::is_grey(*s.f90)) throw Error("a 2-D table has one channel: f90 must be one value");
   if (s.f82_tint && !detail::is_grey(*s.f82_tint)) throw Error("a 2-D table has one channel: f82 must be one value");
@@ -212,13 +218,25 @@ void check_required(const Resolved& r) {
                   (m == FresnelModel::Empirical ? "" : " (or a material)"));
   };
   switch (m) {
-    case FresnelModel::Schlick: require(r.two_d || s.f0.has_value(), "f0"); break;
-    case FresnelModel::SchlickMetallic: require(s.base_color && s.metallic, "base-color and metallic"); break;
+    case FresnelModel::Schlick:
+      require(r.two_d || s.f0.has_value(), "f0");
+      break;
+    case FresnelModel::SchlickMetallic:
+      require(s.base_color && s.metallic, "base-color and metallic");
+      break;
     case FresnelModel::SchlickIor:
-    case FresnelModel::Dielectric: require(r.two_d || s.ior.has_value(), "ior"); break;
-    case FresnelModel::Conductor: require(s.n && s.k, "n and k"); break;
-    case FresnelModel::F82Tint: require((r.two_d || s.f0) && s.f82_tint, r.two_d ? "f82" : "f0 and f82"); break;
-    case FresnelModel::Empirical: require(s.bias && s.scale && s.power, "bias, scale and power"); break;
+    case FresnelModel::Dielectric:
+      require(r.two_d || s.ior.has_value(), "ior");
+      break;
+    case FresnelModel::Conductor:
+      require(s.n && s.k, "n and k");
+      break;
+    case FresnelModel::F82Tint:
+      require((r.two_d || s.f0) && s.f82_tint, r.two_d ? "f82" : "f0 and f82");
+      break;
+    case FresnelModel::Empirical:
+      require(s.bias && s.scale && s.power, "bias, scale and power");
+      break;
   }
 }
 
@@ -280,8 +298,10 @@ std::vector<Rgb> kernel_parameters(Resolved& r) {
 int detail::fresnel_parameter_count(FresnelModel m) {
   switch (m) {
     case FresnelModel::SchlickMetallic:
-    case FresnelModel::Empirical: return 3;
-    default: return 2;
+    case FresnelModel::Empirical:
+      return 3;
+    default:
+      return 2;
   }
 }
 
@@ -326,8 +346,7 @@ FresnelSpec exact_fresnel_spec(const FresnelSpec& spec) {
   e.cos_theta = spec.cos_theta;
   e.precision = spec.precision;
   if (r.preset) {
-    e.model = r.preset->kind == MaterialKind::Conductor ? FresnelModel::Conductor
-                                                        : FresnelModel::Dielectric;
+    e.model = r.preset->kind == MaterialKind::Conductor ? FresnelModel::Conductor : FresnelModel::Dielectric;
     e.material = r.preset->name;
     return e;
   }
@@ -343,7 +362,8 @@ FresnelSpec exact_fresnel_spec(const FresnelSpec& spec) {
       e.n = spec.n;
       e.k = spec.k;
       return e;
-    default: break;
+    default:
+      break;
   }
   throw Error("model '" + std::string(fresnel_model_name(spec.model)) + "' with " +
               detail::fresnel_join(detail::fresnel_given_parameters(spec), " and ") +

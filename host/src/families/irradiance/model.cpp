@@ -11,10 +11,7 @@
 
 namespace brdfbake {
 
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 void detail::check_irradiance_spec(const IrradianceSpec& spec) {
   if (spec.sh_order != 3 && spec.sh_order != 5)

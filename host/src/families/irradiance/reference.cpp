@@ -19,7 +19,6 @@
 namespace brdfbake {
 namespace {
 
-
 // The sub-cells per source texel side of the reference's SH and cosine sums (envmap.hpp: q =
 // ceil(128 / size)).
 int cosine_subdivision(int source_size) { return std::max(1, (128 + source_size - 1) / source_size); }
@@ -49,9 +48,9 @@ IrradianceResult compute_irradiance_reference(const EnvImage& env, const Irradia
   const double cells = 6.0 * s * s * q * q;
   const double work = 6.0 * spec.cube_size * spec.cube_size * cells;
   if (work > kIrradianceReferenceMaxWork)
-    throw Error("the scalar reference would evaluate " + detail::fmt_number(work, "%.3g") + " cosine terms for an irradiance cube of " +
-                std::to_string(spec.cube_size) + " from a source of " + std::to_string(s) + ", above its limit of " +
-                detail::fmt_number(kIrradianceReferenceMaxWork, "%.3g") +
+    throw Error("the scalar reference would evaluate " + detail::fmt_number(work, "%.3g") +
+                " cosine terms for an irradiance cube of " + std::to_string(spec.cube_size) + " from a source of " +
+                std::to_string(s) + ", above its limit of " + detail::fmt_number(kIrradianceReferenceMaxWork, "%.3g") +
                 " (a few seconds): use an OpenCL device (--device), or a smaller cube or source size");
 
   if (progress) progress(0.0, "converting to a cube");

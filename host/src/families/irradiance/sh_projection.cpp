@@ -28,9 +28,9 @@
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
-#include "brdfbake/math/conventions.hpp"
 
 namespace brdfbake {
 namespace {

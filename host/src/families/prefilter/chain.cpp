@@ -30,7 +30,6 @@ namespace brdfbake::detail {
 
 namespace {
 
-
 // RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
 double rms_difference(const std::vector<float>& a, const std::vector<float>& b) {
   double sum = 0.0;
@@ -230,7 +229,8 @@ class ChainBaker {
     std::function<void(double)> stepper;
     if (progress) stepper = step;
     auto search_run = [&](int n, double r, std::vector<float>& dst) {
-      step_label = label + (quadrature_ ? ", refinement " + detail::fmt_number(r, "%.6g") : ", " + std::to_string(n) + " samples");
+      step_label = label + (quadrature_ ? ", refinement " + detail::fmt_number(r, "%.6g")
+                                        : ", " + std::to_string(n) + " samples");
       const double t = run_level(l, n, r, dst, stepper);
       ++run;
       return t;

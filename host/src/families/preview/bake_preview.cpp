@@ -18,7 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 const char* const kSiblings[] = {"preview.png", "preview_splitsum.exr", "preview_reference.exr", "preview.json"};
 
 }  // namespace
@@ -84,7 +83,8 @@ void write_bake_preview(const Job& job, const std::string& staging, Manifest& ma
        "per sphere, the relative RMS of |split-sum - reference| / |reference| in linear radiance (preview.json "
        "has every sphere's numbers)"});
   manifest.preview.push_back(
-      {"seconds", detail::fmt_number(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), "%.4g")});
+      {"seconds",
+       detail::fmt_number(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), "%.4g")});
 }
 
 }  // namespace brdfbake::detail::preview

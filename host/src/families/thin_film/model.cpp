@@ -15,7 +15,6 @@ namespace brdfbake {
 
 namespace {
 
-
 std::vector<double> cos_grid(int n) {
   std::vector<double> x(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) x[static_cast<size_t>(i)] = (i + 0.5) / n;
@@ -67,14 +66,16 @@ Table detail::make_thin_film_table(const ThinFilmSpec& r) {
   t.set_meta("film_ior", detail::fmt_number(r.film_ior));
   t.set_meta("outside_ior", detail::fmt_number(r.outside_ior));
   if (r.base_ior) t.set_meta("base_ior", detail::fmt_number(*r.base_ior));
-  t.set_meta("base_f0", detail::fmt_number(f.base_f0.r) + "," + detail::fmt_number(f.base_f0.g) + "," + detail::fmt_number(f.base_f0.b));
+  t.set_meta("base_f0", detail::fmt_number(f.base_f0.r) + "," + detail::fmt_number(f.base_f0.g) + "," +
+                            detail::fmt_number(f.base_f0.b));
   t.set_meta("width", std::to_string(t.width));
   t.set_meta("height", std::to_string(t.height));
   t.set_meta("channels", "r,g,b");
   t.set_meta("x_axis", "cos_theta = (i + 0.5) / width, the cell centre of column i (incidence from outside)");
-  t.set_meta("y_axis", r.height == 1 ? "thickness_nm = " + detail::fmt_number(r.thickness_min) + " (one row)"
-                                     : "thickness_nm = min + (max - min) (j + 0.5) / height, min " +
-                                           detail::fmt_number(r.thickness_min) + ", max " + detail::fmt_number(r.thickness_max));
+  t.set_meta("y_axis", r.height == 1
+                           ? "thickness_nm = " + detail::fmt_number(r.thickness_min) + " (one row)"
+                           : "thickness_nm = min + (max - min) (j + 0.5) / height, min " +
+                                 detail::fmt_number(r.thickness_min) + ", max " + detail::fmt_number(r.thickness_max));
   t.set_meta("layout",
              "row j = 0 (thinnest film) stored first; sample at uv = (cos_theta, (thickness - min) / (max - min))");
   return t;

@@ -49,8 +49,7 @@ enum class SheenVisibility {
 // Directional albedo of the Charlie sheen lobe: integral of D_charlie(h) V(l, v) n_dot_l over the
 // hemisphere (sheen colour 1, no Fresnel).
 double charlie_albedo(double n_dot_v, double sheen_roughness, SheenVisibility visibility);
-double charlie_albedo(double n_dot_v, double sheen_roughness, SheenVisibility visibility,
-                      const Quadrature& quadrature);
+double charlie_albedo(double n_dot_v, double sheen_roughness, SheenVisibility visibility, const Quadrature& quadrature);
 
 // Whole tables, texel (i, j) at the cell centre n_dot_v = (i+0.5)/width, roughness = (j+0.5)/height.
 // Row-major, j outer, `channels` floats per texel (see each function). threads = 0: all cores.
@@ -64,7 +63,6 @@ int lut_channels(LutKind kind);
 // benchmarks compare rates per evaluation with the device kernels.
 uint64_t lobe_evaluations_this_thread();
 std::vector<double> lut_table(LutKind kind, int width, int height,
-                              SheenVisibility visibility = SheenVisibility::EstevezKulla,
-                              unsigned threads = 0);
+                              SheenVisibility visibility = SheenVisibility::EstevezKulla, unsigned threads = 0);
 
 }  // namespace brdfbake::reference

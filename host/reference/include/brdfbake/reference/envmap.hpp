@@ -98,11 +98,10 @@ int env_default_subdivision(EnvLobe lobe, double alpha, int source_size);
 // L(R) itself. The normaliser is the same sum with L = 1, so a constant environment returns its
 // constant. Returns 3 doubles per direction. threads = 0: all cores.
 std::vector<double> prefilter_directions(const EnvCube& source, EnvLobe lobe, double roughness,
-                                         const std::vector<Vec3>& dirs, int subdivision = 0,
-                                         unsigned threads = 0);
+                                         const std::vector<Vec3>& dirs, int subdivision = 0, unsigned threads = 0);
 // The same at every texel centre of an out_size cube.
-EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size,
-                       int subdivision = 0, unsigned threads = 0);
+EnvCube prefilter_cube(const EnvCube& source, EnvLobe lobe, double roughness, int out_size, int subdivision = 0,
+                       unsigned threads = 0);
 
 // ---- Spherical harmonics and irradiance --------------------------------------------------------------
 
@@ -115,7 +114,7 @@ std::vector<double> sh_project(const EnvCube& source, int order, int subdivision
 // E(n) / pi = (1 / pi) int L(l) (n.l)+ dl for each unit normal, brute force (q x q sub-cells;
 // 0: q = ceil(128 / size), which resolves the cosine's kink at the horizon to ~2e-5; the error
 // falls as 1 / (size q)^2). 3 doubles per normal.
-std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals,
-                                          int subdivision = 0, unsigned threads = 0);
+std::vector<double> irradiance_directions(const EnvCube& source, const std::vector<Vec3>& normals, int subdivision = 0,
+                                          unsigned threads = 0);
 
 }  // namespace brdfbake::reference

@@ -76,13 +76,12 @@ Rgb fit_f82_tint(const Rgb& eta, const Rgb& k);
 // Error left by an approximation against an exact model, over cos_theta on a uniform grid of
 // `samples` points covering [0, 1] including both ends (samples >= 2).
 struct FresnelFitError {
-  double max_abs;       // max |approx - exact| over the grid
-  double mean_abs;      // arithmetic mean of |approx - exact| over the grid points
-  double cos_at_max;    // the grid cosine where max_abs occurs (the first, on ties)
+  double max_abs;     // max |approx - exact| over the grid
+  double mean_abs;    // arithmetic mean of |approx - exact| over the grid points
+  double cos_at_max;  // the grid cosine where max_abs occurs (the first, on ties)
 };
 inline constexpr int kFitErrorSamples = 4097;
 FresnelFitError fresnel_fit_error(const std::function<double(double)>& approx,
-                                  const std::function<double(double)>& exact,
-                                  int samples = kFitErrorSamples);
+                                  const std::function<double(double)>& exact, int samples = kFitErrorSamples);
 
 }  // namespace brdfbake::reference

@@ -13,9 +13,9 @@
 namespace brdfbake::reference {
 
 struct ThinFilm {
-  double outside_ior = 1.0;          // the medium the light comes from (air)
-  double film_ior = 1.3;             // iridescenceIor (the extension's default)
-  Rgb base_f0{0.04, 0.04, 0.04};     // the base under the film, by its F0 seen from air
+  double outside_ior = 1.0;       // the medium the light comes from (air)
+  double film_ior = 1.3;          // iridescenceIor (the extension's default)
+  Rgb base_f0{0.04, 0.04, 0.04};  // the base under the film, by its F0 seen from air
 };
 
 // ((n_t - n_i) / (n_t + n_i))^2: the normal-incidence reflectance of an interface.
