@@ -99,6 +99,74 @@ std::map<std::string, double>& environment_cache() {
   return cache;
 }
 
+// The key of a group's estimate in the cache: its bake, its device and environment, and each
+// output's container, format and texels.
+std::string group_key(const Job& job, const std::vector<size_t>& g) {
+  const TableRequest& t = job.tables[g.front()];
+  std::string key = t.device + "|" + t.environment + "|" + (job.sanitize ? "s" : "") + "|" + table_bake_key(t);
+  for (size_t i : g) {
+    const TableRequest& o = job.tables[i];
+    const size_t dot = o.output.rfind('.');
+    key += "|" + (dot == std::string::npos ? std::string() : o.output.substr(dot)) + "," + o.format + "," + o.pixel;
+  }
+  return key;
+}
+
+// A group measured on `backend`: baked at its own size when small, else at 1/4 (twice) and 1/2 of
+// its sides and extrapolated in its texels.
+Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeInputs& inputs, Backend& backend) {
+  const TableRequest& head = job.tables[g.front()];
+  Measured m;
+  // A bake of `t` (the head's sides divided or not) and the delivery of each output at its sides.
+  const auto measure = [&](const TableRequest& t) {
+    Point p;
+    p.work = work_units(t);
+    const auto t0 = Clock::now();
+    TableRunOptions run;
+    run.delivery = TableDelivery::Memory;
+    run.backend = &backend;
+    run.inputs = inputs;
+    const TableRun tr = run_table(t, run);
+    const BakeResult& r = tr.result;
+    for (size_t i : g) {
+      TableRequest o = job.tables[i];
+      o.params = t.params;  // the outputs of a group share the bake's parameters
+      const Delivery d = deliver_result(r, o, TableDelivery::Bytes);
+      double b = 0;
+      for (const auto& f : d.files) b += double(f.bytes.size());
+      p.bytes.push_back(b);
+    }
+    p.seconds = since(t0);
+    return p;
+  };
+  const double work = work_units(head);
+  std::optional<TableRequest> half, quarter;
+  if (head.find("size") && work > kEstimateMeasureBelow) {
+    half = scaled(head, 2);
+    quarter = scaled(head, 4);
+  }
+  if (half && quarter && work_units(*quarter) < work_units(*half)) {
+    // The first bake pays what a kind pays once (its programs loaded or built, first-touch
+    // allocations): measured apart, as the difference to a second bake of the same size, and
+    // added once, so that the fit sees only the part that grows with the texels.
+    const Point first = measure(*quarter);
+    const Point small = measure(*quarter);
+    const Point large = measure(*half);
+    m.seconds = std::max(0.0, first.seconds - small.seconds) +
+                extrapolate(small.work, small.seconds, large.work, large.seconds, work);
+    for (size_t k = 0; k < g.size(); ++k)
+      m.bytes.push_back(static_cast<std::uint64_t>(
+          std::llround(extrapolate(small.work, small.bytes[k], large.work, large.bytes[k], work))));
+    m.method = "scaled";
+  } else {
+    const Point p = measure(head);
+    m.seconds = p.seconds;
+    for (double b : p.bytes) m.bytes.push_back(static_cast<std::uint64_t>(b));
+    m.method = "measured";
+  }
+  return m;
+}
+
 }  // namespace
 
 PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
@@ -118,16 +186,6 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
     if (fresh) groups.emplace_back();
     groups[it->second].push_back(i);
   }
-  const auto group_key = [&](const std::vector<size_t>& g) {
-    const TableRequest& t = job.tables[g.front()];
-    std::string key = t.device + "|" + t.environment + "|" + (job.sanitize ? "s" : "") + "|" + table_bake_key(t);
-    for (size_t i : g) {
-      const TableRequest& o = job.tables[i];
-      const size_t dot = o.output.rfind('.');
-      key += "|" + (dot == std::string::npos ? std::string() : o.output.substr(dot)) + "," + o.format + "," + o.pixel;
-    }
-    return key;
-  };
 
   PlanEstimate out;
   out.tables.resize(job.tables.size());
@@ -161,7 +219,7 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
 
   bool measured_any = false;
   for (const auto& g : groups) {
-    const std::string key = group_key(g);
+    const std::string key = group_key(job, g);
     Measured m;
     bool cached = false;
     {
@@ -174,55 +232,7 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
       const TableRequest& head = job.tables[g.front()];
       BakeInputs inputs;
       if (table_kind_uses_environment(head.kind)) inputs.environment = &environment(head.environment);
-      // A bake of `t` (the head's sides divided or not) and the delivery of each output at its sides.
-      const auto measure = [&](const TableRequest& t, Backend& backend) {
-        Point p;
-        p.work = work_units(t);
-        const auto t0 = Clock::now();
-        TableRunOptions run;
-        run.delivery = TableDelivery::Memory;
-        run.backend = &backend;
-        run.inputs = inputs;
-        const TableRun tr = run_table(t, run);
-        const BakeResult& r = tr.result;
-        for (size_t i : g) {
-          TableRequest o = job.tables[i];
-          o.params = t.params;  // the outputs of a group share the bake's parameters
-          const Delivery d = deliver_result(r, o, TableDelivery::Bytes);
-          double b = 0;
-          for (const auto& f : d.files) b += double(f.bytes.size());
-          p.bytes.push_back(b);
-        }
-        p.seconds = since(t0);
-        return p;
-      };
-      const double work = work_units(head);
-      std::optional<TableRequest> half, quarter;
-      if (head.find("size") && work > kEstimateMeasureBelow) {
-        half = scaled(head, 2);
-        quarter = scaled(head, 4);
-      }
-      on_device(head.device, [&](Backend& backend) {
-        if (half && quarter && work_units(*quarter) < work_units(*half)) {
-          // The first bake pays what a kind pays once (its programs loaded or built, first-touch
-          // allocations): measured apart, as the difference to a second bake of the same size, and
-          // added once, so that the fit sees only the part that grows with the texels.
-          const Point first = measure(*quarter, backend);
-          const Point small = measure(*quarter, backend);
-          const Point large = measure(*half, backend);
-          m.seconds = std::max(0.0, first.seconds - small.seconds) +
-                      extrapolate(small.work, small.seconds, large.work, large.seconds, work);
-          for (size_t k = 0; k < g.size(); ++k)
-            m.bytes.push_back(static_cast<std::uint64_t>(
-                std::llround(extrapolate(small.work, small.bytes[k], large.work, large.bytes[k], work))));
-          m.method = "scaled";
-        } else {
-          const Point p = measure(head, backend);
-          m.seconds = p.seconds;
-          for (double b : p.bytes) m.bytes.push_back(static_cast<std::uint64_t>(b));
-          m.method = "measured";
-        }
-      });
+      on_device(head.device, [&](Backend& backend) { m = measure_group(job, g, inputs, backend); });
       std::lock_guard<std::mutex> lock(cache_mutex);
       group_cache()[key] = m;
     }
