@@ -25,10 +25,9 @@ namespace {
 
 constexpr const char* kRtr4Metals = "Real-Time Rendering 4th ed. (2018), Table 9.2, linear sRGB";
 
-std::vector<MaterialPreset> make_presets() {
+// The conductors: complex indices per R, G, B and their F0 for comparison.
+std::vector<MaterialPreset> conductor_presets() {
   using K = MaterialKind;
-  const Rgb zero{0.0, 0.0, 0.0};
-  const auto grey = [](double v) { return Rgb{v, v, v}; };
   return {
       // ---- Conductors ----------------------------------------------------------------------
       // main/Au/Johnson.yml; samples 616.8/659.5, 520.9/548.6, 450.9/471.4 nm.
@@ -107,7 +106,15 @@ std::vector<MaterialPreset> make_presets() {
        "measured data)",
        Rgb{0.673, 0.637, 0.585},
        kRtr4Metals},
+  };
+}
 
+// The dielectrics: real indices per R, G, B (no extinction).
+std::vector<MaterialPreset> dielectric_presets() {
+  using K = MaterialKind;
+  const Rgb zero{0.0, 0.0, 0.0};
+  const auto grey = [](double v) { return Rgb{v, v, v}; };
+  return {
       // ---- Dielectrics ---------------------------------------------------------------------
       // main/H2O/Daimon-20.0C.yml, 4-term Sellmeier; n_D = 1.3333.
       {"water",
@@ -185,6 +192,12 @@ std::vector<MaterialPreset> make_presets() {
        grey(0.028),
        "Real-Time Rendering 4th ed. (2018), Table 9.1"},
   };
+}
+
+std::vector<MaterialPreset> make_presets() {
+  std::vector<MaterialPreset> all = conductor_presets();
+  for (MaterialPreset& p : dielectric_presets()) all.push_back(std::move(p));
+  return all;
 }
 
 }  // namespace
