@@ -348,11 +348,14 @@ TEST(EstimateJob, TimeAndBytesOfTheBakeItEstimates) {
       EXPECT_EQ(t.bytes, m.files[i].bytes) << t.output;
     } else {
       // Fitted from 1/2 and 1/4 of each side: uncompressed containers (KTX2, DDS) grow with the
-      // texels exactly, except for per-level headers and the metadata's text: 1 % covers them;
-      // OpenEXR's ZIP compression (tables above 64 KiB) compresses a larger table a little
-      // differently (1.8 % measured for a 128^2 DFG table): 5 %.
+      // texels exactly, except for per-level headers and the metadata's text, whose length follows
+      // the level count, not the texels (a chain records its bound, roughness and samples per
+      // level; the measuring bakes at 1/4 and 1/2 have fewer levels): 2 % covers them (measured
+      // 1.1 % for the 64^2 DDS chain, 0.002 % for the 128^2 KTX2 one); OpenEXR's ZIP compression
+      // (tables above 64 KiB) compresses a larger table a little differently (1.8 % measured for a
+      // 128^2 DFG table): 5 %.
       EXPECT_EQ(t.method, "scaled") << t.output;
-      const double tolerance = fs::path(t.output).extension() == ".exr" ? 0.05 : 0.01;
+      const double tolerance = fs::path(t.output).extension() == ".exr" ? 0.05 : 0.02;
       EXPECT_NEAR(double(t.bytes), double(m.files[i].bytes), tolerance * double(m.files[i].bytes)) << t.output;
     }
   }
