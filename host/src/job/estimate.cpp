@@ -146,9 +146,9 @@ Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeI
     quarter = scaled(head, 4);
   }
   // Each measurement follows a first bake of the same request, untimed: it builds or loads the kind's
-  // programs (a size may launch variants another does not) and touches its allocations. The estimate pays that; the bake after it finds the
-  // programs built (on a fresh machine, cold builds of ~1 s a program would otherwise count, which
-  // the bake then does not pay: 9.4 s estimated for a 1.5 s bake with empty kernel caches).
+  // programs (a size may launch variants another does not) and touches its allocations. The estimate pays that; the
+  // bake after it finds the programs built (on a fresh machine, cold builds of ~1 s a program would otherwise count,
+  // which the bake then does not pay: 9.4 s estimated for a 1.5 s bake with empty kernel caches).
   if (half && quarter && work_units(*quarter) < work_units(*half)) {
     measure(*quarter);
     measure(*half);  // a larger size may launch other variants of the kind's kernels
