@@ -491,13 +491,19 @@ Plan bake_plan(const std::string& body_text, const std::string& origin, const Ro
   OptionNaming naming;
   naming.prefix = origin;
   const BakeOptions options = parse_bake_options(given, naming);
-  if (options.scene.empty()) return plan_default(options.plan);
-  const std::string path = roots.input_file(options.scene, origin + ": scene");
-  const std::string bytes = io::read_text_file(path, "scene");
-  // Parsed from memory with no base folder: the server looks at no file the scene refers to.
-  const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-  const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
-  return plan_scene(s, options.plan);
+  Plan plan;
+  if (options.scene.empty()) {
+    plan = plan_default(options.plan);
+  } else {
+    const std::string path = roots.input_file(options.scene, origin + ": scene");
+    const std::string bytes = io::read_text_file(path, "scene");
+    // Parsed from memory with no base folder: the server looks at no file the scene refers to.
+    const bool glb = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    const Scene s = glb ? parse_glb(bytes, options.scene, "") : parse_scene_json(bytes, options.scene, "");
+    plan = plan_scene(s, options.plan);
+  }
+  plan.job.preview = options.preview;  // as plan_bake does
+  return plan;
 }
 
 }  // namespace brdfbake::server

@@ -144,6 +144,31 @@ TEST(Job, IdenticalEntriesMerge) {
   EXPECT_EQ(job.tables[0].materials(), (std::vector<std::string>{"#0", "#1"}));
 }
 
+// The material preview is asked for the same way from every front end: the job document's "preview"
+// (round trip through job_to_json, so that the page's "copy job JSON" reproduces it with `brdfbake
+// run`), and the bake option "preview" (POST /v1/bake, the page's form, Python's bake_scene), which
+// the plan carries into its job. Before, neither existed: only the command line's `bake --preview`.
+TEST(Job, PreviewInJobDocumentsAndBakeOptions) {
+  const Job j = parse_job(R"({"brdfbake_job": 1, "preview": true, "target": "filament",
+                              "tables": [{"kind": "ggx-multiscatter", "size": 16}]})",
+                          "job.json");
+  EXPECT_TRUE(j.preview);
+  EXPECT_TRUE(parse_job(job_to_json(j), "again.json").preview);
+  EXPECT_FALSE(parse_job(R"({"tables": []})", "none.json").preview);
+  EXPECT_EQ(nlohmann::json::parse(job_to_json(parse_job(R"({"tables": []})", "none.json"))).count("preview"), 0u);
+  try {
+    parse_job(R"({"preview": "yes", "tables": []})", "bad.json");
+    ADD_FAILURE() << "a preview that is not a boolean was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json: preview: must be true or false"), std::string::npos) << e.what();
+  }
+
+  OptionNaming naming;
+  const Plan with = plan_bake(parse_bake_options({{"preview", true}, {"target", std::string("filament")}}, naming));
+  EXPECT_TRUE(with.job.preview);
+  EXPECT_FALSE(plan_bake(parse_bake_options({}, naming)).job.preview);
+}
+
 TEST(Job, KindNames) {
   for (TableKind k : table_kinds()) EXPECT_EQ(table_kind_from_name(table_kind_name(k)), k);
   EXPECT_THROW(table_kind_from_name("nope"), Error);

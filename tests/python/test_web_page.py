@@ -378,6 +378,36 @@ def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_p
     assert target.read_bytes() == (tmp_path / "cli" / chain).read_bytes(), chain
 
 
+def test_bake_with_the_material_preview(server, browser):
+    """The bake option "preview" (a checkbox generated from GET /v1/bake/options like every option):
+    the target's material preview lands with the files and its sheet is drawn, captioned with the
+    split-sum's error against the reference."""
+    _login(browser, server["url"])
+    _set(browser, "environment", "builtin:sun")
+    _set(browser, "target", "filament")
+    browser.find_element("id", "preset-draft").click()
+    if not browser.find_element("id", "more-options").get_attribute("open"):
+        browser.find_element("css selector", "#more-options summary").click()
+    box = browser.find_element("id", "opt-preview")
+    assert box.get_attribute("type") == "checkbox"
+    if not box.is_selected():
+        box.click()
+    before = _text(browser, "job-id")
+    browser.find_element("id", "bake-button").click()
+    _wait(browser, lambda d: _text(d, "job-id") not in ("", before) and
+          d.execute_script("return document.getElementById('results').dataset.ready === 'true'"),
+          "the bake with its preview done and its pictures shown")
+    assert _text(browser, "job-state") == "done"
+    sheet = browser.find_element("css selector", "#results div.file[data-path='preview.png']")
+    caption = sheet.find_element("css selector", "p").text
+    assert re.search(r"material preview \(filament\): split-sum vs reference, relative RMS [0-9.]+ % median", caption), caption
+    pictures = {p["alt"]: p for p in browser.execute_script(PIXELS_JS)}
+    p = pictures["contact sheet of preview.png (brdfbake view)"]
+    assert p["complete"] and p["width"] > 0 and p["variance"] > 0, p
+    for name in ("preview.json", "preview_splitsum.exr", "preview_reference.exr"):
+        browser.find_element("css selector", f"#results div.file[data-path='{name}']")
+
+
 def test_progress_moves_and_cancel_stops_the_job(server, browser):
     _login(browser, server["url"])
     browser.find_element("id", "preset-production").click()

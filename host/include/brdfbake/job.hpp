@@ -33,7 +33,7 @@ struct Job {
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;
   // `brdfbake bake --preview`: also render the preview of the files (the preview family, default grid)
-  // into preview.png and its siblings, recorded in the manifest's "preview" (not in job documents).
+  // into preview.png and its siblings, recorded in the manifest's "preview" (job documents: "preview").
   bool preview = false;
   // Informative, carried into the manifest.
   std::string scene;

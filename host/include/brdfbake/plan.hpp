@@ -85,6 +85,7 @@ struct OptionNaming {
 struct BakeOptions {
   std::string scene;  // "" = no scene: the standard set for metallic-roughness materials
   PlanOptions plan;
+  bool preview = false;  // also render the target's preview of the files (Job::preview)
 };
 
 // Reads the options given, each a field of bake_option_schema() with a typed value (command-line

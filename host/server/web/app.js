@@ -473,6 +473,12 @@ async function download(id, path) {
   }
 }
 
+// A fraction as the page prints it (0.0123 -> "1.23 %"); the manifest keeps numbers as text.
+function pct(v) {
+  const x = Number(v);
+  return Number.isFinite(x) ? `${(100 * x).toPrecision(3)} %` : '—';
+}
+
 function describe(f) {
   const parts = [];
   if (f.kind) parts.push(f.kind);
@@ -492,6 +498,16 @@ function showResults(job, s) {
   const engine = manifest.engine || {};
   // Filament's KTX1 cubes (R11F_G11F_B10F, RGBM) are drawn too: the view code reads them.
   for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: /\.ktx$/i.test(p) });
+  // The material preview (the bake option "preview", docs/PREVIEW.md): its sheet drawn like any file,
+  // captioned with the split-sum's error against the reference; its EXRs and JSON listed.
+  const preview = manifest.preview || {};
+  for (const p of preview.files || []) {
+    const sheet = p === preview.sheet;
+    const numbers = `material preview (${preview.target}): split-sum vs reference, relative RMS ` +
+      `${pct(preview.error_rms_median)} median, ${pct(preview.error_rms_max)} worst sphere; ` +
+      `reference within ${pct(preview.reference_bound_max)}`;
+    files.push({ path: p, kind: sheet ? numbers : 'material preview', picture: sheet });
+  }
   files.push({ path: 'manifest.json', kind: 'manifest', picture: false });
   const pictures = [];
   for (const f of files) {

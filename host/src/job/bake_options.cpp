@@ -68,6 +68,10 @@ const std::vector<ParamDef>& bake_option_schema() {
                            "the texels of .ktx2, .h and cube containers (default: each kind's); astc4x4 | astc6x6: "
                            "the prefiltered chains as ASTC HDR KTX2 (targets generic, khronos-viewer)")
                       .one_of({"f16", "f32", "astc4x4", "astc6x6"}));
+    out.push_back(ParamDef("preview", T::Flag,
+                           "also render the target's preview of the files: preview.png, preview_splitsum.exr, "
+                           "preview_reference.exr, preview.json (docs/PREVIEW.md)")
+                      .def(false));
     out.push_back(ParamDef("precision", T::Name, "the precision of the kernels")
                       .one_of({"fp32", "fp64"})
                       .def(std::string("fp32")));
@@ -107,6 +111,8 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
       o.sanitize = std::get<bool>(p.value);
     else if (p.name == "pixel")
       o.pixel = std::get<std::string>(p.value);
+    else if (p.name == "preview")
+      out.preview = std::get<bool>(p.value);
     else if (p.name == "precision")
       o.precision = precision_from_name(std::get<std::string>(p.value));
     else if (p.name == "device")
@@ -130,7 +136,9 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
 }
 
 Plan plan_bake(const BakeOptions& options) {
-  return options.scene.empty() ? plan_default(options.plan) : plan_scene(read_scene(options.scene), options.plan);
+  Plan plan = options.scene.empty() ? plan_default(options.plan) : plan_scene(read_scene(options.scene), options.plan);
+  plan.job.preview = options.preview;
+  return plan;
 }
 
 }  // namespace brdfbake

@@ -238,6 +238,9 @@ Job parse_job(const std::string& text, const std::string& origin) {
     } else if (key == "sanitize") {
       if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
       job.sanitize = it->get<bool>();
+    } else if (key == "preview") {
+      if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
+      job.preview = it->get<bool>();
     } else if (key == "device") {
       job.device = get_string(*it, field);
     } else if (key == "precision") {
@@ -257,7 +260,7 @@ Job parse_job(const std::string& text, const std::string& origin) {
       if (!it->is_array()) throw Error(field + ": must be an array of tables (got " + json_excerpt(*it) + ")");
     } else {
       throw Error(origin + ": " + key.substr(0, 60) +
-                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, target, engine_name, "
+                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, preview, target, engine_name, "
                   "device, precision, tables, scene, notes, warnings, plan)");
     }
   }
@@ -339,6 +342,7 @@ json job_json(const Job& job) {
   if (!job.scene.empty()) o["scene"] = job.scene;
   o["environment"] = job.environment;
   if (job.sanitize) o["sanitize"] = true;
+  if (job.preview) o["preview"] = true;
   if (job.target != "generic") o["target"] = job.target;
   if (!job.engine_name.empty()) o["engine_name"] = job.engine_name;
   o["device"] = job.device;
