@@ -259,9 +259,10 @@ Job parse_job(const std::string& text, const std::string& origin) {
     } else if (key == "tables") {
       if (!it->is_array()) throw Error(field + ": must be an array of tables (got " + json_excerpt(*it) + ")");
     } else {
-      throw Error(origin + ": " + key.substr(0, 60) +
-                  ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, preview, target, engine_name, "
-                  "device, precision, tables, scene, notes, warnings, plan)");
+      throw Error(
+          origin + ": " + key.substr(0, 60) +
+          ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, preview, target, engine_name, "
+          "device, precision, tables, scene, notes, warnings, plan)");
     }
   }
   if (!root.contains("tables")) throw Error(origin + ": tables: missing (the list of tables to bake)");
