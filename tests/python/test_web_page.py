@@ -406,6 +406,8 @@ def test_bake_with_the_material_preview(server, browser):
     assert p["complete"] and p["width"] > 0 and p["variance"] > 0, p
     for name in ("preview.json", "preview_splitsum.exr", "preview_reference.exr"):
         browser.find_element("css selector", f"#results div.file[data-path='{name}']")
+    browser.execute_script("document.querySelector(\"#results div.file[data-path='preview.png']\").scrollIntoView()")
+    _shot(browser, "preview")
 
 
 def test_progress_moves_and_cancel_stops_the_job(server, browser):
