@@ -32,6 +32,7 @@
 #include "io/special_files.hpp"
 #include "server/confine.hpp"
 #include "server/connections.hpp"
+#include "server/job_files.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
 #include "server/reply.hpp"
@@ -573,26 +574,18 @@ void Server::Impl::delete_job(const httplib::Request& req, httplib::Response& re
 
 void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1], name = req.matches[2];
-  const auto r = store->get(id, false);
-  if (!r) return fail(res, 404, "no job '" + id.substr(0, 40) + "'");
-  if (r->state != JobState::Done)
-    return fail(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
-                "job " + id + " is " + job_state_name(r->state) + ": its files are served once it is done");
-  const fs::path given(name);
-  bool up = false;
-  for (const auto& part : given) up |= part == "..";
-  if (given.is_absolute() || up)
-    return fail(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
-  const std::string path = roots->data_file(jobs_dir() / id, name);
-  if (path.empty()) {
+  const JobFile file = find_job_file(*store, *roots, jobs_dir(), id, name, "served");
+  if (file.path.empty()) {
     std::error_code ec;
-    if (fs::symlink_status((jobs_dir() / id / given).lexically_normal(), ec).type() == fs::file_type::directory)
+    if (file.missing && fs::symlink_status((jobs_dir() / id / fs::path(name)).lexically_normal(), ec).type() ==
+                            fs::file_type::directory)
       return fail(res, 404,
                   "job " + id + ": '" + name.substr(0, 80) +
                       "' is a folder; its files are listed one by one in the job's \"files\" (GET /v1/jobs/" + id +
                       ")");
-    return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+    return fail(res, file.status, file.error);
   }
+  const std::string& path = file.path;
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   struct stat st {};
   if (fd < 0 || ::fstat(fd, &st) != 0) {

@@ -27,6 +27,7 @@
 #include "io/atomic_file.hpp"
 #include "io/json_input.hpp"
 #include "server/confine.hpp"
+#include "server/job_files.hpp"
 #include "server/job_store.hpp"
 #include "server/reply.hpp"
 
@@ -265,18 +266,9 @@ void get_inputs(const WebContext& c, httplib::Response& res) {
 // GET /v1/jobs/ID/view/NAME: the file's contact sheet (`brdfbake view NAME`) as a PNG.
 void get_view(const WebContext& c, const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1], name = req.matches[2];
-  const auto r = c.store->get(id, false);
-  if (!r) return reply_error(res, 404, "no job '" + id.substr(0, 40) + "'");
-  if (r->state != JobState::Done)
-    return reply_error(res, r->state == JobState::Queued || r->state == JobState::Running ? 409 : 404,
-                       "job " + id + " is " + job_state_name(r->state) + ": its files are shown once it is done");
-  const fs::path given(name);
-  bool up = false;
-  for (const auto& part : given) up |= part == "..";
-  if (given.is_absolute() || up)
-    return reply_error(res, 400, "file name '" + name.substr(0, 80) + "' must be a path inside the job's folder");
-  const std::string path = c.roots->data_file(c.jobs_dir / id, name);
-  if (path.empty()) return reply_error(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
+  const JobFile file = find_job_file(*c.store, *c.roots, c.jobs_dir, id, name, "shown");
+  if (file.path.empty()) return reply_error(res, file.status, file.error);
+  const std::string& path = file.path;
   static std::atomic<unsigned> counter{0};
   const fs::path png = c.tmp_dir / ("view-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".png");
   std::string bytes;

@@ -408,3 +408,45 @@ TEST(EstimateJob, TimeAndBytesOfTheBakeItEstimates) {
 }
 
 }  // namespace
+
+namespace {
+
+// The estimate measures the bakes the run makes (one grouping, job/group_tables.hpp): each table's
+// estimated bake index equals the manifest's, for a job of mixed kinds whose tables repeat a bake
+// with and without the job's device spelt out (a table without a device bakes on the job's; an
+// estimate that grouped by the tables' fields alone counted 4 bakes where the run makes 3). All on
+// the reference backend: no OpenCL device needed.
+TEST(EstimateJob, GroupsTheTablesAsTheRunDoes) {
+  Job job = parse_job(R"({"tables": [
+      {"kind": "ggx", "size": 8, "output": "a/dfg.csv"},
+      {"kind": "fresnel", "model": "dielectric", "ior": 1.5, "size": 16, "output": "fresnel.csv"},
+      {"kind": "ggx", "size": 8, "device": "reference", "output": "b/dfg.csv"},
+      {"kind": "charlie", "size": 8, "output": "charlie.csv"},
+      {"kind": "fresnel", "model": "dielectric", "ior": 1.5, "size": 16, "device": "reference",
+       "output": "copy/fresnel.csv"}],
+      "device": "reference", "environment": "builtin:studio"})",
+                      "job.json");
+  const PlanEstimate e = estimate_job(job);
+  ASSERT_EQ(e.tables.size(), job.tables.size());
+  const fs::path dir = temp_dir("estimate-groups");
+  job.output_dir = dir.string();
+  const Manifest m = run_job(job);
+  ASSERT_EQ(m.files.size(), job.tables.size());
+  EXPECT_EQ(m.bakes, 3);
+  std::map<std::string, int> run_bake;  // the manifest lists the files bake by bake
+  for (const auto& f : m.files) run_bake[f.path] = f.bake;
+  for (const auto& t : e.tables) {
+    ASSERT_TRUE(run_bake.count(t.output)) << t.output;
+    EXPECT_EQ(t.bake, run_bake[t.output]) << t.output;
+  }
+  // The expected groups, spelt out: {a/dfg, b/dfg}, {fresnel, copy/fresnel}, {charlie}.
+  EXPECT_EQ(e.tables[0].bake, e.tables[2].bake);
+  EXPECT_EQ(e.tables[1].bake, e.tables[4].bake);
+  EXPECT_NE(e.tables[0].bake, e.tables[1].bake);
+  EXPECT_NE(e.tables[3].bake, e.tables[0].bake);
+  EXPECT_NE(e.tables[3].bake, e.tables[1].bake);
+  EXPECT_EQ(e.tables[2].seconds, 0.0) << "a second output of one bake costs its bake once";
+  fs::remove_all(dir);
+}
+
+}  // namespace

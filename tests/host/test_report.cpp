@@ -256,6 +256,78 @@ TEST(BakeSweep, ParetoFrontAndRecommendation) {
   EXPECT_EQ(t.recommended, 1);
 }
 
+// The page of `report --kinds bake` alone says what it answers (not the DFG report's intro), and
+// its plots' labels do not overlap: a sweep whose settings tie (the same error at nearly the same
+// time and bytes, as lut_size and the chain's max error do on a real sweep) drew their labels on top
+// of each other. Each label's box is estimated as the page places them (9-pixel font, 5.2 pixels a
+// character, a 10-pixel line); every Pareto point's setting is written.
+TEST(BakeSweep, PageSaysWhatItAnswersAndItsLabelsDoNotOverlap) {
+  Report r;
+  BakeSweep sweep;
+  sweep.environment = "builtin:studio";
+  sweep.preview_width = 96;
+  BakeSweepTarget t;
+  t.target = "generic";
+  const char* const labels[] = {"default",     "cube_size=64", "cube_size=128", "lut_size=16", "lut_size=32",
+                                "lut_size=64", "pixel=f32",    "sh_order=5",    "min_size=4",  "n_dot_v_axis=sqrt"};
+  for (size_t i = 0; i < std::size(labels); ++i) {
+    BakeSweepPoint p;
+    p.label = labels[i];
+    const bool tied = i >= 3 && i <= 7;  // five settings at the default's error, 1.00-1.04 s, 4.4 MB
+    p.seconds = tied ? 1.0 + 0.01 * double(i - 3) : i == 0 ? 1.05 : 0.2 * double(i);
+    p.error = tied || i == 0 ? 0.109 : 0.13 - 0.004 * double(i);
+    p.bytes = tied || i == 0 ? 4400000 + 1000 * i : 500000 * i;
+    p.wall_seconds = {p.seconds};
+    t.points.push_back(p);
+  }
+  mark_bake_sweep(t);
+  sweep.targets.push_back(t);
+  r.bake.push_back(sweep);
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("<h1>brdfbake: what each bake setting costs</h1>"), std::string::npos);
+  EXPECT_NE(html.find("Which bake settings to use for each target engine"), std::string::npos);
+  EXPECT_EQ(html.find("DFG errors are"), std::string::npos) << "the DFG report's intro on the bake page";
+
+  struct Box {
+    double x0, y0, x1, y1;
+    std::string text;
+  };
+  size_t at = 0;
+  int plots = 0;
+  while ((at = html.find("<svg", at)) != std::string::npos) {
+    const size_t end = html.find("</svg>", at);
+    const std::string svg = html.substr(at, end - at);
+    at = end;
+    ++plots;
+    std::vector<Box> boxes;
+    size_t k = 0;
+    while ((k = svg.find("<text x=\"", k)) != std::string::npos) {
+      const size_t close = svg.find('>', k), stop = svg.find("</text>", close);
+      const std::string tag = svg.substr(k, close - k), text = svg.substr(close + 1, stop - close - 1);
+      k = stop;
+      if (tag.find("font-size=\"9\"") == std::string::npos) continue;  // axis ticks and titles
+      const double x = std::stod(tag.substr(tag.find("x=\"") + 3)), y = std::stod(tag.substr(tag.find(" y=\"") + 4));
+      const double w = 5.2 * double(text.size());
+      const bool end_anchor = tag.find("text-anchor=\"end\"") != std::string::npos;
+      boxes.push_back({end_anchor ? x - w : x, y - 8, end_anchor ? x : x + w, y + 2, text});
+    }
+    ASSERT_FALSE(boxes.empty()) << svg;
+    for (size_t a = 0; a < boxes.size(); ++a)
+      for (size_t b = a + 1; b < boxes.size(); ++b) {
+        const bool apart = boxes[a].x1 <= boxes[b].x0 || boxes[b].x1 <= boxes[a].x0 || boxes[a].y1 <= boxes[b].y0 ||
+                           boxes[b].y1 <= boxes[a].y0;
+        EXPECT_TRUE(apart) << "plot " << plots << ": '" << boxes[a].text << "' over '" << boxes[b].text << "'";
+      }
+    const bool bytes_plot = svg.find("against bytes") != std::string::npos;
+    for (const BakeSweepPoint& p : r.bake[0].targets[0].points) {
+      if (!(bytes_plot ? p.pareto_bytes : p.pareto_time)) continue;
+      EXPECT_TRUE(std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.text == p.label; }))
+          << "plot " << plots << ": the Pareto point " << p.label << " is not labelled";
+    }
+  }
+  EXPECT_EQ(plots, 2);
+}
+
 TEST(CliReport, BadUsageIsOneLineAndExitTwo) {
   const fs::path dir = temp_dir("bad");
   for (const std::string args :

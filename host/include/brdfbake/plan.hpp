@@ -114,6 +114,9 @@ struct TableEstimate {
   std::uint64_t bytes = 0;  // its files: the output and any sidecar
   // "measured": baked at its own size; "scaled": fitted from bakes at 1/2 and 1/4 of its sizes.
   std::string method;
+  // Index of the bake that makes it, as the manifest's ManifestFile::bake: outputs of one bake
+  // share it (run_job's groups: the estimate measures the bakes the run makes).
+  int bake = 0;
 };
 
 struct PlanEstimate {

@@ -132,19 +132,12 @@ std::vector<uint8_t> ktx2_cube_bytes(const CubeLevels& cube, PixelType pixel, co
   if (o.astc != AstcBlock::None) {
     const int block = o.astc == AstcBlock::Astc4x4 ? 4 : 6;
     const io::AstcCube astc = io::compress_astc_cube(cube, block, o.astc_quality);
-    io::Ktx2Image image;
-    image.vk_format = astc.vk_format;
-    image.width = image.height = uint32_t(cube.size);
-    image.faces = 6;
-    image.levels = uint32_t(cube.level_count());
-    image.level_data = astc.level_data;
-    image.key_values = io::astc_key_values(cube, astc, o.astc_quality);
     delivered.emplace_back(name + ": format", "ASTC " + std::to_string(block) + "x" + std::to_string(block) + " HDR");
     delivered.emplace_back(name + ": astc_max_rel_error_per_level", detail::bounds_text(astc.max_rel_error));
     delivered.emplace_back(name + ": astc_rms_rel_error_per_level", detail::bounds_text(astc.rms_rel_error));
     delivered.emplace_back(name + ": astc_max_abs_error_per_level", detail::bounds_text(astc.max_abs_error));
     delivered.emplace_back(name + ": astc_clamped_channels", std::to_string(astc.clamped));
-    return io::encode_ktx2(image);
+    return io::astc_ktx2_bytes(cube, astc, o.astc_quality);
   }
   if (pixel == PixelType::R11G11B10) throw Error("engine files: " + name + ": KTX2 takes f16 or f32 (or ASTC)");
   io::Ktx2Image image;

@@ -310,14 +310,7 @@ WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string
     w.error_bound = *bound + w.storage_error;
     out.set_meta("error_bound", bound_text(*w.error_bound));
   }
-  io::Ktx2Image image;
-  image.vk_format = astc.vk_format;
-  image.width = image.height = uint32_t(cube.size);
-  image.faces = 6;
-  image.levels = uint32_t(cube.level_count());
-  image.level_data = astc.level_data;
-  image.key_values = io::astc_key_values(out, astc, kAstcQuality);
-  const std::vector<uint8_t> bytes = io::encode_ktx2(image);
+  const std::vector<uint8_t> bytes = io::astc_ktx2_bytes(out, astc, kAstcQuality);
   io::write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   return w;
 }

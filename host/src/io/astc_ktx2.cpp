@@ -122,19 +122,23 @@ std::vector<std::pair<std::string, std::string>> astc_key_values(const CubeLevel
   return kv;
 }
 
+std::vector<uint8_t> astc_ktx2_bytes(const CubeLevels& cube, const AstcCube& astc, double quality) {
+  Ktx2Image image;
+  image.vk_format = astc.vk_format;
+  image.width = image.height = uint32_t(cube.size);
+  image.faces = 6;
+  image.levels = uint32_t(astc.level_data.size());
+  image.level_data = astc.level_data;
+  image.key_values = astc_key_values(cube, astc, quality);
+  return encode_ktx2(image);
+}
+
 AstcCube write_astc_ktx2_cube(const CubeLevels& cube, const std::string& path, int block, double quality) {
   AstcCube astc;
   std::vector<uint8_t> bytes;
   try {
     astc = compress_astc_cube(cube, block, quality);
-    Ktx2Image image;
-    image.vk_format = astc.vk_format;
-    image.width = image.height = uint32_t(cube.size);
-    image.faces = 6;
-    image.levels = uint32_t(cube.level_count());
-    image.level_data = astc.level_data;
-    image.key_values = astc_key_values(cube, astc, quality);
-    bytes = encode_ktx2(image);
+    bytes = astc_ktx2_bytes(cube, astc, quality);
   } catch (const Error& e) {
     throw_write_error(path, e.what());
   }

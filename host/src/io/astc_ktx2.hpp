@@ -40,7 +40,14 @@ AstcCube compress_astc_cube(const CubeLevels& cube, int block, double quality);
 std::vector<std::pair<std::string, std::string>> astc_key_values(const CubeLevels& cube, const AstcCube& astc,
                                                                  double quality);
 
-// compress_astc_cube + the KTX2 file, written atomically. Returns what was stored and measured.
+// The KTX2 file of a compressed cube, in memory: `astc`'s levels (faces +X..-Z), 6 faces of
+// cube.size, and astc_key_values(cube, astc, quality) as its key/value data. `cube` gives the size
+// and the metadata only (its levels may be empty: the file's levels are astc.level_data). The one
+// assembly of an ASTC KTX2 cube: write_astc_ktx2_cube, the cube delivery (families/delivery.cpp)
+// and the engines' KTX2 files (engines/engine_writers.cpp) all use it.
+std::vector<uint8_t> astc_ktx2_bytes(const CubeLevels& cube, const AstcCube& astc, double quality);
+
+// compress_astc_cube + the KTX2 file (astc_ktx2_bytes), written atomically. Returns what was stored and measured.
 AstcCube write_astc_ktx2_cube(const CubeLevels& cube, const std::string& path, int block, double quality);
 
 }  // namespace brdfbake::io

@@ -39,6 +39,40 @@ void on_error(png_structp png, png_const_charp message) {
 }
 void on_warning(png_structp, png_const_charp) {}  // warnings (e.g. unknown chunks) do not stop a read
 
+// The one libpng read set-up of both readers: the read struct with the handlers above and its
+// error jump, `read` as the source of the bytes (its state `io`), the header read, and the
+// expansions both ask for set (palette and grey below 8 bits to 8-bit samples, tRNS to alpha,
+// 16-bit samples in host order); then `body(png, info)`, which reads what it needs (it may call
+// png_read_update_info, png_read_image, png_read_row and any getter) and returns false to stop.
+// The structs are destroyed on every way out. Returns false (err->message) when libpng failed, or
+// what `body` returned. A libpng error jumps back here over `body`'s frame: `body` keeps no object
+// with a destructor on its stack (the callers keep theirs in their state struct).
+template <class Body>
+bool read_png_with(void* io, png_rw_ptr read, ErrorState* err, Body&& body) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, err, on_error, on_warning);
+  if (!png) {
+    std::snprintf(err->message, sizeof err->message, "out of memory");
+    return false;
+  }
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+    if (!err->message[0]) std::snprintf(err->message, sizeof err->message, "out of memory");
+    return false;
+  }
+  png_set_read_fn(png, io, read);
+  png_read_info(png, info);
+  const int color = png_get_color_type(png, info);
+  const int depth = png_get_bit_depth(png, info);
+  if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+  if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
+  if (depth == 16) png_set_swap(png);  // host (little-endian) order for the uint16 copies
+  const bool ok = body(png, info);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return ok;
+}
+
 struct ReadState {
   const std::vector<uint8_t>* bytes = nullptr;
   size_t offset = 0;
@@ -54,57 +88,39 @@ void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
   s->offset += length;
 }
 
-// Returns false (with err->message) when libpng failed.
+// Returns false (with err->message) when libpng failed or the image is too large.
 bool decode(ReadState* s, ErrorState* err) {
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, err, on_error, on_warning);
-  if (!png) {
-    std::snprintf(err->message, sizeof err->message, "out of memory");
-    return false;
-  }
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
-    if (!err->message[0]) std::snprintf(err->message, sizeof err->message, "out of memory");
-    return false;
-  }
-  png_set_read_fn(png, s, read_from_memory);
-  png_read_info(png, info);
-  const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
-  const int color = png_get_color_type(png, info);
-  const int depth = png_get_bit_depth(png, info);
-  if (uint64_t(width) * uint64_t(height) > ImageLimits{}.max_pixels) {  // before the rows are allocated
-    std::snprintf(err->message, sizeof err->message, "too large (%lux%lu)", static_cast<unsigned long>(width),
-                  static_cast<unsigned long>(height));
-    png_destroy_read_struct(&png, &info, nullptr);
-    return false;
-  }
-  if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-  if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-  if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
-  if (depth == 16) png_set_swap(png);  // host (little-endian) order for the uint16 copy below
-  png_read_update_info(png, info);
-  const int channels = png_get_channels(png, info);
-  const int out_depth = png_get_bit_depth(png, info);
-  const size_t row_bytes = png_get_rowbytes(png, info);
-  s->raw.resize(row_bytes * height);
-  s->rows.resize(height);
-  for (png_uint_32 y = 0; y < height; ++y) s->rows[y] = s->raw.data() + y * row_bytes;
-  png_read_image(png, s->rows.data());
-  png_read_end(png, info);
-  png_textp text = nullptr;
-  int n_text = 0;
-  png_get_text(png, info, &text, &n_text);
-  for (int k = 0; k < n_text; ++k)
-    s->image.text.emplace_back(
-        text[k].key ? text[k].key : "",
-        text[k].text ? std::string(text[k].text, text[k].text_length ? text[k].text_length : std::strlen(text[k].text))
-                     : std::string());
-  s->image.width = static_cast<int>(width);
-  s->image.height = static_cast<int>(height);
-  s->image.channels = channels;
-  s->image.bit_depth = out_depth;
-  png_destroy_read_struct(&png, &info, nullptr);
-  return true;
+  return read_png_with(s, read_from_memory, err, [s, err](png_structp png, png_infop info) {
+    const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
+    if (uint64_t(width) * uint64_t(height) > ImageLimits{}.max_pixels) {  // before the rows are allocated
+      std::snprintf(err->message, sizeof err->message, "too large (%lux%lu)", static_cast<unsigned long>(width),
+                    static_cast<unsigned long>(height));
+      return false;
+    }
+    png_read_update_info(png, info);
+    const int channels = png_get_channels(png, info);
+    const int out_depth = png_get_bit_depth(png, info);
+    const size_t row_bytes = png_get_rowbytes(png, info);
+    s->raw.resize(row_bytes * height);
+    s->rows.resize(height);
+    for (png_uint_32 y = 0; y < height; ++y) s->rows[y] = s->raw.data() + y * row_bytes;
+    png_read_image(png, s->rows.data());
+    png_read_end(png, info);
+    png_textp text = nullptr;
+    int n_text = 0;
+    png_get_text(png, info, &text, &n_text);
+    for (int k = 0; k < n_text; ++k)
+      s->image.text.emplace_back(
+          text[k].key ? text[k].key : "",
+          text[k].text
+              ? std::string(text[k].text, text[k].text_length ? text[k].text_length : std::strlen(text[k].text))
+              : std::string());
+    s->image.width = static_cast<int>(width);
+    s->image.height = static_cast<int>(height);
+    s->image.channels = channels;
+    s->image.bit_depth = out_depth;
+    return true;
+  });
 }
 
 struct WriteState {
@@ -280,79 +296,54 @@ void convert_row(LinearState* s, const uint8_t* row, png_uint_32 y) {
 // Returns false (err->message, or s->refused, s->cancelled) when libpng failed or the image is refused.
 // No object with a destructor lives in this frame (see LinearState).
 bool decode_linear(LinearState* s, ErrorState* err) {
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, err, on_error, on_warning);
-  if (!png) {
-    std::snprintf(err->message, sizeof err->message, "out of memory");
-    return false;
-  }
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
-    if (!err->message[0]) std::snprintf(err->message, sizeof err->message, "out of memory");
-    return false;
-  }
-  png_set_read_fn(png, s, read_from_fd);
-  png_read_info(png, info);
-  const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
-  const int color = png_get_color_type(png, info);
-  const int depth = png_get_bit_depth(png, info);
-  if (!choose_transfer(png, info, s)) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return false;
-  }
-  if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-  if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-  if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
-  if (depth == 16) png_set_swap(png);  // host (little-endian) order
-  const int passes = png_set_interlace_handling(png);
-  png_read_update_info(png, info);
-  const int channels = png_get_channels(png, info);
-  // The header's promise against the limits, before any pixel buffer exists (two float copies: the
-  // image and the caller's RGB).
-  s->refused = image_limits_problem(width, height, uint64_t(channels), 2, s->limits);
-  if (!s->refused.empty()) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return false;
-  }
-  s->bit_depth = png_get_bit_depth(png, info);
-  const size_t row_bytes = png_get_rowbytes(png, info);
-  s->image.width = static_cast<int>(width);
-  s->image.height = static_cast<int>(height);
-  s->image.channels = channels;
-  s->image.pixels.assign(size_t(width) * size_t(height) * size_t(channels), 0.0f);
-  // Interlaced images pass over every row several times: their rows are kept as bytes until the last.
-  s->raw.assign(passes > 1 ? row_bytes * height : row_bytes, 0);
-  s->decode.assign(s->bit_depth == 16 ? 65536 : 256, 0.0f);
-  const double max = s->bit_depth == 16 ? 65535.0 : 255.0;
-  for (size_t v = 0; v < s->decode.size(); ++v) {
-    const double c = double(v) / max;
-    switch (s->transfer.kind) {
-      case Transfer::Kind::Linear:
-        s->decode[v] = float(c);
-        break;
-      case Transfer::Kind::Srgb:
-        s->decode[v] = float(srgb_to_linear(c));
-        break;
-      case Transfer::Kind::Gamma:
-        s->decode[v] = float(std::pow(c, s->transfer.exponent));
-        break;
-    }
-  }
-  for (int pass = 0; pass < passes; ++pass)
-    for (png_uint_32 y = 0; y < height; ++y) {
-      if (cancel_requested()) {  // between rows; Cancelled is thrown once libpng is cleaned up
-        s->cancelled = true;
-        png_destroy_read_struct(&png, &info, nullptr);
-        return false;
+  return read_png_with(s, read_from_fd, err, [s](png_structp png, png_infop info) {
+    const png_uint_32 width = png_get_image_width(png, info), height = png_get_image_height(png, info);
+    if (!choose_transfer(png, info, s)) return false;
+    const int passes = png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    const int channels = png_get_channels(png, info);
+    // The header's promise against the limits, before any pixel buffer exists (two float copies: the
+    // image and the caller's RGB).
+    s->refused = image_limits_problem(width, height, uint64_t(channels), 2, s->limits);
+    if (!s->refused.empty()) return false;
+    s->bit_depth = png_get_bit_depth(png, info);
+    const size_t row_bytes = png_get_rowbytes(png, info);
+    s->image.width = static_cast<int>(width);
+    s->image.height = static_cast<int>(height);
+    s->image.channels = channels;
+    s->image.pixels.assign(size_t(width) * size_t(height) * size_t(channels), 0.0f);
+    // Interlaced images pass over every row several times: their rows are kept as bytes until the last.
+    s->raw.assign(passes > 1 ? row_bytes * height : row_bytes, 0);
+    s->decode.assign(s->bit_depth == 16 ? 65536 : 256, 0.0f);
+    const double max = s->bit_depth == 16 ? 65535.0 : 255.0;
+    for (size_t v = 0; v < s->decode.size(); ++v) {
+      const double c = double(v) / max;
+      switch (s->transfer.kind) {
+        case Transfer::Kind::Linear:
+          s->decode[v] = float(c);
+          break;
+        case Transfer::Kind::Srgb:
+          s->decode[v] = float(srgb_to_linear(c));
+          break;
+        case Transfer::Kind::Gamma:
+          s->decode[v] = float(std::pow(c, s->transfer.exponent));
+          break;
       }
-      uint8_t* row = s->raw.data() + (passes > 1 ? size_t(y) * row_bytes : 0);
-      png_read_row(png, row, nullptr);
-      if (pass == passes - 1) convert_row(s, row, y);
     }
-  // png_read_end is not called: the chunks after the image are not needed, and not reading them
-  // bounds what a file can make this reader do.
-  png_destroy_read_struct(&png, &info, nullptr);
-  return true;
+    for (int pass = 0; pass < passes; ++pass)
+      for (png_uint_32 y = 0; y < height; ++y) {
+        if (cancel_requested()) {  // between rows; Cancelled is thrown once libpng is cleaned up
+          s->cancelled = true;
+          return false;
+        }
+        uint8_t* row = s->raw.data() + (passes > 1 ? size_t(y) * row_bytes : 0);
+        png_read_row(png, row, nullptr);
+        if (pass == passes - 1) convert_row(s, row, y);
+      }
+    // png_read_end is not called: the chunks after the image are not needed, and not reading them
+    // bounds what a file can make this reader do.
+    return true;
+  });
 }
 
 }  // namespace

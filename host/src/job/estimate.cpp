@@ -25,6 +25,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/runner.hpp"
+#include "job/group_tables.hpp"
 
 namespace brdfbake {
 namespace {
@@ -175,19 +176,8 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
   const auto t_start = Clock::now();
   Job job = given;
   validate_job(job);
-  for (auto& t : job.tables)
-    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
-
-  // The groups of run_job: identical bakes, one bake for all their outputs.
-  std::vector<std::vector<size_t>> groups;
-  std::map<std::string, size_t> group_of;
-  for (size_t i = 0; i < job.tables.size(); ++i) {
-    const TableRequest& t = job.tables[i];
-    const std::string key = t.device + "|" + t.environment + "|" + table_bake_key(t);
-    auto [it, fresh] = group_of.emplace(key, groups.size());
-    if (fresh) groups.emplace_back();
-    groups[it->second].push_back(i);
-  }
+  // The groups of run_job (its defaults filled in): identical bakes, one bake for all their outputs.
+  const std::vector<std::vector<size_t>> groups = detail::group_tables(job);
 
   PlanEstimate out;
   out.tables.resize(job.tables.size());
@@ -220,7 +210,8 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
   };
 
   bool measured_any = false;
-  for (const auto& g : groups) {
+  for (size_t b = 0; b < groups.size(); ++b) {
+    const std::vector<size_t>& g = groups[b];
     const std::string key = group_key(job, g);
     Measured m;
     bool cached = false;
@@ -241,6 +232,7 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
     for (size_t k = 0; k < g.size(); ++k) {
       TableEstimate& e = out.tables[g[k]];
       e.seconds = k == 0 ? m.seconds : 0.0;
+      e.bake = static_cast<int>(b);
       e.bytes = m.bytes[k];
       e.method = m.method;
     }

@@ -20,9 +20,34 @@
 #include "families/preview/bake_preview.hpp"
 #include "io/atomic_file.hpp"
 #include "io/staging_dir.hpp"
+#include "job/group_tables.hpp"
 #include "text.hpp"
 
 namespace brdfbake {
+
+namespace detail {
+
+std::vector<std::vector<size_t>> group_tables(Job& job) {
+  for (auto& t : job.tables) {
+    if (t.device.empty()) t.device = job.device;
+    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
+  }
+  std::vector<std::vector<size_t>> groups;
+  std::map<std::string, size_t> by_key;
+  for (size_t i = 0; i < job.tables.size(); ++i) {
+    const std::string k = table_bake_key(job.tables[i]);
+    auto it = by_key.find(k);
+    if (it == by_key.end()) {
+      by_key[k] = groups.size();
+      groups.push_back({i});
+    } else {
+      groups[it->second].push_back(i);
+    }
+  }
+  return groups;
+}
+
+}  // namespace detail
 
 namespace {
 
@@ -73,28 +98,6 @@ std::vector<std::string> unavailable_tables(const Job& job) {
     }
   }
   return missing;
-}
-
-// The job's defaults made explicit in its tables, then identical tables grouped: each group (the
-// indices of its tables, in the job's order) is baked once.
-std::vector<std::vector<size_t>> group_tables(Job& job) {
-  for (auto& t : job.tables) {
-    if (t.device.empty()) t.device = job.device;
-    if (table_kind_uses_environment(t.kind) && t.environment.empty()) t.environment = job.environment;
-  }
-  std::vector<std::vector<size_t>> groups;
-  std::map<std::string, size_t> by_key;
-  for (size_t i = 0; i < job.tables.size(); ++i) {
-    const std::string k = table_bake_key(job.tables[i]);
-    auto it = by_key.find(k);
-    if (it == by_key.end()) {
-      by_key[k] = groups.size();
-      groups.push_back({i});
-    } else {
-      groups[it->second].push_back(i);
-    }
-  }
-  return groups;
 }
 
 // The manifest's entry of the file `o` asks for: the parameters as baked (the request's, with what
@@ -289,7 +292,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
   const auto t0 = std::chrono::steady_clock::now();
   Job job = in;
   const std::string origin = check_job(job);
-  const std::vector<std::vector<size_t>> groups = group_tables(job);
+  const std::vector<std::vector<size_t>> groups = detail::group_tables(job);
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"

@@ -128,26 +128,19 @@ std::string label_of(const std::string& option, const std::string& value) {
 }
 
 // The per-sphere relative error of a split-sum render against a reference render of the same
-// layout, as render_preview computes it: per pixel |s - r| / |r| (Euclidean norms of the linear RGB
-// triples, in double from the float images), per sphere its RMS, 99th percentile and max.
+// layout, as render_preview computes it (detail::preview::sphere_errors): per pixel |s - r| / |r|
+// (Euclidean norms of the linear RGB triples, in double from the float images), per sphere its RMS,
+// 99th percentile and max.
 std::vector<PreviewErrorStats> compare(const PreviewResult& split, const PreviewResult& reference) {
   using namespace detail::preview;
   const Layout layout = make_layout(split.spec);
   if (reference.reference.width != layout.width || reference.reference.height != layout.height ||
       reference.spheres.size() != layout.spheres.size())
     throw Error("the bake sweep's reference render has another layout than the split-sum render");
-  std::vector<std::vector<double>> lin(layout.spheres.size());
-  for (const SpherePixel& p : sphere_pixels(layout)) {
-    const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
-    const float* s = &split.splitsum.rgb[at];
-    const float* r = &reference.reference.rgb[at];
-    const double d[3] = {double(s[0]) - double(r[0]), double(s[1]) - double(r[1]), double(s[2]) - double(r[2])};
-    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const double n = std::sqrt(double(r[0]) * double(r[0]) + double(r[1]) * double(r[1]) + double(r[2]) * double(r[2]));
-    lin[size_t(p.sphere)].push_back(n > 0.0 ? dist / n : (dist > 0.0 ? 1.0 : 0.0));
-  }
   std::vector<PreviewErrorStats> out;
-  for (auto& e : lin) out.push_back(error_stats(std::move(e)));
+  for (const PreviewSphereStats& s :
+       sphere_errors(layout, sphere_pixels(layout), split.splitsum, reference.reference, split.exposure))
+    out.push_back(s.linear);
   return out;
 }
 

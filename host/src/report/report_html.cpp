@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "brdfbake/report.hpp"
@@ -41,7 +42,12 @@ const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff
 struct Series {
   std::string name;
   std::vector<double> x, y;
-  std::vector<std::string> labels;  // one per point, may be empty
+  std::vector<std::string> labels;  // one per point, may be empty (each also in the point's hover title)
+  // Per point, whether its label is written beside it (empty: Always). Always labels are placed first
+  // (where they cover the least); IfRoom ones then only where they cover nothing.
+  enum class Label { Always, IfRoom, Never };
+  std::vector<Label> label_modes;
+  Label label_mode(size_t i) const { return i < label_modes.size() ? label_modes[i] : Label::Always; }
   bool dashed = false;
   bool line = true;  // join the points (a sweep); false: markers only
 };
@@ -121,6 +127,56 @@ Axis make_axis(const std::vector<Series>& s, bool x, bool log, bool tight = fals
   return a;
 }
 
+// Where the labels beside the points go: for each label the first of a few places around its point
+// (right and above first; then below, left, further out) that covers no other label, no point and
+// stays inside the plot; where none is free, the place that covers the least, or none (`if_free`).
+// Widths are estimated (the 9-pixel sans-serif font: about 5.2 pixels a character).
+class LabelPlacer {
+ public:
+  LabelPlacer(double x0, double y0, double x1, double y1) : x0_(x0), y0_(y0), x1_(x1), y1_(y1) {}
+  void add_point(double px, double py) { taken_.push_back({px - 3, py - 3, px + 3, py + 3}); }
+  // The label's anchor (x, y) and whether it ends there (text-anchor end) rather than starts.
+  struct Place {
+    double x, y;
+    bool end;
+  };
+  std::optional<Place> place(double px, double py, const std::string& text, bool if_free) {
+    const double w = 5.2 * double(text.size()), h = 9;
+    static const double kOffsets[][2] = {{4, -4}, {4, 11}, {-4, -4}, {-4, 11}, {4, -14}, {4, 21}, {-4, -14}, {-4, 21}};
+    Place best{px + 4, py - 4, false};
+    Box best_box{};
+    double best_cover = HUGE_VAL;
+    for (const auto& o : kOffsets) {
+      const bool end = o[0] < 0;
+      const double x = px + o[0], y = py + o[1];
+      const Box b{end ? x - w : x, y - h + 1, end ? x : x + w, y + 2};
+      double cover = 0;
+      for (const Box& t : taken_) cover += overlap(b, t);
+      if (b.x0 < x0_ || b.x1 > x1_ || b.y0 < y1_ || b.y1 > y0_) cover += w * h;  // outside the plot
+      if (cover < best_cover) {
+        best_cover = cover;
+        best = {x, y, end};
+        best_box = b;
+      }
+      if (cover == 0) break;
+    }
+    if (if_free && best_cover > 0) return std::nullopt;
+    taken_.push_back(best_box);
+    return best;
+  }
+
+ private:
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  static double overlap(const Box& a, const Box& b) {
+    const double w = std::min(a.x1, b.x1) - std::max(a.x0, b.x0), h = std::min(a.y1, b.y1) - std::max(a.y0, b.y0);
+    return w > 0 && h > 0 ? w * h : 0;
+  }
+  double x0_, y0_, x1_, y1_;  // the plot's frame: left, bottom, right, top (pixels)
+  std::vector<Box> taken_;
+};
+
 std::string svg_plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
                      const std::vector<Series>& series, bool logx, bool logy, bool tight = false) {
   const int w = 620, h = 380, left = 70, right = 150, top = 30, bottom = 50;
@@ -149,21 +205,41 @@ std::string svg_plot(const std::string& title, const std::string& xlabel, const 
     << "</text>\n";
   o << "<text transform=\"translate(16 " << (y0 + y1) / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << esc(ylabel)
     << "</text>\n";
+  const auto drawable = [&](const Series& s, size_t i) {
+    return std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && !(logx && s.x[i] <= 0) && !(logy && s.y[i] <= 0);
+  };
+  // The labels' places, before anything is drawn: every point first, then the Always labels, then
+  // the IfRoom ones where there is room.
+  LabelPlacer placer(x0, y0, x1, y1);
+  std::vector<std::vector<std::optional<LabelPlacer::Place>>> places(series.size());
+  for (const Series& s : series)
+    for (size_t i = 0; i < s.x.size(); ++i)
+      if (drawable(s, i)) placer.add_point(ax.map(s.x[i], x0, x1), ay.map(s.y[i], y0, y1));
+  for (const Series::Label pass : {Series::Label::Always, Series::Label::IfRoom})
+    for (size_t k = 0; k < series.size(); ++k) {
+      const Series& s = series[k];
+      places[k].resize(s.x.size());
+      for (size_t i = 0; i < s.x.size() && i < s.labels.size(); ++i)
+        if (drawable(s, i) && !s.labels[i].empty() && s.label_mode(i) == pass)
+          places[k][i] =
+              placer.place(ax.map(s.x[i], x0, x1), ay.map(s.y[i], y0, y1), s.labels[i], pass == Series::Label::IfRoom);
+    }
   for (size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     const char* c = kColours[k % std::size(kColours)];
     std::string path;
     std::ostringstream marks;
     for (size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (logx && s.x[i] <= 0) || (logy && s.y[i] <= 0)) continue;
+      if (!drawable(s, i)) continue;
       const double px = ax.map(s.x[i], x0, x1), py = ay.map(s.y[i], y0, y1);
       path += (path.empty() ? "M" : " L") + fmt(px, "%.1f") + " " + fmt(py, "%.1f");
       marks << "<circle cx=\"" << fmt(px, "%.1f") << "\" cy=\"" << fmt(py, "%.1f") << "\" r=\"3\" fill=\"" << c
             << "\"><title>" << esc(s.name) << (i < s.labels.size() ? ", " + esc(s.labels[i]) : std::string()) << ": "
             << fmt(s.x[i]) << ", " << fmt(s.y[i]) << "</title></circle>";
-      if (i < s.labels.size() && !s.labels[i].empty())
-        marks << "<text x=\"" << fmt(px + 4, "%.1f") << "\" y=\"" << fmt(py - 4, "%.1f") << "\" font-size=\"9\" fill=\""
-              << c << "\">" << esc(s.labels[i]) << "</text>";
+      if (const auto& at = places[k][i])  // a white halo keeps it legible over lines
+        marks << "<text x=\"" << fmt(at->x, "%.1f") << "\" y=\"" << fmt(at->y, "%.1f") << "\""
+              << (at->end ? " text-anchor=\"end\"" : "") << " font-size=\"9\" fill=\"" << c
+              << "\" stroke=\"#fff\" stroke-width=\"2.5\" paint-order=\"stroke\">" << esc(s.labels[i]) << "</text>";
       marks << "\n";
     }
     if (!path.empty() && s.line)
@@ -325,8 +401,9 @@ void prefilter_section(std::ostringstream& o, const std::vector<PrefilterReport>
 std::string pct(double v) { return fmt(100.0 * v, v < 0.01 ? "%.2f%%" : "%.1f%%"); }
 std::string megabytes(std::uint64_t b) { return fmt(double(b) / 1e6, b < 10000000 ? "%.2f MB" : "%.1f MB"); }
 
-// Error against a cost, one series of every setting (markers, labelled) and the Pareto front (the
-// points not dominated, joined in order of cost).
+// Error against a cost, one series of every setting (markers) and the Pareto front (the points not
+// dominated, joined in order of cost). Labels: every point of the front, then the other settings
+// where a label has room (each point's setting is also in its hover title and in the table below).
 std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
   Series all, front;
   all.name = "settings";
@@ -339,12 +416,15 @@ std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
     all.x.push_back(cost(p));
     all.y.push_back(p.error);
     all.labels.push_back(p.label);
-    if (bytes ? p.pareto_bytes : p.pareto_time) f.push_back(&p);
+    const bool pareto = bytes ? p.pareto_bytes : p.pareto_time;
+    all.label_modes.push_back(pareto ? Series::Label::Never : Series::Label::IfRoom);  // the front's label
+    if (pareto) f.push_back(&p);
   }
   std::sort(f.begin(), f.end(), [&](const BakeSweepPoint* a, const BakeSweepPoint* b) { return cost(*a) < cost(*b); });
   for (const BakeSweepPoint* p : f) {
     front.x.push_back(cost(*p));
     front.y.push_back(p->error);
+    front.labels.push_back(p->label);
   }
   return svg_plot(t.target + ": render error against " + (bytes ? "bytes" : "bake time"),
                   bytes ? "bytes written (MB)" : "whole bake, wall seconds",
@@ -389,7 +469,10 @@ void bake_section(std::ostringstream& o, const BakeSweep& s) {
     if (t.points.empty()) continue;
     o << "<h3>" << esc(t.target) << "</h3>\n<div class=\"plots\">" << bake_plot(t, false) << bake_plot(t, true)
       << "</div>\n";
-    o << "<p class=\"note\">Reference render: " << fmt(t.reference_seconds, "%.1f")
+    o << "<p class=\"note\">Labelled in the plots: every setting on the Pareto front (in its colour), and the "
+         "others where their label has room; every point's setting is in its hover title and in the table. "
+         "Reference render: "
+      << fmt(t.reference_seconds, "%.1f")
       << " s; its own bound (worst sphere, relative RMS): " << pct(t.reference_bound)
       << ". Group columns: the median sphere RMS error over the row's 12 roughnesses (the worst in brackets).</p>\n";
     o << "<table><tr><th>setting</th><th>bake (s)</th><th>runs</th><th>bytes</th><th>files</th><th>error</th>";
@@ -420,20 +503,26 @@ std::string report_html(const Report& r) {
   std::ostringstream o;
   o << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>brdfbake report: " << esc(r.device)
     << "</title>\n<style>" << kStyle << "</style></head><body>\n";
-  o << "<h1>brdfbake: accuracy against time</h1>\n";
+  // The page says what it answers: a bake sweep alone (report --kinds bake) is not the tables' report.
+  const bool tables = !r.dfg.empty() || !r.fresnel.empty() || !r.prefilter.empty();
+  o << "<h1>" << (tables ? "brdfbake: accuracy against time" : "brdfbake: what each bake setting costs") << "</h1>\n";
   o << "<p class=\"meta\">" << esc(r.generator) << ", " << esc(r.date) << "<br>Device: <b>" << esc(r.device) << "</b> ("
     << esc(r.device_details) << ")<br>Machine: " << r.cores << " cores; load average (1, 5, 15 min) "
     << load_text(r.load_before) << " at the start, " << load_text(r.load_after)
     << " at the end: times stretch with the load, errors do not<br>"
     << "The report took " << fmt(r.seconds, "%.1f") << " s"
     << (r.options.command.empty() ? "" : ": <code>" + esc(r.options.command) + "</code>") << "</p>\n";
-  o << "<p class=\"note\">Times are device seconds from OpenCL event profiling (the median of up to three runs after a "
-       "warm-up; "
-       "one run above 0.1 s), without program builds or transfers. DFG errors are the max (and RMS) over every channel "
-       "and "
-       "cell of |table &minus; reference| / max(1, |reference|) against the converged scalar double reference at the "
-       "same "
-       "cells. The numbers are also in the JSON file beside this page.</p>\n";
+  if (!r.bake.empty())
+    o << "<p class=\"note\">Which bake settings to use for each target engine: what each setting of <code>brdfbake "
+         "bake</code> costs in wall time and bytes, and how far the target's split-sum render of material spheres lit "
+         "by the bake's files then is from the converged reference render. The first table answers with a "
+         "recommended setting per target; the plots and tables below it give every setting's numbers. The numbers "
+         "are also in the JSON file beside this page.</p>\n";
+  if (tables)
+    o << "<p class=\"note\">Times are device seconds from OpenCL event profiling (the median of up to three runs "
+         "after a warm-up; one run above 0.1 s), without program builds or transfers. DFG errors are the max (and "
+         "RMS) over every channel and cell of |table &minus; reference| / max(1, |reference|) against the converged "
+         "scalar double reference at the same cells. The numbers are also in the JSON file beside this page.</p>\n";
   for (const auto& b : r.bake) bake_section(o, b);  // first: "which settings, for how long, at what error"
   for (const auto& s : r.dfg) dfg_section(o, s);
   if (!r.fresnel.empty()) fresnel_section(o, r.fresnel);

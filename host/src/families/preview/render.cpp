@@ -201,6 +201,32 @@ PreviewErrorStats error_stats(std::vector<double> e) {
   return s;
 }
 
+std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels,
+                                              const PreviewImage& splitsum, const PreviewImage& reference,
+                                              double exposure) {
+  ViewOptions vo;
+  vo.exposure = exposure;
+  std::vector<std::vector<double>> lin(layout.spheres.size()), steps(layout.spheres.size());
+  for (const SpherePixel& p : pixels) {
+    const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
+    const float* s = &splitsum.rgb[at];
+    const float* r = &reference.rgb[at];
+    const double n = rgb_norm(r), d = rgb_distance(s, r);
+    lin[size_t(p.sphere)].push_back(n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0));
+    const view::Rgb8 a = view::tone_map(s, vo), b = view::tone_map(r, vo);
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[size_t(c)]) - int(b[size_t(c)])));
+    steps[size_t(p.sphere)].push_back(worst);
+  }
+  std::vector<PreviewSphereStats> out(layout.spheres.size());
+  for (size_t s = 0; s < out.size(); ++s) {
+    out[s].pixels = int(lin[s].size());
+    out[s].linear = error_stats(lin[s]);
+    out[s].srgb8 = error_stats(steps[s]);
+  }
+  return out;
+}
+
 }  // namespace detail::preview
 
 namespace detail::preview {
@@ -334,25 +360,12 @@ std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, 
   return ref;
 }
 
-// Per sphere: the split-sum render's error against the reference (linear and in 8-bit sRGB steps
-// after the sheet's exposure), and the reference's own bound from the bound's pixels.
-void sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels, const TargetBrdf& brdf,
-                   const ReferenceWork& w, const ReferenceSums& sums, const std::vector<Rgb>& ref, PreviewResult& res) {
+// Per sphere: the split-sum render's error against the reference (sphere_errors), and the
+// reference's own bound from the bound's pixels.
+void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, const TargetBrdf& brdf,
+                  const ReferenceWork& w, const ReferenceSums& sums, const std::vector<Rgb>& ref, PreviewResult& res) {
   const ReferenceTask& task = w.task;
-  ViewOptions vo;
-  vo.exposure = res.exposure;
-  std::vector<std::vector<double>> lin(res.spheres.size()), steps(res.spheres.size()), bound(res.spheres.size());
-  for (const SpherePixel& p : pixels) {
-    const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
-    const float* s = &res.splitsum.rgb[at];
-    const float* r = &res.reference.rgb[at];
-    const double n = rgb_norm(r), d = rgb_distance(s, r);
-    lin[size_t(p.sphere)].push_back(n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0));
-    const view::Rgb8 a = view::tone_map(s, vo), b = view::tone_map(r, vo);
-    int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[size_t(c)]) - int(b[size_t(c)])));
-    steps[size_t(p.sphere)].push_back(worst);
-  }
+  std::vector<std::vector<double>> bound(res.spheres.size());
   for (size_t k = 0; k < w.bound_index.size(); ++k) {
     const SpherePixel& p = pixels[w.bound_index[k]];
     const size_t t = w.bound_task_of[k];
@@ -363,16 +376,13 @@ void sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels,
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
     bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
   }
+  res.stats = sphere_errors(layout, pixels, res.splitsum, res.reference, res.exposure);
   for (size_t s = 0; s < res.spheres.size(); ++s) {
-    PreviewSphereStats st;
-    st.pixels = int(lin[s].size());
-    st.linear = error_stats(lin[s]);
-    st.srgb8 = error_stats(steps[s]);
+    PreviewSphereStats& st = res.stats[s];
     const PreviewErrorStats b = error_stats(bound[s]);
     st.reference_rms_bound = kPreviewBoundFactor * b.rms;
     st.reference_max_bound = kPreviewBoundFactor * b.max;
     st.bound_pixels = int(bound[s].size());
-    res.stats.push_back(st);
   }
   res.bound_definition =
       "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
@@ -449,7 +459,7 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.times.reference_device = sums.device_seconds + w.lut_seconds;
     res.times.bound = sums.bound_wall_seconds;
     const std::vector<Rgb> ref = fill_reference(equirect, layout, pixels, brdf, w, sums, res);
-    sphere_errors(layout, pixels, brdf, w, sums, ref, res);
+    sphere_stats(layout, pixels, brdf, w, sums, ref, res);
   }
   res.device = backend.name();  // opened by now where the device was used
   res.times.total = since(t_start);

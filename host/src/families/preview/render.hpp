@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "brdfbake/preview.hpp"
+#include "families/preview/model.hpp"
 
 namespace brdfbake::detail::preview {
 
@@ -14,5 +15,15 @@ double median_luminance(const EnvImage& equirect);
 
 // The statistics of one sphere from per-pixel relative errors (rms, 99th percentile, max).
 PreviewErrorStats error_stats(std::vector<double> errors);
+
+// Per sphere of `layout` (its `pixels`, sphere_pixels(layout)): the error of a split-sum image
+// against a reference image of the same layout, as render_preview states it: per pixel
+// |s - r| / |r| (Euclidean norms of the linear RGB triples, in double from the float images) and
+// the largest difference of the three 8-bit sRGB channels after `exposure` (EV) and the tone map;
+// per sphere their error_stats and its pixel count (`pixels`, `linear`, `srgb8`; the reference's
+// bound is left at 0). render_preview and the bake sweep (report/bake_sweep.cpp) both use it.
+std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels,
+                                              const PreviewImage& splitsum, const PreviewImage& reference,
+                                              double exposure);
 
 }  // namespace brdfbake::detail::preview
