@@ -418,6 +418,11 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   res.shading = split.steps();
   const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
   res.brdf = brdf.text;
+  if (std::any_of(res.spheres.begin(), res.spheres.end(),
+                  [](const PreviewSphere& s) { return preview_has_specular_extension(s.material); }))
+    res.brdf +=
+        "; with KHR_materials_ior / KHR_materials_specular: F0 = mix(specular min(((ior - 1) / (ior + 1))^2 "
+        "specularColor, 1), baseColor, metallic), F90 = mix(specular, 1, metallic), F = F0 + (F90 - F0) Fc";
   res.multiscatter = brdf.compensation || brdf.diffuse == DiffuseWeight::FdezAguera;
 
   const EnvImage equirect = reference_equirect(environment);
