@@ -37,6 +37,9 @@ namespace brdfbake {
 //   F90 = mix(specular, 1, metallic);
 // the defaults (ior 1.5, specular 1, specular_color 1) give F0 = mix(0.04, base_color, metallic),
 // F90 = 1. Diffuse colour = base_color (1 - metallic), alpha = roughness^2.
+// KHR_materials_clearcoat (the geometric normal: no clearcoat normal texture): a second GGX lobe of
+// alpha clearcoat_roughness^2 layered over the rest by the extension's fresnel_coat, Schlick's F of
+// ior 1.5 at n.v: f = (1 - clearcoat Fcoat(n.v)) f_base + clearcoat Fcoat(n.v) D_coat V_coat.
 struct PreviewMaterial {
   std::string name;
   Rgb base_color{0.8, 0.8, 0.8};
@@ -46,7 +49,11 @@ struct PreviewMaterial {
   double ior = 1.5;                   // KHR_materials_ior: 0 or >= 1 (0: F0 1)
   double specular = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
   Rgb specular_color{1.0, 1.0, 1.0};  // specularColorFactor, >= 0 (F0 clamped to 1 after it)
+  double clearcoat = 0.0;             // KHR_materials_clearcoat clearcoatFactor, [0, 1]
+  double clearcoat_roughness = 0.0;   // clearcoatRoughnessFactor, [0, 1]
 };
+// The clear coat's Fresnel at n.v (KHR_materials_clearcoat's fresnel_coat: ior 1.5, F0 0.04).
+double preview_coat_fresnel(double n_dot_v);
 Rgb preview_f0(const PreviewMaterial& m);
 double preview_f90(const PreviewMaterial& m);
 // The dielectric's F0 before the specular factor: min(((ior - 1) / (ior + 1))^2 specular_color, 1)

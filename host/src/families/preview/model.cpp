@@ -32,6 +32,11 @@ double preview_f90(const PreviewMaterial& m) {
   return 1.0 - (1.0 - m.specular) * (1.0 - m.metallic);
 }
 
+double preview_coat_fresnel(double n_dot_v) {
+  const double x = 1.0 - std::clamp(n_dot_v, 0.0, 1.0), x2 = x * x;
+  return 0.04 + 0.96 * x2 * x2 * x;
+}
+
 bool preview_has_specular_extension(const PreviewMaterial& m) {
   return m.ior != 1.5 || m.specular != 1.0 || m.specular_color.r != 1.0 || m.specular_color.g != 1.0 ||
          m.specular_color.b != 1.0;
@@ -90,7 +95,8 @@ std::vector<std::string> unrendered(const NamedMaterial& nm) {
     notes.push_back(std::string("model ") + brdf_model_name(*nm.model) +
                     ": rendered as glTF metallic-roughness (baseColor, metallic, roughness)");
   if (p.sheen_color.r > 0 || p.sheen_color.g > 0 || p.sheen_color.b > 0) notes.push_back("sheen: not rendered");
-  if (p.clearcoat > 0) notes.push_back("clearcoat: not rendered");
+  if (p.clearcoat > 0 && nm.model && *nm.model == BrdfModel::Disney)
+    notes.push_back("clearcoat: Disney's not rendered (the preview renders glTF's KHR_materials_clearcoat)");
   return notes;
 }
 
@@ -124,6 +130,10 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
         m.ior = nm.params.ior;
         m.specular = nm.params.specular_factor;
         m.specular_color = nm.params.specular_color_factor;
+        if (!nm.model || *nm.model != BrdfModel::Disney) {
+          m.clearcoat = nm.params.clearcoat;
+          m.clearcoat_roughness = nm.params.clearcoat_roughness;
+        }
         m.notes = unrendered(nm);
         s.materials.push_back(m);
       }
@@ -131,12 +141,17 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
     }
   }
   // What a target's split-sum shader does not honour of a rendered extension (the reference does).
-  for (PreviewMaterial& m : s.materials)
-    if (s.target == EngineTarget::Filament && m.specular != 1.0 && m.metallic < 1.0) {
-      const std::string note =
-          "KHR_materials_specular: filament's split-sum scales F0 by specularFactor, F90 stays 1 (specularDFG)";
-      if (std::find(m.notes.begin(), m.notes.end(), note) == m.notes.end()) m.notes.push_back(note);
-    }
+  for (PreviewMaterial& m : s.materials) {
+    auto note = [&m](const std::string& text) {
+      if (std::find(m.notes.begin(), m.notes.end(), text) == m.notes.end()) m.notes.push_back(text);
+    };
+    if (s.target == EngineTarget::Filament && m.specular != 1.0 && m.metallic < 1.0)
+      note("KHR_materials_specular: filament's split-sum scales F0 by specularFactor, F90 stays 1 (specularDFG)");
+    if ((s.target == EngineTarget::Gltf || s.target == EngineTarget::Babylon) && m.clearcoat > 0.0)
+      note(
+          "KHR_materials_clearcoat: not in this target's split-sum render (Babylon.js's clear coat block is not "
+          "emulated); in the reference");
+  }
   if (s.materials.size() > size_t(kPreviewMaxSpheres))
     throw Error(std::to_string(s.materials.size()) + " materials: at most " + std::to_string(kPreviewMaxSpheres));
   for (const PreviewMaterial& m : s.materials) {
@@ -149,6 +164,10 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
     if (!(m.ior == 0.0 || (m.ior >= 1.0 && std::isfinite(m.ior))))
       throw Error("material '" + m.name + "': ior must be 0 or a finite number >= 1");
     if (!(m.specular >= 0.0 && m.specular <= 1.0)) throw Error("material '" + m.name + "': specular must be in [0, 1]");
+    if (!(m.clearcoat >= 0.0 && m.clearcoat <= 1.0))
+      throw Error("material '" + m.name + "': clearcoat must be in [0, 1]");
+    if (!(m.clearcoat_roughness >= 0.0 && m.clearcoat_roughness <= 1.0))
+      throw Error("material '" + m.name + "': clearcoat_roughness must be in [0, 1]");
     for (double v : {m.specular_color.r, m.specular_color.g, m.specular_color.b})
       if (!(v >= 0.0 && std::isfinite(v)))
         throw Error("material '" + m.name + "': specular_color must be finite and >= 0");

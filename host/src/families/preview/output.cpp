@@ -288,6 +288,10 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
       o["material"]["specular_color"] = rgb(sp.material.specular_color);
       o["material"]["F90"] = preview_f90(sp.material);
     }
+    if (sp.material.clearcoat > 0.0) {
+      o["material"]["clearcoat"] = sp.material.clearcoat;
+      o["material"]["clearcoat_roughness"] = sp.material.clearcoat_roughness;
+    }
     if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
     if (s < r.stats.size()) {
       const PreviewSphereStats& st = r.stats[s];

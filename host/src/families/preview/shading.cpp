@@ -46,8 +46,8 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table) {
   return b;
 }
 
-Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias,
-                       const double s[9]) {
+Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias, const double s[9],
+                       double n_dot_v, const double* coat) {
   // F = F0 + (F90 - F0) Fc: the specular radiance F0 S1 + (F90 - F0) S2, its albedo likewise
   const Rgb f0 = preview_f0(m), cd = preview_diffuse_color(m);
   const double F0[3] = {f0.r, f0.g, f0.b}, CD[3] = {cd.r, cd.g, cd.b}, f90 = preview_f90(m);
@@ -65,6 +65,11 @@ Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double 
       w = fms + CD[c] * (1.0 - ess + fms);
     }
     out[c] = k * spec + w * s[6 + c] / M_PI;
+  }
+  if (m.clearcoat > 0.0 && coat) {
+    // KHR_materials_clearcoat's fresnel_coat: mix(base, layer, clearcoat Fcoat(n.v))
+    const double t = m.clearcoat * preview_coat_fresnel(n_dot_v);
+    for (int c = 0; c < 3; ++c) out[c] = (1.0 - t) * out[c] + t * coat[c];
   }
   return {out[0], out[1], out[2]};
 }

@@ -375,7 +375,73 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       break;
     }
   }
+  if (m.clearcoat > 0.0) coat(nd, vd, m, out);
   return {out[0], out[1], out[2]};
+}
+
+void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {
+  // KHR_materials_clearcoat with the geometric normal (the sphere's): each target's layering of a
+  // second GGX lobe over the base it has shaded into `out`
+  const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
+              vz = float(vd.z);
+  const float dot_nv = nx * vx + ny * vy + nz * vz;
+  const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
+  const float levels_minus_one = float(levels_.size() - 1), cc = float(m.clearcoat);
+  float light[3];
+  switch (files_.target) {
+    case EngineTarget::Generic: {
+      // the extension's fresnel_coat over the split sum: the coat's radiance is prefiltered x A_coat
+      // (its layer D V carries no Fresnel), weighted by clearcoat Fcoat(n.v), Fcoat = F_Schlick(0.04, 1)
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.clearcoat_roughness);
+      float bias = 0, albedo = 0;
+      trilinear(refl, levels_minus_one * r, light);
+      dfg(nv, r, &bias, &albedo);
+      const float t = cc * (0.04f + 0.96f * pow5(1.0f - nv));
+      for (int c = 0; c < 3; ++c) out[c] = out[c] * (1.0f - t) + t * light[c] * albedo;
+      return;
+    }
+    case EngineTarget::Filament: {
+      // light_indirect.fs, evaluateClearCoatIBL (no clear coat normal: clearCoatNoV = shading_NoV,
+      // clearCoatR = shading_reflected): Fc = F_Schlick(0.04, 1, NoV) clearCoat; Fd and Fr times
+      // 1 - Fc; Fr += prefilteredRadiance(clearCoatR, clearCoatPerceptualRoughness) Fc (no DFG term);
+      // clearCoatPerceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS, 1] (common_material.fs)
+      const float nv = std::max(dot_nv, 1e-4f);
+      const float pr = std::clamp(float(m.clearcoat_roughness), 0.045f, 1.0f);
+      trilinear(refl, levels_minus_one * pr * (2.0f - pr), light);
+      const float fc = (0.04f + 0.96f * pow5(1.0f - std::min(nv, 1.0f))) * cc;
+      for (int c = 0; c < 3; ++c) out[c] = out[c] * (1.0f - fc) + light[c] * fc;
+      return;
+    }
+    case EngineTarget::KhronosViewer: {
+      // pbr.frag: f_clearcoat = getIBLRadianceGGX(clearcoatNormal, v, clearcoatRoughness, clearcoatF0, 1)
+      // (ibl.glsl), clearcoatFresnel = F_Schlick(clearcoatF0, 1, NdotV), color = color (1 - clearcoatFactor
+      // clearcoatFresnel) + clearcoatFactor f_clearcoat; material_info.glsl getClearCoatInfo: clearcoatF0 =
+      // the material's f0 at that point, mix(f0 of the ior, baseColor, metallic)
+      PreviewMaterial plain = m;
+      plain.specular = 1.0;
+      plain.specular_color = {1.0, 1.0, 1.0};
+      const Rgb f0d = preview_f0(plain);
+      const float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)};
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.clearcoat_roughness);
+      float bias = 0, albedo = 0;
+      trilinear(refl, r * levels_minus_one, light);
+      dfg(nv, std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
+      const float fa = albedo - bias, fb = bias;
+      for (int c = 0; c < 3; ++c) {
+        const float fr = std::max(1.0f - r, f0[c]) - f0[c];
+        const float ks = f0[c] + fr * pow5(1.0f - nv);
+        const float fresnel = f0[c] + (1.0f - f0[c]) * pow5(1.0f - nv);
+        out[c] = out[c] * (1.0f - cc * fresnel) + cc * light[c] * (ks * fa + fb);
+      }
+      return;
+    }
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      // Babylon.js's clear coat block (pbrBlockClearCoat.fx: its own R0 at the coat-to-base interface,
+      // absorption, energy conservation) is not emulated: the split-sum render is the base alone, and
+      // the sphere's notes say so
+      return;
+  }
 }
 
 Metadata SplitSum::steps() const {
