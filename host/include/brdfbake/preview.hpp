@@ -30,17 +30,38 @@ namespace brdfbake {
 // ---- Materials ----------------------------------------------------------------------------------
 
 // A sphere's material: the glTF 2.0 metallic-roughness core (what every target's split-sum shader
-// reads), linear colours. F0 = mix(0.04, base_color, metallic) (glTF's dielectric F0 of ior 1.5),
-// diffuse colour = base_color (1 - metallic), alpha = roughness^2.
+// reads) and the extensions the preview renders, linear colours, factors only (no textures).
+// Specular Fresnel F = F0 + (F90 - F0) (1 - v.h)^5 with (glTF 2.0 Appendix B with KHR_materials_ior
+// and KHR_materials_specular: dielectric_brdf's fresnel_mix, metal_brdf's conductor_fresnel)
+//   F0  = mix(specular min(((ior - 1) / (ior + 1))^2 specular_color, 1), base_color, metallic),
+//   F90 = mix(specular, 1, metallic);
+// the defaults (ior 1.5, specular 1, specular_color 1) give F0 = mix(0.04, base_color, metallic),
+// F90 = 1. Diffuse colour = base_color (1 - metallic), alpha = roughness^2.
+// KHR_materials_clearcoat (the geometric normal: no clearcoat normal texture): a second GGX lobe of
+// alpha clearcoat_roughness^2 layered over the rest by the extension's fresnel_coat, Schlick's F of
+// ior 1.5 at n.v: f = (1 - clearcoat Fcoat(n.v)) f_base + clearcoat Fcoat(n.v) D_coat V_coat.
 struct PreviewMaterial {
   std::string name;
   Rgb base_color{0.8, 0.8, 0.8};
   double metallic = 0.0;
   double roughness = 0.5;
-  std::vector<std::string> notes;  // what of the source material the preview does not render
+  std::vector<std::string> notes;     // what of the source material the preview does not render
+  double ior = 1.5;                   // KHR_materials_ior: 0 or >= 1 (0: F0 1)
+  double specular = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
+  Rgb specular_color{1.0, 1.0, 1.0};  // specularColorFactor, >= 0 (F0 clamped to 1 after it)
+  double clearcoat = 0.0;             // KHR_materials_clearcoat clearcoatFactor, [0, 1]
+  double clearcoat_roughness = 0.0;   // clearcoatRoughnessFactor, [0, 1]
 };
+// The clear coat's Fresnel at n.v (KHR_materials_clearcoat's fresnel_coat: ior 1.5, F0 0.04).
+double preview_coat_fresnel(double n_dot_v);
 Rgb preview_f0(const PreviewMaterial& m);
+double preview_f90(const PreviewMaterial& m);
+// The dielectric's F0 before the specular factor: min(((ior - 1) / (ior + 1))^2 specular_color, 1)
+// (exactly 0.04 at ior 1.5).
+Rgb preview_dielectric_f0(const PreviewMaterial& m);
 Rgb preview_diffuse_color(const PreviewMaterial& m);
+// Whether the material uses KHR_materials_ior or KHR_materials_specular (a value not the default).
+bool preview_has_specular_extension(const PreviewMaterial& m);
 
 // The default grid, row by row: roughness 0, 0.05, 0.1, 0.2, ..., 1 (12 columns) for each of
 // dielectric white, grey and dark, and the metals gold, copper and silver (6 rows).

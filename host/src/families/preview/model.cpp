@@ -9,10 +9,37 @@
 
 namespace brdfbake {
 
+Rgb preview_dielectric_f0(const PreviewMaterial& m) {
+  // KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0.04 at the default 1.5 (written as the literal so
+  // that a material without the extensions keeps glTF 2.0's value to the last bit); ior 0 gives 1.
+  // KHR_materials_specular: times specularColorFactor, clamped to 1.
+  const double r = (m.ior - 1.0) / (m.ior + 1.0);
+  const double f = m.ior == 1.5 ? 0.04 : r * r;
+  const Rgb& c = m.specular_color;
+  return {std::min(f * c.r, 1.0), std::min(f * c.g, 1.0), std::min(f * c.b, 1.0)};
+}
+
 Rgb preview_f0(const PreviewMaterial& m) {
-  // glTF 2.0, Appendix B: F0 = mix(0.04, baseColor, metallic) (a dielectric of ior 1.5)
-  auto mix = [&](double c) { return 0.04 * (1.0 - m.metallic) + c * m.metallic; };
-  return {mix(m.base_color.r), mix(m.base_color.g), mix(m.base_color.b)};
+  // glTF 2.0, Appendix B: F0 = mix(dielectric F0, baseColor, metallic); KHR_materials_specular's
+  // fresnel_mix scales the dielectric's Fresnel by specularFactor
+  const Rgb d = preview_dielectric_f0(m);
+  auto mix = [&](double f, double c) { return m.specular * f * (1.0 - m.metallic) + c * m.metallic; };
+  return {mix(d.r, m.base_color.r), mix(d.g, m.base_color.g), mix(d.b, m.base_color.b)};
+}
+
+double preview_f90(const PreviewMaterial& m) {
+  // mix(specular, 1, metallic), written so that specular 1 gives exactly 1
+  return 1.0 - (1.0 - m.specular) * (1.0 - m.metallic);
+}
+
+double preview_coat_fresnel(double n_dot_v) {
+  const double x = 1.0 - std::clamp(n_dot_v, 0.0, 1.0), x2 = x * x;
+  return 0.04 + 0.96 * x2 * x2 * x;
+}
+
+bool preview_has_specular_extension(const PreviewMaterial& m) {
+  return m.ior != 1.5 || m.specular != 1.0 || m.specular_color.r != 1.0 || m.specular_color.g != 1.0 ||
+         m.specular_color.b != 1.0;
 }
 
 Rgb preview_diffuse_color(const PreviewMaterial& m) {
@@ -68,11 +95,8 @@ std::vector<std::string> unrendered(const NamedMaterial& nm) {
     notes.push_back(std::string("model ") + brdf_model_name(*nm.model) +
                     ": rendered as glTF metallic-roughness (baseColor, metallic, roughness)");
   if (p.sheen_color.r > 0 || p.sheen_color.g > 0 || p.sheen_color.b > 0) notes.push_back("sheen: not rendered");
-  if (p.clearcoat > 0) notes.push_back("clearcoat: not rendered");
-  if (p.specular_factor != 1.0 || p.specular_color_factor.r != 1.0 || p.specular_color_factor.g != 1.0 ||
-      p.specular_color_factor.b != 1.0)
-    notes.push_back("KHR_materials_specular: not rendered (F0 0.04)");
-  if (p.ior != 1.5) notes.push_back("ior: not rendered (F0 0.04)");
+  if (p.clearcoat > 0 && nm.model && *nm.model == BrdfModel::Disney)
+    notes.push_back("clearcoat: Disney's not rendered (the preview renders glTF's KHR_materials_clearcoat)");
   return notes;
 }
 
@@ -103,11 +127,30 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
         m.base_color = nm.params.base_color;
         m.metallic = nm.params.metallic;
         m.roughness = nm.params.roughness;
+        m.ior = nm.params.ior;
+        m.specular = nm.params.specular_factor;
+        m.specular_color = nm.params.specular_color_factor;
+        if (!nm.model || *nm.model != BrdfModel::Disney) {
+          m.clearcoat = nm.params.clearcoat;
+          m.clearcoat_roughness = nm.params.clearcoat_roughness;
+        }
         m.notes = unrendered(nm);
         s.materials.push_back(m);
       }
       if (s.materials.empty()) throw Error(s.materials_file + ": no materials");
     }
+  }
+  // What a target's split-sum shader does not honour of a rendered extension (the reference does).
+  for (PreviewMaterial& m : s.materials) {
+    auto note = [&m](const std::string& text) {
+      if (std::find(m.notes.begin(), m.notes.end(), text) == m.notes.end()) m.notes.push_back(text);
+    };
+    if (s.target == EngineTarget::Filament && m.specular != 1.0 && m.metallic < 1.0)
+      note("KHR_materials_specular: filament's split-sum scales F0 by specularFactor, F90 stays 1 (specularDFG)");
+    if ((s.target == EngineTarget::Gltf || s.target == EngineTarget::Babylon) && m.clearcoat > 0.0)
+      note(
+          "KHR_materials_clearcoat: not in this target's split-sum render (Babylon.js's clear coat block is not "
+          "emulated); in the reference");
   }
   if (s.materials.size() > size_t(kPreviewMaxSpheres))
     throw Error(std::to_string(s.materials.size()) + " materials: at most " + std::to_string(kPreviewMaxSpheres));
@@ -118,6 +161,16 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
     if (!(m.metallic >= 0.0 && m.metallic <= 1.0)) throw Error("material '" + m.name + "': metallic must be in [0, 1]");
     if (!(m.roughness >= 0.0 && m.roughness <= 1.0))
       throw Error("material '" + m.name + "': roughness must be in [0, 1]");
+    if (!(m.ior == 0.0 || (m.ior >= 1.0 && std::isfinite(m.ior))))
+      throw Error("material '" + m.name + "': ior must be 0 or a finite number >= 1");
+    if (!(m.specular >= 0.0 && m.specular <= 1.0)) throw Error("material '" + m.name + "': specular must be in [0, 1]");
+    if (!(m.clearcoat >= 0.0 && m.clearcoat <= 1.0))
+      throw Error("material '" + m.name + "': clearcoat must be in [0, 1]");
+    if (!(m.clearcoat_roughness >= 0.0 && m.clearcoat_roughness <= 1.0))
+      throw Error("material '" + m.name + "': clearcoat_roughness must be in [0, 1]");
+    for (double v : {m.specular_color.r, m.specular_color.g, m.specular_color.b})
+      if (!(v >= 0.0 && std::isfinite(v)))
+        throw Error("material '" + m.name + "': specular_color must be finite and >= 0");
   }
   const int n = int(s.materials.size());
   if (s.columns <= 0) {

@@ -282,6 +282,16 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
         {"baseColor", rgb(sp.material.base_color)}, {"metallic", sp.material.metallic},
         {"roughness", sp.material.roughness},       {"alpha", sp.material.roughness * sp.material.roughness},
         {"F0", rgb(preview_f0(sp.material))},       {"diffuse_color", rgb(preview_diffuse_color(sp.material))}};
+    if (preview_has_specular_extension(sp.material)) {
+      o["material"]["ior"] = sp.material.ior;
+      o["material"]["specular"] = sp.material.specular;
+      o["material"]["specular_color"] = rgb(sp.material.specular_color);
+      o["material"]["F90"] = preview_f90(sp.material);
+    }
+    if (sp.material.clearcoat > 0.0) {
+      o["material"]["clearcoat"] = sp.material.clearcoat;
+      o["material"]["clearcoat_roughness"] = sp.material.clearcoat_roughness;
+    }
     if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
     if (s < r.stats.size()) {
       const PreviewSphereStats& st = r.stats[s];

@@ -265,6 +265,8 @@ double sheet_exposure(const PreviewResult& res, const std::vector<SpherePixel>& 
   return exposure;
 }
 
+constexpr size_t kNoCoat = size_t(-1);
+
 // The reference's work: each distinct (normal, alpha) once, with the exact albedos at its n.v and
 // roughness, and the bound's pixels (each distinct one once more, at twice the refinement).
 struct ReferenceWork {
@@ -272,6 +274,9 @@ struct ReferenceWork {
   std::vector<size_t> task_of;        // per sphere pixel: its entry of task.pixels
   std::vector<size_t> bound_index;    // the sphere pixels the bound is measured on
   std::vector<size_t> bound_task_of;  // per bound pixel: its entry of task.bound_pixels
+  // The clear coat's lobe (KHR_materials_clearcoat): per sphere pixel and per bound pixel, the entry
+  // of the same normal at the coat's alpha (kNoCoat for an uncoated sphere).
+  std::vector<size_t> coat_task_of, bound_coat_task_of;
   double lut_seconds = 0.0;
 };
 
@@ -281,25 +286,27 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   // The exact albedos at every pixel's n.v (every sphere covers the same offsets) and roughness.
   std::set<double> nv_set, r_set;
   for (const SpherePixel& p : pixels) nv_set.insert(std::max(p.n_dot_v, 1e-7));
-  for (const PreviewSphere& s : res.spheres) r_set.insert(s.material.roughness);
+  for (const PreviewSphere& s : res.spheres) {
+    r_set.insert(s.material.roughness);
+    if (s.material.clearcoat > 0.0) r_set.insert(s.material.clearcoat_roughness);
+  }
   const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
   const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &w.lut_seconds);
-  auto albedos = [&](const SpherePixel& p, double* a, double* b) {
+  auto albedos = [&](const SpherePixel& p, double roughness, double* a, double* b) {
     const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
-    const size_t j =
-        size_t(std::lower_bound(rs.begin(), rs.end(), res.spheres[size_t(p.sphere)].material.roughness) - rs.begin());
+    const size_t j = size_t(std::lower_bound(rs.begin(), rs.end(), roughness) - rs.begin());
     *a = ab[2 * (j * nvs.size() + i)];
     *b = ab[2 * (j * nvs.size() + i) + 1];
   };
 
-  auto to_pixel = [&](const SpherePixel& p) {
+  auto to_pixel = [&](const SpherePixel& p, double roughness) {
     ReferencePixel r;
     r.n[0] = float(p.n.x);
     r.n[1] = float(p.n.y);
     r.n[2] = float(p.n.z);
-    r.alpha = float(material_alpha(res.spheres[size_t(p.sphere)].material));
+    r.alpha = float(roughness * roughness);
     double a = 0, b = 0;
-    albedos(p, &a, &b);
+    albedos(p, roughness, &a, &b);
     r.albedo = float(a);
     r.bias = float(b);
     return r;
@@ -308,28 +315,37 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
   // grid's 72 spheres are 12 roughnesses).
   std::map<std::array<float, 4>, size_t> unique;
-  w.task_of.resize(pixels.size());
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    const ReferencePixel r = to_pixel(pixels[i]);
+  auto entry = [&](const ReferencePixel& r) {
     const std::array<float, 4> key = {r.n[0], r.n[1], r.n[2], r.alpha};
     const auto [it, added] = unique.emplace(key, task.pixels.size());
     if (added) task.pixels.push_back(r);
-    w.task_of[i] = it->second;
+    return it->second;
+  };
+  w.task_of.resize(pixels.size());
+  w.coat_task_of.assign(pixels.size(), kNoCoat);
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const PreviewMaterial& m = res.spheres[size_t(pixels[i].sphere)].material;
+    w.task_of[i] = entry(to_pixel(pixels[i], m.roughness));
+    if (m.clearcoat > 0.0) w.coat_task_of[i] = entry(to_pixel(pixels[i], m.clearcoat_roughness));
   }
   // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
   // distinct one integrated once more at twice the refinement.
   std::vector<std::vector<size_t>> of_sphere(res.spheres.size());
   for (size_t i = 0; i < pixels.size(); ++i) of_sphere[size_t(pixels[i].sphere)].push_back(i);
   std::map<size_t, size_t> bound_unique;
+  auto bound_entry = [&](size_t t) {
+    const auto [it, added] = bound_unique.emplace(t, task.bound_pixels.size());
+    if (added) task.bound_pixels.push_back(task.pixels[t]);
+    return it->second;
+  };
   for (const auto& list : of_sphere) {
     const size_t n = list.size();
     const size_t stride = std::max<size_t>(1, std::min<size_t>(size_t(res.spec.bound_stride), n / 16));
     for (size_t k = stride / 2; k < n; k += stride) {
       w.bound_index.push_back(list[k]);
-      const size_t t = w.task_of[list[k]];
-      const auto [it, added] = bound_unique.emplace(t, task.bound_pixels.size());
-      if (added) task.bound_pixels.push_back(task.pixels[t]);
-      w.bound_task_of.push_back(it->second);
+      w.bound_task_of.push_back(bound_entry(w.task_of[list[k]]));
+      const size_t c = w.coat_task_of[list[k]];
+      w.bound_coat_task_of.push_back(c == kNoCoat ? kNoCoat : bound_entry(c));
     }
   }
   return w;
@@ -353,8 +369,10 @@ std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, 
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];
     const size_t t = w.task_of[i];
-    ref[i] = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo,
-                                task.pixels[t].bias, &sums.values[9 * t]);
+    const size_t c = w.coat_task_of[i];
+    ref[i] =
+        reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo, task.pixels[t].bias,
+                           &sums.values[9 * t], p.n_dot_v, c == kNoCoat ? nullptr : &sums.values[9 * c]);
     put(res.reference, p.x, p.y, ref[i]);
   }
   return ref;
@@ -369,8 +387,10 @@ void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, 
   for (size_t k = 0; k < w.bound_index.size(); ++k) {
     const SpherePixel& p = pixels[w.bound_index[k]];
     const size_t t = w.bound_task_of[k];
+    const size_t c = w.bound_coat_task_of[k];
     const Rgb fine = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo,
-                                        task.bound_pixels[t].bias, &sums.bound_values[9 * t]);
+                                        task.bound_pixels[t].bias, &sums.bound_values[9 * t], p.n_dot_v,
+                                        c == kNoCoat ? nullptr : &sums.bound_values[9 * c]);
     const Rgb coarse = ref[w.bound_index[k]];
     const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
@@ -428,6 +448,16 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   res.shading = split.steps();
   const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
   res.brdf = brdf.text;
+  if (std::any_of(res.spheres.begin(), res.spheres.end(),
+                  [](const PreviewSphere& s) { return preview_has_specular_extension(s.material); }))
+    res.brdf +=
+        "; with KHR_materials_ior / KHR_materials_specular: F0 = mix(specular min(((ior - 1) / (ior + 1))^2 "
+        "specularColor, 1), baseColor, metallic), F90 = mix(specular, 1, metallic), F = F0 + (F90 - F0) Fc";
+  if (std::any_of(res.spheres.begin(), res.spheres.end(),
+                  [](const PreviewSphere& s) { return s.material.clearcoat > 0.0; }))
+    res.brdf +=
+        "; with KHR_materials_clearcoat: (1 - clearcoat Fcoat(n.v)) f + clearcoat Fcoat(n.v) D_coat V_coat, "
+        "Fcoat = 0.04 + 0.96 (1 - n.v)^5, alpha_coat = clearcoatRoughness^2, the geometric normal";
   res.multiscatter = brdf.compensation || brdf.diffuse == DiffuseWeight::FdezAguera;
 
   const EnvImage equirect = reference_equirect(environment);

@@ -46,24 +46,30 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table) {
   return b;
 }
 
-Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias,
-                       const double s[9]) {
+Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias, const double s[9],
+                       double n_dot_v, const double* coat) {
+  // F = F0 + (F90 - F0) Fc: the specular radiance F0 S1 + (F90 - F0) S2, its albedo likewise
   const Rgb f0 = preview_f0(m), cd = preview_diffuse_color(m);
-  const double F0[3] = {f0.r, f0.g, f0.b}, CD[3] = {cd.r, cd.g, cd.b};
+  const double F0[3] = {f0.r, f0.g, f0.b}, CD[3] = {cd.r, cd.g, cd.b}, f90 = preview_f90(m);
   double out[3];
   for (int c = 0; c < 3; ++c) {
-    const double spec = F0[c] * s[c] + (1.0 - F0[c]) * s[3 + c];
-    const double ess = F0[c] * albedo + (1.0 - F0[c]) * bias;
+    const double spec = F0[c] * s[c] + (f90 - F0[c]) * s[3 + c];
+    const double ess = F0[c] * albedo + (f90 - F0[c]) * bias;
     const double k = brdf.compensation && albedo > 0.0 ? 1.0 + F0[c] * (1.0 / albedo - 1.0) : 1.0;
     double w = CD[c];
     if (brdf.diffuse == DiffuseWeight::OneMinusE) {
       w = CD[c] * (1.0 - ess);
     } else if (brdf.diffuse == DiffuseWeight::FdezAguera) {
-      const double ems = 1.0 - albedo, favg = F0[c] + (1.0 - F0[c]) / 21.0;
+      const double ems = 1.0 - albedo, favg = F0[c] + (f90 - F0[c]) / 21.0;
       const double fms = ems * ess * favg / (1.0 - favg * ems);
       w = fms + CD[c] * (1.0 - ess + fms);
     }
     out[c] = k * spec + w * s[6 + c] / M_PI;
+  }
+  if (m.clearcoat > 0.0 && coat) {
+    // KHR_materials_clearcoat's fresnel_coat: mix(base, layer, clearcoat Fcoat(n.v))
+    const double t = m.clearcoat * preview_coat_fresnel(n_dot_v);
+    for (int c = 0; c < 3; ++c) out[c] = (1.0 - t) * out[c] + t * coat[c];
   }
   return {out[0], out[1], out[2]};
 }

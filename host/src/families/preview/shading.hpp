@@ -35,9 +35,11 @@ struct TargetBrdf {
 TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table);
 
 // The reference radiance of one pixel from its integrals (S1, S2, Irr: kernel.hpp) and its exact
-// albedos A, B, for a material.
+// albedos A, B, for a material. A clear coat (m.clearcoat > 0) takes `coat`, the pixel's integrals at
+// the coat's alpha (its S1 = int D_coat V_coat n.l L), and the pixel's n.v for its Fresnel:
+//   (1 - clearcoat Fcoat(n.v)) base + clearcoat Fcoat(n.v) S1_coat.
 Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias,
-                       const double integrals[9]);
+                       const double integrals[9], double n_dot_v = 1.0, const double* coat = nullptr);
 
 // The exact albedos (A, B) at every (n.v, roughness) pair of the grid n_dot_v x roughness, by the
 // DFG family's quadrature on `backend` (bake_lut at explicit coordinates, ggx-multiscatter: the

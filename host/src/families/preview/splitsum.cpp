@@ -136,6 +136,15 @@ std::vector<double> babylon_polynomial_from(const std::vector<double>& h) {
 }
 
 float mixf(float a, float b, float t) { return a + (b - a) * t; }
+
+// The glTF-Sample-Viewer's f0 (material_info.glsl, getIorInfo then getMetallicRoughnessInfo and
+// getSpecularInfo): mix(min(f0_ior specularColorFactor, 1), baseColor, metallic), without the
+// specular factor (its specularWeight); preview_f0 of the material with specular 1.
+Rgb sample_viewer_f0(const PreviewMaterial& m) {
+  PreviewMaterial unweighted = m;
+  unweighted.specular = 1.0;
+  return preview_f0(unweighted);
+}
 float pow5(float x) {
   const float x2 = x * x;
   return x2 * x2 * x;
@@ -270,6 +279,7 @@ Rgb SplitSum::sky(const Vec3& d) const {
 Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) const {
   const Rgb f0d = preview_f0(m), cdd = preview_diffuse_color(m);
   const float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)}, cd[3] = {float(cdd.r), float(cdd.g), float(cdd.b)};
+  const float f90 = float(preview_f90(m)), specular = float(m.specular);
   const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
               vz = float(vd.z);
   const float dot_nv = nx * vx + ny * vy + nz * vz;
@@ -279,14 +289,15 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
   switch (files_.target) {
     case EngineTarget::Generic: {
       // docs/CONVENTIONS.md's runtime: lod = (levels - 1) roughness, specular = prefiltered x
-      // mix(bias, albedo, F0) x (1 + F0 (1 / albedo - 1)) (ggx-multiscatter) or F0 scale + bias
+      // (F90 bias + (albedo - bias) F0) x (1 + F0 (1 / albedo - 1)) (ggx-multiscatter) or F0 scale
+      // + F90 bias
       const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
       const Vec3 refl{double(2.0f * nv * nx - vx), double(2.0f * nv * ny - vy), double(2.0f * nv * nz - vz)};
       float light[3], bias = 0, albedo = 0;
       trilinear(refl, levels_minus_one * r, light);
       dfg(nv, r, &bias, &albedo);
       for (int c = 0; c < 3; ++c) {
-        const float e = mixf(bias, albedo, f0[c]);
+        const float e = f90 * bias + (albedo - bias) * f0[c];
         const float k = files_.dfg_multiscatter ? 1.0f + f0[c] * (1.0f / albedo - 1.0f) : 1.0f;
         out[c] = light[c] * e * k + cd[c] * irr[c];
       }
@@ -306,7 +317,7 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       float light[3];
       trilinear(dir, levels_minus_one * pr * (2.0f - pr), light);  // perceptualRoughnessToLod
       for (int c = 0; c < 3; ++c) {
-        const float e = mixf(bias, albedo, f0[c]);                // specularDFG
+        const float e = mixf(bias, albedo, f0[c]);                // specularDFG (F90 1)
         const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);    // energyCompensation
         out[c] = e * light[c] * k + cd[c] * irr[c] * (1.0f - e);  // evaluateIBL: Fr + Fd
       }
@@ -325,17 +336,22 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       float light[3], bias = 0, albedo = 0;
       trilinear(refl, lod, light);
       dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
+      // pbrBlockReflectance0: specularEnvironmentR90 = metallicReflectanceFactors.a, which the glTF
+      // loader's KHR_materials_specular sets to specularFactor (for metals too: not mixed by metallic)
+      const float r90 = specular;
       for (int c = 0; c < 3; ++c) {
-        // getReflectanceFromBRDFLookup (height-correlated, metallic workflow, ior 1.5: the clamp
-        // is 1): (F90 - F0) x + F0 y, F90 = 1; getEnergyConservationFactor: 1 + F0 (1 / y - 1)
-        const float reflectance = (1.0f - f0[c]) * bias + f0[c] * albedo;
+        // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
+        // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
+        const float reflectance = (r90 - f0[c]) * bias + f0[c] * albedo;
         const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);
         out[c] = light[c] * reflectance * k + irr[c] * cd[c];  // finalRadianceScaled + finalIrradiance
       }
       break;
     }
     case EngineTarget::KhronosViewer: {
-      // ibl.glsl getIBLRadianceGGX and getIBLRadianceLambertian (specularWeight 1)
+      // ibl.glsl getIBLRadianceGGX and getIBLRadianceLambertian; material_info.glsl getIorInfo and
+      // getSpecularInfo: f0 = mix(min(f0_ior specularColorFactor, 1), baseColor, metallic) without the
+      // specular factor, which both functions apply as specularWeight (to metals too)
       const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
       const float lod = r * levels_minus_one;
       const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy),
@@ -344,20 +360,88 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       trilinear(refl, lod, light);
       dfg(std::clamp(nv, 0.0f, 1.0f), std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
       const float fa = albedo - bias, fb = bias;  // f_ab: scale, bias
+      const Rgb f0_sv = sample_viewer_f0(m);
+      const float f0v[3] = {float(f0_sv.r), float(f0_sv.g), float(f0_sv.b)}, sw = specular;
       for (int c = 0; c < 3; ++c) {
-        const float fr = std::max(1.0f - r, f0[c]) - f0[c];
-        const float ks = f0[c] + fr * pow5(1.0f - nv);
-        const float fss_ess = ks * fa + fb;
+        const float fr = std::max(1.0f - r, f0v[c]) - f0v[c];
+        const float ks = f0v[c] + fr * pow5(1.0f - nv);
+        const float fss_ess = sw * ks * fa + fb;  // getIBLRadianceLambertian's (its bias not weighted)
         const float ems = 1.0f - (fa + fb);
-        const float favg = f0[c] + (1.0f - f0[c]) / 21.0f;
+        const float favg = sw * (f0v[c] + (1.0f - f0v[c]) / 21.0f);
         const float fms_ems = ems * fss_ess * favg / (1.0f - favg * ems);
         const float kd = cd[c] * (1.0f - fss_ess + fms_ems);
-        out[c] = light[c] * fss_ess + (fms_ems + kd) * irr[c];
+        out[c] = sw * light[c] * (ks * fa + fb) + (fms_ems + kd) * irr[c];  // getIBLRadianceGGX's
       }
       break;
     }
   }
+  if (m.clearcoat > 0.0) coat(nd, vd, m, out);
   return {out[0], out[1], out[2]};
+}
+
+void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {
+  // KHR_materials_clearcoat with the geometric normal (the sphere's): each target's layering of a
+  // second GGX lobe over the base it has shaded into `out`
+  const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
+              vz = float(vd.z);
+  const float dot_nv = nx * vx + ny * vy + nz * vz;
+  const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
+  const float levels_minus_one = float(levels_.size() - 1), cc = float(m.clearcoat);
+  float light[3];
+  switch (files_.target) {
+    case EngineTarget::Generic: {
+      // the extension's fresnel_coat over the split sum: the coat's radiance is prefiltered x A_coat
+      // (its layer D V carries no Fresnel), weighted by clearcoat Fcoat(n.v), Fcoat = F_Schlick(0.04, 1)
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.clearcoat_roughness);
+      float bias = 0, albedo = 0;
+      trilinear(refl, levels_minus_one * r, light);
+      dfg(nv, r, &bias, &albedo);
+      const float t = cc * (0.04f + 0.96f * pow5(1.0f - nv));
+      for (int c = 0; c < 3; ++c) out[c] = out[c] * (1.0f - t) + t * light[c] * albedo;
+      return;
+    }
+    case EngineTarget::Filament: {
+      // light_indirect.fs, evaluateClearCoatIBL (no clear coat normal: clearCoatNoV = shading_NoV,
+      // clearCoatR = shading_reflected): Fc = F_Schlick(0.04, 1, NoV) clearCoat; Fd and Fr times
+      // 1 - Fc; Fr += prefilteredRadiance(clearCoatR, clearCoatPerceptualRoughness) Fc (no DFG term);
+      // clearCoatPerceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS, 1] (common_material.fs)
+      const float nv = std::max(dot_nv, 1e-4f);
+      const float pr = std::clamp(float(m.clearcoat_roughness), 0.045f, 1.0f);
+      trilinear(refl, levels_minus_one * pr * (2.0f - pr), light);
+      const float fc = (0.04f + 0.96f * pow5(1.0f - std::min(nv, 1.0f))) * cc;
+      for (int c = 0; c < 3; ++c) out[c] = out[c] * (1.0f - fc) + light[c] * fc;
+      return;
+    }
+    case EngineTarget::KhronosViewer: {
+      // pbr.frag: f_clearcoat = getIBLRadianceGGX(clearcoatNormal, v, clearcoatRoughness, clearcoatF0, 1)
+      // (ibl.glsl), clearcoatFresnel = F_Schlick(clearcoatF0, 1, NdotV), color = color (1 - clearcoatFactor
+      // clearcoatFresnel) + clearcoatFactor f_clearcoat; material_info.glsl getClearCoatInfo: clearcoatF0 =
+      // the material's f0 at that point, mix(f0 of the ior, baseColor, metallic)
+      PreviewMaterial plain = m;
+      plain.specular = 1.0;
+      plain.specular_color = {1.0, 1.0, 1.0};
+      const Rgb f0d = preview_f0(plain);
+      const float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)};
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.clearcoat_roughness);
+      float bias = 0, albedo = 0;
+      trilinear(refl, r * levels_minus_one, light);
+      dfg(nv, std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
+      const float fa = albedo - bias, fb = bias;
+      for (int c = 0; c < 3; ++c) {
+        const float fr = std::max(1.0f - r, f0[c]) - f0[c];
+        const float ks = f0[c] + fr * pow5(1.0f - nv);
+        const float fresnel = f0[c] + (1.0f - f0[c]) * pow5(1.0f - nv);
+        out[c] = out[c] * (1.0f - cc * fresnel) + cc * light[c] * (ks * fa + fb);
+      }
+      return;
+    }
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      // Babylon.js's clear coat block (pbrBlockClearCoat.fx: its own R0 at the coat-to-base interface,
+      // absorption, energy conservation) is not emulated: the split-sum render is the base alone, and
+      // the sphere's notes say so
+      return;
+  }
 }
 
 Metadata SplitSum::steps() const {

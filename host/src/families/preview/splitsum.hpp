@@ -33,6 +33,8 @@ class SplitSum {
   void trilinear(const Vec3& d, float lod, float out[3]) const;
   void dfg(float n_dot_v, float roughness, float* bias, float* albedo) const;
   void diffuse(const Vec3& n, float out[3]) const;
+  // KHR_materials_clearcoat layered over the shaded base `out`, as the target's shader does.
+  void coat(const Vec3& n, const Vec3& v, const PreviewMaterial& m, float out[3]) const;
 
   BakeFiles files_;
   std::vector<Level> levels_;
