@@ -5,7 +5,8 @@
 #                               N seconds (scripts/fuzz.sh, clang 14)
 #   scripts/test.sh --sanitize  the same tests built with AddressSanitizer and UndefinedBehavior-
 #                               Sanitizer (CMakePresets.json "asan", in build-asan/; installs clang 14)
-#   Then the Python package in a fresh virtual environment (pip install ., pytest tests/python).
+#   Beside ctest, the Python package in a fresh virtual environment (pip install ., pytest
+#   tests/python; its output is printed after ctest's, from build/python-tests.log).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export BRDFBAKE_WARNINGS_AS_ERRORS=ON
