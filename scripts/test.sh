@@ -25,7 +25,11 @@ source scripts/deps.sh
 # afterwards. BRDFBAKE_TEST_WARM_CACHE=1 keeps the user's caches (faster, but not a first run).
 python_pid=""
 cleanup() {
-  if [[ -n $python_pid ]]; then kill "$python_pid" 2> /dev/null || true; fi
+  # an interrupted run: the Python part's commands (pip, pytest), then its shell
+  if [[ -n $python_pid ]]; then
+    pkill -TERM -P "$python_pid" 2> /dev/null || true
+    kill "$python_pid" 2> /dev/null || true
+  fi
   if [[ -n ${BRDFBAKE_TEST_CACHE:-} ]]; then rm -rf "$BRDFBAKE_TEST_CACHE"; fi
 }
 trap cleanup EXIT
