@@ -68,6 +68,8 @@ typedef struct {
   int spec;     // alpha > 0
   int sheen;    // the Charlie lobe (alpha = its alpha) instead of GGX
   real alpha;
+  CharlieFit fit;   // the sheen's fitted Lambda at alpha (charlie_fit)
+  real lambda_v1;   // 1 + Lambda(n.v)
 } PreviewPixel;
 
 typedef struct {
@@ -91,7 +93,10 @@ inline real2 preview_lobe(const PreviewPixel* p, real3 l) {
   const real nh = dot(p->n, h), h2 = dot(h, h);
   if (p->sheen) {
     if (!(h2 > R(0.0))) return (real2)(R(0.0));
-    const real g = D_Charlie(nh / sqrt(h2), p->alpha) * V_CharlieEstevezKulla_times_nl(p->nv, nl, p->alpha);
+    // V_CharlieEstevezKulla_times_nl with the view's Lambda and the fit computed once a pixel
+    const real x = fmin(nl, R(1.0));
+    const real ll = x < R(0.5) ? exp(charlie_L(p->fit, x)) : exp(R(2.0) * p->fit.l_half - charlie_L(p->fit, R(1.0) - x));
+    const real g = D_Charlie(nh / sqrt(h2), p->alpha) / ((p->lambda_v1 + ll) * R(4.0) * p->nv);
     return (real2)(g, R(0.0));
   }
   const real t = dot(c, c) + p->a2 * nh * nh;
@@ -416,7 +421,11 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
   p.spec = alpha > R(0.0);
   p.sheen = px[6] != 0.0f;
   p.alpha = alpha;
-  if (p.sheen) p.width = INFINITY;  // no peak at r: the horizon's rules resolve the sheen lobe
+  if (p.sheen) {
+    p.width = INFINITY;  // no peak at r: the horizon's rules resolve the sheen lobe
+    p.fit = charlie_fit(alpha);
+    p.lambda_v1 = R(1.0) + Lambda_CharlieEstevezKulla(p.nv, alpha);
+  }
   PreviewRules rules;
   rules.horizon_size = params[4];
   rules.horizon_energy = params[5];
