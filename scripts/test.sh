@@ -5,7 +5,8 @@
 #                               N seconds (scripts/fuzz.sh, clang 14)
 #   scripts/test.sh --sanitize  the same tests built with AddressSanitizer and UndefinedBehavior-
 #                               Sanitizer (CMakePresets.json "asan", in build-asan/; installs clang 14)
-#   Then the Python package in a fresh virtual environment (pip install ., pytest tests/python).
+#   Beside ctest, the Python package in a fresh virtual environment (pip install ., pytest
+#   tests/python; its output is printed after ctest's, from build/python-tests.log).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export BRDFBAKE_WARNINGS_AS_ERRORS=ON
@@ -22,44 +23,72 @@ esac
 source scripts/deps.sh
 # What a fresh machine sees (issue 18): private, empty kernel caches, PoCL's and ours, removed
 # afterwards. BRDFBAKE_TEST_WARM_CACHE=1 keeps the user's caches (faster, but not a first run).
+python_pid=""
+cleanup() {
+  # an interrupted run: the Python part's commands (pip, pytest), then its shell
+  if [[ -n $python_pid ]]; then
+    pkill -TERM -P "$python_pid" 2> /dev/null || true
+    kill "$python_pid" 2> /dev/null || true
+  fi
+  if [[ -n ${BRDFBAKE_TEST_CACHE:-} ]]; then rm -rf "$BRDFBAKE_TEST_CACHE"; fi
+}
+trap cleanup EXIT
 if [[ ${BRDFBAKE_TEST_WARM_CACHE:-0} != 1 ]]; then
   BRDFBAKE_TEST_CACHE=$(mktemp -d -t brdfbake-test-cache.XXXXXX)
-  trap 'rm -rf "$BRDFBAKE_TEST_CACHE"' EXIT
   export POCL_CACHE_DIR=$BRDFBAKE_TEST_CACHE/pocl BRDFBAKE_CACHE_DIR=$BRDFBAKE_TEST_CACHE/brdfbake
   mkdir -p "$POCL_CACHE_DIR" "$BRDFBAKE_CACHE_DIR"
 fi
-(cd "$BUILD_DIR" && ctest --output-on-failure -j "$(nproc)" --timeout 600)
-# Live fuzzing is opt-in (BRDFBAKE_FUZZ_SECONDS=N): ctest already replays every seed corpus, and a
-# libFuzzer run needs its own clang build (build-fuzz/).
-if [[ -n ${BRDFBAKE_FUZZ_SECONDS:-} ]]; then scripts/fuzz.sh "$BRDFBAKE_FUZZ_SECONDS"; fi
 
 # The Python package: a fresh virtual environment each run; the extension's build folder is kept in
 # $BUILD_DIR/python (like the C++ build), so a second run recompiles only what changed.
-python_start=$SECONDS
-VENV="$BUILD_DIR/python-venv"
-rm -rf "$VENV"
-"${PYTHON:-python3}" -m venv "$VENV"
-export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.txt"
-"$VENV/bin/pip" install -q -r python/requirements-test.txt
-python_deps=$SECONDS
-if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
-# `pip install .` as a user runs it, configuring the whole project as the wheel's build, but with the
-# library (and the OpenImageIO module) that ctest just tested, from $BUILD_DIR: it was compiled from
-# the same sources with the same settings (python/CMakeLists.txt checks them), so only the four files
-# of the extension module compile here. BRDFBAKE_TEST_PYTHON_STANDALONE=1 compiles the library in the
-# wheel's build too, exactly as a user's `pip install .` does (a few minutes more).
-wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM="$(cd "$BUILD_DIR" && pwd)")
-if [[ ${BRDFBAKE_TEST_PYTHON_STANDALONE:-0} == 1 ]]; then wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM=); fi
-CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python" \
-  -C cmake.define.BRDFBAKE_WARNINGS_AS_ERRORS=ON "${wheel_library[@]}"
-echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
-     "pip install . in $((SECONDS - python_deps)) s" >&2
-status=0
-BRDFBAKE_CLI="$PWD/$BUILD_DIR/host/cli/brdfbake" "$VENV/bin/python" -m pytest tests/python -q -p no:cacheprovider \
-  || status=$?
-if [[ $status -eq 5 ]]; then
-  echo "brdfbake python: pytest collected no tests" >&2
-  exit 1
-fi
-echo "brdfbake python: $((SECONDS - python_start)) s in all" >&2
-exit $status
+python_part() {
+  local python_start=$SECONDS python_deps status=0
+  local VENV="$BUILD_DIR/python-venv"
+  rm -rf "$VENV"
+  "${PYTHON:-python3}" -m venv "$VENV"
+  export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.txt"
+  "$VENV/bin/pip" install -q -r python/requirements-test.txt
+  python_deps=$SECONDS
+  if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
+  # `pip install .` as a user runs it, configuring the whole project as the wheel's build, but with
+  # the library (and the OpenImageIO module) that ctest tests, from $BUILD_DIR: it was compiled from
+  # the same sources with the same settings (python/CMakeLists.txt checks them), so only the four
+  # files of the extension module compile here. BRDFBAKE_TEST_PYTHON_STANDALONE=1 compiles the
+  # library in the wheel's build too, exactly as a user's `pip install .` does (a few minutes more).
+  local wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM="$(cd "$BUILD_DIR" && pwd)")
+  if [[ ${BRDFBAKE_TEST_PYTHON_STANDALONE:-0} == 1 ]]; then wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM=); fi
+  CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python" \
+    -C cmake.define.BRDFBAKE_WARNINGS_AS_ERRORS=ON "${wheel_library[@]}"
+  echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
+       "pip install . in $((SECONDS - python_deps)) s" >&2
+  BRDFBAKE_CLI="$PWD/$BUILD_DIR/host/cli/brdfbake" "$VENV/bin/python" -m pytest tests/python -q -p no:cacheprovider \
+    || status=$?
+  if [[ $status -eq 5 ]]; then
+    echo "brdfbake python: pytest collected no tests" >&2
+    return 1
+  fi
+  echo "brdfbake python: $((SECONDS - python_start)) s in all" >&2
+  return $status
+}
+
+# ctest and the Python part run side by side (stop 30): ctest keeps both cores busy but for the
+# long single-process tests at its end, and the Python part alone ran pytest on one core while the
+# other idled. The two share nothing but the kernel caches above (loopback servers on ephemeral
+# ports, temporary folders of their own). The Python part's output is kept in a file and printed
+# after ctest's, so that the two do not interleave.
+python_log="$BUILD_DIR/python-tests.log"
+python_part > "$python_log" 2>&1 &
+python_pid=$!
+ctest_status=0
+(cd "$BUILD_DIR" && ctest --output-on-failure -j "$(nproc)" --timeout 600) || ctest_status=$?
+python_status=0
+wait "$python_pid" || python_status=$?
+python_pid=""
+echo "---- the Python package (pip install ., pytest tests/python; $python_log) ----"
+cat "$python_log"
+if ((ctest_status != 0)); then echo "scripts/test.sh: ctest failed (exit $ctest_status)" >&2; fi
+if ((python_status != 0)); then echo "scripts/test.sh: the Python part failed (exit $python_status)" >&2; fi
+if ((ctest_status != 0 || python_status != 0)); then exit 1; fi
+# Live fuzzing is opt-in (BRDFBAKE_FUZZ_SECONDS=N): ctest already replays every seed corpus, and a
+# libFuzzer run needs its own clang build (build-fuzz/).
+if [[ -n ${BRDFBAKE_FUZZ_SECONDS:-} ]]; then scripts/fuzz.sh "$BRDFBAKE_FUZZ_SECONDS"; fi
