@@ -158,8 +158,7 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
       note(
           "KHR_materials_clearcoat: not in this target's split-sum render (Babylon.js's clear coat block is not "
           "emulated); in the reference");
-    if (preview_has_sheen(m))
-      note("KHR_materials_sheen: not in the split-sum render (no Charlie chain read yet); in the reference");
+    // KHR_materials_sheen: noted once the bake is read (render_preview: SplitSum::sheen_note)
   }
   if (s.materials.size() > size_t(kPreviewMaxSpheres))
     throw Error(std::to_string(s.materials.size()) + " materials: at most " + std::to_string(kPreviewMaxSpheres));

@@ -64,7 +64,9 @@ class TempFolder {
 
 // Bakes what the target's engine loads, as `brdfbake bake --target T` does (the default plan: the
 // standard set for metallic-roughness materials), on the same backend.
-void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder,
+// With sheened spheres, planned as `bake --scene` plans a scene of one dielectric material with
+// KHR_materials_sheen: the standard set, the Charlie chain and the charlie DFG table.
+void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder, bool sheen,
                 const PreviewProgress& progress) {
   try {
     check_environment_source(env.source);
@@ -76,7 +78,22 @@ void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, cons
   o.environment = env.source;
   o.sanitize = env.sanitize.replaced;
   o.target = engine_target_name(target);
-  Plan plan = plan_default(o);
+  Plan plan;
+  if (sheen) {
+    Scene scene;
+    scene.path = "the preview's sheened materials";
+    SceneMaterial m;
+    m.label = "sheen";
+    m.metallic = 0.0;
+    m.sheen = true;
+    m.sheen_color = {1.0, 1.0, 1.0};
+    m.sheen_roughness = 1.0;
+    m.sheen_roughness_texture = true;  // the range 0..1
+    scene.materials.push_back(m);
+    plan = plan_scene(scene, o);
+  } else {
+    plan = plan_default(o);
+  }
   plan.job.output_dir = folder;
   RunOptions ro;
   ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
@@ -466,7 +483,10 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     const auto t0 = Clock::now();
     temp = std::make_unique<TempFolder>();
     folder = temp->path();
-    bake_first(backend, environment, res.spec.target, folder, progress);
+    bake_first(backend, environment, res.spec.target, folder,
+               std::any_of(res.spheres.begin(), res.spheres.end(),
+                           [](const PreviewSphere& s) { return preview_has_sheen(s.material); }),
+               progress);
     res.times.bake = since(t0);
   }
   auto t0 = Clock::now();
@@ -477,6 +497,14 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.bake[0].second =
         "baked first (brdfbake bake --target " + std::string(engine_target_name(res.spec.target)) + ")";
   res.shading = split.steps();
+  // KHR_materials_sheen: what this target's split-sum render does with it, in each sheened sphere's notes
+  bool sheened = false;
+  for (PreviewSphere& sp : res.spheres)
+    if (preview_has_sheen(sp.material)) {
+      sp.material.notes.push_back(split.sheen_note());
+      sheened = true;
+    }
+  if (sheened && split.renders_sheen()) res.shading.push_back({"sheen", split.sheen_note()});
   const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
   res.brdf = brdf.text;
   if (std::any_of(res.spheres.begin(), res.spheres.end(),
