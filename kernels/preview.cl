@@ -44,9 +44,16 @@
 // so a constant environment comes back exactly (the white furnace), and where a lobe is narrower
 // than the cells the ratio tends to the radiance of the cells under it times the albedo.
 //
+// The sheen lobe (KHR_materials_sheen; a pixel's lobe flag 1): the same walk and normalisation with
+// D = D_Charlie (Estevez & Kulla 2017) and their fitted visibility (common/charlie.clh, the charlie
+// DFG table's default), A = the charlie table's albedo E(n.v), B = 0 (S2 is not used). The lobe has
+// no peak at r (it lies along the horizon of n, as wide as sqrt(alpha) there): no refinement near r,
+// the horizon's rules resolve it.
+//
 // Roughness 0 (alpha = 0) is a delta: S1 = L(r) and S2 = (1 - n.v)^5 L(r), the radiance of the
 // pixel r falls in, exactly; only the irradiance is walked.
 #include "common/real.clh"
+#include "common/charlie.clh"
 
 #define PREVIEW_STACK 192     // entries of the depth-first stack (3 per level below the start is plenty)
 #define PREVIEW_MAX_SUB 8     // sub-cell levels below a pixel (1/256 of a pixel a side)
@@ -59,6 +66,10 @@ typedef struct {
   real peak;    // the lobe's peak region: refine within this many rho of r (refinement + 1)
   real width;   // refine near r while rho > width (2 alpha / refinement)
   int spec;     // alpha > 0
+  int sheen;    // the Charlie lobe (alpha = its alpha) instead of GGX
+  real alpha;
+  CharlieFit fit;   // the sheen's fitted Lambda at alpha (charlie_fit)
+  real lambda_v1;   // 1 + Lambda(n.v)
 } PreviewPixel;
 
 typedef struct {
@@ -80,6 +91,14 @@ inline real2 preview_lobe(const PreviewPixel* p, real3 l) {
   const real3 h = p->v + l;
   const real3 c = cross(p->n, h);
   const real nh = dot(p->n, h), h2 = dot(h, h);
+  if (p->sheen) {
+    if (!(h2 > R(0.0))) return (real2)(R(0.0));
+    // V_CharlieEstevezKulla_times_nl with the view's Lambda and the fit computed once a pixel
+    const real x = fmin(nl, R(1.0));
+    const real ll = x < R(0.5) ? exp(charlie_L(p->fit, x)) : exp(R(2.0) * p->fit.l_half - charlie_L(p->fit, R(1.0) - x));
+    const real g = D_Charlie(nh / sqrt(h2), p->alpha) / ((p->lambda_v1 + ll) * R(4.0) * p->nv);
+    return (real2)(g, R(0.0));
+  }
   const real t = dot(c, c) + p->a2 * nh * nh;
   if (!(t > R(0.0))) return (real2)(R(0.0));
   const real d = p->a2 * h2 * h2 / (BRDFBAKE_PI * t * t);
@@ -373,7 +392,8 @@ inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, Previ
 }
 
 // params: view (x, y, z), refinement, horizon_size, horizon_energy, max_size.
-// pixels: 8 floats a pixel: n (x, y, z), alpha, A, B (the exact directional albedos), 0, 0.
+// pixels: 8 floats a pixel: n (x, y, z), alpha, A, B (the exact directional albedos), the lobe (0 GGX,
+// 1 the Charlie sheen lobe), 0.
 // out: 12 reals a pixel: S1 (rgb), S2 (rgb), Irr (rgb), cells visited, overflow (0 or 1), 0.
 // levels[k] = (first cell in tree, cell count, grid width, grid height), 16 floats a cell; start: the
 // first level walked;
@@ -399,6 +419,13 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
   // by 2 alpha (v.h), v.h ~ n.v at the peak (dl = 4 (v.h) dh): thin at grazing view
   p.width = R(2.0) * alpha * p.nv / params[3];
   p.spec = alpha > R(0.0);
+  p.sheen = px[6] != 0.0f;
+  p.alpha = alpha;
+  if (p.sheen) {
+    p.width = INFINITY;  // no peak at r: the horizon's rules resolve the sheen lobe
+    p.fit = charlie_fit(alpha);
+    p.lambda_v1 = R(1.0) + Lambda_CharlieEstevezKulla(p.nv, alpha);
+  }
   PreviewRules rules;
   rules.horizon_size = params[4];
   rules.horizon_energy = params[5];

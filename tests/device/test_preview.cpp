@@ -1028,5 +1028,390 @@ TEST(PreviewLobes, TheLobesAgreeWithTheDoubleReference) {
   EXPECT_LE(e.rms, kReferenceTarget);
 }
 
+// ---- KHR_materials_sheen -------------------------------------------------------------------------
+
+PreviewMaterial sheened_material(const std::string& name, const Rgb& base, const Rgb& sheen, double sheen_roughness) {
+  PreviewMaterial m{name, base, 0.0, 0.5, {}};
+  m.sheen_color = sheen;
+  m.sheen_roughness = sheen_roughness;
+  return m;
+}
+
+detail::ReferencePixel sheen_pixel_of(const Vec3& n, double sheen_roughness, double e) {
+  detail::ReferencePixel p = pixel_of(n, detail::preview::preview_sheen_alpha(sheen_roughness), e, 0.0);
+  p.sheen = true;
+  return p;
+}
+
+// In a white furnace the sheen lobe's integral is its albedo E(n.v), so a sheened dielectric reflects
+// (1 - max(c) E(n.v)) (F0 A + (1 - F0) B + diffuse colour) + c E(n.v) (KHR_materials_sheen's albedo
+// scaling). E itself is checked against the double reference's brute force of the Charlie lobe under
+// the same white environment (an integral that shares no code with the charlie table's quadrature):
+// within 1% (the brute force's sum over 128 x 64 pixels at the horizon, where the lobe lies).
+TEST(PreviewSheen, SheenInAWhiteFurnaceIsTheScaledAlbedo) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const EnvImage env = constant_equirect(128, 1.0f);
+  const std::vector<double> nvs = {0.05, 0.4, 0.9};
+  const double base_r = 0.5, sheen_r = 0.6;
+  const std::vector<double> ab = detail::preview::exact_albedos(*backend, nvs, {base_r});
+  const std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {sheen_r});
+  detail::ReferenceTask task;
+  task.environment = &env;
+  task.view = {0.0, 0.0, 1.0};
+  std::vector<Vec3> normals;
+  for (size_t i = 0; i < nvs.size(); ++i) {
+    const double s = std::sqrt(1.0 - nvs[i] * nvs[i]);
+    normals.push_back(unit(0.6 * s, 0.8 * s, nvs[i]));
+  }
+  for (size_t i = 0; i < nvs.size(); ++i)
+    task.pixels.push_back(pixel_of(normals[i], base_r * base_r, ab[2 * i], ab[2 * i + 1]));
+  for (size_t i = 0; i < nvs.size(); ++i) task.pixels.push_back(sheen_pixel_of(normals[i], sheen_r, es[i]));
+  const detail::ReferenceSums sums = detail::run_preview_reference(*backend, task);
+  const auto brdf = detail::preview::target_brdf(EngineTarget::Generic, false);
+  const Rgb c{1.0, 0.4, 0.2};
+  const PreviewMaterial m = sheened_material("sheen", {0.5, 0.2, 0.1}, c, sheen_r);
+  for (size_t i = 0; i < nvs.size(); ++i) {
+    const size_t base = i, sheen = nvs.size() + i;
+    const double a = ab[2 * base], b = ab[2 * base + 1], e = es[i];
+    EXPECT_GT(e, 0.01) << "n.v " << nvs[i];
+    const reference::PreviewIntegrals bf =
+        reference::preview_integrals(env.rgb.data(), env.width, env.height, normals[i], task.view,
+                                     detail::preview::preview_sheen_alpha(sheen_r), 16.0, true);
+    EXPECT_NEAR(bf.s1[0] / e, 1.0, 0.01) << "n.v " << nvs[i] << ": the brute force's E vs the charlie table's";
+    const Rgb r = detail::preview::reference_radiance(brdf, m, a, b, &sums.values[9 * base], nvs[i], nullptr,
+                                                      &sums.values[9 * sheen], double(task.pixels[sheen].albedo));
+    const double got[3] = {r.r, r.g, r.b}, cd[3] = {0.5, 0.2, 0.1}, sc[3] = {c.r, c.g, c.b};
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(got[k], (1.0 - e) * (0.04 * a + 0.96 * b + cd[k]) + sc[k] * e, 4 * kFloatSums)
+          << "n.v " << nvs[i] << " channel " << k;
+    // sheen colour 0 is the base to the last bit, whatever its roughness
+    const PreviewMaterial off = sheened_material("off", {0.5, 0.2, 0.1}, {0.0, 0.0, 0.0}, sheen_r);
+    const PreviewMaterial plain{"plain", {0.5, 0.2, 0.1}, 0.0, 0.5, {}};
+    const Rgb x = detail::preview::reference_radiance(brdf, off, a, b, &sums.values[9 * base], nvs[i], nullptr,
+                                                      &sums.values[9 * sheen], e);
+    const Rgb y = detail::preview::reference_radiance(brdf, plain, a, b, &sums.values[9 * base]);
+    EXPECT_EQ(x.r, y.r);
+    EXPECT_EQ(x.g, y.g);
+    EXPECT_EQ(x.b, y.b);
+  }
+}
+
+// A whole render (white furnace): the reference's sheened sphere is (1 - max(c) E(n.v)) plain + c E(n.v)
+// per pixel against the plain sphere; a sheen colour of 0 leaves both renders as the plain sphere's,
+// bit for bit.
+TEST(PreviewSheen, SheenInTheRender) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path dir = temp_dir("sheen");
+  const EnvImage env = load_environment(white_hdr(dir).string());
+  PreviewSpec spec;
+  spec.target = EngineTarget::Generic;
+  spec.width = 96;
+  spec.height = 32;
+  spec.bound_stride = 64;
+  const Rgb c{0.9, 0.5, 0.2};
+  spec.materials = {sheened_material("sheen", {0.5, 0.2, 0.1}, c, 0.3),
+                    sheened_material("colour 0", {0.5, 0.2, 0.1}, {0.0, 0.0, 0.0}, 0.3),
+                    PreviewMaterial{"plain", {0.5, 0.2, 0.1}, 0.0, 0.5, {}}};
+  const PreviewResult r = render_preview(*backend, env, spec);
+  const auto pixels = detail::preview::sphere_pixels(detail::preview::make_layout(r.spec));
+  const double shift = r.spheres[2].centre_x - r.spheres[1].centre_x;
+  std::vector<double> nvs;
+  for (const auto& p : pixels)
+    if (p.sphere == 0) nvs.push_back(std::max(p.n_dot_v, 1e-7));
+  std::sort(nvs.begin(), nvs.end());
+  nvs.erase(std::unique(nvs.begin(), nvs.end()), nvs.end());
+  const std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {0.3});
+  const double sc[3] = {c.r, c.g, c.b};
+  for (const auto& p : pixels) {
+    const size_t at = 3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x));
+    if (p.sphere == 0) {
+      const size_t plain = at + 3 * size_t(2 * shift);
+      const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
+      for (size_t k = 0; k < 3; ++k) {
+        const double f = (1.0 - 0.9 * es[i]) * double(r.reference.rgb[plain + k]) + sc[k] * es[i];
+        EXPECT_NEAR(double(r.reference.rgb[at + k]) / f, 1.0, 1e-4) << "reference, n.v " << p.n_dot_v;
+      }
+    }
+    if (p.sphere == 1) {
+      const size_t there = at + 3 * size_t(shift);
+      for (size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(r.splitsum.rgb[at + k], r.splitsum.rgb[there + k]);
+        EXPECT_EQ(r.reference.rgb[at + k], r.reference.rgb[there + k]);
+      }
+    }
+  }
+  EXPECT_TRUE(std::isfinite(r.stats[0].linear.rms));
+  const std::string out_json = detail::preview::preview_json(r, "white", "");
+  EXPECT_NE(out_json.find("\"sheen_roughness\""), std::string::npos);
+  EXPECT_NE(out_json.find("\"sheen_color\""), std::string::npos);
+}
+
+// The split-sum sheen of every target in a white furnace: the chains and the irradiance are uniform
+// (1.0, exact in RGBA16F and RGBD), so a sheened sphere is c E(n.v, r) + plain (1 - max(c) E) per
+// pixel, plain the same sphere without sheen (each target's sheen IBL: docs/ENGINES.md), E the charlie
+// table's bilinear lookup. Each pixel's E is solved from the channel of max(c) and must explain the
+// other channels (float rounding), and match the quadrature's E at the pixel's own n.v within the
+// 128^2 table's bilinear error: 1% of E + 0.004 (measured: under 0.3% + 0.001 over n.v in
+// 0.03..1 at r 0.8). gltf and babylon do not render the sheen (the notes say so): the sphere is the
+// plain one. A sheen colour of 0 is the plain sphere to the last bit, for every target.
+TEST(PreviewSheen, SplitSumSheenInAWhiteFurnaceIsTheClosedForm) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path dir = temp_dir("sheen_splitsum");
+  const EnvImage env = load_environment(white_hdr(dir).string());
+  const double sheen_r = 0.8;
+  const Rgb c{0.9, 0.5, 0.2};
+  for (EngineTarget target :
+       {EngineTarget::Generic, EngineTarget::KhronosViewer, EngineTarget::Filament, EngineTarget::Gltf}) {
+    PreviewSpec spec;
+    spec.target = target;
+    spec.width = 96;
+    spec.height = 32;
+    spec.reference = false;
+    spec.materials = {sheened_material("sheen", {0.5, 0.2, 0.1}, c, sheen_r),
+                      sheened_material("colour 0", {0.5, 0.2, 0.1}, {0.0, 0.0, 0.0}, sheen_r),
+                      PreviewMaterial{"plain", {0.5, 0.2, 0.1}, 0.0, 0.5, {}}};
+    const PreviewResult r = render_preview(*backend, env, spec);
+    const std::string name = engine_target_name(target);
+    const bool rendered = target != EngineTarget::Gltf;
+    const std::vector<std::string>& notes = r.spheres[0].material.notes;
+    ASSERT_FALSE(notes.empty()) << name;
+    EXPECT_EQ(notes.back().find(rendered ? "KHR_materials_sheen: in the split-sum render"
+                                         : "KHR_materials_sheen: not in this target's split-sum render"),
+              0u)
+        << name << ": " << notes.back();
+    const auto pixels = detail::preview::sphere_pixels(detail::preview::make_layout(r.spec));
+    const double shift = r.spheres[1].centre_x - r.spheres[0].centre_x;
+    std::vector<double> nvs;
+    for (const auto& p : pixels)
+      if (p.sphere == 0 && p.n_dot_v >= 0.03) nvs.push_back(p.n_dot_v);
+    std::sort(nvs.begin(), nvs.end());
+    nvs.erase(std::unique(nvs.begin(), nvs.end()), nvs.end());
+    // Filament's sheenPerceptualRoughness is clamped at 0.045 only: 0.8 as it is
+    const std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {sheen_r});
+    const double sc[3] = {c.r, c.g, c.b};
+    double worst = 0.0;
+    int checked = 0;
+    for (const auto& p : pixels) {
+      if (p.sphere != 0) continue;
+      const size_t at = 3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x));
+      const size_t off = at + 3 * size_t(shift), plain = at + 3 * size_t(2 * shift);
+      for (size_t k = 0; k < 3; ++k) ASSERT_EQ(r.splitsum.rgb[off + k], r.splitsum.rgb[plain + k]) << name;
+      if (p.n_dot_v < 0.03) continue;  // the rim: E's steepest, the lookup's clamp to edge
+      const float* s = &r.splitsum.rgb[at];
+      const float* b = &r.splitsum.rgb[plain];
+      if (!rendered) {
+        for (size_t k = 0; k < 3; ++k) EXPECT_EQ(s[k], b[k]) << name;
+        continue;
+      }
+      // channel 0 carries max(c): s0 = c0 E + b0 (1 - c0 E)
+      const double e = (double(s[0]) - double(b[0])) / (sc[0] * (1.0 - double(b[0])));
+      for (size_t k = 1; k < 3; ++k)
+        EXPECT_NEAR(double(s[k]), sc[k] * e + double(b[k]) * (1.0 - sc[0] * e), 2e-6 * (1.0 + double(s[k])))
+            << name << " n.v " << p.n_dot_v << " channel " << k;
+      const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), p.n_dot_v) - nvs.begin());
+      ASSERT_LT(i, nvs.size());
+      EXPECT_NEAR(e, es[i], 0.01 * es[i] + 0.004) << name << " n.v " << p.n_dot_v;
+      worst = std::max(worst, std::fabs(e - es[i]));
+      ++checked;
+    }
+    if (rendered) {
+      EXPECT_GT(checked, 50) << name;
+      std::printf("%-15s split-sum sheen in a white furnace: E within %.2e of the quadrature (%d pixels)\n",
+                  name.c_str(), worst, checked);
+    }
+  }
+}
+
+// The device's reference against the double reference's brute force with the sheen on: a sheened
+// dielectric on a sample of a sphere's pixels under venice (the base and the sheen are each an
+// integral of the kernel; their scaling is the host's).
+TEST(PreviewSheen, TheSheenAgreesWithTheDoubleReference) {
+  const std::string file = shared_envmap("derived/venice_sunset_256x128_derived.hdr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const EnvImage env = load_environment(file);
+  for (double sheen_r : {0.3, 0.8}) {
+    PreviewMaterial m = sheened_material("sheen", {0.6, 0.3, 0.2}, {1.0, 0.5, 0.3}, sheen_r);
+    m.roughness = 0.4;
+    PreviewSpec spec;
+    spec.width = spec.height = 64;
+    spec.materials = {m};
+    const auto layout = detail::preview::make_layout(detail::preview::resolve_spec(spec));
+    const auto pixels = detail::preview::sphere_pixels(layout);
+    const Vec3 v = detail::preview::view_vector(layout.camera);
+    std::vector<size_t> sample;
+    for (size_t i = 0; i < pixels.size(); i += 61) sample.push_back(i);
+    std::vector<double> nvs;
+    for (size_t i : sample) nvs.push_back(std::max(pixels[i].n_dot_v, 1e-7));
+    const std::vector<double> ab = detail::preview::exact_albedos(*backend, nvs, {m.roughness});
+    const std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {sheen_r});
+    detail::ReferenceTask task;
+    task.environment = &env;
+    task.view = v;
+    task.radiance_scale = M_PI * detail::preview::median_luminance(env);
+    const size_t n = sample.size();
+    for (size_t k = 0; k < n; ++k)
+      task.pixels.push_back(pixel_of(pixels[sample[k]].n, m.roughness * m.roughness, ab[2 * k], ab[2 * k + 1]));
+    for (size_t k = 0; k < n; ++k) task.pixels.push_back(sheen_pixel_of(pixels[sample[k]].n, sheen_r, es[k]));
+    const detail::ReferenceSums sums = detail::run_preview_reference(*backend, task);
+    EXPECT_EQ(sums.overflows, 0u);
+    std::vector<double> err, sheen_err;
+    const auto brdf = detail::preview::target_brdf(EngineTarget::KhronosViewer, true);
+    for (size_t k = 0; k < n; ++k) {
+      double s[2][9];
+      for (size_t j = 0; j < 2; ++j) {
+        const auto& t = task.pixels[j * n + k];
+        const reference::PreviewIntegrals bf = reference::preview_integrals(
+            env.rgb.data(), env.width, env.height, pixels[sample[k]].n, v, double(t.alpha), 16.0, t.sheen);
+        for (size_t c = 0; c < 3; ++c) {
+          s[j][c] = bf.s1[c];
+          s[j][3 + c] = bf.s2[c];
+          s[j][6 + c] = bf.irr[c];
+        }
+      }
+      const auto& t = task.pixels[k];
+      const double nv = pixels[sample[k]].n_dot_v, e = es[k];
+      const Rgb a = detail::preview::reference_radiance(brdf, m, t.albedo, t.bias, &sums.values[9 * k], nv, nullptr,
+                                                        &sums.values[9 * (n + k)], e);
+      const Rgb b = detail::preview::reference_radiance(brdf, m, t.albedo, t.bias, s[0], nv, nullptr, s[1], e);
+      const double x[3] = {a.r, a.g, a.b}, y[3] = {b.r, b.g, b.b};
+      err.push_back(rel(x, y));
+      sheen_err.push_back(rel(&sums.values[9 * (n + k)], s[1]));
+    }
+    const PreviewErrorStats e = detail::preview::error_stats(err), es_ = detail::preview::error_stats(sheen_err);
+    std::printf(
+        "sheen roughness %.1f under venice: %.2e RMS, %.2e max against the brute force; the sheen lobe alone "
+        "%.2e RMS, %.2e max (%zu pixels)\n",
+        sheen_r, e.rms, e.max, es_.rms, es_.max, n);
+    EXPECT_LE(e.rms, kReferenceTarget);
+    EXPECT_LE(es_.rms, 2 * kReferenceTarget);
+  }
+}
+
+// The Khronos sample scene of KHR_materials_sheen: the fabrics render their sheen in the reference
+// (no "sheen: not rendered" note), every sphere's error is finite, and a sheened fabric's rim (n.v
+// below 0.3) is brighter in the reference than the same fabric without its sheen.
+TEST(PreviewSheen, SheenChairSceneRendersItsSheen) {
+  const std::string scene = (fs::path(BRDFBAKE_SHARED_DIR) / "scenes" / "SheenChair.gltf").string();
+  if (!fs::exists(scene)) GTEST_SKIP() << "no " << scene << " (the shared scenes)";
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const EnvImage env = load_environment("builtin:sun", EnvLoadOptions{false, 128, 0});
+  PreviewSpec spec;
+  spec.target = EngineTarget::KhronosViewer;
+  spec.materials_file = scene;
+  spec.width = 96;
+  spec.height = 64;
+  spec.bound_stride = 64;
+  const PreviewResult r = render_preview(*backend, env, spec);
+  ASSERT_EQ(r.spheres.size(), 6u);
+  PreviewSpec bare = spec;
+  bare.materials_file.clear();
+  int sheened = 0;
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    const PreviewMaterial& m = r.spheres[s].material;
+    for (const std::string& n : m.notes)
+      EXPECT_EQ(n.find("sheen: not rendered"), std::string::npos) << m.name << ": " << n;
+    sheened += preview_has_sheen(m);
+    EXPECT_TRUE(std::isfinite(r.stats[s].linear.rms) && std::isfinite(r.stats[s].linear.max)) << m.name;
+    PreviewMaterial off = m;
+    off.sheen_color = {0.0, 0.0, 0.0};
+    off.notes.clear();
+    bare.materials.push_back(off);
+  }
+  EXPECT_EQ(sheened, 2);
+  const PreviewResult q = render_preview(*backend, env, bare);
+  const auto pixels = detail::preview::sphere_pixels(detail::preview::make_layout(r.spec));
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    if (!preview_has_sheen(r.spheres[s].material)) continue;
+    double with = 0, without = 0;
+    for (const auto& p : pixels) {
+      if (size_t(p.sphere) != s || p.n_dot_v >= 0.3) continue;
+      const size_t at = 3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x));
+      for (size_t k = 0; k < 3; ++k) {
+        with += double(r.reference.rgb[at + k]);
+        without += double(q.reference.rgb[at + k]);
+      }
+    }
+    std::printf("%-32s rim: %.4f with the sheen, %.4f without\n", r.spheres[s].material.name.c_str(), with, without);
+    EXPECT_GT(with, without) << r.spheres[s].material.name;
+    const std::vector<std::string>& notes = r.spheres[s].material.notes;
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [](const std::string& n) {
+      return n.rfind("KHR_materials_sheen: in the split-sum render", 0) == 0;
+    })) << r.spheres[s].material.name;
+  }
+}
+
+// The split-sum's sheen lobe for the Sample Viewer (getIBLRadianceCharlie, albedoSheenScaling) under
+// venice (the 256 x 128 derived map), SheenChair's two velvets: their split-sum error against the
+// reference with the lobe, and without it (the same spheres' split-sum with sheenColor 0, as before
+// the lobe, against the same sheened reference). Their mean error must drop by a fifth at least, and
+// each stay under 40% (measured here: Mango 21.8% with the lobe, 15.5% without: its red base
+// dominates and the Charlie split sum along reflect(-v, n) misses the grazing lobe; Peacock 33.2%
+// against 62.0%; docs/PREVIEW.md has the 512 x 512 figures). Under a
+// sun the Charlie split sum is no better than without it (its prefiltered lobe along reflect(-v, n)
+// is far from the sheen's grazing lobe): that is the engines' approximation, not checked here.
+TEST(PreviewSheen, SheenChairSplitSumErrorDropsWithTheLobe) {
+  const std::string scene = (fs::path(BRDFBAKE_SHARED_DIR) / "scenes" / "SheenChair.gltf").string();
+  const std::string file = shared_envmap("derived/venice_sunset_256x128_derived.hdr");
+  if (!fs::exists(scene)) GTEST_SKIP() << "no " << scene << " (the shared scenes)";
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const EnvImage env = load_environment(file);
+  PreviewSpec spec;
+  spec.target = EngineTarget::KhronosViewer;
+  spec.materials_file = scene;
+  spec.width = 96;
+  spec.height = 64;
+  spec.bound_stride = 64;
+  const PreviewResult r = render_preview(*backend, env, spec);
+  ASSERT_EQ(r.spheres.size(), 6u);
+  PreviewSpec bare = spec;
+  bare.materials_file.clear();
+  bare.reference = false;
+  for (const PreviewSphere& sp : r.spheres) {
+    PreviewMaterial off = sp.material;
+    off.sheen_color = {0.0, 0.0, 0.0};
+    off.notes.clear();
+    bare.materials.push_back(off);
+  }
+  const PreviewResult q = render_preview(*backend, env, bare);
+  const auto pixels = detail::preview::sphere_pixels(detail::preview::make_layout(r.spec));
+  int sheened = 0;
+  double with_sum = 0.0, without_sum = 0.0;
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    if (!preview_has_sheen(r.spheres[s].material)) continue;
+    ++sheened;
+    std::vector<double> err_with, err_without;
+    for (const auto& p : pixels) {
+      if (size_t(p.sphere) != s) continue;
+      const size_t at = 3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x));
+      double ref[3], a[3], b[3];
+      for (size_t k = 0; k < 3; ++k) {
+        ref[k] = double(r.reference.rgb[at + k]);
+        a[k] = double(r.splitsum.rgb[at + k]);
+        b[k] = double(q.splitsum.rgb[at + k]);
+      }
+      err_with.push_back(rel(a, ref));
+      err_without.push_back(rel(b, ref));
+    }
+    const double e_with = detail::preview::error_stats(err_with).rms;
+    const double e_without = detail::preview::error_stats(err_without).rms;
+    std::printf("%-32s split-sum vs reference: %.1f%% RMS with the sheen lobe, %.1f%% without\n",
+                r.spheres[s].material.name.c_str(), 100 * e_with, 100 * e_without);
+    EXPECT_NEAR(e_with, r.stats[s].linear.rms, 1e-9) << "the stats' own definition";
+    EXPECT_LT(e_with, 0.40) << r.spheres[s].material.name;
+    with_sum += e_with;
+    without_sum += e_without;
+  }
+  EXPECT_EQ(sheened, 2);
+  EXPECT_LT(with_sum, 0.8 * without_sum) << "the velvets' mean split-sum error";
+}
+
 }  // namespace
 }  // namespace brdfbake

@@ -40,6 +40,10 @@ namespace brdfbake {
 // KHR_materials_clearcoat (the geometric normal: no clearcoat normal texture): a second GGX lobe of
 // alpha clearcoat_roughness^2 layered over the rest by the extension's fresnel_coat, Schlick's F of
 // ior 1.5 at n.v: f = (1 - clearcoat Fcoat(n.v)) f_base + clearcoat Fcoat(n.v) D_coat V_coat.
+// KHR_materials_sheen: the Charlie lobe (Estevez & Kulla 2017: D_Charlie, their fitted visibility, the
+// charlie DFG table's default) of alpha max(sheen_roughness^2, 1e-7) over the rest, scaled by the
+// extension's albedo scaling at n.v: f = (1 - max(sheen_color) E(n.v)) f_base + sheen_color D V, E the
+// lobe's exact directional albedo (the charlie table's quadrature). Under the clear coat (sheen first).
 struct PreviewMaterial {
   std::string name;
   Rgb base_color{0.8, 0.8, 0.8};
@@ -51,7 +55,11 @@ struct PreviewMaterial {
   Rgb specular_color{1.0, 1.0, 1.0};  // specularColorFactor, >= 0 (F0 clamped to 1 after it)
   double clearcoat = 0.0;             // KHR_materials_clearcoat clearcoatFactor, [0, 1]
   double clearcoat_roughness = 0.0;   // clearcoatRoughnessFactor, [0, 1]
+  Rgb sheen_color{0.0, 0.0, 0.0};     // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;       // sheenRoughnessFactor, [0, 1]
 };
+// Whether a material has a sheen lobe (a sheen colour above 0).
+bool preview_has_sheen(const PreviewMaterial& m);
 // The clear coat's Fresnel at n.v (KHR_materials_clearcoat's fresnel_coat: ior 1.5, F0 0.04).
 double preview_coat_fresnel(double n_dot_v);
 Rgb preview_f0(const PreviewMaterial& m);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "brdfbake/reference/charlie.hpp"
 #include "brdfbake/reference/ggx.hpp"
 
 namespace brdfbake::reference {
@@ -18,8 +19,10 @@ Vec3 equirect_dir(double u, double v) {
 
 double dot3(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-// The integrand's two lobes at unit l: D V (n.l)+ and the same times (1 - v.h)^5.
-void lobes(const Vec3& n, const Vec3& v, double n_dot_v, double alpha, const Vec3& l, double* g, double* gf) {
+// The integrand's two lobes at unit l: D V (n.l)+ and the same times (1 - v.h)^5; the sheen lobe:
+// D_Charlie V_CharlieEstevezKulla (n.l)+ and 0.
+void lobes(const Vec3& n, const Vec3& v, double n_dot_v, double alpha, bool sheen, const Vec3& l, double* g,
+           double* gf) {
   *g = *gf = 0.0;
   const double nl = dot3(n, l);
   if (!(nl > 0.0)) return;
@@ -27,6 +30,10 @@ void lobes(const Vec3& n, const Vec3& v, double n_dot_v, double alpha, const Vec
   const double len = std::sqrt(dot3(h, h));
   if (!(len > 0.0)) return;
   h = {h.x / len, h.y / len, h.z / len};
+  if (sheen) {
+    *g = D_Charlie(dot3(n, h), alpha) * V_CharlieEstevezKulla(n_dot_v, nl, alpha) * nl;
+    return;
+  }
   const double value = D_GGX(dot3(n, h), alpha) * V_SmithGGXCorrelated(n_dot_v, nl, alpha) * nl;
   *g = value;
   *gf = value * std::pow(std::max(0.0, 1.0 - dot3(v, h)), 5.0);
@@ -35,7 +42,7 @@ void lobes(const Vec3& n, const Vec3& v, double n_dot_v, double alpha, const Vec
 }  // namespace
 
 PreviewIntegrals preview_integrals(const float* rgb, int width, int height, const Vec3& n_in, const Vec3& v_in,
-                                   double alpha, double subdivision) {
+                                   double alpha, double subdivision, bool sheen) {
   PreviewIntegrals out;
   // Unit vectors to the last bit: a narrow lobe's D near its peak is 1 - (n.h)^2 over alpha^2, and a
   // normal of length 1 + 6e-8 (a float normal) moves that by 2% at alpha = 0.0025.
@@ -56,7 +63,7 @@ PreviewIntegrals preview_integrals(const float* rgb, int width, int height, cons
       const double nc = dot3(n, c);
       if (std::fabs(nc) < size) q = std::max(q, int(subdivision));  // across the horizon
       if (nc < -size) continue;                                     // wholly below it
-      if (alpha > 0.0) {
+      if (alpha > 0.0 && !sheen) {
         const double d = std::acos(std::clamp(dot3(c, r), -1.0, 1.0));
         // the lobe is 2 alpha wide in the plane of incidence and 2 alpha n.v across it (dl = 4 (v.h) dh)
         const double scale = std::max(2.0 * alpha * n_dot_v, d - size);
@@ -74,7 +81,7 @@ PreviewIntegrals preview_integrals(const float* rgb, int width, int height, cons
           for (int k = 0; k < 3; ++k) out.irr[size_t(k)] += ns * double(l[k]) * omega;
           if (!(alpha > 0.0)) continue;
           double g = 0.0, gf = 0.0;
-          lobes(n, v, n_dot_v, alpha, s, &g, &gf);
+          lobes(n, v, n_dot_v, alpha, sheen, s, &g, &gf);
           for (int k = 0; k < 3; ++k) {
             out.s1[size_t(k)] += g * double(l[k]) * omega;
             out.s2[size_t(k)] += gf * double(l[k]) * omega;
@@ -99,13 +106,13 @@ PreviewIntegrals preview_integrals(const float* rgb, int width, int height, cons
   return out;
 }
 
-double preview_integrals_work(int width, int height, double alpha, double subdivision) {
+double preview_integrals_work(int width, int height, double alpha, double subdivision, bool sheen) {
   // every pixel once, the horizon's (about 2 width of them) subdivided, and the lobe's core: the
   // pixels within a few lobe widths of r, each split to the lobe's width / subdivision
   const double pixel = M_PI / height;
   const double horizon = 2.0 * width * subdivision * subdivision;
   double lobe = 0.0;
-  if (alpha > 0.0) {
+  if (alpha > 0.0 && !sheen) {
     // the lobe's core at n.v ~ 0.25 (the work grows like 1 / n.v towards the rims)
     const double q = std::min(1024.0, std::ceil(subdivision * pixel / (0.5 * alpha)));
     const double core = std::pow(std::max(1.0, 4.0 * alpha / pixel), 2.0);

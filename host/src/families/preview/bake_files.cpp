@@ -35,12 +35,12 @@ std::string engine_file(const json& manifest, const std::string& folder, const s
 }
 
 // The first manifest entry of a kind (and, for the prefilter, the GGX distribution).
-const json* manifest_file(const json& manifest, const std::string& kind) {
+const json* manifest_file(const json& manifest, const std::string& kind, const std::string& distribution = "ggx") {
   if (!manifest.contains("files")) return nullptr;
   for (const auto& f : manifest["files"]) {
     if (!f.contains("kind") || f["kind"] != kind) continue;
     if (kind == "prefilter" && f.contains("parameters") && f["parameters"].contains("distribution") &&
-        f["parameters"]["distribution"] != "ggx")
+        f["parameters"]["distribution"] != distribution)
       continue;
     if (kind == "irradiance" && !ends_with(f.value("path", std::string()), ".json")) continue;
     return &f;
@@ -189,6 +189,36 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
     }
   }
   if (b.specular.levels.empty()) throw Error("'" + b.specular_file + "': no levels");
+
+  // KHR_materials_sheen: the charlie table (the Estevez & Kulla one first: the extension's) and the
+  // Charlie chain the target's shader samples, when the bake holds them
+  const json* charlie = nullptr;
+  if (manifest.contains("files"))
+    for (const auto& f : manifest["files"])
+      if (f.value("kind", std::string()) == "charlie" &&
+          (!charlie ||
+           (f.contains("parameters") && f["parameters"].value("sheen_visibility", std::string()) == "estevez-kulla")))
+        charlie = &f;
+  if (charlie) {
+    b.charlie_file = join_path(folder, (*charlie)["path"].get<std::string>());
+    b.charlie = io::read_table(b.charlie_file);
+    if (charlie->contains("parameters") &&
+        (*charlie)["parameters"].value("n_dot_v_axis", std::string("uniform")) == "sqrt")
+      b.charlie_sqrt_n_dot_v = true;
+  }
+  if (target == EngineTarget::Generic) {
+    if (const json* chain = manifest_file(manifest, "prefilter", "charlie")) {
+      b.sheen_file = join_path(folder, (*chain)["path"].get<std::string>());
+      b.sheen = io::read_gpu_cube(b.sheen_file);
+    }
+  } else if (target == EngineTarget::KhronosViewer) {
+    if (manifest.contains("engine") && manifest["engine"].contains("files"))
+      for (const auto& f : manifest["engine"]["files"])
+        if (f.is_string() && ends_with(f.get<std::string>(), "_charlie.ktx2")) {
+          b.sheen_file = join_path(folder, f.get<std::string>());
+          b.sheen = io::read_gpu_cube(b.sheen_file);
+        }
+  }
   b.settings = {{"folder", folder},
                 {"target", engine_target_name(target)},
                 {"specular", b.specular_file},
@@ -199,6 +229,14 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
                 {"dfg_size", std::to_string(b.dfg.width) + "x" + std::to_string(b.dfg.height)},
                 {"dfg_channels", b.dfg_multiscatter ? "bias,albedo" : "scale,bias"},
                 {"diffuse", b.diffuse_file}};
+  if (!b.sheen.levels.empty()) {
+    b.settings.push_back({"sheen", b.sheen_file});
+    b.settings.push_back({"sheen_levels", std::to_string(b.sheen.level_count())});
+  }
+  if (b.charlie.width > 0) {
+    b.settings.push_back({"charlie", b.charlie_file});
+    b.settings.push_back({"charlie_size", std::to_string(b.charlie.width) + "x" + std::to_string(b.charlie.height)});
+  }
   return b;
 }
 

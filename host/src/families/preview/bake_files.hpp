@@ -35,6 +35,14 @@ struct BakeFiles {
   std::string diffuse_file;
   double lod_scale = 0.8;  // Babylon.js's lodGenerationScale (.env: the file's; glTF: (N - 1) / log2 S)
   Metadata settings;       // what was read, for the preview's JSON
+  // KHR_materials_sheen, when the bake holds them (a bake planned from sheened materials): the
+  // Charlie chain the target's shader samples (generic: the prefilter entry of distribution charlie;
+  // khronos-viewer: NAME_charlie.ktx2; filament samples its GGX chain) and the charlie DFG table.
+  CubeLevels sheen;  // empty: none
+  std::string sheen_file;
+  Table charlie;  // width 0: none
+  std::string charlie_file;
+  bool charlie_sqrt_n_dot_v = false;
 };
 
 // Reads the folder's manifest.json and the files the target's engine loads. Throws Error naming the

@@ -22,6 +22,9 @@ struct ReferencePixel {
   float alpha = 0.0f;
   float albedo = 1.0f;
   float bias = 0.0f;
+  // The Charlie sheen lobe (KHR_materials_sheen: D_Charlie, Estevez & Kulla's visibility) instead of
+  // GGX; then albedo is its exact albedo E(n.v) and S2 is 0.
+  bool sheen = false;
 };
 
 struct ReferenceTask {

@@ -37,6 +37,10 @@ double preview_coat_fresnel(double n_dot_v) {
   return 0.04 + 0.96 * x2 * x2 * x;
 }
 
+bool preview_has_sheen(const PreviewMaterial& m) {
+  return m.sheen_color.r > 0.0 || m.sheen_color.g > 0.0 || m.sheen_color.b > 0.0;
+}
+
 bool preview_has_specular_extension(const PreviewMaterial& m) {
   return m.ior != 1.5 || m.specular != 1.0 || m.specular_color.r != 1.0 || m.specular_color.g != 1.0 ||
          m.specular_color.b != 1.0;
@@ -94,7 +98,8 @@ std::vector<std::string> unrendered(const NamedMaterial& nm) {
   if (nm.model && *nm.model != BrdfModel::Gltf && *nm.model != BrdfModel::GltfCorrelated)
     notes.push_back(std::string("model ") + brdf_model_name(*nm.model) +
                     ": rendered as glTF metallic-roughness (baseColor, metallic, roughness)");
-  if (p.sheen_color.r > 0 || p.sheen_color.g > 0 || p.sheen_color.b > 0) notes.push_back("sheen: not rendered");
+  if ((p.sheen_color.r > 0 || p.sheen_color.g > 0 || p.sheen_color.b > 0) && nm.model && *nm.model == BrdfModel::Disney)
+    notes.push_back("sheen: Disney's not rendered (the preview renders glTF's KHR_materials_sheen)");
   if (p.clearcoat > 0 && nm.model && *nm.model == BrdfModel::Disney)
     notes.push_back("clearcoat: Disney's not rendered (the preview renders glTF's KHR_materials_clearcoat)");
   return notes;
@@ -133,6 +138,8 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
         if (!nm.model || *nm.model != BrdfModel::Disney) {
           m.clearcoat = nm.params.clearcoat;
           m.clearcoat_roughness = nm.params.clearcoat_roughness;
+          m.sheen_color = nm.params.sheen_color;
+          m.sheen_roughness = nm.params.sheen_roughness;
         }
         m.notes = unrendered(nm);
         s.materials.push_back(m);
@@ -151,6 +158,7 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
       note(
           "KHR_materials_clearcoat: not in this target's split-sum render (Babylon.js's clear coat block is not "
           "emulated); in the reference");
+    // KHR_materials_sheen: noted once the bake is read (render_preview: SplitSum::sheen_note)
   }
   if (s.materials.size() > size_t(kPreviewMaxSpheres))
     throw Error(std::to_string(s.materials.size()) + " materials: at most " + std::to_string(kPreviewMaxSpheres));
@@ -168,6 +176,10 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
       throw Error("material '" + m.name + "': clearcoat must be in [0, 1]");
     if (!(m.clearcoat_roughness >= 0.0 && m.clearcoat_roughness <= 1.0))
       throw Error("material '" + m.name + "': clearcoat_roughness must be in [0, 1]");
+    if (!(m.sheen_roughness >= 0.0 && m.sheen_roughness <= 1.0))
+      throw Error("material '" + m.name + "': sheen_roughness must be in [0, 1]");
+    for (double v : {m.sheen_color.r, m.sheen_color.g, m.sheen_color.b})
+      if (!(v >= 0.0 && v <= 1.0)) throw Error("material '" + m.name + "': sheen_color must be in [0, 1]");
     for (double v : {m.specular_color.r, m.specular_color.g, m.specular_color.b})
       if (!(v >= 0.0 && std::isfinite(v)))
         throw Error("material '" + m.name + "': specular_color must be finite and >= 0");

@@ -83,6 +83,7 @@ class OpenClPreview final : public PreviewKernel {
           d[3] = p.alpha;
           d[4] = p.albedo;
           d[5] = p.bias;
+          d[6] = p.sheen ? 1.0f : 0.0f;
         }
         const PreviewRulesValues rules = preview_rules(refinement, task.radiance_scale);
         const std::vector<double> params = {task.view.x,        task.view.y,          task.view.z,    refinement,

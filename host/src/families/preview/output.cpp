@@ -292,6 +292,10 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
       o["material"]["clearcoat"] = sp.material.clearcoat;
       o["material"]["clearcoat_roughness"] = sp.material.clearcoat_roughness;
     }
+    if (preview_has_sheen(sp.material)) {
+      o["material"]["sheen_color"] = rgb(sp.material.sheen_color);
+      o["material"]["sheen_roughness"] = sp.material.sheen_roughness;
+    }
     if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
     if (s < r.stats.size()) {
       const PreviewSphereStats& st = r.stats[s];

@@ -30,7 +30,7 @@ std::vector<double> brute_force(const EnvImage& env, const Vec3& view, const std
     for (size_t i = next++; i < pixels.size() && !cancel_requested(); i = next++) {
       const ReferencePixel& p = pixels[i];
       const reference::PreviewIntegrals r = reference::preview_integrals(
-          env.rgb.data(), env.width, env.height, {p.n[0], p.n[1], p.n[2]}, view, p.alpha, subdivision);
+          env.rgb.data(), env.width, env.height, {p.n[0], p.n[1], p.n[2]}, view, p.alpha, subdivision, p.sheen);
       for (size_t k = 0; k < 3; ++k) {
         out[9 * i + k] = r.s1[k];
         out[9 * i + 3 + k] = r.s2[k];
@@ -57,9 +57,10 @@ class ReferencePreview final : public PreviewKernel {
   ReferenceSums reference(const ReferenceTask& task, const std::function<void(double)>& progress) override {
     const EnvImage& env = *task.environment;
     double work = 0.0;
-    for (const auto& p : task.pixels) work += reference::preview_integrals_work(env.width, env.height, p.alpha, 16.0);
+    for (const auto& p : task.pixels)
+      work += reference::preview_integrals_work(env.width, env.height, p.alpha, 16.0, p.sheen);
     for (const auto& p : task.bound_pixels)
-      work += reference::preview_integrals_work(env.width, env.height, p.alpha, 32.0);
+      work += reference::preview_integrals_work(env.width, env.height, p.alpha, 32.0, p.sheen);
     if (work > kPreviewReferenceMaxWork)
       throw Error("the reference backend's brute-force preview of " + std::to_string(task.pixels.size()) +
                   " pixels under a " + std::to_string(env.width) + "x" + std::to_string(env.height) +

@@ -64,7 +64,9 @@ class TempFolder {
 
 // Bakes what the target's engine loads, as `brdfbake bake --target T` does (the default plan: the
 // standard set for metallic-roughness materials), on the same backend.
-void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder,
+// With sheened spheres, planned as `bake --scene` plans a scene of one dielectric material with
+// KHR_materials_sheen: the standard set, the Charlie chain and the charlie DFG table.
+void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder, bool sheen,
                 const PreviewProgress& progress) {
   try {
     check_environment_source(env.source);
@@ -76,7 +78,22 @@ void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, cons
   o.environment = env.source;
   o.sanitize = env.sanitize.replaced;
   o.target = engine_target_name(target);
-  Plan plan = plan_default(o);
+  Plan plan;
+  if (sheen) {
+    Scene scene;
+    scene.path = "the preview's sheened materials";
+    SceneMaterial m;
+    m.label = "sheen";
+    m.metallic = 0.0;
+    m.sheen = true;
+    m.sheen_color = {1.0, 1.0, 1.0};
+    m.sheen_roughness = 1.0;
+    m.sheen_roughness_texture = true;  // the range 0..1
+    scene.materials.push_back(m);
+    plan = plan_scene(scene, o);
+  } else {
+    plan = plan_default(o);
+  }
   plan.job.output_dir = folder;
   RunOptions ro;
   ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
@@ -277,6 +294,9 @@ struct ReferenceWork {
   // The clear coat's lobe (KHR_materials_clearcoat): per sphere pixel and per bound pixel, the entry
   // of the same normal at the coat's alpha (kNoCoat for an uncoated sphere).
   std::vector<size_t> coat_task_of, bound_coat_task_of;
+  // The sheen lobe (KHR_materials_sheen): likewise, the entry of the same normal's Charlie lobe at the
+  // sheen's alpha (kNoCoat for a sphere without sheen).
+  std::vector<size_t> sheen_task_of, bound_sheen_task_of;
   double lut_seconds = 0.0;
 };
 
@@ -292,6 +312,15 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   }
   const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
   const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &w.lut_seconds);
+  // The sheen lobes' exact albedos E(n.v) at their sheen roughnesses (the charlie table's quadrature).
+  std::set<double> sheen_set;
+  for (const PreviewSphere& s : res.spheres)
+    if (preview_has_sheen(s.material)) sheen_set.insert(s.material.sheen_roughness);
+  const std::vector<double> srs(sheen_set.begin(), sheen_set.end());
+  double sheen_seconds = 0.0;
+  const std::vector<double> es =
+      nvs.empty() || srs.empty() ? std::vector<double>() : sheen_albedos(backend, nvs, srs, &sheen_seconds);
+  w.lut_seconds += sheen_seconds;
   auto albedos = [&](const SpherePixel& p, double roughness, double* a, double* b) {
     const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
     const size_t j = size_t(std::lower_bound(rs.begin(), rs.end(), roughness) - rs.begin());
@@ -314,19 +343,34 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
   // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
   // grid's 72 spheres are 12 roughnesses).
-  std::map<std::array<float, 4>, size_t> unique;
+  std::map<std::array<float, 5>, size_t> unique;
+  auto sheen_pixel = [&](const SpherePixel& p, double roughness) {
+    ReferencePixel r;
+    r.n[0] = float(p.n.x);
+    r.n[1] = float(p.n.y);
+    r.n[2] = float(p.n.z);
+    r.alpha = float(preview_sheen_alpha(roughness));
+    const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
+    const size_t j = size_t(std::lower_bound(srs.begin(), srs.end(), roughness) - srs.begin());
+    r.albedo = float(es[j * nvs.size() + i]);
+    r.bias = 0.0f;
+    r.sheen = true;
+    return r;
+  };
   auto entry = [&](const ReferencePixel& r) {
-    const std::array<float, 4> key = {r.n[0], r.n[1], r.n[2], r.alpha};
+    const std::array<float, 5> key = {r.n[0], r.n[1], r.n[2], r.alpha, r.sheen ? 1.0f : 0.0f};
     const auto [it, added] = unique.emplace(key, task.pixels.size());
     if (added) task.pixels.push_back(r);
     return it->second;
   };
   w.task_of.resize(pixels.size());
   w.coat_task_of.assign(pixels.size(), kNoCoat);
+  w.sheen_task_of.assign(pixels.size(), kNoCoat);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const PreviewMaterial& m = res.spheres[size_t(pixels[i].sphere)].material;
     w.task_of[i] = entry(to_pixel(pixels[i], m.roughness));
     if (m.clearcoat > 0.0) w.coat_task_of[i] = entry(to_pixel(pixels[i], m.clearcoat_roughness));
+    if (preview_has_sheen(m)) w.sheen_task_of[i] = entry(sheen_pixel(pixels[i], m.sheen_roughness));
   }
   // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
   // distinct one integrated once more at twice the refinement.
@@ -346,6 +390,8 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
       w.bound_task_of.push_back(bound_entry(w.task_of[list[k]]));
       const size_t c = w.coat_task_of[list[k]];
       w.bound_coat_task_of.push_back(c == kNoCoat ? kNoCoat : bound_entry(c));
+      const size_t h = w.sheen_task_of[list[k]];
+      w.bound_sheen_task_of.push_back(h == kNoCoat ? kNoCoat : bound_entry(h));
     }
   }
   return w;
@@ -369,10 +415,11 @@ std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, 
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];
     const size_t t = w.task_of[i];
-    const size_t c = w.coat_task_of[i];
-    ref[i] =
-        reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo, task.pixels[t].bias,
-                           &sums.values[9 * t], p.n_dot_v, c == kNoCoat ? nullptr : &sums.values[9 * c]);
+    const size_t c = w.coat_task_of[i], h = w.sheen_task_of[i];
+    ref[i] = reference_radiance(
+        brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo, task.pixels[t].bias, &sums.values[9 * t],
+        p.n_dot_v, c == kNoCoat ? nullptr : &sums.values[9 * c], h == kNoCoat ? nullptr : &sums.values[9 * h],
+        h == kNoCoat ? 0.0 : double(task.pixels[h].albedo));
     put(res.reference, p.x, p.y, ref[i]);
   }
   return ref;
@@ -387,10 +434,11 @@ void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, 
   for (size_t k = 0; k < w.bound_index.size(); ++k) {
     const SpherePixel& p = pixels[w.bound_index[k]];
     const size_t t = w.bound_task_of[k];
-    const size_t c = w.bound_coat_task_of[k];
-    const Rgb fine = reference_radiance(brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo,
-                                        task.bound_pixels[t].bias, &sums.bound_values[9 * t], p.n_dot_v,
-                                        c == kNoCoat ? nullptr : &sums.bound_values[9 * c]);
+    const size_t c = w.bound_coat_task_of[k], h = w.bound_sheen_task_of[k];
+    const Rgb fine = reference_radiance(
+        brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo, task.bound_pixels[t].bias,
+        &sums.bound_values[9 * t], p.n_dot_v, c == kNoCoat ? nullptr : &sums.bound_values[9 * c],
+        h == kNoCoat ? nullptr : &sums.bound_values[9 * h], h == kNoCoat ? 0.0 : double(task.bound_pixels[h].albedo));
     const Rgb coarse = ref[w.bound_index[k]];
     const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
@@ -435,7 +483,10 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     const auto t0 = Clock::now();
     temp = std::make_unique<TempFolder>();
     folder = temp->path();
-    bake_first(backend, environment, res.spec.target, folder, progress);
+    bake_first(backend, environment, res.spec.target, folder,
+               std::any_of(res.spheres.begin(), res.spheres.end(),
+                           [](const PreviewSphere& s) { return preview_has_sheen(s.material); }),
+               progress);
     res.times.bake = since(t0);
   }
   auto t0 = Clock::now();
@@ -446,6 +497,14 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.bake[0].second =
         "baked first (brdfbake bake --target " + std::string(engine_target_name(res.spec.target)) + ")";
   res.shading = split.steps();
+  // KHR_materials_sheen: what this target's split-sum render does with it, in each sheened sphere's notes
+  bool sheened = false;
+  for (PreviewSphere& sp : res.spheres)
+    if (preview_has_sheen(sp.material)) {
+      sp.material.notes.push_back(split.sheen_note());
+      sheened = true;
+    }
+  if (sheened && split.renders_sheen()) res.shading.push_back({"sheen", split.sheen_note()});
   const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
   res.brdf = brdf.text;
   if (std::any_of(res.spheres.begin(), res.spheres.end(),
@@ -458,6 +517,12 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.brdf +=
         "; with KHR_materials_clearcoat: (1 - clearcoat Fcoat(n.v)) f + clearcoat Fcoat(n.v) D_coat V_coat, "
         "Fcoat = 0.04 + 0.96 (1 - n.v)^5, alpha_coat = clearcoatRoughness^2, the geometric normal";
+  if (std::any_of(res.spheres.begin(), res.spheres.end(),
+                  [](const PreviewSphere& s) { return preview_has_sheen(s.material); }))
+    res.brdf +=
+        "; with KHR_materials_sheen (under the coat): (1 - max(sheenColor) E(n.v)) f + sheenColor D_Charlie V_sheen, "
+        "V_sheen Estevez & Kulla's (the charlie DFG table's default), alpha_sheen = max(sheenRoughness^2, 1e-7), "
+        "E the sheen lobe's directional albedo (the charlie table's quadrature)";
   res.multiscatter = brdf.compensation || brdf.diffuse == DiffuseWeight::FdezAguera;
 
   const EnvImage equirect = reference_equirect(environment);

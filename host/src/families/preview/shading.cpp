@@ -47,7 +47,7 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table) {
 }
 
 Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias, const double s[9],
-                       double n_dot_v, const double* coat) {
+                       double n_dot_v, const double* coat, const double* sheen, double sheen_albedo) {
   // F = F0 + (F90 - F0) Fc: the specular radiance F0 S1 + (F90 - F0) S2, its albedo likewise
   const Rgb f0 = preview_f0(m), cd = preview_diffuse_color(m);
   const double F0[3] = {f0.r, f0.g, f0.b}, CD[3] = {cd.r, cd.g, cd.b}, f90 = preview_f90(m);
@@ -65,6 +65,12 @@ Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double 
       w = fms + CD[c] * (1.0 - ess + fms);
     }
     out[c] = k * spec + w * s[6 + c] / M_PI;
+  }
+  if (preview_has_sheen(m) && sheen) {
+    // KHR_materials_sheen's albedo scaling at n.v: (1 - max(sheenColor) E(n.v)) base + sheen lobe
+    const double scale = 1.0 - std::max({m.sheen_color.r, m.sheen_color.g, m.sheen_color.b}) * sheen_albedo;
+    const double sc[3] = {m.sheen_color.r, m.sheen_color.g, m.sheen_color.b};
+    for (int c = 0; c < 3; ++c) out[c] = scale * out[c] + sc[c] * sheen[c];
   }
   if (m.clearcoat > 0.0 && coat) {
     // KHR_materials_clearcoat's fresnel_coat: mix(base, layer, clearcoat Fcoat(n.v))
@@ -93,6 +99,26 @@ std::vector<double> exact_albedos(Backend& backend, const std::vector<double>& n
       out[2 * k] = t.at(int(i), int(j), 1);      // albedo
       out[2 * k + 1] = t.at(int(i), int(j), 0);  // bias
     }
+  return out;
+}
+
+double preview_sheen_alpha(double sheen_roughness) { return std::max(sheen_roughness * sheen_roughness, 1e-7); }
+
+std::vector<double> sheen_albedos(Backend& backend, const std::vector<double>& n_dot_v,
+                                  const std::vector<double>& sheen_roughness, double* device_seconds) {
+  LutSpec spec;
+  spec.kind = LutKind::Charlie;
+  spec.width = int(n_dot_v.size());
+  spec.height = int(sheen_roughness.size());
+  spec.n_dot_v = n_dot_v;
+  spec.roughness = sheen_roughness;
+  spec.precision = Precision::Fp32;
+  LutTiming timing;
+  const Table t = bake_lut(backend, spec, &timing);
+  if (device_seconds) *device_seconds = timing.device_seconds;
+  std::vector<double> out(n_dot_v.size() * sheen_roughness.size());
+  for (size_t j = 0; j < sheen_roughness.size(); ++j)
+    for (size_t i = 0; i < n_dot_v.size(); ++i) out[j * n_dot_v.size() + i] = t.at(int(i), int(j), 0);
   return out;
 }
 

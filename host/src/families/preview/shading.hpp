@@ -38,13 +38,25 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table);
 // albedos A, B, for a material. A clear coat (m.clearcoat > 0) takes `coat`, the pixel's integrals at
 // the coat's alpha (its S1 = int D_coat V_coat n.l L), and the pixel's n.v for its Fresnel:
 //   (1 - clearcoat Fcoat(n.v)) base + clearcoat Fcoat(n.v) S1_coat.
+// A sheen (preview_has_sheen) takes `sheen`, the pixel's integrals of the Charlie lobe (S1_sheen =
+// int D_Charlie V_sheen n.l L), and its exact albedo E(n.v): the base (before the coat) becomes
+//   (1 - max(sheen_color) E(n.v)) base + sheen_color S1_sheen.
 Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias,
-                       const double integrals[9], double n_dot_v = 1.0, const double* coat = nullptr);
+                       const double integrals[9], double n_dot_v = 1.0, const double* coat = nullptr,
+                       const double* sheen = nullptr, double sheen_albedo = 0.0);
 
 // The exact albedos (A, B) at every (n.v, roughness) pair of the grid n_dot_v x roughness, by the
 // DFG family's quadrature on `backend` (bake_lut at explicit coordinates, ggx-multiscatter: the
 // channels bias and albedo). Returns 2 values a pair, (n.v major... ) index (j * n_dot_v.size() + i).
 std::vector<double> exact_albedos(Backend& backend, const std::vector<double>& n_dot_v,
                                   const std::vector<double>& roughness, double* device_seconds = nullptr);
+
+// The sheen lobe's alpha: max(sheen_roughness^2, 1e-7) (the charlie table's floor, kMinAlpha).
+double preview_sheen_alpha(double sheen_roughness);
+// The sheen lobe's exact directional albedo E(n.v) = int D_Charlie V_sheen n.l (Estevez & Kulla's
+// visibility) at every pair of n_dot_v x sheen_roughness (sheen_roughness-major), by the DFG
+// family's charlie quadrature on `backend`.
+std::vector<double> sheen_albedos(Backend& backend, const std::vector<double>& n_dot_v,
+                                  const std::vector<double>& sheen_roughness, double* device_seconds = nullptr);
 
 }  // namespace brdfbake::detail::preview

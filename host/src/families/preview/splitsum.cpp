@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
@@ -165,13 +166,16 @@ SplitSum::SplitSum(BakeFiles files) : files_(std::move(files)) {
   }
   for (int l = 0; l < files_.specular.level_count(); ++l) levels_.push_back(pad<Level>(files_.specular, l));
   if (!files_.irradiance.levels.empty()) irradiance_.push_back(pad<Level>(files_.irradiance, 0));
+  for (int l = 0; l < files_.sheen.level_count(); ++l) sheen_levels_.push_back(pad<Level>(files_.sheen, l));
   if (files_.diffuse == DiffuseSource::OurSh && files_.sh_order < 3)
     throw Error("'" + files_.diffuse_file + "': SH of " + std::to_string(files_.sh_order) + " bands (at least 3)");
 }
 
-void SplitSum::bilinear(int level, int face, float a, float b, float out[3]) const {
-  const std::vector<Level>& ls = level < 0 ? irradiance_ : levels_;
-  const Level& lv = ls[size_t(level < 0 ? 0 : level)];
+namespace {
+
+// GL_LINEAR on one padded face of a level.
+template <class Level>
+void sample_face(const Level& lv, int face, float a, float b, float out[3]) {
   const int s = lv.size;
   const size_t p = size_t(s) + 2;
   // texel coordinates (texel centres at i + 0.5), in the padded face (+1)
@@ -185,25 +189,36 @@ void SplitSum::bilinear(int level, int face, float a, float b, float out[3]) con
   }
 }
 
-void SplitSum::trilinear(const Vec3& d, float lod, float out[3]) const {
+}  // namespace
+
+void SplitSum::bilinear(int level, int face, float a, float b, float out[3]) const {
+  const std::vector<Level>& ls = level < 0 ? irradiance_ : levels_;
+  sample_face(ls[size_t(level < 0 ? 0 : level)], face, a, b, out);
+}
+
+void SplitSum::trilinear_in(const std::vector<Level>& chain, const Vec3& d, float lod, float out[3]) {
   // textureLod: lod clamped to [0, levels - 1], linear between the two nearest levels
   float a = 0, b = 0;
   const int face = face_of(d, &a, &b);
-  const float clamped = std::clamp(lod, 0.0f, float(levels_.size() - 1));
-  const int l0 = std::min(int(clamped), int(levels_.size()) - 1);
+  const float clamped = std::clamp(lod, 0.0f, float(chain.size() - 1));
+  const int l0 = std::min(int(clamped), int(chain.size()) - 1);
   const float t = clamped - float(l0);
-  bilinear(l0, face, a, b, out);
-  if (t > 0.0f && l0 + 1 < int(levels_.size())) {
+  sample_face(chain[size_t(l0)], face, a, b, out);
+  if (t > 0.0f && l0 + 1 < int(chain.size())) {
     float hi[3];
-    bilinear(l0 + 1, face, a, b, hi);
+    sample_face(chain[size_t(l0) + 1], face, a, b, hi);
     for (int c = 0; c < 3; ++c) out[c] = mixf(out[c], hi[c], t);
   }
 }
 
-void SplitSum::dfg(float n_dot_v, float roughness, float* bias, float* albedo) const {
-  // texture(lut, vec2(n_dot_v, roughness)): bilinear, clamp to edge, texel centres at (i + 0.5) / N
-  const Table& t = files_.dfg;
-  const float u = files_.dfg_sqrt_n_dot_v ? std::sqrt(std::max(n_dot_v, 0.0f)) : n_dot_v;
+void SplitSum::trilinear(const Vec3& d, float lod, float out[3]) const { trilinear_in(levels_, d, lod, out); }
+
+namespace {
+
+// texture(lut, vec2(n_dot_v, roughness)) of a table's first `channels` channels: bilinear, clamp to
+// edge, texel centres at (i + 0.5) / N; the n_dot_v axis sqrt-spaced where the table says so.
+void lut_lookup(const Table& t, bool sqrt_n_dot_v, float n_dot_v, float roughness, int channels, float* c) {
+  const float u = sqrt_n_dot_v ? std::sqrt(std::max(n_dot_v, 0.0f)) : n_dot_v;
   auto split = [](float uv, int n, int* i0, float* f) {
     const float x = std::clamp(uv * float(n) - 0.5f, 0.0f, float(n - 1));
     *i0 = std::min(int(x), std::max(n - 2, 0));
@@ -214,9 +229,21 @@ void SplitSum::dfg(float n_dot_v, float roughness, float* bias, float* albedo) c
   split(u, t.width, &i0, &fx);
   split(roughness, t.height, &j0, &fy);
   const int i1 = std::min(i0 + 1, t.width - 1), j1 = std::min(j0 + 1, t.height - 1);
-  float c[2];
-  for (int k = 0; k < 2; ++k)
+  for (int k = 0; k < channels; ++k)
     c[k] = mixf(mixf(t.at(i0, j0, k), t.at(i1, j0, k), fx), mixf(t.at(i0, j1, k), t.at(i1, j1, k), fx), fy);
+}
+
+}  // namespace
+
+float SplitSum::charlie(float n_dot_v, float sheen_roughness) const {
+  float e = 0.0f;
+  lut_lookup(files_.charlie, files_.charlie_sqrt_n_dot_v, n_dot_v, sheen_roughness, 1, &e);
+  return e;
+}
+
+void SplitSum::dfg(float n_dot_v, float roughness, float* bias, float* albedo) const {
+  float c[2];
+  lut_lookup(files_.dfg, files_.dfg_sqrt_n_dot_v, n_dot_v, roughness, 2, c);
   if (files_.dfg_multiscatter) {
     *bias = c[0];
     *albedo = c[1];
@@ -375,8 +402,105 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       break;
     }
   }
+  if (preview_has_sheen(m) && renders_sheen()) sheen(nd, vd, m, out);
   if (m.clearcoat > 0.0) coat(nd, vd, m, out);
   return {out[0], out[1], out[2]};
+}
+
+bool SplitSum::renders_sheen() const {
+  switch (files_.target) {
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      return false;
+    case EngineTarget::Filament:
+      return files_.charlie.width > 0;
+    case EngineTarget::Generic:
+    case EngineTarget::KhronosViewer:
+      return files_.charlie.width > 0 && !sheen_levels_.empty();
+  }
+  return false;
+}
+
+std::string SplitSum::sheen_note() const {
+  if (!renders_sheen()) {
+    if (files_.target == EngineTarget::Gltf || files_.target == EngineTarget::Babylon)
+      return "KHR_materials_sheen: not in this target's split-sum render (Babylon.js's sheen block, with its own "
+             "BRDF lookup's sheen channel, is not emulated); in the reference";
+    return std::string("KHR_materials_sheen: not in the split-sum render (the bake has no ") +
+           (files_.charlie.width == 0 ? "charlie DFG table" : "Charlie chain") +
+           ": bake from the scene's materials, bake --scene); in the reference";
+  }
+  auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
+  const std::string table = " x E(n.v, sheenRoughness) of " + name(files_.charlie_file);
+  switch (files_.target) {
+    case EngineTarget::Generic:
+      return "KHR_materials_sheen: in the split-sum render, docs/CONVENTIONS.md's runtime: sheenColor x " +
+             name(files_.sheen_file) + " at lod (levels - 1) sheenRoughness" + table +
+             ", the base x max(1 - max(sheenColor) E, 0)";
+    case EngineTarget::KhronosViewer:
+      return "KHR_materials_sheen: in the split-sum render, the glTF-Sample-Viewer's getIBLRadianceCharlie (" +
+             name(files_.sheen_file) + " at lod sheenRoughness (mips - 1)" + table +
+             " x sheenColor) and albedoSheenScaling 1 - max3(sheenColor) E";
+    case EngineTarget::Filament:
+      return "KHR_materials_sheen: in the split-sum render, Filament's evaluateSheenIBL (the GGX chain at "
+             "perceptualRoughnessToLod(sheenPerceptualRoughness)" +
+             table + " for sheenDFG, x sheenColor; Fd and Fr x 1 - max3(sheenColor) sheenDFG)";
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      break;
+  }
+  return {};
+}
+
+void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {
+  const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
+              vz = float(vd.z);
+  const float dot_nv = nx * vx + ny * vy + nz * vz;
+  const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
+  const float c[3] = {float(m.sheen_color.r), float(m.sheen_color.g), float(m.sheen_color.b)};
+  const float cmax = std::max(c[0], std::max(c[1], c[2]));
+  float light[3];
+  switch (files_.target) {
+    case EngineTarget::Generic: {
+      // docs/CONVENTIONS.md, "Charlie sheen at run time": sheen = sheenColor x prefiltered Charlie
+      // radiance (lod (levels - 1) sheenRoughness, the linear schedule) x E(n.v, sheenRoughness); the
+      // base scaled by max(1 - max(sheenColor) E, 0)
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.sheen_roughness);
+      trilinear_in(sheen_levels_, refl, float(sheen_levels_.size() - 1) * r, light);
+      const float e = charlie(nv, r), scale = std::max(1.0f - cmax * e, 0.0f);
+      for (int k = 0; k < 3; ++k) out[k] = out[k] * scale + c[k] * light[k] * e;
+      return;
+    }
+    case EngineTarget::KhronosViewer: {
+      // ibl.glsl getIBLRadianceCharlie: lod = sheenRoughness (u_MipCount - 1) on the Charlie chain at
+      // normalize(reflect(-v, n)), times the charlie LUT at clamp((NdotV, sheenRoughness)), times
+      // sheenColor; pbr.frag: color = f_sheen + color albedoSheenScaling, albedoSheenScaling = 1 -
+      // max3(sheenColor) albedoSheenScalingLUT(NdotV, sheenRoughness) (not clamped); both LUTs are the
+      // bake's charlie table
+      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = std::clamp(float(m.sheen_roughness), 0.0f, 1.0f);
+      // (u_MipCount is the GGX chain's: the IBL Sampler writes both chains with the same levels)
+      trilinear_in(sheen_levels_, refl, r * float(levels_.size() - 1), light);
+      const float e = charlie(nv, r), scale = 1.0f - cmax * e;
+      for (int k = 0; k < 3; ++k) out[k] = c[k] * light[k] * e + out[k] * scale;
+      return;
+    }
+    case EngineTarget::Filament: {
+      // light_indirect.fs evaluateSheenIBL: Fd and Fr times sheenScaling = 1 - max3(sheenColor)
+      // sheenDFG; Fr += sheenDFG sheenColor prefilteredRadiance(shading_reflected,
+      // sheenPerceptualRoughness): the GGX chain at perceptualRoughnessToLod; sheenDFG =
+      // prefilteredDFG(sheenPerceptualRoughness, NoV).z, here the bake's charlie table;
+      // sheenPerceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1] (common_material.fs)
+      const float nv = std::max(dot_nv, 1e-4f);
+      const float pr = std::clamp(float(m.sheen_roughness), 0.045f, 1.0f);
+      const float e = charlie(nv, pr), scale = 1.0f - cmax * e;
+      trilinear(refl, float(levels_.size() - 1) * pr * (2.0f - pr), light);
+      for (int k = 0; k < 3; ++k) out[k] = out[k] * scale + e * c[k] * light[k];
+      return;
+    }
+    case EngineTarget::Gltf:
+    case EngineTarget::Babylon:
+      return;  // not emulated (sheen_note)
+  }
 }
 
 void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {

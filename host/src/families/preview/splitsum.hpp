@@ -23,6 +23,10 @@ class SplitSum {
   // What each step does for this target and which shader function it is, for the JSON.
   Metadata steps() const;
   const BakeFiles& files() const { return files_; }
+  // Whether this target's split-sum render renders KHR_materials_sheen from this bake, and what it
+  // does (or why not), for the notes of a sheened sphere and the JSON's steps.
+  bool renders_sheen() const;
+  std::string sheen_note() const;
 
  private:
   struct Level {
@@ -31,15 +35,21 @@ class SplitSum {
   };
   void bilinear(int level, int face, float a, float b, float out[3]) const;
   void trilinear(const Vec3& d, float lod, float out[3]) const;
+  static void trilinear_in(const std::vector<Level>& chain, const Vec3& d, float lod, float out[3]);
   void dfg(float n_dot_v, float roughness, float* bias, float* albedo) const;
   void diffuse(const Vec3& n, float out[3]) const;
   // KHR_materials_clearcoat layered over the shaded base `out`, as the target's shader does.
   void coat(const Vec3& n, const Vec3& v, const PreviewMaterial& m, float out[3]) const;
+  // KHR_materials_sheen over the shaded base `out` (before the coat), as the target's shader does.
+  void sheen(const Vec3& n, const Vec3& v, const PreviewMaterial& m, float out[3]) const;
+  // The charlie table's albedo E(n.v, sheenRoughness): bilinear, clamp to edge, texel centres.
+  float charlie(float n_dot_v, float sheen_roughness) const;
 
   BakeFiles files_;
   std::vector<Level> levels_;
   std::vector<Level> irradiance_;
-  std::vector<double> harmonics_;  // Babylon.js's pre-scaled harmonics (babylon, gltf)
+  std::vector<Level> sheen_levels_;  // the Charlie chain (generic, khronos-viewer)
+  std::vector<double> harmonics_;    // Babylon.js's pre-scaled harmonics (babylon, gltf)
 };
 
 }  // namespace brdfbake::detail::preview

@@ -6,7 +6,9 @@
 // (brdfbake/reference/ggx.hpp). Every pixel of the image is visited, split into q x q sub-cells
 // where the lobe or the horizon of n needs it, and each sub-cell is summed at its centre in (u, v)
 // with its exact solid angle: a different quadrature from the kernel's quadtree walk, sharing no
-// code with it. alpha = 0 is the mirror: S1 = L(r), S2 = (1 - n.v)^5 L(r), exactly.
+// code with it. `sheen`: the Charlie lobe (D_Charlie, V_CharlieEstevezKulla: brdfbake/reference/
+// charlie.hpp) instead of GGX, S2 = 0, no refinement near r (the lobe lies along the horizon, where
+// the pixels across it are split). alpha = 0 is the mirror: S1 = L(r), S2 = (1 - n.v)^5 L(r), exactly.
 #pragma once
 
 #include <array>
@@ -25,9 +27,9 @@ struct PreviewIntegrals {
 // max(2 alpha, its distance to r) / subdivision, a pixel across the horizon of n into
 // subdivision x subdivision; doubling it measures the convergence (tests/reference).
 PreviewIntegrals preview_integrals(const float* rgb, int width, int height, const Vec3& n, const Vec3& v, double alpha,
-                                   double subdivision = 16.0);
+                                   double subdivision = 16.0, bool sheen = false);
 
 // The number of lobe evaluations preview_integrals makes for one pixel (its work).
-double preview_integrals_work(int width, int height, double alpha, double subdivision = 16.0);
+double preview_integrals_work(int width, int height, double alpha, double subdivision = 16.0, bool sheen = false);
 
 }  // namespace brdfbake::reference
