@@ -80,18 +80,29 @@ Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double 
   return {out[0], out[1], out[2]};
 }
 
-std::vector<double> exact_albedos(Backend& backend, const std::vector<double>& n_dot_v,
-                                  const std::vector<double>& roughness, double* device_seconds) {
+namespace {
+
+// A DFG-family table at explicit (n.v, roughness) coordinates (n.v along the width), fp32.
+Table table_at(Backend& backend, LutKind kind, const std::vector<double>& n_dot_v, const std::vector<double>& roughness,
+               double* device_seconds) {
   LutSpec spec;
-  spec.kind = LutKind::GgxMultiscatter;
+  spec.kind = kind;
   spec.width = int(n_dot_v.size());
   spec.height = int(roughness.size());
   spec.n_dot_v = n_dot_v;
   spec.roughness = roughness;
   spec.precision = Precision::Fp32;
   LutTiming timing;
-  const Table t = bake_lut(backend, spec, &timing);
+  Table t = bake_lut(backend, spec, &timing);
   if (device_seconds) *device_seconds = timing.device_seconds;
+  return t;
+}
+
+}  // namespace
+
+std::vector<double> exact_albedos(Backend& backend, const std::vector<double>& n_dot_v,
+                                  const std::vector<double>& roughness, double* device_seconds) {
+  const Table t = table_at(backend, LutKind::GgxMultiscatter, n_dot_v, roughness, device_seconds);
   std::vector<double> out(2 * n_dot_v.size() * roughness.size());
   for (size_t j = 0; j < roughness.size(); ++j)
     for (size_t i = 0; i < n_dot_v.size(); ++i) {
@@ -106,16 +117,7 @@ double preview_sheen_alpha(double sheen_roughness) { return std::max(sheen_rough
 
 std::vector<double> sheen_albedos(Backend& backend, const std::vector<double>& n_dot_v,
                                   const std::vector<double>& sheen_roughness, double* device_seconds) {
-  LutSpec spec;
-  spec.kind = LutKind::Charlie;
-  spec.width = int(n_dot_v.size());
-  spec.height = int(sheen_roughness.size());
-  spec.n_dot_v = n_dot_v;
-  spec.roughness = sheen_roughness;
-  spec.precision = Precision::Fp32;
-  LutTiming timing;
-  const Table t = bake_lut(backend, spec, &timing);
-  if (device_seconds) *device_seconds = timing.device_seconds;
+  const Table t = table_at(backend, LutKind::Charlie, n_dot_v, sheen_roughness, device_seconds);
   std::vector<double> out(n_dot_v.size() * sheen_roughness.size());
   for (size_t j = 0; j < sheen_roughness.size(); ++j)
     for (size_t i = 0; i < n_dot_v.size(); ++i) out[j * n_dot_v.size() + i] = t.at(int(i), int(j), 0);
