@@ -282,7 +282,17 @@ double sheet_exposure(const PreviewResult& res, const std::vector<SpherePixel>& 
   return exposure;
 }
 
-constexpr size_t kNoCoat = size_t(-1);
+constexpr size_t kNoLobe = size_t(-1);
+
+// A pixel's reference radiance from its entries (the base t, the coat c and the sheen h, kNoLobe
+// where the material has no such lobe) of `entries` and their integrals `values` (9 an entry).
+Rgb lobes_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double n_dot_v,
+                   const std::vector<ReferencePixel>& entries, const std::vector<double>& values, size_t t, size_t c,
+                   size_t h) {
+  return reference_radiance(brdf, m, entries[t].albedo, entries[t].bias, &values[9 * t], n_dot_v,
+                            c == kNoLobe ? nullptr : &values[9 * c], h == kNoLobe ? nullptr : &values[9 * h],
+                            h == kNoLobe ? 0.0 : double(entries[h].albedo));
+}
 
 // The reference's work: each distinct (normal, alpha) once, with the exact albedos at its n.v and
 // roughness, and the bound's pixels (each distinct one once more, at twice the refinement).
@@ -292,10 +302,10 @@ struct ReferenceWork {
   std::vector<size_t> bound_index;    // the sphere pixels the bound is measured on
   std::vector<size_t> bound_task_of;  // per bound pixel: its entry of task.bound_pixels
   // The clear coat's lobe (KHR_materials_clearcoat): per sphere pixel and per bound pixel, the entry
-  // of the same normal at the coat's alpha (kNoCoat for an uncoated sphere).
+  // of the same normal at the coat's alpha (kNoLobe for an uncoated sphere).
   std::vector<size_t> coat_task_of, bound_coat_task_of;
   // The sheen lobe (KHR_materials_sheen): likewise, the entry of the same normal's Charlie lobe at the
-  // sheen's alpha (kNoCoat for a sphere without sheen).
+  // sheen's alpha (kNoLobe for a sphere without sheen).
   std::vector<size_t> sheen_task_of, bound_sheen_task_of;
   double lut_seconds = 0.0;
 };
@@ -364,8 +374,8 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
     return it->second;
   };
   w.task_of.resize(pixels.size());
-  w.coat_task_of.assign(pixels.size(), kNoCoat);
-  w.sheen_task_of.assign(pixels.size(), kNoCoat);
+  w.coat_task_of.assign(pixels.size(), kNoLobe);
+  w.sheen_task_of.assign(pixels.size(), kNoLobe);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const PreviewMaterial& m = res.spheres[size_t(pixels[i].sphere)].material;
     w.task_of[i] = entry(to_pixel(pixels[i], m.roughness));
@@ -389,9 +399,9 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
       w.bound_index.push_back(list[k]);
       w.bound_task_of.push_back(bound_entry(w.task_of[list[k]]));
       const size_t c = w.coat_task_of[list[k]];
-      w.bound_coat_task_of.push_back(c == kNoCoat ? kNoCoat : bound_entry(c));
+      w.bound_coat_task_of.push_back(c == kNoLobe ? kNoLobe : bound_entry(c));
       const size_t h = w.sheen_task_of[list[k]];
-      w.bound_sheen_task_of.push_back(h == kNoCoat ? kNoCoat : bound_entry(h));
+      w.bound_sheen_task_of.push_back(h == kNoLobe ? kNoLobe : bound_entry(h));
     }
   }
   return w;
@@ -415,11 +425,8 @@ std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, 
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];
     const size_t t = w.task_of[i];
-    const size_t c = w.coat_task_of[i], h = w.sheen_task_of[i];
-    ref[i] = reference_radiance(
-        brdf, res.spheres[size_t(p.sphere)].material, task.pixels[t].albedo, task.pixels[t].bias, &sums.values[9 * t],
-        p.n_dot_v, c == kNoCoat ? nullptr : &sums.values[9 * c], h == kNoCoat ? nullptr : &sums.values[9 * h],
-        h == kNoCoat ? 0.0 : double(task.pixels[h].albedo));
+    ref[i] = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.pixels, sums.values, t,
+                            w.coat_task_of[i], w.sheen_task_of[i]);
     put(res.reference, p.x, p.y, ref[i]);
   }
   return ref;
@@ -434,11 +441,8 @@ void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, 
   for (size_t k = 0; k < w.bound_index.size(); ++k) {
     const SpherePixel& p = pixels[w.bound_index[k]];
     const size_t t = w.bound_task_of[k];
-    const size_t c = w.bound_coat_task_of[k], h = w.bound_sheen_task_of[k];
-    const Rgb fine = reference_radiance(
-        brdf, res.spheres[size_t(p.sphere)].material, task.bound_pixels[t].albedo, task.bound_pixels[t].bias,
-        &sums.bound_values[9 * t], p.n_dot_v, c == kNoCoat ? nullptr : &sums.bound_values[9 * c],
-        h == kNoCoat ? nullptr : &sums.bound_values[9 * h], h == kNoCoat ? 0.0 : double(task.bound_pixels[h].albedo));
+    const Rgb fine = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.bound_pixels,
+                                    sums.bound_values, t, w.bound_coat_task_of[k], w.bound_sheen_task_of[k]);
     const Rgb coarse = ref[w.bound_index[k]];
     const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
