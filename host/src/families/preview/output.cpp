@@ -63,6 +63,13 @@ std::string row_name(const PreviewSphere& s) {
   return at != std::string::npos && at > 0 ? n.substr(0, at) : n;
 }
 
+// A name on the sheet, shortened to `chars` with "..." (a glTF material's name can be long; the JSON and
+// the sheet's regions keep it whole).
+constexpr size_t kLabelChars = 28;
+std::string shortened(const std::string& n, size_t chars) {
+  return n.size() <= chars ? n : n.substr(0, chars - 3) + "...";
+}
+
 json vec(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 json rgb(const Rgb& c) { return json::array({c.r, c.g, c.b}); }
 json stats(const PreviewErrorStats& s) { return {{"rms", s.rms}, {"p99", s.p99}, {"max", s.max}}; }
@@ -96,7 +103,22 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   const int w = r.splitsum.width, h = r.splitsum.height;
   const bool with_ref = !r.reference.rgb.empty();
   const int panels = with_ref ? 3 : 1;
-  const int label_w = 84;                                  // row labels left of the first panel
+  // Rows are named where each row's spheres share a name but for their roughness (the default grid, a
+  // material file's roughness series): the name left of the row, as wide as the longest (at least
+  // 84 px). Otherwise (a scene's materials) each sphere's name goes under it in the first panel.
+  std::vector<std::string> rows(r.spheres.size());
+  bool named_rows = true;
+  for (size_t s = 0; s < r.spheres.size(); ++s) {
+    rows[s] = row_name(r.spheres[s]);
+    for (size_t o = 0; o < s; ++o)
+      named_rows = named_rows && (r.spheres[o].row != r.spheres[s].row || rows[o] == rows[s]);
+  }
+  int label_w = named_rows ? 84 : 0;
+  if (named_rows)
+    for (std::string& row : rows) {
+      row = shortened(row, kLabelChars);
+      label_w = std::max(label_w, view::text_width(row) + kGap);
+    }
   const int top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
   const int panel_top = top + 2 * kLine + 4;               // the panel's title, the columns' roughness
   const int sheet_w = std::max(kMargin * 2 + label_w + panels * w + (panels - 1) * kGap, 640);
@@ -180,10 +202,15 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   std::string last_row;
   for (size_t s = 0; s < r.spheres.size(); ++s) {
     const PreviewSphere& sp = r.spheres[s];
-    const std::string row = row_name(sp);
-    if (sp.column == 0 && row != last_row) {
-      c.text(kMargin, panel_top + int(sp.centre_y) - kLine / 2, row.substr(0, 13), view::kText);
-      last_row = row;
+    if (named_rows && sp.column == 0 && rows[s] != last_row) {
+      c.text(kMargin, panel_top + int(sp.centre_y) - kLine / 2, rows[s], view::kText);
+      last_row = rows[s];
+    }
+    if (!named_rows) {  // the sphere's name under it, as many characters as its cell holds
+      const size_t chars = size_t(std::max(4.0, (2.0 * sp.radius + kGap) / view::text_width("m")));
+      const std::string name = shortened(sp.material.name, chars);
+      const int ty = panel_top + std::min(int(sp.centre_y + sp.radius) + 2, h - kLine);
+      c.text(x0 + int(sp.centre_x) - view::text_width(name) / 2, ty, name, view::kText);
     }
     SheetRegion region;
     region.role = "sphere";
@@ -195,10 +222,8 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
     if (!with_ref || s >= r.stats.size()) continue;
     const std::string a = percent(r.stats[s].linear.rms), b = fmt(r.stats[s].srgb8.p99, "%.0f");
     const int below = int(sp.centre_y + sp.radius) + 2;
-    const int room = (r.spheres.size() > 1 ? 0 : 0) + h - below;
     const int px = x0 + 2 * (w + kGap);
     const int ty = panel_top + std::min(below, h - 2 * kLine);
-    (void)room;
     c.text(px + int(sp.centre_x) - view::text_width(a) / 2, ty, a, view::kText);
     c.text(px + int(sp.centre_x) - view::text_width(b) / 2, ty + kLine - 2, b, view::kDim);
   }
