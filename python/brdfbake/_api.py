@@ -192,8 +192,9 @@ class Result:
         ``spheres``: per sphere its material (``name``, ``base_color``, ``metallic``, ``roughness``,
         ``f0``, ``diffuse_color``), ``row``, ``column``, ``centre`` (x, y) and ``radius`` in pixels,
         ``pixels``, ``linear`` and ``srgb8`` (``rms``, ``p99``, ``max``) and ``reference_bound``
-        (``rms``, ``max``, ``pixels``); ``camera`` (``view_direction``, ``up``, ``right`` in the
-        environment's frame), ``target``, ``brdf``, ``multiscatter``, ``exposure``, ``bake``,
+        (``rms``, ``max``, ``pixels``, ``refinement``: the refinement the sphere was integrated
+        at); ``camera`` (``view_direction``, ``up``, ``right`` in the environment's frame),
+        ``target``, ``brdf``, ``multiscatter``, ``exposure``, ``bake``,
         ``shading`` (each step of the target's shader) and ``times``.
         """
         doc = self._core.preview()

@@ -91,6 +91,7 @@ py::dict preview_dict(const py::handle& owner, const PreviewResult& p) {
       b["rms"] = st.reference_rms_bound;
       b["max"] = st.reference_max_bound;
       b["pixels"] = st.bound_pixels;
+      b["refinement"] = st.refinement;
       e["reference_bound"] = b;
     }
     spheres.append(e);

@@ -628,6 +628,70 @@ TEST(PreviewScene, ABakeOfAnotherTargetOrEnvironmentIsRefused) {
   EXPECT_THROW(detail::preview::resolve_spec(spec), Error);
 }
 
+// A sphere whose bound exceeds spec.bound_goal is integrated again at twice the refinement, alone: its
+// pixels and bound are those of a render at the refinement it reached, while a sphere within the goal
+// keeps the first pass. At refinement 1 under the built-in sun, the r0.3 metal's bound is above a goal
+// of 0.2 % and the rough dielectric's below it.
+TEST(PreviewReference, ASphereAboveTheBoundGoalIsIntegratedAgainFiner) {
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path out = temp_dir("goal") / "filament";
+  Job job = small_preview_job(out);
+  job.preview = false;
+  run_job(job, {}, on_backend(*backend));
+  PreviewSpec spec;
+  spec.target = EngineTarget::Filament;
+  spec.bake = out.string();
+  spec.width = 96;
+  spec.height = 48;
+  spec.refinement = 1.0;
+  PreviewMaterial metal, rough;
+  metal.name = "silver r0.3";
+  metal.base_color = {0.97, 0.96, 0.91};
+  metal.metallic = 1.0;
+  metal.roughness = 0.3;
+  rough.name = "white r1";
+  rough.base_color = {0.8, 0.8, 0.8};
+  rough.roughness = 1.0;
+  spec.materials = {metal, rough};
+  const EnvImage env = load_environment("builtin:sun");
+  spec.bound_goal = 0.0;  // never refined: the first pass alone
+  const PreviewResult first = render_preview(*backend, env, spec);
+  spec.bound_goal = 0.002;
+  const PreviewResult refined = render_preview(*backend, env, spec);
+  ASSERT_EQ(first.stats.size(), 2u);
+  ASSERT_EQ(refined.stats.size(), 2u);
+  EXPECT_EQ(first.stats[0].refinement, 1.0);
+  std::printf("bounds at refinement 1: %.2e (metal), %.2e (dielectric)\n", first.stats[0].reference_rms_bound,
+              first.stats[1].reference_rms_bound);
+  EXPECT_GT(first.stats[0].reference_rms_bound, spec.bound_goal) << "the test needs a sphere above the goal";
+  EXPECT_LE(first.stats[1].reference_rms_bound, spec.bound_goal) << "the test needs a sphere within the goal";
+  // the metal refined until within the goal (or as far as two doublings reach), the dielectric not
+  EXPECT_GT(refined.stats[0].refinement, 1.0);
+  EXPECT_TRUE(refined.stats[0].reference_rms_bound <= spec.bound_goal || refined.stats[0].refinement == 4.0)
+      << refined.stats[0].reference_rms_bound;
+  EXPECT_LT(refined.stats[0].reference_rms_bound, first.stats[0].reference_rms_bound);
+  EXPECT_EQ(refined.stats[1].refinement, 1.0);
+  EXPECT_EQ(refined.stats[1].reference_rms_bound, first.stats[1].reference_rms_bound);
+  // the refined sphere's pixels are a render at its refinement (each pixel is integrated alone), the
+  // other sphere's the first pass's
+  spec.refinement = refined.stats[0].refinement;
+  spec.bound_goal = 0.0;
+  const PreviewResult direct = render_preview(*backend, env, spec);
+  EXPECT_EQ(direct.stats[0].reference_rms_bound, refined.stats[0].reference_rms_bound);
+  size_t metal_pixels = 0, rough_pixels = 0;
+  const auto layout = detail::preview::make_layout(detail::preview::resolve_spec(spec));
+  for (const auto& p : detail::preview::sphere_pixels(layout)) {
+    const size_t at = 3 * (size_t(p.y) * size_t(spec.width) + size_t(p.x));
+    const PreviewResult& expected = p.sphere == 0 ? direct : first;
+    for (size_t c = 0; c < 3; ++c)
+      ASSERT_EQ(refined.reference.rgb[at + c], expected.reference.rgb[at + c]) << p.x << ", " << p.y;
+    ++(p.sphere == 0 ? metal_pixels : rough_pixels);
+  }
+  EXPECT_GT(metal_pixels, 100u);
+  EXPECT_GT(rough_pixels, 100u);
+}
+
 // ---- The stored encodings read back --------------------------------------------------------------------
 
 CubeLevels random_cube(int size, int levels, float scale) {

@@ -105,6 +105,9 @@ struct PreviewSpec {
   // quadtree is refined within refinement x its angular radius of the lobe's peak, down to the
   // lobe's width / refinement, and across the horizon of n. The bound is measured against twice it.
   double refinement = 4.0;
+  // A sphere whose reference bound (relative RMS) exceeds this is integrated again at twice the
+  // refinement, at most twice (0: never). The goal is 0.5 % a sphere; 0.4 % leaves a margin.
+  double bound_goal = 0.004;
   // Every bound_stride-th pixel of each sphere (at least 16 a sphere) is rendered again at twice the
   // refinement: the reference's bound is measured on them.
   int bound_stride = 8;
@@ -152,10 +155,13 @@ struct PreviewSphereStats {
   double reference_rms_bound = 0.0;
   double reference_max_bound = 0.0;
   int bound_pixels = 0;
+  double refinement = 0.0;  // the refinement its reference was integrated at (spec.refinement, or more)
 };
 // A second-order quadrature's error at refinement r is about 4/3 of its difference to the result at
 // 2r; the factor 2 leaves a margin for where the convergence is slower (kinks at texel edges).
 inline constexpr double kPreviewBoundFactor = 2.0;
+// The largest refinement a render may use (spec.refinement's range, and the bound goal's reach).
+inline constexpr double kPreviewMaxRefinement = 64.0;
 
 struct PreviewTimes {
   double bake = 0.0;              // baking the folder first (0 with --bake)

@@ -80,6 +80,12 @@ SpecSchema<PreviewSpec> preview_schema() {
                      "the reference quadrature's refinement (its bound is measured against twice it)")
                 .range(1, 64)
                 .def(d.refinement))
+      .bind(&PreviewSpec::bound_goal, "bound_goal",
+            ParamDef("bound_goal", T::Number,
+                     "a sphere whose reference bound (relative RMS) exceeds this is integrated again at twice the "
+                     "refinement, at most twice (0: never)")
+                .range(0, 1)
+                .def(d.bound_goal))
       .bind(&PreviewSpec::bound_stride, "bound_stride",
             ParamDef("bound_stride", T::Int,
                      "every this many pixels of a sphere (at least 16 a sphere) measure the reference's bound")

@@ -195,7 +195,8 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
     throw Error(std::to_string(n) + " spheres in " + std::to_string(s.columns) +
                 " columns leave cells under 8 pixels in a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                 " image: give a larger image");
-  if (!(s.refinement >= 1.0 && s.refinement <= 64.0)) throw Error("refinement must be in 1..64");
+  if (!(s.refinement >= 1.0 && s.refinement <= kPreviewMaxRefinement)) throw Error("refinement must be in 1..64");
+  if (!(s.bound_goal >= 0.0 && s.bound_goal <= 1.0)) throw Error("bound_goal must be in 0..1");
   if (s.bound_stride < 1) throw Error("bound_stride must be at least 1");
   return s;
 }

@@ -326,8 +326,10 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
       const PreviewSphereStats& st = r.stats[s];
       o["pixels"] = st.pixels;
       o["error"] = {{"linear", stats(st.linear)}, {"srgb8", stats(st.srgb8)}};
-      o["reference_bound"] = {
-          {"rms", st.reference_rms_bound}, {"max", st.reference_max_bound}, {"pixels", st.bound_pixels}};
+      o["reference_bound"] = {{"rms", st.reference_rms_bound},
+                              {"max", st.reference_max_bound},
+                              {"pixels", st.bound_pixels},
+                              {"refinement", st.refinement}};
     }
     spheres.push_back(o);
   }
@@ -342,6 +344,7 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
                        "per pixel, the integral of the BRDF above against the environment's model, no split "
                        "sum, no prefiltering, no storage"},
                       {"refinement", r.spec.refinement},
+                      {"bound_goal", r.spec.bound_goal},
                       {"bound_definition", r.bound_definition},
                       {"bound_rms", worst_rms},
                       {"bound_max", worst_max}};

@@ -407,46 +407,101 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   return w;
 }
 
-// The reference render: the background (the environment's cells, or grey) and each sphere pixel's
-// radiance from its integrals. Returns the sphere pixels' radiance.
-std::vector<Rgb> fill_reference(const EnvImage& equirect, const Layout& layout, const std::vector<SpherePixel>& pixels,
-                                const TargetBrdf& brdf, const ReferenceWork& w, const ReferenceSums& sums,
-                                PreviewResult& res) {
-  const bool grey = res.spec.background == PreviewBackground::Grey;
-  const ReferenceTask& task = w.task;
+// The reference image's background: the environment's cells, or grey.
+void fill_background(const EnvImage& equirect, const Layout& layout, PreviewResult& res) {
   res.reference.width = layout.width;
   res.reference.height = layout.height;
   res.reference.rgb.assign(res.splitsum.rgb.size(), 0.18f);
-  if (!grey)
-    for (int y = 0; y < layout.height; ++y)
-      for (int x = 0; x < layout.width; ++x)
-        put(res.reference, x, y, equirect_cell(equirect, background_direction(layout, x, y)));
-  std::vector<Rgb> ref(pixels.size());
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    const SpherePixel& p = pixels[i];
-    const size_t t = w.task_of[i];
-    ref[i] = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.pixels, sums.values, t,
-                            w.coat_task_of[i], w.sheen_task_of[i]);
-    put(res.reference, p.x, p.y, ref[i]);
-  }
-  return ref;
+  if (res.spec.background == PreviewBackground::Grey) return;
+  for (int y = 0; y < layout.height; ++y)
+    for (int x = 0; x < layout.width; ++x)
+      put(res.reference, x, y, equirect_cell(equirect, background_direction(layout, x, y)));
 }
 
-// Per sphere: the split-sum render's error against the reference (sphere_errors), and the
-// reference's own bound from the bound's pixels.
-void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, const TargetBrdf& brdf,
-                  const ReferenceWork& w, const ReferenceSums& sums, const std::vector<Rgb>& ref, PreviewResult& res) {
-  const ReferenceTask& task = w.task;
-  std::vector<std::vector<double>> bound(res.spheres.size());
+// One pass of the reference over `pixels` (a subset of the spheres' pixels: index[k] is pixels[k]'s
+// place in the whole list) at a refinement: each pixel's radiance into `ref` and the image, and the
+// bound's relative differences per sphere into `bound` (those of the pass's spheres replaced).
+void reference_pass(Backend& backend, const EnvImage& equirect, const std::vector<SpherePixel>& pixels,
+                    const std::vector<size_t>& index, const TargetBrdf& brdf, const Vec3& v, double refinement,
+                    const std::function<void(double)>& progress, PreviewResult& res, std::vector<Rgb>& ref,
+                    std::vector<std::vector<double>>& bound) {
+  ReferenceWork w = reference_work(backend, res, pixels);
+  ReferenceTask& task = w.task;
+  task.environment = &equirect;
+  task.view = v;
+  task.refinement = refinement;
+  task.radiance_scale = M_PI * std::max(res.environment_median, 1e-30);
+  task.precision = res.spec.precision;
+  const detail::ReferenceSums sums = detail::run_preview_reference(backend, task, progress);
+  res.times.reference += sums.wall_seconds;
+  res.times.reference_device += sums.device_seconds + w.lut_seconds;
+  res.times.bound += sums.bound_wall_seconds;
+  res.bound_definition =
+      "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
+      std::to_string(res.spec.bound_stride) +
+      "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
+      "(RGB norms); a sphere whose RMS bound exceeds the bound goal is integrated again at twice the refinement "
+      "(at most twice); the reference is " +
+      sums.method;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const SpherePixel& p = pixels[i];
+    const Rgb r = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.pixels, sums.values,
+                                 w.task_of[i], w.coat_task_of[i], w.sheen_task_of[i]);
+    ref[index[i]] = r;
+    put(res.reference, p.x, p.y, r);
+  }
+  for (const SpherePixel& p : pixels) bound[size_t(p.sphere)].clear();
   for (size_t k = 0; k < w.bound_index.size(); ++k) {
     const SpherePixel& p = pixels[w.bound_index[k]];
-    const size_t t = w.bound_task_of[k];
-    const Rgb fine = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.bound_pixels,
-                                    sums.bound_values, t, w.bound_coat_task_of[k], w.bound_sheen_task_of[k]);
-    const Rgb coarse = ref[w.bound_index[k]];
+    const Rgb fine =
+        lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.bound_pixels, sums.bound_values,
+                       w.bound_task_of[k], w.bound_coat_task_of[k], w.bound_sheen_task_of[k]);
+    const Rgb coarse = ref[index[w.bound_index[k]]];
     const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
     bound[size_t(p.sphere)].push_back(std::max(relative(a, b), kFloatSumFloor));
+  }
+}
+
+// The reference render, its bound and the error per sphere. A sphere whose RMS bound exceeds
+// spec.bound_goal is integrated again at twice the refinement, at most kMaxRefinements times (within
+// the refinement's range): a large sphere of a sharp lobe under a sun can need it where the default
+// grid's small spheres do not.
+constexpr int kMaxRefinements = 2;
+void render_reference(Backend& backend, const EnvImage& equirect, const Layout& layout,
+                      const std::vector<SpherePixel>& pixels, const TargetBrdf& brdf, const Vec3& v,
+                      const PreviewProgress& progress, PreviewResult& res) {
+  fill_background(equirect, layout, res);
+  std::vector<Rgb> ref(pixels.size());
+  std::vector<std::vector<double>> bound(res.spheres.size());
+  std::vector<double> refinement_of(res.spheres.size(), res.spec.refinement);
+  std::vector<bool> again(res.spheres.size(), true);
+  double refinement = res.spec.refinement;
+  for (int round = 0;; ++round) {
+    std::vector<SpherePixel> subset;
+    std::vector<size_t> index;
+    for (size_t i = 0; i < pixels.size(); ++i)
+      if (again[size_t(pixels[i].sphere)]) {
+        subset.push_back(pixels[i]);
+        index.push_back(i);
+      }
+    const double lo = round == 0 ? 0.15 : 0.95, span = round == 0 ? 0.8 : 0.05;
+    reference_pass(
+        backend, equirect, subset, index, brdf, v, refinement,
+        [&](double f) {
+          if (progress) progress(lo + span * f, round == 0 ? "reference render" : "reference, refined");
+        },
+        res, ref, bound);
+    for (size_t s = 0; s < res.spheres.size(); ++s)
+      if (again[s]) refinement_of[s] = refinement;
+    if (round == kMaxRefinements || res.spec.bound_goal <= 0.0 || 2.0 * refinement > kPreviewMaxRefinement) break;
+    bool any = false;
+    for (size_t s = 0; s < res.spheres.size(); ++s) {
+      again[s] = again[s] && kPreviewBoundFactor * error_stats(bound[s]).rms > res.spec.bound_goal;
+      any = any || again[s];
+    }
+    if (!any) break;
+    refinement *= 2.0;
   }
   res.stats = sphere_errors(layout, pixels, res.splitsum, res.reference, res.exposure);
   for (size_t s = 0; s < res.spheres.size(); ++s) {
@@ -455,13 +510,8 @@ void sphere_stats(const Layout& layout, const std::vector<SpherePixel>& pixels, 
     st.reference_rms_bound = kPreviewBoundFactor * b.rms;
     st.reference_max_bound = kPreviewBoundFactor * b.max;
     st.bound_pixels = int(bound[s].size());
+    st.refinement = refinement_of[s];
   }
-  res.bound_definition =
-      "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
-      std::to_string(res.spec.bound_stride) +
-      "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
-      "(RGB norms); the reference is " +
-      sums.method;
 }
 
 }  // namespace
@@ -544,22 +594,7 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   res.exposure = sheet_exposure(res, pixels, layout.width);
   if (progress) progress(0.15, "split-sum render");
 
-  if (res.spec.reference) {
-    ReferenceWork w = reference_work(backend, res, pixels);
-    w.task.environment = &equirect;
-    w.task.view = v;
-    w.task.refinement = res.spec.refinement;
-    w.task.radiance_scale = M_PI * std::max(res.environment_median, 1e-30);
-    w.task.precision = res.spec.precision;
-    const detail::ReferenceSums sums = detail::run_preview_reference(backend, w.task, [&](double f) {
-      if (progress) progress(0.15 + 0.85 * f, "reference render");
-    });
-    res.times.reference = sums.wall_seconds;
-    res.times.reference_device = sums.device_seconds + w.lut_seconds;
-    res.times.bound = sums.bound_wall_seconds;
-    const std::vector<Rgb> ref = fill_reference(equirect, layout, pixels, brdf, w, sums, res);
-    sphere_stats(layout, pixels, brdf, w, sums, ref, res);
-  }
+  if (res.spec.reference) render_reference(backend, equirect, layout, pixels, brdf, v, progress, res);
   res.device = backend.name();  // opened by now where the device was used
   res.times.total = since(t_start);
   return res;
