@@ -482,6 +482,15 @@ RunOptions on_backend(Backend& backend) {
   return ro;
 }
 
+// small_preview_job's files without the preview, in a fresh temp folder named `name`.
+fs::path small_bake(Backend& backend, const std::string& name) {
+  const fs::path out = temp_dir(name) / "filament";
+  Job job = small_preview_job(out);
+  job.preview = false;
+  run_job(job, {}, on_backend(backend));
+  return out;
+}
+
 // The preview of a bake's own files lands with them (named after the folder they land in, not the
 // staging folder it was rendered from), and the manifest lists it with numbers that are the JSON's.
 TEST(PreviewBake, ThePreviewLandsWithTheFilesAndTheManifestRecordsIt) {
@@ -607,10 +616,7 @@ TEST(PreviewScene, EverySphereIsWholeAndEveryMaterialHasOne) {
 TEST(PreviewScene, ABakeOfAnotherTargetOrEnvironmentIsRefused) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   auto backend = Backend::open(*dev);
-  const fs::path out = temp_dir("other") / "filament";
-  Job job = small_preview_job(out);
-  job.preview = false;
-  run_job(job, {}, on_backend(*backend));
+  const fs::path out = small_bake(*backend, "other");
   auto message = [&](EngineTarget target, const std::string& env) {
     try {
       detail::preview::read_bake_files(out.string(), target, env);
@@ -635,10 +641,7 @@ TEST(PreviewScene, ABakeOfAnotherTargetOrEnvironmentIsRefused) {
 TEST(PreviewReference, ASphereAboveTheBoundGoalIsIntegratedAgainFiner) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   auto backend = Backend::open(*dev);
-  const fs::path out = temp_dir("goal") / "filament";
-  Job job = small_preview_job(out);
-  job.preview = false;
-  run_job(job, {}, on_backend(*backend));
+  const fs::path out = small_bake(*backend, "goal");
   PreviewSpec spec;
   spec.target = EngineTarget::Filament;
   spec.bake = out.string();
