@@ -364,9 +364,11 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       float light[3], bias = 0, albedo = 0;
       trilinear(refl, lod, light);
       dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
-      // pbrBlockReflectance0: specularEnvironmentR90 = metallicReflectanceFactors.a, which the glTF
-      // loader's KHR_materials_specular sets to specularFactor (for metals too: not mixed by metallic)
-      const float r90 = specular;
+      // pbrBlockReflectance0.fx: specularEnvironmentR90 = reflectivityOut.reflectanceF90, which
+      // pbrBlockReflectivity.fx (metallic workflow) makes mix(metallicReflectanceFactors.a, 1,
+      // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
+      // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
+      const float r90 = mixf(specular, 1.0f, float(m.metallic));
       for (int c = 0; c < 3; ++c) {
         // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
         // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
