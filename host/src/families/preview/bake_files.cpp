@@ -205,6 +205,8 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
     if (charlie->contains("parameters") &&
         (*charlie)["parameters"].value("n_dot_v_axis", std::string("uniform")) == "sqrt")
       b.charlie_sqrt_n_dot_v = true;
+    if (charlie->contains("parameters"))
+      b.charlie_visibility = (*charlie)["parameters"].value("sheen_visibility", std::string());
   }
   if (target == EngineTarget::Generic) {
     if (const json* chain = manifest_file(manifest, "prefilter", "charlie")) {

@@ -43,6 +43,7 @@ struct BakeFiles {
   Table charlie;  // width 0: none
   std::string charlie_file;
   bool charlie_sqrt_n_dot_v = false;
+  std::string charlie_visibility;  // the table's sheen_visibility (estevez-kulla, neubelt); empty: unsaid
 };
 
 // Reads the folder's manifest.json and the files the target's engine loads. Throws Error naming the

@@ -156,8 +156,10 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
       note("KHR_materials_specular: filament's split-sum scales F0 by specularFactor, F90 stays 1 (specularDFG)");
     if ((s.target == EngineTarget::Gltf || s.target == EngineTarget::Babylon) && m.clearcoat > 0.0)
       note(
-          "KHR_materials_clearcoat: not in this target's split-sum render (Babylon.js's clear coat block is not "
-          "emulated); in the reference");
+          "KHR_materials_clearcoat: in the split-sum render, Babylon.js's clear coat block (pbrBlockClearcoat.fx, the "
+          "glTF loader's options): the reflection texture at getLodFromAlphaG(clearcoatRoughness^2 + 0.0005) x "
+          "clearcoat mix(x, y, 0.04) of the DFG table at (n.v, clearcoatRoughness), the rest x 1 - clearcoat "
+          "F_Schlick(0.04, 1, n.v); the base's R0 not remapped (remapF0OnInterfaceChange false)");
     // KHR_materials_sheen: noted once the bake is read (render_preview: SplitSum::sheen_note)
   }
   if (s.materials.size() > size_t(kPreviewMaxSpheres))

@@ -9,6 +9,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   reference.cpp
   bake_files.cpp
   splitsum.cpp
+  splitsum_babylon.cpp
   render.cpp
   output.cpp
   bake_preview.cpp

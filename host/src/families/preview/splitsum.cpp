@@ -9,6 +9,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
+#include "families/preview/splitsum_babylon.hpp"
 
 namespace brdfbake::detail::preview {
 
@@ -363,9 +364,11 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       float light[3], bias = 0, albedo = 0;
       trilinear(refl, lod, light);
       dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
-      // pbrBlockReflectance0: specularEnvironmentR90 = metallicReflectanceFactors.a, which the glTF
-      // loader's KHR_materials_specular sets to specularFactor (for metals too: not mixed by metallic)
-      const float r90 = specular;
+      // pbrBlockReflectance0.fx: specularEnvironmentR90 = reflectivityOut.reflectanceF90, which
+      // pbrBlockReflectivity.fx (metallic workflow) makes mix(metallicReflectanceFactors.a, 1,
+      // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
+      // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
+      const float r90 = mixf(specular, 1.0f, float(m.metallic));
       for (int c = 0; c < 3; ++c) {
         // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
         // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
@@ -404,6 +407,8 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
   }
   if (preview_has_sheen(m) && renders_sheen()) sheen(nd, vd, m, out);
   if (m.clearcoat > 0.0) coat(nd, vd, m, out);
+  if (files_.target == EngineTarget::Gltf || files_.target == EngineTarget::Babylon)
+    for (float& o : out) o = std::max(o, 0.0f);  // pbrBlockFinalColorComposition.fx: max(finalColor, 0)
   return {out[0], out[1], out[2]};
 }
 
@@ -411,9 +416,8 @@ bool SplitSum::renders_sheen() const {
   switch (files_.target) {
     case EngineTarget::Gltf:
     case EngineTarget::Babylon:
-      return false;
     case EngineTarget::Filament:
-      return files_.charlie.width > 0;
+      return files_.charlie.width > 0;  // the GGX chain at the sheen's LOD, the charlie table
     case EngineTarget::Generic:
     case EngineTarget::KhronosViewer:
       return files_.charlie.width > 0 && !sheen_levels_.empty();
@@ -423,9 +427,6 @@ bool SplitSum::renders_sheen() const {
 
 std::string SplitSum::sheen_note() const {
   if (!renders_sheen()) {
-    if (files_.target == EngineTarget::Gltf || files_.target == EngineTarget::Babylon)
-      return "KHR_materials_sheen: not in this target's split-sum render (Babylon.js's sheen block, with its own "
-             "BRDF lookup's sheen channel, is not emulated); in the reference";
     return std::string("KHR_materials_sheen: not in the split-sum render (the bake has no ") +
            (files_.charlie.width == 0 ? "charlie DFG table" : "Charlie chain") +
            ": bake from the scene's materials, bake --scene); in the reference";
@@ -447,7 +448,15 @@ std::string SplitSum::sheen_note() const {
              table + " for sheenDFG, x sheenColor; Fd and Fr x 1 - max3(sheenColor) sheenDFG)";
     case EngineTarget::Gltf:
     case EngineTarget::Babylon:
-      break;
+      return "KHR_materials_sheen: in the split-sum render, Babylon.js's sheen block (pbrBlockSheen.fx, the glTF "
+             "loader's albedoScaling): the reflection texture at getLodFromAlphaG(sheenRoughness^2 + 0.0005) x "
+             "sheenColor x b, the base x 1 - max(sheenColor) b, b = the BRDF lookup's sheen channel at (n.v, "
+             "sheenRoughness), here E(n.v, sheenRoughness) of " +
+             name(files_.charlie_file) + " (" +
+             (files_.charlie_visibility.empty() ? std::string("its") : files_.charlie_visibility) +
+             " visibility; Babylon.js's own BRDF texture's blue channel integrates Ashikhmin's, 1 / (4 (n.l + n.v - "
+             "n.l n.v)), "
+             "which a charlie table of sheen_visibility neubelt holds)";
   }
   return {};
 }
@@ -498,8 +507,20 @@ void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, f
       return;
     }
     case EngineTarget::Gltf:
-    case EngineTarget::Babylon:
-      return;  // not emulated (sheen_note)
+    case EngineTarget::Babylon: {
+      // pbrBlockSheen.fx, sheenBlock (SHEEN_ROUGHNESS, SHEEN_ALBEDOSCALING; sheen.intensity 1 from the
+      // glTF loader): the reflection texture at reflectionCoords (the base's) and the sheen's alphaG,
+      // times sheenColor x environmentSheenBrdf.b, environmentSheenBrdf = getBRDFLookup(NdotV,
+      // sheenRoughness) (NdotV the base's absEps); pbrBlockFinalLitComponents.fx: surfaceAlbedo and
+      // finalRadianceScaled times sheenAlbedoScaling. b is the charlie table's E (sheen_note)
+      const float nv = babylon::abs_eps(dot_nv), r = float(m.sheen_roughness);
+      trilinear(refl,
+                babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r), float(files_.lod_scale)),
+                light);
+      const babylon::Sheen s = babylon::sheen(c, 1.0f, charlie(nv, r));
+      for (int k = 0; k < 3; ++k) out[k] = out[k] * s.albedo_scaling + light[k] * s.reflectance[k];
+      return;
+    }
   }
 }
 
@@ -560,11 +581,23 @@ void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, fl
       return;
     }
     case EngineTarget::Gltf:
-    case EngineTarget::Babylon:
-      // Babylon.js's clear coat block (pbrBlockClearCoat.fx: its own R0 at the coat-to-base interface,
-      // absorption, energy conservation) is not emulated: the split-sum render is the base alone, and
-      // the sphere's notes say so
+    case EngineTarget::Babylon: {
+      // pbrBlockClearcoat.fx, clearcoatBlock (the glTF loader: remapF0OnInterfaceChange false, so the
+      // base's R0 stays; no tint, no bump: clearCoatNormalW = the geometric normal): the reflection
+      // texture at the coat's alphaG along computeReflectionCoords (the base's direction), times
+      // getReflectanceFromBRDFLookup(0.04, getBRDFLookup(clearCoatNdotV, clearCoatRoughness)) x
+      // intensity; the base (irradiance, radiance) and the sheen's radiance times conservationFactor
+      // (pbrBlockReflectance.fx, pbrBlockFinalLitComponents.fx)
+      const float nv = babylon::abs_eps(dot_nv), r = float(m.clearcoat_roughness);
+      trilinear(refl,
+                babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r), float(files_.lod_scale)),
+                light);
+      float x = 0, y = 0;
+      dfg(nv, r, &x, &y);  // height-correlated: (bias, albedo), as the base's lookup
+      const babylon::ClearCoat k = babylon::clear_coat(cc, nv, x, y);
+      for (int c = 0; c < 3; ++c) out[c] = out[c] * k.conservation + light[c] * k.coat_reflectance;
       return;
+    }
   }
 }
 
