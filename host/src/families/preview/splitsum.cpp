@@ -332,9 +332,16 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       break;
     }
     case EngineTarget::Filament: {
-      // common_material.fs: perceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1],
+      // surface_shading_lit.fs getRoughnessPixelParams: under a clear coat (MATERIAL_HAS_CLEAR_COAT_ROUGHNESS,
+      // which gltfio's materials set) the base is at least as rough as the coat, mixed by clearCoat:
+      // mix(r, max(r, clearCoatPerceptualRoughness), clearCoat), the coat's clamped as evaluateClearCoatIBL's;
+      // then perceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1] (common_material.fs),
       // roughness = perceptualRoughness^2; shading_NoV = clampNoV(dot(n, v)) = max(NoV, 1e-4)
-      const float pr = std::clamp(float(m.roughness), 0.045f, 1.0f), a = pr * pr;
+      float base_pr = float(m.roughness);
+      if (m.clearcoat > 0.0)
+        base_pr = mixf(base_pr, std::max(base_pr, std::clamp(float(m.clearcoat_roughness), 0.045f, 1.0f)),
+                       float(m.clearcoat));
+      const float pr = std::clamp(base_pr, 0.045f, 1.0f), a = pr * pr;
       const float nv = std::max(dot_nv, 1e-4f);
       float bias = 0, albedo = 0;
       dfg(nv, pr, &bias, &albedo);  // PrefilteredDFG_LUT(perceptualRoughness, NoV)
