@@ -38,6 +38,12 @@ if [[ ${BRDFBAKE_TEST_WARM_CACHE:-0} != 1 ]]; then
   export POCL_CACHE_DIR=$BRDFBAKE_TEST_CACHE/pocl BRDFBAKE_CACHE_DIR=$BRDFBAKE_TEST_CACHE/brdfbake
   mkdir -p "$POCL_CACHE_DIR" "$BRDFBAKE_CACHE_DIR"
 fi
+# PoCL compiles a kernel's work-group function once generically and again for every local size a
+# launch uses (launches leave the local size to it, and their sizes follow the measured speed), ~30 %
+# of the device tests' CPU (stop 31, docs/BENCHMARKS.md). The generic function alone computes the
+# same values (the output digest is the same byte for byte), so the suite runs with it; set
+# POCL_WORK_GROUP_SPECIALIZATION=1 to test PoCL's specialised functions as a user's run uses them.
+export POCL_WORK_GROUP_SPECIALIZATION=${POCL_WORK_GROUP_SPECIALIZATION:-0}
 
 # The Python package: a fresh virtual environment each run; the extension's build folder is kept in
 # $BUILD_DIR/python (like the C++ build), so a second run recompiles only what changed.

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
@@ -753,6 +754,32 @@ fs::path white_hdr(const fs::path& dir) {
   return dir / "white.hdr";
 }
 
+// What render_preview bakes first for `target` (detail::preview::first_bake_plan: the standard set;
+// with `sheen` the Charlie chain and table too), with `o`'s settings, baked into `dir`/bake-TARGET
+// on `backend`: a test passes the folder as PreviewSpec::bake to render twice from one bake.
+std::string first_bake(Backend& backend, const EnvImage& env, EngineTarget target, bool sheen, const fs::path& dir,
+                       const PlanOptions& o = {}) {
+  Plan plan = detail::preview::first_bake_plan(env, target, sheen, o);
+  plan.job.output_dir = (dir / ("bake-" + std::string(engine_target_name(target)))).string();
+  RunOptions ro;
+  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
+  run_job(plan.job, {}, ro);
+  return plan.job.output_dir;
+}
+
+// A white furnace's first bake with 16² chains instead of the default 256². The environment is
+// uniform, so every texel of every level of every chain is the same radiance and a chain's size
+// changes no pixel of the renders; the DFG and charlie tables keep their default 128² (the furnace
+// tests' tolerances are its bilinear lookup). The default chains were three quarters of these
+// tests' time (stop 31); the bake-first path itself is PreviewRender's (WhiteFurnaceInBothPaths,
+// EveryTargetFromItsBake...).
+std::string furnace_bake(Backend& backend, const EnvImage& white, EngineTarget target, bool sheen,
+                         const fs::path& dir) {
+  PlanOptions o;
+  o.cube_size = 16;
+  return first_bake(backend, white, target, sheen, dir, o);
+}
+
 PreviewMaterial specular_material(const std::string& name, double ior, double specular, Rgb colour) {
   PreviewMaterial m{name, {0.0, 0.0, 0.0}, 0.0, 0.3, {}};
   m.ior = ior;
@@ -821,6 +848,7 @@ TEST(PreviewLobes, SpecularAndIorInBothRenders) {
   for (EngineTarget target : {EngineTarget::Generic, EngineTarget::KhronosViewer}) {
     PreviewSpec spec;
     spec.target = target;
+    spec.bake = furnace_bake(*backend, env, target, false, dir);
     spec.width = 64;
     spec.height = 32;
     spec.bound_stride = 64;
@@ -960,6 +988,7 @@ TEST(PreviewLobes, ClearcoatInBothRenders) {
   for (EngineTarget target : {EngineTarget::Generic, EngineTarget::Filament, EngineTarget::KhronosViewer}) {
     PreviewSpec spec;
     spec.target = target;
+    spec.bake = furnace_bake(*backend, env, target, false, dir);
     spec.width = 96;
     spec.height = 32;
     spec.bound_stride = 64;
@@ -1238,6 +1267,7 @@ TEST(PreviewSheen, SheenInTheRender) {
   const EnvImage env = load_environment(white_hdr(dir).string());
   PreviewSpec spec;
   spec.target = EngineTarget::Generic;
+  spec.bake = furnace_bake(*backend, env, spec.target, true, dir);
   spec.width = 96;
   spec.height = 32;
   spec.bound_stride = 64;
@@ -1298,6 +1328,7 @@ TEST(PreviewSheen, SplitSumSheenInAWhiteFurnaceIsTheClosedForm) {
   for (EngineTarget target : {EngineTarget::Generic, EngineTarget::KhronosViewer, EngineTarget::Filament}) {
     PreviewSpec spec;
     spec.target = target;
+    spec.bake = furnace_bake(*backend, env, target, true, dir);
     spec.width = 96;
     spec.height = 32;
     spec.reference = false;
@@ -1428,6 +1459,8 @@ TEST(PreviewSheen, SheenChairSceneRendersItsSheen) {
   spec.width = 96;
   spec.height = 64;
   spec.bound_stride = 64;
+  // the bake render_preview makes first, once for both renders (the references do not read it)
+  spec.bake = first_bake(*backend, env, spec.target, true, temp_dir("sheen_chair"));
   const PreviewResult r = render_preview(*backend, env, spec);
   ASSERT_EQ(r.spheres.size(), 6u);
   PreviewSpec bare = spec;
@@ -1490,6 +1523,9 @@ TEST(PreviewSheen, SheenChairSplitSumErrorDropsWithTheLobe) {
   spec.width = 96;
   spec.height = 64;
   spec.bound_stride = 64;
+  // the bake render_preview makes first for the sheened spheres, once for both renders: the same GGX
+  // chain, DFG table and irradiance serve the spheres without their sheen (as before the lobe)
+  spec.bake = first_bake(*backend, env, spec.target, true, temp_dir("sheen_chair_lobe"));
   const PreviewResult r = render_preview(*backend, env, spec);
   ASSERT_EQ(r.spheres.size(), 6u);
   PreviewSpec bare = spec;

@@ -62,10 +62,7 @@ class TempFolder {
   fs::path path_;
 };
 
-// Bakes what the target's engine loads, as `brdfbake bake --target T` does (the default plan: the
-// standard set for metallic-roughness materials), on the same backend.
-// With sheened spheres, planned as `bake --scene` plans a scene of one dielectric material with
-// KHR_materials_sheen: the standard set, the Charlie chain and the charlie DFG table.
+// Bakes first_bake_plan's job into `folder`, on the same backend.
 void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, const std::string& folder, bool sheen,
                 const PreviewProgress& progress) {
   try {
@@ -74,26 +71,7 @@ void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, cons
     throw Error(std::string("the preview bakes first from the environment's source, which it cannot open (") +
                 e.what() + "): give a bake folder (bake)");
   }
-  PlanOptions o;
-  o.environment = env.source;
-  o.sanitize = env.sanitize.replaced;
-  o.target = engine_target_name(target);
-  Plan plan;
-  if (sheen) {
-    Scene scene;
-    scene.path = "the preview's sheened materials";
-    SceneMaterial m;
-    m.label = "sheen";
-    m.metallic = 0.0;
-    m.sheen = true;
-    m.sheen_color = {1.0, 1.0, 1.0};
-    m.sheen_roughness = 1.0;
-    m.sheen_roughness_texture = true;  // the range 0..1
-    scene.materials.push_back(m);
-    plan = plan_scene(scene, o);
-  } else {
-    plan = plan_default(o);
-  }
+  Plan plan = first_bake_plan(env, target, sheen);
   plan.job.output_dir = folder;
   RunOptions ro;
   ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
@@ -142,6 +120,24 @@ double relative(const double* a, const double* b) {
 }
 
 }  // namespace
+
+Plan first_bake_plan(const EnvImage& env, EngineTarget target, bool sheen, PlanOptions o) {
+  o.environment = env.source;
+  o.sanitize = env.sanitize.replaced;
+  o.target = engine_target_name(target);
+  if (!sheen) return plan_default(o);
+  Scene scene;
+  scene.path = "the preview's sheened materials";
+  SceneMaterial m;
+  m.label = "sheen";
+  m.metallic = 0.0;
+  m.sheen = true;
+  m.sheen_color = {1.0, 1.0, 1.0};
+  m.sheen_roughness = 1.0;
+  m.sheen_roughness_texture = true;  // the range 0..1
+  scene.materials.push_back(m);
+  return plan_scene(scene, o);
+}
 
 EnvImage reference_equirect(const EnvImage& env) {
   if (env.layout == EnvImage::Layout::Equirect) return env;

@@ -3,10 +3,18 @@
 
 #include <vector>
 
+#include "brdfbake/plan.hpp"
 #include "brdfbake/preview.hpp"
 #include "families/preview/model.hpp"
 
 namespace brdfbake::detail::preview {
+
+// What render_preview bakes first when it is given no bake folder: what the target's engine loads,
+// as `brdfbake bake --target T` plans it from `env`'s source (the default plan: the standard set for
+// metallic-roughness materials), with `o`'s other settings (the defaults unless a test asks for
+// smaller chains). With sheened spheres, planned as `bake --scene` plans a scene of one dielectric
+// material with KHR_materials_sheen: the standard set, the Charlie chain and the charlie DFG table.
+Plan first_bake_plan(const EnvImage& env, EngineTarget target, bool sheen, PlanOptions o = {});
 
 // The environment as the equirect the reference integrates (a cube input resampled to 4S x 2S,
 // nearest texel), and its solid-angle-weighted median luminance.
