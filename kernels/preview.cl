@@ -275,7 +275,7 @@ inline real4 preview_lobe_film(const PreviewPixel* p, real3 l) {
   const real g = preview_lobe(p, l).x;
   if (!(g > R(0.0))) return (real4)(R(0.0));
   const real vh = R(0.5) * length(p->v + l);
-  const real3 f = thin_film_fresnel(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
+  const real3 f = thin_film_fresnel_fast(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
   return (real4)(g, g * f.x, g * f.y, g * f.z);
 }
 
@@ -285,7 +285,7 @@ inline real4 preview_lobe_film(const PreviewPixel* p, real3 l) {
 inline real4 preview_lobe_film_gauss(const PreviewPixel* p, const PreviewCell* c) {
   const real g = preview_lobe_gauss(p, c).x;
   const real vh = R(0.5) * length(p->v + c->g);
-  const real3 f = thin_film_fresnel(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
+  const real3 f = thin_film_fresnel_fast(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
   return (real4)(g, g * f.x, g * f.y, g * f.z);
 }
 
@@ -555,7 +555,7 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
 #ifdef PREVIEW_IRIDESCENCE
     if (p.film) {
       // the mirror's half vector is n: F_irid(n.v)
-      const real3 fi = thin_film_fresnel(p.nv, p.film_thickness, R(1.0), p.film_ior, p.film_base_f0);
+      const real3 fi = thin_film_fresnel_fast(p.nv, p.film_thickness, R(1.0), p.film_ior, p.film_base_f0);
       o[0] *= fi.x;
       o[1] *= fi.y;
       o[2] *= fi.z;
