@@ -491,8 +491,8 @@ TEST(PreviewIridescence, SampleScenesRenderTheirFilm) {
     PreviewSpec spec;
     spec.target = EngineTarget::KhronosViewer;
     spec.materials_file = scene;
-    spec.width = 72;
-    spec.height = 24;
+    spec.width = 48;
+    spec.height = 16;
     spec.bound_stride = 64;
     const PreviewResult r = render_preview(*backend, env, spec);
     int films = 0;
