@@ -364,8 +364,14 @@ TEST(PreviewIridescence, FactorZeroIsTheMaterialWithoutIt) {
 //     k_S = mix(F0 + (max(1 - r, F0) - F0) (1 - n.v)^5, F_irid, I), specular k_S f_ab.x + f_ab.y;
 //     the Lambertian's F0 mix(F0, max3(Schlick_to_F0(F_irid, n.v)), I) in Fdez-Aguera's terms;
 //   generic (docs/CONVENTIONS.md): F0' = mix(F0, F_irid, I), bias + (albedo - bias) F0', times
-//     1 + F0' (1 / albedo - 1), plus the diffuse colour.
-// Within 1e-5 relative (fp32 shading against double, the table's values shared: measured 1.5e-7).
+//     1 + F0' (1 / albedo - 1), plus the diffuse colour;
+//   babylon (pbrBlockIridescence.fx iridescenceBlock): R0' = mix(R0, F_irid(|n.v| + 1e-7), I) in
+//     (R90 - R0') x + R0' y (getReflectanceFromBRDFLookup), times 1 + R0' (1 / y - 1), plus the
+//     surface albedo.
+// Within 1e-5 relative (fp32 shading against double, the table's values shared: measured 1.5e-7),
+// plus, for babylon, the RGBD chain's departure from 1 times the specular term and 1e-3 of the
+// diffuse colour (the .env's spherical polynomial of the white map, from float sums over its texels:
+// its irradiance departs from 1 by ~2e-4 here).
 TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
   BRDFBAKE_REQUIRE_DEVICE(dev);
   auto backend = Backend::open(*dev);
@@ -373,14 +379,14 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
   const std::string white = white_hdr(dir).string();
   const EnvImage env = load_environment(white);
   const PreviewMaterial m = iridescent("film", {0.5, 0.2, 0.1}, 0.0, 0.3, 0.7, 380.0, 1.4);
-  for (EngineTarget target : {EngineTarget::KhronosViewer, EngineTarget::Generic}) {
+  for (EngineTarget target : {EngineTarget::KhronosViewer, EngineTarget::Generic, EngineTarget::Babylon}) {
     const std::string name = engine_target_name(target);
     const fs::path folder = dir / name;
     PlanOptions o;
     o.environment = white;
     o.target = name;
     o.cube_size = 32;
-    o.cube_min_size = 8;
+    o.cube_min_size = target == EngineTarget::Babylon ? 1 : 8;  // babylon's .env holds the chain to 1x1
     Plan plan = plan_default(o);
     plan.job.output_dir = folder.string();
     RunOptions ro;
@@ -416,8 +422,19 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
       *c0 = at(0);
       *c1 = at(1);
     };
+    // Babylon.js's chain is RGBD in 8 bits: its texels depart from 1 by up to a few 1e-3 (measured
+    // here over every texel), which multiplies the specular term; the other targets' RGBA16F hold 1
+    // exactly.
+    double chain = 0.0;
+    for (int l = 0; l < files.specular.level_count(); ++l)
+      for (int f = 0; f < 6; ++f)
+        for (int j = 0; j < files.specular.level_size(l); ++j)
+          for (int i = 0; i < files.specular.level_size(l); ++i)
+            for (int k = 0; k < 3; ++k)
+              chain = std::max(chain, std::fabs(double(files.specular.texel(l, f, i, j)[k]) - 1.0));
     const auto pixels = detail::preview::sphere_pixels(detail::preview::make_layout(r.spec));
     const double cd[3] = {0.5, 0.2, 0.1}, f0 = 0.04, I = m.iridescence, rough = m.roughness;
+    const bool babylon = target == EngineTarget::Babylon;
     reference::ThinFilm film;
     film.film_ior = m.iridescence_ior;
     film.base_f0 = {f0, f0, f0};
@@ -426,7 +443,8 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
     for (const auto& p : pixels) {
       if (p.n_dot_v < 0.02) continue;  // the rim: the shaders' clamps
       const double nv = p.n_dot_v;
-      const Rgb fi = reference::thin_film_fresnel(nv, m.iridescence_thickness, film);
+      const Rgb fi =
+          reference::thin_film_fresnel(target == EngineTarget::Babylon ? nv + 1e-7 : nv, m.iridescence_thickness, film);
       const double firid[3] = {fi.r, fi.g, fi.b};
       const double x5 = std::pow(1.0 - nv, 5.0);
       double want[3], plain[3];
@@ -447,6 +465,15 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
           want[c] = (ks * fa + fb) + fms + cd[c] * (1.0 - fss + fms);
           plain[c] = ks0 * fa + fb;
         }
+      } else if (target == EngineTarget::Babylon) {
+        // iridescenceBlock at NdotV = |n.v| + 1e-7 (absEps): R0 = mix(R0, F_irid, I); then
+        // getReflectanceFromBRDFLookup (R90 - R0) x + R0 y and getEnergyConservationFactor with it
+        const double x = files.dfg_multiscatter ? c0 : c1, y = files.dfg_multiscatter ? c1 : c0 + c1;
+        for (int c = 0; c < 3; ++c) {
+          const double f = f0 + (firid[c] - f0) * I;
+          want[c] = ((1.0 - f) * x + f * y) * (1.0 + f * (1.0 / y - 1.0)) + cd[c];
+          plain[c] = ((1.0 - f0) * x + f0 * y) * (1.0 + f0 * (1.0 / y - 1.0));
+        }
       } else {
         const double bias = c0, albedo = c1;  // ggx-multiscatter: bias, albedo
         ASSERT_TRUE(files.dfg_multiscatter);
@@ -458,7 +485,8 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
       }
       const float* got = &r.splitsum.rgb[3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x))];
       for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(double(got[c]) / want[c], 1.0, 1e-5) << name << " n.v " << nv << " channel " << c;
+        const double tolerance = 1e-5 * want[c] + chain * (want[c] - cd[c]) + (babylon ? 1e-3 * cd[c] : 0.0);
+        EXPECT_NEAR(double(got[c]), want[c], tolerance) << name << " n.v " << nv << " channel " << c;
         worst = std::max(worst, std::fabs(double(got[c]) / want[c] - 1.0));
         moved = std::max(moved, std::fabs(want[c] - plain[c] - (want[0] - plain[0])));
       }
@@ -466,8 +494,10 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
     }
     EXPECT_GT(checked, 300) << name;
     EXPECT_GT(moved, 1e-3) << name << ": the film colours the specular";
-    std::printf("%-15s split-sum film in a white furnace: within %.2e of the shader's formula (%d pixels)\n",
-                name.c_str(), worst, checked);
+    std::printf(
+        "%-15s split-sum film in a white furnace: within %.2e of the shader's formula (%d pixels; chain within %.1e "
+        "of 1)\n",
+        name.c_str(), worst, checked, chain);
   }
 }
 
