@@ -50,10 +50,23 @@
 // no peak at r (it lies along the horizon of n, as wide as sqrt(alpha) there): no refinement near r,
 // the horizon's rules resolve it.
 //
+// The iridescent lobe (KHR_materials_iridescence; a pixel's lobe flag 2, only where the program is
+// built with PREVIEW_IRIDESCENCE: glTF materials decide which lobes the kernel is compiled with):
+// the GGX lobe times the thin-film Fresnel F_irid(v.h) of common/thin_film.clh, per channel (the film
+// is not linear in (S1, S2) as Schlick's Fresnel is):
+//   S1_c = int D V F_irid,c(v.h) (n.l)+ L_c dl,
+// the film's thickness, index and base F0 given per pixel (films). The same walk and refinement as
+// the GGX lobe (F_irid varies slowly over v.h, where D is narrow); the normalisation is the GGX
+// lobe's, S1 = N1 A / G1 with G1 the quadrature's sum of D V n.l (without the film), so that the
+// film's weights share the cells' solid-angle error that A / G1 removes. S2 = 0.
+//
 // Roughness 0 (alpha = 0) is a delta: S1 = L(r) and S2 = (1 - n.v)^5 L(r), the radiance of the
-// pixel r falls in, exactly; only the irradiance is walked.
+// pixel r falls in, exactly (the iridescent lobe: F_irid(n.v) L(r)); only the irradiance is walked.
 #include "common/real.clh"
 #include "common/charlie.clh"
+#ifdef PREVIEW_IRIDESCENCE
+#include "common/thin_film.clh"
+#endif
 
 #define PREVIEW_STACK 192     // entries of the depth-first stack (3 per level below the start is plenty)
 #define PREVIEW_MAX_SUB 8     // sub-cell levels below a pixel (1/256 of a pixel a side)
@@ -70,6 +83,12 @@ typedef struct {
   real alpha;
   CharlieFit fit;   // the sheen's fitted Lambda at alpha (charlie_fit)
   real lambda_v1;   // 1 + Lambda(n.v)
+#ifdef PREVIEW_IRIDESCENCE
+  int film;            // the GGX lobe times the thin-film Fresnel (KHR_materials_iridescence)
+  real film_thickness;  // nm
+  real film_ior;
+  real3 film_base_f0;
+#endif
 } PreviewPixel;
 
 typedef struct {
@@ -248,6 +267,57 @@ inline real2 preview_lobe_gauss(const PreviewPixel* p, const PreviewCell* c) {
   return sum;
 }
 
+#ifdef PREVIEW_IRIDESCENCE
+// The iridescent lobe at a unit direction l: (D V (n.l)+, the same times F_irid,c(v.h) for c = r, g,
+// b), the film over its base seen from the outside medium (index 1: air, as the extension's
+// evalIridescence(outsideIor 1, ...)).
+inline real4 preview_lobe_film(const PreviewPixel* p, real3 l) {
+  const real g = preview_lobe(p, l).x;
+  if (!(g > R(0.0))) return (real4)(R(0.0));
+  const real vh = R(0.5) * length(p->v + l);
+  const real3 f = thin_film_fresnel_fast(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
+  return (real4)(g, g * f.x, g * f.y, g * f.z);
+}
+
+// preview_lobe_gauss for the iridescent lobe: (sum w D V n.l, the same times F_irid,c), the film's
+// Fresnel taken at the cell's centre g (it varies over v.h on the scale of the film's fringes, tenths
+// of a radian, where a constant cell is below a pixel: one thin-film evaluation a cell, not four).
+inline real4 preview_lobe_film_gauss(const PreviewPixel* p, const PreviewCell* c) {
+  const real g = preview_lobe_gauss(p, c).x;
+  const real vh = R(0.5) * length(p->v + c->g);
+  const real3 f = thin_film_fresnel_fast(vh, p->film_thickness, R(1.0), p->film_ior, p->film_base_f0);
+  return (real4)(g, g * f.x, g * f.y, g * f.z);
+}
+
+// preview_add's lobe part for the iridescent lobe: the same rules (the Gauss rule on a constant
+// cell; the luminance centroid on a varying one, the Gauss rule's weight near the peak), per channel.
+inline void preview_add_film(const PreviewPixel* p, const PreviewCell* c, PreviewSums* s, bool numerator) {
+  real weight;  // the lobe's integral over the cell per unit radiance (D V n.l: the normalisation's)
+  real3 at_m;   // the film-weighted lobe per unit L Omega, per channel
+  if (c->is_constant) {
+    const real4 gauss = preview_lobe_film_gauss(p, c);
+    weight = gauss.x;
+    at_m = gauss.yzw / fmax(c->omega, R(1e-30));
+  } else {
+    const real at_g = preview_lobe(p, c->g).x;
+    const real3 m = R(0.2126) * c->mo[0] + R(0.7152) * c->mo[1] + R(0.0722) * c->mo[2];
+    const real ml = length(m);
+    at_m = preview_lobe_film(p, ml > R(0.0) ? m / ml : c->g).yzw;
+    weight = at_g * c->omega;
+    if (preview_within(c->g, p->r, R(2.0) * p->peak * c->rho)) {
+      const real4 gauss = preview_lobe_film_gauss(p, c);
+      at_m = at_g > R(1e-3) * gauss.x / c->omega ? at_m * (gauss.x / weight) : gauss.yzw / c->omega;
+      weight = gauss.x;
+    }
+  }
+  s->n1[0] += at_m.x * c->lo[0];
+  s->n1[1] += at_m.y * c->lo[1];
+  s->n1[2] += at_m.z * c->lo[2];
+  if (numerator) return;
+  s->g1 += weight;
+}
+#endif
+
 // One cell's contribution (see the top of the file): the cosine at the channels' first moments
 // (exact for a cell wholly above the horizon: n.l is linear); the lobe at the luminance-weighted
 // mean m, and for the normalisation at g. A constant cell (a pixel, a sub-cell) takes the lobe by
@@ -267,6 +337,12 @@ inline void preview_add(const PreviewPixel* p, const PreviewCell* c, PreviewSums
   const real ng = fmax(dot(p->n, c->g), R(0.0)) * c->gl * c->omega;
   if (!numerator) s->gd += ng;
   if (!p->spec || (!any && ng <= R(0.0))) return;
+#ifdef PREVIEW_IRIDESCENCE
+  if (p->film) {
+    preview_add_film(p, c, s, numerator);
+    return;
+  }
+#endif
   real2 weight;  // the lobe's integral over the cell, per unit radiance
   real2 at_m;    // the lobe's value for the radiance, per unit L Omega
   if (c->is_constant) {
@@ -393,7 +469,9 @@ inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, Previ
 
 // params: view (x, y, z), refinement, horizon_size, horizon_energy, max_size.
 // pixels: 8 floats a pixel: n (x, y, z), alpha, A, B (the exact directional albedos), the lobe (0 GGX,
-// 1 the Charlie sheen lobe), 0.
+// 1 the Charlie sheen lobe, 2 GGX times the thin film: PREVIEW_IRIDESCENCE only), 0.
+// films: 8 floats a pixel (read for lobe 2 only; one element where no pixel has a film): the film's
+// thickness (nm), its index, the base's F0 (r, g, b), 0, 0, 0.
 // out: 12 reals a pixel: S1 (rgb), S2 (rgb), Irr (rgb), cells visited, overflow (0 or 1), 0.
 // levels[k] = (first cell in tree, cell count, grid width, grid height), 16 floats a cell; start: the
 // first level walked;
@@ -401,7 +479,7 @@ inline bool preview_walk(const PreviewPixel* p, const PreviewRules* rules, Previ
 kernel void preview_reference(global real* out, global const float* pixels, int n_pixels, constant real* params,
                               global const float* tree, constant int4* levels, int start, int top, int image_w,
                               int image_h, global const float* image, global const int* bright_index,
-                              global const float* bright_rgb, int n_bright) {
+                              global const float* bright_rgb, int n_bright, global const float* films) {
   const int id = (int)get_global_id(0);
   if (id >= n_pixels) return;
   global const float* px = pixels + 8 * (size_t)id;
@@ -419,8 +497,19 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
   // by 2 alpha (v.h), v.h ~ n.v at the peak (dl = 4 (v.h) dh): thin at grazing view
   p.width = R(2.0) * alpha * p.nv / params[3];
   p.spec = alpha > R(0.0);
-  p.sheen = px[6] != 0.0f;
+  p.sheen = px[6] == 1.0f;
   p.alpha = alpha;
+#ifdef PREVIEW_IRIDESCENCE
+  p.film = px[6] == 2.0f;
+  if (p.film) {
+    global const float* fp = films + 8 * (size_t)id;
+    p.film_thickness = (real)fp[0];
+    p.film_ior = (real)fp[1];
+    p.film_base_f0 = (real3)((real)fp[2], (real)fp[3], (real)fp[4]);
+  }
+#else
+  (void)films;
+#endif
   if (p.sheen) {
     p.width = INFINITY;  // no peak at r: the horizon's rules resolve the sheen lobe
     p.fit = charlie_fit(alpha);
@@ -463,6 +552,16 @@ kernel void preview_reference(global real* out, global const float* pixels, int 
       o[k] = (real)l[k];
       o[3 + k] = fc * (real)l[k];
     }
+#ifdef PREVIEW_IRIDESCENCE
+    if (p.film) {
+      // the mirror's half vector is n: F_irid(n.v)
+      const real3 fi = thin_film_fresnel_fast(p.nv, p.film_thickness, R(1.0), p.film_ior, p.film_base_f0);
+      o[0] *= fi.x;
+      o[1] *= fi.y;
+      o[2] *= fi.z;
+      o[3] = o[4] = o[5] = R(0.0);
+    }
+#endif
   }
   const real kd = s.gd > R(0.0) ? BRDFBAKE_PI / s.gd : R(0.0);
   for (int k = 0; k < 3; ++k) o[6 + k] = s.nd[k] * kd;

@@ -242,6 +242,11 @@ std::vector<NamedMaterial> gltf_materials(const Scene& scene, const std::string&
     m.specular_factor = s.specular;
     m.specular_color_factor = Rgb{s.specular_color[0], s.specular_color[1], s.specular_color[2]};
     m.ior = s.ior;
+    if (s.iridescence_ext) {
+      m.iridescence = s.iridescence;
+      m.iridescence_ior = s.iridescence_ior;
+      m.iridescence_thickness = s.iridescence_thickness_max;
+    }
     for (const std::string& t : s.textures) nm.notes.push_back(t + " ignored (textures are not read)");
     for (const std::string& ext : s.extensions)
       if (ext != "KHR_materials_sheen" && ext != "KHR_materials_clearcoat" && ext != "KHR_materials_specular" &&

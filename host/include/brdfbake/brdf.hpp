@@ -63,6 +63,12 @@ struct Material {
   double ior = 1.5;                          // KHR_materials_ior: 0 or >= 1
   double specular_factor = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
   Rgb specular_color_factor{1.0, 1.0, 1.0};  // specularColorFactor, >= 0
+  // KHR_materials_iridescence (read from glTF; rendered by the preview only, not by eval's gltf BRDF):
+  // iridescenceFactor [0, 1], iridescenceIor, and the film's thickness in nm (iridescenceThicknessMaximum,
+  // the thickness where there is no thickness texture).
+  double iridescence = 0.0;
+  double iridescence_ior = 1.3;
+  double iridescence_thickness = 400.0;
   // Classic models. Unset colours and exponent derive from the metallic-roughness parameters:
   // kd = base_color (1 - metallic), ks = mix(0.04, base_color, metallic), n = 2048^(1 - roughness).
   std::optional<Rgb> diffuse_color;   // kd, [0, 1]

@@ -44,20 +44,31 @@ namespace brdfbake {
 // charlie DFG table's default) of alpha max(sheen_roughness^2, 1e-7) over the rest, scaled by the
 // extension's albedo scaling at n.v: f = (1 - max(sheen_color) E(n.v)) f_base + sheen_color D V, E the
 // lobe's exact directional albedo (the charlie table's quadrature). Under the clear coat (sheen first).
+// KHR_materials_iridescence (factors only: the film is iridescence_thickness thick everywhere): the
+// specular Fresnel becomes mix(F, F_irid(v.h), iridescence) with F_irid the thin film's (Belcour &
+// Barla 2017 as the extension writes it; outside index 1) over the dielectric's F0 for the dielectric
+// part and over base_color for the metal part (the extension's dielectric_brdf and metal_brdf), the
+// specular factor weighting the dielectric's film as it weights its Fresnel. The diffuse weight and the
+// compensation keep the material's own F0.
 struct PreviewMaterial {
   std::string name;
   Rgb base_color{0.8, 0.8, 0.8};
   double metallic = 0.0;
   double roughness = 0.5;
-  std::vector<std::string> notes;     // what of the source material the preview does not render
-  double ior = 1.5;                   // KHR_materials_ior: 0 or >= 1 (0: F0 1)
-  double specular = 1.0;              // KHR_materials_specular specularFactor, [0, 1]
-  Rgb specular_color{1.0, 1.0, 1.0};  // specularColorFactor, >= 0 (F0 clamped to 1 after it)
-  double clearcoat = 0.0;             // KHR_materials_clearcoat clearcoatFactor, [0, 1]
-  double clearcoat_roughness = 0.0;   // clearcoatRoughnessFactor, [0, 1]
-  Rgb sheen_color{0.0, 0.0, 0.0};     // KHR_materials_sheen sheenColorFactor, [0, 1]
-  double sheen_roughness = 0.0;       // sheenRoughnessFactor, [0, 1]
+  std::vector<std::string> notes;        // what of the source material the preview does not render
+  double ior = 1.5;                      // KHR_materials_ior: 0 or >= 1 (0: F0 1)
+  double specular = 1.0;                 // KHR_materials_specular specularFactor, [0, 1]
+  Rgb specular_color{1.0, 1.0, 1.0};     // specularColorFactor, >= 0 (F0 clamped to 1 after it)
+  double clearcoat = 0.0;                // KHR_materials_clearcoat clearcoatFactor, [0, 1]
+  double clearcoat_roughness = 0.0;      // clearcoatRoughnessFactor, [0, 1]
+  Rgb sheen_color{0.0, 0.0, 0.0};        // KHR_materials_sheen sheenColorFactor, [0, 1]
+  double sheen_roughness = 0.0;          // sheenRoughnessFactor, [0, 1]
+  double iridescence = 0.0;              // KHR_materials_iridescence iridescenceFactor, [0, 1]
+  double iridescence_ior = 1.3;          // iridescenceIor, [1, 10]
+  double iridescence_thickness = 400.0;  // the film's thickness in nm (iridescenceThicknessMaximum), >= 0
 };
+// Whether a material has an iridescent film (iridescence above 0).
+bool preview_has_iridescence(const PreviewMaterial& m);
 // Whether a material has a sheen lobe (a sheen colour above 0).
 bool preview_has_sheen(const PreviewMaterial& m);
 // The clear coat's Fresnel at n.v (KHR_materials_clearcoat's fresnel_coat: ior 1.5, F0 0.04).

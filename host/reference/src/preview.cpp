@@ -42,7 +42,7 @@ void lobes(const Vec3& n, const Vec3& v, double n_dot_v, double alpha, bool shee
 }  // namespace
 
 PreviewIntegrals preview_integrals(const float* rgb, int width, int height, const Vec3& n_in, const Vec3& v_in,
-                                   double alpha, double subdivision, bool sheen) {
+                                   double alpha, double subdivision, bool sheen, const PreviewFilm* film) {
   PreviewIntegrals out;
   // Unit vectors to the last bit: a narrow lobe's D near its peak is 1 - (n.h)^2 over alpha^2, and a
   // normal of length 1 + 6e-8 (a float normal) moves that by 2% at alpha = 0.0025.
@@ -82,6 +82,15 @@ PreviewIntegrals preview_integrals(const float* rgb, int width, int height, cons
           if (!(alpha > 0.0)) continue;
           double g = 0.0, gf = 0.0;
           lobes(n, v, n_dot_v, alpha, sheen, s, &g, &gf);
+          if (film) {
+            if (!(g > 0.0)) continue;
+            // the thin film's Fresnel at v.h = |v + l| / 2, per channel
+            const Vec3 h{v.x + s.x, v.y + s.y, v.z + s.z};
+            const Rgb f = thin_film_fresnel(0.5 * std::sqrt(dot3(h, h)), film->thickness_nm, film->film);
+            const double fc[3] = {f.r, f.g, f.b};
+            for (int k = 0; k < 3; ++k) out.s1[size_t(k)] += g * fc[k] * double(l[k]) * omega;
+            continue;
+          }
           for (int k = 0; k < 3; ++k) {
             out.s1[size_t(k)] += g * double(l[k]) * omega;
             out.s2[size_t(k)] += gf * double(l[k]) * omega;
@@ -101,6 +110,14 @@ PreviewIntegrals preview_integrals(const float* rgb, int width, int height, cons
     for (int k = 0; k < 3; ++k) {
       out.s1[size_t(k)] = l[k];
       out.s2[size_t(k)] = fc * double(l[k]);
+    }
+    if (film) {
+      const Rgb f = thin_film_fresnel(n_dot_v, film->thickness_nm, film->film);
+      const double fr[3] = {f.r, f.g, f.b};
+      for (int k = 0; k < 3; ++k) {
+        out.s1[size_t(k)] *= fr[k];
+        out.s2[size_t(k)] = 0.0;
+      }
     }
   }
   return out;

@@ -25,6 +25,14 @@ struct ReferencePixel {
   // The Charlie sheen lobe (KHR_materials_sheen: D_Charlie, Estevez & Kulla's visibility) instead of
   // GGX; then albedo is its exact albedo E(n.v) and S2 is 0.
   bool sheen = false;
+  // The GGX lobe times the thin-film Fresnel (KHR_materials_iridescence: the film's thickness in nm,
+  // its index, the base's F0 under it, seen from air) instead of Schlick's two integrals: S1 is
+  // int D V F_irid,c(v.h) n.l L_c per channel, S2 is 0; albedo and bias are the GGX lobe's A and 0 (the
+  // walk's normalisation). The program is built with PREVIEW_IRIDESCENCE only when a pixel has one.
+  bool film = false;
+  float film_thickness = 0.0f;
+  float film_ior = 1.0f;
+  float film_base_f0[3] = {0.0f, 0.0f, 0.0f};
 };
 
 struct ReferenceTask {

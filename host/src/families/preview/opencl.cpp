@@ -35,6 +35,12 @@ class OpenClPreview final : public PreviewKernel {
     ProgramSpec ps;
     ps.file = "preview.cl";
     ps.precision = task.precision;
+    // The thin-film lobe is compiled in only when a pixel has it (the default grid's program stays
+    // as it is: glTF materials decide which lobes the kernel is built with).
+    auto has_film = [](const std::vector<ReferencePixel>& px) {
+      return std::any_of(px.begin(), px.end(), [](const ReferencePixel& p) { return p.film; });
+    };
+    if (has_film(task.pixels) || has_film(task.bound_pixels)) ps.defines.push_back({"PREVIEW_IRIDESCENCE", "1"});
     cl::Program program = build_program(dev, ps);
     const bool fp64 = task.precision == Precision::Fp64;
     const size_t real_size = fp64 ? sizeof(double) : sizeof(float);
@@ -42,7 +48,7 @@ class OpenClPreview final : public PreviewKernel {
     const double tree_bytes = double(tree.data.size()) * sizeof(float);
     const double image_bytes = double(tree.image.size()) * sizeof(float);
     const size_t n_all = std::max(task.pixels.size(), task.bound_pixels.size());
-    check_device_memory(dev, tree_bytes, tree_bytes + image_bytes + double(n_all) * (32.0 + 12.0 * double(real_size)),
+    check_device_memory(dev, tree_bytes, tree_bytes + image_bytes + double(n_all) * (64.0 + 12.0 * double(real_size)),
                         "the environment's quadtree (" + std::to_string(tree.image_width) + "x" +
                             std::to_string(tree.image_height) + ")");
     const double total = double(task.pixels.size() + task.bound_pixels.size());
@@ -66,7 +72,7 @@ class OpenClPreview final : public PreviewKernel {
       cl::Buffer bright_rgb_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bright_rgb.size() * sizeof(float),
                                 bright_rgb.data());
       cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl_int, cl_int,
-                        cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int>
+                        cl_int, cl::Buffer, cl::Buffer, cl::Buffer, cl_int, cl::Buffer>
           walk(program, "preview_reference");
       // One pass over a list of pixels at a refinement; done_before: pixels of the earlier pass.
       auto pass = [&](const std::vector<ReferencePixel>& pixels, double refinement, double done_before,
@@ -74,6 +80,8 @@ class OpenClPreview final : public PreviewKernel {
         values.assign(9 * pixels.size(), 0.0);
         if (pixels.empty()) return 0.0;
         std::vector<float> px(8 * pixels.size(), 0.0f);
+        const bool films = has_film(pixels);
+        std::vector<float> film(films ? 8 * pixels.size() : 1, 0.0f);  // OpenCL has no empty buffers
         for (size_t i = 0; i < pixels.size(); ++i) {
           const ReferencePixel& p = pixels[i];
           float* d = &px[8 * i];
@@ -83,8 +91,16 @@ class OpenClPreview final : public PreviewKernel {
           d[3] = p.alpha;
           d[4] = p.albedo;
           d[5] = p.bias;
-          d[6] = p.sheen ? 1.0f : 0.0f;
+          d[6] = p.film ? 2.0f : p.sheen ? 1.0f : 0.0f;
+          if (p.film) {
+            float* f = &film[8 * i];
+            f[0] = p.film_thickness;
+            f[1] = p.film_ior;
+            std::copy(p.film_base_f0, p.film_base_f0 + 3, f + 2);
+          }
         }
+        cl::Buffer film_buf(dev.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, film.size() * sizeof(float),
+                            film.data());
         const PreviewRulesValues rules = preview_rules(refinement, task.radiance_scale);
         const std::vector<double> params = {task.view.x,        task.view.y,          task.view.z,    refinement,
                                             rules.horizon_size, rules.horizon_energy, rules.max_size, 0.0};
@@ -106,7 +122,7 @@ class OpenClPreview final : public PreviewKernel {
               return walk(cl::EnqueueArgs(dev.queue, cl::NDRange(first * kGroup), cl::NDRange(count * kGroup),
                                           cl::NDRange(kGroup)),
                           out_buf, px_buf, n, param_buf, tree_buf, level_buf, tree.start, tree.top, tree.image_width,
-                          tree.image_height, image_buf, bright_index_buf, bright_rgb_buf, n_bright);
+                          tree.image_height, image_buf, bright_index_buf, bright_rgb_buf, n_bright, film_buf);
             },
             [&](double f) {
               if (progress) progress((done_before + f * double(pixels.size())) / total);

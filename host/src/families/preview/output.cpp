@@ -321,6 +321,11 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
       o["material"]["sheen_color"] = rgb(sp.material.sheen_color);
       o["material"]["sheen_roughness"] = sp.material.sheen_roughness;
     }
+    if (preview_has_iridescence(sp.material)) {
+      o["material"]["iridescence"] = sp.material.iridescence;
+      o["material"]["iridescence_ior"] = sp.material.iridescence_ior;
+      o["material"]["iridescence_thickness"] = sp.material.iridescence_thickness;
+    }
     if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
     if (s < r.stats.size()) {
       const PreviewSphereStats& st = r.stats[s];

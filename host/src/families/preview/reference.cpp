@@ -29,8 +29,13 @@ std::vector<double> brute_force(const EnvImage& env, const Vec3& view, const std
   auto worker = [&] {
     for (size_t i = next++; i < pixels.size() && !cancel_requested(); i = next++) {
       const ReferencePixel& p = pixels[i];
-      const reference::PreviewIntegrals r = reference::preview_integrals(
-          env.rgb.data(), env.width, env.height, {p.n[0], p.n[1], p.n[2]}, view, p.alpha, subdivision, p.sheen);
+      reference::PreviewFilm film;
+      film.thickness_nm = p.film_thickness;
+      film.film.film_ior = p.film_ior;
+      film.film.base_f0 = {p.film_base_f0[0], p.film_base_f0[1], p.film_base_f0[2]};
+      const reference::PreviewIntegrals r =
+          reference::preview_integrals(env.rgb.data(), env.width, env.height, {p.n[0], p.n[1], p.n[2]}, view, p.alpha,
+                                       subdivision, p.sheen, p.film ? &film : nullptr);
       for (size_t k = 0; k < 3; ++k) {
         out[9 * i + k] = r.s1[k];
         out[9 * i + 3 + k] = r.s2[k];

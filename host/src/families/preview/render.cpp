@@ -21,6 +21,7 @@
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/plan.hpp"
 #include "families/preview/bake_files.hpp"
+#include "families/preview/iridescence.hpp"
 #include "families/preview/kernel.hpp"
 #include "families/preview/model.hpp"
 #include "families/preview/shading.hpp"
@@ -280,14 +281,22 @@ double sheet_exposure(const PreviewResult& res, const std::vector<SpherePixel>& 
 
 constexpr size_t kNoLobe = size_t(-1);
 
-// A pixel's reference radiance from its entries (the base t, the coat c and the sheen h, kNoLobe
-// where the material has no such lobe) of `entries` and their integrals `values` (9 an entry).
+// A pixel's iridescent films' entries (KHR_materials_iridescence): the dielectric's and the metal's,
+// kNoLobe where the material has no such film.
+struct FilmEntries {
+  size_t dielectric = size_t(-1), metal = size_t(-1);
+};
+
+// A pixel's reference radiance from its entries (the base t, the coat c, the sheen h and the films f,
+// kNoLobe where the material has no such lobe) of `entries` and their integrals `values` (9 an entry).
 Rgb lobes_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double n_dot_v,
                    const std::vector<ReferencePixel>& entries, const std::vector<double>& values, size_t t, size_t c,
-                   size_t h) {
+                   size_t h, const FilmEntries& f = {}) {
   return reference_radiance(brdf, m, entries[t].albedo, entries[t].bias, &values[9 * t], n_dot_v,
                             c == kNoLobe ? nullptr : &values[9 * c], h == kNoLobe ? nullptr : &values[9 * h],
-                            h == kNoLobe ? 0.0 : double(entries[h].albedo));
+                            h == kNoLobe ? 0.0 : double(entries[h].albedo),
+                            f.dielectric == kNoLobe ? nullptr : &values[9 * f.dielectric],
+                            f.metal == kNoLobe ? nullptr : &values[9 * f.metal]);
 }
 
 // The reference's work: each distinct (normal, alpha) once, with the exact albedos at its n.v and
@@ -303,6 +312,9 @@ struct ReferenceWork {
   // The sheen lobe (KHR_materials_sheen): likewise, the entry of the same normal's Charlie lobe at the
   // sheen's alpha (kNoLobe for a sphere without sheen).
   std::vector<size_t> sheen_task_of, bound_sheen_task_of;
+  // The iridescent films (KHR_materials_iridescence): likewise, the entries of the same normal's GGX
+  // lobe times the thin film over the dielectric's and the metal's F0.
+  std::vector<FilmEntries> film_task_of, bound_film_task_of;
   double lut_seconds = 0.0;
 };
 
@@ -349,7 +361,8 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
   // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
   // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
   // grid's 72 spheres are 12 roughnesses).
-  std::map<std::array<float, 5>, size_t> unique;
+  // (n, alpha, the lobe: 0 GGX, 1 sheen, 2 film; the film's thickness, index and base F0)
+  std::map<std::array<float, 10>, size_t> unique;
   auto sheen_pixel = [&](const SpherePixel& p, double roughness) {
     ReferencePixel r;
     r.n[0] = float(p.n.x);
@@ -364,19 +377,48 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
     return r;
   };
   auto entry = [&](const ReferencePixel& r) {
-    const std::array<float, 5> key = {r.n[0], r.n[1], r.n[2], r.alpha, r.sheen ? 1.0f : 0.0f};
+    const std::array<float, 10> key = {r.n[0],
+                                       r.n[1],
+                                       r.n[2],
+                                       r.alpha,
+                                       r.film    ? 2.0f
+                                       : r.sheen ? 1.0f
+                                                 : 0.0f,
+                                       r.film_thickness,
+                                       r.film_ior,
+                                       r.film_base_f0[0],
+                                       r.film_base_f0[1],
+                                       r.film_base_f0[2]};
     const auto [it, added] = unique.emplace(key, task.pixels.size());
     if (added) task.pixels.push_back(r);
     return it->second;
   };
+  // The GGX lobe at the material's roughness times the thin film over base_f0 (the walk's
+  // normalisation: the GGX lobe's A, and no S2).
+  auto film_pixel = [&](const SpherePixel& p, const PreviewMaterial& m, const Rgb& base_f0) {
+    ReferencePixel r = to_pixel(p, m.roughness);
+    r.bias = 0.0f;
+    r.film = true;
+    r.film_thickness = float(m.iridescence_thickness);
+    r.film_ior = float(m.iridescence_ior);
+    r.film_base_f0[0] = float(base_f0.r);
+    r.film_base_f0[1] = float(base_f0.g);
+    r.film_base_f0[2] = float(base_f0.b);
+    return r;
+  };
   w.task_of.resize(pixels.size());
   w.coat_task_of.assign(pixels.size(), kNoLobe);
   w.sheen_task_of.assign(pixels.size(), kNoLobe);
+  w.film_task_of.assign(pixels.size(), FilmEntries{});
   for (size_t i = 0; i < pixels.size(); ++i) {
     const PreviewMaterial& m = res.spheres[size_t(pixels[i].sphere)].material;
     w.task_of[i] = entry(to_pixel(pixels[i], m.roughness));
     if (m.clearcoat > 0.0) w.coat_task_of[i] = entry(to_pixel(pixels[i], m.clearcoat_roughness));
     if (preview_has_sheen(m)) w.sheen_task_of[i] = entry(sheen_pixel(pixels[i], m.sheen_roughness));
+    const ReferenceFilms films = reference_films(m);
+    if (films.dielectric_weight > 0.0)
+      w.film_task_of[i].dielectric = entry(film_pixel(pixels[i], m, films.dielectric_f0));
+    if (films.metal_weight > 0.0) w.film_task_of[i].metal = entry(film_pixel(pixels[i], m, films.metal_f0));
   }
   // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
   // distinct one integrated once more at twice the refinement.
@@ -398,6 +440,9 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
       w.bound_coat_task_of.push_back(c == kNoLobe ? kNoLobe : bound_entry(c));
       const size_t h = w.sheen_task_of[list[k]];
       w.bound_sheen_task_of.push_back(h == kNoLobe ? kNoLobe : bound_entry(h));
+      const FilmEntries& f = w.film_task_of[list[k]];
+      w.bound_film_task_of.push_back({f.dielectric == kNoLobe ? kNoLobe : bound_entry(f.dielectric),
+                                      f.metal == kNoLobe ? kNoLobe : bound_entry(f.metal)});
     }
   }
   return w;
@@ -442,7 +487,7 @@ void reference_pass(Backend& backend, const EnvImage& equirect, const std::vecto
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];
     const Rgb r = lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.pixels, sums.values,
-                                 w.task_of[i], w.coat_task_of[i], w.sheen_task_of[i]);
+                                 w.task_of[i], w.coat_task_of[i], w.sheen_task_of[i], w.film_task_of[i]);
     ref[index[i]] = r;
     put(res.reference, p.x, p.y, r);
   }
@@ -451,7 +496,7 @@ void reference_pass(Backend& backend, const EnvImage& equirect, const std::vecto
     const SpherePixel& p = pixels[w.bound_index[k]];
     const Rgb fine =
         lobes_radiance(brdf, res.spheres[size_t(p.sphere)].material, p.n_dot_v, task.bound_pixels, sums.bound_values,
-                       w.bound_task_of[k], w.bound_coat_task_of[k], w.bound_sheen_task_of[k]);
+                       w.bound_task_of[k], w.bound_coat_task_of[k], w.bound_sheen_task_of[k], w.bound_film_task_of[k]);
     const Rgb coarse = ref[index[w.bound_index[k]]];
     const double a[3] = {coarse.r, coarse.g, coarse.b}, b[3] = {fine.r, fine.g, fine.b};
     // never 0: the reference is a float sum (its rounding, about 1e-6 relative, is the floor)
@@ -555,6 +600,15 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
       sheened = true;
     }
   if (sheened && split.renders_sheen()) res.shading.push_back({"sheen", split.sheen_note()});
+  // KHR_materials_iridescence: likewise (every iridescent sphere's notes say what its target did)
+  bool iridescent = false;
+  for (PreviewSphere& sp : res.spheres)
+    if (preview_has_iridescence(sp.material)) {
+      sp.material.notes.push_back(iridescence_note(res.spec.target));
+      iridescent = true;
+    }
+  if (iridescent && split_sum_renders_iridescence(res.spec.target))
+    res.shading.push_back({"iridescence", iridescence_note(res.spec.target)});
   const TargetBrdf brdf = target_brdf(res.spec.target, split.files().dfg_multiscatter);
   res.brdf = brdf.text;
   if (std::any_of(res.spheres.begin(), res.spheres.end(),
@@ -573,6 +627,13 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
         "; with KHR_materials_sheen (under the coat): (1 - max(sheenColor) E(n.v)) f + sheenColor D_Charlie V_sheen, "
         "V_sheen Estevez & Kulla's (the charlie DFG table's default), alpha_sheen = max(sheenRoughness^2, 1e-7), "
         "E the sheen lobe's directional albedo (the charlie table's quadrature)";
+  if (std::any_of(res.spheres.begin(), res.spheres.end(),
+                  [](const PreviewSphere& s) { return preview_has_iridescence(s.material); }))
+    res.brdf +=
+        "; with KHR_materials_iridescence: the specular Fresnel mix(F, F_irid(v.h), iridescence), F_irid the thin "
+        "film (Belcour & Barla 2017 as the extension writes it; outside index 1, iridescenceIor, the thickness "
+        "iridescenceThicknessMaximum) over the dielectric's F0 (weight (1 - metallic) specular) and over baseColor "
+        "(weight metallic), integrated per channel; the compensation and the diffuse weight keep F0";
   res.multiscatter = brdf.compensation || brdf.diffuse == DiffuseWeight::FdezAguera;
 
   const EnvImage equirect = reference_equirect(environment);

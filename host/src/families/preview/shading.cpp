@@ -47,13 +47,21 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table) {
 }
 
 Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias, const double s[9],
-                       double n_dot_v, const double* coat, const double* sheen, double sheen_albedo) {
+                       double n_dot_v, const double* coat, const double* sheen, double sheen_albedo,
+                       const double* film_dielectric, const double* film_metal) {
   // F = F0 + (F90 - F0) Fc: the specular radiance F0 S1 + (F90 - F0) S2, its albedo likewise
   const Rgb f0 = preview_f0(m), cd = preview_diffuse_color(m);
   const double F0[3] = {f0.r, f0.g, f0.b}, CD[3] = {cd.r, cd.g, cd.b}, f90 = preview_f90(m);
   double out[3];
   for (int c = 0; c < 3; ++c) {
-    const double spec = F0[c] * s[c] + (f90 - F0[c]) * s[3 + c];
+    double spec = F0[c] * s[c] + (f90 - F0[c]) * s[3 + c];
+    if (preview_has_iridescence(m) && (film_dielectric || film_metal)) {
+      // KHR_materials_iridescence: the Fresnel mix(F, F_irid(v.h), iridescence) of the dielectric (its
+      // specular factor's weight) and of the metal
+      const double film = (film_dielectric ? (1.0 - m.metallic) * m.specular * film_dielectric[c] : 0.0) +
+                          (film_metal ? m.metallic * film_metal[c] : 0.0);
+      spec = (1.0 - m.iridescence) * spec + m.iridescence * film;
+    }
     const double ess = F0[c] * albedo + (f90 - F0[c]) * bias;
     const double k = brdf.compensation && albedo > 0.0 ? 1.0 + F0[c] * (1.0 / albedo - 1.0) : 1.0;
     double w = CD[c];

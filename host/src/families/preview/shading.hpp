@@ -41,9 +41,17 @@ TargetBrdf target_brdf(EngineTarget target, bool multiscatter_table);
 // A sheen (preview_has_sheen) takes `sheen`, the pixel's integrals of the Charlie lobe (S1_sheen =
 // int D_Charlie V_sheen n.l L), and its exact albedo E(n.v): the base (before the coat) becomes
 //   (1 - max(sheen_color) E(n.v)) base + sheen_color S1_sheen.
+// An iridescent film (preview_has_iridescence) takes `film_dielectric` and `film_metal`, the pixel's
+// integrals of the GGX lobe times the thin-film Fresnel over the dielectric's and the metal's F0
+// (S1_film,c = int D V F_irid,c n.l L_c; iridescence.hpp's reference_films, nullptr where its weight is
+// 0): the specular radiance becomes
+//   (1 - iridescence) (F0 S1 + (F90 - F0) S2) + iridescence ((1 - metallic) specular S1_film,dielectric
+//   + metallic S1_film,metal),
+// the compensation and the diffuse weight as without the film.
 Rgb reference_radiance(const TargetBrdf& brdf, const PreviewMaterial& m, double albedo, double bias,
                        const double integrals[9], double n_dot_v = 1.0, const double* coat = nullptr,
-                       const double* sheen = nullptr, double sheen_albedo = 0.0);
+                       const double* sheen = nullptr, double sheen_albedo = 0.0,
+                       const double* film_dielectric = nullptr, const double* film_metal = nullptr);
 
 // The exact albedos (A, B) at every (n.v, roughness) pair of the grid n_dot_v x roughness, by the
 // DFG family's quadrature on `backend` (bake_lut at explicit coordinates, ggx-multiscatter: the

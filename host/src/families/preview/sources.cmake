@@ -10,6 +10,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   bake_files.cpp
   splitsum.cpp
   splitsum_babylon.cpp
+  iridescence.cpp
   render.cpp
   output.cpp
   bake_preview.cpp

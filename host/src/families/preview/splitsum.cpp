@@ -9,6 +9,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/sh.hpp"
+#include "families/preview/iridescence.hpp"
 #include "families/preview/splitsum_babylon.hpp"
 
 namespace brdfbake::detail::preview {
@@ -304,9 +305,23 @@ Rgb SplitSum::sky(const Vec3& d) const {
   return {o[0], o[1], o[2]};
 }
 
+namespace {
+
+// KHR_materials_iridescence where the engine mixes the film into its F0 (generic's runtime, Babylon.js's
+// iridescenceBlock): f0 = mix(f0, evalIridescence(1, iridescenceIor, n.v, thickness, f0), factor);
+// unchanged without a film.
+void iridescent_f0(const PreviewMaterial& m, float n_dot_v, float f0[3]) {
+  float factor = 0.0f, fresnel[3];
+  if (!split_sum_film(m, n_dot_v, f0, &factor, fresnel)) return;
+  for (int c = 0; c < 3; ++c) f0[c] = f0[c] + (fresnel[c] - f0[c]) * factor;
+}
+
+}  // namespace
+
 Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) const {
   const Rgb f0d = preview_f0(m), cdd = preview_diffuse_color(m);
-  const float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)}, cd[3] = {float(cdd.r), float(cdd.g), float(cdd.b)};
+  float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)};  // generic and Babylon.js mix in the film
+  const float cd[3] = {float(cdd.r), float(cdd.g), float(cdd.b)};
   const float f90 = float(preview_f90(m)), specular = float(m.specular);
   const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
               vz = float(vd.z);
@@ -324,6 +339,7 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       float light[3], bias = 0, albedo = 0;
       trilinear(refl, levels_minus_one * r, light);
       dfg(nv, r, &bias, &albedo);
+      iridescent_f0(m, nv, f0);  // KHR_materials_iridescence: F0 = mix(F0, F_irid(n.v), iridescenceFactor)
       for (int c = 0; c < 3; ++c) {
         const float e = f90 * bias + (albedo - bias) * f0[c];
         const float k = files_.dfg_multiscatter ? 1.0f + f0[c] * (1.0f / albedo - 1.0f) : 1.0f;
@@ -376,6 +392,9 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
       // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
       const float r90 = mixf(specular, 1.0f, float(m.metallic));
+      // pbrBlockIridescence.fx iridescenceBlock (KHR_materials_iridescence.ts: intensity, IOR, maximum
+      // thickness): specularEnvironmentR0 = mix(R0, evalIridescence(1, IOR, NdotV, thickness, R0), intensity)
+      iridescent_f0(m, nv, f0);
       for (int c = 0; c < 3; ++c) {
         // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
         // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
@@ -399,12 +418,25 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       const float fa = albedo - bias, fb = bias;  // f_ab: scale, bias
       const Rgb f0_sv = sample_viewer_f0(m);
       const float f0v[3] = {float(f0_sv.r), float(f0_sv.g), float(f0_sv.b)}, sw = specular;
+      // KHR_materials_iridescence (pbr.frag): iridescenceFresnel = evalIridescence(1, iridescenceIor, NdotV,
+      // thickness, f0); getIBLRadianceGGXIridescence mixes it into k_S, getIBLRadianceLambertianIridescence
+      // mixes F0 with max3(Schlick_to_F0(iridescenceFresnel, NdotV))
+      float film = 0.0f, film_fresnel[3] = {0, 0, 0}, f0l[3] = {f0v[0], f0v[1], f0v[2]};
+      const bool iridescent = split_sum_film(m, nv, f0v, &film, film_fresnel);
+      if (iridescent) {
+        const float f0_max = std::max({schlick_to_f0(film_fresnel[0], nv), schlick_to_f0(film_fresnel[1], nv),
+                                       schlick_to_f0(film_fresnel[2], nv)});
+        for (int c = 0; c < 3; ++c) f0l[c] = mixf(f0v[c], f0_max, film);
+      }
       for (int c = 0; c < 3; ++c) {
         const float fr = std::max(1.0f - r, f0v[c]) - f0v[c];
-        const float ks = f0v[c] + fr * pow5(1.0f - nv);
-        const float fss_ess = sw * ks * fa + fb;  // getIBLRadianceLambertian's (its bias not weighted)
+        const float ks0 = f0v[c] + fr * pow5(1.0f - nv);
+        const float ks = iridescent ? mixf(ks0, film_fresnel[c], film) : ks0;
+        const float frd = std::max(1.0f - r, f0l[c]) - f0l[c];
+        const float ksd = f0l[c] + frd * pow5(1.0f - nv);
+        const float fss_ess = sw * ksd * fa + fb;  // getIBLRadianceLambertian's (its bias not weighted)
         const float ems = 1.0f - (fa + fb);
-        const float favg = sw * (f0v[c] + (1.0f - f0v[c]) / 21.0f);
+        const float favg = sw * (f0l[c] + (1.0f - f0l[c]) / 21.0f);
         const float fms_ems = ems * fss_ess * favg / (1.0f - favg * ems);
         const float kd = cd[c] * (1.0f - fss_ess + fms_ems);
         out[c] = sw * light[c] * (ks * fa + fb) + (fms_ems + kd) * irr[c];  // getIBLRadianceGGX's
