@@ -38,15 +38,16 @@
 #include "io/png_image.hpp"
 #include "runtime/program.hpp"
 #include "support/device_fixture.hpp"
-
-#ifndef BRDFBAKE_SHARED_DIR
-#define BRDFBAKE_SHARED_DIR "../shared"
-#endif
+#include "support/preview_files.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
+using test::on_backend;
+using test::shared_envmap;
+using test::white_hdr;
+fs::path temp_dir(const std::string& name) { return test::temp_dir("preview", name); }
 using json = nlohmann::json;
 
 // ---- Tolerances, each with its reason --------------------------------------------------------------
@@ -59,17 +60,6 @@ constexpr double kFloatSums = 2e-5;
 // A measured error may exceed the stated bound by the brute force's own convergence (subdivision 16
 // against 32: below 2e-4 on these maps, tests/reference/test_preview_reference.cpp).
 constexpr double kBruteForceSlack = 3e-4;
-
-std::string shared_envmap(const std::string& name) {
-  return (fs::path(BRDFBAKE_SHARED_DIR) / "envmaps" / name).string();
-}
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-test-preview-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 EnvImage random_equirect(int width, unsigned seed, float scale = 1.0f) {
   EnvImage e;
@@ -477,12 +467,6 @@ Job small_preview_job(const fs::path& out) {
   return plan.job;
 }
 
-RunOptions on_backend(Backend& backend) {
-  RunOptions ro;
-  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
-  return ro;
-}
-
 // small_preview_job's files without the preview, in a fresh temp folder named `name`.
 fs::path small_bake(Backend& backend, const std::string& name) {
   const fs::path out = temp_dir(name) / "filament";
@@ -745,15 +729,6 @@ TEST(PreviewDecode, AstcReadsAsTheEncoderDecodedIt) {
 
 // ---- The extensions' lobes (KHR_materials_ior, _specular, ...) -------------------------------------
 
-// A uniform environment of radiance 1 written as RGBE with flat scanlines (the bake reads it back
-// exactly: 0x80 0x80 0x80 0x81 is 1.0).
-fs::path white_hdr(const fs::path& dir) {
-  std::ofstream f(dir / "white.hdr", std::ios::binary);
-  f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 +X 128\n";
-  for (int i = 0; i < 128 * 64; ++i) f.write("\x80\x80\x80\x81", 4);
-  return dir / "white.hdr";
-}
-
 // What render_preview bakes first for `target` (detail::preview::first_bake_plan: the standard set;
 // with `sheen` the Charlie chain and table too), with `o`'s settings, baked into `dir`/bake-TARGET
 // on `backend`: a test passes the folder as PreviewSpec::bake to render twice from one bake.
@@ -761,9 +736,7 @@ std::string first_bake(Backend& backend, const EnvImage& env, EngineTarget targe
                        const PlanOptions& o = {}) {
   Plan plan = detail::preview::first_bake_plan(env, target, sheen, o);
   plan.job.output_dir = (dir / ("bake-" + std::string(engine_target_name(target)))).string();
-  RunOptions ro;
-  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
-  run_job(plan.job, {}, ro);
+  run_job(plan.job, {}, on_backend(backend));
   return plan.job.output_dir;
 }
 

@@ -27,15 +27,15 @@
 #include "families/preview/model.hpp"
 #include "families/preview/render.hpp"
 #include "support/device_fixture.hpp"
-
-#ifndef BRDFBAKE_SHARED_DIR
-#define BRDFBAKE_SHARED_DIR "../shared"
-#endif
+#include "support/preview_files.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
+using test::on_backend;
+using test::white_hdr;
+fs::path temp_dir(const std::string& name) { return test::temp_dir("preview-babylon", name); }
 
 // ---- Tolerances, each with its reason --------------------------------------------------------------
 
@@ -50,45 +50,15 @@ constexpr double kFp32Shading = 1e-4;
 // docs/PREVIEW.md are the default 256^2 at 512 x 512.
 constexpr int kSceneCubeSize = 64;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-test-preview-babylon-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// A uniform environment of radiance 1 as RGBE with flat scanlines (0x80 0x80 0x80 0x81 is exactly
-// 1.0): its chain is 1.0 in every texel, exact through Babylon.js's RGBD (D = 1, 255^2.2 / 255^2.2).
-fs::path white_hdr(const fs::path& dir) {
-  std::ofstream f(dir / "white.hdr", std::ios::binary);
-  f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 +X 128\n";
-  for (int i = 0; i < 128 * 64; ++i) f.write("\x80\x80\x80\x81", 4);
-  return dir / "white.hdr";
-}
-
-// What the preview bakes first for sheened spheres (render.cpp, bake_first), for the babylon target:
-// planned as `bake --scene` plans a sheened dielectric (the standard set, the Charlie chain and the
-// charlie table), once, into `folder`; the tests render from it (PreviewSpec::bake).
+// What the preview bakes first for sheened spheres (render.cpp's first_bake_plan: the standard set,
+// the Charlie chain and the charlie table), for the babylon target at a cube size, once, into
+// `folder`; the tests render from it (PreviewSpec::bake).
 void bake_babylon(Backend& backend, const std::string& environment, const fs::path& folder, int cube_size) {
   PlanOptions o;
-  o.environment = environment;
-  o.target = "babylon";
   o.cube_size = cube_size;
-  Scene scene;
-  scene.path = "a sheened material";
-  SceneMaterial m;
-  m.label = "sheen";
-  m.metallic = 0.0;
-  m.sheen = true;
-  m.sheen_color = {1.0, 1.0, 1.0};
-  m.sheen_roughness = 1.0;
-  m.sheen_roughness_texture = true;  // the range 0..1
-  scene.materials.push_back(m);
-  Plan plan = plan_scene(scene, o);
+  Plan plan = detail::preview::first_bake_plan(load_environment(environment), EngineTarget::Babylon, true, o);
   plan.job.output_dir = folder.string();
-  RunOptions ro;
-  ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
-  run_job(plan.job, {}, ro);
+  run_job(plan.job, {}, on_backend(backend));
 }
 
 // texture(lut, vec2(n.v, roughness)).channel as a GPU samples the stored table: bilinear, clamp to

@@ -32,36 +32,20 @@
 #include "families/preview/shading.hpp"
 #include "runtime/program.hpp"
 #include "support/device_fixture.hpp"
-
-#ifndef BRDFBAKE_SHARED_DIR
-#define BRDFBAKE_SHARED_DIR "../shared"
-#endif
+#include "support/preview_files.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
+using test::on_backend;
+using test::white_hdr;
+fs::path temp_dir(const std::string& name) { return test::temp_dir("preview-iridescence", name); }
 
 // ---- Tolerances, each with its reason --------------------------------------------------------------
 
 // The target for the reference at default settings: relative RMS per sphere.
 constexpr double kReferenceTarget = 5e-3;
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("brdfbake-test-preview-iridescence-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// A uniform environment of radiance 1 (RGBE 0x80 0x80 0x80 0x81), 128 x 64.
-fs::path white_hdr(const fs::path& dir) {
-  std::ofstream f(dir / "white.hdr", std::ios::binary);
-  f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 +X 128\n";
-  for (int i = 0; i < 128 * 64; ++i) f.write("\x80\x80\x80\x81", 4);
-  return dir / "white.hdr";
-}
 
 Vec3 unit(double x, double y, double z) {
   const double l = std::sqrt(x * x + y * y + z * z);
@@ -389,9 +373,7 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
     o.cube_min_size = target == EngineTarget::Babylon ? 1 : 8;  // babylon's .env holds the chain to 1x1
     Plan plan = plan_default(o);
     plan.job.output_dir = folder.string();
-    RunOptions ro;
-    ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(backend.get(), [](Backend*) {}); };
-    run_job(plan.job, {}, ro);
+    run_job(plan.job, {}, on_backend(*backend));
     PreviewSpec spec;
     spec.target = target;
     spec.bake = folder.string();
