@@ -99,34 +99,49 @@ std::vector<float> error_image(const PreviewResult& r) {
   return e;
 }
 
-ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
-  const int w = r.splitsum.width, h = r.splitsum.height;
-  const bool with_ref = !r.reference.rgb.empty();
-  const int panels = with_ref ? 3 : 1;
+namespace {
+
+// Where the sheet's parts go: the panels' size, their top, the first panel's left edge, and the row
+// labels left of it.
+struct SheetLayout {
+  int w = 0, h = 0;
+  bool with_ref = false;
+  int panels = 1;
+  int top = 0, panel_top = 0, x0 = 0;
   // Rows are named where each row's spheres share a name but for their roughness (the default grid, a
   // material file's roughness series): the name left of the row, as wide as the longest (at least
   // 84 px). Otherwise (a scene's materials) each sphere's name goes under it in the first panel.
-  std::vector<std::string> rows(r.spheres.size());
   bool named_rows = true;
+  std::vector<std::string> rows;
+};
+
+SheetLayout sheet_layout(const PreviewResult& r) {
+  SheetLayout l;
+  l.w = r.splitsum.width;
+  l.h = r.splitsum.height;
+  l.with_ref = !r.reference.rgb.empty();
+  l.panels = l.with_ref ? 3 : 1;
+  l.rows.resize(r.spheres.size());
   for (size_t s = 0; s < r.spheres.size(); ++s) {
-    rows[s] = row_name(r.spheres[s]);
+    l.rows[s] = row_name(r.spheres[s]);
     for (size_t o = 0; o < s; ++o)
-      named_rows = named_rows && (r.spheres[o].row != r.spheres[s].row || rows[o] == rows[s]);
+      l.named_rows = l.named_rows && (r.spheres[o].row != r.spheres[s].row || l.rows[o] == l.rows[s]);
   }
-  int label_w = named_rows ? 84 : 0;
-  if (named_rows)
-    for (std::string& row : rows) {
+  int label_w = l.named_rows ? 84 : 0;
+  if (l.named_rows)
+    for (std::string& row : l.rows) {
       row = shortened(row, kLabelChars);
       label_w = std::max(label_w, view::text_width(row) + kGap);
     }
-  const int top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
-  const int panel_top = top + 2 * kLine + 4;               // the panel's title, the columns' roughness
-  const int sheet_w = std::max(kMargin * 2 + label_w + panels * w + (panels - 1) * kGap, 640);
-  const int sheet_h = panel_top + h + kGap + 3 * kLine + kMargin;
-  Canvas c(sheet_w, sheet_h, view::kBackground);
-  ContactSheet sheet;
-  ViewOptions vo;
-  vo.exposure = r.exposure;
+  l.top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
+  l.panel_top = l.top + 2 * kLine + 4;             // the panel's title, the columns' roughness
+  l.x0 = kMargin + label_w;
+  return l;
+}
+
+// The title and the four lines of text under it; the sheet's tone-map and colour-scale texts.
+void sheet_header(const PreviewResult& r, const std::string& title, const SheetLayout& l, Canvas& c,
+                  ContactSheet& sheet) {
   char ev[64];
   std::snprintf(ev, sizeof ev, "%+.2f", r.exposure);
   sheet.tone_map_text = std::string("HDR: exposure ") + ev + " EV (0.18 / the environment's median luminance " +
@@ -142,10 +157,10 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
          "brdfbake " + std::string(kVersion) + ", target " + engine_target_name(r.spec.target) + ", device " + r.device,
          view::kDim);
   c.text(kMargin, y + kLine, sheet.tone_map_text, view::kText);
-  if (with_ref) c.text(kMargin, y + 2 * kLine, sheet.colour_scale_text, view::kText);
+  if (l.with_ref) c.text(kMargin, y + 2 * kLine, sheet.colour_scale_text, view::kText);
   double worst_bound = 0.0;
   for (const auto& s : r.stats) worst_bound = std::max(worst_bound, s.reference_rms_bound);
-  if (with_ref)
+  if (l.with_ref)
     c.text(
         kMargin, y + 3 * kLine,
         "under each sphere: relative RMS error in linear radiance, then the 99th percentile in 8-bit sRGB steps; the "
@@ -154,108 +169,195 @@ ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
         view::kDim);
   else
     c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
+}
 
-  // the panels
-  const int x0 = kMargin + label_w;
-  const std::vector<float> err = error_image(r);
-  for (int k = 0; k < panels; ++k) {
-    const int px = x0 + k * (w + kGap);
-    const std::string name = k == 0   ? "split-sum: " + std::string(engine_target_name(r.spec.target))
-                             : k == 1 ? "reference (converged integral)"
-                                      : "relative error";
-    c.text(px, top, name, view::kText);
-    // each column's roughness, where its spheres share one (the default grid)
-    for (const PreviewSphere& sp : r.spheres) {
-      if (sp.row != 0) continue;
-      bool shared = true;
-      for (const PreviewSphere& o : r.spheres)
-        shared = shared && (o.column != sp.column || o.material.roughness == sp.material.roughness);
-      if (!shared) continue;
-      const std::string label = "r " + fmt(sp.material.roughness, "%.2g");
-      c.text(px + int(sp.centre_x) - view::text_width(label) / 2, top + kLine, label, view::kDim);
-    }
-    SheetRegion region;
-    region.role = k == 0 ? "split-sum" : k == 1 ? "reference" : "error";
-    region.label = name;
-    region.x = px;
-    region.y = panel_top;
-    region.width = w;
-    region.height = h;
-    if (k == 2) {
-      region.lo = kErrorLo;
-      region.hi = kErrorHi;
-      region.log_scale = true;
-    }
-    sheet.regions.push_back(region);
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) {
-        const size_t at = size_t(j) * size_t(w) + size_t(i);
-        Rgb8 colour;
-        if (k == 2)
-          colour = std::isnan(err[at]) ? Rgb8{16, 16, 16} : error_colour(err[at]);
-        else
-          colour = view::tone_map(&(k == 0 ? r.splitsum : r.reference).rgb[3 * at], vo);
-        c.set(px + i, panel_top + j, colour);
-      }
+// Panel k (0 split-sum, 1 reference, 2 error): its title, the columns' roughness where a column's
+// spheres share one (the default grid), its pixels, and its region.
+void sheet_panel(const PreviewResult& r, const SheetLayout& l, int k, const std::vector<float>& err, Canvas& c,
+                 ContactSheet& sheet) {
+  ViewOptions vo;
+  vo.exposure = r.exposure;
+  const int px = l.x0 + k * (l.w + kGap);
+  const std::string name = k == 0   ? "split-sum: " + std::string(engine_target_name(r.spec.target))
+                           : k == 1 ? "reference (converged integral)"
+                                    : "relative error";
+  c.text(px, l.top, name, view::kText);
+  for (const PreviewSphere& sp : r.spheres) {
+    if (sp.row != 0) continue;
+    bool shared = true;
+    for (const PreviewSphere& o : r.spheres)
+      shared = shared && (o.column != sp.column || o.material.roughness == sp.material.roughness);
+    if (!shared) continue;
+    const std::string label = "r " + fmt(sp.material.roughness, "%.2g");
+    c.text(px + int(sp.centre_x) - view::text_width(label) / 2, l.top + kLine, label, view::kDim);
   }
-  // row labels, and the numbers under each sphere in the error panel
+  SheetRegion region;
+  region.role = k == 0 ? "split-sum" : k == 1 ? "reference" : "error";
+  region.label = name;
+  region.x = px;
+  region.y = l.panel_top;
+  region.width = l.w;
+  region.height = l.h;
+  if (k == 2) {
+    region.lo = kErrorLo;
+    region.hi = kErrorHi;
+    region.log_scale = true;
+  }
+  sheet.regions.push_back(region);
+  for (int j = 0; j < l.h; ++j)
+    for (int i = 0; i < l.w; ++i) {
+      const size_t at = size_t(j) * size_t(l.w) + size_t(i);
+      Rgb8 colour;
+      if (k == 2)
+        colour = std::isnan(err[at]) ? Rgb8{16, 16, 16} : error_colour(err[at]);
+      else
+        colour = view::tone_map(&(k == 0 ? r.splitsum : r.reference).rgb[3 * at], vo);
+      c.set(px + i, l.panel_top + j, colour);
+    }
+}
+
+// The row labels (or each sphere's name), each sphere's region, and the numbers under each sphere in
+// the error panel.
+void sheet_sphere_labels(const PreviewResult& r, const SheetLayout& l, Canvas& c, ContactSheet& sheet) {
   std::string last_row;
   for (size_t s = 0; s < r.spheres.size(); ++s) {
     const PreviewSphere& sp = r.spheres[s];
-    if (named_rows && sp.column == 0 && rows[s] != last_row) {
-      c.text(kMargin, panel_top + int(sp.centre_y) - kLine / 2, rows[s], view::kText);
-      last_row = rows[s];
+    if (l.named_rows && sp.column == 0 && l.rows[s] != last_row) {
+      c.text(kMargin, l.panel_top + int(sp.centre_y) - kLine / 2, l.rows[s], view::kText);
+      last_row = l.rows[s];
     }
-    if (!named_rows) {  // the sphere's name under it, as many characters as its cell holds
+    if (!l.named_rows) {  // the sphere's name under it, as many characters as its cell holds
       const size_t chars = size_t(std::max(4.0, (2.0 * sp.radius + kGap) / view::text_width("m")));
       const std::string name = shortened(sp.material.name, chars);
-      const int ty = panel_top + std::min(int(sp.centre_y + sp.radius) + 2, h - kLine);
-      c.text(x0 + int(sp.centre_x) - view::text_width(name) / 2, ty, name, view::kText);
+      const int ty = l.panel_top + std::min(int(sp.centre_y + sp.radius) + 2, l.h - kLine);
+      c.text(l.x0 + int(sp.centre_x) - view::text_width(name) / 2, ty, name, view::kText);
     }
     SheetRegion region;
     region.role = "sphere";
     region.label = sp.material.name;
-    region.x = x0 + int(sp.centre_x - sp.radius);
-    region.y = panel_top + int(sp.centre_y - sp.radius);
+    region.x = l.x0 + int(sp.centre_x - sp.radius);
+    region.y = l.panel_top + int(sp.centre_y - sp.radius);
     region.width = region.height = int(2 * sp.radius);
     sheet.regions.push_back(region);
-    if (!with_ref || s >= r.stats.size()) continue;
+    if (!l.with_ref || s >= r.stats.size()) continue;
     const std::string a = percent(r.stats[s].linear.rms), b = fmt(r.stats[s].srgb8.p99, "%.0f");
     const int below = int(sp.centre_y + sp.radius) + 2;
-    const int px = x0 + 2 * (w + kGap);
-    const int ty = panel_top + std::min(below, h - 2 * kLine);
+    const int px = l.x0 + 2 * (l.w + kGap);
+    const int ty = l.panel_top + std::min(below, l.h - 2 * kLine);
     c.text(px + int(sp.centre_x) - view::text_width(a) / 2, ty, a, view::kText);
     c.text(px + int(sp.centre_x) - view::text_width(b) / 2, ty + kLine - 2, b, view::kDim);
   }
-  // the error scale
-  if (with_ref) {
-    const int px = x0 + 2 * (w + kGap), sy = panel_top + h + kGap;
-    for (int i = 0; i < w; ++i) {
-      const double t = double(i) / (w - 1);
-      const Rgb8 col = view::cubehelix(t);
-      c.fill_rect(px + i, sy, 1, 8, col);
-    }
-    c.text(px, sy + 10, percent(kErrorLo), view::kText);
-    c.text(px + w / 3 - 12, sy + 10, "1%", view::kText);
-    c.text(px + 2 * w / 3 - 12, sy + 10, "10%", view::kText);
-    c.text(px + w - view::text_width(percent(kErrorHi)), sy + 10, percent(kErrorHi), view::kText);
-    SheetRegion region;
-    region.role = "colour scale";
-    region.label = "relative error";
-    region.x = px;
-    region.y = sy;
-    region.width = w;
-    region.height = 8;
-    region.lo = kErrorLo;
-    region.hi = kErrorHi;
-    region.log_scale = true;
-    sheet.regions.push_back(region);
+}
+
+// The error panel's colour scale under it.
+void sheet_error_scale(const SheetLayout& l, Canvas& c, ContactSheet& sheet) {
+  const int px = l.x0 + 2 * (l.w + kGap), sy = l.panel_top + l.h + kGap;
+  for (int i = 0; i < l.w; ++i) {
+    const double t = double(i) / (l.w - 1);
+    const Rgb8 col = view::cubehelix(t);
+    c.fill_rect(px + i, sy, 1, 8, col);
   }
+  c.text(px, sy + 10, percent(kErrorLo), view::kText);
+  c.text(px + l.w / 3 - 12, sy + 10, "1%", view::kText);
+  c.text(px + 2 * l.w / 3 - 12, sy + 10, "10%", view::kText);
+  c.text(px + l.w - view::text_width(percent(kErrorHi)), sy + 10, percent(kErrorHi), view::kText);
+  SheetRegion region;
+  region.role = "colour scale";
+  region.label = "relative error";
+  region.x = px;
+  region.y = sy;
+  region.width = l.w;
+  region.height = 8;
+  region.lo = kErrorLo;
+  region.hi = kErrorHi;
+  region.log_scale = true;
+  sheet.regions.push_back(region);
+}
+
+}  // namespace
+
+ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
+  const SheetLayout l = sheet_layout(r);
+  const int sheet_w = std::max(l.x0 + kMargin + l.panels * l.w + (l.panels - 1) * kGap, 640);
+  const int sheet_h = l.panel_top + l.h + kGap + 3 * kLine + kMargin;
+  Canvas c(sheet_w, sheet_h, view::kBackground);
+  ContactSheet sheet;
+  sheet_header(r, title, l, c, sheet);
+  const std::vector<float> err = error_image(r);
+  for (int k = 0; k < l.panels; ++k) sheet_panel(r, l, k, err, c, sheet);
+  sheet_sphere_labels(r, l, c, sheet);
+  if (l.with_ref) sheet_error_scale(l, c, sheet);
   sheet.width = c.width();
   sheet.height = c.height();
   sheet.rgb = std::move(c.rgb());
   return sheet;
 }
+
+namespace {
+
+// The camera of the JSON, with how to recompute any pixel's normal.
+json camera_json(const PreviewCamera& cam) {
+  return {{"projection", "orthographic"},
+          {"view_direction", vec(cam.view_direction)},
+          {"up", vec(cam.up)},
+          {"right", vec(cam.right)},
+          {"yaw", cam.yaw},
+          {"pitch", cam.pitch},
+          {"frame", "the environment's (docs/CONVENTIONS.md: +Y up, the equirect's centre looking down +Z)"},
+          {"normal",
+           "for a pixel centre (x, y) on a sphere, d = ((x - centre_x), (y - centre_y)) / radius, "
+           "n = d.x right - d.y up + sqrt(1 - |d|^2) (-view_direction); v = -view_direction"},
+          {"background_fov", cam.background_fov},
+          {"background",
+           "the split-sum image shows level 0 of the bake's chain (the engine's skybox), the reference "
+           "the environment's cells, through a pinhole of background_fov degrees (vertical)"}};
+}
+
+// A sphere of the JSON: its place, material, notes and (with its stats) its errors and bound.
+json sphere_json(const PreviewSphere& sp, const PreviewSphereStats* stats_of) {
+  json o;
+  o["name"] = sp.material.name;
+  o["row"] = sp.row;
+  o["column"] = sp.column;
+  o["centre"] = json::array({sp.centre_x, sp.centre_y});
+  o["radius"] = sp.radius;
+  o["material"] = {
+      {"baseColor", rgb(sp.material.base_color)}, {"metallic", sp.material.metallic},
+      {"roughness", sp.material.roughness},       {"alpha", sp.material.roughness * sp.material.roughness},
+      {"F0", rgb(preview_f0(sp.material))},       {"diffuse_color", rgb(preview_diffuse_color(sp.material))}};
+  if (preview_has_specular_extension(sp.material)) {
+    o["material"]["ior"] = sp.material.ior;
+    o["material"]["specular"] = sp.material.specular;
+    o["material"]["specular_color"] = rgb(sp.material.specular_color);
+    o["material"]["F90"] = preview_f90(sp.material);
+  }
+  if (sp.material.clearcoat > 0.0) {
+    o["material"]["clearcoat"] = sp.material.clearcoat;
+    o["material"]["clearcoat_roughness"] = sp.material.clearcoat_roughness;
+  }
+  if (preview_has_sheen(sp.material)) {
+    o["material"]["sheen_color"] = rgb(sp.material.sheen_color);
+    o["material"]["sheen_roughness"] = sp.material.sheen_roughness;
+  }
+  if (preview_has_iridescence(sp.material)) {
+    o["material"]["iridescence"] = sp.material.iridescence;
+    o["material"]["iridescence_ior"] = sp.material.iridescence_ior;
+    o["material"]["iridescence_thickness"] = sp.material.iridescence_thickness;
+  }
+  if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
+  if (stats_of) {
+    const PreviewSphereStats& st = *stats_of;
+    o["pixels"] = st.pixels;
+    o["error"] = {{"linear", stats(st.linear)}, {"srgb8", stats(st.srgb8)}};
+    o["reference_bound"] = {{"rms", st.reference_rms_bound},
+                            {"max", st.reference_max_bound},
+                            {"pixels", st.bound_pixels},
+                            {"refinement", st.refinement}};
+  }
+  return o;
+}
+
+}  // namespace
 
 std::string preview_json(const PreviewResult& r, const std::string& environment, const std::string& sheet_path) {
   json j;
@@ -277,66 +379,12 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
       {"pixel",
        "pixel (i, j) covers [i, i + 1) x [j, j + 1), row 0 at the top; shaded at its centre (i + 0.5, j + 0.5)"},
       {"background", preview_background_name(r.spec.background)}};
-  const PreviewCamera& cam = r.camera;
-  j["camera"] = {{"projection", "orthographic"},
-                 {"view_direction", vec(cam.view_direction)},
-                 {"up", vec(cam.up)},
-                 {"right", vec(cam.right)},
-                 {"yaw", cam.yaw},
-                 {"pitch", cam.pitch},
-                 {"frame", "the environment's (docs/CONVENTIONS.md: +Y up, the equirect's centre looking down +Z)"},
-                 {"normal",
-                  "for a pixel centre (x, y) on a sphere, d = ((x - centre_x), (y - centre_y)) / radius, "
-                  "n = d.x right - d.y up + sqrt(1 - |d|^2) (-view_direction); v = -view_direction"},
-                 {"background_fov", cam.background_fov},
-                 {"background",
-                  "the split-sum image shows level 0 of the bake's chain (the engine's skybox), the reference "
-                  "the environment's cells, through a pinhole of background_fov degrees (vertical)"}};
+  j["camera"] = camera_json(r.camera);
   j["brdf"] = r.brdf;
   j["multiple_scattering_compensation"] = r.multiscatter;
   json spheres = json::array();
   for (size_t s = 0; s < r.spheres.size(); ++s) {
-    const PreviewSphere& sp = r.spheres[s];
-    json o;
-    o["name"] = sp.material.name;
-    o["row"] = sp.row;
-    o["column"] = sp.column;
-    o["centre"] = json::array({sp.centre_x, sp.centre_y});
-    o["radius"] = sp.radius;
-    o["material"] = {
-        {"baseColor", rgb(sp.material.base_color)}, {"metallic", sp.material.metallic},
-        {"roughness", sp.material.roughness},       {"alpha", sp.material.roughness * sp.material.roughness},
-        {"F0", rgb(preview_f0(sp.material))},       {"diffuse_color", rgb(preview_diffuse_color(sp.material))}};
-    if (preview_has_specular_extension(sp.material)) {
-      o["material"]["ior"] = sp.material.ior;
-      o["material"]["specular"] = sp.material.specular;
-      o["material"]["specular_color"] = rgb(sp.material.specular_color);
-      o["material"]["F90"] = preview_f90(sp.material);
-    }
-    if (sp.material.clearcoat > 0.0) {
-      o["material"]["clearcoat"] = sp.material.clearcoat;
-      o["material"]["clearcoat_roughness"] = sp.material.clearcoat_roughness;
-    }
-    if (preview_has_sheen(sp.material)) {
-      o["material"]["sheen_color"] = rgb(sp.material.sheen_color);
-      o["material"]["sheen_roughness"] = sp.material.sheen_roughness;
-    }
-    if (preview_has_iridescence(sp.material)) {
-      o["material"]["iridescence"] = sp.material.iridescence;
-      o["material"]["iridescence_ior"] = sp.material.iridescence_ior;
-      o["material"]["iridescence_thickness"] = sp.material.iridescence_thickness;
-    }
-    if (!sp.material.notes.empty()) o["notes"] = sp.material.notes;
-    if (s < r.stats.size()) {
-      const PreviewSphereStats& st = r.stats[s];
-      o["pixels"] = st.pixels;
-      o["error"] = {{"linear", stats(st.linear)}, {"srgb8", stats(st.srgb8)}};
-      o["reference_bound"] = {{"rms", st.reference_rms_bound},
-                              {"max", st.reference_max_bound},
-                              {"pixels", st.bound_pixels},
-                              {"refinement", st.refinement}};
-    }
-    spheres.push_back(o);
+    spheres.push_back(sphere_json(r.spheres[s], s < r.stats.size() ? &r.stats[s] : nullptr));
   }
   j["spheres"] = spheres;
   if (!r.stats.empty()) {
