@@ -27,6 +27,17 @@ bool has_film(const std::vector<ReferencePixel>& px) {
   return std::any_of(px.begin(), px.end(), [](const ReferencePixel& p) { return p.film; });
 }
 
+// The reference kernel (kernels/preview.cl) at the task's precision.
+cl::Program reference_program(Device::Impl& dev, const ReferenceTask& task) {
+  ProgramSpec ps;
+  ps.file = "preview.cl";
+  ps.precision = task.precision;
+  // The thin-film lobe is compiled in only when a pixel has it (the default grid's program stays
+  // as it is: glTF materials decide which lobes the kernel is built with).
+  if (has_film(task.pixels) || has_film(task.bound_pixels)) ps.defines.push_back({"PREVIEW_IRIDESCENCE", "1"});
+  return build_program(dev, ps);
+}
+
 // The kernel's pixel records: 8 floats a pixel (n, alpha, albedo, bias, the lobe) and, when a pixel
 // has a film, 8 floats a pixel of its thickness, index and base F0 (else one: OpenCL has no empty buffers).
 void pack_pixels(const std::vector<ReferencePixel>& pixels, std::vector<float>& px, std::vector<float>& film) {
@@ -103,13 +114,7 @@ class OpenClPreview final : public PreviewKernel {
     out.method = "quadtree walk of the equirect's constant cells (kernels/preview.cl) on '" + dev.info.name + "'";
     const auto t0 = Clock::now();
     const preview::EnvTree tree = preview::build_env_tree(*task.environment);
-    ProgramSpec ps;
-    ps.file = "preview.cl";
-    ps.precision = task.precision;
-    // The thin-film lobe is compiled in only when a pixel has it (the default grid's program stays
-    // as it is: glTF materials decide which lobes the kernel is built with).
-    if (has_film(task.pixels) || has_film(task.bound_pixels)) ps.defines.push_back({"PREVIEW_IRIDESCENCE", "1"});
-    cl::Program program = build_program(dev, ps);
+    cl::Program program = reference_program(dev, task);
     const bool fp64 = task.precision == Precision::Fp64;
     const size_t real_size = fp64 ? sizeof(double) : sizeof(float);
     const std::string what = "kernel preview_reference on '" + dev.info.name + "'";
