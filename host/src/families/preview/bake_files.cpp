@@ -76,12 +76,8 @@ std::vector<double> filament_sh(const std::vector<std::pair<std::string, std::st
   throw Error("'" + path + "': no sh key (Filament's spherical harmonics)");
 }
 
-}  // namespace
-
-BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const std::string& environment) {
-  BakeFiles b;
-  b.target = target;
-  b.folder = folder;
+// The manifest of a bake folder, checked to be of this target and (when given) of this environment.
+json read_manifest(const std::string& folder, EngineTarget target, const std::string& environment) {
   const std::string manifest_path = join_path(folder, "manifest.json");
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
@@ -106,8 +102,12 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
         throw Error("'" + folder + "' was baked from '" + baked + "', not from '" + environment +
                     "': give the environment of the bake (--env), or bake again");
     }
+  return manifest;
+}
 
-  // The DFG table: ggx-multiscatter, or ggx (scale, bias).
+// The DFG table: ggx-multiscatter, or ggx (scale, bias).
+void read_dfg(const json& manifest, BakeFiles& b) {
+  const std::string& folder = b.folder;
   const json* dfg = manifest_file(manifest, "ggx-multiscatter");
   if (!dfg) {
     dfg = manifest_file(manifest, "ggx");
@@ -119,9 +119,55 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
   if (b.dfg.channel_count() < 2) throw Error("'" + b.dfg_file + "': a DFG table has at least 2 channels");
   if (dfg->contains("parameters") && (*dfg)["parameters"].value("n_dot_v_axis", std::string("uniform")) == "sqrt")
     b.dfg_sqrt_n_dot_v = true;
+}
 
+// Babylon.js's .env file: RGBD PNG faces per level, and the irradiance polynomial.
+void read_babylon_lighting(const json& manifest, BakeFiles& b) {
+  const std::string& folder = b.folder;
+  b.specular_file = engine_file(manifest, folder, ".env");
+  const io::BabylonEnv env = io::decode_babylon_env(io::read_binary_file(b.specular_file, ".env file"));
+  std::vector<std::vector<std::vector<uint8_t>>> levels;
+  for (size_t i = 0; i < env.images.size(); ++i) {
+    if (i % 6 == 0) levels.emplace_back();
+    levels.back().push_back(env.images[i]);
+  }
+  b.specular = io::decode_rgbd_cube(levels, env.width, b.specular_file);
+  b.specular_format = "RGBD PNG, expanded to RGBA16F";
+  b.lod_scale = env.lod_generation_scale;
+  b.diffuse = DiffuseSource::BabylonPolynomial;
+  b.diffuse_file = b.specular_file + " (irradiance polynomial)";
+  for (const auto& c : env.polynomial) b.sh.insert(b.sh.end(), c.begin(), c.end());
+}
+
+// EXT_lights_image_based in a glTF file: RGBD PNG faces per level, and SH irradiance coefficients.
+void read_gltf_lighting(const json& manifest, BakeFiles& b) {
+  const std::string& folder = b.folder;
+  b.specular_file = engine_file(manifest, folder, ".gltf");
+  const json doc = io::parse_json(io::read_text_file(b.specular_file, "glTF file"), b.specular_file);
+  const json& light = doc.at("extensions").at("EXT_lights_image_based").at("lights").at(0);
+  const int size = light.at("specularImageSize").get<int>();
+  std::vector<std::vector<std::vector<uint8_t>>> levels;
+  for (const auto& level : light.at("specularImages")) {
+    levels.emplace_back();
+    for (const auto& index : level) {
+      const std::string uri = doc.at("images").at(index.get<size_t>()).at("uri").get<std::string>();
+      levels.back().push_back(io::read_binary_file(join_path(folder, uri), "specular image"));
+    }
+  }
+  b.specular = io::decode_rgbd_cube(levels, size, b.specular_file);
+  b.specular_format = "RGBD PNG, expanded to RGBA16F";
+  // Babylon.js's EXT_lights_image_based loader: lodGenerationScale = (N - 1) / log2(specularImageSize)
+  b.lod_scale = double(levels.size() - 1) / std::log2(double(size));
+  b.diffuse = DiffuseSource::GltfSh;
+  b.diffuse_file = b.specular_file + " (irradianceCoefficients)";
+  b.sh = numbers(light.at("irradianceCoefficients"), b.specular_file);
+}
+
+// The specular chain and the diffuse source the target's shader samples.
+void read_lighting(const json& manifest, BakeFiles& b) {
+  const std::string& folder = b.folder;
   std::vector<std::pair<std::string, std::string>> kv;
-  switch (target) {
+  switch (b.target) {
     case EngineTarget::Generic: {
       const json* chain = manifest_file(manifest, "prefilter");
       const json* irr = manifest_file(manifest, "irradiance");
@@ -149,49 +195,20 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
       b.diffuse_file = engine_file(manifest, folder, "_lambertian.ktx2");
       b.irradiance = io::read_gpu_cube(b.diffuse_file);
       break;
-    case EngineTarget::Babylon: {
-      b.specular_file = engine_file(manifest, folder, ".env");
-      const io::BabylonEnv env = io::decode_babylon_env(io::read_binary_file(b.specular_file, ".env file"));
-      std::vector<std::vector<std::vector<uint8_t>>> levels;
-      for (size_t i = 0; i < env.images.size(); ++i) {
-        if (i % 6 == 0) levels.emplace_back();
-        levels.back().push_back(env.images[i]);
-      }
-      b.specular = io::decode_rgbd_cube(levels, env.width, b.specular_file);
-      b.specular_format = "RGBD PNG, expanded to RGBA16F";
-      b.lod_scale = env.lod_generation_scale;
-      b.diffuse = DiffuseSource::BabylonPolynomial;
-      b.diffuse_file = b.specular_file + " (irradiance polynomial)";
-      for (const auto& c : env.polynomial) b.sh.insert(b.sh.end(), c.begin(), c.end());
+    case EngineTarget::Babylon:
+      read_babylon_lighting(manifest, b);
       break;
-    }
-    case EngineTarget::Gltf: {
-      b.specular_file = engine_file(manifest, folder, ".gltf");
-      const json doc = io::parse_json(io::read_text_file(b.specular_file, "glTF file"), b.specular_file);
-      const json& light = doc.at("extensions").at("EXT_lights_image_based").at("lights").at(0);
-      const int size = light.at("specularImageSize").get<int>();
-      std::vector<std::vector<std::vector<uint8_t>>> levels;
-      for (const auto& level : light.at("specularImages")) {
-        levels.emplace_back();
-        for (const auto& index : level) {
-          const std::string uri = doc.at("images").at(index.get<size_t>()).at("uri").get<std::string>();
-          levels.back().push_back(io::read_binary_file(join_path(folder, uri), "specular image"));
-        }
-      }
-      b.specular = io::decode_rgbd_cube(levels, size, b.specular_file);
-      b.specular_format = "RGBD PNG, expanded to RGBA16F";
-      // Babylon.js's EXT_lights_image_based loader: lodGenerationScale = (N - 1) / log2(specularImageSize)
-      b.lod_scale = double(levels.size() - 1) / std::log2(double(size));
-      b.diffuse = DiffuseSource::GltfSh;
-      b.diffuse_file = b.specular_file + " (irradianceCoefficients)";
-      b.sh = numbers(light.at("irradianceCoefficients"), b.specular_file);
+    case EngineTarget::Gltf:
+      read_gltf_lighting(manifest, b);
       break;
-    }
   }
   if (b.specular.levels.empty()) throw Error("'" + b.specular_file + "': no levels");
+}
 
-  // KHR_materials_sheen: the charlie table (the Estevez & Kulla one first: the extension's) and the
-  // Charlie chain the target's shader samples, when the bake holds them
+// KHR_materials_sheen: the charlie table (the Estevez & Kulla one first: the extension's) and the
+// Charlie chain the target's shader samples, when the bake holds them
+void read_sheen(const json& manifest, BakeFiles& b) {
+  const std::string& folder = b.folder;
   const json* charlie = nullptr;
   if (manifest.contains("files"))
     for (const auto& f : manifest["files"])
@@ -208,12 +225,12 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
     if (charlie->contains("parameters"))
       b.charlie_visibility = (*charlie)["parameters"].value("sheen_visibility", std::string());
   }
-  if (target == EngineTarget::Generic) {
+  if (b.target == EngineTarget::Generic) {
     if (const json* chain = manifest_file(manifest, "prefilter", "charlie")) {
       b.sheen_file = join_path(folder, (*chain)["path"].get<std::string>());
       b.sheen = io::read_gpu_cube(b.sheen_file);
     }
-  } else if (target == EngineTarget::KhronosViewer) {
+  } else if (b.target == EngineTarget::KhronosViewer) {
     if (manifest.contains("engine") && manifest["engine"].contains("files"))
       for (const auto& f : manifest["engine"]["files"])
         if (f.is_string() && ends_with(f.get<std::string>(), "_charlie.ktx2")) {
@@ -221,8 +238,12 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
           b.sheen = io::read_gpu_cube(b.sheen_file);
         }
   }
-  b.settings = {{"folder", folder},
-                {"target", engine_target_name(target)},
+}
+
+// The settings the preview reports: which files, their sizes and layouts.
+void list_settings(BakeFiles& b) {
+  b.settings = {{"folder", b.folder},
+                {"target", engine_target_name(b.target)},
                 {"specular", b.specular_file},
                 {"specular_format", b.specular_format},
                 {"specular_size", std::to_string(b.specular.size)},
@@ -239,6 +260,19 @@ BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const 
     b.settings.push_back({"charlie", b.charlie_file});
     b.settings.push_back({"charlie_size", std::to_string(b.charlie.width) + "x" + std::to_string(b.charlie.height)});
   }
+}
+
+}  // namespace
+
+BakeFiles read_bake_files(const std::string& folder, EngineTarget target, const std::string& environment) {
+  BakeFiles b;
+  b.target = target;
+  b.folder = folder;
+  const json manifest = read_manifest(folder, target, environment);
+  read_dfg(manifest, b);
+  read_lighting(manifest, b);
+  read_sheen(manifest, b);
+  list_settings(b);
   return b;
 }
 

@@ -318,9 +318,15 @@ struct ReferenceWork {
   double lut_seconds = 0.0;
 };
 
-ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const std::vector<SpherePixel>& pixels) {
-  ReferenceWork w;
-  ReferenceTask& task = w.task;
+// The exact albedo tables the reference's lobes look up (albedo_tables).
+struct AlbedoTables {
+  std::vector<double> nvs, rs, ab;  // n.v, roughness; (albedo, bias) pairs, roughness-major
+  std::vector<double> srs, es;      // sheen roughness; E(n.v), sheen-roughness-major
+};
+
+AlbedoTables albedo_tables(Backend& backend, const PreviewResult& res, const std::vector<SpherePixel>& pixels,
+                           double* lut_seconds) {
+  AlbedoTables t;
   // The exact albedos at every pixel's n.v (every sphere covers the same offsets) and roughness.
   std::set<double> nv_set, r_set;
   for (const SpherePixel& p : pixels) nv_set.insert(std::max(p.n_dot_v, 1e-7));
@@ -328,54 +334,73 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
     r_set.insert(s.material.roughness);
     if (s.material.clearcoat > 0.0) r_set.insert(s.material.clearcoat_roughness);
   }
-  const std::vector<double> nvs(nv_set.begin(), nv_set.end()), rs(r_set.begin(), r_set.end());
-  const std::vector<double> ab = nvs.empty() ? std::vector<double>() : exact_albedos(backend, nvs, rs, &w.lut_seconds);
+  t.nvs.assign(nv_set.begin(), nv_set.end());
+  t.rs.assign(r_set.begin(), r_set.end());
+  t.ab = t.nvs.empty() ? std::vector<double>() : exact_albedos(backend, t.nvs, t.rs, lut_seconds);
   // The sheen lobes' exact albedos E(n.v) at their sheen roughnesses (the charlie table's quadrature).
   std::set<double> sheen_set;
   for (const PreviewSphere& s : res.spheres)
     if (preview_has_sheen(s.material)) sheen_set.insert(s.material.sheen_roughness);
-  const std::vector<double> srs(sheen_set.begin(), sheen_set.end());
+  t.srs.assign(sheen_set.begin(), sheen_set.end());
   double sheen_seconds = 0.0;
-  const std::vector<double> es =
-      nvs.empty() || srs.empty() ? std::vector<double>() : sheen_albedos(backend, nvs, srs, &sheen_seconds);
-  w.lut_seconds += sheen_seconds;
-  auto albedos = [&](const SpherePixel& p, double roughness, double* a, double* b) {
-    const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
-    const size_t j = size_t(std::lower_bound(rs.begin(), rs.end(), roughness) - rs.begin());
-    *a = ab[2 * (j * nvs.size() + i)];
-    *b = ab[2 * (j * nvs.size() + i) + 1];
-  };
+  t.es = t.nvs.empty() || t.srs.empty() ? std::vector<double>() : sheen_albedos(backend, t.nvs, t.srs, &sheen_seconds);
+  *lut_seconds += sheen_seconds;
+  return t;
+}
 
-  auto to_pixel = [&](const SpherePixel& p, double roughness) {
-    ReferencePixel r;
-    r.n[0] = float(p.n.x);
-    r.n[1] = float(p.n.y);
-    r.n[2] = float(p.n.z);
-    r.alpha = float(roughness * roughness);
-    double a = 0, b = 0;
-    albedos(p, roughness, &a, &b);
-    r.albedo = float(a);
-    r.bias = float(b);
-    return r;
-  };
-  // The integrals depend on the normal and alpha only (the colours enter in reference_radiance), and
-  // every sphere covers the same normals: each distinct (n, alpha) is integrated once (the default
-  // grid's 72 spheres are 12 roughnesses).
+// The GGX lobe of a pixel's normal at `roughness`, with its exact albedo and bias.
+ReferencePixel ggx_pixel(const AlbedoTables& t, const SpherePixel& p, double roughness) {
+  ReferencePixel r;
+  r.n[0] = float(p.n.x);
+  r.n[1] = float(p.n.y);
+  r.n[2] = float(p.n.z);
+  r.alpha = float(roughness * roughness);
+  const size_t i = size_t(std::lower_bound(t.nvs.begin(), t.nvs.end(), std::max(p.n_dot_v, 1e-7)) - t.nvs.begin());
+  const size_t j = size_t(std::lower_bound(t.rs.begin(), t.rs.end(), roughness) - t.rs.begin());
+  const double a = t.ab[2 * (j * t.nvs.size() + i)];
+  const double b = t.ab[2 * (j * t.nvs.size() + i) + 1];
+  r.albedo = float(a);
+  r.bias = float(b);
+  return r;
+}
+
+// The sheen (Charlie) lobe of a pixel's normal at the sheen roughness.
+ReferencePixel sheen_pixel(const AlbedoTables& t, const SpherePixel& p, double roughness) {
+  ReferencePixel r;
+  r.n[0] = float(p.n.x);
+  r.n[1] = float(p.n.y);
+  r.n[2] = float(p.n.z);
+  r.alpha = float(preview_sheen_alpha(roughness));
+  const size_t i = size_t(std::lower_bound(t.nvs.begin(), t.nvs.end(), std::max(p.n_dot_v, 1e-7)) - t.nvs.begin());
+  const size_t j = size_t(std::lower_bound(t.srs.begin(), t.srs.end(), roughness) - t.srs.begin());
+  r.albedo = float(t.es[j * t.nvs.size() + i]);
+  r.bias = 0.0f;
+  r.sheen = true;
+  return r;
+}
+
+// The GGX lobe at the material's roughness times the thin film over base_f0 (the walk's
+// normalisation: the GGX lobe's A, and no S2).
+ReferencePixel film_pixel(const AlbedoTables& t, const SpherePixel& p, const PreviewMaterial& m, const Rgb& base_f0) {
+  ReferencePixel r = ggx_pixel(t, p, m.roughness);
+  r.bias = 0.0f;
+  r.film = true;
+  r.film_thickness = float(m.iridescence_thickness);
+  r.film_ior = float(m.iridescence_ior);
+  r.film_base_f0[0] = float(base_f0.r);
+  r.film_base_f0[1] = float(base_f0.g);
+  r.film_base_f0[2] = float(base_f0.b);
+  return r;
+}
+
+// Every pixel's lobes as task entries. The integrals depend on the normal and alpha only (the colours
+// enter in reference_radiance), and every sphere covers the same normals: each distinct (n, alpha) is
+// integrated once (the default grid's 72 spheres are 12 roughnesses).
+void add_lobes(ReferenceWork& w, const AlbedoTables& t, const PreviewResult& res,
+               const std::vector<SpherePixel>& pixels) {
+  ReferenceTask& task = w.task;
   // (n, alpha, the lobe: 0 GGX, 1 sheen, 2 film; the film's thickness, index and base F0)
   std::map<std::array<float, 10>, size_t> unique;
-  auto sheen_pixel = [&](const SpherePixel& p, double roughness) {
-    ReferencePixel r;
-    r.n[0] = float(p.n.x);
-    r.n[1] = float(p.n.y);
-    r.n[2] = float(p.n.z);
-    r.alpha = float(preview_sheen_alpha(roughness));
-    const size_t i = size_t(std::lower_bound(nvs.begin(), nvs.end(), std::max(p.n_dot_v, 1e-7)) - nvs.begin());
-    const size_t j = size_t(std::lower_bound(srs.begin(), srs.end(), roughness) - srs.begin());
-    r.albedo = float(es[j * nvs.size() + i]);
-    r.bias = 0.0f;
-    r.sheen = true;
-    return r;
-  };
   auto entry = [&](const ReferencePixel& r) {
     const std::array<float, 10> key = {r.n[0],
                                        r.n[1],
@@ -393,35 +418,26 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
     if (added) task.pixels.push_back(r);
     return it->second;
   };
-  // The GGX lobe at the material's roughness times the thin film over base_f0 (the walk's
-  // normalisation: the GGX lobe's A, and no S2).
-  auto film_pixel = [&](const SpherePixel& p, const PreviewMaterial& m, const Rgb& base_f0) {
-    ReferencePixel r = to_pixel(p, m.roughness);
-    r.bias = 0.0f;
-    r.film = true;
-    r.film_thickness = float(m.iridescence_thickness);
-    r.film_ior = float(m.iridescence_ior);
-    r.film_base_f0[0] = float(base_f0.r);
-    r.film_base_f0[1] = float(base_f0.g);
-    r.film_base_f0[2] = float(base_f0.b);
-    return r;
-  };
   w.task_of.resize(pixels.size());
   w.coat_task_of.assign(pixels.size(), kNoLobe);
   w.sheen_task_of.assign(pixels.size(), kNoLobe);
   w.film_task_of.assign(pixels.size(), FilmEntries{});
   for (size_t i = 0; i < pixels.size(); ++i) {
     const PreviewMaterial& m = res.spheres[size_t(pixels[i].sphere)].material;
-    w.task_of[i] = entry(to_pixel(pixels[i], m.roughness));
-    if (m.clearcoat > 0.0) w.coat_task_of[i] = entry(to_pixel(pixels[i], m.clearcoat_roughness));
-    if (preview_has_sheen(m)) w.sheen_task_of[i] = entry(sheen_pixel(pixels[i], m.sheen_roughness));
+    w.task_of[i] = entry(ggx_pixel(t, pixels[i], m.roughness));
+    if (m.clearcoat > 0.0) w.coat_task_of[i] = entry(ggx_pixel(t, pixels[i], m.clearcoat_roughness));
+    if (preview_has_sheen(m)) w.sheen_task_of[i] = entry(sheen_pixel(t, pixels[i], m.sheen_roughness));
     const ReferenceFilms films = reference_films(m);
     if (films.dielectric_weight > 0.0)
-      w.film_task_of[i].dielectric = entry(film_pixel(pixels[i], m, films.dielectric_f0));
-    if (films.metal_weight > 0.0) w.film_task_of[i].metal = entry(film_pixel(pixels[i], m, films.metal_f0));
+      w.film_task_of[i].dielectric = entry(film_pixel(t, pixels[i], m, films.dielectric_f0));
+    if (films.metal_weight > 0.0) w.film_task_of[i].metal = entry(film_pixel(t, pixels[i], m, films.metal_f0));
   }
-  // The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
-  // distinct one integrated once more at twice the refinement.
+}
+
+// The bound's pixels: every bound_stride-th of each sphere, at least 16 (or all) a sphere; each
+// distinct one integrated once more at twice the refinement.
+void add_bound_pixels(ReferenceWork& w, const PreviewResult& res, const std::vector<SpherePixel>& pixels) {
+  ReferenceTask& task = w.task;
   std::vector<std::vector<size_t>> of_sphere(res.spheres.size());
   for (size_t i = 0; i < pixels.size(); ++i) of_sphere[size_t(pixels[i].sphere)].push_back(i);
   std::map<size_t, size_t> bound_unique;
@@ -445,6 +461,13 @@ ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const s
                                       f.metal == kNoLobe ? kNoLobe : bound_entry(f.metal)});
     }
   }
+}
+
+ReferenceWork reference_work(Backend& backend, const PreviewResult& res, const std::vector<SpherePixel>& pixels) {
+  ReferenceWork w;
+  const AlbedoTables tables = albedo_tables(backend, res, pixels, &w.lut_seconds);
+  add_lobes(w, tables, res, pixels);
+  add_bound_pixels(w, res, pixels);
   return w;
 }
 

@@ -318,131 +318,163 @@ void iridescent_f0(const PreviewMaterial& m, float n_dot_v, float f0[3]) {
 
 }  // namespace
 
+void SplitSum::base_generic(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const {
+  const float nx = in.nx, ny = in.ny, nz = in.nz, vx = in.vx, vy = in.vy, vz = in.vz, dot_nv = in.dot_nv;
+  const float* cd = in.cd;
+  const float* irr = in.irr;
+  float f0[3] = {in.f0[0], in.f0[1], in.f0[2]};
+  const float levels_minus_one = in.levels_minus_one;
+  const float f90 = in.f90;
+  // docs/CONVENTIONS.md's runtime: lod = (levels - 1) roughness, specular = prefiltered x
+  // (F90 bias + (albedo - bias) F0) x (1 + F0 (1 / albedo - 1)) (ggx-multiscatter) or F0 scale
+  // + F90 bias
+  const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
+  const Vec3 refl{double(2.0f * nv * nx - vx), double(2.0f * nv * ny - vy), double(2.0f * nv * nz - vz)};
+  float light[3], bias = 0, albedo = 0;
+  trilinear(refl, levels_minus_one * r, light);
+  dfg(nv, r, &bias, &albedo);
+  iridescent_f0(m, nv, f0);  // KHR_materials_iridescence: F0 = mix(F0, F_irid(n.v), iridescenceFactor)
+  for (int c = 0; c < 3; ++c) {
+    const float e = f90 * bias + (albedo - bias) * f0[c];
+    const float k = files_.dfg_multiscatter ? 1.0f + f0[c] * (1.0f / albedo - 1.0f) : 1.0f;
+    out[c] = light[c] * e * k + cd[c] * irr[c];
+  }
+}
+
+void SplitSum::base_filament(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const {
+  const float nx = in.nx, ny = in.ny, nz = in.nz, vx = in.vx, vy = in.vy, vz = in.vz, dot_nv = in.dot_nv;
+  const float* cd = in.cd;
+  const float* irr = in.irr;
+  float f0[3] = {in.f0[0], in.f0[1], in.f0[2]};
+  const float levels_minus_one = in.levels_minus_one;
+  // surface_shading_lit.fs getRoughnessPixelParams: under a clear coat (MATERIAL_HAS_CLEAR_COAT_ROUGHNESS,
+  // which gltfio's materials set) the base is at least as rough as the coat, mixed by clearCoat:
+  // mix(r, max(r, clearCoatPerceptualRoughness), clearCoat), the coat's clamped as evaluateClearCoatIBL's;
+  // then perceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1] (common_material.fs),
+  // roughness = perceptualRoughness^2; shading_NoV = clampNoV(dot(n, v)) = max(NoV, 1e-4)
+  float base_pr = float(m.roughness);
+  if (m.clearcoat > 0.0)
+    base_pr =
+        mixf(base_pr, std::max(base_pr, std::clamp(float(m.clearcoat_roughness), 0.045f, 1.0f)), float(m.clearcoat));
+  const float pr = std::clamp(base_pr, 0.045f, 1.0f), a = pr * pr;
+  const float nv = std::max(dot_nv, 1e-4f);
+  float bias = 0, albedo = 0;
+  dfg(nv, pr, &bias, &albedo);  // PrefilteredDFG_LUT(perceptualRoughness, NoV)
+  // getReflectedVector -> getSpecularDominantDirection: mix(r, n, roughness^2), r = reflect(-v, n)
+  const float rx = 2.0f * dot_nv * nx - vx, ry = 2.0f * dot_nv * ny - vy, rz = 2.0f * dot_nv * nz - vz;
+  const float s = a * a;
+  const Vec3 dir{mixf(rx, nx, s), mixf(ry, ny, s), mixf(rz, nz, s)};
+  float light[3];
+  trilinear(dir, levels_minus_one * pr * (2.0f - pr), light);  // perceptualRoughnessToLod
+  for (int c = 0; c < 3; ++c) {
+    const float e = mixf(bias, albedo, f0[c]);                // specularDFG (F90 1)
+    const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);    // energyCompensation
+    out[c] = e * light[c] * k + cd[c] * irr[c] * (1.0f - e);  // evaluateIBL: Fr + Fd
+  }
+}
+
+void SplitSum::base_babylon(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const {
+  const float nx = in.nx, ny = in.ny, nz = in.nz, vx = in.vx, vy = in.vy, vz = in.vz, dot_nv = in.dot_nv;
+  const float* cd = in.cd;
+  const float* irr = in.irr;
+  float f0[3] = {in.f0[0], in.f0[1], in.f0[2]};
+  const float specular = in.specular;
+  // pbrBlockGeometryInfo: NdotV = absEps(dot(n, v)) = |NdotV| + 1e-7;
+  // alphaG = convertRoughnessToAverageSlope(roughness) = roughness^2 + MINIMUMVARIANCE (0.0005)
+  const float nv = std::fabs(dot_nv) + 1e-7f, r = float(m.roughness);
+  const float alpha_g = r * r + 0.0005f;
+  // sampleReflectionTexture: lod = getLodFromAlphaG(size, alphaG) * lodGenerationScale + offset
+  const float lod = std::log2(float(files_.specular.size) * alpha_g) * float(files_.lod_scale);
+  const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
+  float light[3], bias = 0, albedo = 0;
+  trilinear(refl, lod, light);
+  dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
+  // pbrBlockReflectance0.fx: specularEnvironmentR90 = reflectivityOut.reflectanceF90, which
+  // pbrBlockReflectivity.fx (metallic workflow) makes mix(metallicReflectanceFactors.a, 1,
+  // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
+  // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
+  const float r90 = mixf(specular, 1.0f, float(m.metallic));
+  // pbrBlockIridescence.fx iridescenceBlock (KHR_materials_iridescence.ts: intensity, IOR, maximum
+  // thickness): specularEnvironmentR0 = mix(R0, evalIridescence(1, IOR, NdotV, thickness, R0), intensity)
+  iridescent_f0(m, nv, f0);
+  for (int c = 0; c < 3; ++c) {
+    // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
+    // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
+    const float reflectance = (r90 - f0[c]) * bias + f0[c] * albedo;
+    const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);
+    out[c] = light[c] * reflectance * k + irr[c] * cd[c];  // finalRadianceScaled + finalIrradiance
+  }
+}
+
+void SplitSum::base_khronos_viewer(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const {
+  const float nx = in.nx, ny = in.ny, nz = in.nz, vx = in.vx, vy = in.vy, vz = in.vz, dot_nv = in.dot_nv;
+  const float* cd = in.cd;
+  const float* irr = in.irr;
+  const float levels_minus_one = in.levels_minus_one;
+  const float specular = in.specular;
+  // ibl.glsl getIBLRadianceGGX and getIBLRadianceLambertian; material_info.glsl getIorInfo and
+  // getSpecularInfo: f0 = mix(min(f0_ior specularColorFactor, 1), baseColor, metallic) without the
+  // specular factor, which both functions apply as specularWeight (to metals too)
+  const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
+  const float lod = r * levels_minus_one;
+  const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
+  float light[3], bias = 0, albedo = 0;
+  trilinear(refl, lod, light);
+  dfg(std::clamp(nv, 0.0f, 1.0f), std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
+  const float fa = albedo - bias, fb = bias;  // f_ab: scale, bias
+  const Rgb f0_sv = sample_viewer_f0(m);
+  const float f0v[3] = {float(f0_sv.r), float(f0_sv.g), float(f0_sv.b)}, sw = specular;
+  // KHR_materials_iridescence (pbr.frag): iridescenceFresnel = evalIridescence(1, iridescenceIor, NdotV,
+  // thickness, f0); getIBLRadianceGGXIridescence mixes it into k_S, getIBLRadianceLambertianIridescence
+  // mixes F0 with max3(Schlick_to_F0(iridescenceFresnel, NdotV))
+  float film = 0.0f, film_fresnel[3] = {0, 0, 0}, f0l[3] = {f0v[0], f0v[1], f0v[2]};
+  const bool iridescent = split_sum_film(m, nv, f0v, &film, film_fresnel);
+  if (iridescent) {
+    const float f0_max = std::max(
+        {schlick_to_f0(film_fresnel[0], nv), schlick_to_f0(film_fresnel[1], nv), schlick_to_f0(film_fresnel[2], nv)});
+    for (int c = 0; c < 3; ++c) f0l[c] = mixf(f0v[c], f0_max, film);
+  }
+  for (int c = 0; c < 3; ++c) {
+    const float fr = std::max(1.0f - r, f0v[c]) - f0v[c];
+    const float ks0 = f0v[c] + fr * pow5(1.0f - nv);
+    const float ks = iridescent ? mixf(ks0, film_fresnel[c], film) : ks0;
+    const float frd = std::max(1.0f - r, f0l[c]) - f0l[c];
+    const float ksd = f0l[c] + frd * pow5(1.0f - nv);
+    const float fss_ess = sw * ksd * fa + fb;  // getIBLRadianceLambertian's (its bias not weighted)
+    const float ems = 1.0f - (fa + fb);
+    const float favg = sw * (f0l[c] + (1.0f - f0l[c]) / 21.0f);
+    const float fms_ems = ems * fss_ess * favg / (1.0f - favg * ems);
+    const float kd = cd[c] * (1.0f - fss_ess + fms_ems);
+    out[c] = sw * light[c] * (ks * fa + fb) + (fms_ems + kd) * irr[c];  // getIBLRadianceGGX's
+  }
+}
+
 Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) const {
+  BaseInputs in;
   const Rgb f0d = preview_f0(m), cdd = preview_diffuse_color(m);
-  float f0[3] = {float(f0d.r), float(f0d.g), float(f0d.b)};  // generic and Babylon.js mix in the film
-  const float cd[3] = {float(cdd.r), float(cdd.g), float(cdd.b)};
-  const float f90 = float(preview_f90(m)), specular = float(m.specular);
-  const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
-              vz = float(vd.z);
-  const float dot_nv = nx * vx + ny * vy + nz * vz;
-  const float levels_minus_one = float(levels_.size() - 1);
-  float out[3] = {0, 0, 0}, irr[3];
-  diffuse(nd, irr);
+  in.f0[0] = float(f0d.r), in.f0[1] = float(f0d.g), in.f0[2] = float(f0d.b);  // generic and Babylon.js mix in the film
+  in.cd[0] = float(cdd.r), in.cd[1] = float(cdd.g), in.cd[2] = float(cdd.b);
+  in.f90 = float(preview_f90(m)), in.specular = float(m.specular);
+  in.nx = float(nd.x), in.ny = float(nd.y), in.nz = float(nd.z), in.vx = float(vd.x), in.vy = float(vd.y),
+  in.vz = float(vd.z);
+  in.dot_nv = in.nx * in.vx + in.ny * in.vy + in.nz * in.vz;
+  in.levels_minus_one = float(levels_.size() - 1);
+  float out[3] = {0, 0, 0};
+  diffuse(nd, in.irr);
   switch (files_.target) {
-    case EngineTarget::Generic: {
-      // docs/CONVENTIONS.md's runtime: lod = (levels - 1) roughness, specular = prefiltered x
-      // (F90 bias + (albedo - bias) F0) x (1 + F0 (1 / albedo - 1)) (ggx-multiscatter) or F0 scale
-      // + F90 bias
-      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
-      const Vec3 refl{double(2.0f * nv * nx - vx), double(2.0f * nv * ny - vy), double(2.0f * nv * nz - vz)};
-      float light[3], bias = 0, albedo = 0;
-      trilinear(refl, levels_minus_one * r, light);
-      dfg(nv, r, &bias, &albedo);
-      iridescent_f0(m, nv, f0);  // KHR_materials_iridescence: F0 = mix(F0, F_irid(n.v), iridescenceFactor)
-      for (int c = 0; c < 3; ++c) {
-        const float e = f90 * bias + (albedo - bias) * f0[c];
-        const float k = files_.dfg_multiscatter ? 1.0f + f0[c] * (1.0f / albedo - 1.0f) : 1.0f;
-        out[c] = light[c] * e * k + cd[c] * irr[c];
-      }
+    case EngineTarget::Generic:
+      base_generic(m, in, out);
       break;
-    }
-    case EngineTarget::Filament: {
-      // surface_shading_lit.fs getRoughnessPixelParams: under a clear coat (MATERIAL_HAS_CLEAR_COAT_ROUGHNESS,
-      // which gltfio's materials set) the base is at least as rough as the coat, mixed by clearCoat:
-      // mix(r, max(r, clearCoatPerceptualRoughness), clearCoat), the coat's clamped as evaluateClearCoatIBL's;
-      // then perceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1] (common_material.fs),
-      // roughness = perceptualRoughness^2; shading_NoV = clampNoV(dot(n, v)) = max(NoV, 1e-4)
-      float base_pr = float(m.roughness);
-      if (m.clearcoat > 0.0)
-        base_pr = mixf(base_pr, std::max(base_pr, std::clamp(float(m.clearcoat_roughness), 0.045f, 1.0f)),
-                       float(m.clearcoat));
-      const float pr = std::clamp(base_pr, 0.045f, 1.0f), a = pr * pr;
-      const float nv = std::max(dot_nv, 1e-4f);
-      float bias = 0, albedo = 0;
-      dfg(nv, pr, &bias, &albedo);  // PrefilteredDFG_LUT(perceptualRoughness, NoV)
-      // getReflectedVector -> getSpecularDominantDirection: mix(r, n, roughness^2), r = reflect(-v, n)
-      const float rx = 2.0f * dot_nv * nx - vx, ry = 2.0f * dot_nv * ny - vy, rz = 2.0f * dot_nv * nz - vz;
-      const float s = a * a;
-      const Vec3 dir{mixf(rx, nx, s), mixf(ry, ny, s), mixf(rz, nz, s)};
-      float light[3];
-      trilinear(dir, levels_minus_one * pr * (2.0f - pr), light);  // perceptualRoughnessToLod
-      for (int c = 0; c < 3; ++c) {
-        const float e = mixf(bias, albedo, f0[c]);                // specularDFG (F90 1)
-        const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);    // energyCompensation
-        out[c] = e * light[c] * k + cd[c] * irr[c] * (1.0f - e);  // evaluateIBL: Fr + Fd
-      }
+    case EngineTarget::Filament:
+      base_filament(m, in, out);
       break;
-    }
     case EngineTarget::Gltf:
-    case EngineTarget::Babylon: {
-      // pbrBlockGeometryInfo: NdotV = absEps(dot(n, v)) = |NdotV| + 1e-7;
-      // alphaG = convertRoughnessToAverageSlope(roughness) = roughness^2 + MINIMUMVARIANCE (0.0005)
-      const float nv = std::fabs(dot_nv) + 1e-7f, r = float(m.roughness);
-      const float alpha_g = r * r + 0.0005f;
-      // sampleReflectionTexture: lod = getLodFromAlphaG(size, alphaG) * lodGenerationScale + offset
-      const float lod = std::log2(float(files_.specular.size) * alpha_g) * float(files_.lod_scale);
-      const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy),
-                      double(2.0f * dot_nv * nz - vz)};
-      float light[3], bias = 0, albedo = 0;
-      trilinear(refl, lod, light);
-      dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
-      // pbrBlockReflectance0.fx: specularEnvironmentR90 = reflectivityOut.reflectanceF90, which
-      // pbrBlockReflectivity.fx (metallic workflow) makes mix(metallicReflectanceFactors.a, 1,
-      // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
-      // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
-      const float r90 = mixf(specular, 1.0f, float(m.metallic));
-      // pbrBlockIridescence.fx iridescenceBlock (KHR_materials_iridescence.ts: intensity, IOR, maximum
-      // thickness): specularEnvironmentR0 = mix(R0, evalIridescence(1, IOR, NdotV, thickness, R0), intensity)
-      iridescent_f0(m, nv, f0);
-      for (int c = 0; c < 3; ++c) {
-        // getReflectanceFromBRDFLookup (height-correlated, metallic workflow): (R90 - R0) x + R0 y;
-        // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
-        const float reflectance = (r90 - f0[c]) * bias + f0[c] * albedo;
-        const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);
-        out[c] = light[c] * reflectance * k + irr[c] * cd[c];  // finalRadianceScaled + finalIrradiance
-      }
+    case EngineTarget::Babylon:
+      base_babylon(m, in, out);
       break;
-    }
-    case EngineTarget::KhronosViewer: {
-      // ibl.glsl getIBLRadianceGGX and getIBLRadianceLambertian; material_info.glsl getIorInfo and
-      // getSpecularInfo: f0 = mix(min(f0_ior specularColorFactor, 1), baseColor, metallic) without the
-      // specular factor, which both functions apply as specularWeight (to metals too)
-      const float nv = std::clamp(dot_nv, 0.0f, 1.0f), r = float(m.roughness);
-      const float lod = r * levels_minus_one;
-      const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy),
-                      double(2.0f * dot_nv * nz - vz)};
-      float light[3], bias = 0, albedo = 0;
-      trilinear(refl, lod, light);
-      dfg(std::clamp(nv, 0.0f, 1.0f), std::clamp(r, 0.0f, 1.0f), &bias, &albedo);
-      const float fa = albedo - bias, fb = bias;  // f_ab: scale, bias
-      const Rgb f0_sv = sample_viewer_f0(m);
-      const float f0v[3] = {float(f0_sv.r), float(f0_sv.g), float(f0_sv.b)}, sw = specular;
-      // KHR_materials_iridescence (pbr.frag): iridescenceFresnel = evalIridescence(1, iridescenceIor, NdotV,
-      // thickness, f0); getIBLRadianceGGXIridescence mixes it into k_S, getIBLRadianceLambertianIridescence
-      // mixes F0 with max3(Schlick_to_F0(iridescenceFresnel, NdotV))
-      float film = 0.0f, film_fresnel[3] = {0, 0, 0}, f0l[3] = {f0v[0], f0v[1], f0v[2]};
-      const bool iridescent = split_sum_film(m, nv, f0v, &film, film_fresnel);
-      if (iridescent) {
-        const float f0_max = std::max({schlick_to_f0(film_fresnel[0], nv), schlick_to_f0(film_fresnel[1], nv),
-                                       schlick_to_f0(film_fresnel[2], nv)});
-        for (int c = 0; c < 3; ++c) f0l[c] = mixf(f0v[c], f0_max, film);
-      }
-      for (int c = 0; c < 3; ++c) {
-        const float fr = std::max(1.0f - r, f0v[c]) - f0v[c];
-        const float ks0 = f0v[c] + fr * pow5(1.0f - nv);
-        const float ks = iridescent ? mixf(ks0, film_fresnel[c], film) : ks0;
-        const float frd = std::max(1.0f - r, f0l[c]) - f0l[c];
-        const float ksd = f0l[c] + frd * pow5(1.0f - nv);
-        const float fss_ess = sw * ksd * fa + fb;  // getIBLRadianceLambertian's (its bias not weighted)
-        const float ems = 1.0f - (fa + fb);
-        const float favg = sw * (f0l[c] + (1.0f - f0l[c]) / 21.0f);
-        const float fms_ems = ems * fss_ess * favg / (1.0f - favg * ems);
-        const float kd = cd[c] * (1.0f - fss_ess + fms_ems);
-        out[c] = sw * light[c] * (ks * fa + fb) + (fms_ems + kd) * irr[c];  // getIBLRadianceGGX's
-      }
+    case EngineTarget::KhronosViewer:
+      base_khronos_viewer(m, in, out);
       break;
-    }
   }
   if (preview_has_sheen(m) && renders_sheen()) sheen(nd, vd, m, out);
   if (m.clearcoat > 0.0) coat(nd, vd, m, out);

@@ -38,6 +38,16 @@ class SplitSum {
   static void trilinear_in(const std::vector<Level>& chain, const Vec3& d, float lod, float out[3]);
   void dfg(float n_dot_v, float roughness, float* bias, float* albedo) const;
   void diffuse(const Vec3& n, float out[3]) const;
+  // What shade() computes once for every target: F0, the diffuse colour, F90, the specular factor,
+  // n and v in fp32, n.v, the chain's last level and the diffuse irradiance.
+  struct BaseInputs {
+    float f0[3], cd[3], f90, specular, nx, ny, nz, vx, vy, vz, dot_nv, levels_minus_one, irr[3];
+  };
+  // Each target's base shading (specular + diffuse, before sheen and coat) into `out`.
+  void base_generic(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const;
+  void base_filament(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const;
+  void base_babylon(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const;  // and gltf
+  void base_khronos_viewer(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const;
   // KHR_materials_clearcoat layered over the shaded base `out`, as the target's shader does.
   void coat(const Vec3& n, const Vec3& v, const PreviewMaterial& m, float out[3]) const;
   // KHR_materials_sheen over the shaded base `out` (before the coat), as the target's shader does.
