@@ -22,6 +22,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/conventions.hpp"
+#include "engines/babylon_frame.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
@@ -428,7 +429,8 @@ TEST(BabylonEnv, RoundTripsFieldByFieldWithinRgbdPrecision) {
         const uint8_t* t = &rgba[4 * (size_t(j) * size_t(w) + size_t(i))];
         double d[3];
         io::rgbd_decode(t, d);
-        const float* ref = chain.texel(level, face, i, j);
+        // Babylon.js reads row 0 of a face image as the face's last row: written bottom row first
+        const float* ref = chain.texel(level, face, i, h - 1 - j);
         for (int c = 0; c < 3; ++c) {
           // within half an 8-bit step of RGBD at this code: the encoding's precision
           ASSERT_LE(std::fabs(d[c] - double(ref[c])), io::rgbd_half_step(t, c) * (1 + 1e-9))
@@ -494,19 +496,54 @@ TEST(GltfIbl, DocumentImagesAndCoefficients) {
   ASSERT_EQ(light.at("specularImages").size(), 2u);
   const auto e = gltf_irradiance_coefficients(sh);
   ASSERT_EQ(light.at("irradianceCoefficients").size(), 9u);
-  EXPECT_DOUBLE_EQ(light.at("irradianceCoefficients")[3][0].get<double>(), e[3][0]);
-  // every referenced image exists and is an RGBA PNG of its level's size
+  // for Babylon.js's default left-handed scene (engines/babylon_frame.hpp): mirrored in x, so l11 (x)
+  // changes sign and l00 does not; rotation identity
+  EXPECT_DOUBLE_EQ(light.at("irradianceCoefficients")[3][0].get<double>(), -e[3][0]);
+  EXPECT_DOUBLE_EQ(light.at("irradianceCoefficients")[0][0].get<double>(), e[0][0]);
+  EXPECT_EQ(light.at("rotation"), nlohmann::json::array({0.0, 0.0, 0.0, 1.0}));
+  EXPECT_EQ(g.at("asset").at("extras").at("brdfbake").at("babylon_scene"), "left-handed");
+  // every referenced image exists and is an RGBA PNG of its level's size, holding the mirrored cube
+  // bottom row first: texel (i, j) of face f at image row s - 1 - j is the source's (-x, y, z) texel
+  const CubeLevels mirrored = detail::mirror_cube_x(chain);
   for (size_t l = 0; l < 2; ++l)
     for (size_t f = 0; f < 6; ++f) {
       const int index = light.at("specularImages")[l][f];
       const std::string uri = g.at("images")[size_t(index)].at("uri");
       const auto png = read_all(dir / uri);
       int w = 0, h = 0;
-      io::decode_png_rgba8(png.data(), png.size(), &w, &h);
+      const auto rgba = io::decode_png_rgba8(png.data(), png.size(), &w, &h);
       EXPECT_EQ(w, 32 >> l);
+      // a bright texel (the chain grows as (a b)^3 towards the corner i, j = size - 1 of every face), so that
+      // the row order and the mirror both move it by far more than RGBD's precision (3 %: half an 8-bit
+      // step of gamma 2.2 is 1.3 % at 0.05, less above)
+      const int i = 2, j = h - 3;  // the mirror takes it from i = size - 3 of the source
+      double d[3];
+      io::rgbd_decode(&rgba[4 * (size_t(h - 1 - j) * size_t(w) + size_t(i))], d);
+      const float* ref = mirrored.texel(int(l), int(f), i, j);
+      EXPECT_NEAR(d[0], double(ref[0]), 0.03 * double(ref[0])) << "level " << l << " face " << f;
+      EXPECT_GT(std::fabs(double(ref[0]) - double(mirrored.texel(int(l), int(f), i, h - 1 - j)[0])),
+                0.1 * double(ref[0]));
     }
-  o.rotation = {0, 0, -1, 0};  // outside the schema's [0, 1]
-  EXPECT_THROW(write_engine_files(EngineTarget::Gltf, bake, temp_dir("gltf-bad").string(), o), Error);
+  // for a right-handed scene: the cube and coefficients as they are, rotation (0, 1, 0, 0)
+  o.gltf_scene = GltfScene::RightHanded;
+  const fs::path rh = temp_dir("gltf-rh");
+  write_engine_files(EngineTarget::Gltf, bake, rh.string(), o);
+  const auto rtext = read_all(rh / "env.gltf");
+  const auto rg = nlohmann::json::parse(rtext.begin(), rtext.end());
+  const auto& rlight = rg.at("extensions").at("EXT_lights_image_based").at("lights")[0];
+  EXPECT_DOUBLE_EQ(rlight.at("irradianceCoefficients")[3][0].get<double>(), e[3][0]);
+  EXPECT_EQ(rlight.at("rotation"), nlohmann::json::array({0.0, 1.0, 0.0, 0.0}));
+}
+
+TEST(GltfIbl, MirroringInXIsAnExactInvolution) {
+  const CubeLevels chain = synthetic_chain(8, 1, RoughnessSchedule::Linear);
+  const CubeLevels twice = detail::mirror_cube_x(detail::mirror_cube_x(chain));
+  ASSERT_EQ(twice.levels, chain.levels);
+  const CubeLevels once = detail::mirror_cube_x(chain);
+  // +X face's texel (i, j) looks along (1, -b, -a): mirrored, it holds -X's texel at (-1, -b, -a),
+  // which is -X's (s - 1 - i, j)
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(once.texel(0, 0, i, j)[0], chain.texel(0, 1, 7 - i, j)[0]);
 }
 
 // ---- ASTC HDR KTX2 ------------------------------------------------------------------------------

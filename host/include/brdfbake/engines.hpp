@@ -87,14 +87,21 @@ struct EngineBake {
 // ASTC HDR compression of KTX2 chains (generic, khronos-viewer).
 enum class AstcBlock { None, Astc4x4, Astc6x6 };
 
+// The Babylon.js scene an EXT_lights_image_based light is written for (docs/ENGINES.md, "Row order
+// and frame"): Babylon.js's default left-handed scene, whose glTF loader mirrors the glTF content in x
+// but not the light's cube (the file stores the environment mirrored, rotation identity), or a
+// right-handed one (scene.useRightHandedSystem), which turns every cube 180 degrees about +Y (the
+// file stores the environment as it is, with the extension's rotation (0, 1, 0, 0)).
+enum class GltfScene { LeftHanded, RightHanded };
+
 struct EngineWriteOptions {
   std::string name;             // base name of the files; default: the folder's name (as cmgen -x)
   bool override_pixel = false;  // use `pixel` instead of the target's (containers only)
   PixelType pixel = PixelType::F16;
-  AstcBlock astc = AstcBlock::None;                       // generic / khronos-viewer: ASTC HDR KTX2 instead of RGBA16F
-  double astc_quality = 60.0;                             // astcenc effort 0..100 (ASTCENC_PRE_MEDIUM)
-  double intensity = 1.0;                                 // gltf: the light's intensity
-  std::array<double, 4> rotation = {0.0, 0.0, 0.0, 1.0};  // gltf: the light's quaternion
+  AstcBlock astc = AstcBlock::None;              // generic / khronos-viewer: ASTC HDR KTX2 instead of RGBA16F
+  double astc_quality = 60.0;                    // astcenc effort 0..100 (ASTCENC_PRE_MEDIUM)
+  double intensity = 1.0;                        // gltf: the light's intensity
+  GltfScene gltf_scene = GltfScene::LeftHanded;  // gltf: the scene it is for (frame, rotation)
 };
 
 struct EngineWriteResult {

@@ -123,6 +123,10 @@ struct PreviewSpec {
   // refinement: the reference's bound is measured on them.
   int bound_stride = 8;
   Precision precision = Precision::Fp32;
+  // gltf, babylon: Babylon.js's PBRBRDFConfiguration.DEFAULT_MIX_IBL_RADIANCE_WITH_IRRADIANCE (true
+  // in Babylon.js 8.46.2): the split-sum render mixes the reflection with the irradiance by alphaG as
+  // Babylon.js does; false: as a scene that switched it off.
+  bool mix_ibl_radiance_with_irradiance = true;
 };
 
 // ---- The result ---------------------------------------------------------------------------------

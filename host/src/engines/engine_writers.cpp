@@ -11,6 +11,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/version.hpp"
+#include "engines/babylon_frame.hpp"
 #include "families/delivery.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
@@ -203,13 +204,14 @@ struct RgbdStats {
   size_t clamped = 0;
 };
 
+// One face of one level as Babylon.js reads it: bottom row first (babylon_frame.hpp).
 std::vector<uint8_t> rgbd_face_png(const CubeLevels& cube, int level, int face, RgbdStats& stats) {
   const int s = cube.level_size(level);
   std::vector<uint8_t> rgba(size_t(s) * size_t(s) * 4);
   for (int j = 0; j < s; ++j)
     for (int i = 0; i < s; ++i) {
       const float* t = cube.texel(level, face, i, j);
-      uint8_t* p = &rgba[4 * (size_t(j) * size_t(s) + size_t(i))];
+      uint8_t* p = &rgba[4 * (size_t(s - 1 - j) * size_t(s) + size_t(i))];
       bool clamped = false;
       io::rgbd_encode(t, p, &clamped);
       if (clamped) ++stats.clamped;
@@ -236,11 +238,16 @@ nlohmann::ordered_json metadata_json(const Metadata& m) {
 
 std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake, const std::string& name,
                                 const EngineWriteOptions& o, Metadata& delivered) {
-  for (double q : o.rotation)
-    if (!(q >= 0.0 && q <= 1.0))
-      throw Error("engine files: EXT_lights_image_based's schema limits each rotation component to [0, 1]");
   if (!(o.intensity >= 0.0) || !std::isfinite(o.intensity)) throw Error("engine files: intensity must be >= 0");
-  const CubeLevels chain = with_target_metadata(*bake.prefiltered, s);
+  // the frame of the scene the file is for (babylon_frame.hpp): mirrored in x for a left-handed one
+  const bool mirrored = o.gltf_scene == GltfScene::LeftHanded;
+  CubeLevels chain = with_target_metadata(mirrored ? detail::mirror_cube_x(*bake.prefiltered) : *bake.prefiltered, s);
+  chain.set_meta("babylon_scene", detail::gltf_scene_name(o.gltf_scene));
+  chain.set_meta("frame", mirrored ? "the environment mirrored in x (x, y, z) -> (-x, y, z): Babylon.js's left-handed "
+                                     "scene mirrors the glTF content, not the light"
+                                   : "the environment's; rotation (0, 1, 0, 0) undoes the 180-degree turn of a "
+                                     "right-handed Babylon.js scene");
+  chain.set_meta("face_rows", "bottom row first (Babylon.js reads row 0 of a face image as its last row)");
   std::vector<OutFile> files;
   nlohmann::ordered_json images = nlohmann::ordered_json::array();
   nlohmann::ordered_json specular = nlohmann::ordered_json::array();
@@ -256,11 +263,13 @@ std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake,
     specular.push_back(faces);
   }
   nlohmann::ordered_json coefficients = nlohmann::ordered_json::array();
-  for (const Rgb3& c : gltf_irradiance_coefficients(*bake.sh)) coefficients.push_back(c);
+  const std::array<Rgb3, 9> irradiance = gltf_irradiance_coefficients(*bake.sh);
+  for (const Rgb3& c : mirrored ? detail::mirror_gltf_coefficients_x(irradiance) : irradiance)
+    coefficients.push_back(c);
   nlohmann::ordered_json light;
   light["name"] = name;
   light["intensity"] = o.intensity;  // always written: Babylon's loader scales the SH by it unchecked
-  light["rotation"] = o.rotation;
+  light["rotation"] = detail::gltf_scene_rotation(o.gltf_scene);
   light["irradianceCoefficients"] = coefficients;
   light["specularImageSize"] = chain.size;
   light["specularImages"] = specular;
@@ -295,6 +304,7 @@ std::vector<OutFile> babylon_files(const EngineSettings& s, const EngineBake& ba
     for (int f = 0; f < 6; ++f) env.images.push_back(rgbd_face_png(chain, l, f, stats));
   Metadata meta = chain.metadata;
   meta.emplace_back("sh_convention", s.sh_description);
+  meta.emplace_back("face_rows", "bottom row first (Babylon.js reads row 0 of a face image as its last row)");
   meta.emplace_back("rgbd_max_error_rel_to_texel_max", detail::bound_text(stats.max_rel));
   meta.emplace_back("rgbd_clamped_texels", std::to_string(stats.clamped));
   env.extra["brdfbake"] = metadata_json(meta);

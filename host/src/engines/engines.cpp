@@ -125,7 +125,10 @@ EngineSettings engine_settings(EngineTarget target) {
       s.sh_description =
           "irradianceCoefficients: 9 x RGB E_lm = A_l w_l L_lm in the SH basis with the Condon-Shortley phase "
           "(the Babylon.js loader divides by pi twice on the way to its polynomial, as for its own cubes)";
-      s.orientation = faces + "; PNG row 0 = face row 0 (Babylon's loader uploads without flipping)";
+      s.orientation = faces +
+                      "; each face PNG bottom row first (Babylon.js reads row 0 as the face's last row); the cube "
+                      "mirrored in x for Babylon.js's default left-handed scene (rotation identity), or as it is with "
+                      "rotation (0, 1, 0, 0) for a right-handed one";
       s.files = {"NAME.gltf", "NAME_specular_<level>_<px|nx|py|ny|pz|nz>.png"};
       break;
     case EngineTarget::Babylon:
@@ -145,7 +148,7 @@ EngineSettings engine_settings(EngineTarget target) {
       s.sh_description =
           "manifest irradiance: Babylon's spherical polynomial (x, y, z, xx, yy, zz, yz, zx, xy) = "
           "SphericalPolynomial.FromHarmonics of the irradiance SH / pi, with Babylon's constants";
-      s.orientation = faces + "; PNG row 0 = face row 0";
+      s.orientation = faces + "; each face PNG bottom row first (Babylon.js reads row 0 as the face's last row)";
       s.files = {"NAME.env"};
       break;
     case EngineTarget::KhronosViewer:

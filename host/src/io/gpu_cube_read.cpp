@@ -197,9 +197,10 @@ CubeLevels decode_rgbd_cube(const std::vector<std::vector<std::vector<uint8_t>>>
                     std::to_string(w) + "x" + std::to_string(h) + ", expected " + std::to_string(s) + "x" +
                     std::to_string(s));
       for (size_t t = 0; t < size_t(s) * size_t(s); ++t) {
-        // fromRGBD in fp32, then stored as binary16
+        // fromRGBD in fp32, then stored as binary16; row 0 of the image is the face's last row
         const float a = float(px[4 * t + 3]) / 255.0f;
-        float* out = &rgba[4 * (f * size_t(s) * size_t(s) + t)];
+        const size_t row = t / size_t(s), column = t % size_t(s);
+        float* out = &rgba[4 * (f * size_t(s) * size_t(s) + (size_t(s) - 1 - row) * size_t(s) + column)];
         for (int c = 0; c < 3; ++c) {
           const float v = a > 0.0f ? std::pow(float(px[4 * t + size_t(c)]) / 255.0f, 2.2f) / a : 0.0f;
           out[c] = half_bits_to_float(float_to_half_bits(v));

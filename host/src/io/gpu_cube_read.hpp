@@ -32,7 +32,8 @@ CubeLevels read_gpu_cube(const std::string& path, std::string* format = nullptr,
                          std::vector<std::pair<std::string, std::string>>* key_values = nullptr);
 
 // Babylon.js's RGBD faces: levels[l][f] the PNG bytes of face f (+X, -X, +Y, -Y, +Z, -Z) of level l,
-// level 0 the largest (face size `size`, halved each level). `origin` names them in messages.
+// level 0 the largest (face size `size`, halved each level), read as Babylon.js 8.46.2 reads them: row
+// 0 of an image is the face's last row (engines/babylon_frame.hpp). `origin` names them in messages.
 CubeLevels decode_rgbd_cube(const std::vector<std::vector<std::vector<uint8_t>>>& levels, int size,
                             const std::string& origin);
 

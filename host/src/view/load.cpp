@@ -16,6 +16,7 @@
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
+#include "engines/babylon_frame.hpp"
 #include "io/babylon_env.hpp"
 #include "io/dds.hpp"
 #include "io/gpu_cube_read.hpp"
@@ -524,6 +525,7 @@ struct GltfLight {
   std::vector<std::vector<std::string>> faces;
   int size = 0;
   std::array<Rgb3, 9> coefficients{};
+  std::array<double, 4> rotation = {0.0, 0.0, 0.0, 1.0};
   Metadata metadata;
 };
 
@@ -553,6 +555,7 @@ std::optional<GltfLight> gltf_light(const std::string& path) {
       for (size_t ch = 0; ch < 3; ++ch) out.coefficients[k][ch] = c.at(k).at(ch).get<double>();
     if (j.contains("asset") && j["asset"].contains("extras") && j["asset"]["extras"].contains("brdfbake"))
       out.metadata = metadata_object(j["asset"]["extras"]["brdfbake"]);
+    if (light->contains("rotation")) out.rotation = light->at("rotation").get<std::array<double, 4>>();
   } catch (const json::exception& e) {
     throw Error("cannot view '" + path + "': a malformed EXT_lights_image_based light (" + e.what() + ")");
   }
@@ -575,8 +578,12 @@ Item read_gltf_file(const std::string& path) {
   Item it;
   it.kind = "cube (glTF EXT_lights_image_based, RGBD PNG faces)";
   CubeLevels cube = io::decode_rgbd_cube(levels, light->size, "cannot view '" + path + "'");
+  // in the glTF frame, as the Babylon.js scene its rotation is for samples it
+  std::array<Rgb3, 9> coefficients = light->coefficients;
+  detail::gltf_light_to_scene_frame(detail::gltf_scene_of_rotation(light->rotation, "cannot view '" + path + "'"), cube,
+                                    coefficients);
   cube.metadata = light->metadata;
-  it.irradiance = sh_from_engine(light->coefficients, gltf_irradiance_coefficients, "as written",
+  it.irradiance = sh_from_engine(coefficients, gltf_irradiance_coefficients, "as written",
                                  {{"sh_convention", "EXT_lights_image_based irradianceCoefficients"}});
   it.content = std::move(cube);
   return it;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "brdfbake/error.hpp"
+#include "engines/babylon_frame.hpp"
 #include "io/babylon_env.hpp"
 #include "io/gpu_cube_read.hpp"
 #include "io/json_input.hpp"
@@ -161,6 +162,15 @@ void read_gltf_lighting(const json& manifest, BakeFiles& b) {
   b.diffuse = DiffuseSource::GltfSh;
   b.diffuse_file = b.specular_file + " (irradianceCoefficients)";
   b.sh = numbers(light.at("irradianceCoefficients"), b.specular_file);
+  // the scene its rotation is for, and the cube and harmonics as that scene samples them in the glTF
+  // frame (engines/babylon_frame.hpp)
+  std::array<double, 4> rotation = {0.0, 0.0, 0.0, 1.0};
+  if (light.contains("rotation")) rotation = light.at("rotation").get<std::array<double, 4>>();
+  b.gltf_scene = detail::gltf_scene_of_rotation(rotation, b.specular_file);
+  std::array<Rgb3, 9> c{};
+  for (size_t k = 0; k < 27; ++k) c[k / 3][k % 3] = b.sh[k];
+  detail::gltf_light_to_scene_frame(b.gltf_scene, b.specular, c);
+  for (size_t k = 0; k < 27; ++k) b.sh[k] = c[k / 3][k % 3];
 }
 
 // The specular chain and the diffuse source the target's shader samples.

@@ -34,7 +34,10 @@ struct BakeFiles {
   CubeLevels irradiance;  // IrradianceCube
   std::string diffuse_file;
   double lod_scale = 0.8;  // Babylon.js's lodGenerationScale (.env: the file's; glTF: (N - 1) / log2 S)
-  Metadata settings;       // what was read, for the preview's JSON
+  // gltf: the Babylon.js scene the light's rotation is for; `specular` and `sh` are in the glTF frame,
+  // as that scene samples them (engines/babylon_frame.hpp)
+  GltfScene gltf_scene = GltfScene::LeftHanded;
+  Metadata settings;  // what was read, for the preview's JSON
   // KHR_materials_sheen, when the bake holds them (a bake planned from sheened materials): the
   // Charlie chain the target's shader samples (generic: the prefilter entry of distribution charlie;
   // khronos-viewer: NAME_charlie.ktx2; filament samples its GGX chain) and the charlie DFG table.

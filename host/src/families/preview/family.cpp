@@ -91,6 +91,11 @@ SpecSchema<PreviewSpec> preview_schema() {
                      "every this many pixels of a sphere (at least 16 a sphere) measure the reference's bound")
                 .range(1, 1 << 20)
                 .def(double(d.bound_stride)))
+      .bind(&PreviewSpec::mix_ibl_radiance_with_irradiance, "mix_ibl_radiance_with_irradiance",
+            ParamDef("mix_ibl_radiance_with_irradiance", T::Flag,
+                     "gltf, babylon: Babylon.js's PBRBRDFConfiguration.DEFAULT_MIX_IBL_RADIANCE_WITH_IRRADIANCE, on in "
+                     "8.46.2 (--no-mix-ibl-radiance-with-irradiance: as a scene that turned it off)")
+                .def(d.mix_ibl_radiance_with_irradiance))
       .common("precision", "precision", [](PreviewSpec& p, const TableRequest& t) { p.precision = t.precision; });
   return s;
 }

@@ -278,6 +278,17 @@ std::vector<SpherePixel> sphere_pixels(const Layout& l) {
               x1 = std::min(l.width - 1, int(std::ceil(sp.centre_x + sp.radius)));
     const int y0 = std::max(0, int(std::floor(sp.centre_y - sp.radius))),
               y1 = std::min(l.height - 1, int(std::ceil(sp.centre_y + sp.radius)));
+    // the normal at a pixel centre in the camera's (right, -up, v) frame; false off the sphere
+    auto normal_at = [&](int x, int y, double n[3]) {
+      const double dx = (x + 0.5 - sp.centre_x) / sp.radius, dy = (y + 0.5 - sp.centre_y) / sp.radius;
+      const double d2 = dx * dx + dy * dy;
+      if (!(d2 < 1.0)) return false;
+      n[0] = dx, n[1] = dy, n[2] = std::sqrt(1.0 - d2);
+      return true;
+    };
+    auto dist2 = [](const double a[3], const double b[3]) {
+      return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+    };
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const double dx = (x + 0.5 - sp.centre_x) / sp.radius, dy = (y + 0.5 - sp.centre_y) / sp.radius;
@@ -285,6 +296,13 @@ std::vector<SpherePixel> sphere_pixels(const Layout& l) {
         if (!(d2 < 1.0)) continue;
         const double nz = std::sqrt(1.0 - d2);
         SpherePixel p;
+        double q00[3], q10[3], q01[3], q11[3];
+        const int qx = x & ~1, qy = y & ~1;
+        if (normal_at(qx, qy, q00) && normal_at(qx + 1, qy, q10) && normal_at(qx, qy + 1, q01) &&
+            normal_at(qx + 1, qy + 1, q11))
+          p.normal_slope2 = std::max(dist2(q10, q00), dist2(q01, q00));
+        else  // d n / d x = (right - (dx / nz) v) / radius, likewise in y
+          p.normal_slope2 = (1.0 + std::max(dx * dx, dy * dy) / std::max(nz * nz, 1e-12)) / (sp.radius * sp.radius);
         p.x = x;
         p.y = y;
         p.sphere = int(s);

@@ -33,6 +33,10 @@ struct SpherePixel {
   int sphere = 0;
   Vec3 n{0.0, 0.0, 1.0};
   double n_dot_v = 1.0;
+  // max(|dn/dx|^2, |dn/dy|^2): the normal's screen-space derivatives as a GPU takes them, coarse (one
+  // pair a 2 x 2 quad: the difference along its top row and down its left column, as SwiftShader's
+  // dFdx / dFdy), analytic where the quad leaves the sphere. For Babylon.js's specular anti-aliasing.
+  double normal_slope2 = 0.0;
 };
 std::vector<SpherePixel> sphere_pixels(const Layout& layout);
 

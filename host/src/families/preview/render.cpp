@@ -259,7 +259,7 @@ void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixe
     for (int y = 0; y < layout.height; ++y)
       for (int x = 0; x < layout.width; ++x) put(res.splitsum, x, y, split.sky(background_direction(layout, x, y)));
   for (const SpherePixel& p : pixels)
-    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material));
+    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material, float(p.normal_slope2)));
 }
 
 // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
@@ -608,7 +608,9 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
     res.times.bake = since(t0);
   }
   auto t0 = Clock::now();
-  SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source));
+  SplitSumOptions split_options;
+  split_options.babylon_mix_ibl_radiance_with_irradiance = res.spec.mix_ibl_radiance_with_irradiance;
+  SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source), split_options);
   res.times.read = since(t0);
   res.bake = split.files().settings;
   if (temp)

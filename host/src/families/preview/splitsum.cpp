@@ -155,7 +155,12 @@ float pow5(float x) {
 
 }  // namespace
 
-SplitSum::SplitSum(BakeFiles files) : files_(std::move(files)) {
+SplitSum::SplitSum(BakeFiles files, SplitSumOptions options) : files_(std::move(files)), options_(options) {
+  // Babylon.js 8.46.2's glTF loader (EXT_lights_image_based.ts): a RawCubeTexture, whose gammaSpace
+  // stays true, so the PBR shader raises every reflection sample to 2.2 (GAMMAREFLECTION); and
+  // `enableSpecularAntiAliasing = true` on every material it makes (glTFLoader.ts, _createDefaultMaterial)
+  reflection_gamma_ = files_.target == EngineTarget::Gltf;
+  specular_aa_ = files_.target == EngineTarget::Gltf;
   // Babylon.js evaluates harmonics pre-scaled from the spherical polynomial (the .env's), or from the
   // polynomial its glTF loader makes of irradianceCoefficients (EXT_lights_image_based.ts:
   // FromArray, convertIrradianceToLambertianRadiance, SphericalPolynomial.FromHarmonics).
@@ -214,6 +219,12 @@ void SplitSum::trilinear_in(const std::vector<Level>& chain, const Vec3& d, floa
 }
 
 void SplitSum::trilinear(const Vec3& d, float lod, float out[3]) const { trilinear_in(levels_, d, lod, out); }
+
+void SplitSum::reflection(const Vec3& d, float lod, float out[3]) const {
+  trilinear(d, lod, out);
+  if (reflection_gamma_)  // helperFunctions.fx toLinearSpace: pow(color, LinearEncodePowerApprox 2.2)
+    for (int c = 0; c < 3; ++c) out[c] = std::pow(out[c], 2.2f);
+}
 
 namespace {
 
@@ -375,25 +386,32 @@ void SplitSum::base_filament(const PreviewMaterial& m, const BaseInputs& in, flo
 
 void SplitSum::base_babylon(const PreviewMaterial& m, const BaseInputs& in, float out[3]) const {
   const float nx = in.nx, ny = in.ny, nz = in.nz, vx = in.vx, vy = in.vy, vz = in.vz, dot_nv = in.dot_nv;
-  const float* cd = in.cd;
   const float* irr = in.irr;
   float f0[3] = {in.f0[0], in.f0[1], in.f0[2]};
   const float specular = in.specular;
   // pbrBlockGeometryInfo: NdotV = absEps(dot(n, v)) = |NdotV| + 1e-7;
-  // alphaG = convertRoughnessToAverageSlope(roughness) = roughness^2 + MINIMUMVARIANCE (0.0005)
+  // alphaG = convertRoughnessToAverageSlope(roughness) = roughness^2 + MINIMUMVARIANCE (0.0005),
+  // + AARoughnessFactors.y under SPECULARAA (getAARoughnessFactors: 0.75 sqrt(slopeSquare))
   const float nv = std::fabs(dot_nv) + 1e-7f, r = float(m.roughness);
-  const float alpha_g = r * r + 0.0005f;
+  const float alpha_g = r * r + 0.0005f + in.aa_alpha_g;
   // sampleReflectionTexture: lod = getLodFromAlphaG(size, alphaG) * lodGenerationScale + offset
   const float lod = std::log2(float(files_.specular.size) * alpha_g) * float(files_.lod_scale);
   const Vec3 refl{double(2.0f * dot_nv * nx - vx), double(2.0f * dot_nv * ny - vy), double(2.0f * dot_nv * nz - vz)};
   float light[3], bias = 0, albedo = 0;
-  trilinear(refl, lod, light);
+  reflection(refl, lod, light);
+  // reflectionBlock, MIX_IBL_RADIANCE_WITH_IRRADIANCE (PBRBRDFConfiguration's default since 7.45):
+  // environmentRadiance = mix(environmentRadiance, environmentIrradiance, alphaG)
+  if (options_.babylon_mix_ibl_radiance_with_irradiance)
+    for (int c = 0; c < 3; ++c) light[c] = mixf(light[c], irr[c], alpha_g);
   dfg(nv, r, &bias, &albedo);  // getBRDFLookup(NdotV, roughness)
-  // pbrBlockReflectance0.fx: specularEnvironmentR90 = reflectivityOut.reflectanceF90, which
-  // pbrBlockReflectivity.fx (metallic workflow) makes mix(metallicReflectanceFactors.a, 1,
-  // metallic); the glTF loader's KHR_materials_specular sets .a (metallicF0Factor) to
-  // specularFactor: R90 = mix(specularFactor, 1, metallic), glTF's F90
-  const float r90 = mixf(specular, 1.0f, float(m.metallic));
+  // pbrBlockReflectivity.fx, LEGACY_SPECULAR_ENERGY_CONSERVATION (PBRBRDFConfiguration's default in
+  // 8.46.2), metallic workflow: dielectricF0 = reflectivityColor.a (((ior - 1) / (ior + 1))^2) x
+  // specularWeight (specularFactor); surfaceAlbedo = baseColor (1 - dielectricF0 surfaceReflectivityColor)
+  // (1 - metallic); reflectanceF90 = colorReflectanceF90 = specularWeight
+  const float f0_ior = float(std::pow((m.ior - 1.0) / (m.ior + 1.0), 2.0));
+  const float spec_color[3] = {float(m.specular_color.r), float(m.specular_color.g), float(m.specular_color.b)};
+  const float base[3] = {float(m.base_color.r), float(m.base_color.g), float(m.base_color.b)};
+  const float r90 = specular;
   // pbrBlockIridescence.fx iridescenceBlock (KHR_materials_iridescence.ts: intensity, IOR, maximum
   // thickness): specularEnvironmentR0 = mix(R0, evalIridescence(1, IOR, NdotV, thickness, R0), intensity)
   iridescent_f0(m, nv, f0);
@@ -402,7 +420,8 @@ void SplitSum::base_babylon(const PreviewMaterial& m, const BaseInputs& in, floa
     // getEnergyConservationFactor: 1 + R0 (1 / y - 1)
     const float reflectance = (r90 - f0[c]) * bias + f0[c] * albedo;
     const float k = 1.0f + f0[c] * (1.0f / albedo - 1.0f);
-    out[c] = light[c] * reflectance * k + irr[c] * cd[c];  // finalRadianceScaled + finalIrradiance
+    const float surface_albedo = base[c] * (1.0f - f0_ior * specular * spec_color[c]) * (1.0f - float(m.metallic));
+    out[c] = light[c] * reflectance * k + irr[c] * surface_albedo;  // finalRadianceScaled + finalIrradiance
   }
 }
 
@@ -449,8 +468,10 @@ void SplitSum::base_khronos_viewer(const PreviewMaterial& m, const BaseInputs& i
   }
 }
 
-Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) const {
+Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float normal_slope2) const {
   BaseInputs in;
+  // getAARoughnessFactors (pbrBRDFFunctions.fx): geometricAlphaGFactor = 0.75 sqrt(slopeSquare)
+  in.aa_alpha_g = specular_aa_ ? 0.75f * std::sqrt(std::max(normal_slope2, 0.0f)) : 0.0f;
   const Rgb f0d = preview_f0(m), cdd = preview_diffuse_color(m);
   in.f0[0] = float(f0d.r), in.f0[1] = float(f0d.g), in.f0[2] = float(f0d.b);  // generic and Babylon.js mix in the film
   in.cd[0] = float(cdd.r), in.cd[1] = float(cdd.g), in.cd[2] = float(cdd.b);
@@ -476,8 +497,8 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m) co
       base_khronos_viewer(m, in, out);
       break;
   }
-  if (preview_has_sheen(m) && renders_sheen()) sheen(nd, vd, m, out);
-  if (m.clearcoat > 0.0) coat(nd, vd, m, out);
+  if (preview_has_sheen(m) && renders_sheen()) sheen(nd, vd, m, in.aa_alpha_g, out);
+  if (m.clearcoat > 0.0) coat(nd, vd, m, in.aa_alpha_g, out);
   if (files_.target == EngineTarget::Gltf || files_.target == EngineTarget::Babylon)
     for (float& o : out) o = std::max(o, 0.0f);  // pbrBlockFinalColorComposition.fx: max(finalColor, 0)
   return {out[0], out[1], out[2]};
@@ -532,7 +553,7 @@ std::string SplitSum::sheen_note() const {
   return {};
 }
 
-void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {
+void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float aa_alpha_g, float out[3]) const {
   const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
               vz = float(vd.z);
   const float dot_nv = nx * vx + ny * vy + nz * vz;
@@ -585,9 +606,11 @@ void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, f
       // sheenRoughness) (NdotV the base's absEps); pbrBlockFinalLitComponents.fx: surfaceAlbedo and
       // finalRadianceScaled times sheenAlbedoScaling. b is the charlie table's E (sheen_note)
       const float nv = babylon::abs_eps(dot_nv), r = float(m.sheen_roughness);
-      trilinear(refl,
-                babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r), float(files_.lod_scale)),
-                light);
+      // sheenAlphaG += AARoughnessFactors.y under SPECULARAA
+      reflection(refl,
+                 babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r) + aa_alpha_g,
+                                         float(files_.lod_scale)),
+                 light);
       const babylon::Sheen s = babylon::sheen(c, 1.0f, charlie(nv, r));
       for (int k = 0; k < 3; ++k) out[k] = out[k] * s.albedo_scaling + light[k] * s.reflectance[k];
       return;
@@ -595,7 +618,7 @@ void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, f
   }
 }
 
-void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float out[3]) const {
+void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, float aa_alpha_g, float out[3]) const {
   // KHR_materials_clearcoat with the geometric normal (the sphere's): each target's layering of a
   // second GGX lobe over the base it has shaded into `out`
   const float nx = float(nd.x), ny = float(nd.y), nz = float(nd.z), vx = float(vd.x), vy = float(vd.y),
@@ -660,9 +683,11 @@ void SplitSum::coat(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, fl
       // intensity; the base (irradiance, radiance) and the sheen's radiance times conservationFactor
       // (pbrBlockReflectance.fx, pbrBlockFinalLitComponents.fx)
       const float nv = babylon::abs_eps(dot_nv), r = float(m.clearcoat_roughness);
-      trilinear(refl,
-                babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r), float(files_.lod_scale)),
-                light);
+      // clearCoatAlphaG += clearCoatAARoughnessFactors.y under SPECULARAA (the same normal here)
+      reflection(refl,
+                 babylon::reflection_lod(float(files_.specular.size), babylon::alpha_g(r) + aa_alpha_g,
+                                         float(files_.lod_scale)),
+                 light);
       float x = 0, y = 0;
       dfg(nv, r, &x, &y);  // height-correlated: (bias, albedo), as the base's lookup
       const babylon::ClearCoat k = babylon::clear_coat(cc, nv, x, y);
@@ -701,22 +726,50 @@ Metadata SplitSum::steps() const {
            "diffuseColor x Irradiance_SphericalHarmonics(n) (max(sum sh_k poly_k, 0), the KTX sh key) x (1 - E) "
            "(evaluateIBL)"}};
     case EngineTarget::Gltf:
-    case EngineTarget::Babylon:
-      return {
-          {"lod", "getLodFromAlphaG: log2(size (r^2 + 0.0005)) x lodGenerationScale " +
-                      std::to_string(files_.lod_scale) +
-                      (files_.target == EngineTarget::Gltf ? " ((N - 1) / log2 size, EXT_lights_image_based.ts)"
-                                                           : " (the .env's)") +
+    case EngineTarget::Babylon: {
+      const bool gltf = files_.target == EngineTarget::Gltf;
+      Metadata m = {
+          {"engine", "Babylon.js 8.46.2 defaults (PBRMaterial; the glTF loader's materials for gltf)"},
+          {"frame", gltf ? std::string("EXT_lights_image_based in Babylon.js's ") +
+                               (files_.gltf_scene == GltfScene::LeftHanded
+                                    ? "default left-handed scene: the loader mirrors the glTF content in x, not the "
+                                      "cube (the file stores it mirrored, rotation identity)"
+                                    : "right-handed scene: every cube turned 180 degrees about +Y, undone by the "
+                                      "light's rotation (0, 1, 0, 0)")
+                         : std::string("the .env's cube as stored")},
+          {"alpha_g", std::string("convertRoughnessToAverageSlope: roughness^2 + 0.0005") +
+                          (gltf ? " + 0.75 sqrt(max(|dFdx n|^2, |dFdy n|^2)) (SPECULARAA: the loader's "
+                                  "enableSpecularAntiAliasing; coarse derivatives of the analytic normal over each 2 x "
+                                  "2 pixel quad)"
+                                : "")},
+          {"lod", "getLodFromAlphaG: log2(size alphaG) x lodGenerationScale " + std::to_string(files_.lod_scale) +
+                      (gltf ? " ((N - 1) / log2 size, EXT_lights_image_based.ts)" : " (the .env's)") +
                       " (pbrBlockReflection.fx, sampleReflectionTexture)"},
-          {"specular_sample", cube + ", RGBD expanded to half float (environmentTextureTools.ts, _UploadLevelsAsync)"},
+          {"specular_sample",
+           cube +
+               ", faces read bottom row first, RGBD expanded to half float (environmentTextureTools.ts, "
+               "_UploadLevelsAsync)" +
+               (gltf ? std::string(", then toLinearSpace (x^2.2): the loader's RawCubeTexture keeps gammaSpace true "
+                                   "(GAMMAREFLECTION), so every reflection sample is decoded a second time")
+                     : std::string())},
+          {"mix_ibl_radiance_with_irradiance",
+           options_.babylon_mix_ibl_radiance_with_irradiance
+               ? "on (PBRBRDFConfiguration.DEFAULT_MIX_IBL_RADIANCE_WITH_IRRADIANCE): environmentRadiance = "
+                 "mix(environmentRadiance, environmentIrradiance, alphaG) (reflectionBlock)"
+               : "off (--no-mix-ibl-radiance-with-irradiance)"},
           {"dfg", lut + " (pbrBRDFFunctions.fx, getBRDFLookup(NdotV = |n.v| + 1e-7, roughness))"},
           {"specular",
-           "getReflectanceFromBRDFLookup: (1 - F0) x + F0 y, x getEnergyConservationFactor 1 + F0 (1 / y - 1) "
+           "getReflectanceFromBRDFLookup: (R90 - R0) x + R0 y, R90 = specularWeight (specularFactor: "
+           "LEGACY_SPECULAR_ENERGY_CONSERVATION's reflectanceF90), x getEnergyConservationFactor 1 + R0 (1 / y - 1) "
            "(pbrBlockFinalLitComponents.fx)"},
-          {"diffuse", std::string("surfaceAlbedo x environmentIrradiance (") +
-                          (files_.target == EngineTarget::Gltf ? "irradianceCoefficients / pi, SphericalHarmonics"
-                                                               : "the .env's spherical polynomial") +
-                          ", computeEnvironmentIrradiance)"}};
+          {"diffuse",
+           std::string("surfaceAlbedo x environmentIrradiance (") +
+               (gltf ? "irradianceCoefficients / pi, SphericalHarmonics" : "the .env's spherical polynomial") +
+               ", computeEnvironmentIrradiance); surfaceAlbedo = baseColor (1 - dielectricF0 "
+               "specularColor) (1 - metallic), dielectricF0 = ((ior - 1) / (ior + 1))^2 specularFactor "
+               "(LEGACY_SPECULAR_ENERGY_CONSERVATION, PBRBRDFConfiguration's default in 8.46.2)"}};
+      return m;
+    }
     case EngineTarget::KhronosViewer:
       return {{"lod", "roughness (u_MipCount - 1) (ibl.glsl, getIBLRadianceGGX)"},
               {"specular_sample", cube + ", at normalize(reflect(-v, n)) (getSpecularSample)"},

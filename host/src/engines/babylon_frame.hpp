@@ -1,0 +1,47 @@
+// Internal: how Babylon.js reads the cube faces and the frame of the files it loads (docs/ENGINES.md,
+// "Row order and frame"), shared by the writers of the `babylon` and `gltf` targets and by every reader
+// that must see what Babylon.js sees (the preview's split-sum render, `view`).
+//
+// Row order: Babylon.js 8.46.2 takes row 0 of a face image (a .env's PNGs, EXT_lights_image_based's
+// PNGs) as the face's last row, t = 1 in OpenGL's cube face coordinates, when it loads one and when it
+// writes its own. So the faces are written bottom row first (io::decode_rgbd_cube reads them so).
+//
+// Frame of an EXT_lights_image_based light: Babylon.js's glTF loader puts the glTF content under a root
+// that mirrors it in x in its default left-handed scene but does not mirror the light's cube, so a
+// direction (x, y, z) of the glTF scene samples the cube at (-x, y, z) (and its harmonics at (-x, y, z)).
+// A file for that scene stores the environment mirrored in x: the scene then sees it in the glTF frame.
+// A right-handed scene (scene.useRightHandedSystem) turns every cube 180 degrees about +Y, which the
+// extension's `rotation` (0, 1, 0, 0) undoes: a file for it stores the environment as it is, with that
+// rotation.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "brdfbake/engines.hpp"
+#include "brdfbake/environment.hpp"
+
+namespace brdfbake::detail {
+
+// The cube of directions (x, y, z) -> cube(-x, y, z): an exact texel permutation, level by level.
+CubeLevels mirror_cube_x(const CubeLevels& cube);
+
+// The irradiance coefficients of EXT_lights_image_based (order l00, l1-1, l10, l11, l2-2, l2-1, l20,
+// l21, l22: y, z, x, xy, yz, 3z^2 - 1, xz, x^2 - y^2) of the environment mirrored in x: the terms odd
+// in x (l11, l2-2, l21) change sign.
+std::array<Rgb3, 9> mirror_gltf_coefficients_x(std::array<Rgb3, 9> c);
+
+// The scene an EXT_lights_image_based file is written for: its rotation and whether it is mirrored.
+std::array<double, 4> gltf_scene_rotation(GltfScene scene);
+const char* gltf_scene_name(GltfScene scene);
+// "left-handed" / "right-handed"; throws Error naming `what` for anything else.
+GltfScene parse_gltf_scene(const std::string& name, const std::string& what);
+// The scene a light's `rotation` (x, y, z, w; absent: identity) is read in by the readers that show
+// what Babylon.js shows: identity, Babylon.js's default left-handed scene; (0, 1, 0, 0), a right-handed
+// one. Throws Error naming `what` for any other rotation (not emulated).
+GltfScene gltf_scene_of_rotation(const std::array<double, 4>& rotation, const std::string& what);
+// A light's cube and coefficients in the glTF scene's frame, as that scene samples them: un-mirrored
+// for a left-handed scene, as stored for a right-handed one (whose turn the rotation undoes).
+void gltf_light_to_scene_frame(GltfScene scene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients);
+
+}  // namespace brdfbake::detail
