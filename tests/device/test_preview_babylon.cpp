@@ -129,8 +129,9 @@ TEST(PreviewBabylon, WhiteFurnaceIsBabylonsFormulaFromTheBakesTables) {
   spec.width = 224;
   spec.height = 32;
   spec.columns = 7;
-  // (and two metals, of specularFactor 0.5 and 1: Babylon.js's R90 = mix(specularFactor, 1, metallic),
-  // pbrBlockReflectivity.fx, so a metal's specularFactor changes nothing: the same pixels, bit for bit)
+  // (and two metals, of specularFactor 0.5 and 1: under LEGACY_SPECULAR_ENERGY_CONSERVATION, Babylon.js
+  // 8.46.2's default, R90 = colorReflectanceF90 = specularWeight for metals too (pbrBlockReflectivity.fx),
+  // so the two differ by light (1 - 0.5) x (1 + F0 (1 / y - 1)), x and y the lookup at (n.v, roughness))
   PreviewMaterial metal_half = material("metal, specular 0.5", 0.0, 0.0, {0, 0, 0}, 0.0);
   metal_half.metallic = 1.0;
   metal_half.specular = 0.5;
@@ -155,7 +156,17 @@ TEST(PreviewBabylon, WhiteFurnaceIsBabylonsFormulaFromTheBakesTables) {
   for (const auto& p : pixels) {
     const size_t at = 3 * (size_t(p.y) * size_t(r.spec.width) + size_t(p.x));
     if (p.sphere == 5) {
-      for (size_t k = 0; k < 3; ++k) ASSERT_EQ(r.splitsum.rgb[at + k], r.splitsum.rgb[at + 3 * size_t(cell) + k]);
+      const double nv = std::fabs(p.n_dot_v) + 1e-7, rough = metal.roughness;
+      const int xi = files.dfg_multiscatter ? 0 : 1;
+      const double bx = lookup(files.dfg, files.dfg_sqrt_n_dot_v, nv, rough, xi);
+      const double by = files.dfg_multiscatter ? lookup(files.dfg, files.dfg_sqrt_n_dot_v, nv, rough, 1)
+                                               : bx + lookup(files.dfg, files.dfg_sqrt_n_dot_v, nv, rough, 0);
+      const double f0[3] = {metal.base_color.r, metal.base_color.g, metal.base_color.b};
+      for (size_t k = 0; k < 3; ++k) {
+        const double want = 0.5 * bx * (1.0 + f0[k] * (1.0 / by - 1.0));
+        const double got = double(r.splitsum.rgb[at + 3 * size_t(cell) + k]) - double(r.splitsum.rgb[at + k]);
+        ASSERT_NEAR(got, want, chain * double(r.splitsum.rgb[at + 3 * size_t(cell) + k]) + kFp32Shading);
+      }
       continue;
     }
     if (p.sphere > 3) continue;

@@ -449,11 +449,13 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
         }
       } else if (target == EngineTarget::Babylon) {
         // iridescenceBlock at NdotV = |n.v| + 1e-7 (absEps): R0 = mix(R0, F_irid, I); then
-        // getReflectanceFromBRDFLookup (R90 - R0) x + R0 y and getEnergyConservationFactor with it
+        // getReflectanceFromBRDFLookup (R90 - R0) x + R0 y and getEnergyConservationFactor with it; the
+        // diffuse colour x (1 - 0.04) (LEGACY_SPECULAR_ENERGY_CONSERVATION, Babylon.js 8.46.2's default);
+        // the reflection mixed with the irradiance (both 1 here) changes nothing in a white furnace
         const double x = files.dfg_multiscatter ? c0 : c1, y = files.dfg_multiscatter ? c1 : c0 + c1;
         for (int c = 0; c < 3; ++c) {
           const double f = f0 + (firid[c] - f0) * I;
-          want[c] = ((1.0 - f) * x + f * y) * (1.0 + f * (1.0 / y - 1.0)) + cd[c];
+          want[c] = ((1.0 - f) * x + f * y) * (1.0 + f * (1.0 / y - 1.0)) + cd[c] * (1.0 - f0);
           plain[c] = ((1.0 - f0) * x + f0 * y) * (1.0 + f0 * (1.0 / y - 1.0));
         }
       } else {
