@@ -408,9 +408,12 @@ TEST(BabylonEnv, RoundTripsFieldByFieldWithinRgbdPrecision) {
   EXPECT_EQ(m.at("width"), 16);
   EXPECT_EQ(m.at("imageType"), "image/png");
   EXPECT_DOUBLE_EQ(m.at("specular").at("lodGenerationScale").get<double>(), 0.8);
-  const auto p = babylon_polynomial(sh);
+  // Babylon.js's left-handed world (engines/babylon_frame.hpp): the polynomial and the cube mirrored in x
+  const auto p = detail::mirror_babylon_polynomial_x(babylon_polynomial(sh));
   for (size_t k = 0; k < 9; ++k)
     EXPECT_DOUBLE_EQ(m.at("irradiance").at(kBabylonPolynomialNames[k])[1].get<double>(), p[k][1]);
+  EXPECT_DOUBLE_EQ(p[0][1], -babylon_polynomial(sh)[0][1]);  // x: odd in x
+  const CubeLevels stored = detail::mirror_cube_x(chain);
   const auto& mips = m.at("specular").at("mipmaps");
   ASSERT_EQ(mips.size(), 6u * 5u);  // 16, 8, 4, 2, 1
   size_t expect_position = 0;
@@ -430,7 +433,7 @@ TEST(BabylonEnv, RoundTripsFieldByFieldWithinRgbdPrecision) {
         double d[3];
         io::rgbd_decode(t, d);
         // Babylon.js reads row 0 of a face image as the face's last row: written bottom row first
-        const float* ref = chain.texel(level, face, i, h - 1 - j);
+        const float* ref = stored.texel(level, face, i, h - 1 - j);
         for (int c = 0; c < 3; ++c) {
           // within half an 8-bit step of RGBD at this code: the encoding's precision
           ASSERT_LE(std::fabs(d[c] - double(ref[c])), io::rgbd_half_step(t, c) * (1 + 1e-9))
@@ -496,7 +499,7 @@ TEST(GltfIbl, DocumentImagesAndCoefficients) {
   ASSERT_EQ(light.at("specularImages").size(), 2u);
   const auto e = gltf_irradiance_coefficients(sh);
   ASSERT_EQ(light.at("irradianceCoefficients").size(), 9u);
-  // for Babylon.js's default left-handed scene (engines/babylon_frame.hpp): mirrored in x, so l11 (x)
+  // Babylon.js's left-handed world (engines/babylon_frame.hpp): mirrored in x, so l11 (x)
   // changes sign and l00 does not; rotation identity
   EXPECT_DOUBLE_EQ(light.at("irradianceCoefficients")[3][0].get<double>(), -e[3][0]);
   EXPECT_DOUBLE_EQ(light.at("irradianceCoefficients")[0][0].get<double>(), e[0][0]);
@@ -524,14 +527,15 @@ TEST(GltfIbl, DocumentImagesAndCoefficients) {
       EXPECT_GT(std::fabs(double(ref[0]) - double(mirrored.texel(int(l), int(f), i, h - 1 - j)[0])),
                 0.1 * double(ref[0]));
     }
-  // for a right-handed scene: the cube and coefficients as they are, rotation (0, 1, 0, 0)
+  // for a right-handed scene (which flips every lookup's z): the same mirrored cube and coefficients,
+  // rotation (0, 1, 0, 0)
   o.gltf_scene = GltfScene::RightHanded;
   const fs::path rh = temp_dir("gltf-rh");
   write_engine_files(EngineTarget::Gltf, bake, rh.string(), o);
   const auto rtext = read_all(rh / "env.gltf");
   const auto rg = nlohmann::json::parse(rtext.begin(), rtext.end());
   const auto& rlight = rg.at("extensions").at("EXT_lights_image_based").at("lights")[0];
-  EXPECT_DOUBLE_EQ(rlight.at("irradianceCoefficients")[3][0].get<double>(), e[3][0]);
+  EXPECT_DOUBLE_EQ(rlight.at("irradianceCoefficients")[3][0].get<double>(), -e[3][0]);
   EXPECT_EQ(rlight.at("rotation"), nlohmann::json::array({0.0, 1.0, 0.0, 0.0}));
 }
 

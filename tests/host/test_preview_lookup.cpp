@@ -95,8 +95,8 @@ PreviewMaterial white_metal(double roughness) {
   return m;
 }
 
-// Each engine's own LOD for a perceptual roughness r on a chain of `levels` levels of kSize, clamped
-// to the chain as textureLod clamps it.
+// Each engine's own LOD for a perceptual roughness r on a chain of `levels` levels of kSize (before
+// textureLod's clamp).
 double engine_lod(EngineTarget target, double r, int levels) {
   double lod = 0.0;
   switch (target) {
@@ -116,7 +116,16 @@ double engine_lod(EngineTarget target, double r, int levels) {
       lod = std::log2(kSize * (r * r + 0.0005)) * 0.8;
       break;
   }
-  return std::clamp(lod, 0.0, double(levels - 1));
+  return lod;
+}
+
+// What the staircase reflects at that LOD: 1 + lod, clamped to the chain; for gltf, Babylon.js's cube
+// has log2(kSize) + 1 levels, those past the file's `levels` zero, so past the last level the value
+// falls linearly to 0 over one level.
+double staircase_value(EngineTarget target, double lod, int levels) {
+  const double last = levels - 1;
+  if (target != EngineTarget::Gltf || lod <= last) return 1.0 + std::clamp(lod, 0.0, last);
+  return levels * std::max(0.0, 1.0 - (lod - last));
 }
 
 struct Case {
@@ -139,11 +148,10 @@ TEST_P(PreviewLookup, TheLodIsTheEnginesFormulaAndLevelsBlendLinearly) {
     const Rgb out = split.shade(n, n, white_metal(r));
     double value = out.r;
     if (c.target == EngineTarget::Gltf) value = std::pow(value, 1.0 / 2.2);
-    const double expected = engine_lod(c.target, r, c.levels);
-    EXPECT_NEAR(value - 1.0, expected, kLodTolerance * (1.0 + expected))
-        << engine_target_name(c.target) << " at roughness " << r;
+    const double lod = engine_lod(c.target, r, c.levels), expected = staircase_value(c.target, lod, c.levels);
+    EXPECT_NEAR(value, expected, kLodTolerance * expected) << engine_target_name(c.target) << " at roughness " << r;
     EXPECT_DOUBLE_EQ(out.r, out.g);
-    if (expected - std::floor(expected) > 0.1 && expected - std::floor(expected) < 0.9) ++fractional;
+    if (lod - std::floor(lod) > 0.1 && lod - std::floor(lod) < 0.9 && lod < c.levels - 1) ++fractional;
   }
   EXPECT_GT(fractional, 10) << "the roughness sweep must fall between levels to see the blend";
 }
@@ -191,6 +199,11 @@ TEST(PreviewLookup, TheGltfLoadersSpecularAntiAliasingRaisesAlphaG) {
   const double expected = std::log2(kSize * (0.0005 + 0.75 * std::sqrt(double(slope2)))) * scale;
   EXPECT_NEAR(std::pow(double(gltf.shade(n, n, white_metal(0.0), slope2).r), 1.0 / 2.2) - 1.0, expected,
               kLodTolerance * (1.0 + expected));
+  // a rough metal's alphaG above 1 reaches past the file's last level into Babylon.js's zero levels
+  const float rim2 = 4.0f;  // a slope of 2: alphaG = 1.0005 + 1.5
+  const double lod = std::log2(kSize * (1.0005 + 0.75 * 2.0)) * scale;
+  EXPECT_NEAR(std::pow(double(gltf.shade(n, n, white_metal(1.0), rim2).r), 1.0 / 2.2),
+              staircase_value(EngineTarget::Gltf, lod, 5), kLodTolerance);
   EXPECT_DOUBLE_EQ(env.shade(n, n, white_metal(0.0), slope2).r, env.shade(n, n, white_metal(0.0), 0.0f).r);
 }
 

@@ -88,10 +88,8 @@ struct EngineBake {
 enum class AstcBlock { None, Astc4x4, Astc6x6 };
 
 // The Babylon.js scene an EXT_lights_image_based light is written for (docs/ENGINES.md, "Row order
-// and frame"): Babylon.js's default left-handed scene, whose glTF loader mirrors the glTF content in x
-// but not the light's cube (the file stores the environment mirrored, rotation identity), or a
-// right-handed one (scene.useRightHandedSystem), which turns every cube 180 degrees about +Y (the
-// file stores the environment as it is, with the extension's rotation (0, 1, 0, 0)).
+// and frame"): Babylon.js's default left-handed scene (rotation identity) or a right-handed one
+// (scene.useRightHandedSystem; rotation (0, 1, 0, 0)). Both store the environment mirrored in x.
 enum class GltfScene { LeftHanded, RightHanded };
 
 struct EngineWriteOptions {

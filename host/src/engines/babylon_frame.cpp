@@ -35,6 +35,12 @@ std::array<Rgb3, 9> mirror_gltf_coefficients_x(std::array<Rgb3, 9> c) {
   return c;
 }
 
+std::array<Rgb3, 9> mirror_babylon_polynomial_x(std::array<Rgb3, 9> p) {
+  for (size_t k : {size_t(0), size_t(7), size_t(8)})
+    for (double& v : p[k]) v = -v;
+  return p;
+}
+
 std::array<double, 4> gltf_scene_rotation(GltfScene scene) {
   return scene == GltfScene::RightHanded ? std::array<double, 4>{0.0, 1.0, 0.0, 0.0}
                                          : std::array<double, 4>{0.0, 0.0, 0.0, 1.0};
@@ -64,8 +70,7 @@ GltfScene gltf_scene_of_rotation(const std::array<double, 4>& q, const std::stri
               "right-handed scene) are, the two brdfbake writes");
 }
 
-void gltf_light_to_scene_frame(GltfScene scene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients) {
-  if (scene != GltfScene::LeftHanded) return;
+void gltf_light_to_scene_frame(GltfScene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients) {
   cube = mirror_cube_x(cube);
   coefficients = mirror_gltf_coefficients_x(coefficients);
 }

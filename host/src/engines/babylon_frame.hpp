@@ -6,13 +6,17 @@
 // PNGs) as the face's last row, t = 1 in OpenGL's cube face coordinates, when it loads one and when it
 // writes its own. So the faces are written bottom row first (io::decode_rgbd_cube reads them so).
 //
-// Frame of an EXT_lights_image_based light: Babylon.js's glTF loader puts the glTF content under a root
-// that mirrors it in x in its default left-handed scene but does not mirror the light's cube, so a
-// direction (x, y, z) of the glTF scene samples the cube at (-x, y, z) (and its harmonics at (-x, y, z)).
-// A file for that scene stores the environment mirrored in x: the scene then sees it in the glTF frame.
-// A right-handed scene (scene.useRightHandedSystem) turns every cube 180 degrees about +Y, which the
-// extension's `rotation` (0, 1, 0, 0) undoes: a file for it stores the environment as it is, with that
-// rotation.
+// Frame: Babylon.js's world is left-handed by default, and its loaders bring right-handed content into
+// it mirrored in x: the glTF loader puts glTF content under a root of rotation (0, 1, 0, 0) and scale
+// (1, 1, -1), and HDRCubeTexture reads an equirectangular map so that its +X is seen at world -X. A
+// cube texture (a .env, the glTF light's cube) is not mirrored by anything. So both targets store the
+// environment mirrored in x, (x, y, z) -> (-x, y, z), with its harmonics: a default scene then sees the
+// glTF content lit as in the glTF frame, and a .env as Babylon.js shows the same map loaded as an .hdr
+// (measured with Babylon.js 8.46.2, tests/engines/babylon/). A right-handed scene
+// (scene.useRightHandedSystem) does not mirror the content but flips every cube lookup's z
+// (REFLECTIONMAP_OPPOSITEZ): a glTF light for it carries rotation (0, 1, 0, 0) (the loader applies it
+// as the reflection texture's matrix), which with that flip is the same mirror in x: the stored cube
+// is the same, only the rotation differs.
 #pragma once
 
 #include <array>
@@ -31,7 +35,11 @@ CubeLevels mirror_cube_x(const CubeLevels& cube);
 // in x (l11, l2-2, l21) change sign.
 std::array<Rgb3, 9> mirror_gltf_coefficients_x(std::array<Rgb3, 9> c);
 
-// The scene an EXT_lights_image_based file is written for: its rotation and whether it is mirrored.
+// The cube of a Babylon.js .env's spherical polynomial (x, y, z, xx, yy, zz, yz, zx, xy) mirrored in
+// x: the terms odd in x (x, zx, xy) change sign.
+std::array<Rgb3, 9> mirror_babylon_polynomial_x(std::array<Rgb3, 9> p);
+
+// The rotation an EXT_lights_image_based file carries for the scene it is written for.
 std::array<double, 4> gltf_scene_rotation(GltfScene scene);
 const char* gltf_scene_name(GltfScene scene);
 // "left-handed" / "right-handed"; throws Error naming `what` for anything else.
@@ -40,8 +48,8 @@ GltfScene parse_gltf_scene(const std::string& name, const std::string& what);
 // what Babylon.js shows: identity, Babylon.js's default left-handed scene; (0, 1, 0, 0), a right-handed
 // one. Throws Error naming `what` for any other rotation (not emulated).
 GltfScene gltf_scene_of_rotation(const std::array<double, 4>& rotation, const std::string& what);
-// A light's cube and coefficients in the glTF scene's frame, as that scene samples them: un-mirrored
-// for a left-handed scene, as stored for a right-handed one (whose turn the rotation undoes).
+// A light's cube and coefficients in the glTF scene's frame, as that scene samples them (un-mirrored:
+// both scenes read the stored cube at (-x, y, z) of a glTF direction).
 void gltf_light_to_scene_frame(GltfScene scene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients);
 
 }  // namespace brdfbake::detail

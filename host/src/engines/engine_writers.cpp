@@ -27,6 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 const char* const kFaceNames[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+const char* const kBabylonFrame =
+    "the environment mirrored in x, (x, y, z) -> (-x, y, z): Babylon.js's left-handed world, into which its loaders "
+    "mirror right-handed content (the glTF loader's root, HDRCubeTexture)";
 
 struct OutFile {
   std::string name;
@@ -239,14 +242,10 @@ nlohmann::ordered_json metadata_json(const Metadata& m) {
 std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake, const std::string& name,
                                 const EngineWriteOptions& o, Metadata& delivered) {
   if (!(o.intensity >= 0.0) || !std::isfinite(o.intensity)) throw Error("engine files: intensity must be >= 0");
-  // the frame of the scene the file is for (babylon_frame.hpp): mirrored in x for a left-handed one
-  const bool mirrored = o.gltf_scene == GltfScene::LeftHanded;
-  CubeLevels chain = with_target_metadata(mirrored ? detail::mirror_cube_x(*bake.prefiltered) : *bake.prefiltered, s);
+  // Babylon.js's frame (babylon_frame.hpp): the environment mirrored in x; the rotation by scene
+  CubeLevels chain = with_target_metadata(detail::mirror_cube_x(*bake.prefiltered), s);
   chain.set_meta("babylon_scene", detail::gltf_scene_name(o.gltf_scene));
-  chain.set_meta("frame", mirrored ? "the environment mirrored in x (x, y, z) -> (-x, y, z): Babylon.js's left-handed "
-                                     "scene mirrors the glTF content, not the light"
-                                   : "the environment's; rotation (0, 1, 0, 0) undoes the 180-degree turn of a "
-                                     "right-handed Babylon.js scene");
+  chain.set_meta("frame", kBabylonFrame);
   chain.set_meta("face_rows", "bottom row first (Babylon.js reads row 0 of a face image as its last row)");
   std::vector<OutFile> files;
   nlohmann::ordered_json images = nlohmann::ordered_json::array();
@@ -264,8 +263,7 @@ std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake,
   }
   nlohmann::ordered_json coefficients = nlohmann::ordered_json::array();
   const std::array<Rgb3, 9> irradiance = gltf_irradiance_coefficients(*bake.sh);
-  for (const Rgb3& c : mirrored ? detail::mirror_gltf_coefficients_x(irradiance) : irradiance)
-    coefficients.push_back(c);
+  for (const Rgb3& c : detail::mirror_gltf_coefficients_x(irradiance)) coefficients.push_back(c);
   nlohmann::ordered_json light;
   light["name"] = name;
   light["intensity"] = o.intensity;  // always written: Babylon's loader scales the SH by it unchecked
@@ -293,11 +291,13 @@ std::vector<OutFile> gltf_files(const EngineSettings& s, const EngineBake& bake,
 
 std::vector<OutFile> babylon_files(const EngineSettings& s, const EngineBake& bake, const std::string& name,
                                    Metadata& delivered) {
-  const CubeLevels chain = with_target_metadata(*bake.prefiltered, s);
+  // Babylon.js's frame (babylon_frame.hpp): the environment and its polynomial mirrored in x
+  CubeLevels chain = with_target_metadata(detail::mirror_cube_x(*bake.prefiltered), s);
+  chain.set_meta("frame", kBabylonFrame);
   io::BabylonEnv env;
   env.width = chain.size;
   env.lod_generation_scale = kBabylonLodGenerationScale;
-  const std::array<Rgb3, 9> p = babylon_polynomial(*bake.sh);
+  const std::array<Rgb3, 9> p = detail::mirror_babylon_polynomial_x(babylon_polynomial(*bake.sh));
   for (size_t k = 0; k < 9; ++k) env.polynomial[k] = p[k];
   RgbdStats stats;
   for (int l = 0; l < chain.level_count(); ++l)

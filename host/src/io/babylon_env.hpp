@@ -10,8 +10,9 @@
 //     "position" counts from the first byte after the NUL.
 //
 // Babylon requires the full chain: 6 (log2(S) + 1) images (S a power of two), each an 8-bit RGBA
-// PNG holding RGBD (png_rgbd.hpp), row 0 first as uploaded to the cube face (Babylon uploads the
-// decoded image without flipping it). The irradiance is Babylon's spherical polynomial
+// PNG holding RGBD (png_rgbd.hpp); Babylon.js 8.46.2 uploads each with UNPACK_FLIP_Y (createTexture's
+// invertY), so an image's row 0 lands on the face's last row (the writers and readers of faces do the
+// flipping: engines/babylon_frame.hpp). The irradiance is Babylon's spherical polynomial
 // (SphericalPolynomial.FromHarmonics).
 #pragma once
 

@@ -511,9 +511,10 @@ Item read_babylon_env_file(const std::string& path) {
   }
   Item it;
   it.kind = "cube (Babylon.js .env, RGBD PNG faces)";
-  CubeLevels cube = io::decode_rgbd_cube(levels, env.width, "cannot view '" + path + "'");
+  // in the environment's frame, as Babylon.js's left-handed world sees it (engines/babylon_frame.hpp)
+  CubeLevels cube = detail::mirror_cube_x(io::decode_rgbd_cube(levels, env.width, "cannot view '" + path + "'"));
   if (env.extra.contains("brdfbake")) cube.metadata = metadata_object(env.extra["brdfbake"]);
-  it.irradiance = sh_from_engine(env.polynomial, babylon_polynomial, "as written",
+  it.irradiance = sh_from_engine(detail::mirror_babylon_polynomial_x(env.polynomial), babylon_polynomial, "as written",
                                  {{"sh_convention", "Babylon.js spherical polynomial (.env irradiance)"}});
   it.content = std::move(cube);
   return it;

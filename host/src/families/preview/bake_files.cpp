@@ -8,6 +8,7 @@
 
 #include "brdfbake/error.hpp"
 #include "engines/babylon_frame.hpp"
+#include "engines/filament_dfg.hpp"
 #include "io/babylon_env.hpp"
 #include "io/gpu_cube_read.hpp"
 #include "io/json_input.hpp"
@@ -106,9 +107,17 @@ json read_manifest(const std::string& folder, EngineTarget target, const std::st
   return manifest;
 }
 
-// The DFG table: ggx-multiscatter, or ggx (scale, bias).
+// The DFG table: ggx-multiscatter, or ggx (scale, bias); Filament's own for filament, which never
+// reads the bake's (engines/filament_dfg.hpp).
 void read_dfg(const json& manifest, BakeFiles& b) {
   const std::string& folder = b.folder;
+  if (b.target == EngineTarget::Filament) {
+    b.dfg = detail::filament_dfg_table();
+    b.dfg_file = "Filament's built-in DFG table (light_iblDFG; its cmgen's DFV_Multiscatter and DFV_Charlie)";
+    b.dfg_multiscatter = true;
+    b.dfg_sqrt_n_dot_v = false;
+    return;
+  }
   const json* dfg = manifest_file(manifest, "ggx-multiscatter");
   if (!dfg) {
     dfg = manifest_file(manifest, "ggx");
@@ -132,12 +141,13 @@ void read_babylon_lighting(const json& manifest, BakeFiles& b) {
     if (i % 6 == 0) levels.emplace_back();
     levels.back().push_back(env.images[i]);
   }
-  b.specular = io::decode_rgbd_cube(levels, env.width, b.specular_file);
+  // in the environment's frame, as Babylon.js's left-handed world sees it (engines/babylon_frame.hpp)
+  b.specular = detail::mirror_cube_x(io::decode_rgbd_cube(levels, env.width, b.specular_file));
   b.specular_format = "RGBD PNG, expanded to RGBA16F";
   b.lod_scale = env.lod_generation_scale;
   b.diffuse = DiffuseSource::BabylonPolynomial;
   b.diffuse_file = b.specular_file + " (irradiance polynomial)";
-  for (const auto& c : env.polynomial) b.sh.insert(b.sh.end(), c.begin(), c.end());
+  for (const auto& c : detail::mirror_babylon_polynomial_x(env.polynomial)) b.sh.insert(b.sh.end(), c.begin(), c.end());
 }
 
 // EXT_lights_image_based in a glTF file: RGBD PNG faces per level, and SH irradiance coefficients.

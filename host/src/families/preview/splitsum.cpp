@@ -172,6 +172,18 @@ SplitSum::SplitSum(BakeFiles files, SplitSumOptions options) : files_(std::move(
     harmonics_ = babylon_prescaled_harmonics(babylon_polynomial_from(lambertian));
   }
   for (int l = 0; l < files_.specular.level_count(); ++l) levels_.push_back(pad<Level>(files_.specular, l));
+  if (files_.target == EngineTarget::Gltf) {
+    // EXT_lights_image_based.ts's RawCubeTexture has log2(specularImageSize) + 1 levels and
+    // _UploadLevelsAsync fills those beyond the file's specularImages with zeros: a LOD past the last
+    // level (alphaG above 1 with specular anti-aliasing) blends towards black
+    const int full = int(std::lround(std::log2(double(files_.specular.size)))) + 1;
+    for (int l = files_.specular.level_count(); l < full; ++l) {
+      Level z;
+      z.size = files_.specular.level_size(l);
+      z.rgb.assign(6 * size_t(z.size + 2) * size_t(z.size + 2) * 3, 0.0f);
+      levels_.push_back(std::move(z));
+    }
+  }
   if (!files_.irradiance.levels.empty()) irradiance_.push_back(pad<Level>(files_.irradiance, 0));
   for (int l = 0; l < files_.sheen.level_count(); ++l) sheen_levels_.push_back(pad<Level>(files_.sheen, l));
   if (files_.diffuse == DiffuseSource::OurSh && files_.sh_order < 3)
@@ -228,9 +240,10 @@ void SplitSum::reflection(const Vec3& d, float lod, float out[3]) const {
 
 namespace {
 
-// texture(lut, vec2(n_dot_v, roughness)) of a table's first `channels` channels: bilinear, clamp to
-// edge, texel centres at (i + 0.5) / N; the n_dot_v axis sqrt-spaced where the table says so.
-void lut_lookup(const Table& t, bool sqrt_n_dot_v, float n_dot_v, float roughness, int channels, float* c) {
+// texture(lut, vec2(n_dot_v, roughness)) of a table's channels first .. first + channels - 1: bilinear,
+// clamp to edge, texel centres at (i + 0.5) / N; the n_dot_v axis sqrt-spaced where the table says so.
+void lut_lookup(const Table& t, bool sqrt_n_dot_v, float n_dot_v, float roughness, int channels, float* c,
+                int first = 0) {
   const float u = sqrt_n_dot_v ? std::sqrt(std::max(n_dot_v, 0.0f)) : n_dot_v;
   auto split = [](float uv, int n, int* i0, float* f) {
     const float x = std::clamp(uv * float(n) - 0.5f, 0.0f, float(n - 1));
@@ -242,15 +255,20 @@ void lut_lookup(const Table& t, bool sqrt_n_dot_v, float n_dot_v, float roughnes
   split(u, t.width, &i0, &fx);
   split(roughness, t.height, &j0, &fy);
   const int i1 = std::min(i0 + 1, t.width - 1), j1 = std::min(j0 + 1, t.height - 1);
-  for (int k = 0; k < channels; ++k)
-    c[k] = mixf(mixf(t.at(i0, j0, k), t.at(i1, j0, k), fx), mixf(t.at(i0, j1, k), t.at(i1, j1, k), fx), fy);
+  for (int k = 0; k < channels; ++k) {
+    const int ch = first + k;
+    c[k] = mixf(mixf(t.at(i0, j0, ch), t.at(i1, j0, ch), fx), mixf(t.at(i0, j1, ch), t.at(i1, j1, ch), fx), fy);
+  }
 }
 
 }  // namespace
 
 float SplitSum::charlie(float n_dot_v, float sheen_roughness) const {
   float e = 0.0f;
-  lut_lookup(files_.charlie, files_.charlie_sqrt_n_dot_v, n_dot_v, sheen_roughness, 1, &e);
+  if (files_.target == EngineTarget::Filament)  // sheenDFG: prefilteredDFG(...).z of Filament's own table
+    lut_lookup(files_.dfg, false, n_dot_v, sheen_roughness, 1, &e, 2);
+  else
+    lut_lookup(files_.charlie, files_.charlie_sqrt_n_dot_v, n_dot_v, sheen_roughness, 1, &e);
   return e;
 }
 
@@ -506,9 +524,10 @@ Rgb SplitSum::shade(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, fl
 
 bool SplitSum::renders_sheen() const {
   switch (files_.target) {
+    case EngineTarget::Filament:
+      return true;  // the GGX chain at the sheen's LOD, its own table's sheen channel
     case EngineTarget::Gltf:
     case EngineTarget::Babylon:
-    case EngineTarget::Filament:
       return files_.charlie.width > 0;  // the GGX chain at the sheen's LOD, the charlie table
     case EngineTarget::Generic:
     case EngineTarget::KhronosViewer:
@@ -536,8 +555,8 @@ std::string SplitSum::sheen_note() const {
              " x sheenColor) and albedoSheenScaling 1 - max3(sheenColor) E";
     case EngineTarget::Filament:
       return "KHR_materials_sheen: in the split-sum render, Filament's evaluateSheenIBL (the GGX chain at "
-             "perceptualRoughnessToLod(sheenPerceptualRoughness)" +
-             table + " for sheenDFG, x sheenColor; Fd and Fr x 1 - max3(sheenColor) sheenDFG)";
+             "perceptualRoughnessToLod(sheenPerceptualRoughness) x sheenDFG, the z channel of Filament's built-in "
+             "DFG table at (n.v, sheenPerceptualRoughness), x sheenColor; Fd and Fr x 1 - max3(sheenColor) sheenDFG)";
     case EngineTarget::Gltf:
     case EngineTarget::Babylon:
       return "KHR_materials_sheen: in the split-sum render, Babylon.js's sheen block (pbrBlockSheen.fx, the glTF "
@@ -589,7 +608,7 @@ void SplitSum::sheen(const Vec3& nd, const Vec3& vd, const PreviewMaterial& m, f
       // light_indirect.fs evaluateSheenIBL: Fd and Fr times sheenScaling = 1 - max3(sheenColor)
       // sheenDFG; Fr += sheenDFG sheenColor prefilteredRadiance(shading_reflected,
       // sheenPerceptualRoughness): the GGX chain at perceptualRoughnessToLod; sheenDFG =
-      // prefilteredDFG(sheenPerceptualRoughness, NoV).z, here the bake's charlie table;
+      // prefilteredDFG(sheenPerceptualRoughness, NoV).z, Filament's built-in table's third channel;
       // sheenPerceptualRoughness clamped to [MIN_PERCEPTUAL_ROUGHNESS 0.045, 1] (common_material.fs)
       const float nv = std::max(dot_nv, 1e-4f);
       const float pr = std::clamp(float(m.sheen_roughness), 0.045f, 1.0f);
@@ -718,7 +737,8 @@ Metadata SplitSum::steps() const {
           {"direction",
            "getSpecularDominantDirection: mix(reflect(-v, n), n, roughness^2), roughness = r^2 (light_indirect.fs)"},
           {"specular_sample", cube + " (prefilteredRadiance)"},
-          {"dfg", lut + " (PrefilteredDFG_LUT(perceptualRoughness, NoV))"},
+          {"dfg", lut + " (PrefilteredDFG_LUT(perceptualRoughness, NoV)): Filament 1.76 samples the table built "
+                        "into it, never the bake's"},
           {"specular",
            "specularDFG: mix(dfg.x, dfg.y, F0) x prefilteredRadiance x energyCompensation 1 + F0 (1 / dfg.y - 1) "
            "(evaluateIBL)"},
