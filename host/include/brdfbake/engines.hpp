@@ -56,6 +56,10 @@ struct EngineSettings {
   std::string orientation;         // faces, rows, handedness notes
   std::vector<std::string> files;  // the file set, NAME standing for the base name
   bool skybox = false;             // the file set holds a skybox cube
+  // What the preview's split-sum emulation of this target was held to: the engine and version that
+  // rendered the target's files in the test suite, and the agreement measured (docs/ENGINES.md).
+  std::string held_to;
+  std::string held_to_short;  // the same in a line (the preview's sheet)
 };
 
 EngineSettings engine_settings(EngineTarget target);

@@ -505,7 +505,8 @@ function showResults(job, s) {
     const sheet = p === preview.sheet;
     const numbers = `material preview (${preview.target}): split-sum vs reference, relative RMS ` +
       `${pct(preview.error_rms_median)} median, ${pct(preview.error_rms_max)} worst sphere; ` +
-      `reference within ${pct(preview.reference_bound_max)}`;
+      `reference within ${pct(preview.reference_bound_max)}` +
+      (preview.held_to ? `; the split-sum emulation held to: ${preview.held_to}` : '');
     files.push({ path: p, kind: sheet ? numbers : 'material preview', picture: sheet });
   }
   files.push({ path: 'manifest.json', kind: 'manifest', picture: false });

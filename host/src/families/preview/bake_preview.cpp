@@ -72,6 +72,7 @@ void write_bake_preview(const Job& job, const std::string& staging, Manifest& ma
   std::sort(rms.begin(), rms.end());
   manifest.preview.push_back({"sheet", kBakePreviewSheet});
   manifest.preview.push_back({"target", engine_target_name(spec.target)});
+  manifest.preview.push_back({"held_to", engine_settings(spec.target).held_to});
   manifest.preview.push_back({"spheres", std::to_string(r.spheres.size())});
   if (!rms.empty()) {
     manifest.preview.push_back({"error_rms_median", detail::fmt_number(rms[rms.size() / 2], "%.4g")});

@@ -133,13 +133,14 @@ SheetLayout sheet_layout(const PreviewResult& r) {
       row = shortened(row, kLabelChars);
       label_w = std::max(label_w, view::text_width(row) + kGap);
     }
-  l.top = kMargin + 2 * kLine + 4 * kLine + kGap;  // title, four lines of text
+  l.top = kMargin + 2 * kLine + 5 * kLine + kGap;  // title, five lines of text
   l.panel_top = l.top + 2 * kLine + 4;             // the panel's title, the columns' roughness
   l.x0 = kMargin + label_w;
   return l;
 }
 
-// The title and the four lines of text under it; the sheet's tone-map and colour-scale texts.
+// The title and the five lines of text under it (the last: what the target's emulation was held to); the
+// sheet's tone-map and colour-scale texts.
 void sheet_header(const PreviewResult& r, const std::string& title, const SheetLayout& l, Canvas& c,
                   ContactSheet& sheet) {
   char ev[64];
@@ -169,6 +170,7 @@ void sheet_header(const PreviewResult& r, const std::string& title, const SheetL
         view::kDim);
   else
     c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
+  c.text(kMargin, y + 4 * kLine, "emulation held to: " + engine_settings(r.spec.target).held_to_short, view::kDim);
 }
 
 // Panel k (0 split-sum, 1 reference, 2 error): its title, the columns' roughness where a column's
@@ -414,6 +416,7 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
   json shading = json::object();
   for (const auto& [k, v] : r.shading) shading[k] = v;
   j["split_sum"] = shading;
+  j["split_sum_held_to"] = engine_settings(r.spec.target).held_to;
   j["times"] = {{"bake", r.times.bake},
                 {"read", r.times.read},
                 {"splitsum", r.times.splitsum},
