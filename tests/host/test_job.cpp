@@ -450,3 +450,26 @@ TEST(EstimateJob, GroupsTheTablesAsTheRunDoes) {
 }
 
 }  // namespace
+
+namespace brdfbake {
+namespace {
+
+// The glTF light's Babylon.js scene (docs/ENGINES.md, "Engine truth"): a job field that round-trips,
+// left-handed by default (not written), and a clear error for anything else.
+TEST(Job, GltfSceneRoundTripsAndRefusesUnknownScenes) {
+  const Job j = parse_job(R"({"target": "gltf", "gltf_scene": "right-handed", "tables": []})", "job.json");
+  EXPECT_EQ(j.gltf_scene, "right-handed");
+  EXPECT_EQ(parse_job(job_to_json(j), "again.json").gltf_scene, "right-handed");
+  const Job d = parse_job(R"({"tables": []})", "none.json");
+  EXPECT_EQ(d.gltf_scene, "left-handed");
+  EXPECT_EQ(nlohmann::json::parse(job_to_json(d)).count("gltf_scene"), 0u);
+  try {
+    parse_job(R"({"gltf_scene": "sideways", "tables": []})", "bad.json");
+    ADD_FAILURE() << "an unknown scene was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'sideways' is not a Babylon.js scene"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace brdfbake

@@ -29,6 +29,9 @@ struct Job {
   // NAME of the engine's files (NAME.gltf, NAME_ibl.ktx, ...): empty is the output folder's name, as
   // cmgen names them; `run --server` sets it to the local folder's (the server's folder is a job id).
   std::string engine_name;
+  // target gltf: the Babylon.js scene the light is for, "left-handed" (Babylon.js's default: rotation
+  // identity) or "right-handed" (rotation (0, 1, 0, 0)); docs/ENGINES.md, "Engine truth".
+  std::string gltf_scene = "left-handed";
   std::string device;  // default device selector of the tables ("reference": the oracle)
   Precision precision = Precision::Fp32;
   std::vector<TableRequest> tables;

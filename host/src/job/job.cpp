@@ -10,6 +10,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/output_checks.hpp"
+#include "engines/babylon_frame.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
 #include "text.hpp"
@@ -235,6 +236,9 @@ Job parse_job(const std::string& text, const std::string& origin) {
       if (job.engine_name.empty() || job.engine_name == "." || job.engine_name == ".." ||
           job.engine_name.find_first_of("/\\") != std::string::npos)
         throw Error(field + ": must be a file name without a folder (got '" + job.engine_name + "')");
+    } else if (key == "gltf_scene") {
+      job.gltf_scene = get_string(*it, field);
+      detail::parse_gltf_scene(job.gltf_scene, field);
     } else if (key == "sanitize") {
       if (!it->is_boolean()) throw Error(field + ": must be true or false (got " + json_excerpt(*it) + ")");
       job.sanitize = it->get<bool>();
@@ -262,7 +266,7 @@ Job parse_job(const std::string& text, const std::string& origin) {
       throw Error(
           origin + ": " + key.substr(0, 60) +
           ": unknown field (expected brdfbake_job, output_dir, environment, sanitize, preview, target, engine_name, "
-          "device, precision, tables, scene, notes, warnings, plan)");
+          "gltf_scene, device, precision, tables, scene, notes, warnings, plan)");
     }
   }
   if (!root.contains("tables")) throw Error(origin + ": tables: missing (the list of tables to bake)");
@@ -346,6 +350,7 @@ json job_json(const Job& job) {
   if (job.preview) o["preview"] = true;
   if (job.target != "generic") o["target"] = job.target;
   if (!job.engine_name.empty()) o["engine_name"] = job.engine_name;
+  if (job.gltf_scene != "left-handed") o["gltf_scene"] = job.gltf_scene;
   o["device"] = job.device;
   o["precision"] = precision_name(job.precision);
   json tables = json::array();

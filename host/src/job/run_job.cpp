@@ -15,6 +15,7 @@
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/output_lock.hpp"
 #include "brdfbake/runner.hpp"
+#include "engines/babylon_frame.hpp"
 #include "families/delivery.hpp"
 #include "families/family.hpp"
 #include "families/preview/bake_preview.hpp"
@@ -163,6 +164,7 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   if (in.charlie_chain) eb.charlie = in.charlie_chain->cube();
   EngineWriteOptions wo;
   wo.name = name;
+  wo.gltf_scene = detail::parse_gltf_scene(job.gltf_scene, origin + ": gltf_scene");
   if (in.chain_pixel == "astc4x4" || in.chain_pixel == "astc6x6") {
     wo.astc = in.chain_pixel == "astc4x4" ? AstcBlock::Astc4x4 : AstcBlock::Astc6x6;
     wo.astc_quality = detail::kAstcQuality;
