@@ -23,10 +23,14 @@ BRDFBAKE_PACKAGES=(
 # (tests/engines/validate_gltf_ibl.py), oclgrind a second OpenCL implementation for the kernel
 # build test. The tests skip with a message where these are missing. clang-format-14 is the formatter
 # of scripts/check_format.sh (.clang-format; other versions format differently). chromium and
-# chromium-driver: the web page's browser test (tests/python/test_web_page.py, driven by Selenium).
+# chromium-driver: the web page's browser test (tests/python/test_web_page.py, driven by Selenium) and
+# Babylon.js's render of the babylon and gltf targets (tests/python/test_engine_babylon.py: WebGL2 on
+# chromium's SwiftShader). libvulkan1 and mesa-vulkan-drivers: Mesa's lavapipe, the Vulkan device that
+# Filament 1.76 (the open3d-cpu wheel) renders the filament target on (tests/python/test_engine_filament.py).
 BRDFBAKE_TEST_PACKAGES=(
   libfilament-dev libfilament-tools python3-jsonschema oclgrind clang-format-14
   chromium chromium-driver
+  libvulkan1 mesa-vulkan-drivers
 )
 
 # The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/tables.hpp"
+
 namespace brdfbake::detail {
 
 // The fields of `text` between `sep` characters, empty ones included ("a,,b" -> a, "", b; "" -> "").
@@ -33,6 +35,17 @@ inline std::string fmt_number(double v, const char* printf_format = "%.9g") {
   char buf[64];
   std::snprintf(buf, sizeof buf, printf_format, v);
   return buf;
+}
+
+// A bound as text, rounded up to three significant digits: the recorded text is never below it
+// (error_bound_text, brdfbake/tables.hpp, the same for the library's users). Every file, manifest
+// and key that records a bound uses it (delivery, io's ASTC keys, the engines' metadata).
+inline std::string bound_text(double v) { return error_bound_text(v); }
+// Each of `bounds` as bound_text, separated by spaces (per-level metadata).
+inline std::string bounds_text(const std::vector<double>& bounds) {
+  std::vector<std::string> items;
+  for (double b : bounds) items.push_back(error_bound_text(b));
+  return join(items, " ");
 }
 
 }  // namespace brdfbake::detail

@@ -24,6 +24,7 @@
 #include "brdfbake/preview.hpp"
 #include "brdfbake/reference/preview.hpp"
 #include "brdfbake/view.hpp"
+#include "engines/filament_dfg.hpp"
 #include "families/preview/bake_files.hpp"
 #include "families/preview/bake_preview.hpp"
 #include "families/preview/kernel.hpp"
@@ -1320,8 +1321,28 @@ TEST(PreviewSheen, SplitSumSheenInAWhiteFurnaceIsTheClosedForm) {
       if (p.sphere == 0 && p.n_dot_v >= 0.03) nvs.push_back(p.n_dot_v);
     std::sort(nvs.begin(), nvs.end());
     nvs.erase(std::unique(nvs.begin(), nvs.end()), nvs.end());
-    // Filament's sheenPerceptualRoughness is clamped at 0.045 only: 0.8 as it is
-    const std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {sheen_r});
+    // Filament's sheenPerceptualRoughness is clamped at 0.045 only: 0.8 as it is. Filament's sheenDFG is
+    // its own table's third channel (Ashikhmin's visibility, engines/filament_dfg.hpp; the table held to
+    // Filament 1.76's by tests/python/test_engine_filament.py), looked up here bilinearly at texel
+    // centres, clamp to edge; the other targets' E is the bake's charlie table, held to the quadrature.
+    std::vector<double> es = detail::preview::sheen_albedos(*backend, nvs, {sheen_r});
+    if (target == EngineTarget::Filament) {
+      const Table& t = detail::filament_dfg_table();
+      auto axis = [](double uv, int n, int* i0, double* f) {
+        const double x = std::clamp(uv * n - 0.5, 0.0, double(n - 1));
+        *i0 = std::min(int(x), n - 2);
+        *f = x - *i0;
+      };
+      for (size_t i = 0; i < nvs.size(); ++i) {
+        int i0 = 0, j0 = 0;
+        double fx = 0, fy = 0;
+        axis(std::max(nvs[i], 1e-4), t.width, &i0, &fx);
+        axis(sheen_r, t.height, &j0, &fy);
+        auto at = [&](int ii, int jj) { return double(t.at(ii, jj, 2)); };
+        es[i] = (at(i0, j0) * (1 - fx) + at(i0 + 1, j0) * fx) * (1 - fy) +
+                (at(i0, j0 + 1) * (1 - fx) + at(i0 + 1, j0 + 1) * fx) * fy;
+      }
+    }
     const double sc[3] = {c.r, c.g, c.b};
     double worst = 0.0;
     int checked = 0;

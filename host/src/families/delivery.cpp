@@ -41,14 +41,6 @@ std::string count_text(size_t n, const char* what) { return std::to_string(n) + 
 
 }  // namespace
 
-std::string bound_text(double v) { return error_bound_text(v); }
-
-std::string bounds_text(const std::vector<double>& bounds) {
-  std::vector<std::string> items;
-  for (double b : bounds) items.push_back(error_bound_text(b));
-  return join(items, " ");
-}
-
 // ---- Tables ----------------------------------------------------------------------------------------
 
 OutputFormats table_formats() {

@@ -14,6 +14,7 @@
 #include "brdfbake/io.hpp"
 #include "brdfbake/tables.hpp"
 #include "families/field_error.hpp"
+#include "text.hpp"
 
 namespace brdfbake::detail {
 
@@ -23,11 +24,7 @@ struct OutputFormats {
   std::string description;              // "table formats (.exr .png .hdr .ktx2 .csv .h)"
 };
 
-// A bound as text, rounded up to three significant digits: the recorded text is never below it
-// (error_bound_text, brdfbake/tables.hpp, the same for the library's users).
-std::string bound_text(double v);
-// Each of `bounds` as bound_text, separated by spaces (per-level metadata).
-std::string bounds_text(const std::vector<double>& bounds);
+// bound_text and bounds_text: text.hpp.
 
 // clamp_f16, shared by the table and cube writers: finite values beyond 65504 become +-65504
 // (returns how many; NaN and infinity are left for the writer to refuse); record_f16_clamp adds the

@@ -10,10 +10,10 @@
 #include <memory>
 
 #include "brdfbake/error.hpp"
-#include "families/delivery.hpp"
 #include "io/atomic_file.hpp"
 #include "io/cubemap_io.hpp"
 #include "io/ktx2.hpp"
+#include "text.hpp"
 
 namespace brdfbake::io {
 namespace {
