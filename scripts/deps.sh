@@ -26,11 +26,12 @@ BRDFBAKE_PACKAGES=(
 # chromium-driver: the web page's browser test (tests/python/test_web_page.py, driven by Selenium) and
 # Babylon.js's render of the babylon and gltf targets (tests/python/test_engine_babylon.py: WebGL2 on
 # chromium's SwiftShader). libvulkan1 and mesa-vulkan-drivers: Mesa's lavapipe, the Vulkan device that
-# Filament 1.76 (the open3d-cpu wheel) renders the filament target on (tests/python/test_engine_filament.py).
+# Filament 1.76 (the open3d-cpu wheel) renders the filament target on (tests/python/test_engine_filament.py);
+# zstd unpacks Filament's built-in DFG table from that wheel's library (tests/engines/filament/filament_dfg.py).
 BRDFBAKE_TEST_PACKAGES=(
   libfilament-dev libfilament-tools python3-jsonschema oclgrind clang-format-14
   chromium chromium-driver
-  libvulkan1 mesa-vulkan-drivers
+  libvulkan1 mesa-vulkan-drivers zstd
 )
 
 # The sanitizer build and the fuzz harnesses (CMakePresets.json asan and fuzz).

@@ -45,6 +45,15 @@ fi
 # POCL_WORK_GROUP_SPECIALIZATION=1 to test PoCL's specialised functions as a user's run uses them.
 export POCL_WORK_GROUP_SPECIALIZATION=${POCL_WORK_GROUP_SPECIALIZATION:-0}
 
+# The engines that the engine tests render each target's files with (docs/ENGINES.md, "Engine truth"),
+# pinned, fetched from PyPI once into $BUILD_DIR/engines/: Babylon.js 8.46.2 as the gradio 6.31.0 wheel
+# ships it (its static chunks only; tests/engines/babylon/) and Filament 1.76 as the open3d-cpu 0.20.0
+# wheel links it (a virtual environment of its own; tests/engines/filament/). Before ctest, which reads
+# the Filament DFG table extracted from that wheel (tests/host/test_filament_dfg.cpp).
+export BRDFBAKE_ENGINES_CACHE="$PWD/$BUILD_DIR/engines"
+"${PYTHON:-python3}" tests/engines/babylon/setup_babylon.py > /dev/null
+"${PYTHON:-python3}" tests/engines/filament/setup_open3d.py > /dev/null
+
 # The Python package: a fresh virtual environment each run; the extension's build folder is kept in
 # $BUILD_DIR/python (like the C++ build), so a second run recompiles only what changed.
 python_part() {
