@@ -149,37 +149,15 @@ def to_half(table):
 
 
 def extract_from_library(path, size=LUT_SIZE):
-    """The shipped table out of a library with Filament linked in: the Zstd frame whose declared
-    content size is size*size*3*2 bytes, decompressed with the `zstd` command (or the `zstandard`
-    module). Returns float16 [t][s][3] or None."""
-    blob = pathlib.Path(path).read_bytes()
-    want = size * size * 3 * 2
-    magic = b"\x28\xb5\x2f\xfd"
-    start = 0
-    while True:
-        p = blob.find(magic, start)
-        if p < 0:
-            return None
-        start = p + 1
-        fhd = blob[p + 4]
-        fcs_flag, single, dict_flag = fhd >> 6, (fhd >> 5) & 1, fhd & 3
-        off = p + 5 + (0 if single else 1) + (0, 1, 2, 4)[dict_flag]
-        nbytes = (1 if single else 0, 2, 4, 8)[fcs_flag]
-        if nbytes == 0:
-            continue
-        content = int.from_bytes(blob[off:off + nbytes], "little") + (256 if nbytes == 2 else 0)
-        if content != want:
-            continue
-        frame = blob[p:p + want + 4096]
-        raw = None
-        try:
-            import zstandard  # noqa: PLC0415
-            raw = zstandard.ZstdDecompressor().decompress(frame, max_output_size=want)
-        except ImportError:
-            r = subprocess.run(["zstd", "-d", "-c"], input=frame, capture_output=True, timeout=60)
-            raw = r.stdout
-        if raw is not None and len(raw) >= want:
-            return np.frombuffer(raw[:want], "<f2").reshape(size, size, 3)
+    """The shipped table out of a library with Filament linked in (setup_open3d.extract_dfg_raw: the Zstd
+    frame whose declared content size is 128*128*3*2 bytes, decompressed with `zstd`). Returns float16
+    [t][s][3] or None."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+    import setup_open3d  # noqa: PLC0415
+
+    assert size == LUT_SIZE, "Filament's table is 128 x 128"
+    raw = setup_open3d.extract_dfg_raw(path)
+    return None if raw is None else np.frombuffer(raw, "<f2").reshape(size, size, 3)
 
 
 # --------------------------------------------------------------------------------------------------
