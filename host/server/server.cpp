@@ -593,8 +593,7 @@ void Server::Impl::get_file(const httplib::Request& req, httplib::Response& res)
     return fail(res, 404, "job " + id + " has no file '" + name.substr(0, 80) + "'");
   }
   const auto size = static_cast<size_t>(st.st_size);
-  res.set_header("Content-Disposition",
-                 "attachment; filename=\"" + header_text(fs::path(name).filename().string()) + "\"");
+  res.set_header("Content-Disposition", content_disposition(fs::path(name).filename().string()));
   res.set_header("X-Content-Type-Options", "nosniff");
   res.set_content_provider(
       size, content_type(name),
@@ -697,7 +696,7 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   auto send = [&](const TableReply& r, bool hit) {
     metrics.count_table(hit);
     res.status = 200;
-    res.set_header("Content-Disposition", "attachment; filename=\"" + header_text(r.filename) + "\"");
+    res.set_header("Content-Disposition", content_disposition(r.filename));
     res.set_header("X-Brdfbake-Summary", header_text(r.summary));
     if (!r.error_bound.empty()) res.set_header("X-Brdfbake-Error-Bound", r.error_bound);
     for (const auto& w : r.warnings) res.set_header("X-Brdfbake-Warning", header_text(w));

@@ -375,7 +375,7 @@ void get_archive(const WebContext& c, const httplib::Request& req, httplib::Resp
   std::sort(members->begin(), members->end(), [](const TarMember& a, const TarMember& b) { return a.name < b.name; });
   std::uint64_t total = 1024;  // two zero blocks end the archive
   for (const auto& m : *members) total += 512 + padded(m.size);
-  res.set_header("Content-Disposition", "attachment; filename=\"" + id + ".tar\"");
+  res.set_header("Content-Disposition", content_disposition(id + ".tar"));
   res.set_header("X-Content-Type-Options", "nosniff");
   // Sequential writes: each call sends the next piece (a header, a chunk of a file, padding).
   res.set_content_provider(

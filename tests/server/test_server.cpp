@@ -153,7 +153,7 @@ TEST_F(ServerApi, TableFastPathReturnsTheFile) {
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(r->get_header_value("Content-Type"), "text/csv; charset=utf-8");
-  EXPECT_EQ(r->get_header_value("Content-Disposition"), "attachment; filename=\"s.csv\"");
+  EXPECT_EQ(r->get_header_value("Content-Disposition"), "attachment; filename=\"s.csv\"; filename*=UTF-8''s.csv");
   expect_schlick_csv(r->body, 16, 0.5);
   // The same request again: the same bytes, from the result cache.
   auto again = c.Post("/v1/tables", body, "application/json");
@@ -164,7 +164,8 @@ TEST_F(ServerApi, TableFastPathReturnsTheFile) {
   auto dfg = c.Post("/v1/tables", R"({"kind": "ggx", "size": 32})", "application/json");
   ASSERT_TRUE(dfg);
   EXPECT_EQ(dfg->status, 200);
-  EXPECT_EQ(dfg->get_header_value("Content-Disposition"), "attachment; filename=\"dfg_ggx_32.exr\"");
+  EXPECT_EQ(dfg->get_header_value("Content-Disposition"),
+            "attachment; filename=\"dfg_ggx_32.exr\"; filename*=UTF-8''dfg_ggx_32.exr");
   EXPECT_FALSE(dfg->get_header_value("X-Brdfbake-Error-Bound").empty());
   // A bad one names the field as the table spells it.
   auto bad = c.Post("/v1/tables", R"({"kind": "ggx", "size": 0})", "application/json");

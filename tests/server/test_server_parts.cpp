@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
+
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
+#include "server/reply.hpp"
 #include "server/server.hpp"
 #include "server/server_process.hpp"
 
@@ -213,6 +216,22 @@ TEST(ServerParts, LoopbackAddresses) {
   for (const char* h :
        {"0.0.0.0", "::", "10.0.0.1", "127.0.0", "127.0.0.256", "127.0.0.1.5", "127.a.0.1", "example.com", ""})
     EXPECT_FALSE(server::is_loopback(h)) << h;
+}
+
+// Content-Disposition (issue 34, class 7): a name cannot end the quoted filename and add a parameter
+// (filename*= injection), and the extended form carries the exact name, percent-encoded (RFC 5987).
+TEST(ServerParts, ContentDispositionCannotBeInjected) {
+  EXPECT_EQ(server::content_disposition("venice_ibl.ktx"),
+            "attachment; filename=\"venice_ibl.ktx\"; filename*=UTF-8''venice_ibl.ktx");
+  const std::string evil = "a\"; filename*=UTF-8''evil.exe";
+  const std::string h = server::content_disposition(evil);
+  EXPECT_EQ(h,
+            "attachment; filename=\"a__ filename*=UTF-8''evil.exe\"; "
+            "filename*=UTF-8''a%22%3B%20filename%2A%3DUTF-8%27%27evil.exe");
+  // exactly one quoted string and one extended parameter, whatever the name
+  EXPECT_EQ(std::count(h.begin(), h.end(), '"'), 2);
+  EXPECT_EQ(server::content_disposition("caf\xc3\xa9\r\n.png"),
+            "attachment; filename=\"caf____.png\"; filename*=UTF-8''caf%C3%A9%0D%0A.png");
 }
 
 }  // namespace
