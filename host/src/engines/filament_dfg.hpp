@@ -23,7 +23,8 @@ namespace brdfbake::detail {
 inline constexpr int kFilamentDfgSize = 128;
 
 // Channels "bias" (x), "albedo" (y), "charlie" (z); x, y the texture's columns and rows (n_dot_v and
-// perceptual roughness at texel centres, as the lookup takes them). Computed once (~0.5 s), then shared.
+// perceptual roughness at texel centres, as the lookup takes them). Computed once a process, then shared:
+// 1.7 s of CPU (84 M samples in double), on every core (0.9 s on 2).
 const Table& filament_dfg_table();
 
 }  // namespace brdfbake::detail
