@@ -70,7 +70,7 @@ GltfScene gltf_scene_of_rotation(const std::array<double, 4>& q, const std::stri
               "right-handed scene) are, the two brdfbake writes");
 }
 
-void gltf_light_to_scene_frame(GltfScene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients) {
+void gltf_light_to_scene_frame(CubeLevels& cube, std::array<Rgb3, 9>& coefficients) {
   cube = mirror_cube_x(cube);
   coefficients = mirror_gltf_coefficients_x(coefficients);
 }

@@ -50,6 +50,6 @@ GltfScene parse_gltf_scene(const std::string& name, const std::string& what);
 GltfScene gltf_scene_of_rotation(const std::array<double, 4>& rotation, const std::string& what);
 // A light's cube and coefficients in the glTF scene's frame, as that scene samples them (un-mirrored:
 // both scenes read the stored cube at (-x, y, z) of a glTF direction).
-void gltf_light_to_scene_frame(GltfScene scene, CubeLevels& cube, std::array<Rgb3, 9>& coefficients);
+void gltf_light_to_scene_frame(CubeLevels& cube, std::array<Rgb3, 9>& coefficients);
 
 }  // namespace brdfbake::detail

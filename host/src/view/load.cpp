@@ -581,8 +581,8 @@ Item read_gltf_file(const std::string& path) {
   CubeLevels cube = io::decode_rgbd_cube(levels, light->size, "cannot view '" + path + "'");
   // in the glTF frame, as the Babylon.js scene its rotation is for samples it
   std::array<Rgb3, 9> coefficients = light->coefficients;
-  detail::gltf_light_to_scene_frame(detail::gltf_scene_of_rotation(light->rotation, "cannot view '" + path + "'"), cube,
-                                    coefficients);
+  detail::gltf_scene_of_rotation(light->rotation, "cannot view '" + path + "'");  // only the rotations emulated
+  detail::gltf_light_to_scene_frame(cube, coefficients);
   cube.metadata = light->metadata;
   it.irradiance = sh_from_engine(coefficients, gltf_irradiance_coefficients, "as written",
                                  {{"sh_convention", "EXT_lights_image_based irradianceCoefficients"}});

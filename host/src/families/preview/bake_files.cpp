@@ -179,7 +179,7 @@ void read_gltf_lighting(const json& manifest, BakeFiles& b) {
   b.gltf_scene = detail::gltf_scene_of_rotation(rotation, b.specular_file);
   std::array<Rgb3, 9> c{};
   for (size_t k = 0; k < 27; ++k) c[k / 3][k % 3] = b.sh[k];
-  detail::gltf_light_to_scene_frame(b.gltf_scene, b.specular, c);
+  detail::gltf_light_to_scene_frame(b.specular, c);
   for (size_t k = 0; k < 27; ++k) b.sh[k] = c[k / 3][k % 3];
 }
 
