@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "server/server.hpp"
+#include "server/site_policy.hpp"
 
 namespace brdfbake::cli {
 
@@ -52,6 +53,12 @@ int cmd_serve(int argc, char** argv) {
       "the only folder requests may read files from (environments, scenes, materials); none: builtin environments only",
       cxxopts::value<std::string>()->default_value(""))(
       "token-file", "a file whose first line is the bearer token every request must send",
+      cxxopts::value<std::string>()->default_value(""))(
+      "allowed-hosts",
+      "comma-separated Host names answered beside loopback's and --listen's ('*': any); without a token others get 403",
+      cxxopts::value<std::string>()->default_value(""))(
+      "allowed-origins",
+      "comma-separated origins (http://host:port) whose pages may POST or DELETE ('*': any); others get 403",
       cxxopts::value<std::string>()->default_value(""))(
       "devices", "comma-separated device selectors to serve (default: the default device); reference is always served",
       cxxopts::value<std::string>())("max-queue", "jobs waiting before submissions get 503 with Retry-After",
@@ -104,6 +111,11 @@ int cmd_serve(int argc, char** argv) {
   o.data_dir = r["data"].as<std::string>();
   o.input_root = r["input-root"].as<std::string>();
   o.token_file = r["token-file"].as<std::string>();
+  o.allowed_hosts = server::split_list(r["allowed-hosts"].as<std::string>());
+  o.allowed_origins = server::split_list(r["allowed-origins"].as<std::string>());
+  for (const auto& origin : o.allowed_origins)
+    if (origin != "*" && origin.rfind("http://", 0) != 0 && origin.rfind("https://", 0) != 0)
+      throw UsageError("--allowed-origins: '" + origin + "' is not an origin such as http://localhost:3000");
   const std::string devices = r.count("devices") ? r["devices"].as<std::string>() : std::string();
   for (size_t start = 0; !devices.empty();) {
     const size_t comma = devices.find(',', start);

@@ -37,6 +37,7 @@
 #include "server/metrics.hpp"
 #include "server/reply.hpp"
 #include "server/scheduler.hpp"
+#include "server/site_policy.hpp"
 #include "server/web_routes.hpp"
 
 namespace brdfbake::server {
@@ -188,6 +189,7 @@ class ResultCache {
 struct Server::Impl {
   ServerOptions opt;
   std::string token;
+  SitePolicy site;
   int lock_fd = -1;
   std::unique_ptr<Roots> roots;
   std::unique_ptr<JobStore> store;
@@ -833,7 +835,19 @@ void Server::Impl::routes() {
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
     listen_fd = sock;
   });
+  site.listen_host = opt.host;
+  // A token already keeps other pages out (they cannot know it), so its Host names are the
+  // operator's; without one (loopback only) every name but loopback's is refused.
+  site.check_host = token.empty() || !opt.allowed_hosts.empty();
+  site.allowed_hosts = opt.allowed_hosts;
+  site.allowed_origins = opt.allowed_origins;
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    const std::string refused = refuse_by_site(site, req.method, req.get_header_value("Host"),
+                                               req.get_header_value("Origin"), req.get_header_value("Sec-Fetch-Site"));
+    if (!refused.empty()) {
+      fail(res, 403, refused);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (authorized(req) || web_public_route(req.method, req.path)) return httplib::Server::HandlerResponse::Unhandled;
     res.set_header("WWW-Authenticate", "Bearer realm=\"brdfbake\"");
     fail(res, 401, "missing or wrong bearer token (Authorization: Bearer ...; see --token-file)");

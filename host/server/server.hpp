@@ -18,6 +18,8 @@ struct ServerOptions {
   std::string data_dir;                           // required: jobs.db, jobs/<id>/, tmp/
   std::string input_root;                         // "" = requests may read no file (builtin environments only)
   std::string token_file;                         // "" = no token (then only a loopback address is accepted)
+  std::vector<std::string> allowed_hosts;         // Host names answered beside loopback and the listen host; "*" any
+  std::vector<std::string> allowed_origins;       // origins whose pages may write (POST, DELETE); "*" any
   std::vector<std::string> devices;               // selectors to serve ("" = the default device); reference always
   int max_queue = 64;                             // waiting jobs before 503
   std::size_t max_body = 1 << 20;                 // bytes of a request body before 413

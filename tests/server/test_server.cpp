@@ -702,6 +702,59 @@ TEST(ServerSecurity, TokenRequiredAndNoOpenListenWithoutIt) {
   EXPECT_NE(open.err.find("refusing to listen on '0.0.0.0'"), std::string::npos) << open.err;
 }
 
+// Issue 34, class 4: a token-less server on loopback is not driven by another origin's page (a
+// cross-origin POST with a "simple" Content-Type needs no preflight) and not read under a foreign
+// Host name (DNS rebinding); the page it serves itself, and the command line, still are.
+TEST(ServerSecurity, OtherSitesCannotDriveIt) {
+  TempDir dir("site");
+  ServerProcess server(dir.path, {"--data", (dir.path / "data").string(), "--no-warm-up"});
+  ASSERT_TRUE(server.start()) << server.error();
+  auto c = server.client();
+  const std::string own = server.url();  // http://127.0.0.1:PORT, this server's origin
+  const std::string host = own.substr(std::string("http://").size());
+  auto jobs_count = [&] { return body_json(c.Get("/v1/jobs"))["jobs"].size(); };
+  const size_t before = jobs_count();
+  for (const char* type : {"text/plain", "application/x-www-form-urlencoded", "application/json"}) {
+    auto r = c.Post("/v1/jobs", {{"Origin", "http://evil.example"}, {"Sec-Fetch-Site", "cross-site"}},
+                    small_job().dump(), type);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403) << type;
+    EXPECT_NE(body_json(r).value("error", "").find("another origin"), std::string::npos) << r->body;
+  }
+  auto del = c.Delete("/v1/jobs/abc", {{"Origin", "null"}});
+  ASSERT_TRUE(del);
+  EXPECT_EQ(del->status, 403);
+  EXPECT_EQ(jobs_count(), before);  // nothing was submitted
+  // A foreign Host name reads nothing, not even the page.
+  for (const char* path : {"/v1/jobs", "/v1/inputs", "/", "/v1/health"}) {
+    auto r = c.Get(path, {{"Host", "rebind.evil.example:" + host.substr(host.find(':') + 1)}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403) << path;
+  }
+  // Its own page, and the command line (no Origin), do.
+  auto own_page =
+      c.Post("/v1/jobs", {{"Origin", own}, {"Sec-Fetch-Site", "same-origin"}}, small_job().dump(), "application/json");
+  ASSERT_TRUE(own_page);
+  EXPECT_EQ(own_page->status, 202) << own_page->body;
+  EXPECT_EQ(c.Post("/v1/jobs", small_job().dump(), "application/json")->status, 202);
+  EXPECT_EQ(c.Get("/v1/jobs", {{"Host", "localhost:1"}})->status, 200);
+  // Allow-lists: --allowed-origins and --allowed-hosts let the named ones in.
+  fs::create_directories(dir.path / "open");
+  ServerProcess open(dir.path / "open", {"--data", (dir.path / "open-data").string(), "--no-warm-up",
+                                         "--allowed-origins", "http://localhost:3000", "--allowed-hosts", "bake.lan"});
+  ASSERT_TRUE(open.start()) << open.error();
+  auto o = open.client();
+  EXPECT_EQ(o.Post("/v1/jobs", {{"Origin", "http://localhost:3000"}}, small_job().dump(), "application/json")->status,
+            202);
+  EXPECT_EQ(o.Post("/v1/jobs", {{"Origin", "http://localhost:3001"}}, small_job().dump(), "application/json")->status,
+            403);
+  EXPECT_EQ(o.Get("/v1/jobs", {{"Host", "bake.lan"}})->status, 200);
+  EXPECT_EQ(o.Get("/v1/jobs", {{"Host", "other.lan"}})->status, 403);
+  const CliRun bad = run_cli("serve --data " + (dir.path / "bad").string() + " --allowed-origins evil.example");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("is not an origin"), std::string::npos) << bad.err;
+}
+
 TEST(ServerFaults, KillMinusNineThenRestart) {
   TempDir dir("kill9");
   const std::vector<std::string> args = {"--data", (dir.path / "data").string(), "--no-warm-up"};

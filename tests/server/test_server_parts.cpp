@@ -10,6 +10,7 @@
 #include "server/reply.hpp"
 #include "server/server.hpp"
 #include "server/server_process.hpp"
+#include "server/site_policy.hpp"
 
 namespace brdfbake::test {
 namespace {
@@ -232,6 +233,49 @@ TEST(ServerParts, ContentDispositionCannotBeInjected) {
   EXPECT_EQ(std::count(h.begin(), h.end(), '"'), 2);
   EXPECT_EQ(server::content_disposition("caf\xc3\xa9\r\n.png"),
             "attachment; filename=\"caf____.png\"; filename*=UTF-8''caf%C3%A9%0D%0A.png");
+}
+
+// Who may call (issue 34, class 4): the rules on their own; ServerSecurity.OtherSitesCannotDriveIt
+// sends the same headers through HTTP.
+TEST(ServerParts, SitePolicyRefusesOtherPagesAndForeignHosts) {
+  using server::refuse_by_site;
+  EXPECT_EQ(server::host_name_of("127.0.0.1:8737"), "127.0.0.1");
+  EXPECT_EQ(server::host_name_of("[::1]:8737"), "::1");
+  EXPECT_EQ(server::host_name_of("LocalHost"), "localhost");
+  EXPECT_EQ(server::host_name_of("a.example:80x"), "");
+  EXPECT_EQ(server::host_name_of("[::1]x"), "");
+  server::SitePolicy p;
+  p.listen_host = "127.0.0.1";
+  // Host names: loopback's, the listen host, none other (DNS rebinding).
+  for (const char* host : {"127.0.0.1:8737", "localhost:8737", "[::1]:8737", "127.0.0.1", ""})
+    EXPECT_EQ(refuse_by_site(p, "GET", host, "", ""), "") << host;
+  for (const char* host : {"evil.example:8737", "evil.example", "127.0.0.1.nip.io:8737", "[::1", "a b"}) {
+    const std::string why = refuse_by_site(p, "GET", host, "", "");
+    EXPECT_NE(why.find("is not a name of this server"), std::string::npos) << host << ": " << why;
+  }
+  p.allowed_hosts = {"bake.lan"};
+  EXPECT_EQ(refuse_by_site(p, "GET", "bake.lan:8737", "", ""), "");
+  p.check_host = false;  // a server with a token and no --allowed-hosts
+  EXPECT_EQ(refuse_by_site(p, "GET", "evil.example", "", ""), "");
+  p.check_host = true;
+  // Writes: no Origin (command line), this server's own page, allowed origins; no other page.
+  EXPECT_EQ(refuse_by_site(p, "POST", "127.0.0.1:8737", "", ""), "");
+  EXPECT_EQ(refuse_by_site(p, "POST", "127.0.0.1:8737", "http://127.0.0.1:8737", "same-origin"), "");
+  EXPECT_EQ(refuse_by_site(p, "DELETE", "localhost:8737", "http://LOCALHOST:8737", ""), "");
+  for (const char* origin : {"http://evil.example", "http://127.0.0.1:9999", "https://127.0.0.1:8737", "null"})
+    for (const char* method : {"POST", "DELETE", "PUT", "PATCH"}) {
+      const std::string why = refuse_by_site(p, method, "127.0.0.1:8737", origin, "cross-site");
+      EXPECT_NE(why.find("another origin"), std::string::npos) << method << " " << origin << ": " << why;
+    }
+  EXPECT_NE(refuse_by_site(p, "POST", "127.0.0.1:8737", "", "cross-site"), "");
+  // Reads from another page are the browser's to block (no CORS headers are sent).
+  EXPECT_EQ(refuse_by_site(p, "GET", "127.0.0.1:8737", "http://evil.example", "cross-site"), "");
+  p.allowed_origins = {"http://localhost:3000"};
+  EXPECT_EQ(refuse_by_site(p, "POST", "127.0.0.1:8737", "http://localhost:3000", "cross-site"), "");
+  EXPECT_NE(refuse_by_site(p, "POST", "127.0.0.1:8737", "http://localhost:3001", "cross-site"), "");
+  // A header's bytes are shown printable in the one-line message.
+  EXPECT_EQ(refuse_by_site(p, "POST", "127.0.0.1:8737", "http://a\nwarning: x", "").find('\n'), std::string::npos);
+  EXPECT_EQ(server::split_list(" a, ,b ,"), (std::vector<std::string>{"a", "b"}));
 }
 
 }  // namespace
