@@ -3,6 +3,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "brdfbake/environment.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/report.hpp"
 #include "cli_common.hpp"
 
@@ -117,6 +119,12 @@ int cmd_report(int argc, char** argv) {
   for (int k = 0; k < argc; ++k) o.command += (k ? " " : "brdfbake ") + std::string(argv[k]);
   check_output_path(out);
   check_output_path(report_json_path(out));
+  {  // the page and its JSON are not the environment it reads, nor a folder
+    std::vector<RequestFile> inputs;
+    if (!o.environment.empty())
+      for (const auto& f : environment_files(o.environment)) inputs.push_back({"--env", f, false, ""});
+    check_outputs_not_inputs({{"-o", out, false, ""}, {"-o", report_json_path(out), false, "JSON"}}, inputs);
+  }
   if (!quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   const Report report = run_report(o);
   write_report(report, out);

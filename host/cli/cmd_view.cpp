@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/view.hpp"
 #include "cli_common.hpp"
 
@@ -54,6 +55,11 @@ int cmd_view(int argc, char** argv) {
   if (r.count("width")) o.max_width = integer(r, "width");
   if (r.count("title")) o.title = r["title"].as<std::string>();
   check_output_path(out);
+  {  // the sheet is none of the files it draws (`view s.png -o s.png`), nor in a folder it draws
+    std::vector<RequestFile> inputs;
+    for (const auto& f : r["files"].as<std::vector<std::string>>()) inputs.push_back({"the viewed file", f, false, ""});
+    check_outputs_not_inputs({{"-o", out, false, ""}}, inputs);
+  }
   const ContactSheet sheet = render_contact_sheet(r["files"].as<std::vector<std::string>>(), o);
   write_contact_sheet(sheet, out);
   if (!r.count("quiet")) {

@@ -15,6 +15,7 @@
 #include "backends.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/runner.hpp"
 #include "brdfbake/scene.hpp"
@@ -159,6 +160,9 @@ std::shared_ptr<PyResult> bake(const std::string& kind, const py::list& params, 
   r->request = make_request(kind, params, common, prefix);
   const TableRequest& t = r->request;
   const bool write_now = common.contains("output") && !common["output"].is_none();
+  // Every file it writes (its output and what is written beside it) against what it reads, as the
+  // command line checks them (brdfbake/output_checks.hpp).
+  if (write_now) check_table_files(t, FieldNaming{prefix, false}, false);
 
   TableRunOptions o;
   o.delivery = write_now ? TableDelivery::File : TableDelivery::Memory;

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "brdfbake/output_checks.hpp"
 #include "convert.hpp"
 
 namespace brdfbake::python {
@@ -186,6 +187,7 @@ std::vector<std::string> save(PyResult& r, const std::string& path, const std::s
                 "; bake it with them (or save to another format)");
   }
   t.output = path;  // written where asked, even where validation named a default ("" is refused there)
+  check_table_files(t, naming, false);  // no output on an input (brdfbake/output_checks.hpp)
   Delivery d;
   {
     const py::gil_scoped_release release;

@@ -1786,6 +1786,71 @@ void collisions(std::vector<Row>& rows) {
                      .no("c.ktx2"));
 }
 
+// -- Issue 34, class 1: every file a command writes is an output under every rule, the files written
+// beside the output included (the preview's NAME.json, NAME_splitsum.exr, NAME_reference.exr, a
+// report's JSON): none may be an input, a folder, or another output of the job; `view` and `report`
+// too; and --keep-bakes, whose folders the sweep replaces, is checked before anything runs.
+void sibling_outputs(std::vector<Row>& rows) {
+  rows.push_back(R("sibling_preview_json_is_materials",
+                   "preview --env builtin:sun --materials {d}/p.json -o {d}/p.png --no-reference", 2)
+                     .file("p.json", kMaterials)
+                     .says("--materials")
+                     .says("p.json")
+                     .keeps("p.json")
+                     .no("p.png"));
+  rows.push_back(R("sibling_preview_json_is_bake_manifest",
+                   "preview --env builtin:sun --bake {d}/bk --target filament -o {d}/bk/manifest.png --no-reference", 2)
+                     .file("bk/manifest.json", R"({"brdfbake_manifest": 1})")
+                     .says("--bake")
+                     .says("manifest.json")
+                     .keeps("bk/manifest.json")
+                     .no("bk/manifest.png"));
+  rows.push_back(R("sibling_preview_folder_in_the_way", "preview --env builtin:sun -o {d}/q.png --no-reference", 2)
+                     .setup("mkdir q.json")
+                     .says("'{d}/q.json' is a folder")
+                     .no("q.png"));
+  const std::string preview_table =
+      R"({"kind": "preview", "width": 192, "height": 96, "reference": false, "output": "p.png"})";
+  for (const bool dry : {false, true}) {
+    const std::string mode = dry ? " --dry-run" : " --quiet";
+    const std::string suffix = dry ? "_dry_run" : "";
+    rows.push_back(R("sibling_job_preview_json_is_a_table" + suffix, "run {d}/job.json -o {d}/out" + mode, 2)
+                       .file("job.json",
+                             job(preview_table + R"(, {"kind": "ggx", "size": 4, "format": "csv", "output": "p.json"})",
+                                 R"(, "environment": "builtin:sun")"))
+                       .says("tables[1].output")
+                       .says("tables[0].output's p.json")
+                       .no("out"));
+    rows.push_back(
+        R("sibling_job_preview_json_is_the_manifest" + suffix, "run {d}/job.json -o {d}/out" + mode, 2)
+            .file(
+                "job.json",
+                job(R"({"kind": "preview", "width": 192, "height": 96, "reference": false, "output": "manifest.png"})",
+                    R"(, "environment": "builtin:sun")"))
+            .says("tables[0].output's manifest.json")
+            .says("the job's manifest")
+            .no("out"));
+  }
+  rows.push_back(R("sibling_view_its_own_input", "view {d}/s.png -o {d}/s.png", 2)
+                     .file("s.png", "not a picture, and not to be replaced")
+                     .says("same file")
+                     .keeps("s.png"));
+  rows.push_back(R("sibling_view_into_a_viewed_folder", "view {d}/bk -o {d}/bk/s.png", 2)
+                     .file("bk/s.png", "a file of the folder drawn")
+                     .says("same file")
+                     .keeps("bk/s.png"));
+  rows.push_back(R("sibling_report_json_folder_in_the_way", "report --kinds fresnel -o {d}/r.html", 2)
+                     .setup("mkdir r.json")
+                     .says("is a folder")
+                     .no("r.html"));
+  rows.push_back(R("sibling_report_keep_bakes_not_empty", "report --kinds bake --keep-bakes {d}/keep -o {d}/r.html", 2)
+                     .file("keep/filament/default/mine.txt", "the user's own file")
+                     .says("keep_bakes")
+                     .says("not an empty folder")
+                     .keeps("keep/filament/default/mine.txt")
+                     .no("r.html"));
+}
+
 // -- Issue 24, the lock and the output folder: locked by the folder's identity, every stop signal
 // (SIGINT, SIGTERM, SIGHUP, SIGPIPE) cleans up as it unwinds.
 void locks_and_signals(std::vector<Row>& rows) {
@@ -2118,6 +2183,7 @@ std::vector<Row> all_rows() {
   device_limits(rows);
   special_files(rows);
   collisions(rows);
+  sibling_outputs(rows);
   locks_and_signals(rows);
   image_values(rows);
   caches(rows);
@@ -2348,10 +2414,10 @@ TEST(HostileTable, HasEveryClassAndAtLeast200Rows) {
     return std::count_if(rows.begin(), rows.end(),
                          [&](const Row& r) { return r.name.find(part) != std::string::npos; });
   };
-  for (const char* part :
-       {"deep_",    "1e999",    "flt_max",     "f16",  "promises",  "folder",    "through_a_file", "locked",
-        "stale",    "eval_csv", "eval_binary", "fp64", "cli_",      "job_",      "bake_",          "glb",
-        "special_", "collide_", "lock_",       "sig",  "image_png", "image_exr", "image_hdr",      "cache_"})
+  for (const char* part : {"deep_",     "1e999",     "flt_max",   "f16",         "promises", "folder", "through_a_file",
+                           "locked",    "stale",     "eval_csv",  "eval_binary", "fp64",     "cli_",   "job_",
+                           "bake_",     "glb",       "special_",  "collide_",    "sibling_", "lock_",  "sig",
+                           "image_png", "image_exr", "image_hdr", "cache_"})
     EXPECT_GT(count(part), 0) << "no row for " << part;
 }
 

@@ -19,11 +19,13 @@ struct RequestFile {
   std::string field;
   std::string path;
   bool folder = false;  // an output written as a folder of files (a cube as images)
+  std::string beside;   // a file written or read beside the field's own ("its NAME.json"), else ""
 };
-// The files a validated request reads: its environment's files (builtins and "-" left out) and its
-// path parameters (material, input).
+// The files a validated request reads: its environment's files (builtins and "-" left out), its
+// path parameters (material, input) and what its family reads beside them (a bake folder's files).
 std::vector<RequestFile> table_input_files(const TableRequest& request);
-// The files it writes: its output ("-" left out) and its output-only path parameters (sh_json).
+// The files it writes: its output ("-" left out), its output-only path parameters (sh_json) and what
+// its family writes beside the output (the preview's NAME.json, NAME_splitsum.exr, NAME_reference.exr).
 std::vector<RequestFile> table_output_files(const TableRequest& request);
 
 // A one-table command: each output against the special-file policy (the main output may be a
@@ -40,7 +42,14 @@ void check_job_output_set(const Job& job, bool ignore_case);
 // Everything check_job_output_set checks, with the case of the file system `folder` is on, and the
 // files: no output inside `folder` that is a device, a FIFO or a socket, or the same file as an
 // input of the job (its environments, materials, pair files, the job file itself).
-void check_job_files(const Job& job, const std::string& folder);
+// `engine_name` is the NAME of an engine target's files when the run gives one (else the job's, else
+// the folder's name); the target's files and the preview's (bake --preview) are outputs too.
+void check_job_files(const Job& job, const std::string& folder, const std::string& engine_name = "");
+
+// A command outside the table kinds (view, report): none of `outputs` is a folder, or the same file
+// as one of `inputs` (a folder input stands for its regular files two levels down: a bake's folder).
+// Throws Error "<output field>: '<path>' is the same file as <input field> ('<path>'): ...".
+void check_outputs_not_inputs(const std::vector<RequestFile>& outputs, const std::vector<RequestFile>& inputs);
 
 // Whether the file system holding `folder` (or its nearest existing parent) treats names that differ
 // only in case as one file; probed with a temporary file, false when it cannot be probed.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/output_checks.hpp"
 #include "brdfbake/tables.hpp"
 #include "families/delivery.hpp"
 #include "families/field_error.hpp"
@@ -66,6 +67,12 @@ class Family {
   // Checks that the output's extension and format fit the request; throws FieldError("output" or
   // "format", ...).
   virtual void check_output(const TableRequest& t, const FieldName& name) const;
+  // The files a validated request writes beside its output (the preview's NAME.json and EXRs) and
+  // reads beside its path parameters (a bake folder's files): every output rule holds for them as
+  // for the output (brdfbake/output_checks.hpp). `field` is the parameter they belong to, `beside`
+  // says which of its files it is.
+  virtual std::vector<RequestFile> outputs_beside(const TableRequest&) const { return {}; }
+  virtual std::vector<RequestFile> inputs_beside(const TableRequest&) const { return {}; }
 
   // Every field of the spec struct a kind bakes from, with the parameter that sets it (the spec's
   // SpecSchema): a field added to the struct without one fails a test. Empty for a family without a

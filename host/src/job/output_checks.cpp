@@ -10,8 +10,10 @@
 #include <iterator>
 #include <random>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "families/family.hpp"
 #include "io/special_files.hpp"
 
 namespace brdfbake {
@@ -93,7 +95,13 @@ void check_not_inputs(const std::vector<Named>& outputs, const std::vector<Named
 
 std::string origin_of(const Job& job) { return job.source.empty() ? std::string("job") : job.source; }
 
-std::string table_field(size_t i, const std::string& field) { return "tables[" + std::to_string(i) + "]." + field; }
+std::string table_field(size_t i, const RequestFile& f) {
+  return "tables[" + std::to_string(i) + "]." + f.field + (f.beside.empty() ? "" : "'s " + f.beside);
+}
+
+std::string named_field(const FieldNaming& naming, TableKind kind, const RequestFile& f) {
+  return naming.field(kind, f.field) + (f.beside.empty() ? "" : "'s " + f.beside);
+}
 
 }  // namespace
 
@@ -105,52 +113,94 @@ std::vector<RequestFile> table_input_files(const TableRequest& t) {
       files = environment_files(t.environment);
     } catch (const Error&) {  // a bad list: the environment's own check names it
     }
-    for (const auto& f : files) out.push_back({"environment", f, false});
+    for (const auto& f : files) out.push_back({"environment", f, false, ""});
   }
   for (const auto& d : table_schema(t.kind))
     if (d.type == ParamType::Path && !d.output_only && t.find(d.name) && t.text(d.name) != "-")
-      out.push_back({d.name, t.text(d.name), false});
+      out.push_back({d.name, t.text(d.name), false, ""});
+  for (auto& f : detail::family_of(t.kind).inputs_beside(t)) out.push_back(std::move(f));
   return out;
 }
 
 std::vector<RequestFile> table_output_files(const TableRequest& t) {
   std::vector<RequestFile> out;
-  if (!t.output.empty() && t.output != "-") out.push_back({"output", t.output, is_folder_output(t)});
+  if (!t.output.empty() && t.output != "-") out.push_back({"output", t.output, is_folder_output(t), ""});
   for (const auto& d : table_schema(t.kind))
     if (d.type == ParamType::Path && d.output_only && t.find(d.name) && !t.text(d.name).empty())
-      out.push_back({d.name, t.text(d.name), false});
+      out.push_back({d.name, t.text(d.name), false, ""});
+  if (!t.output.empty() && t.output != "-")
+    for (auto& f : detail::family_of(t.kind).outputs_beside(t)) out.push_back(std::move(f));
   return out;
 }
 
 void check_table_files(const TableRequest& t, const FieldNaming& naming, bool output_streams) {
   std::vector<Named> outputs, inputs;
   for (const auto& f : table_output_files(t)) {
-    const std::string field = naming.field(t.kind, f.field);
-    io::check_output_target(f.path, f.field == "output" && output_streams, field);
+    const std::string field = named_field(naming, t.kind, f);
+    io::check_output_target(f.path, f.field == "output" && f.beside.empty() && output_streams, field);
+    if (!f.folder && io::file_type(f.path) == io::FileType::Folder)
+      throw Error((naming.cli ? "" : naming.prefix + ": ") + field + ": '" + f.path +
+                  "' is a folder, which the file cannot replace: give the output another name");
     outputs.push_back({field, f.path, normal(f.path, false), f.folder});
   }
   for (const auto& f : table_input_files(t))
-    inputs.push_back({naming.field(t.kind, f.field), f.path, normal(f.path, false), false});
+    inputs.push_back({named_field(naming, t.kind, f), f.path, normal(f.path, false), false});
   check_output_set(outputs, naming.cli ? "" : naming.prefix + ": ", false);
   check_not_inputs(outputs, inputs, naming.cli ? "" : naming.prefix + ": ");
 }
 
-void check_job_output_set(const Job& job, bool ignore_case) {
+namespace {
+
+std::vector<RequestFile> job_files_beside_tables(const Job& job, const std::string& engine_name) {
+  std::vector<RequestFile> out;
+  EngineTarget target = EngineTarget::Generic;
+  try {
+    target = engine_target_from_name(job.target);
+  } catch (const Error&) {  // validate_job names a bad target
+  }
+  if (target != EngineTarget::Generic)
+    for (std::string f : engine_settings(target).files) {
+      f = f.substr(0, f.find(' '));                    // "NAME_charlie.ktx2 (with a Charlie chain)"
+      if (f.find('<') != std::string::npos) continue;  // a pattern (the glTF faces): no table is named so
+      const auto at = f.find("NAME");
+      if (at != std::string::npos) {
+        if (engine_name.empty()) continue;  // the folder's name, known when the job runs
+        f.replace(at, 4, engine_name);
+      }
+      out.push_back({"target", f, false, "file " + f});
+    }
+  if (job.preview)
+    for (const char* f : {"preview.png", "preview_splitsum.exr", "preview_reference.exr", "preview.json"})
+      out.push_back({"preview", f, false, std::string("file ") + f});
+  return out;
+}
+
+void check_outputs_of_job(const Job& job, bool ignore_case, const std::string& engine_name) {
   std::vector<Named> outputs;
   for (size_t i = 0; i < job.tables.size(); ++i)
     for (const auto& f : table_output_files(job.tables[i]))
-      outputs.push_back({table_field(i, f.field), f.path, normal(f.path, ignore_case), f.folder});
+      outputs.push_back({table_field(i, f), f.path, normal(f.path, ignore_case), f.folder});
+  for (const auto& f : job_files_beside_tables(job, engine_name))
+    outputs.push_back({f.field + "'s " + f.beside, f.path, normal(f.path, ignore_case), false});
+  for (const Named& o : outputs)  // the outputs' own names are checked by validate_job; not what is beside them
+    if (o.key == normal("manifest.json", ignore_case))
+      throw Error(origin_of(job) + ": " + o.field + ": '" + o.path +
+                  "' is the job's manifest, which the job writes last: give the output another name");
   check_output_set(outputs, origin_of(job) + ": ", ignore_case);
 }
 
-void check_job_files(const Job& job, const std::string& folder) {
+}  // namespace
+
+void check_job_output_set(const Job& job, bool ignore_case) { check_outputs_of_job(job, ignore_case, job.engine_name); }
+
+void check_job_files(const Job& job, const std::string& folder, const std::string& engine_name) {
   std::vector<Named> outputs, inputs;
   bool differ_in_case_only = false;
   for (size_t i = 0; i < job.tables.size(); ++i)
     for (const auto& f : table_output_files(job.tables[i])) {
       const std::string path = (fs::path(folder) / f.path).lexically_normal().string();
       if (const io::OutputTargetInfo info = io::output_target(path); info.target != io::OutputTarget::File)
-        throw Error(origin_of(job) + ": " + table_field(i, f.field) + ": '" + path + "' is " + info.what +
+        throw Error(origin_of(job) + ": " + table_field(i, f) + ": '" + path + "' is " + info.what +
                     ", which the file would replace: remove it or give the output another name");
       // A folder of the output's path that is a file in the existing folder: the commit could not
       // move it in, after the files before it were (found here, before anything is baked).
@@ -161,22 +211,50 @@ void check_job_files(const Job& job, const std::string& folder) {
         const io::FileType type = io::file_type(at.string());
         if (type == io::FileType::Missing) break;
         if (type != io::FileType::Folder)
-          throw IoError("cannot write '" + path + "' (" + origin_of(job) + ": " + table_field(i, f.field) + "): '" +
+          throw IoError("cannot write '" + path + "' (" + origin_of(job) + ": " + table_field(i, f) + "): '" +
                         at.string() + "' is " + io::file_type_text(type) + ", not a folder");
       }
-      outputs.push_back({table_field(i, f.field), path, normal(f.path, false), f.folder});
+      outputs.push_back({table_field(i, f), path, normal(f.path, false), f.folder});
     }
   for (size_t i = 0; i < outputs.size() && !differ_in_case_only; ++i)
     for (size_t j = i + 1; j < outputs.size(); ++j)
       if (outputs[i].key != outputs[j].key && lower(outputs[i].key) == lower(outputs[j].key))
         differ_in_case_only = true;
-  check_job_output_set(job, differ_in_case_only && folder_ignores_case(folder));
+  check_outputs_of_job(job, differ_in_case_only && folder_ignores_case(folder),
+                       !engine_name.empty()       ? engine_name
+                       : !job.engine_name.empty() ? job.engine_name
+                                                  : fs::path(folder).lexically_normal().filename().string());
   // The job file itself is an input too: an output of that name would replace it.
   if (io::file_type(job.source) == io::FileType::Regular) inputs.push_back({"the job file", job.source, "", false});
   for (size_t i = 0; i < job.tables.size(); ++i)
-    for (const auto& f : table_input_files(job.tables[i]))
-      inputs.push_back({table_field(i, f.field), f.path, "", false});
+    for (const auto& f : table_input_files(job.tables[i])) inputs.push_back({table_field(i, f), f.path, "", false});
   check_not_inputs(outputs, inputs, origin_of(job) + ": ");
+}
+
+void check_outputs_not_inputs(const std::vector<RequestFile>& outputs, const std::vector<RequestFile>& inputs) {
+  std::vector<Named> out, in;
+  for (const auto& f : outputs) {
+    const std::string field = f.field + (f.beside.empty() ? "" : "'s " + f.beside);
+    if (io::file_type(f.path) == io::FileType::Folder)
+      throw Error(field + ": '" + f.path +
+                  "' is a folder, which the file cannot replace: give the output another name");
+    out.push_back({field, f.path, normal(f.path, false), false});
+  }
+  for (const auto& f : inputs) {
+    if (io::file_type(f.path) != io::FileType::Folder) {
+      in.push_back({f.field, f.path, "", false});
+      continue;
+    }
+    std::error_code ec;
+    fs::recursive_directory_iterator it(f.path, fs::directory_options::none, ec), end;
+    for (size_t n = 0; !ec && it != end && n < 4096; it.increment(ec), ++n) {
+      if (it.depth() > 1) it.disable_recursion_pending();
+      if (it->is_regular_file(ec))
+        in.push_back({f.field + "'s " + it->path().filename().string(), it->path().string(), "", false});
+    }
+  }
+  check_output_set(out, "", false);
+  check_not_inputs(out, in, "");
 }
 
 bool folder_ignores_case(const std::string& folder) {

@@ -298,7 +298,8 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
 
   std::string target = job.output_dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();  // "out/" is the folder "out"
-  check_job_files(job, target);  // outputs as a set, against the folder and the inputs, before any work
+  check_job_files(job, target,
+                  options.engine_name);  // outputs as a set, against the folder and the inputs, before any work
   // One run at a time per folder; then what killed runs left beside it can go.
   OutputLock lock(target, options.wait_for_lock, options.on_wait);
   remove_stale_temporaries(target);

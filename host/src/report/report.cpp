@@ -367,8 +367,13 @@ void write_report(const Report& r, const std::string& html_path) {
   io::TempFile html(html_path), js(json_path);
   io::write_bytes(html, report_html(r));
   io::write_bytes(js, report_json(r));
-  html.commit();
+  // the numbers first, the page that shows them last: a page on disk always has its JSON
+  std::error_code ec;
+  for (const std::string& p : {json_path, html_path})
+    if (std::filesystem::is_directory(p, ec))
+      throw Error("cannot write '" + p + "': a folder of that name is in the way (nothing was written)");
   js.commit();
+  html.commit();
   folders.keep();
 }
 

@@ -176,6 +176,29 @@ class PreviewFamily final : public Family {
   OutputFormats formats(const TableRequest&) const override {
     return {{".png"}, "a contact sheet (.png; NAME_splitsum.exr, NAME_reference.exr and NAME.json beside it)"};
   }
+  // The sheet's siblings are outputs as the sheet is (issue 34, class 1: `-o p.png` beside
+  // `--materials p.json`, `-o BAKE/manifest.png`).
+  std::vector<RequestFile> outputs_beside(const TableRequest& t) const override {
+    std::vector<RequestFile> out;
+    for (const char* suffix : {".json", "_splitsum.exr", "_reference.exr"}) {
+      const std::string path = preview::sibling(t.output, suffix);
+      out.push_back({"output", path, false, fs::path(path).filename().string()});
+    }
+    return out;
+  }
+  // A bake folder's files are inputs: the manifest and the files it names (the first 4096 regular
+  // files of the folder and its sub-folders, which is more than any bake writes).
+  std::vector<RequestFile> inputs_beside(const TableRequest& t) const override {
+    std::vector<RequestFile> in;
+    if (!t.find("bake")) return in;
+    std::error_code ec;
+    fs::recursive_directory_iterator it(t.text("bake"), fs::directory_options::none, ec), end;
+    for (; !ec && it != end && in.size() < 4096; it.increment(ec)) {
+      if (it.depth() > 2) it.disable_recursion_pending();
+      if (it->is_regular_file(ec)) in.push_back({"bake", it->path().string(), false, it->path().filename().string()});
+    }
+    return in;
+  }
   TableExample example(TableKind) const override {
     TableExample e;
     e.request.environment = "builtin:sun";

@@ -436,10 +436,15 @@ void write_preview(const PreviewResult& r, const std::string& environment, const
       {"brdfbake:json", fs::path(sibling(sheet_path, ".json")).filename().string()},
       {"brdfbake:pixel", "linear RGB radiance, row 0 at the top"}};
   // The float images (uncompressed: io::ExrCompression::None says why) on a second thread while the
-  // sheet is drawn and encoded here; everything is staged and renamed after the sheet.
-  io::TempFile split(sibling(sheet_path, "_splitsum.exr"));
+  // sheet is drawn and encoded here. The four files are one output (issue 34, class 1): each is
+  // staged beside its name, every name is checked free for a file (no folder, device or FIFO in the
+  // way) before the first rename, and the sheet is renamed last; a reference not rendered this time
+  // leaves no NAME_reference.exr of an earlier run beside the new sheet.
+  const std::string json_path = sibling(sheet_path, ".json"), split_path = sibling(sheet_path, "_splitsum.exr"),
+                    ref_path = sibling(sheet_path, "_reference.exr");
+  io::TempFile split(split_path);
   std::optional<io::TempFile> ref;
-  if (!r.reference.rgb.empty()) ref.emplace(sibling(sheet_path, "_reference.exr"));
+  if (!r.reference.rgb.empty()) ref.emplace(ref_path);
   std::exception_ptr failed;
   std::thread exr([&] {
     try {
@@ -453,20 +458,39 @@ void write_preview(const PreviewResult& r, const std::string& environment, const
     }
   });
   try {
-    io::TempFile json_file(sibling(sheet_path, ".json"));
+    io::TempFile json_file(json_path);
     io::write_bytes(json_file, preview_json(r, environment, sheet_path));
     const ContactSheet sheet = preview_sheet(r, title);
     // zlib level 3: a tenth of level 9's time for a 1600 x 700 sheet, a slightly larger file
     constexpr int kSheetLevel = 3;
-    io::write_png_rgb8(sheet_path, sheet.width, sheet.height, sheet.rgb,
-                       {{"Software", std::string("brdfbake ") + kVersion},
-                        {"Description", "brdfbake preview: " + sheet.tone_map_text + "; " + sheet.colour_scale_text}},
-                       kSheetLevel);
+    io::TempFile png(sheet_path);
+    std::vector<uint8_t> bytes;
+    try {
+      bytes = io::encode_png_rgb8(
+          sheet.width, sheet.height, sheet.rgb,
+          {{"Software", std::string("brdfbake ") + kVersion},
+           {"Description", "brdfbake preview: " + sheet.tone_map_text + "; " + sheet.colour_scale_text}},
+          kSheetLevel);
+    } catch (const Error& e) {
+      throw Error("cannot write '" + sheet_path + "': " + e.what());
+    }
+    io::write_bytes(png, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
     exr.join();
     if (failed) std::rethrow_exception(failed);
+    for (const std::string& path : {json_path, split_path, ref_path, sheet_path}) {
+      std::error_code ec;
+      if (fs::is_directory(path, ec))
+        throw Error("cannot write '" + path + "': a folder of that name is in the way (nothing was written)");
+    }
     split.commit();
-    if (ref) ref->commit();
+    if (ref) {
+      ref->commit();
+    } else {
+      std::error_code ec;
+      if (fs::is_regular_file(fs::symlink_status(ref_path, ec))) fs::remove(ref_path, ec);
+    }
     json_file.commit();
+    png.commit();
   } catch (...) {
     if (exr.joinable()) exr.join();
     throw;
