@@ -65,6 +65,8 @@ int cmd_serve(int argc, char** argv) {
                                      cxxopts::value<std::string>()->default_value("64"))(
       "max-body", "largest request body (bytes, or 64K, 1M); larger gets 413",
       cxxopts::value<std::string>()->default_value("1M"))(
+      "max-upload", "largest upload (POST /v1/uploads: an environment or scene file); larger gets 413",
+      cxxopts::value<std::string>()->default_value("64M"))(
       "max-memory", "most memory one bake may need (bytes, or 512M, 2G); default: half the machine's",
       cxxopts::value<std::string>())("job-timeout", "seconds a job may run (a request's ?timeout= may ask for less)",
                                      cxxopts::value<std::string>()->default_value("3600"))(
@@ -125,6 +127,7 @@ int cmd_serve(int argc, char** argv) {
   }
   o.max_queue = integer(r, "max-queue");
   o.max_body = static_cast<std::size_t>(byte_count(r, "max-body"));
+  o.max_upload = static_cast<std::size_t>(byte_count(r, "max-upload"));
   o.max_memory = r.count("max-memory") ? byte_count(r, "max-memory") : 0;  // 0: half the machine's
   o.job_timeout = seconds_option(r, "job-timeout");
   o.table_timeout = seconds_option(r, "table-timeout");
@@ -143,6 +146,7 @@ int cmd_serve(int argc, char** argv) {
   if (o.max_client_connections < 1 || o.max_client_connections > 1000000)
     throw UsageError("--max-client-connections must be in 1..1000000");
   if (o.max_body < 1024) throw UsageError("--max-body must be at least 1K");
+  if (o.max_upload < 1024) throw UsageError("--max-upload must be at least 1K");
 
   // SIGTERM and SIGINT are taken by one thread (sigwait), so that shutdown runs outside a signal
   // handler; a client that hangs up must not kill the server (SIGPIPE).

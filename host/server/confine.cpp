@@ -176,6 +176,9 @@ std::string Roots::public_text(const std::string& text) const {
     if (parts.size() >= 2 && (parts[0] == "jobs" || parts[0] == "tmp")) first = 2;
     // uploads/NAME: the name a request gives it
     if (parts.size() == 2 && parts[0] == "uploads") return kUploadPrefix + without_temporary(parts[1]);
+    // tmp/upload-NAME: an upload while it is checked (web_routes.cpp)
+    if (parts.size() == 2 && parts[0] == "tmp" && parts[1].rfind("upload-", 0) == 0)
+      return kUploadPrefix + without_temporary(parts[1].substr(7));
     std::string shown;
     for (size_t i = first; i < parts.size(); ++i)
       if (!parts[i].empty()) shown += (shown.empty() ? "" : "/") + without_temporary(parts[i]);

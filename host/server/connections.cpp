@@ -134,7 +134,9 @@ struct Connection {
   bool light = false;
   int served = 0;
   std::uint64_t reserved = 0;  // bytes counted in the buffered budget
-  std::string out;             // a reply of this layer still being sent (Closing)
+  std::size_t max_body = 0;    // this request's limit: --max-body, or --max-upload for POST /v1/uploads
+  bool upload = false;
+  std::string out;  // a reply of this layer still being sent (Closing)
 };
 
 class GuardedServer::Engine {
@@ -404,10 +406,10 @@ class GuardedServer::Engine {
       refuse(c, 400, "both Transfer-Encoding and Content-Length");
       return false;
     }
-    if (has_length && c->length > limits_.max_body) {
-      refuse(
-          c, 413,
-          "request body larger than the server accepts (" + std::to_string(limits_.max_body) + " bytes, --max-body)");
+    c->upload = method == "POST" && target.substr(0, target.find('?')) == "/v1/uploads";
+    c->max_body = c->upload ? limits_.max_upload : limits_.max_body;
+    if (has_length && c->length > c->max_body) {
+      refuse(c, 413, too_large(c, std::to_string(c->length) + " bytes"));
       return false;
     }
     if (form) head += "Content-Type: application/json\r\n";
@@ -432,6 +434,15 @@ class GuardedServer::Engine {
   }
 
   // Counts `bytes` more of this request in the budget of bytes held at once.
+  // The 413 line: the body's size, the limit and the option that raises it.
+  static std::string too_large(const Connection* c, const std::string& size) {
+    if (c->upload)
+      return "upload of " + size + " is larger than the server takes (" + std::to_string(c->max_body) +
+             " bytes): start it with a larger --max-upload (e.g. --max-upload 256M)";
+    return "request body of " + size + " is larger than the server accepts (" + std::to_string(c->max_body) +
+           " bytes, --max-body)";
+  }
+
   bool reserve(Connection* c, std::uint64_t bytes) {
     if (buffered_ + bytes > limits_.max_buffered) {
       refuse(c, 503, "the server is receiving too many request bodies at once; retry later", 1);
@@ -471,10 +482,8 @@ class GuardedServer::Engine {
           c->chunk = K::Trailers;
           continue;
         }
-        if (c->body.size() + c->chunk_left > limits_.max_body) {
-          refuse(c, 413,
-                 "request body larger than the server accepts (" + std::to_string(limits_.max_body) +
-                     " bytes, --max-body)");
+        if (c->body.size() + c->chunk_left > c->max_body) {
+          refuse(c, 413, too_large(c, "more than that"));
           return Parse::Refused;
         }
         if (!reserve(c, c->chunk_left)) return Parse::Refused;

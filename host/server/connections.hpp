@@ -33,17 +33,18 @@
 namespace brdfbake::server {
 
 struct ConnectionLimits {
-  double request_seconds = 30;       // a whole request (head and body) must arrive within this
-  double idle_seconds = 5;           // a kept-alive connection waits this long for its next request
-  double write_stall_seconds = 30;   // a reply may not move for this long
-  double min_send_rate = 65536;      // bytes per second a long reply must average
-  std::size_t max_body = 1 << 20;    // bytes of a request body (413 beyond)
-  std::size_t max_head = 64 << 10;   // bytes of a request line and headers (431 beyond)
-  int workers = 64;                  // requests handled at once
-  int reserve = 2;                   // more workers, for light requests only
-  int max_connections = 512;         // connections open at once, all clients together
-  int max_client_connections = 128;  // connections open at once from one address
-  int reserve_connections = 32;      // beyond max_connections, for light requests only
+  double request_seconds = 30;        // a whole request (head and body) must arrive within this
+  double idle_seconds = 5;            // a kept-alive connection waits this long for its next request
+  double write_stall_seconds = 30;    // a reply may not move for this long
+  double min_send_rate = 65536;       // bytes per second a long reply must average
+  std::size_t max_body = 1 << 20;     // bytes of a request body (413 beyond)
+  std::size_t max_upload = 64 << 20;  // bytes of a POST /v1/uploads body (413 beyond): a map of tens of MB
+  std::size_t max_head = 64 << 10;    // bytes of a request line and headers (431 beyond)
+  int workers = 64;                   // requests handled at once
+  int reserve = 2;                    // more workers, for light requests only
+  int max_connections = 512;          // connections open at once, all clients together
+  int max_client_connections = 128;   // connections open at once from one address
+  int reserve_connections = 32;       // beyond max_connections, for light requests only
   int max_requests_per_connection = 1000;
   std::uint64_t max_buffered = 256ull << 20;  // request bytes held at once, all connections
 };

@@ -816,12 +816,13 @@ void Server::Impl::routes() {
   limits.write_stall_seconds = opt.io_timeout;
   limits.idle_seconds = 5;
   limits.max_body = opt.max_body;
+  limits.max_upload = opt.max_upload;
   limits.workers = opt.threads;
   limits.max_connections = opt.max_connections;
   limits.max_client_connections = opt.max_client_connections;
   http.set_limits(limits);
   http.set_on_refused([this](int status) { metrics.count_request(status); });
-  http.set_payload_max_length(opt.max_body);
+  http.set_payload_max_length(std::max(opt.max_body, opt.max_upload));  // each route's limit: connections.cpp
   http.set_tcp_nodelay(true);
   http.set_keep_alive_max_count(1000);
   http.set_keep_alive_timeout(5);
@@ -954,7 +955,7 @@ void Server::Impl::routes() {
               [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))",
            [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
-  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), {}};
+  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), opt.max_memory, {}};
   web.on_device = [this](const std::string& selector, const std::function<void(Backend&)>& work) {
     scheduler->run_now(scheduler->device_key(selector), "dry-run estimate", [&work](Backend& b) { work(b); }).get();
   };

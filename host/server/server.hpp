@@ -23,6 +23,7 @@ struct ServerOptions {
   std::vector<std::string> devices;               // selectors to serve ("" = the default device); reference always
   int max_queue = 64;                             // waiting jobs before 503
   std::size_t max_body = 1 << 20;                 // bytes of a request body before 413
+  std::size_t max_upload = 64 << 20;              // bytes of an upload (POST /v1/uploads) before 413
   double job_timeout = 3600;                      // seconds a job may run (a request may ask for less)
   double table_timeout = 30;                      // seconds POST /v1/tables waits for its table before 504
   double io_timeout = 30;                         // seconds a whole request (headers and body) may take to arrive,

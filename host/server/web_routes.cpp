@@ -126,6 +126,9 @@ void post_plan(const WebContext& c, const httplib::Request& req, httplib::Respon
   }
 }
 
+// How many uploads are checked at once (each decodes its image under a share of --max-memory).
+constexpr int kUploadChecksAtOnce = 2;
+
 // POST /v1/uploads?name=FILE: a file from the page (the body, raw: --max-body applies, 413 before it is
 // read), an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb), read through the readers
 // and limits a bake uses before it is kept; stored as DATA/uploads/<random>-<name> and answered with
@@ -141,7 +144,7 @@ void prune_uploads(const fs::path& dir, std::uint64_t incoming) {
   std::vector<Entry> entries;
   const auto now = fs::file_time_type::clock::now();
   for (const auto& e : fs::directory_iterator(dir, ec)) {
-    if (!e.is_regular_file(ec)) continue;
+    if (!e.is_regular_file(ec) || e.is_symlink(ec)) continue;  // a link is not the server's file to delete
     const auto t = e.last_write_time(ec);
     if (ec) continue;
     if (std::chrono::duration<double>(now - t).count() > kUploadMaxAgeSeconds) {
@@ -180,9 +183,29 @@ void post_upload(const WebContext& c, const httplib::Request& req, httplib::Resp
                        origin + ": name: '" + name.substr(0, 60) +
                            "': an environment (.hdr .exr .png .ktx2) or a scene (.gltf .glb) is expected");
   if (req.body.empty()) return reply_error(res, 400, origin + ": the body is empty: it is the file's bytes");
+  // At most kUploadChecksAtOnce checks at once, each under its share of --max-memory: a small file
+  // may promise a huge image, and its check must not take the server's memory (issue 34, class 3).
+  static std::atomic<int> checking{0};
+  struct Slot {
+    bool held;
+    Slot() : held(checking.fetch_add(1) < kUploadChecksAtOnce) {}
+    ~Slot() { checking.fetch_sub(1); }
+  } slot;
+  if (!slot.held) {
+    res.set_header("Retry-After", "2");
+    return reply_error(res, 503,
+                       origin + ": the server is checking " + std::to_string(kUploadChecksAtOnce) +
+                           " uploads already; retry in a moment");
+  }
   const fs::path dir = c.roots->uploads_dir();
   std::error_code ec;
-  fs::create_directories(dir, ec);
+  fs::create_directory(dir, ec);
+  // DATA/uploads is the server's own folder: old uploads in it are deleted, so never through a link.
+  if (fs::symlink_status(dir, ec).type() != fs::file_type::directory)
+    return reply_error(res, 500,
+                       origin +
+                           ": the server's uploads folder is not a folder of its own (a symbolic link?): "
+                           "uploads are off until it is");
   prune_uploads(dir, req.body.size());
   static std::atomic<unsigned> counter{0};
   char stamp[40];
@@ -190,22 +213,47 @@ void post_upload(const WebContext& c, const httplib::Request& req, httplib::Resp
   const std::string stored = stamp + name;
   const fs::path path = dir / stored;
   const std::string public_name = std::string(kUploadPrefix) + stored;
+  // Checked under a name of DATA/tmp (emptied when the server starts) and moved into DATA/uploads
+  // only once it passed: a kill during the check leaves no unchecked upload that jobs could name.
+  const fs::path checking_path = c.tmp_dir / ("upload-" + stored);
+  struct Remove {
+    fs::path p;
+    ~Remove() {
+      std::error_code e;
+      fs::remove(p, e);
+    }
+  } remove_checking{checking_path};
   try {
-    io::write_file_atomically(path.string(), req.body);
+    io::write_file_atomically(checking_path.string(), req.body);
   } catch (const Error& e) {
     return reply_error(res, 507, origin + ": cannot store the upload: " + c.roots->public_text(e.what()));
   }
+  const std::uint64_t budget = std::max<std::uint64_t>(
+      64ull << 20, (c.max_memory ? c.max_memory : default_memory_budget()) / kUploadChecksAtOnce);
   try {
     if (scene) {
       const bool glb = req.body.size() >= 4 && req.body.compare(0, 4, "glTF") == 0;
       (void)(glb ? parse_glb(req.body, public_name, "") : parse_scene_json(req.body, public_name, ""));
     } else {
-      (void)load_environment(path.string(), EnvLoadOptions{});
+      EnvLoadOptions lo;
+      lo.memory_budget = budget;
+      (void)load_environment(checking_path.string(), lo);
     }
+  } catch (const std::bad_alloc&) {
+    return reply_error(res, 507,
+                       origin +
+                           ": the server ran out of memory checking the upload; retry later, or raise "
+                           "--max-memory");
   } catch (const Error& e) {
-    fs::remove(path, ec);
-    return reply_error(res, 400, c.roots->public_text(e.what()));
+    const std::string what = c.roots->public_text(e.what());
+    if (what.find("above the memory budget") != std::string::npos)
+      return reply_error(res, 507,
+                         origin + ": '" + name + "' is larger decoded than the server checks an upload in (" +
+                             std::to_string(budget >> 20) + " MiB, a share of --max-memory): " + what);
+    return reply_error(res, 400, what);
   }
+  fs::rename(checking_path, path, ec);
+  if (ec) return reply_error(res, 507, origin + ": cannot store the upload: " + ec.message());
   json o;
   o["name"] = public_name;
   o["kind"] = scene ? "scene" : "environment";

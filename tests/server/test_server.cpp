@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "brdfbake/job.hpp"
 #include "server/server_process.hpp"
@@ -430,7 +431,7 @@ TEST_F(ServerApi, ClientHangsUpMidDownload) {
     a.sin_port = htons(static_cast<uint16_t>(server_->port()));
     a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-    const std::string req = "GET /v1/jobs/" + id + "/files/big.ktx2 HTTP/1.1\r\nHost: x\r\n\r\n";
+    const std::string req = "GET /v1/jobs/" + id + "/files/big.ktx2 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
     ASSERT_EQ(::send(fd, req.data(), req.size(), MSG_NOSIGNAL), static_cast<ssize_t>(req.size()));
     char buf[16384];
     size_t got = 0;
@@ -459,7 +460,8 @@ TEST_F(ServerApi, TruncatedBodyDoesNotHang) {
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
   const std::string req =
-      "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{\"tables\":";
+      "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: "
+      "1000\r\n\r\n{\"tables\":";
   ASSERT_EQ(::send(fd, req.data(), req.size(), MSG_NOSIGNAL), static_cast<ssize_t>(req.size()));
   ::shutdown(fd, SHUT_WR);
   char buf[4096];
@@ -753,6 +755,60 @@ TEST(ServerSecurity, OtherSitesCannotDriveIt) {
   const CliRun bad = run_cli("serve --data " + (dir.path / "bad").string() + " --allowed-origins evil.example");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("is not an origin"), std::string::npos) << bad.err;
+}
+
+// Issue 34, class 5: the server writes and deletes only inside --data. A preview table without a
+// bake folder bakes its files first inside the job's own staging folder (not $TMPDIR, where a kill
+// left them forever), and its JSON names those files without a server path; uploads' pruning never
+// deletes through a DATA/uploads that is a link to another folder.
+TEST(ServerSecurity, NothingOutsideDataIsWrittenOrDeleted) {
+  TempDir dir("outside-data");
+  const fs::path tmp = dir.path / "system-tmp";
+  fs::create_directories(tmp);
+  fs::create_directories(dir.path / "elsewhere");
+  write_file(dir.path / "elsewhere" / "old.hdr", "someone else's file, two days old");
+  fs::last_write_time(dir.path / "elsewhere" / "old.hdr", fs::file_time_type::clock::now() - std::chrono::hours(48));
+  fs::create_directories(dir.path / "data");
+  fs::create_directory_symlink(dir.path / "elsewhere", dir.path / "data" / "uploads");
+  ServerProcess server(dir.path, {"--data", (dir.path / "data").string(), "--no-warm-up"},
+                       [tmp] { ::setenv("TMPDIR", tmp.c_str(), 1); });
+  ASSERT_TRUE(server.start()) << server.error();
+  auto c = server.client();
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int i = 0; i < 8; ++i) hdr += std::string("\x80\x80\x80\x81", 4);
+  auto up = c.Post("/v1/uploads?name=sky.hdr", hdr, "application/octet-stream");
+  ASSERT_TRUE(up);
+  EXPECT_EQ(up->status, 500) << up->body;
+  EXPECT_NE(body_json(up).value("error", "").find("not a folder of its own"), std::string::npos) << up->body;
+  EXPECT_TRUE(fs::exists(dir.path / "elsewhere" / "old.hdr")) << "the prune deleted through the link";
+
+  const json preview_job = json::parse(R"({"brdfbake_job": 1, "environment": "builtin:sun", "tables": [
+      {"kind": "preview", "target": "filament", "width": 192, "height": 96, "reference": false, "output": "p.png"}]})");
+  auto posted = c.Post("/v1/jobs", preview_job.dump(), "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 202) << posted->body;
+  const std::string id = body_json(posted).value("id", "");
+  // Watched while it runs (the first bake's folder is removed when the render ends).
+  std::set<std::string> seen;
+  std::string state;
+  for (int i = 0; i < 24000 && state != "done" && state != "failed"; ++i) {
+    for (const auto& e : fs::directory_iterator(tmp)) seen.insert(e.path().filename().string());
+    if (i % 20 == 0) state = body_json(c.Get(("/v1/jobs/" + id).c_str())).value("state", "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(state, "done");
+  for (const auto& name : seen) ADD_FAILURE() << "written outside --data: " << name;
+  auto p = c.Get(("/v1/jobs/" + id + "/files/p.json").c_str());
+  ASSERT_TRUE(p);
+  ASSERT_EQ(p->status, 200);
+  const json bake = json::parse(p->body)["bake"];
+  EXPECT_NE(bake.value("folder", "").find("baked first"), std::string::npos) << bake.dump();
+  for (const char* key : {"specular", "dfg", "diffuse"}) {
+    EXPECT_EQ(bake.value(key, "/").find('/'), std::string::npos) << key << ": " << bake.dump();
+    EXPECT_EQ(bake.value(key, "").find(dir.path.string()), std::string::npos) << bake.dump();
+  }
+  for (const auto& e : fs::recursive_directory_iterator(dir.path / "data" / "jobs" / id))
+    EXPECT_EQ(e.path().filename().string().find("brdfbake-preview"), std::string::npos) << e.path();
 }
 
 TEST(ServerFaults, KillMinusNineThenRestart) {

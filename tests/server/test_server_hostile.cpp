@@ -114,7 +114,7 @@ TEST(ServerHostile, TricklingClientsDoNotStarveOthers) {
                        {"--data", (dir.path / "data").string(), "--io-timeout", "3", "--threads", "4", "--no-warm-up"});
   ASSERT_TRUE(server.start()) << server.error();
   const std::string head =
-      "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n";
+      "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n";
   std::vector<std::unique_ptr<RawSocket>> tricklers;
   for (int i = 0; i < 70; ++i) {
     tricklers.push_back(std::make_unique<RawSocket>(server.port()));
@@ -250,7 +250,7 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   // Chunked (a client streaming its body), in pieces of 1000 bytes.
   {
     RawSocket s(server.port());
-    std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n";
+    std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n\r\n";
     for (size_t at = 0; at < big.size(); at += 1000) {
       const std::string part = big.substr(at, 1000);
       char size[16];
@@ -265,7 +265,7 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   // Expect: 100-continue: the server says continue before the body is sent.
   {
     RawSocket s(server.port());
-    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: " +
+    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nExpect: 100-continue\r\nContent-Length: " +
                        std::to_string(big.size()) + "\r\n\r\n"));
     const std::string go = s.receive(5, "\r\n\r\n");
     EXPECT_EQ(status_of(go), 100) << go;
@@ -276,7 +276,7 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   // Larger than --max-body: 413 at once, before the body is sent.
   {
     RawSocket s(server.port());
-    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Length: 70000\r\n\r\n"));
+    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 70000\r\n\r\n"));
     const std::string reply = s.receive(5, "}");
     EXPECT_EQ(status_of(reply), 413) << reply;
     EXPECT_NE(reply.find("--max-body"), std::string::npos) << reply;
@@ -284,7 +284,7 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   // A chunked body past --max-body.
   {
     RawSocket s(server.port());
-    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n11170\r\n"));
+    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n\r\n11170\r\n"));
     const std::string reply = s.receive(5, "}");
     EXPECT_EQ(status_of(reply), 413) << reply;
   }
@@ -300,7 +300,7 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   };
   for (const auto& [headers, status, words] : refused) {
     RawSocket s(server.port());
-    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\n" + headers + "\r\n0123456789"));
+    ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n" + headers + "\r\n0123456789"));
     const std::string reply = s.receive(5, "}");
     EXPECT_EQ(status_of(reply), status) << headers << reply;
     EXPECT_NE(reply.find(words), std::string::npos) << headers << reply;
@@ -314,7 +314,8 @@ TEST(ServerHostile, BodiesAsClientsSendThem) {
   // Keep-alive and pipelining: two requests in one write, two replies in order.
   {
     RawSocket s(server.port());
-    ASSERT_TRUE(s.send("GET /v1/health HTTP/1.1\r\nHost: x\r\n\r\nGET /v1/devices HTTP/1.1\r\nHost: x\r\n\r\n"));
+    ASSERT_TRUE(s.send(
+        "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\nGET /v1/devices HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"));
     const std::string replies = s.receive(5, "\"default\"");
     EXPECT_EQ(status_of(replies), 200) << replies;
     EXPECT_NE(replies.find("\"uptime_seconds\""), std::string::npos);

@@ -213,8 +213,10 @@ using PreviewProgress = std::function<void(double fraction, const std::string& s
 // Renders the preview of `environment` (the map the bake was made from) on `backend`. Throws Error
 // for a bake folder that does not hold the target's files, a material file it cannot read, sizes out
 // of range; Cancelled at a progress report after a stop request (brdfbake/cancel.hpp).
+// With no bake folder the target's files are baked first into a folder made in `scratch_dir` (""
+// = the system's temporary folder) and removed when the render ends.
 PreviewResult render_preview(Backend& backend, const EnvImage& environment, const PreviewSpec& spec,
-                             const PreviewProgress& progress = {});
+                             const PreviewProgress& progress = {}, const std::string& scratch_dir = {});
 
 // Limits: the image's sides, and the spheres.
 inline constexpr int kPreviewMaxSize = 4096;

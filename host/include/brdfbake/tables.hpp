@@ -191,6 +191,11 @@ struct BakeInputs {
   // Python package's arrays).
   const double* pairs = nullptr;
   std::size_t pair_count = 0;
+  // Where a bake may put files of its own for the time it runs (the preview's first bake): a folder
+  // that exists; "" = the system's temporary folder. A job gives its staging folder and the server
+  // its DATA/tmp, so that nothing is written outside what they own and a killed run's leftovers go
+  // with the folder they are in.
+  std::string scratch_dir;
 };
 
 // Fraction done (0..1) and a short label of the step ("level 2/5").

@@ -340,6 +340,7 @@ Manifest run_job(const Job& in, const JobProgress& progress, const RunOptions& o
     bake.delivery = TableDelivery::Memory;  // each output of the group is delivered below
     bake.backend = &backend;
     bake.inputs = group_inputs(job, groups, g, environments);
+    bake.inputs.scratch_dir = staging.path().string();  // removed before the commit; with the staging on a kill
     bake.progress = [&](double fraction, const std::string& step) { report(kBakeShare * fraction, step); };
     bake.stop_requested = options.stop_requested;
     const BakeResult r = run_table(t, bake).result;

@@ -213,6 +213,7 @@ TableRun run_table(const TableRequest& t, const TableRunOptions& o) {
   };
   const auto t0 = std::chrono::steady_clock::now();
   BakeInputs inputs = o.inputs;
+  if (inputs.scratch_dir.empty()) inputs.scratch_dir = o.scratch_dir;
   EnvImage environment;
   if (table_kind_uses_environment(t.kind) && !inputs.environment) {
     environment = load_environment(t.environment, o.load);

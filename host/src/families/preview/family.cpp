@@ -211,7 +211,7 @@ class PreviewFamily final : public Family {
   }
   BakeResult bake(const TableRequest& t, Backend& backend, const BakeInputs& in,
                   const BakeProgress& progress) const override {
-    PreviewResult res = render_preview(backend, *in.environment, spec_of(t), progress);
+    PreviewResult res = render_preview(backend, *in.environment, spec_of(t), progress, in.scratch_dir);
     BakeResult r;
     if (!res.stats.empty()) {
       double bound = 0.0;

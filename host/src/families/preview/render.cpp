@@ -42,13 +42,14 @@ double luminance(const float* rgb) {
   return 0.2126 * double(rgb[0]) + 0.7152 * double(rgb[1]) + 0.0722 * double(rgb[2]);
 }
 
-// A folder in the system's temporary directory, removed with everything in it on destruction.
+// A folder in `base` (the system's temporary directory when empty), removed with everything in it
+// on destruction. Hidden and named with the process id, as the staging folders are.
 class TempFolder {
  public:
-  TempFolder() {
+  explicit TempFolder(const std::string& base) {
     static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("brdfbake-preview-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    path_ = (base.empty() ? fs::temp_directory_path() : fs::path(base)) /
+            (".brdfbake-preview-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
     fs::remove_all(path_);
   }
   ~TempFolder() {
@@ -583,7 +584,7 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
 }  // namespace detail::preview
 
 PreviewResult render_preview(Backend& backend, const EnvImage& environment, const PreviewSpec& spec,
-                             const PreviewProgress& progress) {
+                             const PreviewProgress& progress, const std::string& scratch_dir) {
   using namespace detail::preview;
   const auto t_start = Clock::now();
   PreviewResult res;
@@ -599,7 +600,7 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   std::string folder = res.spec.bake;
   if (folder.empty()) {
     const auto t0 = Clock::now();
-    temp = std::make_unique<TempFolder>();
+    temp = std::make_unique<TempFolder>(scratch_dir);
     folder = temp->path();
     bake_first(backend, environment, res.spec.target, folder,
                std::any_of(res.spheres.begin(), res.spheres.end(),
@@ -613,9 +614,15 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source), split_options);
   res.times.read = since(t0);
   res.bake = split.files().settings;
-  if (temp)
+  if (temp) {
     res.bake[0].second =
         "baked first (brdfbake bake --target " + std::string(engine_target_name(res.spec.target)) + ")";
+    // the files by their names alone: the scratch folder is gone with the render (and on a server it
+    // is the server's own path)
+    const std::string prefix = folder + "/";
+    for (auto& [key, value] : res.bake)
+      if (value.rfind(prefix, 0) == 0) value = value.substr(prefix.size());
+  }
   res.shading = split.steps();
   // KHR_materials_sheen: what this target's split-sum render does with it, in each sheened sphere's notes
   bool sheened = false;
