@@ -955,7 +955,7 @@ void Server::Impl::routes() {
               [this](const httplib::Request& req, httplib::Response& res) { delete_job(req, res); });
   http.Get(R"(/v1/jobs/([A-Za-z0-9_-]+)/files/(.+))",
            [this](const httplib::Request& req, httplib::Response& res) { get_file(req, res); });
-  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), opt.max_memory, {}};
+  WebContext web{store.get(), roots.get(), jobs_dir(), tmp_dir(), opt.max_memory, opt.table_timeout, {}};
   web.on_device = [this](const std::string& selector, const std::function<void(Backend&)>& work) {
     scheduler->run_now(scheduler->device_key(selector), "dry-run estimate", [&work](Backend& b) { work(b); }).get();
   };

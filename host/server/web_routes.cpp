@@ -16,6 +16,7 @@
 #include <sstream>
 #include <vector>
 
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/job.hpp"
@@ -90,10 +91,21 @@ void post_plan(const WebContext& c, const httplib::Request& req, httplib::Respon
     c.roots->confine_job_document(doc, origin);
     const Job job = parse_job(doc.dump(), origin);
     std::optional<PlanEstimate> estimate;
+    std::string estimate_note;
     if (c.on_device) {
+      // The measuring bakes are bounded (issue 34, class 2): they stop at their next step past
+      // --table-timeout, and the plan is answered without its estimate.
       EstimateOptions eo;
       eo.on_device = c.on_device;
-      estimate = estimate_job(job, eo);
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(c.estimate_seconds);
+      eo.stop_requested = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+      try {
+        estimate = estimate_job(job, eo);
+      } catch (const Cancelled&) {
+        char m[160];
+        std::snprintf(m, sizeof m, "no estimate: measuring took more than %g s (--table-timeout)", c.estimate_seconds);
+        estimate_note = m;
+      }
     }
     json tables = json::array();
     for (size_t i = 0; i < job.tables.size(); ++i) {
@@ -120,6 +132,7 @@ void post_plan(const WebContext& c, const httplib::Request& req, httplib::Respon
       w["calibration_seconds"] = estimate->calibration_seconds;
       o["estimate"] = w;
     }
+    if (!estimate_note.empty()) o["estimate_note"] = estimate_note;
     reply_json(res, 200, o);
   } catch (const Error& e) {
     reply_error(res, 400, c.roots->public_text(e.what()));  // no server path in a message

@@ -45,6 +45,7 @@ struct WebContext {
   const Roots* roots = nullptr;
   std::filesystem::path jobs_dir, tmp_dir;
   std::uint64_t max_memory = 0;  // --max-memory: the checks of uploads share it
+  double estimate_seconds = 30;  // POST /v1/plan measures for at most this long (--table-timeout)
   // Runs a dry run's measuring bakes on the device a selector names (the scheduler's run_now: a warm
   // device, before its queued jobs); empty: POST /v1/plan gives no time estimate.
   std::function<void(const std::string& selector, const std::function<void(Backend&)>& work)> on_device;

@@ -675,6 +675,52 @@ TEST(ServerLimits, QueueFullGets503AndCancelWorks) {
   EXPECT_EQ(c.Post("/v1/jobs?timeout=-1", small_job().dump(), "application/json")->status, 400);
 }
 
+// Issue 34, class 2: every launch can be stopped. A preview's reference at the highest refinement
+// (its first launch was sized for the default refinement: minutes of device work) stops within a
+// launch or two of a DELETE; POST /v1/plan's measuring bakes stop at --table-timeout and the plan is
+// answered without its estimate.
+TEST(ServerLimits, EveryLaunchStopsWhenAsked) {
+  TempDir dir("stops");
+  ServerProcess server(dir.path, {"--data", (dir.path / "data").string(), "--no-warm-up", "--table-timeout", "0.05"});
+  ASSERT_TRUE(server.start()) << server.error();
+  auto c = server.client();
+  using Clock = std::chrono::steady_clock;
+  {
+    const auto t0 = Clock::now();
+    auto plan = c.Post("/v1/plan", R"({"environment": "builtin:studio", "cube_size": 1024})", "application/json");
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    ASSERT_TRUE(plan);
+    ASSERT_EQ(plan->status, 200) << plan->body;
+    const json p = body_json(plan);
+    EXPECT_FALSE(p.contains("estimate")) << plan->body;
+    EXPECT_NE(p.value("estimate_note", "").find("--table-timeout"), std::string::npos) << plan->body;
+    EXPECT_LT(seconds, 8.0) << "the plan's measuring bakes ran past their deadline";
+  }
+  const json job = json::parse(R"({"brdfbake_job": 1, "environment": "builtin:studio", "tables": [
+      {"kind": "preview", "target": "filament", "width": 384, "height": 192, "refinement": 64, "output": "p.png"}]})");
+  auto posted = c.Post("/v1/jobs", job.dump(), "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 202) << posted->body;
+  const std::string id = body_json(posted).value("id", "");
+  std::string what;
+  for (int i = 0; i < 3000 && what.find("reference") == std::string::npos; ++i) {
+    const json j = body_json(c.Get(("/v1/jobs/" + id).c_str()));
+    ASSERT_NE(j.value("state", ""), "done") << "the reference finished before it could be stopped: " << j.dump();
+    if (j.contains("progress")) what = j["progress"].value("what", "");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_NE(what.find("reference"), std::string::npos) << "never saw the reference render start";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // well into its first launches
+  const auto t0 = Clock::now();
+  auto del = c.Delete(("/v1/jobs/" + id).c_str());
+  ASSERT_TRUE(del);
+  EXPECT_EQ(del->status, 202);
+  const json s = wait_job(c, id, 120);
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  EXPECT_EQ(s.value("state", ""), "cancelled") << s.dump();
+  EXPECT_LT(seconds, 5.0) << "the reference ran on after its DELETE";
+}
+
 TEST(ServerSecurity, TokenRequiredAndNoOpenListenWithoutIt) {
   TempDir dir("token");
   const std::string token = "s3cret-token-0123456789";

@@ -132,6 +132,9 @@ struct EstimateOptions {
   // empty: a backend opened once per selector.
   std::function<void(const std::string& selector, const std::function<void(Backend&)>& work)> on_device;
   std::uint64_t memory_budget = 0;  // for reading environments (EnvLoadOptions), 0 = its default
+  // The measuring bakes stop at their next step (Cancelled is thrown) once this returns true: the
+  // server's deadline for POST /v1/plan.
+  std::function<bool()> stop_requested;
 };
 
 // Estimates a job's bake (validated or not: a validated copy is estimated) from measured speed on

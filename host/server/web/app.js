@@ -110,7 +110,7 @@ async function useToken(event) {
 
 // ---- The options form, from the schema -------------------------------------------------------------
 
-// Uploads (POST /v1/uploads: the file's bytes as the body, under the API's --max-body): the server
+// Uploads (POST /v1/uploads: the file's bytes as the body, under the server's --max-upload, 64 MiB by default): the server
 // reads the file as a bake would and answers the name to give the field ("upload:...").
 const UPLOADS = { environment: '.hdr,.exr,.png,.ktx2', scene: '.gltf,.glb' };
 

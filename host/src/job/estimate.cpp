@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "brdfbake/backend.hpp"
+#include "brdfbake/cancel.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/plan.hpp"
@@ -115,7 +116,8 @@ std::string group_key(const Job& job, const std::vector<size_t>& g) {
 
 // A group measured on `backend`: baked at its own size when small, else at 1/4 and 1/2 of its sides
 // and extrapolated in its texels.
-Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeInputs& inputs, Backend& backend) {
+Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeInputs& inputs, Backend& backend,
+                       const std::function<bool()>& stop_requested) {
   const TableRequest& head = job.tables[g.front()];
   Measured m;
   // A bake of `t` (the head's sides divided or not) and the delivery of each output at its sides.
@@ -127,6 +129,7 @@ Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeI
     run.delivery = TableDelivery::Memory;
     run.backend = &backend;
     run.inputs = inputs;
+    run.stop_requested = stop_requested;
     const TableRun tr = run_table(t, run);
     const BakeResult& r = tr.result;
     for (size_t i : g) {
@@ -225,7 +228,9 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
       const TableRequest& head = job.tables[g.front()];
       BakeInputs inputs;
       if (table_kind_uses_environment(head.kind)) inputs.environment = &environment(head.environment);
-      on_device(head.device, [&](Backend& backend) { m = measure_group(job, g, inputs, backend); });
+      if (options.stop_requested && options.stop_requested()) throw Cancelled("cancelled: the estimate was stopped", 0);
+      on_device(head.device,
+                [&](Backend& backend) { m = measure_group(job, g, inputs, backend, options.stop_requested); });
       std::lock_guard<std::mutex> lock(cache_mutex);
       group_cache()[key] = m;
     }

@@ -155,7 +155,10 @@ class OpenClPreview final : public PreviewKernel {
         // one past the end, where the kernel returns at once.
         const size_t groups = (pixels.size() + kGroup - 1) / kGroup;
         const double seconds = launch_in_parts(
-            groups, kCellsPerPixel * double(kGroup),
+            // the cells a pixel's walk visits grow with the refinement's square (every threshold is
+            // an angle / refinement over a 2D domain): the first launch of a high refinement then stays
+            // short too, and a stop (DELETE, a timeout, SIGTERM) waits for a launch or two
+            groups, kCellsPerPixel * std::max(1.0, (refinement / 4.0) * (refinement / 4.0)) * double(kGroup),
             [&](size_t first, size_t count) {
               return walk(cl::EnqueueArgs(dev.queue, cl::NDRange(first * kGroup), cl::NDRange(count * kGroup),
                                           cl::NDRange(kGroup)),
