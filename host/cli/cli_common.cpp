@@ -182,7 +182,7 @@ RunOptions run_options(bool wait, bool quiet) {
   RunOptions o;
   o.wait_for_lock = wait;
   o.backend = open_backend_kept;
-  o.on_warning = [](const std::string& w) { std::fprintf(stderr, "warning: %s\n", w.c_str()); };
+  o.on_warning = [](const std::string& w) { print_warning(w); };
   if (!quiet)
     o.on_wait = [](long pid) {
       std::fprintf(stderr, "waiting for another brdfbake run%s to finish writing the output folder...\n",
@@ -210,5 +210,26 @@ void ProgressLine::finish() {
   if (shown_) std::fprintf(stderr, "\n");
   shown_ = false;
 }
+
+std::string one_line(const std::string& message) {
+  std::string out;
+  out.reserve(message.size());
+  for (const char ch : message) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else
+      out += ch;
+  }
+  return out;
+}
+
+void print_warning(const std::string& message) { std::fprintf(stderr, "warning: %s\n", one_line(message).c_str()); }
 
 }  // namespace brdfbake::cli

@@ -67,6 +67,13 @@ cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv);
 // most), else the names it is the start of ("cube-size or --cube-format", at most three), or "".
 std::string closest_name(const std::string& given, const std::vector<std::string>& names);
 
+// A message as one line of standard error (issue 34, class 7): a control character of a name it
+// quotes (a newline, a carriage return, an escape) is written as \n, \r or \xHH, so that no name splits
+// an error into two lines or forges a "warning:" line of its own.
+std::string one_line(const std::string& message);
+// "warning: MESSAGE" (one_line) on standard error.
+void print_warning(const std::string& message);
+
 // The process ends with _exit once the command has returned and the streams are flushed (main.cpp):
 // tearing down the OpenCL implementation's and LLVM's state (~5-10 ms) serves no one then. Sanitizer
 // builds (BRDFBAKE_ASAN, cmake/Sanitizers.cmake) end normally, so that LeakSanitizer still looks at

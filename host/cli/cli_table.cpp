@@ -251,7 +251,7 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
     if (!quiet) std::fprintf(stderr, "%s\n", done.result.summary.c_str());
     return 0;
   }
-  for (const auto& w : done.delivery.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& w : done.delivery.warnings) print_warning(w);
   std::string stored;
   if (const WriteReport& written = done.delivery.report; written.error_bound) {
     char b[160];

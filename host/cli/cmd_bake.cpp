@@ -253,7 +253,7 @@ int cmd_bake(int argc, char** argv) {
   if (plan.job.output_dir.empty()) throw UsageError("-o must name a folder");
 
   if (!quiet || as_json)
-    for (const auto& w : plan.job.warnings) std::cerr << "warning: " << w << "\n";
+    for (const auto& w : plan.job.warnings) print_warning(w);
   if (dry_run) {
     if (as_json)
       std::cout << plan_to_json(plan);

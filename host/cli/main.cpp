@@ -72,7 +72,7 @@ int stopped(const std::string& command) {
   try {
     brdfbake::throw_if_cancelled();
   } catch (const brdfbake::Cancelled& e) {
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
   }
   return 128 + signal;
 }
@@ -143,8 +143,9 @@ int run(int argc, char** argv) {
   argv = args.data();
   observe_program_builds(verbose, quiet);
   // A kernel cache folder that cannot be written: said, and the run goes on without it.
-  set_runtime_warning_observer(
-      [](const std::string& w) { std::fprintf(stderr, "brdfbake: warning: %s\n", w.c_str()); });
+  set_runtime_warning_observer([](const std::string& w) {
+    std::fprintf(stderr, "brdfbake: warning: %s\n", brdfbake::cli::one_line(w).c_str());
+  });
   try {
     if (command == "devices") return cli::cmd_devices(argc - 1, argv + 1);
     if (command == "fresnel") return cli::cmd_fresnel(argc - 1, argv + 1);
@@ -163,29 +164,29 @@ int run(int argc, char** argv) {
       std::cout << "brdfbake " << kVersion << "\n";
       return 0;
     }
-    std::cerr << "brdfbake: unknown command '" << command << "' (see brdfbake --help)\n";
+    std::cerr << "brdfbake: unknown command '" << brdfbake::cli::one_line(command) << "' (see brdfbake --help)\n";
     return cli::kExitUsage;
   } catch (const cli::UsageError& e) {
     if (const int code = stopped(command)) return code;
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
     return cli::kExitUsage;
   } catch (const Cancelled& e) {
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
     return e.signal() > 0 ? 128 + e.signal() : cli::kExitFailure;  // 130 for SIGINT, 143 for SIGTERM
   } catch (const RuntimeFailure& e) {  // I/O, OpenCL, a locked output, a result that is not finite
     if (const int code = stopped(command)) return code;
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
     return cli::kExitFailure;
   } catch (const Error& e) {  // bad input
     if (const int code = stopped(command)) return code;
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
     return cli::kExitUsage;
   } catch (const std::bad_alloc&) {
     std::cerr << "brdfbake " << command << ": out of memory\n";
     return cli::kExitFailure;
   } catch (const std::exception& e) {
     if (const int code = stopped(command)) return code;
-    std::cerr << "brdfbake " << command << ": " << e.what() << "\n";
+    std::cerr << "brdfbake " << command << ": " << brdfbake::cli::one_line(e.what()) << "\n";
     return cli::kExitFailure;
   }
 }

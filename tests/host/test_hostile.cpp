@@ -1851,6 +1851,36 @@ void sibling_outputs(std::vector<Row>& rows) {
                      .no("r.html"));
 }
 
+// -- Issue 34, class 7 (the smaller classes): what one front end refuses, the others refuse too; a
+// kind's own parameter is not taken for a job's field of the same name; a name's control characters
+// never split a one-line message or forge a warning line.
+void smaller_classes(std::vector<Row>& rows) {
+  rows.push_back(
+      R("class7_newline_in_a_name_stays_one_line", "irradiance --env '{d}/a\nwarning: forged.hdr' -o {d}/x.json", 2)
+          .says("a\\nwarning: forged.hdr")
+          .no("x.json"));
+  rows.push_back(
+      R("class7_job_preview_materials_parameter", "run {d}/job.json -o {d}/out --dry-run", 0)
+          .file("m.json", kMaterials)
+          .file("job.json",
+                job(R"({"kind": "preview", "materials": "m.json", "width": 192, "height": 96, "output": "p.png"})",
+                    R"(, "environment": "builtin:sun")"))
+          .no("out"));
+  rows.push_back(R("class7_bake_dry_run_refuses_what_the_writer_would",
+                   "bake --env builtin:sun --target babylon --cube-size 100 -o {d}/o --dry-run", 2)
+                     .says("cube_size")
+                     .says("power-of-two")
+                     .no("o"));
+  rows.push_back(R("class7_bake_dry_run_refuses_a_schedule_the_engine_does_not_read",
+                   "bake --env builtin:sun --target filament --schedule linear -o {d}/o --dry-run", 2)
+                     .says("schedule")
+                     .no("o"));
+  rows.push_back(R("class7_bake_preview_on_the_reference_device",
+                   "bake --env builtin:sun --preview --device reference --cube-size 16 -o {d}/o", 2)
+                     .says("scalar reference")
+                     .no("o"));
+}
+
 // -- Issue 24, the lock and the output folder: locked by the folder's identity, every stop signal
 // (SIGINT, SIGTERM, SIGHUP, SIGPIPE) cleans up as it unwinds.
 void locks_and_signals(std::vector<Row>& rows) {
@@ -2184,6 +2214,7 @@ std::vector<Row> all_rows() {
   special_files(rows);
   collisions(rows);
   sibling_outputs(rows);
+  smaller_classes(rows);
   locks_and_signals(rows);
   image_values(rows);
   caches(rows);
@@ -2414,10 +2445,10 @@ TEST(HostileTable, HasEveryClassAndAtLeast200Rows) {
     return std::count_if(rows.begin(), rows.end(),
                          [&](const Row& r) { return r.name.find(part) != std::string::npos; });
   };
-  for (const char* part : {"deep_",     "1e999",     "flt_max",   "f16",         "promises", "folder", "through_a_file",
-                           "locked",    "stale",     "eval_csv",  "eval_binary", "fp64",     "cli_",   "job_",
-                           "bake_",     "glb",       "special_",  "collide_",    "sibling_", "lock_",  "sig",
-                           "image_png", "image_exr", "image_hdr", "cache_"})
+  for (const char* part : {"deep_",  "1e999",     "flt_max",   "f16",         "promises", "folder",  "through_a_file",
+                           "locked", "stale",     "eval_csv",  "eval_binary", "fp64",     "cli_",    "job_",
+                           "bake_",  "glb",       "special_",  "collide_",    "sibling_", "class7_", "lock_",
+                           "sig",    "image_png", "image_exr", "image_hdr",   "cache_"})
     EXPECT_GT(count(part), 0) << "no row for " << part;
 }
 

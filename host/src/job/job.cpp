@@ -10,6 +10,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/output_checks.hpp"
+#include "families/preview/bake_preview.hpp"
 #include "engines/babylon_frame.hpp"
 #include "io/json_input.hpp"
 #include "job/job_json.hpp"
@@ -97,8 +98,10 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
         throw Error(field + ": " + e.what());
       }
       *precision_given = true;
-    } else if (key == "materials") {
-      get_strings(*it, field);  // informative: derived from requested_by
+    } else if (key == "materials" && !(it->is_string() && find_param_def(schema, key))) {
+      // informative: derived from requested_by (a kind's own `materials` parameter, the preview's
+      // material file, is a string)
+      get_strings(*it, field);
     } else if (key == "requested_by") {
       if (!it->is_array()) throw Error(field + ": must be an array of {rule, purpose, materials, note}");
       for (size_t i = 0; i < it->size(); ++i) {
@@ -204,6 +207,9 @@ void validate_job(Job& job) {
   // Across fields and tables: a table's sh_json on another's output, an output inside another's
   // folder output or under another's file (brdfbake/output_checks.hpp).
   check_job_output_set(job, false);
+  // bake --preview: what the preview needs of the job (a chain, SH, an OpenCL device), refused before
+  // anything runs, from the command line, a job file and POST /v1/bake alike
+  if (job.preview) detail::preview::check_bake_preview(job);
 }
 
 // ---- Parsing -------------------------------------------------------------------------------------
@@ -335,7 +341,7 @@ json table_json(const TableRequest& t, const Job& job) {
   if (!t.pixel.empty() && t.pixel != table_kind_default_pixel(t.kind)) o["pixel"] = t.pixel;
   if (!t.requested_by.empty()) {
     o["requested_by"] = requests_json(t.requested_by);
-    o["materials"] = t.materials();
+    if (!find_param_def(table_schema(t.kind), "materials")) o["materials"] = t.materials();
   }
   return o;
 }

@@ -58,6 +58,14 @@ class Planner {
       if (!o_.cube_size) o_.cube_size = e.size;
       if (!o_.cube_min_size) o_.cube_min_size = e.min_size;
       if (e.sh_window != ShWindow::None) sh_window_ = sh_window_name(e.sh_window);
+      // What the engine's writer would refuse after the bake (engines/engine_writers.cpp, check_chain),
+      // refused here, before anything is baked: the command line, its --dry-run and POST /v1/bake alike.
+      const int size = *o_.cube_size;
+      if (e.power_of_two && (size & (size - 1)) != 0)
+        throw Error("cube_size: " + o.target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
+      if (*o_.schedule != roughness_schedule_name(e.schedule))
+        throw Error("schedule: " + o.target + " reads its levels with the '" + roughness_schedule_name(e.schedule) +
+                    "' schedule (" + e.lod_formula + "), not '" + *o_.schedule + "'");
     }
   }
 

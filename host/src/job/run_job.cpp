@@ -178,8 +178,7 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
 // The job as run_job takes it, or Error: valid, with an output folder and every kind bakeable in
 // this build (before anything starts). Returns the name messages give it.
 std::string check_job(Job& job) {
-  validate_job(job);
-  if (job.preview) detail::preview::check_bake_preview(job);
+  validate_job(job);  // a preview's needs included (check_bake_preview)
   const std::string origin = job.source.empty() ? std::string("job") : job.source;
   if (job.output_dir.empty()) throw Error(origin + ": output_dir: missing (the folder to write into)");
   const std::vector<std::string> missing = unavailable_tables(job);
