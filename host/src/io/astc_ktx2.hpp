@@ -44,7 +44,7 @@ std::vector<std::pair<std::string, std::string>> astc_key_values(const CubeLevel
 // cube.size, and astc_key_values(cube, astc, quality) as its key/value data. `cube` gives the size
 // and the metadata only (its levels may be empty: the file's levels are astc.level_data). The one
 // assembly of an ASTC KTX2 cube: write_astc_ktx2_cube, the cube delivery (families/delivery.cpp)
-// and the engines' KTX2 files (engines/engine_writers.cpp) all use it.
+// and the engines' KTX2 files (engines/write_common.cpp) all use it.
 std::vector<uint8_t> astc_ktx2_bytes(const CubeLevels& cube, const AstcCube& astc, double quality);
 
 // compress_astc_cube + the KTX2 file (astc_ktx2_bytes), written atomically. Returns what was stored and measured.

@@ -1,0 +1,247 @@
+// write_engine_files and what every target's writer shares (write_common.hpp). Every file is encoded
+// in memory first (the target's writer.cpp), then all are written to temporaries in the output folder
+// and renamed into place together, so a failure leaves the folder as it was (and removes it if we
+// made it).
+#include "engines/write_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "brdfbake/error.hpp"
+#include "io/astc_ktx2.hpp"
+#include "io/atomic_file.hpp"
+#include "io/cubemap_io.hpp"
+#include "io/half.hpp"
+#include "io/ktx2.hpp"
+#include "io/packed_float.hpp"
+#include "io/png_rgbd.hpp"
+#include "text.hpp"
+
+namespace brdfbake {
+namespace detail::engines {
+
+namespace fs = std::filesystem;
+
+std::string fmt(double v, const char* f) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+bool is_power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
+
+StorageError measure_storage(const CubeLevels& cube, PixelType pixel) {
+  StorageError e;
+  for (const auto& level : cube.levels) {
+    double max_rel = 0.0, max_abs = 0.0;
+    for (size_t t = 0; t < level.size() / 4; ++t) {
+      float stored[3];
+      if (pixel == PixelType::R11G11B10) {
+        int sat = 0;
+        io::unpack_r11g11b10(io::pack_r11g11b10(level[4 * t], level[4 * t + 1], level[4 * t + 2], &sat), stored);
+        e.clamped += size_t(sat);
+      } else {
+        for (size_t c = 0; c < 3; ++c)
+          stored[c] = pixel == PixelType::F16 ? io::half_bits_to_float(io::float_to_half_bits(level[4 * t + c]))
+                                              : level[4 * t + c];
+      }
+      for (size_t c = 0; c < 3; ++c) {
+        const double v = level[4 * t + c], err = std::fabs(double(stored[c]) - v);
+        if (!std::isfinite(stored[c])) ++e.clamped;
+        max_abs = std::max(max_abs, err);
+        if (v > 0.0) max_rel = std::max(max_rel, err / v);
+      }
+    }
+    e.max_rel.push_back(max_rel);
+    e.max_abs.push_back(max_abs);
+  }
+  return e;
+}
+
+namespace {
+const char* pixel_name(PixelType p) {
+  return p == PixelType::F16 ? "RGBA16F" : p == PixelType::F32 ? "RGBA32F" : "R11F_G11F_B10F";
+}
+}  // namespace
+
+void add_storage_metadata(Metadata& delivered, const std::string& file, PixelType pixel, const StorageError& e) {
+  delivered.emplace_back(file + ": format", pixel_name(pixel));
+  delivered.emplace_back(file + ": storage_max_rel_error_per_level", detail::bounds_text(e.max_rel));
+  delivered.emplace_back(file + ": storage_max_abs_error_per_level", detail::bounds_text(e.max_abs));
+  delivered.emplace_back(file + ": storage_clamped_channels", std::to_string(e.clamped));
+}
+
+// The chain's metadata plus what the target adds.
+CubeLevels with_target_metadata(const CubeLevels& cube, const EngineSettings& s) {
+  CubeLevels out = cube;
+  out.set_meta("engine_target", engine_target_name(s.target));
+  out.set_meta("engine", s.engine);
+  out.set_meta("engine_lod_from_roughness", s.lod_formula);
+  out.set_meta("engine_schedule_source", s.schedule_source);
+  return out;
+}
+
+void check_chain(const CubeLevels& cube, const EngineSettings& s, const char* what) {
+  if (cube.size < 1 || cube.levels.empty()) throw Error(std::string("engine files: the ") + what + " is empty");
+  const std::string schedule = cube.meta("roughness_schedule");
+  if (cube.level_count() > 1 && schedule != roughness_schedule_name(s.schedule))
+    throw Error(std::string("engine files: the ") + what + " was baked with the '" +
+                (schedule.empty() ? "unknown" : schedule) + "' schedule; " + engine_target_name(s.target) +
+                " reads its levels with the '" + roughness_schedule_name(s.schedule) + "' schedule (" + s.lod_formula +
+                ")");
+  if (s.power_of_two && !is_power_of_two(cube.size))
+    throw Error(std::string("engine files: ") + engine_target_name(s.target) + " needs a power-of-two face size, not " +
+                std::to_string(cube.size));
+  if (s.min_size == 1 && cube.level_size(cube.level_count() - 1) != 1)
+    throw Error(std::string("engine files: ") + engine_target_name(s.target) +
+                " stores the full chain down to 1x1; the " + what + " stops at " +
+                std::to_string(cube.level_size(cube.level_count() - 1)) + "x" +
+                std::to_string(cube.level_size(cube.level_count() - 1)) + " (bake with min_size 1)");
+}
+
+const CubeLevels& skybox_of(const EngineBake& bake, CubeLevels& storage) {
+  if (bake.skybox) return *bake.skybox;
+  storage = CubeLevels{};
+  storage.size = bake.prefiltered->size;
+  storage.levels = {bake.prefiltered->levels.front()};
+  storage.metadata = bake.prefiltered->metadata;
+  storage.set_meta("kind", "skybox (level 0 of the prefiltered chain: the source cube)");
+  storage.set_meta("levels", "1");
+  return storage;
+}
+
+std::vector<uint8_t> ktx2_cube_bytes(const CubeLevels& cube, PixelType pixel, const std::string& name,
+                                     const EngineWriteOptions& o, Metadata& delivered) {
+  if (o.astc != AstcBlock::None) {
+    const int block = o.astc == AstcBlock::Astc4x4 ? 4 : 6;
+    const io::AstcCube astc = io::compress_astc_cube(cube, block, o.astc_quality);
+    delivered.emplace_back(name + ": format", "ASTC " + std::to_string(block) + "x" + std::to_string(block) + " HDR");
+    delivered.emplace_back(name + ": astc_max_rel_error_per_level", detail::bounds_text(astc.max_rel_error));
+    delivered.emplace_back(name + ": astc_rms_rel_error_per_level", detail::bounds_text(astc.rms_rel_error));
+    delivered.emplace_back(name + ": astc_max_abs_error_per_level", detail::bounds_text(astc.max_abs_error));
+    delivered.emplace_back(name + ": astc_clamped_channels", std::to_string(astc.clamped));
+    return io::astc_ktx2_bytes(cube, astc, o.astc_quality);
+  }
+  if (pixel == PixelType::R11G11B10) throw Error("engine files: " + name + ": KTX2 takes f16 or f32 (or ASTC)");
+  io::Ktx2Image image;
+  image.vk_format = pixel == PixelType::F16 ? io::kVkFormatR16G16B16A16Sfloat : io::kVkFormatR32G32B32A32Sfloat;
+  image.width = image.height = uint32_t(cube.size);
+  image.faces = 6;
+  image.levels = uint32_t(cube.level_count());
+  image.level_data = io::cube_level_bytes(cube, pixel);
+  image.key_values = io::cube_key_values(cube, 2);
+  add_storage_metadata(delivered, name, pixel, measure_storage(cube, pixel));
+  return io::encode_ktx2(image);
+}
+
+std::vector<uint8_t> rgbd_face_png(const CubeLevels& cube, int level, int face, RgbdStats& stats) {
+  const int s = cube.level_size(level);
+  std::vector<uint8_t> rgba(size_t(s) * size_t(s) * 4);
+  for (int j = 0; j < s; ++j)
+    for (int i = 0; i < s; ++i) {
+      const float* t = cube.texel(level, face, i, j);
+      uint8_t* p = &rgba[4 * (size_t(s - 1 - j) * size_t(s) + size_t(i))];
+      bool clamped = false;
+      io::rgbd_encode(t, p, &clamped);
+      if (clamped) ++stats.clamped;
+      double d[3];
+      io::rgbd_decode(p, d);
+      const double m = std::max({double(t[0]), double(t[1]), double(t[2]), 1e-30});
+      for (int c = 0; c < 3; ++c) stats.max_rel = std::max(stats.max_rel, std::fabs(d[c] - double(t[c])) / m);
+    }
+  return io::encode_png_rgba8(s, s, rgba);
+}
+
+void add_rgbd_metadata(Metadata& delivered, const std::string& file, const RgbdStats& st) {
+  delivered.emplace_back(file + ": format", "PNG RGBD 8-bit (Babylon.js toRGBD)");
+  delivered.emplace_back(file + ": rgbd_max_error_rel_to_texel_max", detail::bound_text(st.max_rel));
+  delivered.emplace_back(file + ": rgbd_clamped_texels",
+                         std::to_string(st.clamped) + " (values above 255 are clamped)");
+}
+
+nlohmann::ordered_json metadata_json(const Metadata& m) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : m) j[k] = v;
+  return j;
+}
+
+void check_sh(const ShCoefficients& sh) {
+  if (sh.order < 3 || sh.irradiance_over_pi.size() < 27)
+    throw Error("engine SH: need at least 3 bands (9 RGB coefficients), have " + std::to_string(sh.order));
+  for (size_t i = 0; i < 27; ++i)
+    if (!std::isfinite(sh.irradiance_over_pi[i])) throw Error("engine SH: a coefficient is not finite");
+}
+
+namespace {
+
+void write_all(const std::string& out_dir, const std::vector<OutFile>& files, std::vector<std::string>& written) {
+  std::error_code ec;
+  const bool existed = fs::is_directory(out_dir, ec);
+  if (!existed && fs::exists(out_dir, ec)) io::throw_write_error(out_dir, "exists and is not a folder");
+  if (!existed && !fs::create_directories(out_dir, ec))
+    io::throw_write_error(out_dir, ec ? ec.message() : "cannot create");
+  try {
+    std::vector<std::unique_ptr<io::TempFile>> temps;
+    for (const OutFile& f : files) {
+      const std::string path = (fs::path(out_dir) / f.name).string();
+      temps.push_back(std::make_unique<io::TempFile>(path));
+      io::write_bytes(*temps.back(), std::string_view(reinterpret_cast<const char*>(f.bytes.data()), f.bytes.size()));
+    }
+    for (auto& t : temps) {
+      t->commit();
+      written.push_back(t->destination());
+    }
+  } catch (...) {
+    if (!existed) fs::remove_all(out_dir, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
+}  // namespace detail::engines
+
+using namespace detail::engines;
+
+EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake, const std::string& out_dir,
+                                     const EngineWriteOptions& o) {
+  const TargetDef& def = target_def(target);
+  const EngineSettings s = def.settings();
+  if (!bake.prefiltered) throw Error("engine files: no prefiltered chain");
+  check_chain(*bake.prefiltered, s, "prefiltered chain");
+  if (!bake.sh && def.needs_sh)
+    throw Error(std::string("engine files: ") + engine_target_name(target) + " needs the irradiance SH");
+  if (!(o.astc_quality >= 0.0 && o.astc_quality <= 100.0))
+    throw Error("engine files: astc_quality must be in [0, 100]");
+  if (o.astc != AstcBlock::None && !def.astc) {
+    std::string ktx2;
+    for (const TargetDef* t : targets())
+      if (t->astc) ktx2 += std::string(ktx2.empty() ? "" : ", ") + t->name;
+    throw Error("engine files: ASTC applies to KTX2 targets (" + ktx2 + "), not " + engine_target_name(target));
+  }
+  if (o.override_pixel && o.pixel == PixelType::R11G11B10 && s.pixel != PixelType::R11G11B10)
+    throw Error("engine files: R11F_G11F_B10F is Filament's KTX1 format");
+  std::string name = o.name;
+  if (name.empty()) {
+    name = fs::path(out_dir).lexically_normal().filename().string();
+    if (name.empty() || name == "." || name == "..")
+      name = fs::path(out_dir).lexically_normal().parent_path().filename().string();
+    if (name.empty() || name == "." || name == "..") name = "environment";
+  }
+  if (name.find('/') != std::string::npos) throw Error("engine files: the base name '" + name + "' contains '/'");
+
+  EngineWriteResult result;
+  std::vector<OutFile> files;
+  try {
+    files = def.write(s, bake, name, o, result.delivered);  // the target's writer.cpp
+  } catch (const Error& e) {
+    io::throw_write_error(out_dir, e.what());
+  }
+  write_all(out_dir, files, result.files);
+  return result;
+}
+
+}  // namespace brdfbake
