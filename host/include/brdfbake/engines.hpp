@@ -60,6 +60,12 @@ struct EngineSettings {
   // rendered the target's files in the test suite, and the agreement measured (docs/ENGINES.md).
   std::string held_to;
   std::string held_to_short;  // the same in a line (the preview's sheet)
+  // What of a bake the engine reads beside its chain and SH, and the preview's emulation of it: a
+  // target whose engine samples its own DFG table (its sheen from that table's third channel) and has
+  // no Charlie IBL reads neither the bake's DFG tables nor its Charlie tables and chain, so a plan for
+  // it bakes none of them (Filament).
+  bool reads_dfg_tables = true;
+  bool reads_charlie = true;
 };
 
 EngineSettings engine_settings(EngineTarget target);

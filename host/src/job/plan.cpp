@@ -111,6 +111,29 @@ class Planner {
   void finish() {
     for (const char* rule : kRuleOrder)
       if (fired_.count(rule)) plan_.rules_fired.push_back(rule);
+    // Only what the target's engine loads (issue 34): tables no file of its set holds and its
+    // engine never reads are not baked, and the plan says why.
+    if (plan_.job.target != "generic") {
+      const EngineSettings e = engine_settings(engine_target_from_name(plan_.job.target));
+      auto& tables = plan_.job.tables;
+      const auto unread = [&](const TableRequest& t) {
+        const bool dfg = t.kind == TableKind::Ggx || t.kind == TableKind::GgxMultiscatter;
+        const bool charlie = t.kind == TableKind::Charlie ||
+                             (t.kind == TableKind::Prefilter && t.find("distribution") &&
+                              t.text("distribution") == "charlie");
+        return (dfg && !e.reads_dfg_tables) || (charlie && !e.reads_charlie);
+      };
+      const size_t before = tables.size();
+      tables.erase(std::remove_if(tables.begin(), tables.end(), unread), tables.end());
+      if (tables.size() != before)
+        plan_.job.notes.push_back(
+            std::to_string(before - tables.size()) + " table(s) not baked: " + plan_.job.target +
+            " never reads them (" + (e.reads_dfg_tables ? "" : "its engine samples its own DFG table") +
+            (!e.reads_dfg_tables && !e.reads_charlie ? "; " : "") +
+            (e.reads_charlie ? "" : "its sheen is lit by the GGX chain, with no Charlie IBL") + ")");
+      index_.clear();
+      for (size_t i = 0; i < tables.size(); ++i) index_[key_of(tables[i])] = i;
+    }
     validate_job(plan_.job);  // fills defaults, canonical parameter order and output names
   }
 

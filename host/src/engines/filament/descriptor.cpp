@@ -46,6 +46,8 @@ EngineSettings settings() {
                   "lookup and its mirrorCubemap cancel); KTXorientation S=r,T=d";
   s.files = {"NAME_ibl.ktx", "NAME_skybox.ktx", "sh.txt"};
   s.skybox = true;
+  s.reads_dfg_tables = false;  // light_iblDFG, built into Filament (filament_dfg.hpp)
+  s.reads_charlie = false;     // evaluateSheenIBL: the GGX chain and light_iblDFG's z
   return s;
 }
 
