@@ -38,7 +38,7 @@ using namespace target_test;  // NOLINT: the shared helpers of every target's te
 // getLodFromAlphaG x 0.8.
 TEST(PreviewLookup, BabylonLodIsTheEnginesFormulaAndLevelsBlendLinearly) {
   expect_lookup_is_engines(EngineTarget::Babylon, 7,
-                           [](double r, int levels) { return std::log2(kSize * (r * r + 0.0005)) * 0.8; });
+                           [](double r, int /*levels*/) { return std::log2(kSize * (r * r + 0.0005)) * 0.8; });
 }
 
 // reflectionBlock's MIX_IBL_RADIANCE_WITH_IRRADIANCE weight (expect_mix_by_alpha_g).
