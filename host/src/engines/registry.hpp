@@ -1,10 +1,11 @@
 // Internal: the engine targets, one folder each (docs/ENGINES.md, "Adding a target"). A target's
 // folder host/src/engines/<target>/ holds its descriptor (descriptor.cpp: what the engine loads and
 // how, EngineSettings), its writer (writer.cpp: the file set as the engine's own tool writes it) and
-// the preview's reader (reader.cpp: the files as the engine's loader reads them); registry.cpp lists
-// the targets and is the only other file that names one. The shared parts: write_common (the folder,
-// storage errors, RGBD faces, KTX2 chains), bake_read (checked reads of a bake folder), babylon_frame
-// (Babylon.js's rows and frame) and filament_dfg (Filament's built-in DFG table).
+// the preview's reader (reader.cpp: the files as the engine's loader reads them) and its split-sum shading
+// (splitsum.cpp: the engine's shader functions, on what families/preview/splitsum_sampling.hpp shares); registry.cpp
+// lists the targets and is the only other file that names one. The shared parts: write_common (the folder, storage
+// errors, RGBD faces, KTX2 chains), bake_read (checked reads of a bake folder), babylon_frame (Babylon.js's rows and
+// frame) and filament_dfg (Filament's built-in DFG table).
 #pragma once
 
 #include <cstdint>
@@ -16,7 +17,8 @@
 
 namespace brdfbake::detail::preview {
 struct BakeFiles;
-}
+struct SplitSumShading;
+}  // namespace brdfbake::detail::preview
 
 namespace brdfbake::detail::engines {
 
@@ -40,6 +42,8 @@ struct TargetDef {
   void (*read)(const bake_read::Field& manifest, preview::BakeFiles& b);
   void (*read_sheen_chain)(const bake_read::Field& manifest, preview::BakeFiles& b) = nullptr;
   void (*engine_dfg)(preview::BakeFiles& b) = nullptr;
+  // splitsum.cpp: the preview's split-sum shading, the engine's shader on those files (splitsum_sampling.hpp)
+  const preview::SplitSumShading& (*shading)() = nullptr;
   // what the writer takes: the irradiance SH (every target but khronos-viewer, whose diffuse light is
   // a cube), ASTC HDR chains (the KTX2 targets)
   bool needs_sh = true;

@@ -7,6 +7,7 @@
 
 #include "engines/registry.hpp"
 #include "families/preview/bake_files.hpp"
+#include "families/preview/splitsum_sampling.hpp"
 
 namespace brdfbake::detail::engines::babylon {
 
@@ -14,5 +15,8 @@ EngineSettings settings();
 std::vector<OutFile> create_env_texture(const EngineSettings& s, const EngineBake& bake, const std::string& name,
                                         const EngineWriteOptions& o, Metadata& delivered);
 void upload_env_levels(const bake_read::Field& manifest, preview::BakeFiles& b);
+
+// splitsum.cpp: PBRMaterial (splitsum.hpp), the registry's shading row.
+const preview::SplitSumShading& shading();
 
 }  // namespace brdfbake::detail::engines::babylon

@@ -50,6 +50,7 @@ const TargetDef& babylon_target() {
                 babylon::upload_env_levels};
     d.read_sheen_chain = nullptr;
     d.engine_dfg = nullptr;
+    d.shading = babylon::shading;
     d.needs_sh = true;
     d.astc = false;
     return d;

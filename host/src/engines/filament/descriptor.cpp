@@ -61,6 +61,7 @@ const TargetDef& filament_target() {
                 filament::create_indirect_light};
     d.read_sheen_chain = nullptr;
     d.engine_dfg = filament::light_ibl_dfg;
+    d.shading = filament::shading;
     d.needs_sh = true;
     d.astc = false;
     return d;

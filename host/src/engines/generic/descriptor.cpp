@@ -33,6 +33,7 @@ const TargetDef& generic_target() {
     TargetDef d{EngineTarget::Generic, "generic", generic::settings, generic::write, generic::read_prefiltered_and_sh};
     d.read_sheen_chain = generic::read_charlie_chain;
     d.engine_dfg = nullptr;
+    d.shading = generic::shading;
     d.needs_sh = true;
     d.astc = true;
     return d;

@@ -54,6 +54,7 @@ const TargetDef& gltf_target() {
     TargetDef d{EngineTarget::Gltf, "gltf", gltf::settings, gltf::ext_lights_image_based, gltf::load_light};
     d.read_sheen_chain = nullptr;
     d.engine_dfg = nullptr;
+    d.shading = gltf::shading;
     d.needs_sh = true;
     d.astc = false;
     return d;

@@ -45,6 +45,7 @@ const TargetDef& khronos_viewer_target() {
                 khronos_viewer::ibl_sampler_ktx2, khronos_viewer::read_ggx_and_lambertian};
     d.read_sheen_chain = khronos_viewer::read_charlie;
     d.engine_dfg = nullptr;
+    d.shading = khronos_viewer::shading;
     d.needs_sh = false;
     d.astc = true;
     return d;

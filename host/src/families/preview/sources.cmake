@@ -9,7 +9,6 @@ set(BRDFBAKE_FAMILY_SOURCES
   reference.cpp
   bake_files.cpp
   splitsum.cpp
-  splitsum_babylon.cpp
   iridescence.cpp
   render.cpp
   output.cpp

@@ -1,10 +1,11 @@
-// Internal: Babylon.js's clear coat and sheen blocks in the split-sum render of the `gltf` and
-// `babylon` targets (docs/ENGINES.md, "The extensions' lobes in the split-sum render"): the terms
+// Internal: Babylon.js's PBR shader in the split-sum render of the `babylon` and `gltf` targets (the glTF target
+// is Babylon.js's glTF loader: gltf/splitsum.cpp sets what the loader changes and shades with these). First its
+// clear coat and sheen blocks (docs/ENGINES.md, "The extensions' lobes in the split-sum render"): the terms
 // its PBRMaterial computes from the BRDF lookup and the reflection texture, with the options its glTF
 // loader sets (KHR_materials_clearcoat: clearCoat.remapF0OnInterfaceChange false, the coat's index
 // of refraction Babylon's default 1.5; KHR_materials_sheen: sheen.intensity 1, albedoScaling true,
 // the sheen roughness of the file). Pure fp32 functions of values the caller has looked up, so a
-// test can evaluate the same formula by hand; the sampling stays in SplitSum.
+// test can evaluate the same formula by hand; then the shading row's functions (splitsum.cpp), which sample.
 //
 // Read at BabylonJS/Babylon.js: packages/dev/core/src/Shaders/ShadersInclude/pbrBlockClearcoat.fx
 // (011c37f), pbrBlockSheen.fx (626ee12), pbrBRDFFunctions.fx (00e0487), pbrBlockReflectance.fx
@@ -14,7 +15,12 @@
 // PBRMaterialLoadingAdapter's configureCoat / configureFuzz (the same options).
 #pragma once
 
-namespace brdfbake::detail::preview::babylon {
+#include <string>
+#include <vector>
+
+#include "families/preview/splitsum_sampling.hpp"
+
+namespace brdfbake::detail::engines::babylon {
 
 // PBRClearCoatConfiguration's default index of refraction 1.5 (the loader sets no other):
 // vClearCoatRefractionParams.x = ((1 - 1.5) / (1 + 1.5))^2.
@@ -64,4 +70,35 @@ struct Sheen {
 };
 Sheen sheen(const float color[3], float intensity, float brdf_b);
 
-}  // namespace brdfbake::detail::preview::babylon
+// The shading row's functions (splitsum.cpp), shared with the `gltf` target.
+using preview::BaseInputs;
+using preview::SplitSumSampler;
+
+// Babylon.js's renderer (sphericalPolynomial.ts): the harmonics its shader evaluates from a spherical
+// polynomial p (x, y, z, xx, yy, zz, yz, zx, xy; 9 x RGB), SphericalHarmonics.FromPolynomial then
+// preScaleForRendering.
+std::vector<double> prescaled_harmonics(const std::vector<double>& p);
+// SphericalPolynomial.FromHarmonics (updateFromHarmonics) of harmonics h (9 x RGB).
+std::vector<double> polynomial_from(const std::vector<double>& h);
+// pbrBlockReflection.fx sampleReflectionTexture at reflectionCoords d and alphaG: the chain at getLodFromAlphaG x
+// lodGenerationScale, decoded to linear (toLinearSpace where the texture is in gamma space).
+void sample_reflection_texture(const SplitSumSampler& s, const Vec3& d, float average_slope, float out[3]);
+// The base: pbrBlockReflection.fx reflectionBlock (the sample, mixed with the irradiance by alphaG),
+// pbrBlockReflectivity.fx and pbrBlockFinalLitComponents.fx (finalRadianceScaled + finalIrradiance).
+void reflection_block(const SplitSumSampler& s, const PreviewMaterial& m, const BaseInputs& in, float out[3]);
+// pbrBlockSheen.fx sheenBlock and pbrBlockClearcoat.fx clearcoatBlock, IBL part, over the shaded base.
+void sheen_block(const SplitSumSampler& s, const Vec3& n, const Vec3& v, const PreviewMaterial& m, float aa_alpha_g,
+                 float out[3]);
+void clearcoat_block(const SplitSumSampler& s, const Vec3& n, const Vec3& v, const PreviewMaterial& m, float aa_alpha_g,
+                     float out[3]);
+// The sheen block renders from a bake with a charlie table; what it does, for the notes.
+bool renders_sheen(const SplitSumSampler& s);
+std::string sheen_note(const SplitSumSampler& s);
+// The steps of PBRMaterial's IBL for the JSON; `loader`: what the material's and the light's loader adds to
+// them (the .env's PBRMaterial: its own texts below; the glTF loader: gltf/splitsum.cpp).
+struct LoaderSteps {
+  std::string frame, alpha_g_suffix, lod_source, sample_suffix, irradiance_source;
+};
+Metadata pbr_steps(const SplitSumSampler& s, const LoaderSteps& loader);
+
+}  // namespace brdfbake::detail::engines::babylon
