@@ -847,6 +847,7 @@ TEST(ServerSecurity, NothingOutsideDataIsWrittenOrDeleted) {
   auto p = c.Get(("/v1/jobs/" + id + "/files/p.json").c_str());
   ASSERT_TRUE(p);
   ASSERT_EQ(p->status, 200);
+  EXPECT_EQ(p->body.find(dir.path.string()), std::string::npos) << "p.json names a server path";
   const json bake = json::parse(p->body)["bake"];
   EXPECT_NE(bake.value("folder", "").find("baked first"), std::string::npos) << bake.dump();
   for (const char* key : {"specular", "dfg", "diffuse"}) {

@@ -75,6 +75,7 @@ void bake_first(Backend& backend, const EnvImage& env, EngineTarget target, cons
   }
   Plan plan = first_bake_plan(env, target, sheen);
   plan.job.output_dir = folder;
+  plan.job.engine_name = "preview";  // not the scratch folder's name: the JSON names the files
   RunOptions ro;
   ro.backend = [&backend](const std::string&) { return std::shared_ptr<Backend>(&backend, [](Backend*) {}); };
   run_job(
@@ -624,6 +625,10 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
       if (value.rfind(prefix, 0) == 0) value = value.substr(prefix.size());
   }
   res.shading = split.steps();
+  if (temp)  // the steps name files too: without the scratch folder, gone with the render
+    for (auto& [key, value] : res.shading)
+      for (size_t at = value.find(folder + "/"); at != std::string::npos; at = value.find(folder + "/", at))
+        value.erase(at, folder.size() + 1);
   // KHR_materials_sheen: what this target's split-sum render does with it, in each sheened sphere's notes
   bool sheened = false;
   for (PreviewSphere& sp : res.spheres)
