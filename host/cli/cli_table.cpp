@@ -43,7 +43,7 @@ std::string default_text(const ParamDef& d) {
 
 std::string help_of(const ParamDef& d) {
   std::string h = d.help;
-  if (negated_flag(d)) return "turn off: " + h + aliases_text(d);
+  if (negated_flag(d)) return "(on by default) " + h + "; this option turns it off" + aliases_text(d);
   if (d.type == ParamType::Flag) return h + aliases_text(d);
   if (!d.choices.empty()) {
     std::string c;

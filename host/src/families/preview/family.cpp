@@ -73,7 +73,7 @@ SpecSchema<PreviewSpec> preview_schema() {
             ParamDef("pitch", T::Number, "camera pitch, degrees (positive: looking up)").range(-89, 89).def(d.pitch))
       .bind(&PreviewSpec::reference, "reference",
             ParamDef("reference", T::Flag,
-                     "render the reference and the error (--no-reference: the split-sum render alone)")
+                     "render the reference and the error (off: the split-sum render alone)")
                 .def(d.reference))
       .bind(&PreviewSpec::refinement, "refinement",
             ParamDef("refinement", T::Number,
