@@ -523,6 +523,17 @@ def sweep(client, envs: Iterable[Any], settings: Any = None, *, target: str = "g
         labelled = [(_setting_label(dict(o)), dict(o)) for o in (settings if settings is not None else [{}])]
     if not labelled:
         raise InputError("sweep.settings: give at least one setting ({} is the target's default)")
+    own_arguments = {"target": "give target= to sweep()", "env": "give the environments as envs",
+                     "environment": "give the environments as envs",
+                     "scene": "a sweep bakes the default grid's materials", "output_dir": "a sweep bakes into "
+                     "temporary folders of its own"}
+    for label, o in labelled:
+        # the sweep's own arguments, not a setting's: a setting naming one aborted every row
+        for name, why in own_arguments.items():
+            if name in o:
+                raise InputError(f"sweep.settings[{label!r}].{name}: not a setting of a sweep ({why})")
+    if isinstance(envs, (str, os.PathLike)):
+        envs = [envs]  # one environment, not one a character
     envs = list(envs)
     if not envs:
         raise InputError("sweep.envs: give at least one environment")

@@ -196,3 +196,14 @@ def test_a_sweep_without_a_cluster_and_a_failing_setting():
     assert "cube_size" in rows[1]["failed"] and "error" not in rows[1]
     with pytest.raises(brdfbake.InputError, match="sweep.envs"):
         bdask.sweep(None, [], [{}])
+
+
+def test_a_sweep_refuses_its_own_arguments_as_settings_and_takes_one_env_string():
+    # issue 34, class 7: a setting naming target or scene aborted every row; a string was one
+    # environment a character
+    for name in ("target", "scene"):
+        with pytest.raises(brdfbake.InputError, match=rf"sweep.settings\['x'\].{name}: not a setting"):
+            bdask.sweep(None, ["builtin:sun"], {"x": {name: "filament"}}, width=96, height=48)
+    rows = bdask.sweep(None, "builtin:sun", [{"cube_size": 16}], width=96, height=48)
+    assert [r["env"] for r in rows] == ["builtin:sun"]
+    assert "failed" not in rows[0]
