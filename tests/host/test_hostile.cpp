@@ -1875,6 +1875,27 @@ void smaller_classes(std::vector<Row>& rows) {
                    "bake --env builtin:sun --target filament --schedule linear -o {d}/o --dry-run", 2)
                      .says("schedule")
                      .no("o"));
+  rows.push_back(R("class7_bake_engine_name_is_a_name",
+                   "bake --env builtin:sun --target filament --engine-name "
+                   "../x -o {d}/o --dry-run",
+                   2)
+                     .says("--engine-name")
+                     .no("o"));
+  R named("class7_bake_engine_name_and_sh_window",
+          "bake --env builtin:sun --target filament --engine-name sky --sh-window none --cube-size 32 --lut-size 16 "
+          "-o {d}/o --quiet",
+          0);
+  named.r.check_output = [](const fs::path& d) {
+    EXPECT_TRUE(fs::exists(d / "o" / "sky_ibl.ktx"));
+    EXPECT_TRUE(fs::exists(d / "o" / "sky_skybox.ktx"));
+    std::ifstream in(d / "o" / "manifest.json");
+    const auto m = nlohmann::json::parse(in);
+    bool window_none = false;
+    for (const auto& f : m["files"])
+      if (f.value("kind", "") == "irradiance") window_none = f["parameters"].value("sh_window", "") == "none";
+    EXPECT_TRUE(window_none) << m.dump();
+  };
+  rows.push_back(named);
   rows.push_back(R("class7_bake_preview_on_the_reference_device",
                    "bake --env builtin:sun --preview --device reference --cube-size 16 -o {d}/o", 2)
                      .says("scalar reference")

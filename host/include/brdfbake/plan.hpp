@@ -28,6 +28,8 @@ struct PlanOptions {
   double prefilter_max_error = 0.01;    // > 0: each level refined until successive refinements differ
                                         // by less (RMS relative luminance): the chain's measured bound
   std::optional<int> sh_order;
+  std::optional<std::string> sh_window;         // irradiance: the SH window; default the target's
+  std::string engine_name;                      // NAME of an engine target's files; "" = the output folder's
   std::optional<std::string> sheen_visibility;  // the Charlie DFG table's (the albedo table's is
                                                 // always estevez-kulla, as the extension says)
   std::string target = "generic";               // an engine's file set too (brdfbake/engines.hpp): its schedule,

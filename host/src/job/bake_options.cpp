@@ -37,6 +37,10 @@ void set_plan_option(PlanOptions& o, const std::string& name, const ParamValue& 
     o.thin_film_size = integer(v);
   else if (name == "sh_order")
     o.sh_order = integer(v);
+  else if (name == "sh_window")
+    o.sh_window = std::get<std::string>(v);
+  else if (name == "engine_name")
+    o.engine_name = std::get<std::string>(v);
   else if (name == "sheen_visibility")
     o.sheen_visibility = std::get<std::string>(v);
   else if (name == "table_format")
@@ -122,6 +126,12 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
   }
   // The rules across options.
   const auto named = [&](const char* name) { return naming.field(*find_param_def(schema, name)); };
+  if (!o.engine_name.empty() &&
+      (o.engine_name.size() > 100 || o.engine_name[0] == '.' ||
+       o.engine_name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+           std::string::npos))
+    throw Error(named("engine_name") + ": '" + o.engine_name.substr(0, 60) +
+                "' must be a file name of letters, digits, '.', '_' and '-' (at most 100, not starting with '.')");
   if (o.sh_order && *o.sh_order != 3 && *o.sh_order != 5)
     throw Error(named("sh_order") + ": must be 3 or 5 (got " + std::to_string(*o.sh_order) + ")");
   if ((o.pixel == "astc4x4" || o.pixel == "astc6x6") && o.target != "generic" && o.target != "khronos-viewer")

@@ -51,13 +51,15 @@ class Planner {
     plan_.job.source = "bake plan";
     plan_.job.sanitize = o.sanitize;
     plan_.job.target = o.target;
+    if (o.sh_window) sh_window_ = *o.sh_window;  // the user's, over the target's (set below unless given)
     if (o.target != "generic") {
       // The engine's conventions, unless the options say otherwise.
       const EngineSettings e = engine_settings(engine_target_from_name(o.target));
       if (!o_.schedule) o_.schedule = roughness_schedule_name(e.schedule);
       if (!o_.cube_size) o_.cube_size = e.size;
       if (!o_.cube_min_size) o_.cube_min_size = e.min_size;
-      if (e.sh_window != ShWindow::None) sh_window_ = sh_window_name(e.sh_window);
+      if (e.sh_window != ShWindow::None && !o.sh_window) sh_window_ = sh_window_name(e.sh_window);
+      plan_.job.engine_name = o.engine_name;
       // What the engine's writer would refuse after the bake (engines/engine_writers.cpp, check_chain),
       // refused here, before anything is baked: the command line, its --dry-run and POST /v1/bake alike.
       const int size = *o_.cube_size;
@@ -118,9 +120,9 @@ class Planner {
       auto& tables = plan_.job.tables;
       const auto unread = [&](const TableRequest& t) {
         const bool dfg = t.kind == TableKind::Ggx || t.kind == TableKind::GgxMultiscatter;
-        const bool charlie = t.kind == TableKind::Charlie ||
-                             (t.kind == TableKind::Prefilter && t.find("distribution") &&
-                              t.text("distribution") == "charlie");
+        const bool charlie =
+            t.kind == TableKind::Charlie ||
+            (t.kind == TableKind::Prefilter && t.find("distribution") && t.text("distribution") == "charlie");
         return (dfg && !e.reads_dfg_tables) || (charlie && !e.reads_charlie);
       };
       const size_t before = tables.size();
@@ -678,6 +680,11 @@ const std::vector<ParamDef>& plan_schema() {
       from_table(TableKind::ThinFilm, "size", "thin_film_size",
                  "thin-film tables: cells along cos_theta and thickness"),
       from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
+      from_table(TableKind::Irradiance, "sh_window", "sh_window",
+                 "irradiance: the SH window against ringing (default: the target's, else auto)"),
+      ParamDef("engine_name", ParamType::Name,
+               "NAME of an engine target's files (NAME_ibl.ktx, NAME.env, NAME.gltf; letters, digits, '.', '_', "
+               "'-'); default: the output folder's name"),
       from_table(TableKind::Charlie, "sheen_visibility", "sheen_visibility", "the Charlie DFG table's visibility"),
       ParamDef("target", ParamType::Name,
                "write an engine's file set too (docs/ENGINES.md), with its schedule, sizes and SH window")
