@@ -1896,6 +1896,19 @@ void smaller_classes(std::vector<Row>& rows) {
     EXPECT_TRUE(window_none) << m.dump();
   };
   rows.push_back(named);
+  // A scene's bake --preview shows the scene's materials, not the default grid (issue 34, new user).
+  R scene_preview("class7_bake_scene_preview_shows_the_scene",
+                  "bake --scene {d}/s.gltf --env builtin:sun --cube-size 32 --lut-size 16 -o {d}/o --preview --quiet",
+                  0);
+  scene_preview.file("s.gltf", R"({"asset": {"version": "2.0"}, "materials": [{"name": "m", "pbrMetallicRoughness": )"
+                               R"({"metallicFactor": 0, "roughnessFactor": 0.5}}]})");
+  scene_preview.r.check_output = [](const fs::path& d) {
+    std::ifstream in(d / "o" / "preview.json");
+    const auto p = nlohmann::json::parse(in);
+    ASSERT_EQ(p["spheres"].size(), 1u) << "the default grid has 72";
+    EXPECT_EQ(p["spheres"][0].value("name", ""), "m");
+  };
+  rows.push_back(scene_preview);
   rows.push_back(R("class7_bake_preview_on_the_reference_device",
                    "bake --env builtin:sun --preview --device reference --cube-size 16 -o {d}/o", 2)
                      .says("scalar reference")

@@ -58,6 +58,9 @@ void write_bake_preview(const Job& job, const std::string& staging, Manifest& ma
   spec.target = engine_target_from_name(job.target);
   spec.bake = staging;
   spec.precision = job.precision;
+  // A scene's bake previews the scene's materials, one sphere each (issue 34: it rendered the
+  // default grid); without a scene, the default grid.
+  if (!job.scene.empty()) spec.materials_file = job.scene;
   PreviewResult r = render_preview(backend, environment, spec);
   // the JSON names the folder the files land in, not the staging one
   r.spec.bake = manifest.output_dir;
