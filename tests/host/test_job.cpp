@@ -150,8 +150,18 @@ TEST(Job, IdenticalEntriesMerge) {
 // the plan carries into its job. Before, neither existed: only the command line's `bake --preview`.
 TEST(Job, PreviewInJobDocumentsAndBakeOptions) {
   const Job j = parse_job(R"({"brdfbake_job": 1, "preview": true, "target": "filament",
-                              "tables": [{"kind": "ggx-multiscatter", "size": 16}]})",
+                              "tables": [{"kind": "prefilter", "size": 16, "min_size": 8}, {"kind": "irradiance"}]})",
                           "job.json");
+  // What the preview needs is checked when the document is read (a server's 400, --dry-run), not
+  // after the bake: a chain and the SH, on an OpenCL device.
+  try {
+    parse_job(R"({"preview": true, "tables": [{"kind": "ggx-multiscatter", "size": 16}]})", "nochain.json");
+    ADD_FAILURE() << "a preview without a chain was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("nochain.json: preview: the bake has no GGX prefiltered chain"),
+              std::string::npos)
+        << e.what();
+  }
   EXPECT_TRUE(j.preview);
   EXPECT_TRUE(parse_job(job_to_json(j), "again.json").preview);
   EXPECT_FALSE(parse_job(R"({"tables": []})", "none.json").preview);

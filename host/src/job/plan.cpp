@@ -680,8 +680,12 @@ const std::vector<ParamDef>& plan_schema() {
       from_table(TableKind::ThinFilm, "size", "thin_film_size",
                  "thin-film tables: cells along cos_theta and thickness"),
       from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
-      from_table(TableKind::Irradiance, "sh_window", "sh_window",
-                 "irradiance: the SH window against ringing (default: the target's, else auto)"),
+      [] {
+        ParamDef w =
+            from_table(TableKind::Irradiance, "sh_window", "sh_window", "irradiance: the SH window against ringing");
+        w.default_text = "the target's, else none";
+        return w;
+      }(),
       ParamDef("engine_name", ParamType::Name,
                "NAME of an engine target's files (NAME_ibl.ktx, NAME.env, NAME.gltf; letters, digits, '.', '_', "
                "'-'); default: the output folder's name"),

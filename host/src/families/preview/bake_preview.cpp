@@ -39,8 +39,9 @@ void check_bake_preview(const Job& job) {
   // the 512 x 512 grid (the same refusal from the command line, a job and POST /v1/bake).
   const std::string& device = bake_preview_chain(job).device;
   if ((device.empty() ? job.device : device) == "reference")
-    throw Error(origin + ": preview: its reference render runs on the chain's device, and the scalar reference "
-                         "device would take hours for it: bake on an OpenCL device, or without the preview");
+    throw Error(origin +
+                ": preview: its reference render runs on the chain's device, and the scalar reference "
+                "device would take hours for it: bake on an OpenCL device, or without the preview");
 }
 
 const TableRequest& bake_preview_chain(const Job& job) {

@@ -24,9 +24,9 @@ const TableRequest& bake_preview_chain(const Job& job);
 
 // Renders the preview of the files in `staging` (manifest.json, as the run has it so far, is written
 // there first for the preview to read, and replaced by the run afterwards) for the job's target, the
-// scene's materials (the default grid without a scene) at 512 x 512 with the reference, on `backend`, from `environment` (the chain's). Writes
-// preview.png and its siblings into `staging` and records them in `manifest` (preview_files, preview:
-// the sheet, the worst and median sphere's error, the reference's bound, the seconds).
+// scene's materials (the default grid without a scene) at 512 x 512 with the reference, on `backend`, from
+// `environment` (the chain's). Writes preview.png and its siblings into `staging` and records them in `manifest`
+// (preview_files, preview: the sheet, the worst and median sphere's error, the reference's bound, the seconds).
 void write_bake_preview(const Job& job, const std::string& staging, Manifest& manifest, Backend& backend,
                         const EnvImage& environment);
 

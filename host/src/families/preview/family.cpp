@@ -72,8 +72,7 @@ SpecSchema<PreviewSpec> preview_schema() {
       .bind(&PreviewSpec::pitch, "pitch",
             ParamDef("pitch", T::Number, "camera pitch, degrees (positive: looking up)").range(-89, 89).def(d.pitch))
       .bind(&PreviewSpec::reference, "reference",
-            ParamDef("reference", T::Flag,
-                     "render the reference and the error (off: the split-sum render alone)")
+            ParamDef("reference", T::Flag, "render the reference and the error (off: the split-sum render alone)")
                 .def(d.reference))
       .bind(&PreviewSpec::refinement, "refinement",
             ParamDef("refinement", T::Number,
