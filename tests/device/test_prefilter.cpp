@@ -412,13 +412,13 @@ TEST(Prefilter, MaxErrorChoosesPerLevel) {
       EXPECT_LE(measured[l], s.max_error) << "level " << l;
     }
     // the file records what was measured
-    std::string text;
-    for (size_t l = 0; l < levels; ++l) {
+    std::string text = "source";  // level 0: nothing refined
+    for (size_t l = 1; l < levels; ++l) {
       char v[32];
       std::snprintf(v, sizeof v, "%.3g", measured[l]);
-      text += (l ? "," : "") + std::string(v);
+      text += "," + std::string(v);
     }
-    EXPECT_EQ(a.meta("measured_error_per_level"), text);
+    EXPECT_EQ(a.meta("refinement_difference_per_level"), text);
     const size_t worst = size_t(std::max_element(measured.begin(), measured.end()) - measured.begin());
     EXPECT_EQ(timing.measured_error, measured[worst]);
     ASSERT_GT(measured[worst], 0.0) << "no level was measured: the search compared nothing";

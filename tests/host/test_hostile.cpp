@@ -1909,6 +1909,14 @@ void smaller_classes(std::vector<Row>& rows) {
     EXPECT_EQ(p["spheres"][0].value("name", ""), "m");
   };
   rows.push_back(scene_preview);
+  // Issue 35: a chain whose bound against the double reference is above the max_error asked says so
+  // (its successive refinements agreed to max_error: that stopped the search, not the error).
+  rows.push_back(R("class7_prefilter_missed_max_error_is_a_warning",
+                   "prefilter --env builtin:sun --size 32 --min-size 4 --distribution charlie --max-error 0.01 "
+                   "-o {d}/c.ktx2",
+                   0)
+                     .says("warning: charlie prefiltered chain: the chain's error bound")
+                     .says("is above the max_error 0.01 asked"));
   rows.push_back(R("class7_bake_preview_on_the_reference_device",
                    "bake --env builtin:sun --preview --device reference --cube-size 16 -o {d}/o", 2)
                      .says("scalar reference")

@@ -33,7 +33,8 @@ void max_error_metadata(CubeLevels& out, const PrefilterSpec& s, const detail::C
   int worst_level = 0;
   std::vector<std::string> m_text;
   for (int l = 0; l < levels; ++l) {
-    m_text.push_back(fmt(r.measured[size_t(l)], "%.3g"));
+    // level 0 is the source itself: nothing was refined, nothing measured
+    m_text.push_back(l == 0 ? std::string("source") : fmt(r.measured[size_t(l)], "%.3g"));
     if (r.measured[size_t(l)] > worst) {
       worst = r.measured[size_t(l)];
       worst_level = l;
@@ -48,8 +49,10 @@ void max_error_metadata(CubeLevels& out, const PrefilterSpec& s, const detail::C
   out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
                                 std::string(quadrature ? "refinements" : "sample counts (N, 4N)") +
                                 " <= " + fmt(s.max_error) + " (the finer result is kept)");
-  out.set_meta("measured_error_per_level", comma_join(m_text));
-  out.set_meta("measured_error", fmt(worst, "%.3g"));
+  // The difference between the two finest refinements (what max_error stops on), not the error
+  // against the converged chain: integration_error_bound_per_level is that (issue 35).
+  out.set_meta("refinement_difference_per_level", comma_join(m_text));
+  out.set_meta("refinement_difference", fmt(worst, "%.3g"));
 }
 
 }  // namespace
