@@ -14,6 +14,7 @@
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/reference/envmap.hpp"
+#include "families/irradiance/model.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -250,6 +251,34 @@ TEST(ShWindowAuto, AppliedToAProjection) {
   EXPECT_NEAR(sh.window_cutoff, 12.7675, 1e-3);  // a uniform environment: nothing rings (see above)
   EXPECT_EQ(sh.window_weights, sh_sinc4_window_weights(sh.window_cutoff, 3));
   for (size_t c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(sh.irradiance_over_pi[c], sh.radiance[c]);  // band 0 untouched
+}
+
+// The SH's irradiance error a file records (issue 35; families/irradiance/sh_error.cpp), against
+// closed forms. A constant and a linear map (L = 1 + z: irradiance in bands 0 and 1 only) have no
+// truncation error; one bright pixel (a point light) has the clamped cosine's: the L2 norm of
+// max(0, cos) is 2 pi / 3, bands 0..2 hold sum_l (2l + 1) A_l^2 / (4 pi) = (pi / 4)(1 + 4/3 + 5/16),
+// so the relative RMS over the sphere is sqrt(1 - (3 / 8)(1 + 4/3 + 5/16)) = 0.0884.
+TEST(ShError, ClosedFormsOfTheTruncation) {
+  const int w = 256, h = 128;
+  auto sh_error = [&](const std::vector<float>& rgb) {
+    const EnvImage env = environment_from_equirect(w, h, rgb, "test");
+    return detail::sh_irradiance_error(env, project_sh(env, 3)).relative_rms;
+  };
+  std::vector<float> constant(3 * size_t(w) * h, 2.0f), linear(constant.size()), point(constant.size(), 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double t = math::kPi * (0.5 - (y + 0.5) / h), phi = 2.0 * math::kPi * (0.5 - (x + 0.5) / w);
+      for (int c = 0; c < 3; ++c)
+        linear[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = float(1.0 + std::cos(phi) * std::cos(t));
+    }
+  for (int c = 0; c < 3; ++c) point[3 * (size_t(h / 2) * w + size_t(w / 3)) + size_t(c)] = 1e4f;
+  // the exact side is a midpoint rule over 256 x 128 pixels, its error at the clamped cosine's
+  // horizon kink 1.5e-5 here
+  EXPECT_LT(sh_error(constant), 1e-4);
+  EXPECT_LT(sh_error(linear), 2e-3);
+  // 128 Fibonacci directions sample the sphere's mean square to about 5 %
+  const double want = std::sqrt(1.0 - 0.375 * (1.0 + 4.0 / 3.0 + 5.0 / 16.0));
+  EXPECT_NEAR(sh_error(point), want, 0.05 * want);
 }
 
 }  // namespace

@@ -61,7 +61,9 @@ std::string sh_json_for(const ShCoefficients& sh, const Metadata& meta, const st
 Metadata sh_metadata(const BakeResult& r) {
   Metadata m;
   for (const auto& [k, v] : r.details)
-    if (k == "source" || k == "source_size" || k == "sanitized") m.push_back({k, v});
+    if (k == "source" || k == "source_size" || k == "sanitized" || k == "sh_irradiance_error" ||
+        k == "sh_irradiance_error_definition")
+      m.push_back({k, v});
   return m;
 }
 
@@ -200,7 +202,22 @@ class IrradianceFamily final : public Family {
     }
     const std::string note = sanitize_note(*in.environment);
     if (!note.empty() && !res.cube.levels.empty()) res.cube.set_meta("sanitized", note);
-    r.error_bound_definition = "not measured when baked (SH projection of the source cube)";
+    // The SH's own error, measured against the exact irradiance of the map (sh_error.cpp): the file's
+    // bound when the output is the SH; beside it (details) when it is the cube, whose own error is not
+    // measured.
+    const ShErrorMeasure sh_error = sh_irradiance_error(env, res.sh);
+    const std::string sh_error_definition = "relative RMS of the SH's E / pi (order " + std::to_string(res.sh.order) +
+                                            ", window " + sh_window_name(res.sh.window) +
+                                            ") against the exact irradiance of the source's pixels, luminance over " +
+                                            std::to_string(sh_error.directions) + " directions";
+    r.details.push_back({"sh_irradiance_error", fmt_number(sh_error.relative_rms, "%.3g")});
+    r.details.push_back({"sh_irradiance_error_definition", sh_error_definition});
+    if (spec.cube_size > 0) {
+      r.error_bound_definition = "not measured when baked (the irradiance cube; its SH's error is sh_irradiance_error)";
+    } else {
+      r.error_bound = sh_error.relative_rms;
+      r.error_bound_definition = sh_error_definition;
+    }
     r.details.push_back({"sh_coefficients", std::to_string(res.sh.order * res.sh.order)});
     r.details.push_back({"source", in.environment->source});
     r.details.push_back({"source_size", fmt_number(spec.source_size, "%.0f")});

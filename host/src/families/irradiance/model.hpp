@@ -25,4 +25,12 @@ void irradiance_cube_metadata(CubeLevels& cube, const EnvImage& env, const Irrad
                               const ShCoefficients& sh, const std::string& definition, const std::string& precision,
                               const std::string& device);
 
+// The SH's E / pi against the exact irradiance of `env` (sh_error.cpp): the relative RMS of the
+// luminance over `directions` directions of a Fibonacci sphere.
+struct ShErrorMeasure {
+  double relative_rms = 0.0;
+  int directions = 0;
+};
+ShErrorMeasure sh_irradiance_error(const EnvImage& env, const ShCoefficients& sh);
+
 }  // namespace brdfbake::detail

@@ -5,6 +5,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   sh.cpp
   sh_projection.cpp
   sh_window.cpp
+  sh_error.cpp
   kernel.cpp
   opencl.cpp
   reference.cpp
