@@ -59,7 +59,7 @@ def server(cli, shared_dir, tmp_path_factory):
     log = open(base / "server.log", "w")
     proc = subprocess.Popen(
         [cli, "serve", "--listen", "127.0.0.1:0", "--url-file", str(url_file), "--data", str(base / "data"),
-         "--input-root", str(inputs), "--token-file", str(base / "token"), "--max-body", "4M"],
+         "--input-root", str(inputs), "--token-file", str(base / "token")],
         stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + WAIT_S
     while not (url_file.exists() and url_file.read_text().endswith("\n")):
@@ -332,7 +332,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
 
 
 def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_path):
-    """An environment uploaded from the browser (POST /v1/uploads, under --max-body: 4M here), its
+    """An environment uploaded from the browser (POST /v1/uploads, under --max-upload, not --max-body), its
     name put in the field, baked; a bad upload's line next to the field; a download byte for byte
     what `brdfbake run` makes of the job the page copies, whose environment is the stored upload."""
     _login(browser, server["url"])
@@ -352,6 +352,11 @@ def test_upload_a_shared_hdr_and_bake_it(server, browser, cli, shared_dir, tmp_p
     name = browser.find_element("id", "opt-environment").get_attribute("value")
     stored = server["base"] / "data" / "uploads" / name[len("upload:"):]
     assert stored.read_bytes() == hdr.read_bytes()
+    # "Copy command" names the file as it is on the user's machine, not the server's upload: name
+    browser.find_element("id", "copy-command").click()
+    command = _text(browser, "command-text")
+    assert f"--environment {HDR}" in command and "upload:" not in command.splitlines()[0], command
+    assert "# --environment is the file you uploaded as upload:" in command, command
     _set(browser, "target", "generic")
     browser.find_element("id", "preset-draft").click()
     before = _text(browser, "job-id")

@@ -22,6 +22,7 @@ const state = {
   devices: [],
   job: null,        // {id, tables, finished}
   serverTimer: 0,
+  uploads: {},      // "upload:NAME" -> the file's name on the user's machine (its command line reads that)
 };
 
 const $ = (id) => document.getElementById(id);
@@ -128,6 +129,7 @@ function uploadInput(name) {
         method: 'POST', body: file, headers: { 'Content-Type': 'application/octet-stream' },
       });
       $('opt-' + name).value = reply.name;
+      state.uploads[reply.name] = file.name;
     } catch (e) {
       $('error-' + name).textContent = e.message;
       $('field-' + name).classList.add('invalid');
@@ -246,16 +248,25 @@ function shellQuote(s) {
 }
 
 // The command that bakes the same files (paths as the server reads them: under its --input-root).
+// The command that bakes the same on the user's machine: an uploaded file by the name it had there
+// (the server's "upload:..." names exist only on the server), said in a comment.
 function bakeCommand(options) {
   const args = ['brdfbake', 'bake'];
+  const notes = [];
   for (const d of state.options) {
     if (!(d.name in options)) continue;
-    const v = options[d.name];
+    let v = options[d.name];
+    if (typeof v === 'string' && v.startsWith('upload:')) {
+      const local = state.uploads[v];
+      notes.push(local ? `${d.option} is the file you uploaded as ${v}`
+        : `${d.option}: ${v} is a file uploaded to the server: give its path on this machine`);
+      v = local || v.slice('upload:'.length).replace(/^[0-9a-f]{12}-/, '');
+    }
     if (d.type === 'flag') args.push(v ? d.option : '--no-' + d.option.slice(2));
     else args.push(d.option, shellQuote(Array.isArray(v) ? v.join(',') : String(v)));
   }
   args.push('-o', 'out');
-  return args.join(' ');
+  return args.join(' ') + notes.map((n) => '\n# ' + n).join('');
 }
 
 // ---- Errors next to their field -----------------------------------------------------------------
