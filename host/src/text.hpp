@@ -37,6 +37,19 @@ inline std::string fmt_number(double v, const char* printf_format = "%.9g") {
   return buf;
 }
 
+// A fraction as a percentage people read: "114%", "3.9%", "0.45%" (never "1.1e+02%"): whole percents
+// from 10 %, one decimal from 1 %, two below; the page and the sheets print the same.
+inline std::string percent_text(double fraction) {
+  char b[32];
+  if (fraction >= 0.0995)
+    std::snprintf(b, sizeof b, "%.0f%%", 100.0 * fraction);
+  else if (fraction >= 0.00995)
+    std::snprintf(b, sizeof b, "%.1f%%", 100.0 * fraction);
+  else
+    std::snprintf(b, sizeof b, "%.2f%%", 100.0 * fraction);
+  return b;
+}
+
 // A bound as text, rounded up to three significant digits: the recorded text is never below it
 // (error_bound_text, brdfbake/tables.hpp, the same for the library's users). Every file, manifest
 // and key that records a bound uses it (delivery, io's ASTC keys, the engines' metadata).

@@ -28,6 +28,7 @@
 #include "io/png_image.hpp"
 #include "io/png_rgbd.hpp"
 #include "io/table_read.hpp"
+#include "text.hpp"
 
 namespace brdfbake::view {
 
@@ -460,12 +461,9 @@ Item read_preview(const json& j, const std::string& path) {
   std::snprintf(b, sizeof b, "target %s, %zu spheres", j.value("target", std::string("?")).c_str(),
                 j["spheres"].size());
   pic.caption = b;
-  if (!rms.empty()) {
-    std::snprintf(b, sizeof b,
-                  ", split-sum vs reference RMS %.2g%% median, %.2g%% worst sphere; reference within %.2g%%",
-                  100.0 * rms[rms.size() / 2], 100.0 * rms.back(), 100.0 * bound);
-    pic.caption += b;
-  }
+  if (!rms.empty())
+    pic.caption += ", split-sum vs reference RMS " + detail::percent_text(rms[rms.size() / 2]) + " median, " +
+                   detail::percent_text(rms.back()) + " worst sphere; reference within " + detail::percent_text(bound);
   Item it;
   it.kind = "preview";
   it.content = std::move(pic);
