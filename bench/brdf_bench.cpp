@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
       TabulateSpec s;
       s.model = model;
       s.layout = TableLayout::Merl;
-      s.materials = {NamedMaterial{"bench", model, full_material(model), {}}};
+      s.materials = {NamedMaterial{"bench", model, full_material(model), {}, {}, {}}};
       TabulateTiming ref_t;
       const MerlTable ref = tabulate_merl_reference(s, &ref_t);
       for (Precision p : {Precision::Fp32, Precision::Fp64}) {

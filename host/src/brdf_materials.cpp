@@ -248,6 +248,8 @@ std::vector<NamedMaterial> gltf_materials(const Scene& scene, const std::string&
       m.iridescence_thickness = s.iridescence_thickness_max;
     }
     for (const std::string& t : s.textures) nm.notes.push_back(t + " ignored (textures are not read)");
+    nm.base_color_image = s.base_color_image;
+    nm.metallic_roughness_image = s.metallic_roughness_image;
     for (const std::string& ext : s.extensions)
       if (ext != "KHR_materials_sheen" && ext != "KHR_materials_clearcoat" && ext != "KHR_materials_specular" &&
           ext != "KHR_materials_ior")

@@ -167,7 +167,9 @@ INSTANTIATE_TEST_SUITE_P(AllModels, BrdfVsReference,
 namespace brdfbake {
 namespace {
 
-NamedMaterial named(const std::string& name, const Material& m) { return NamedMaterial{name, std::nullopt, m, {}}; }
+NamedMaterial named(const std::string& name, const Material& m) {
+  return NamedMaterial{name, std::nullopt, m, {}, {}, {}};
+}
 
 // The directions of a MERL bin centre (merl.hpp's half_diff_to_directions, in double).
 std::pair<Vec3, Vec3> merl_directions(int i, int j, int k) {

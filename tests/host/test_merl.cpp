@@ -122,7 +122,7 @@ TEST(Merl, ReferenceTableAndLookup) {
   s.layout = TableLayout::Merl;
   Material m;
   m.base_color = {0.5, 0.25, 1.0};
-  s.materials = {NamedMaterial{"lambert", std::nullopt, m, {}}};
+  s.materials = {NamedMaterial{"lambert", std::nullopt, m, {}, {}, {}}};
   const MerlTable t = tabulate_merl_reference(s);
   size_t below = 0;
   for (int i = 0; i < kMerlThetaH; i += 3)

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,9 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
+#include "brdfbake/preview.hpp"
+#include "families/preview/model.hpp"
+#include "io/png_image.hpp"
 
 namespace {
 
@@ -700,6 +704,56 @@ TEST(RealScenes, EdgeCasesOfSources) {
   EXPECT_EQ(emit.job.tables.size(), 3u);
   // .bin and images are not shipped: warnings, and the plan goes on.
   EXPECT_FALSE(read_scene((scenes_dir() / "FlightHelmet.gltf").string()).warnings.empty());
+}
+
+}  // namespace
+
+namespace {
+
+// The preview reads a glTF material's baseColorTexture and metallicRoughnessTexture as their means
+// times the factors when the images are files beside the scene (issue 34: SheenChair's wood, its
+// metalness textured under metallicFactor 1, rendered as metal), and says so on the sphere. 8-bit
+// PNGs without a tag are sRGB: the base colour's 188 is linear 0.5029 ((188/255 + 0.055)/1.055)^2.4;
+// the metallic-roughness texture is data: its stored 128/255 and half 255, half 0 come back as such.
+TEST(Scene, PreviewReadsTheMeansOfTexturedFactors) {
+  const fs::path dir = temp_dir() / "textured";
+  fs::create_directories(dir);
+  brdfbake::io::write_png_rgb8((dir / "bc.png").string(), 2, 2, std::vector<uint8_t>(12, 188), {});
+  std::vector<uint8_t> mr;
+  for (int i = 0; i < 4; ++i) mr.insert(mr.end(), {0, 128, uint8_t(i < 2 ? 255 : 0)});
+  brdfbake::io::write_png_rgb8((dir / "mr.png").string(), 2, 2, mr, {});
+  const std::string material =
+      R"({"name": "wood", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 1,
+          "roughnessFactor": 0.8, "baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}}})";
+  const std::string images =
+      R"(,"textures": [{"source": 0}, {"source": 1}], "images": [{"uri": "bc.png"}, {"uri": "mr.png"}])";
+  std::ofstream(dir / "s.gltf") << gltf({material}, images);
+  PreviewSpec spec;
+  spec.materials_file = (dir / "s.gltf").string();
+  const PreviewSpec r = detail::preview::resolve_spec(spec);
+  ASSERT_EQ(r.materials.size(), 1u);
+  const PreviewMaterial& m = r.materials[0];
+  const double linear188 = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
+  EXPECT_NEAR(m.base_color.r, linear188, 1e-4);
+  EXPECT_NEAR(m.base_color.b, linear188, 1e-4);
+  EXPECT_NEAR(m.roughness, 0.8 * 128.0 / 255.0, 2e-3);  // through the 8-bit decode and its inverse
+  EXPECT_NEAR(m.metallic, 0.5, 2e-3);
+  const auto has = [&m](const std::string& part) {
+    return std::any_of(m.notes.begin(), m.notes.end(),
+                       [&](const std::string& n) { return n.find(part) != std::string::npos; });
+  };
+  EXPECT_TRUE(has("baseColorTexture: approximated by its mean")) << m.notes.size();
+  EXPECT_TRUE(has("metallicRoughnessTexture: approximated by its mean"));
+  // Without the images (a scene copied without them): the factors, and the notes say so.
+  fs::remove(dir / "mr.png");
+  const PreviewSpec missing = detail::preview::resolve_spec(spec);
+  EXPECT_DOUBLE_EQ(missing.materials[0].metallic, 1.0);
+  EXPECT_DOUBLE_EQ(missing.materials[0].roughness, 0.8);
+  const auto& notes = missing.materials[0].notes;
+  EXPECT_NE(std::find(notes.begin(), notes.end(),
+                      "pbrMetallicRoughness.metallicRoughnessTexture ignored (textures are not read)"),
+            notes.end());
+  fs::remove_all(dir);
 }
 
 }  // namespace

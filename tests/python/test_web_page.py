@@ -261,7 +261,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     browser.find_element("id", "plan-button").click()
     _wait(browser, lambda d: _text(d, "plan-total").startswith("Whole bake: about"), "the dry run's estimate")
     rows = browser.find_elements("css selector", "#plan-table tbody tr")
-    assert len(rows) >= 3
+    assert len(rows) >= 2  # filament: the chain and the SH (it samples its own DFG table: none baked)
     for row in rows:
         cells = [c.text for c in row.find_elements("css selector", "td")]
         assert re.fullmatch(r"\d+\.\d\d s", cells[2]), cells

@@ -91,6 +91,9 @@ struct NamedMaterial {
   std::optional<BrdfModel> model;  // the material's "model" (JSON files only)
   Material params;
   std::vector<std::string> notes;  // what of the source was not used (glTF textures, other extensions)
+  // glTF: the image files of baseColorTexture and metallicRoughnessTexture when they are files beside
+  // the scene (the preview reads their means; eval and tabulate do not); "" otherwise.
+  std::string base_color_image, metallic_roughness_image;
 };
 
 // {"materials": [{"name": ..., "model": ..., parameters by their glTF or Disney names}]}, linear

@@ -28,6 +28,9 @@ struct SceneMaterial {
   bool base_color_texture = false;
   double metallic = 1.0, roughness = 1.0;
   bool metallic_roughness_texture = false;
+  // The image files of those two textures when the file was read from a folder and the image is a
+  // file there (not a data: URI, not inside a GLB): the preview reads their means. "" otherwise.
+  std::string base_color_image, metallic_roughness_image;
   Rgb3 emissive{0, 0, 0};
   bool emissive_texture = false;
   double emissive_strength = 1.0;

@@ -310,6 +310,30 @@ std::string decode_uri(const std::string& uri) {
   return out;
 }
 
+// The file of texture `tex` ({"index": i}) of `root`: textures[i].source -> images[j].uri under
+// `base_dir`, when that is a file there; "" otherwise (checked indices only: anything else is "").
+std::string texture_file(const json& root, const json* tex, const std::string& base_dir) {
+  if (!tex || !tex->is_object() || base_dir.empty()) return "";
+  const auto idx = tex->find("index");
+  const auto textures = root.find("textures"), images = root.find("images");
+  if (idx == tex->end() || !idx->is_number_integer() || textures == root.end() || !textures->is_array() ||
+      images == root.end() || !images->is_array())
+    return "";
+  const long long i = idx->get<long long>();
+  if (i < 0 || size_t(i) >= textures->size() || !(*textures)[size_t(i)].is_object()) return "";
+  const auto src = (*textures)[size_t(i)].find("source");
+  if (src == (*textures)[size_t(i)].end() || !src->is_number_integer()) return "";
+  const long long j = src->get<long long>();
+  if (j < 0 || size_t(j) >= images->size() || !(*images)[size_t(j)].is_object()) return "";
+  const auto uri = (*images)[size_t(j)].find("uri");
+  if (uri == (*images)[size_t(j)].end() || !uri->is_string()) return "";
+  const std::string u = uri->get<std::string>();
+  if (u.rfind("data:", 0) == 0 || u.find("://") != std::string::npos) return "";
+  const fs::path file = fs::path(base_dir) / decode_uri(u);
+  std::error_code ec;
+  return fs::is_regular_file(file, ec) ? file.string() : std::string();
+}
+
 void check_resources(const Reader& r, const json& root, const std::string& key, const std::string& origin,
                      const std::string& base_dir, std::vector<std::string>& warnings) {
   const json* list = r.array(root, key, key);
@@ -444,6 +468,18 @@ Scene parse_scene_json(const std::string& text, const std::string& origin, const
         }
 
   mark_reached_materials(r, root, scene);
+
+  // The image files of the textures the preview reads the means of.
+  if (const auto mats = root.find("materials"); mats != root.end() && mats->is_array())
+    for (SceneMaterial& s : scene.materials) {
+      if (s.index < 0 || size_t(s.index) >= mats->size() || !(*mats)[size_t(s.index)].is_object()) continue;
+      const json& m = (*mats)[size_t(s.index)];
+      const auto pbr = m.find("pbrMetallicRoughness");
+      if (pbr == m.end() || !pbr->is_object()) continue;
+      const auto bc = pbr->find("baseColorTexture"), mr = pbr->find("metallicRoughnessTexture");
+      s.base_color_image = texture_file(root, bc == pbr->end() ? nullptr : &*bc, base_dir);
+      s.metallic_roughness_image = texture_file(root, mr == pbr->end() ? nullptr : &*mr, base_dir);
+    }
 
   if (!base_dir.empty()) {
     check_resources(r, root, "buffers", origin, base_dir, scene.warnings);

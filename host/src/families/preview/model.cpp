@@ -2,10 +2,14 @@
 #include "families/preview/model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include "brdfbake/brdf.hpp"
+#include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
+#include "io/image_file.hpp"
 
 namespace brdfbake {
 
@@ -123,6 +127,68 @@ std::vector<std::string> unrendered(const NamedMaterial& nm) {
   return notes;
 }
 
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+
+// The mean of an image's first three channels (one channel: repeated), as glTF reads the texture:
+// `srgb` (baseColorTexture) decoded to linear, else (metallicRoughnessTexture) the stored values.
+// io::read_image decodes what the file says is sRGB (an 8-bit PNG without a tag is sRGB); where it
+// did not (transfer_note empty) the sRGB decoding is done here, and where it did but the texture is
+// data, the stored values come back through the inverse. Every texel counts the same: a sphere has
+// no texture coordinates of the mesh.
+std::array<double, 3> texture_mean(const std::string& file, bool srgb) {
+  io::ImageLimits limits;
+  limits.max_bytes = default_memory_budget() / 4;
+  const io::FloatImage img = io::read_image(file, limits);
+  const bool decoded = !img.transfer_note.empty();
+  std::array<double, 3> sum{0.0, 0.0, 0.0};
+  const size_t n = size_t(img.width) * size_t(img.height), ch = size_t(std::max(1, img.channels));
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < 3; ++c) {
+      double v = std::clamp(double(img.pixels[i * ch + std::min(c, ch - 1)]), 0.0, 1.0);
+      if (srgb && !decoded) v = srgb_to_linear(v);
+      if (!srgb && decoded) v = linear_to_srgb(v);
+      sum[c] += v;
+    }
+  for (double& v : sum) v /= double(std::max<size_t>(1, n));
+  return sum;
+}
+
+// A glTF material's baseColorTexture and metallicRoughnessTexture, read as their means times the
+// factors when their images are files beside the scene (issue 34: SheenChair's wood, whose
+// metalness is textured under metallicFactor 1, rendered as metal); the note on the sphere says so.
+void apply_texture_means(const NamedMaterial& nm, PreviewMaterial& m) {
+  const auto replace_note = [&m](const std::string& texture, const std::string& text) {
+    const std::string ignored = "pbrMetallicRoughness." + texture + " ignored (textures are not read)";
+    std::replace(m.notes.begin(), m.notes.end(), ignored, text);
+  };
+  const auto mean_of = [&](const std::string& file, const std::string& texture,
+                           bool srgb) -> std::optional<std::array<double, 3>> {
+    if (file.empty()) return std::nullopt;
+    try {
+      return texture_mean(file, srgb);
+    } catch (const Error& e) {
+      replace_note(texture, "pbrMetallicRoughness." + texture + " not read (" + std::string(e.what()).substr(0, 120) +
+                                "): the factor alone");
+      return std::nullopt;
+    }
+  };
+  const auto f3 = [](double v) { return fmt_nm(std::round(v * 1000.0) / 1000.0); };
+  if (const auto mean = mean_of(nm.base_color_image, "baseColorTexture", true)) {
+    m.base_color = Rgb{m.base_color.r * (*mean)[0], m.base_color.g * (*mean)[1], m.base_color.b * (*mean)[2]};
+    replace_note("baseColorTexture", "pbrMetallicRoughness.baseColorTexture: approximated by its mean (linear " +
+                                         f3((*mean)[0]) + ", " + f3((*mean)[1]) + ", " + f3((*mean)[2]) +
+                                         ") times baseColorFactor, one colour for the sphere");
+  }
+  if (const auto mean = mean_of(nm.metallic_roughness_image, "metallicRoughnessTexture", false)) {
+    m.roughness *= (*mean)[1];  // glTF: roughness in G, metalness in B
+    m.metallic *= (*mean)[2];
+    replace_note("metallicRoughnessTexture",
+                 "pbrMetallicRoughness.metallicRoughnessTexture: approximated by its mean (roughness " +
+                     f3((*mean)[1]) + ", metallic " + f3((*mean)[2]) + ") times the factors");
+  }
+}
+
 Vec3 rotate_y(const Vec3& a, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   return {a.x * c + a.z * s, a.y, -a.x * s + a.z * c};
@@ -163,6 +229,7 @@ PreviewSpec resolve_spec(const PreviewSpec& in) {
           m.iridescence_thickness = nm.params.iridescence_thickness;
         }
         m.notes = unrendered(nm);
+        apply_texture_means(nm, m);
         s.materials.push_back(m);
       }
       if (s.materials.empty()) throw Error(s.materials_file + ": no materials");
