@@ -29,6 +29,7 @@
 #include "io/ktx2.hpp"
 #include "io/packed_float.hpp"
 #include "io/png_rgbd.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -37,10 +38,10 @@ namespace {
 namespace fs = std::filesystem;
 using brdfbake::math::kPi;
 
+// `name` in the test's temporary folder (removed when the test ends), not there yet.
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-engines-" + std::to_string(::getpid())) / name;
+  const fs::path d = brdfbake::test::test_temp_root() / name;
   fs::remove_all(d);
-  fs::create_directories(d.parent_path());
   return d;
 }
 

@@ -41,6 +41,7 @@
 #include "brdfbake/plan.hpp"
 #include "brdfbake/tables.hpp"
 #include "io/ktx2.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 #ifndef BRDFBAKE_CLI
@@ -1391,7 +1392,7 @@ std::pair<std::string, std::string> iccp(const std::string& name) {
 }
 // A one-channel OpenEXR image named `channel` (written by OpenImageIO).
 std::string exr_with_channels(const std::vector<std::string>& names) {
-  const fs::path p = fs::temp_directory_path() / ("brdfbake-hostile-exr-" + std::to_string(::getpid()) + ".exr");
+  const fs::path p = brdfbake::test::test_temp_root() / "channels.exr";
   auto out = OIIO::ImageOutput::create(p.string());
   OIIO::ImageSpec spec(16, 8, int(names.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = names;
@@ -2322,9 +2323,7 @@ TEST_P(Hostile, Row) {
   if (row.as_root_skip && ::geteuid() == 0) GTEST_SKIP() << "root reads files whatever their permissions";
   if (row.memory_cap_kib > 0 && kAddressSanitizer)
     GTEST_SKIP() << "an AddressSanitizer build reserves terabytes of shadow address space: ulimit -v cannot apply";
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-hostile-" + std::to_string(::getpid())) / row.name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir(row.name);
   for (const File& f : row.files) {
     const fs::path p = dir / expand(f.name, dir);
     fs::create_directories(p.parent_path());

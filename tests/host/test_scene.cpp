@@ -17,6 +17,7 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -24,11 +25,8 @@ namespace fs = std::filesystem;
 using namespace brdfbake;
 using nlohmann::json;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-scene-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 fs::path write_file(const std::string& name, const std::string& bytes) {
   const fs::path p = temp_dir() / name;
