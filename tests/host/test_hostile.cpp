@@ -2062,8 +2062,10 @@ void caches(std::vector<Row>& rows) {
   rows.push_back(
       R("cache_pocl_folder_unwritable", "lut --size 4 --quiet -o {d}/t.exr", 0)
           // PoCL's default folder under XDG_CACHE_HOME, whatever POCL_CACHE_DIR the suite
-          // runs with (scripts/test.sh sets a private one)
-          .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels")
+          // runs with (scripts/test.sh sets a private one); the private folder it falls back to,
+          // $TMPDIR/brdfbake-pocl-cache-UID (kept between runs), in the row's folder
+          .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels "
+               "TMPDIR={d}")
           .says("cannot be written")
           .says("POCL_CACHE_DIR")
           .never("no OpenCL device")
