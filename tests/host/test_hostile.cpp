@@ -2066,6 +2066,7 @@ void caches(std::vector<Row>& rows) {
           // $TMPDIR/brdfbake-pocl-cache-UID (kept between runs), in the row's folder
           .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels "
                "TMPDIR={d}")
+          .allow_tmp("brdfbake-pocl-cache-")  // PoCL's own files in that cache
           .says("cannot be written")
           .says("POCL_CACHE_DIR")
           .never("no OpenCL device")
