@@ -27,6 +27,9 @@ def pytest_configure(config):
         root = tempfile.mkdtemp(prefix="brdfbake-pytest-")
         config.option.basetemp = os.path.join(root, "tmp")
         config.stash[_TEMP_ROOT] = root
+        # Dask's workers (test_dask.py, examples/merl_sweep.py run by test_examples.py) keep their
+        # scratch space in $TMPDIR/dask-scratch-space otherwise, left after the cluster closes.
+        os.environ.setdefault("DASK_TEMPORARY_DIRECTORY", os.path.join(root, "dask"))
 
 
 _TEMP_ROOT = pytest.StashKey[str]()
