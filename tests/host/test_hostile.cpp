@@ -2063,9 +2063,9 @@ void caches(std::vector<Row>& rows) {
       R("cache_pocl_folder_unwritable", "lut --size 4 --quiet -o {d}/t.exr", 0)
           // PoCL's default folder under XDG_CACHE_HOME, whatever POCL_CACHE_DIR the suite
           // runs with (scripts/test.sh sets a private one); the private folder it falls back to,
-          // $TMPDIR/brdfbake-pocl-cache-UID (kept between runs), in the row's folder
+          // $TMPDIR/brdfbake-pocl-cache-UID (kept between runs), in the row's folder (the command runs there)
           .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels "
-               "TMPDIR={d}")
+               "TMPDIR=$PWD")
           .allow_tmp("brdfbake-pocl-cache-")  // PoCL's own files in that cache
           .says("cannot be written")
           .says("POCL_CACHE_DIR")
