@@ -9,13 +9,17 @@
 // one more refused input.
 #pragma once
 
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <utility>
 
 #include "brdfbake/error.hpp"
@@ -23,6 +27,24 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 namespace brdfbake::fuzz {
+
+// A folder of this process under the temporary folder ($TMPDIR/brdfbake-fuzz-NAME-PID), made on the
+// first call and removed with what it holds when the process exits (the corpus replay is a test:
+// it leaves nothing in $TMPDIR, issue 34). One name a harness: the first call's name is kept.
+inline const std::filesystem::path& scratch_dir(const std::string& name) {
+  static const struct Folder {
+    std::filesystem::path path;
+    explicit Folder(const std::string& n)
+        : path(std::filesystem::temp_directory_path() / ("brdfbake-fuzz-" + n + "-" + std::to_string(::getpid()))) {
+      std::filesystem::create_directories(path);
+    }
+    ~Folder() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  } folder(name);
+  return folder.path;
+}
 
 inline std::string text(const uint8_t* data, size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);

@@ -35,11 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace brdfbake;
   namespace fs = std::filesystem;
   if (size < 1) return 0;
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("brdfbake-fuzz-env-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
+  const fs::path& dir = fuzz::scratch_dir("env");
   const std::string bytes = fuzz::text(data + 1, size - 1);
   const int mode = data[0] & 3;
   EnvLoadOptions options;

@@ -13,9 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const bool in_empty_folder = [] {
     // Tables name files (eval's and tabulate's materials) that validation opens: relative names
     // resolve in an empty folder of our own.
-    const auto dir = std::filesystem::temp_directory_path() / ("brdfbake-fuzz-job-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return ::chdir(dir.c_str()) == 0;
+    return ::chdir(fuzz::scratch_dir("job").c_str()) == 0;
   }();
   (void)in_empty_folder;
   const std::string text = fuzz::text(data, size);

@@ -10,13 +10,46 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export BRDFBAKE_WARNINGS_AS_ERRORS=ON
+# The suite runs with a temporary folder of its own, $TMPDIR for every test and what it runs (issue
+# 34): what a test or the product leaves there is listed afterwards and fails the run, then the
+# folder is removed. BRDFBAKE_TEST_KEEP=1 keeps the tests' folders (they say where) and this one.
+outer_tmp=${TMPDIR:-/tmp}
+test_tmp=""
+private_tmpdir() {
+  test_tmp=$(mktemp -d "$outer_tmp/brdfbake-test-run.XXXXXX")
+  export TMPDIR=$test_tmp
+}
+# What the suite left in $test_tmp: its names, and 1 (the run fails) when there is any.
+check_leftovers() {
+  local left=()
+  mapfile -t left < <(find "$test_tmp" -mindepth 1 -maxdepth 1 -printf '%f\n' | sort)
+  if ((${#left[@]} == 0)); then return 0; fi
+  if [[ ${BRDFBAKE_TEST_KEEP:-0} == 1 ]]; then
+    echo "scripts/test.sh: BRDFBAKE_TEST_KEEP=1: the tests' folders are kept in $test_tmp" >&2
+    return 0
+  fi
+  echo "scripts/test.sh: the tests left ${#left[@]} entries in their temporary folder ($test_tmp," \
+       "removed now); a test's folder is removed when the test ends (tests/support/temp_dir.hpp," \
+       "tests/python/conftest.py):" >&2
+  printf '  %s\n' "${left[@]}" >&2
+  return 1
+}
+remove_test_tmp() {
+  if [[ -n $test_tmp && ${BRDFBAKE_TEST_KEEP:-0} != 1 ]]; then rm -rf "$test_tmp"; fi
+  export TMPDIR=$outer_tmp
+}
 case "${1:-}" in
   "") ;;
   --sanitize)
     BRDFBAKE_WITH_CLANG=1 BRDFBAKE_DEPS_ONLY=1 source scripts/deps.sh
     cmake --preset asan >&2
     cmake --build --preset asan -j "$(nproc)" >&2
-    exec ctest --preset asan -j "$(nproc)" --timeout 1800 ;;
+    private_tmpdir
+    trap remove_test_tmp EXIT
+    asan_status=0
+    ctest --preset asan -j "$(nproc)" --timeout 1800 || asan_status=$?
+    check_leftovers || asan_status=1
+    exit "$asan_status" ;;
   -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
   *) echo "scripts/test.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
 esac
@@ -31,6 +64,7 @@ cleanup() {
     kill "$python_pid" 2> /dev/null || true
   fi
   if [[ -n ${BRDFBAKE_TEST_CACHE:-} ]]; then rm -rf "$BRDFBAKE_TEST_CACHE"; fi
+  remove_test_tmp
 }
 trap cleanup EXIT
 if [[ ${BRDFBAKE_TEST_WARM_CACHE:-0} != 1 ]]; then
@@ -62,7 +96,8 @@ python_part() {
   rm -rf "$VENV"
   "${PYTHON:-python3}" -m venv "$VENV"
   export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_CONSTRAINT="$PWD/python/constraints.txt"
-  "$VENV/bin/pip" install -q -r python/requirements-test.txt
+  # pip's build folders are the set-up's, not the tests': in the user's temporary folder
+  TMPDIR=$outer_tmp "$VENV/bin/pip" install -q -r python/requirements-test.txt
   python_deps=$SECONDS
   if command -v ccache > /dev/null; then export CMAKE_CXX_COMPILER_LAUNCHER=ccache; fi
   # `pip install .` as a user runs it, configuring the whole project as the wheel's build, but with
@@ -72,7 +107,7 @@ python_part() {
   # library in the wheel's build too, exactly as a user's `pip install .` does (a few minutes more).
   local wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM="$(cd "$BUILD_DIR" && pwd)")
   if [[ ${BRDFBAKE_TEST_PYTHON_STANDALONE:-0} == 1 ]]; then wheel_library=(-C cmake.define.BRDFBAKE_PYTHON_LIBRARY_FROM=); fi
-  CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python" \
+  TMPDIR=$outer_tmp CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)" "$VENV/bin/pip" install -q . -C build-dir="$BUILD_DIR/python" \
     -C cmake.define.BRDFBAKE_WARNINGS_AS_ERRORS=ON "${wheel_library[@]}"
   echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
        "pip install . in $((SECONDS - python_deps)) s" >&2
@@ -92,6 +127,7 @@ python_part() {
 # ports, temporary folders of their own). The Python part's output is kept in a file and printed
 # after ctest's, so that the two do not interleave.
 python_log="$BUILD_DIR/python-tests.log"
+private_tmpdir
 python_part > "$python_log" 2>&1 &
 python_pid=$!
 ctest_status=0
@@ -103,7 +139,10 @@ echo "---- the Python package (pip install ., pytest tests/python; $python_log) 
 cat "$python_log"
 if ((ctest_status != 0)); then echo "scripts/test.sh: ctest failed (exit $ctest_status)" >&2; fi
 if ((python_status != 0)); then echo "scripts/test.sh: the Python part failed (exit $python_status)" >&2; fi
-if ((ctest_status != 0 || python_status != 0)); then exit 1; fi
+leftover_status=0
+check_leftovers || leftover_status=1
+remove_test_tmp
+if ((ctest_status != 0 || python_status != 0 || leftover_status != 0)); then exit 1; fi
 # Live fuzzing is opt-in (BRDFBAKE_FUZZ_SECONDS=N): ctest already replays every seed corpus, and a
 # libFuzzer run needs its own clang build (build-fuzz/).
 if [[ -n ${BRDFBAKE_FUZZ_SECONDS:-} ]]; then scripts/fuzz.sh "$BRDFBAKE_FUZZ_SECONDS"; fi

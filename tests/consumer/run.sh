@@ -9,7 +9,7 @@ cxx=${3:-c++}
 sanitize=${4:-}
 flags=""
 [[ -n $sanitize ]] && flags="-fsanitize=$sanitize"
-work=$(mktemp -d)
+work=$(mktemp -d -t brdfbake-consumer.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 test -x "$work/prefix/bin/brdfbake"

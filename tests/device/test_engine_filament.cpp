@@ -21,6 +21,7 @@
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -79,9 +80,7 @@ TEST(FilamentTarget, KtxBundleReadsOurFileAndShMatchesCmgen) {
                     "(apt-get install libfilament-dev libfilament-tools)";
   if (!cmgen_available()) GTEST_SKIP() << "cmgen (libfilament-tools) is not installed";
   BRDFBAKE_REQUIRE_DEVICE(dev);
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-filament-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir("filament");
   const fs::path input = write_input(dir);
 
   // cmgen: 64^2 (levels 64, 32, 16), its default SH window (auto)
@@ -154,7 +153,6 @@ TEST(FilamentTarget, KtxBundleReadsOurFileAndShMatchesCmgen) {
   for (size_t i = 3; i < 27; ++i)
     apart = std::max(apart, std::fabs(double(a.at("sh")[i]) - double(ours_no[i])) / std::fabs(double(ours_no[i % 3])));
   EXPECT_GT(apart, test::kCmgenSh) << "the auto window changed nothing: the comparison above would not see it";
-  if (!HasFailure()) fs::remove_all(dir);  // kept for inspection when the comparison fails
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "brdfbake/preview.hpp"
 #include "families/preview/bake_files.hpp"
 #include "families/preview/splitsum.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
@@ -247,12 +248,7 @@ std::vector<Shape> shapes() {
 
 class BakeFolderChecks : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("brdfbake-bake-checks-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { dir_ = brdfbake::test::test_temp_root(); }  // removed when the test ends
   fs::path dir_;
 };
 

@@ -17,6 +17,7 @@
 #include "runtime/stderr_capture.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
@@ -56,7 +57,7 @@ class StderrToFile {
 };
 
 TEST(BuildOutput, WhatIsPrintedDuringABuildIsContained) {
-  const fs::path outer = fs::temp_directory_path() / ("brdfbake-stderr-" + std::to_string(::getpid()));
+  const fs::path outer = brdfbake::test::test_temp_root() / "stderr.txt";
   StderrToFile terminal(outer);
   // Both ways an implementation can write: the C stream and the raw descriptor.
   const std::string captured = detail::run_with_stderr_captured([] {
@@ -72,7 +73,7 @@ TEST(BuildOutput, WhatIsPrintedDuringABuildIsContained) {
 }
 
 TEST(BuildOutput, StderrIsRestoredWhenTheBuildThrows) {
-  const fs::path outer = fs::temp_directory_path() / ("brdfbake-stderr-t-" + std::to_string(::getpid()));
+  const fs::path outer = brdfbake::test::test_temp_root() / "stderr.txt";
   StderrToFile terminal(outer);
   EXPECT_THROW(detail::run_with_stderr_captured([] {
                  std::fprintf(stderr, "noise\n");
@@ -90,8 +91,7 @@ TEST(BuildOutput, StderrIsRestoredWhenTheBuildThrows) {
 // product's build path: nothing reaches stderr, and the observer receives the log and that text.
 TEST(BuildOutput, CompilerWarningsGoToTheObserverNotStderr) {
   BRDFBAKE_REQUIRE_DEVICE(device);
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-warn-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir("warn");
   // a source no cache has seen (PoCL keys its cache by the source)
   const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
   std::ofstream(dir / "warn.cl") << "// " << stamp << "\n#warning a deliberate warning\n"
@@ -128,9 +128,7 @@ TEST(BuildOutput, CompilerWarningsGoToTheObserverNotStderr) {
 // A first run from cold caches (ours and PoCL's): nothing on stderr with --quiet; one line a
 // program with --verbose.
 TEST(BuildOutput, ColdBuildIsSilentAndVerboseShowsIt) {
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-cold-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir("cold");
   const std::string env =
       "BRDFBAKE_CACHE_DIR=" + (dir / "ours").string() + " POCL_CACHE_DIR=" + (dir / "pocl").string();
   const std::string out = (dir / "t.exr").string();

@@ -13,6 +13,7 @@
 #include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
 #include "support/table_readback.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -23,11 +24,8 @@ using brdfbake::test::count_lines;
 
 CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 // Each bad input: exit 2 (bad input; 1 is a runtime failure, -1 a crash), exactly one line on
 // stderr naming the problem, no file.

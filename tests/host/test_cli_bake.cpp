@@ -22,6 +22,7 @@
 #include "io/ktx2.hpp"
 #include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace {
@@ -32,11 +33,8 @@ using nlohmann::json;
 using brdfbake::test::CliRun;
 CliRun run(const std::string& args, const std::string& env = "") { return brdfbake::test::run_cli(args, {}, env); }
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-bake-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 fs::path write_file(const std::string& name, const std::string& bytes) {
   const fs::path p = temp_dir() / name;
@@ -328,9 +326,7 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
 // Issue 24, item 3: a job with a Charlie chain baked for khronos-viewer writes NAME_charlie.ktx2
 // beside NAME_ggx.ktx2 (docs/ENGINES.md), listed with the engine's files; without one, none.
 TEST(CliBake, KhronosViewerWritesTheCharlieChainItIsGiven) {
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-kv-charlie-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir("kv-charlie");
   const std::string tables = R"({"kind": "prefilter", "size": 16, "output": "ggx.ktx2"},
       {"kind": "irradiance", "cube_size": 8, "output": "irr.ktx2"})";
   std::ofstream(dir / "with.json")

@@ -19,6 +19,7 @@
 #include "brdfbake/brdf.hpp"
 #include "brdfbake/error.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -31,11 +32,8 @@ using brdfbake::test::kCliFp32;
 using test::CliRun;
 CliRun run(const std::string& args) { return test::run_cli(args); }
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-clibrdf-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 

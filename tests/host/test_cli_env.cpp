@@ -23,6 +23,7 @@
 #include "io/gpu_cube_read.hpp"
 #include "io/ktx2.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 #include "view/load.hpp"
 
@@ -34,12 +35,8 @@ using brdfbake::test::CliRun;
 using brdfbake::test::count_lines;
 CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-clienv-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 size_t entries(const fs::path& dir) {
   size_t n = 0;

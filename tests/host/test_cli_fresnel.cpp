@@ -18,6 +18,7 @@
 #include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
 #include "support/table_readback.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace {
@@ -29,8 +30,9 @@ using brdfbake::test::count_lines;
 
 CliRun run(const std::string& args) { return brdfbake::test::run_cli(args); }
 
+// A folder `name` in the test's temporary folder (removed when the test ends).
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-cli-fresnel-" + std::to_string(::getpid())) / name;
+  const fs::path d = brdfbake::test::test_temp_root() / name;
   fs::create_directories(d);
   return d;
 }

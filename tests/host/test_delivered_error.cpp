@@ -20,6 +20,7 @@
 #include "io/ktx2.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace {
@@ -27,11 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace brdfbake;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-delivered-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -12,18 +12,15 @@
 #include "brdfbake/tables.hpp"
 #include "io/ktx2.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace brdfbake;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-delivery-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 // A key of a KTX2 file's metadata (its key/value data, our keys prefixed "brdfbake:"), as text;
 // empty when absent.

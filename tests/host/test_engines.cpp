@@ -28,6 +28,7 @@
 #include "io/ktx2.hpp"
 #include "io/packed_float.hpp"
 #include "io/png_rgbd.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 #include "test_target_support.hpp"
 

@@ -14,6 +14,7 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/math/equirect.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 #ifndef BRDFBAKE_SHARED_DIR
@@ -25,12 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-env-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string shared_envmap(const std::string& name) {
   return (fs::path(BRDFBAKE_SHARED_DIR) / "envmaps" / name).string();

@@ -13,6 +13,7 @@
 
 #include "io/png_image.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
@@ -58,9 +59,7 @@ TEST(Examples, EveryCommandOfTheReadmeRuns) {
   const fs::path src = fs::path(BRDFBAKE_SOURCE_DIR) / "examples";
   const std::vector<std::string> commands = readme_commands(read(src / "README.md"));
   ASSERT_GE(commands.size(), 8u) << "the README's sh blocks";
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-examples-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir("examples");
   fs::copy(src, dir / "examples", fs::copy_options::recursive);
   std::vector<std::string> outputs;
   for (const std::string& c : commands) {

@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include "support/temp_dir.hpp"
+
 #ifndef BRDFBAKE_CLI
 #define BRDFBAKE_CLI "brdfbake"
 #endif
@@ -27,12 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-faults-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

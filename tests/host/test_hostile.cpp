@@ -41,6 +41,7 @@
 #include "brdfbake/plan.hpp"
 #include "brdfbake/tables.hpp"
 #include "io/ktx2.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 #ifndef BRDFBAKE_CLI
@@ -1391,7 +1392,7 @@ std::pair<std::string, std::string> iccp(const std::string& name) {
 }
 // A one-channel OpenEXR image named `channel` (written by OpenImageIO).
 std::string exr_with_channels(const std::vector<std::string>& names) {
-  const fs::path p = fs::temp_directory_path() / ("brdfbake-hostile-exr-" + std::to_string(::getpid()) + ".exr");
+  const fs::path p = brdfbake::test::test_temp_root() / "channels.exr";
   auto out = OIIO::ImageOutput::create(p.string());
   OIIO::ImageSpec spec(16, 8, int(names.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = names;
@@ -2103,8 +2104,11 @@ void caches(std::vector<Row>& rows) {
   rows.push_back(
       R("cache_pocl_folder_unwritable", "lut --size 4 --quiet -o {d}/t.exr", 0)
           // PoCL's default folder under XDG_CACHE_HOME, whatever POCL_CACHE_DIR the suite
-          // runs with (scripts/test.sh sets a private one)
-          .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels")
+          // runs with (scripts/test.sh sets a private one); the private folder it falls back to,
+          // $TMPDIR/brdfbake-pocl-cache-UID (kept between runs), in the row's folder (the command runs there)
+          .env("env -u POCL_CACHE_DIR XDG_CACHE_HOME=/proc/brdfbake-hostile-none BRDFBAKE_CACHE_DIR={d}/kernels "
+               "TMPDIR=$PWD")
+          .allow_tmp("brdfbake-pocl-cache-")  // PoCL's own files in that cache
           .says("cannot be written")
           .says("POCL_CACHE_DIR")
           .never("no OpenCL device")
@@ -2364,9 +2368,7 @@ TEST_P(Hostile, Row) {
   if (row.as_root_skip && ::geteuid() == 0) GTEST_SKIP() << "root reads files whatever their permissions";
   if (row.memory_cap_kib > 0 && kAddressSanitizer)
     GTEST_SKIP() << "an AddressSanitizer build reserves terabytes of shadow address space: ulimit -v cannot apply";
-  const fs::path dir = fs::temp_directory_path() / ("brdfbake-hostile-" + std::to_string(::getpid())) / row.name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = brdfbake::test::test_temp_dir(row.name);
   for (const File& f : row.files) {
     const fs::path p = dir / expand(f.name, dir);
     fs::create_directories(p.parent_path());

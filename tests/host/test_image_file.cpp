@@ -23,6 +23,7 @@
 #include "io/image_file.hpp"
 #include "io/oiio_module.hpp"
 #include "io/rgbe.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -33,17 +34,8 @@ namespace fs = std::filesystem;
 using test::kRgbeStepOfLargest;
 const io::ImageLimits kMaxPixels{uint64_t(1) << 28, 0};
 
-// The folder of this process's files, removed when the test program exits.
-const fs::path& temp_root() {
-  static const struct Root {
-    fs::path path = fs::temp_directory_path() / ("brdfbake-image-" + std::to_string(::getpid()));
-    ~Root() {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  } root;
-  return root.path;
-}
+// The test's temporary folder, removed when the test ends.
+fs::path temp_root() { return brdfbake::test::test_temp_root(); }
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = temp_root() / name;

@@ -17,6 +17,7 @@
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace {
@@ -25,10 +26,9 @@ namespace fs = std::filesystem;
 using namespace brdfbake;
 using nlohmann::json;
 
+// `name` in the test's temporary folder (removed when the test ends), not there yet.
 fs::path temp_dir(const std::string& name) {
-  const fs::path root = fs::temp_directory_path() / ("brdfbake-job-" + std::to_string(::getpid()));
-  fs::create_directories(root);
-  const fs::path d = root / name;
+  const fs::path d = brdfbake::test::test_temp_root() / name;
   fs::remove_all(d);
   return d;
 }

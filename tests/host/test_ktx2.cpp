@@ -14,6 +14,7 @@
 
 #include "brdfbake/error.hpp"
 #include "io/ktx2.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake::io {
 namespace {
@@ -232,7 +233,7 @@ TEST(Ktx2RoundTrip, EveryFormatAndShape) {
 }
 
 TEST(Ktx2RoundTrip, ThroughAFile) {
-  const fs::path path = fs::temp_directory_path() / ("brdfbake_test_ktx2_" + std::to_string(::getpid()) + ".ktx2");
+  const fs::path path = brdfbake::test::test_temp_root() / "round_trip.ktx2";
   const Ktx2Image image =
       make_image(kVkFormatR32G32B32A32Sfloat, 16, 16, 6, 5, {{"KTXwriter", "brdfbake test"}, {"a", ""}, {"b", "é"}});
   write_ktx2(image, path.string());
@@ -322,7 +323,7 @@ TEST(Ktx2Writer, RejectsInvalidKeys) {
 }
 
 TEST(Ktx2Writer, UnwritablePathThrowsAndLeavesNothing) {
-  const fs::path folder = fs::temp_directory_path() / "brdfbake_test_ktx2_missing_folder";
+  const fs::path folder = brdfbake::test::test_temp_root() / "missing_folder";
   fs::remove_all(folder);
   try {
     write_ktx2(make_image(97, 2, 2, 1, 1, {}), (folder / "x.ktx2").string());
@@ -537,14 +538,14 @@ TEST(Ktx2Reader, RandomCorruptionIsDecodedOrRejected) {
 }
 
 TEST(Ktx2Reader, FileErrorsNameThePath) {
-  const std::string missing = (fs::temp_directory_path() / "brdfbake_no_such_file.ktx2").string();
+  const std::string missing = (brdfbake::test::test_temp_root() / "no_such_file.ktx2").string();
   try {
     read_ktx2(missing);
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), "cannot read '" + missing + "': No such file or directory");
   }
-  const fs::path path = fs::temp_directory_path() / "brdfbake_test_ktx2_corrupt.ktx2";
+  const fs::path path = brdfbake::test::test_temp_root() / "corrupt.ktx2";
   { std::ofstream(path, std::ios::binary) << "not a texture"; }
   try {
     read_ktx2(path.string());

@@ -26,6 +26,7 @@
 #include "brdfbake/tables.hpp"
 #include "brdfbake/view.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
@@ -34,12 +35,8 @@ namespace fs = std::filesystem;
 using test::CliRun;
 using test::run_cli;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-new-user-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 // Help text with its line wrapping undone: runs of white space as one space.
 std::string unwrapped(const std::string& text) {

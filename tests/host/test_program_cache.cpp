@@ -11,18 +11,15 @@
 #include "brdfbake/dfg_lut.hpp"
 #include "runtime/program.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("brdfbake-test-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path fresh_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::vector<fs::path> entries(const fs::path& dir) {
   std::vector<fs::path> out;

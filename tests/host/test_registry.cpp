@@ -25,6 +25,7 @@
 #include "families/preview/model.hpp"
 #include "support/cli_runner.hpp"
 #include "support/field_count.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace {
@@ -34,12 +35,8 @@ using namespace brdfbake;
 using brdfbake::test::CliRun;
 using brdfbake::test::field_count;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-registry-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -20,18 +20,15 @@
 #include "io/json_input.hpp"
 #include "io/merl.hpp"
 #include "runtime/launch.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-reliability-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string error_of(const std::function<void()>& f) {
   try {

@@ -20,6 +20,7 @@
 #include "brdfbake/report.hpp"
 #include "support/cli_runner.hpp"
 #include "support/device_fixture.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -30,12 +31,8 @@ using nlohmann::json;
 using test::CliRun;
 using test::run_cli;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-report-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);

@@ -10,18 +10,15 @@
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/runner.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("brdfbake-runner-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -21,6 +21,7 @@
 #include "brdfbake/preview.hpp"
 #include "families/preview/model.hpp"
 #include "io/png_image.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -28,11 +29,8 @@ namespace fs = std::filesystem;
 using namespace brdfbake;
 using nlohmann::json;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-scene-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+// The test's temporary folder (removed when the test ends).
+fs::path temp_dir() { return brdfbake::test::test_temp_root(); }
 
 fs::path write_file(const std::string& name, const std::string& bytes) {
   const fs::path p = temp_dir() / name;
@@ -753,7 +751,6 @@ TEST(Scene, PreviewReadsTheMeansOfTexturedFactors) {
   EXPECT_NE(std::find(notes.begin(), notes.end(),
                       "pbrMetallicRoughness.metallicRoughnessTexture ignored (textures are not read)"),
             notes.end());
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -27,17 +28,8 @@ using brdfbake::test::run_cli;
 
 constexpr const char* kNoModule = "BRDFBAKE_OIIO_MODULE=/nonexistent/brdfbake_oiio.so";
 
-// The folder of this process's files, removed when the test program exits.
-const fs::path& temp_root() {
-  static const struct Root {
-    fs::path path = fs::temp_directory_path() / ("brdfbake-startup-" + std::to_string(::getpid()));
-    ~Root() {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  } root;
-  return root.path;
-}
+// The test's temporary folder, removed when the test ends.
+fs::path temp_root() { return brdfbake::test::test_temp_root(); }
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = temp_root() / name;

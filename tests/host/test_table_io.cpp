@@ -24,6 +24,7 @@
 #include "io/atomic_file.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -90,13 +91,7 @@ std::string error_of(const std::function<void()>& action) {
 
 class TableIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("brdfbake_test_table_io_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { dir_ = brdfbake::test::test_temp_dir("table_io"); }  // removed when the test ends
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 

@@ -23,6 +23,7 @@
 #include "brdfbake/preview.hpp"
 #include "families/preview/bake_files.hpp"
 #include "families/preview/splitsum.hpp"
+#include "support/temp_dir.hpp"
 
 namespace brdfbake::target_test {
 
@@ -35,10 +36,10 @@ using detail::preview::SplitSumOptions;
 
 // ---- Files ---------------------------------------------------------------------------------------
 
+// `name` in the test's temporary folder (removed when the test ends, support/temp_dir.hpp), not there yet.
 inline fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-engines-" + std::to_string(::getpid())) / name;
+  const fs::path d = brdfbake::test::test_temp_root() / name;
   fs::remove_all(d);
-  fs::create_directories(d.parent_path());
   return d;
 }
 

@@ -19,6 +19,7 @@
 #include "brdfbake/view.hpp"
 #include "io/png_image.hpp"
 #include "support/cli_runner.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 #include "view/canvas.hpp"
 #include "view/exposure.hpp"
@@ -31,12 +32,8 @@ using Rgb8 = std::array<int, 3>;
 using test::CliRun;
 using test::run_cli;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-view-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 // The display transfer the sheet states, written out independently of the renderer: Narkowicz's
 // ACES fit, then the sRGB encoding (IEC 61966-2-1), rounded to 8 bits.

@@ -21,6 +21,7 @@
 #include "io/ktx1.hpp"
 #include "io/png_image.hpp"
 #include "io/table_read.hpp"
+#include "support/temp_dir.hpp"
 #include "support/tolerances.hpp"
 
 namespace brdfbake {
@@ -28,12 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-viewio-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A fresh, empty folder `name` in the test's temporary folder (removed when the test ends).
+fs::path temp_dir(const std::string& name) { return brdfbake::test::test_temp_dir(name); }
 
 // Every texel names its place (exact in binary16): R = level + face / 8, G = i, B = j, A = 1.
 CubeLevels labelled_cube(int size, int levels) {

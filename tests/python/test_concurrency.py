@@ -11,9 +11,10 @@ import numpy as np
 import brdfbake
 
 
-def test_a_device_is_opened_once_per_process():
+def test_a_device_is_opened_once_per_process(tmp_path):
     # In a fresh interpreter: every call, whatever spelling names the default device, reuses it.
     code = textwrap.dedent("""
+        import sys
         import brdfbake
         from brdfbake import _brdfbake
         assert _brdfbake.opened_backends() == 0
@@ -21,13 +22,14 @@ def test_a_device_is_opened_once_per_process():
         brdfbake.lut(size=4)
         brdfbake.fresnel("dielectric", ior=1.5, size=4, device=default["selector"])
         brdfbake.tabulate({"model": "lambert"}, layout="albedo", res=4, device=default["type"])
-        brdfbake.run({"brdfbake_job": 1, "tables": [{"kind": "charlie", "size": 4}]}, __import__("tempfile").mkdtemp())
+        brdfbake.run({"brdfbake_job": 1, "tables": [{"kind": "charlie", "size": 4}]}, sys.argv[1])
         assert _brdfbake.opened_backends() == 1, _brdfbake.opened_backends()
         brdfbake.lut(size=4, device="reference")
         assert _brdfbake.opened_backends() == 2
         print("ok")
     """)
-    got = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    got = subprocess.run([sys.executable, "-c", code, str(tmp_path / "out")], capture_output=True, text=True,
+                         timeout=300)
     assert got.returncode == 0 and "ok" in got.stdout, got.stderr[-2000:]
 
 

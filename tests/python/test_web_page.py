@@ -68,6 +68,14 @@ def server(cli, shared_dir, tmp_path_factory):
             pytest.fail("brdfbake serve did not start: " + (base / "server.log").read_text())
         time.sleep(0.05)
     yield {"url": url_file.read_text().strip(), "inputs": inputs, "base": base}
+    # Stopped before its folder goes (at the session's end, conftest.py).
+    proc.terminate()
+    try:
+        proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+    log.close()
     proc.terminate()
     try:
         proc.wait(timeout=30)

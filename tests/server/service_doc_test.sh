@@ -9,7 +9,7 @@ cli=$(realpath "$2")
 for tool in curl jq; do
   command -v "$tool" >/dev/null || { echo "service_doc: $tool is not installed (scripts/deps.sh installs it)"; exit 1; }
 done
-work=$(mktemp -d)
+work=$(mktemp -d -t brdfbake-service-doc.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/bin"
 ln -s "$cli" "$work/bin/brdfbake"

@@ -11,6 +11,7 @@
 
 #include "brdfbake/backend.hpp"
 #include "brdfbake/job.hpp"
+#include "support/temp_dir.hpp"
 
 #ifndef BRDFBAKE_SHARED_DIR
 #define BRDFBAKE_SHARED_DIR "../shared"
@@ -18,13 +19,9 @@
 
 namespace brdfbake::test {
 
-// A fresh (emptied) folder `name` under the temp folder of this process and test program.
+// A fresh, empty folder `program`/`name` in the test's temporary folder (removed when the test ends).
 inline std::filesystem::path temp_dir(const std::string& program, const std::string& name) {
-  namespace fs = std::filesystem;
-  const fs::path d = fs::temp_directory_path() / ("brdfbake-test-" + program + "-" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test_temp_dir(program + "/" + name);
 }
 
 // A uniform environment of radiance 1 as RGBE with flat scanlines (0x80 0x80 0x80 0x81 is exactly
