@@ -251,8 +251,13 @@ TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
   EXPECT_TRUE(j["files"][3].contains("error_vs_exact_max_abs"));
   EXPECT_EQ(j["files"][4]["device"], "reference");
   EXPECT_EQ(j["files"][5]["environment"], "builtin:studio");
-  EXPECT_TRUE(j["files"][6]["error_bound"].is_null());
-  EXPECT_FALSE(j["files"][6]["error_bound_definition"].get<std::string>().empty());
+  // The SH's own error against the exact irradiance of the map (issue 35): builtin:studio's 3 bands
+  // are 3.7 % off (ShError.ClosedFormsOfTheTruncation holds the measure to a closed form)
+  ASSERT_TRUE(j["files"][6]["error_bound"].is_number()) << j["files"][6].dump();
+  EXPECT_GT(j["files"][6]["error_bound"].get<double>(), 0.01);
+  EXPECT_LT(j["files"][6]["error_bound"].get<double>(), 0.1);
+  EXPECT_NE(j["files"][6]["error_bound_definition"].get<std::string>().find("relative RMS of the SH's E / pi"),
+            std::string::npos);
   EXPECT_NE(read(dir / "irradiance_sh3.json").find("irradiance_over_pi"), std::string::npos);
   // Nothing else in the folder, no temporaries beside it.
   int entries = 0;
