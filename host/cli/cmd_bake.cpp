@@ -25,7 +25,11 @@ std::string list_materials(const std::vector<std::string>& m, size_t shown = 4) 
 // own `target` (generic: the planner applies the engine's schedule and SH window itself).
 std::string params_text(const TableRequest& t, const std::string& job_target = "generic") {
   std::string s;
+  const auto& schema = table_schema(t.kind);
   for (const auto& p : t.params) {
+    // How a file is written (a folder output's layout and image format, the f16 clamp) is said only
+    // where the plan set it: at its default it describes nothing of this table (issue 34)
+    if (const ParamDef* d = find_param_def(schema, p.name); d && d->output_only && !t.was_given(p.name)) continue;
     if (p.name == "target" && job_target != "generic") {
       s += (s.empty() ? "" : ", ") + std::string("target ") + job_target;
       continue;
