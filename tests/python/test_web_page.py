@@ -296,7 +296,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     # ... and Filament's KTX1 cubes (the IBL and the skybox), which `brdfbake view` reads too.
     ktx = [p for p in manifest.get("engine", {}).get("files", []) if p.endswith(".ktx")]
     assert len(ktx) == 2, manifest.get("engine")
-    assert len(pictures) == len(manifest["files"]) + len(ktx) >= 5
+    assert len(pictures) == len(manifest["files"]) + len(ktx) >= 4  # filament: the chain and the SH, two KTX1
     for p in pictures:
         assert p["complete"] and p["width"] > 0 and p["height"] > 0, p
         assert p["variance"] > 0, p
