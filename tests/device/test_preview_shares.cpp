@@ -46,10 +46,12 @@ constexpr double kFilesDfgLookup = 0.02;
 // images' rounding.
 constexpr double kNormRounding = 1e-6;
 
+// Gold, not a white metal: F0 = 1 takes the DFG table out of generic's compensated split sum
+// (mix(bias, albedo, 1) (1 + (1 / albedo - 1)) = 1), so a table's resolution would not show on it.
 const std::vector<PreviewMaterial> kMaterials = {
-    {"metal r0", {1.0, 1.0, 1.0}, 1.0, 0.0, {}},
-    {"metal r0.2", {1.0, 1.0, 1.0}, 1.0, 0.2, {}},
-    {"metal r0.6", {1.0, 1.0, 1.0}, 1.0, 0.6, {}},
+    {"gold r0", {1.0, 0.766, 0.336}, 1.0, 0.0, {}},
+    {"gold r0.2", {1.0, 0.766, 0.336}, 1.0, 0.2, {}},
+    {"gold r0.6", {1.0, 0.766, 0.336}, 1.0, 0.6, {}},
     {"dielectric r0.4", {0.8, 0.8, 0.8}, 0.0, 0.4, {}},
 };
 
@@ -138,6 +140,9 @@ TEST(PreviewShares, DegradingOneInputMovesTheBakeShareAlone) {
       render(*backend, env, target, bake_folder(*backend, env, target, small_chain, dir, "chain16"));
   const PreviewResult table =
       render(*backend, env, target, bake_folder(*backend, env, target, small_table, dir, "table8"));
+  // measured under venice (error / engine / bake, relative RMS): gold r0 0.68 / 0.23 / 0.54 from the 64^2
+  // chain, 1.75 / 0.23 / 1.67 from the 16^2; the dielectric 0.0180 / 0.0180 / 0.00019 with the 128^2
+  // table, 0.0182 / 0.0180 / 0.00092 with the 8^2
   for (const PreviewResult* r : {&base, &chain, &table}) expect_shares_add_up(*r);
   for (size_t s = 0; s < base.stats.size(); ++s) {
     const std::string what = base.spheres[s].material.name;
