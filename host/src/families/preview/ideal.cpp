@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
@@ -23,44 +24,63 @@ CubeLevels second_level(CubeLevels c) {
   return one;
 }
 
-// The GGX chain: level l of the files' N at schedule_roughness(the target's schedule, l, N), the face
-// size `size`, filtered from the environment converted to 2 size (a chain of two levels whose second
-// is at that roughness: prefilter_chain_at); level 0, the mirror, is that source.
+// A level's face size in the ideal chain: at least 4 x the files' level of the same index (its
+// bilinear interpolation error, second order in the texel, 1/16 of theirs), texels no wider than an
+// eighth of the lobe (pi/2 / S <= alpha / 8), at least kIdealMinLevelSize, at most `size` (a power
+// of two).
+int level_size(const BakeFiles& files, int l, double roughness, int size) {
+  const double alpha = std::max(roughness * roughness, 1e-4);
+  const double want = std::max({double(kIdealMinLevelSize), 4.0 * files.specular.level_size(l), 4.0 * M_PI / alpha});
+  int s = kIdealMinLevelSize;
+  while (s < size && double(s) < want) s *= 2;
+  return std::min(s, size);
+}
+
+// The GGX chain: level l of the files' N at schedule_roughness(the target's schedule, l, N), at its
+// level_size S, filtered from the environment converted to 2 S (a chain of two levels whose second is
+// at that roughness: prefilter_chain_at); level 0, the mirror, is the environment converted to 2 size.
 std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const BakeFiles& files, int size,
                                     RoughnessSchedule schedule, Metadata& settings) {
   const int n = files.specular.level_count();
-  CubeLevels source = environment_to_cube(device, env, 2 * size);
+  std::map<int, CubeLevels> sources;  // by face size
+  const auto source = [&](int s) -> const CubeLevels& {
+    auto it = sources.find(s);
+    if (it == sources.end()) it = sources.emplace(s, environment_to_cube(device, env, s)).first;
+    return it->second;
+  };
   std::vector<CubeLevels> out;
   {
     CubeLevels mirror;
-    mirror.size = source.size;
-    mirror.levels.push_back(source.levels[0]);
+    mirror.size = 2 * size;
+    mirror.levels.push_back(source(2 * size).levels[0]);
     out.push_back(std::move(mirror));
   }
-  std::string roughness;
+  std::string roughness, sizes = std::to_string(2 * size);
   PrefilterSpec spec;
-  spec.size = 2 * size;
-  spec.min_size = size;
   spec.distribution = EnvDistribution::Ggx;
   spec.schedule = schedule;
   spec.precision = Precision::Fp32;
   spec.refinement = kIdealRefinement;
   for (int l = 1; l < n; ++l) {
     const double r = schedule_roughness(schedule, l, n);
+    const int s = level_size(files, l, r, size);
+    spec.size = 2 * s;
+    spec.min_size = s;
     CubeLevels copy;
-    copy.size = source.size;
-    copy.levels.push_back(source.levels[0]);
+    copy.size = 2 * s;
+    copy.levels.push_back(source(2 * s).levels[0]);
     out.push_back(second_level(prefilter_chain_at(device, std::move(copy), spec, {0.0, r})));
-    roughness += (l > 1 ? ", " : "") + std::to_string(r).substr(0, 6);
+    roughness += ", " + std::to_string(r).substr(0, 6);
+    sizes += ", " + std::to_string(s);
   }
   settings.push_back({"specular", std::to_string(n) +
-                                      " levels as the files' (the engine's LOD mapping unchanged), "
-                                      "level 0 the environment converted to " +
-                                      std::to_string(2 * size) + "^2, every other level " + std::to_string(size) +
-                                      "^2 filtered on its own from it (quadrature, refinement " +
+                                      " levels as the files' (the engine's LOD mapping unchanged), level 0 the "
+                                      "environment converted to a cube, every other level filtered on its own from "
+                                      "the environment converted to twice its size (quadrature, refinement " +
                                       std::to_string(int(kIdealRefinement)) + "), float32, no storage"});
+  settings.push_back({"specular_sizes", sizes});
   settings.push_back({"specular_schedule", std::string(roughness_schedule_name(schedule)) + " (the target's)"});
-  settings.push_back({"specular_roughness_per_level", "0, " + roughness});
+  settings.push_back({"specular_roughness_per_level", "0" + roughness});
   return out;
 }
 

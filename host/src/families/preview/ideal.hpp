@@ -17,15 +17,19 @@
 
 namespace brdfbake::detail::preview {
 
-// The ideal bake's sizes: every level of its chain at the files' level 0's face size, within
-// [kIdealChainSize, kIdealChainMaxSize], each filtered from the environment converted to twice that
-// size; the mirror (level 0) is that source; the DFG table kIdealLutSize^2.
+// The ideal bake's sizes: the mirror (level 0) the environment converted to 2 size, size the files'
+// level 0's within [kIdealChainSize, kIdealChainMaxSize]; every other level at least 4 x the files'
+// level of its index, its texels no wider than an eighth of its lobe, at least kIdealMinLevelSize and
+// at most size (ideal.cpp, level_size), filtered from the environment converted to twice its size;
+// the DFG table kIdealLutSize^2.
 inline constexpr int kIdealChainSize = 256;
 inline constexpr int kIdealChainMaxSize = 512;
+inline constexpr int kIdealMinLevelSize = 64;
 inline constexpr int kIdealLutSize = 256;
-// The quadrature's refinement of the ideal chain's levels (the bakes' default is 4): its error is a
-// fraction of the default's (kernels/prefilter.cl; docs/PREVIEW.md gives the measured difference).
-inline constexpr double kIdealRefinement = 8.0;
+// The quadrature's refinement of the ideal chain's levels, the bakes' default: at 8 the shares of
+// venice's default grid for babylon (its 8 filtered levels) moved by at most 0.052 percentage points
+// on any sphere (engine share) for twice the seconds (5.9 s against 2.8 s; docs/PREVIEW.md).
+inline constexpr double kIdealRefinement = 4.0;
 
 struct IdealBake {
   BakeFiles files;    // the files' own, with the chain and the DFG table replaced
