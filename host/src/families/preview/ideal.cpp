@@ -11,6 +11,7 @@
 #include "engines/registry.hpp"
 #include "families/prefilter/model.hpp"
 #include "families/preview/shading.hpp"
+#include "families/preview/splitsum_sampling.hpp"
 
 namespace brdfbake::detail::preview {
 
@@ -132,7 +133,7 @@ IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFi
   out.settings.push_back({"specular_seconds", std::to_string(chain_seconds).substr(0, 6)});
   out.files.specular_format = "float32 (the ideal bake)";
   if (engines::target_def(files.target).engine_dfg) {
-    out.settings.push_back({"dfg", "the engine's own table (" + files.dfg_file + "): no file changes it"});
+    out.settings.push_back({"dfg", "the engine's own table (" + file_name(files.dfg_file) + "): no file changes it"});
   } else {
     out.files.dfg = ideal_dfg(backend, files, kIdealLutSize);
     out.files.dfg_file = "the ideal DFG table";
@@ -140,7 +141,7 @@ IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFi
                                        "^2 float32, each texel the exact albedos at its "
                                        "centre (the DFG family's quadrature), the files' axes and channels"});
   }
-  out.settings.push_back({"diffuse", "the files' own (" + files.diffuse_file + ")"});
+  out.settings.push_back({"diffuse", "the files' own (" + file_name(files.diffuse_file) + ")"});
   if (!files.sheen.levels.empty() || files.charlie.width > 0)
     out.settings.push_back({"sheen", "the files' Charlie chain and charlie table (not replaced)"});
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
