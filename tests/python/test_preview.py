@@ -101,7 +101,7 @@ def test_the_shares_add_up_and_match_the_json(small, tmp_path):
 
 
 def test_no_shares_without_them():
-    r = brdfbake.preview("builtin:sun", target="generic", width=32, height=32, bound_stride=64, shares=False)
+    r = brdfbake.preview("builtin:sun", target="generic", width=96, height=48, bound_stride=64, shares=False)
     p = r.preview
     assert p["ideal"] is None and "share_groups" not in p and "engine_share" not in p["spheres"][0]
 
