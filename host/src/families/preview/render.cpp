@@ -760,7 +760,10 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   if (progress) progress(0.15, "split-sum render");
 
   // The ideal bake and its split-sum render (the error's shares): the same code, its inputs replaced.
-  if (res.spec.reference && res.spec.shares) {
+  // Not on the scalar reference backend: its chain's levels would take minutes there.
+  if (res.spec.reference && res.spec.shares && backend.is_reference())
+    res.ideal_bake.push_back({"not_computed", "the scalar reference backend (the ideal bake's chain needs a device)"});
+  if (res.spec.reference && res.spec.shares && !backend.is_reference()) {
     if (progress) progress(0.15, "ideal bake");
     t0 = Clock::now();
     IdealBake ideal = ideal_bake(backend, environment, split.files());
