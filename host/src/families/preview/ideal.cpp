@@ -117,6 +117,28 @@ Table ideal_dfg(Backend& backend, const BakeFiles& files, int size) {
   return t;
 }
 
+// The charlie table (KHR_materials_sheen's albedo scaling E(n.v, sheenRoughness)) likewise: each
+// texel the exact E at its centre (sheen_albedos: the charlie table's quadrature, Estevez & Kulla's
+// visibility), float32, the files' n.v axis.
+Table ideal_charlie(Backend& backend, const BakeFiles& files, int size) {
+  std::vector<double> nvs(static_cast<size_t>(size)), rs(static_cast<size_t>(size));
+  for (int i = 0; i < size; ++i) {
+    const double u = (i + 0.5) / size;
+    nvs[size_t(i)] = files.charlie_sqrt_n_dot_v ? u * u : u;
+    rs[size_t(i)] = u;
+  }
+  const std::vector<double> e = sheen_albedos(backend, nvs, rs);
+  Table t;
+  t.width = t.height = size;
+  t.channels = {files.charlie.channels.empty() ? std::string("albedo") : files.charlie.channels[0]};
+  t.x_name = "n_dot_v";
+  t.y_name = "sheen_roughness";
+  t.x = nvs;
+  t.y = rs;
+  t.data.assign(e.begin(), e.end());
+  return t;
+}
+
 }  // namespace
 
 IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFiles& files) {
@@ -142,8 +164,18 @@ IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFi
                                        "centre (the DFG family's quadrature), the files' axes and channels"});
   }
   out.settings.push_back({"diffuse", "the files' own (" + file_name(files.diffuse_file) + ")"});
-  if (!files.sheen.levels.empty() || files.charlie.width > 0)
-    out.settings.push_back({"sheen", "the files' Charlie chain and charlie table (not replaced)"});
+  // KHR_materials_sheen: the charlie table where its visibility is the reference's (Estevez & Kulla);
+  // the Charlie chain stays the files'
+  if (files.charlie.width > 0 && (files.charlie_visibility.empty() || files.charlie_visibility == "estevez-kulla")) {
+    out.files.charlie = ideal_charlie(backend, files, kIdealLutSize);
+    out.files.charlie_file = "the ideal charlie table";
+    out.settings.push_back({"charlie", std::to_string(kIdealLutSize) +
+                                           "^2 float32, each texel the exact sheen albedo "
+                                           "at its centre (the charlie table's quadrature), the files' n.v axis"});
+  } else if (files.charlie.width > 0) {
+    out.settings.push_back({"charlie", "the files' own (" + files.charlie_visibility + " visibility, not replaced)"});
+  }
+  if (!files.sheen.levels.empty()) out.settings.push_back({"sheen", "the files' Charlie chain (not replaced)"});
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.settings.push_back({"seconds", std::to_string(out.seconds).substr(0, 6)});
   return out;
