@@ -195,7 +195,14 @@ class Result:
         (``rms``, ``max``, ``pixels``, ``refinement``: the refinement the sphere was integrated
         at); ``camera`` (``view_direction``, ``up``, ``right`` in the environment's frame),
         ``target``, ``brdf``, ``multiscatter``, ``exposure``, ``bake``,
-        ``shading`` (each step of the target's shader) and ``times``.
+        ``shading`` (each step of the target's shader) and ``times``. With the error's shares
+        (``shares=True``, the default with the reference): ``ideal`` (float32 (height, width, 3), the
+        target's shader rendered from the ideal bake), per sphere ``engine_share`` (|ideal -
+        reference| / |reference|) and ``bake_share`` (|split-sum - ideal| / |reference|), each
+        ``rms``, ``p99``, ``max`` (the difference images add up exactly, their RMS do not),
+        ``ideal_bake`` (what it holds) and ``share_groups`` (per group ``name``, ``spheres``,
+        ``error``, ``engine_share``, ``bake_share``: ``median`` and ``worst`` sphere RMS); otherwise
+        ``ideal`` is None.
         """
         doc = self._core.preview()
         if doc is None:

@@ -94,6 +94,10 @@ py::dict preview_dict(const py::handle& owner, const PreviewResult& p) {
       b["pixels"] = st.bound_pixels;
       b["refinement"] = st.refinement;
       e["reference_bound"] = b;
+      if (!p.ideal.rgb.empty()) {
+        e["engine_share"] = error_stats(st.engine_share);
+        e["bake_share"] = error_stats(st.bake_share);
+      }
     }
     spheres.append(e);
   }
@@ -123,7 +127,30 @@ py::dict preview_dict(const py::handle& owner, const PreviewResult& p) {
   t["reference_device"] = p.times.reference_device;
   t["bound"] = p.times.bound;
   t["total"] = p.times.total;
+  t["ideal"] = p.times.ideal;
   d["times"] = t;
+  // the error's shares (PreviewSpec::shares): the ideal bake's render, what it holds, the groups
+  d["ideal"] = image(p.ideal);
+  if (!p.ideal.rgb.empty()) {
+    d["ideal_bake"] = metadata_dict(p.ideal_bake);
+    py::list groups;
+    for (const PreviewShareGroup& g : p.share_groups) {
+      py::dict e;
+      e["name"] = g.name;
+      e["spheres"] = g.spheres;
+      const auto pair = [](double median, double worst) {
+        py::dict x;
+        x["median"] = median;
+        x["worst"] = worst;
+        return x;
+      };
+      e["error"] = pair(g.error_median, g.error_worst);
+      e["engine_share"] = pair(g.engine_median, g.engine_worst);
+      e["bake_share"] = pair(g.bake_median, g.bake_worst);
+      groups.append(e);
+    }
+    d["share_groups"] = groups;
+  }
   return d;
 }
 

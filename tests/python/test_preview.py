@@ -67,6 +67,45 @@ def test_save_writes_the_same_numbers(small, tmp_path):
         assert d["centre"] == pytest.approx(list(s["centre"]))
 
 
+def test_the_shares_add_up_and_match_the_json(small, tmp_path):
+    # the error's shares (docs/PREVIEW.md): the ideal bake's render, per sphere engine_share |ideal -
+    # reference| / |reference| and bake_share |split-sum - ideal| / |reference|, per group medians
+    p = small.preview
+    ideal = p["ideal"]
+    assert ideal.shape == (48, 96, 3) and ideal.dtype == np.float32 and np.isfinite(ideal).all()
+    s64, i64, r64 = (p[k].astype(np.float64) for k in ("splitsum", "ideal", "reference"))
+    h, w, _ = s64.shape
+    ys, xs = np.mgrid[0:h, 0:w]
+    for s in p["spheres"]:
+        cx, cy = s["centre"]
+        inside = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < s["radius"] ** 2
+        n = np.linalg.norm(r64[inside], axis=1)
+        engine = np.linalg.norm(i64[inside] - r64[inside], axis=1) / n
+        bake = np.linalg.norm(s64[inside] - i64[inside], axis=1) / n
+        assert np.sqrt(np.mean(engine ** 2)) == pytest.approx(s["engine_share"]["rms"], rel=1e-6, abs=1e-9), s["name"]
+        assert np.sqrt(np.mean(bake ** 2)) == pytest.approx(s["bake_share"]["rms"], rel=1e-6, abs=1e-9), s["name"]
+        # the difference images add up; their RMS obey the triangle inequality
+        e, b, t = s["engine_share"]["rms"], s["bake_share"]["rms"], s["linear"]["rms"]
+        assert abs(e - b) - 1e-6 <= t <= e + b + 1e-6, s["name"]
+    groups = p["share_groups"]
+    assert [g["name"] for g in groups] == ["white", "grey", "dark", "gold", "copper", "silver"]
+    assert all(len(g["spheres"]) == 12 for g in groups)
+    gold = groups[3]
+    worst = max(p["spheres"][k]["bake_share"]["rms"] for k in gold["spheres"])
+    assert gold["bake_share"]["worst"] == worst
+    assert p["times"]["ideal"] > 0 and "specular" in p["ideal_bake"]
+    small.save(tmp_path / "q.png")
+    doc = json.loads((tmp_path / "q.json").read_text())
+    assert doc["shares"]["groups"][3]["bake_share"]["worst"] == pytest.approx(worst, rel=1e-12)
+    assert doc["spheres"][0]["engine_share"]["rms"] == pytest.approx(p["spheres"][0]["engine_share"]["rms"])
+
+
+def test_no_shares_without_them():
+    r = brdfbake.preview("builtin:sun", target="generic", width=96, height=48, bound_stride=64, shares=False)
+    p = r.preview
+    assert p["ideal"] is None and "share_groups" not in p and "engine_share" not in p["spheres"][0]
+
+
 def test_without_the_reference_and_with_a_material_file(red_file):
     r = brdfbake.preview("builtin:sun", target="generic", width=64, height=64, reference=False,
                          materials=red_file)

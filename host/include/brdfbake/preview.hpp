@@ -127,6 +127,12 @@ struct PreviewSpec {
   // in Babylon.js 8.46.2): the split-sum render mixes the reflection with the irradiance by alphaG as
   // Babylon.js does; false: as a scene that switched it off.
   bool mix_ibl_radiance_with_irradiance = true;
+  // The error's two shares (docs/PREVIEW.md, "Engine share and bake share"): the target's shader
+  // rendered once more from an ideal bake made in memory (every chain level converged at its own
+  // roughness in float32 at a high face size, the DFG table at the texel centres' exact albedos in
+  // float32, no storage), so that per sphere split-sum - reference = (split-sum - ideal) + (ideal -
+  // reference). Needs the reference; false: not computed (the ideal bake's seconds saved).
+  bool shares = true;
 };
 
 // ---- The result ---------------------------------------------------------------------------------
@@ -171,6 +177,23 @@ struct PreviewSphereStats {
   double reference_max_bound = 0.0;
   int bound_pixels = 0;
   double refinement = 0.0;  // the refinement its reference was integrated at (spec.refinement, or more)
+  // With spec.shares: the engine's share |ideal - reference| / |reference| (what no file can change:
+  // the target's split-sum approximation rendered from an ideal bake) and the bake's share
+  // |split-sum - ideal| / |reference| (what the files add: resolution, convergence, storage), per
+  // pixel over the sphere as `linear`. The per-pixel difference images add up exactly to `linear`'s;
+  // their RMS do not (the triangle inequality: |engine - bake| <= linear <= engine + bake).
+  PreviewErrorStats engine_share;
+  PreviewErrorStats bake_share;
+};
+
+// The shares of a group of spheres (the default grid's rows: one material, every roughness; a
+// material file's spheres: one a group): the median and the worst sphere's relative RMS.
+struct PreviewShareGroup {
+  std::string name;
+  std::vector<int> spheres;
+  double error_median = 0.0, error_worst = 0.0;    // linear.rms
+  double engine_median = 0.0, engine_worst = 0.0;  // engine_share.rms
+  double bake_median = 0.0, bake_worst = 0.0;      // bake_share.rms
 };
 // A second-order quadrature's error at refinement r is about 4/3 of its difference to the result at
 // 2r; the factor 2 leaves a margin for where the convergence is slower (kinks at texel edges).
@@ -185,6 +208,7 @@ struct PreviewTimes {
   double reference = 0.0;         // the reference render, wall
   double reference_device = 0.0;  // its kernels (event profiling)
   double bound = 0.0;             // the bound's second render, wall
+  double ideal = 0.0;             // the ideal bake (spec.shares) and its split-sum render, wall
   double total = 0.0;
 };
 
@@ -195,12 +219,17 @@ struct PreviewResult {
   PreviewImage splitsum;
   PreviewImage reference;                 // empty when spec.reference is false
   std::vector<PreviewSphereStats> stats;  // one per sphere (empty without the reference)
-  double exposure = 0.0;                  // EV of the sheet: 0.18 / the environment's median luminance,
-                                          // at most 0.8 / the spheres' median (split-sum)
-  double environment_median = 0.0;        // solid-angle-weighted median luminance
-  std::string brdf;                       // the BRDF both renders use, in words
-  bool multiscatter = false;              // multiple-scattering compensation applied
-  std::string environment_model;          // the environment's continuous model of the reference
+  // With spec.shares (and the reference): the ideal bake's split-sum render, what it holds, and the
+  // shares per group.
+  PreviewImage ideal;
+  Metadata ideal_bake;
+  std::vector<PreviewShareGroup> share_groups;
+  double exposure = 0.0;            // EV of the sheet: 0.18 / the environment's median luminance,
+                                    // at most 0.8 / the spheres' median (split-sum)
+  double environment_median = 0.0;  // solid-angle-weighted median luminance
+  std::string brdf;                 // the BRDF both renders use, in words
+  bool multiscatter = false;        // multiple-scattering compensation applied
+  std::string environment_model;    // the environment's continuous model of the reference
   std::string bound_definition;
   Metadata bake;     // the bake's settings (files, sizes, formats) and where it came from
   Metadata shading;  // per step of the target's shader: what it does and which function it is

@@ -517,6 +517,12 @@ function showResults(job, s) {
     const numbers = `material preview (${preview.target}): split-sum vs reference, relative RMS ` +
       `${pct(preview.error_rms_median)} median, ${pct(preview.error_rms_max)} worst sphere; ` +
       `reference within ${pct(preview.reference_bound_max)}` +
+      // the error's shares: the engine's split sum from an ideal bake vs the reference, the files vs that ideal
+      (preview.engine_share_median !== undefined
+        ? `; engine share ${pct(preview.engine_share_median)} median, ${pct(preview.engine_share_max)} worst, ` +
+          `bake share ${pct(preview.bake_share_median)} median, ${pct(preview.bake_share_max)} worst (the difference ` +
+          `images add up: split-sum - reference = (split-sum - ideal) + (ideal - reference))`
+        : '') +
       (preview.held_to ? `; the split-sum emulation held to: ${preview.held_to}` : '');
     files.push({ path: p, kind: sheet ? numbers : 'material preview', picture: sheet });
   }

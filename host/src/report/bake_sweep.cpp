@@ -291,6 +291,7 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
       spec.width = o.preview_width;
       spec.height = o.preview_width / 2;
       spec.reference = false;
+      spec.shares = false;  // the sweep compares bakes against one reference (the shares: issue 35's next part)
       auto t0 = Clock::now();
       PreviewResult split = render_preview(*backend, env, spec);
       pt.splitsum_seconds = since(t0);

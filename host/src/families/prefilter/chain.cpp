@@ -61,7 +61,8 @@ struct LevelInputs {
 // records. bake() runs the levels.
 class ChainBaker {
  public:
-  ChainBaker(Device::Impl& dev, const PrefilterSpec& s, CubeLevels source)
+  ChainBaker(Device::Impl& dev, const PrefilterSpec& s, CubeLevels source,
+             const std::vector<double>* roughness = nullptr)
       : dev_(dev),
         s_(s),
         levels_(prefilter_level_count(s)),
@@ -85,7 +86,8 @@ class ChainBaker {
     rec_.measured.assign(n, 0.0);
     rec_.bright = bright_.size();
     for (int l = 0; l < levels_; ++l) {
-      rec_.roughness[size_t(l)] = schedule_roughness(s.schedule, l, levels_);
+      rec_.roughness[size_t(l)] =
+          roughness && l > 0 ? (*roughness)[size_t(l)] : schedule_roughness(s.schedule, l, levels_);
       if (l > 0 && !quadrature_)
         rec_.samples[size_t(l)] = s.samples > 0 ? s.samples : default_prefilter_samples(l, levels_);
     }
@@ -445,14 +447,19 @@ cl::Program filter_program(Device::Impl& dev, const PrefilterSpec& s) {
                      {{lobe_define, "1"}, {"BRDFBAKE_STRIP_ROWS", std::to_string(kStripRows)}});
 }
 
-CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& in, PrefilterTiming* timing,
-                           const EnvProgress& progress) {
+namespace {
+
+CubeLevels chain_of(Device& device, CubeLevels source, const PrefilterSpec& in, PrefilterTiming* timing,
+                    const EnvProgress& progress, const std::vector<double>* roughness) {
   const auto t0 = std::chrono::steady_clock::now();
   const PrefilterSpec s = resolve_prefilter_spec(in);
   if (source.levels.empty() || source.size != s.size)
     throw Error("prefilter_cube: the source cube must have size " + std::to_string(s.size));
   auto& dev = device.impl();
-  ChainBaker baker(dev, s, std::move(source));
+  if (roughness && roughness->size() != size_t(prefilter_level_count(s)))
+    throw Error("prefilter_chain_at: " + std::to_string(roughness->size()) + " roughnesses for a chain of " +
+                std::to_string(prefilter_level_count(s)) + " levels");
+  ChainBaker baker(dev, s, std::move(source), roughness);
   double device_seconds = 0.0;
   const std::string what = "prefiltering on '" + dev.info.name + "'";
   cl_call(what, [&] {
@@ -475,6 +482,18 @@ CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpe
     timing->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return std::move(out);
+}
+
+}  // namespace
+
+CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& in, PrefilterTiming* timing,
+                           const EnvProgress& progress) {
+  return chain_of(device, std::move(source), in, timing, progress, nullptr);
+}
+
+CubeLevels prefilter_chain_at(Device& device, CubeLevels source, const PrefilterSpec& spec,
+                              const std::vector<double>& roughness, PrefilterTiming* timing) {
+  return chain_of(device, std::move(source), spec, timing, {}, &roughness);
 }
 
 }  // namespace brdfbake::detail

@@ -42,6 +42,12 @@ cl::Program filter_program(Device::Impl& dev, const PrefilterSpec& spec);
 // The chain from a source cube it owns (level 0 moves into the output: no copy).
 CubeLevels prefilter_chain(Device& device, CubeLevels source, const PrefilterSpec& spec, PrefilterTiming* timing,
                            const EnvProgress& progress);
+// The same with level l filtered at roughness[l] (one a level of the spec's chain; level 0 is the
+// source whatever roughness[0] says) instead of the spec's schedule: the preview's ideal bake
+// (families/preview/ideal.cpp) filters each level of a target's chain on its own, at a face size of
+// its choosing, at the roughness the target's schedule gives that level.
+CubeLevels prefilter_chain_at(Device& device, CubeLevels source, const PrefilterSpec& spec,
+                              const std::vector<double>& roughness, PrefilterTiming* timing = nullptr);
 
 // What a chain measured and chose per level, for its metadata and timing.
 struct ChainRecord {

@@ -24,6 +24,10 @@ struct BakeFiles {
   std::string folder;
   CubeLevels specular;  // every level, RGBA float as a GPU samples them
   std::string specular_file, specular_format;
+  // The preview's ideal bake (ideal.hpp): each level of the chain as a cube of its own (its level 0,
+  // at a face size of its own). When not empty, the split-sum render samples these in place of
+  // `specular`'s levels, whose count and sizes the engine's lookup keeps reading.
+  std::vector<CubeLevels> specular_levels;
   Table dfg;  // as stored
   std::string dfg_file;
   bool dfg_multiscatter = true;   // channels bias, albedo (else scale, bias)

@@ -89,6 +89,20 @@ void write_bake_preview(const Job& job, const std::string& staging, Manifest& ma
     manifest.preview.push_back({"error_rms_max", detail::fmt_number(rms.back(), "%.4g")});
     manifest.preview.push_back({"reference_bound_max", detail::fmt_number(bound, "%.4g")});
   }
+  if (!r.ideal.rgb.empty() && !r.stats.empty()) {
+    // the error's shares (docs/PREVIEW.md): the engine's (no file changes it) and the bake's
+    std::vector<double> engine, bake;
+    for (const auto& s : r.stats) {
+      engine.push_back(s.engine_share.rms);
+      bake.push_back(s.bake_share.rms);
+    }
+    std::sort(engine.begin(), engine.end());
+    std::sort(bake.begin(), bake.end());
+    manifest.preview.push_back({"engine_share_median", detail::fmt_number(engine[engine.size() / 2], "%.4g")});
+    manifest.preview.push_back({"engine_share_max", detail::fmt_number(engine.back(), "%.4g")});
+    manifest.preview.push_back({"bake_share_median", detail::fmt_number(bake[bake.size() / 2], "%.4g")});
+    manifest.preview.push_back({"bake_share_max", detail::fmt_number(bake.back(), "%.4g")});
+  }
   manifest.preview.push_back(
       {"error_definition",
        "per sphere, the relative RMS of |split-sum - reference| / |reference| in linear radiance (preview.json "

@@ -95,6 +95,11 @@ SpecSchema<PreviewSpec> preview_schema() {
                      "gltf, babylon: Babylon.js's PBRBRDFConfiguration.DEFAULT_MIX_IBL_RADIANCE_WITH_IRRADIANCE, on in "
                      "8.46.2 (--no-mix-ibl-radiance-with-irradiance: as a scene that turned it off)")
                 .def(d.mix_ibl_radiance_with_irradiance))
+      .bind(&PreviewSpec::shares, "shares",
+            ParamDef("shares", T::Flag,
+                     "split the error into the engine's share and the bake's: the target's shader rendered once more "
+                     "from an ideal bake made in memory (with the reference; --no-shares: not computed)")
+                .def(d.shares))
       .common("precision", "precision", [](PreviewSpec& p, const TableRequest& t) { p.precision = t.precision; });
   return s;
 }
@@ -123,9 +128,23 @@ std::string summary_of(const PreviewResult& r) {
                   100.0 * rms[rms.size() / 2], 100.0 * rms.back(), 100.0 * bound);
     s += b;
   }
-  std::snprintf(b, sizeof b, "; %.2f s (bake %.2f, split-sum %.3f, reference %.2f, device %.2f, bound %.2f)",
+  if (!r.ideal.rgb.empty() && !r.stats.empty()) {
+    std::vector<double> engine, bake;
+    for (const auto& st : r.stats) {
+      engine.push_back(st.engine_share.rms);
+      bake.push_back(st.bake_share.rms);
+    }
+    std::sort(engine.begin(), engine.end());
+    std::sort(bake.begin(), bake.end());
+    std::snprintf(b, sizeof b, "; engine share %.2g%% median, %.2g%% worst; bake share %.2g%% median, %.2g%% worst",
+                  100.0 * engine[engine.size() / 2], 100.0 * engine.back(), 100.0 * bake[bake.size() / 2],
+                  100.0 * bake.back());
+    s += b;
+  }
+  std::snprintf(b, sizeof b,
+                "; %.2f s (bake %.2f, split-sum %.3f, reference %.2f, device %.2f, bound %.2f, ideal bake %.2f)",
                 r.times.total, r.times.bake, r.times.splitsum, r.times.reference, r.times.reference_device,
-                r.times.bound);
+                r.times.bound, r.times.ideal);
   return s + b;
 }
 

@@ -133,8 +133,9 @@ SheetLayout sheet_layout(const PreviewResult& r) {
       row = shortened(row, kLabelChars);
       label_w = std::max(label_w, view::text_width(row) + kGap);
     }
-  l.top = kMargin + 2 * kLine + 5 * kLine + kGap;  // title, five lines of text
-  l.panel_top = l.top + 2 * kLine + 4;             // the panel's title, the columns' roughness
+  // title, five lines of text (six with the error's shares)
+  l.top = kMargin + 2 * kLine + (r.ideal.rgb.empty() ? 5 : 6) * kLine + kGap;
+  l.panel_top = l.top + 2 * kLine + 4;  // the panel's title, the columns' roughness
   l.x0 = kMargin + label_w;
   return l;
 }
@@ -171,6 +172,18 @@ void sheet_header(const PreviewResult& r, const std::string& title, const SheetL
   else
     c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
   c.text(kMargin, y + 4 * kLine, "emulation held to: " + engine_settings(r.spec.target).held_to_short, view::kDim);
+  if (!r.ideal.rgb.empty()) {
+    // the error's shares per group: the engine's (its split sum from an ideal bake) and the bake's
+    std::string line =
+        "error's shares, median over a group's spheres (engine | bake, the third line under each "
+        "sphere the bake's):";
+    const size_t shown = std::min<size_t>(r.share_groups.size(), 8);
+    for (size_t g = 0; g < shown; ++g)
+      line += (g ? ", " : " ") + shortened(r.share_groups[g].name, 12) + " " +
+              percent(r.share_groups[g].engine_median) + " | " + percent(r.share_groups[g].bake_median);
+    if (shown < r.share_groups.size()) line += ", ... (NAME.json: every group)";
+    c.text(kMargin, y + 5 * kLine, line, view::kText);
+  }
 }
 
 // Panel k (0 split-sum, 1 reference, 2 error): its title, the columns' roughness where a column's
@@ -245,9 +258,13 @@ void sheet_sphere_labels(const PreviewResult& r, const SheetLayout& l, Canvas& c
     const std::string a = percent(r.stats[s].linear.rms), b = fmt(r.stats[s].srgb8.p99, "%.0f");
     const int below = int(sp.centre_y + sp.radius) + 2;
     const int px = l.x0 + 2 * (l.w + kGap);
-    const int ty = l.panel_top + std::min(below, l.h - 2 * kLine);
+    const int ty = l.panel_top + std::min(below, l.h - (r.ideal.rgb.empty() ? 2 : 3) * kLine);
     c.text(px + int(sp.centre_x) - view::text_width(a) / 2, ty, a, view::kText);
     c.text(px + int(sp.centre_x) - view::text_width(b) / 2, ty + kLine - 2, b, view::kDim);
+    if (!r.ideal.rgb.empty()) {
+      const std::string bake = "b" + percent(r.stats[s].bake_share.rms);
+      c.text(px + int(sp.centre_x) - view::text_width(bake) / 2, ty + 2 * kLine - 4, bake, view::kDim);
+    }
   }
 }
 
@@ -316,7 +333,7 @@ json camera_json(const PreviewCamera& cam) {
 }
 
 // A sphere of the JSON: its place, material, notes and (with its stats) its errors and bound.
-json sphere_json(const PreviewSphere& sp, const PreviewSphereStats* stats_of) {
+json sphere_json(const PreviewSphere& sp, const PreviewSphereStats* stats_of, bool shares) {
   json o;
   o["name"] = sp.material.name;
   o["row"] = sp.row;
@@ -355,6 +372,10 @@ json sphere_json(const PreviewSphere& sp, const PreviewSphereStats* stats_of) {
                             {"max", st.reference_max_bound},
                             {"pixels", st.bound_pixels},
                             {"refinement", st.refinement}};
+    if (shares) {
+      o["engine_share"] = stats(st.engine_share);
+      o["bake_share"] = stats(st.bake_share);
+    }
   }
   return o;
 }
@@ -386,7 +407,7 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
   j["multiple_scattering_compensation"] = r.multiscatter;
   json spheres = json::array();
   for (size_t s = 0; s < r.spheres.size(); ++s) {
-    spheres.push_back(sphere_json(r.spheres[s], s < r.stats.size() ? &r.stats[s] : nullptr));
+    spheres.push_back(sphere_json(r.spheres[s], s < r.stats.size() ? &r.stats[s] : nullptr, !r.ideal.rgb.empty()));
   }
   j["spheres"] = spheres;
   if (!r.stats.empty()) {
@@ -410,6 +431,28 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
         {"srgb8",
          "per pixel the largest difference of the three 8-bit sRGB channels after the sheet's exposure and tone map"}};
   }
+  if (!r.ideal.rgb.empty() && !r.stats.empty()) {
+    json groups = json::array();
+    for (const PreviewShareGroup& g : r.share_groups)
+      groups.push_back({{"name", g.name},
+                        {"spheres", g.spheres},
+                        {"error", {{"median", g.error_median}, {"worst", g.error_worst}}},
+                        {"engine_share", {{"median", g.engine_median}, {"worst", g.engine_worst}}},
+                        {"bake_share", {{"median", g.bake_median}, {"worst", g.bake_worst}}}});
+    json ideal = json::object();
+    for (const auto& [k, v] : r.ideal_bake) ideal[k] = v;
+    j["shares"] = {
+        {"definition",
+         "engine_share: per pixel |ideal - reference| / |reference|, the target's split-sum approximation itself (its "
+         "shader rendered from the ideal bake: what no file can change); bake_share: per pixel |split-sum - ideal| / "
+         "|reference|, what the files add (resolution, convergence, storage); per sphere the RMS, the 99th "
+         "percentile and the max over its pixels, per group the median and the worst sphere's RMS"},
+        {"how_they_add",
+         "the difference images add exactly, split-sum - reference = (split-sum - ideal) + (ideal - reference), pixel "
+         "by pixel; their RMS norms do not: |engine - bake| <= error <= engine + bake per sphere"},
+        {"ideal_bake", ideal},
+        {"groups", groups}};
+  }
   json bake = json::object();
   for (const auto& [k, v] : r.bake) bake[k] = v;
   j["bake"] = bake;
@@ -423,6 +466,7 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
                 {"reference", r.times.reference},
                 {"reference_device", r.times.reference_device},
                 {"bound", r.times.bound},
+                {"ideal", r.times.ideal},
                 {"total", r.times.total}};
   j["device"] = r.device;
   return j.dump(2) + "\n";

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "brdfbake/math/equirect.hpp"
 #include "brdfbake/plan.hpp"
 #include "families/preview/bake_files.hpp"
+#include "families/preview/ideal.hpp"
 #include "families/preview/iridescence.hpp"
 #include "families/preview/kernel.hpp"
 #include "families/preview/model.hpp"
@@ -120,6 +122,21 @@ double relative(const double* a, const double* b) {
       std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
   const double n = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
   return n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0);
+}
+
+// A default grid's sphere's group: its row's material ("gold r0.5" is "gold").
+std::string group_of(const std::string& name) {
+  const size_t at = name.rfind(" r");
+  if (at == std::string::npos || at + 2 >= name.size()) return name;
+  for (size_t k = at + 2; k < name.size(); ++k)
+    if (!(std::isdigit(static_cast<unsigned char>(name[k])) || name[k] == '.')) return name;
+  return name.substr(0, at);
+}
+
+double median_of(std::vector<double> x) {
+  if (x.empty()) return 0.0;
+  std::sort(x.begin(), x.end());
+  return x[x.size() / 2];
 }
 
 }  // namespace
@@ -243,25 +260,58 @@ std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::v
   return out;
 }
 
+std::vector<PreviewShareGroup> share_groups(const PreviewResult& r) {
+  // the default grid by its rows; any other list of materials by sphere
+  const std::vector<PreviewMaterial> grid = preview_default_materials();
+  bool rows = grid.size() == r.spheres.size();
+  for (size_t k = 0; rows && k < grid.size(); ++k) rows = grid[k].name == r.spheres[k].material.name;
+  std::vector<PreviewShareGroup> groups;
+  for (size_t k = 0; k < r.spheres.size() && k < r.stats.size(); ++k) {
+    const std::string name = rows ? group_of(r.spheres[k].material.name) : r.spheres[k].material.name;
+    auto g = std::find_if(groups.begin(), groups.end(), [&](const PreviewShareGroup& x) { return x.name == name; });
+    if (g == groups.end()) {
+      groups.push_back({});
+      g = groups.end() - 1;
+      g->name = name;
+    }
+    g->spheres.push_back(int(k));
+  }
+  for (PreviewShareGroup& g : groups) {
+    std::vector<double> total, engine, bake;
+    for (int k : g.spheres) {
+      total.push_back(r.stats[size_t(k)].linear.rms);
+      engine.push_back(r.stats[size_t(k)].engine_share.rms);
+      bake.push_back(r.stats[size_t(k)].bake_share.rms);
+    }
+    g.error_median = median_of(total);
+    g.error_worst = *std::max_element(total.begin(), total.end());
+    g.engine_median = median_of(engine);
+    g.engine_worst = *std::max_element(engine.begin(), engine.end());
+    g.bake_median = median_of(bake);
+    g.bake_worst = *std::max_element(bake.begin(), bake.end());
+  }
+  return groups;
+}
+
 }  // namespace detail::preview
 
 namespace detail::preview {
 
 namespace {
 
-// The split-sum render: the background (the bake's level 0, or grey) and each sphere pixel shaded
-// as the target's shader does from the bake's files.
-void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixels, SplitSum& split, const Vec3& v,
-                      PreviewResult& res) {
+// The split-sum render into `out`: the background (the bake's level 0, or grey) and each sphere pixel
+// shaded as the target's shader does from the bake's files.
+void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixels, const SplitSum& split,
+                      const Vec3& v, const PreviewResult& res, PreviewImage& out) {
   const bool grey = res.spec.background == PreviewBackground::Grey;
-  res.splitsum.width = layout.width;
-  res.splitsum.height = layout.height;
-  res.splitsum.rgb.assign(3 * size_t(layout.width) * size_t(layout.height), 0.18f);
+  out.width = layout.width;
+  out.height = layout.height;
+  out.rgb.assign(3 * size_t(layout.width) * size_t(layout.height), 0.18f);
   if (!grey)
     for (int y = 0; y < layout.height; ++y)
-      for (int x = 0; x < layout.width; ++x) put(res.splitsum, x, y, split.sky(background_direction(layout, x, y)));
+      for (int x = 0; x < layout.width; ++x) put(out, x, y, split.sky(background_direction(layout, x, y)));
   for (const SpherePixel& p : pixels)
-    put(res.splitsum, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material, float(p.normal_slope2)));
+    put(out, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material, float(p.normal_slope2)));
 }
 
 // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
@@ -580,6 +630,27 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
   }
 }
 
+// The shares per sphere (PreviewSphereStats::engine_share, bake_share: |ideal - reference| and
+// |split-sum - ideal| over |reference|, per pixel) and per group.
+void add_shares(const Layout& layout, const std::vector<SpherePixel>& pixels, PreviewResult& res) {
+  std::vector<std::vector<double>> engine(res.spheres.size()), bake(res.spheres.size());
+  for (const SpherePixel& p : pixels) {
+    const size_t at = 3 * (size_t(p.y) * size_t(layout.width) + size_t(p.x));
+    const float* s = &res.splitsum.rgb[at];
+    const float* i = &res.ideal.rgb[at];
+    const float* r = &res.reference.rgb[at];
+    const double n = rgb_norm(r);
+    const auto rel = [n](double d) { return n > 0.0 ? d / n : (d > 0.0 ? 1.0 : 0.0); };
+    engine[size_t(p.sphere)].push_back(rel(rgb_distance(i, r)));
+    bake[size_t(p.sphere)].push_back(rel(rgb_distance(s, i)));
+  }
+  for (size_t k = 0; k < res.spheres.size(); ++k) {
+    res.stats[k].engine_share = error_stats(engine[k]);
+    res.stats[k].bake_share = error_stats(bake[k]);
+  }
+  res.share_groups = share_groups(res);
+}
+
 }  // namespace
 
 }  // namespace detail::preview
@@ -683,12 +754,27 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   // The split-sum render.
   t0 = Clock::now();
   const Vec3 v = view_vector(layout.camera);
-  render_split_sum(layout, pixels, split, v, res);
+  render_split_sum(layout, pixels, split, v, res, res.splitsum);
   res.times.splitsum = since(t0);
   res.exposure = sheet_exposure(res, pixels, layout.width);
   if (progress) progress(0.15, "split-sum render");
 
+  // The ideal bake and its split-sum render (the error's shares): the same code, its inputs replaced.
+  // Not on the scalar reference backend: its chain's levels would take minutes there.
+  if (res.spec.reference && res.spec.shares && backend.is_reference())
+    res.ideal_bake.push_back({"not_computed", "the scalar reference backend (the ideal bake's chain needs a device)"});
+  if (res.spec.reference && res.spec.shares && !backend.is_reference()) {
+    if (progress) progress(0.15, "ideal bake");
+    t0 = Clock::now();
+    IdealBake ideal = ideal_bake(backend, environment, split.files());
+    res.ideal_bake = std::move(ideal.settings);
+    const SplitSum ideal_split(std::move(ideal.files), split_options);
+    render_split_sum(layout, pixels, ideal_split, v, res, res.ideal);
+    res.times.ideal = since(t0);
+  }
+
   if (res.spec.reference) render_reference(backend, equirect, layout, pixels, brdf, v, progress, res);
+  if (!res.ideal.rgb.empty()) add_shares(layout, pixels, res);
   res.device = backend.name();  // opened by now where the device was used
   res.times.total = since(t_start);
   return res;

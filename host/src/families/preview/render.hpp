@@ -34,4 +34,9 @@ std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::v
                                               const PreviewImage& splitsum, const PreviewImage& reference,
                                               double exposure);
 
+// The groups of a result's spheres and their shares (PreviewResult::share_groups): the default
+// grid's rows by their material ("gold r0.5" is in "gold"), any other material a group of its own;
+// per group the median and the worst sphere's relative RMS of the error and of each share.
+std::vector<PreviewShareGroup> share_groups(const PreviewResult& r);
+
 }  // namespace brdfbake::detail::preview

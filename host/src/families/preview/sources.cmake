@@ -9,6 +9,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   reference.cpp
   bake_files.cpp
   splitsum.cpp
+  ideal.cpp
   iridescence.cpp
   render.cpp
   output.cpp

@@ -235,7 +235,14 @@ SplitSum::SplitSum(BakeFiles files, SplitSumOptions options) : shading_(&engines
   sampler_.files = std::move(files);
   sampler_.options = options;
   const BakeFiles& f = sampler_.files;
-  for (int l = 0; l < f.specular.level_count(); ++l) sampler_.levels.push_back(SplitSumSampler::pad(f.specular, l));
+  if (f.specular_levels.empty()) {
+    for (int l = 0; l < f.specular.level_count(); ++l) sampler_.levels.push_back(SplitSumSampler::pad(f.specular, l));
+  } else {
+    if (int(f.specular_levels.size()) != f.specular.level_count())
+      throw Error("the ideal bake's chain has " + std::to_string(f.specular_levels.size()) + " levels, not " +
+                  std::to_string(f.specular.level_count()));
+    for (const CubeLevels& level : f.specular_levels) sampler_.levels.push_back(SplitSumSampler::pad(level, 0));
+  }
   if (!f.irradiance.levels.empty()) sampler_.irradiance.push_back(SplitSumSampler::pad(f.irradiance, 0));
   for (int l = 0; l < f.sheen.level_count(); ++l) sampler_.sheen_levels.push_back(SplitSumSampler::pad(f.sheen, l));
   if (shading_->prepare) shading_->prepare(sampler_);

@@ -1,0 +1,184 @@
+// The preview's ideal bake (ideal.hpp).
+#include "families/preview/ideal.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "brdfbake/engines.hpp"
+#include "brdfbake/error.hpp"
+#include "engines/registry.hpp"
+#include "families/prefilter/model.hpp"
+#include "families/preview/shading.hpp"
+#include "families/preview/splitsum_sampling.hpp"
+
+namespace brdfbake::detail::preview {
+
+namespace {
+
+// Level 1 of a two-level chain as a cube of one level.
+CubeLevels second_level(CubeLevels c) {
+  CubeLevels one;
+  one.size = c.level_size(1);
+  one.levels.push_back(std::move(c.levels.at(1)));
+  return one;
+}
+
+// A level's face size in the ideal chain: at least 4 x the files' level of the same index (its
+// bilinear interpolation error, second order in the texel, 1/16 of theirs), texels no wider than an
+// eighth of the lobe (pi/2 / S <= alpha / 8), at least kIdealMinLevelSize, at most `size` (a power
+// of two).
+int level_size(const BakeFiles& files, int l, double roughness, int size) {
+  const double alpha = std::max(roughness * roughness, 1e-4);
+  const double want = std::max({double(kIdealMinLevelSize), 4.0 * files.specular.level_size(l), 4.0 * M_PI / alpha});
+  int s = kIdealMinLevelSize;
+  while (s < size && double(s) < want) s *= 2;
+  return std::min(s, size);
+}
+
+// The GGX chain: level l of the files' N at schedule_roughness(the target's schedule, l, N), at its
+// level_size S, filtered from the environment converted to 2 S (a chain of two levels whose second is
+// at that roughness: prefilter_chain_at); level 0, the mirror, is the environment converted to 2 size.
+std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const BakeFiles& files, int size,
+                                    RoughnessSchedule schedule, Metadata& settings) {
+  const int n = files.specular.level_count();
+  std::map<int, CubeLevels> sources;  // by face size
+  const auto source = [&](int s) -> const CubeLevels& {
+    auto it = sources.find(s);
+    if (it == sources.end()) it = sources.emplace(s, environment_to_cube(device, env, s)).first;
+    return it->second;
+  };
+  std::vector<CubeLevels> out;
+  {
+    CubeLevels mirror;
+    mirror.size = 2 * size;
+    mirror.levels.push_back(source(2 * size).levels[0]);
+    out.push_back(std::move(mirror));
+  }
+  std::string roughness, sizes = std::to_string(2 * size);
+  PrefilterSpec spec;
+  spec.distribution = EnvDistribution::Ggx;
+  spec.schedule = schedule;
+  spec.precision = Precision::Fp32;
+  spec.refinement = kIdealRefinement;
+  for (int l = 1; l < n; ++l) {
+    const double r = schedule_roughness(schedule, l, n);
+    const int s = level_size(files, l, r, size);
+    spec.size = 2 * s;
+    spec.min_size = s;
+    CubeLevels copy;
+    copy.size = 2 * s;
+    copy.levels.push_back(source(2 * s).levels[0]);
+    out.push_back(second_level(prefilter_chain_at(device, std::move(copy), spec, {0.0, r})));
+    roughness += ", " + std::to_string(r).substr(0, 6);
+    sizes += ", " + std::to_string(s);
+  }
+  settings.push_back({"specular", std::to_string(n) +
+                                      " levels as the files' (the engine's LOD mapping unchanged), level 0 the "
+                                      "environment converted to a cube, every other level filtered on its own from "
+                                      "the environment converted to twice its size (quadrature, refinement " +
+                                      std::to_string(int(kIdealRefinement)) + "), float32, no storage"});
+  settings.push_back({"specular_sizes", sizes});
+  settings.push_back({"specular_schedule", std::string(roughness_schedule_name(schedule)) + " (the target's)"});
+  settings.push_back({"specular_roughness_per_level", "0" + roughness});
+  return out;
+}
+
+// The DFG table at its texel centres' exact albedos (exact_albedos: the DFG family's quadrature at
+// explicit coordinates), float32, with the files' axes and channels.
+Table ideal_dfg(Backend& backend, const BakeFiles& files, int size) {
+  std::vector<double> nvs(static_cast<size_t>(size)), rs(static_cast<size_t>(size));
+  for (int i = 0; i < size; ++i) {
+    const double u = (i + 0.5) / size;
+    nvs[size_t(i)] = files.dfg_sqrt_n_dot_v ? u * u : u;
+    rs[size_t(i)] = u;
+  }
+  const std::vector<double> ab = exact_albedos(backend, nvs, rs);
+  Table t;
+  t.width = t.height = size;
+  t.channels =
+      files.dfg_multiscatter ? std::vector<std::string>{"bias", "albedo"} : std::vector<std::string>{"scale", "bias"};
+  t.x_name = "n_dot_v";
+  t.y_name = "roughness";
+  t.x = nvs;
+  t.y = rs;
+  t.data.resize(2 * size_t(size) * size_t(size));
+  for (size_t k = 0; k < t.data.size() / 2; ++k) {
+    const double albedo = ab[2 * k], bias = ab[2 * k + 1];
+    if (files.dfg_multiscatter) {  // (bias, albedo)
+      t.data[2 * k] = float(bias);
+      t.data[2 * k + 1] = float(albedo);
+    } else {  // (scale, bias): albedo = scale + bias
+      t.data[2 * k] = float(albedo - bias);
+      t.data[2 * k + 1] = float(bias);
+    }
+  }
+  return t;
+}
+
+// The charlie table (KHR_materials_sheen's albedo scaling E(n.v, sheenRoughness)) likewise: each
+// texel the exact E at its centre (sheen_albedos: the charlie table's quadrature, Estevez & Kulla's
+// visibility), float32, the files' n.v axis.
+Table ideal_charlie(Backend& backend, const BakeFiles& files, int size) {
+  std::vector<double> nvs(static_cast<size_t>(size)), rs(static_cast<size_t>(size));
+  for (int i = 0; i < size; ++i) {
+    const double u = (i + 0.5) / size;
+    nvs[size_t(i)] = files.charlie_sqrt_n_dot_v ? u * u : u;
+    rs[size_t(i)] = u;
+  }
+  const std::vector<double> e = sheen_albedos(backend, nvs, rs);
+  Table t;
+  t.width = t.height = size;
+  t.channels = {files.charlie.channels.empty() ? std::string("albedo") : files.charlie.channels[0]};
+  t.x_name = "n_dot_v";
+  t.y_name = "sheen_roughness";
+  t.x = nvs;
+  t.y = rs;
+  t.data.assign(e.begin(), e.end());
+  return t;
+}
+
+}  // namespace
+
+IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFiles& files) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Device* device = backend.device();
+  if (!device) throw Error("the ideal bake (the error's shares) filters its chain on an OpenCL device");
+  IdealBake out;
+  out.files = files;
+  out.files.folder = "the ideal bake (in memory)";
+  const int size = std::clamp(files.specular.size, kIdealChainSize, kIdealChainMaxSize);
+  out.files.specular_levels =
+      ideal_chain(*device, environment, files, size, engine_settings(files.target).schedule, out.settings);
+  const double chain_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.settings.push_back({"specular_seconds", std::to_string(chain_seconds).substr(0, 6)});
+  out.files.specular_format = "float32 (the ideal bake)";
+  if (engines::target_def(files.target).engine_dfg) {
+    out.settings.push_back({"dfg", "the engine's own table (" + file_name(files.dfg_file) + "): no file changes it"});
+  } else {
+    out.files.dfg = ideal_dfg(backend, files, kIdealLutSize);
+    out.files.dfg_file = "the ideal DFG table";
+    out.settings.push_back({"dfg", std::to_string(kIdealLutSize) +
+                                       "^2 float32, each texel the exact albedos at its "
+                                       "centre (the DFG family's quadrature), the files' axes and channels"});
+  }
+  out.settings.push_back({"diffuse", "the files' own (" + file_name(files.diffuse_file) + ")"});
+  // KHR_materials_sheen: the charlie table where its visibility is the reference's (Estevez & Kulla);
+  // the Charlie chain stays the files'
+  if (files.charlie.width > 0 && (files.charlie_visibility.empty() || files.charlie_visibility == "estevez-kulla")) {
+    out.files.charlie = ideal_charlie(backend, files, kIdealLutSize);
+    out.files.charlie_file = "the ideal charlie table";
+    out.settings.push_back({"charlie", std::to_string(kIdealLutSize) +
+                                           "^2 float32, each texel the exact sheen albedo "
+                                           "at its centre (the charlie table's quadrature), the files' n.v axis"});
+  } else if (files.charlie.width > 0) {
+    out.settings.push_back({"charlie", "the files' own (" + files.charlie_visibility + " visibility, not replaced)"});
+  }
+  if (!files.sheen.levels.empty()) out.settings.push_back({"sheen", "the files' Charlie chain (not replaced)"});
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.settings.push_back({"seconds", std::to_string(out.seconds).substr(0, 6)});
+  return out;
+}
+
+}  // namespace brdfbake::detail::preview
