@@ -123,10 +123,8 @@ std::string summary_of(const PreviewResult& r) {
       bound = std::max(bound, st.reference_rms_bound);
     }
     std::sort(rms.begin(), rms.end());
-    std::snprintf(b, sizeof b,
-                  ": split-sum vs reference RMS %.2g%% median, %.2g%% worst sphere; reference within %.2g%% RMS",
-                  100.0 * rms[rms.size() / 2], 100.0 * rms.back(), 100.0 * bound);
-    s += b;
+    s += ": split-sum vs reference RMS " + percent_text(rms[rms.size() / 2]) + " median, " + percent_text(rms.back()) +
+         " worst sphere; reference within " + percent_text(bound) + " RMS";
   }
   if (!r.ideal.rgb.empty() && !r.stats.empty()) {
     std::vector<double> engine, bake;
@@ -136,10 +134,9 @@ std::string summary_of(const PreviewResult& r) {
     }
     std::sort(engine.begin(), engine.end());
     std::sort(bake.begin(), bake.end());
-    std::snprintf(b, sizeof b, "; engine share %.2g%% median, %.2g%% worst; bake share %.2g%% median, %.2g%% worst",
-                  100.0 * engine[engine.size() / 2], 100.0 * engine.back(), 100.0 * bake[bake.size() / 2],
-                  100.0 * bake.back());
-    s += b;
+    s += "; engine share " + percent_text(engine[engine.size() / 2]) + " median, " + percent_text(engine.back()) +
+         " worst; bake share " + percent_text(bake[bake.size() / 2]) + " median, " + percent_text(bake.back()) +
+         " worst";
   }
   std::snprintf(b, sizeof b,
                 "; %.2f s (bake %.2f, split-sum %.3f, reference %.2f, device %.2f, bound %.2f, ideal bake %.2f)",
