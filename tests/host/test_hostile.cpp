@@ -1918,6 +1918,26 @@ void smaller_classes(std::vector<Row>& rows) {
                    0)
                      .says("warning: charlie prefiltered chain: the chain's error bound")
                      .says("is above the max_error 0.01 asked"));
+  // Issue 35: a preview that bakes first keeps that bake when asked, and names its files where they are.
+  R kept("class7_preview_keeps_its_first_bake",
+         "preview --env builtin:sun --target filament --keep-bake {d}/kept -o {d}/p.png --width 192 --height 96 "
+         "--no-reference --quiet",
+         0);
+  kept.r.check_output = [](const fs::path& d) {
+    EXPECT_TRUE(fs::exists(d / "kept" / "manifest.json"));
+    EXPECT_TRUE(fs::exists(d / "kept" / "preview_ibl.ktx"));
+    std::ifstream in(d / "p.json");
+    const auto p = nlohmann::json::parse(in);
+    EXPECT_EQ(p["bake"].value("specular", ""), (d / "kept" / "preview_ibl.ktx").string()) << p["bake"].dump();
+  };
+  rows.push_back(kept);
+  rows.push_back(
+      R("class7_preview_keep_bake_must_be_new", "preview --env builtin:sun --keep-bake {d}/kept -o {d}/p.png", 2)
+          .file("kept/mine.txt", "the user's own file")
+          .says("--keep-bake")
+          .says("not an empty folder")
+          .keeps("kept/mine.txt")
+          .no("p.png"));
   rows.push_back(R("class7_bake_preview_on_the_reference_device",
                    "bake --env builtin:sun --preview --device reference --cube-size 16 -o {d}/o", 2)
                      .says("scalar reference")

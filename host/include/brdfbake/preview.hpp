@@ -98,6 +98,9 @@ struct PreviewSpec {
   // A bake's output folder (`brdfbake bake --target T -o DIR`, its manifest.json and files); empty:
   // baked first, into a temporary folder, with the target's settings and the same environment.
   std::string bake;
+  // With no `bake`: the folder the first bake is written to and kept (a new or empty folder), so
+  // the files the preview rendered can be found; empty: a temporary folder removed after the render.
+  std::string keep_bake;
   // The spheres: a material file (ours or glTF, as eval and tabulate read it, one sphere per
   // material); empty and `materials` empty: the default grid.
   std::string materials_file;

@@ -42,6 +42,10 @@ SpecSchema<PreviewSpec> preview_schema() {
             ParamDef("bake", T::Path,
                      "a bake's output folder (brdfbake bake --target T -o DIR); default: baked first with the target's "
                      "settings"))
+      .bind(&PreviewSpec::keep_bake, "keep_bake",
+            ParamDef("keep_bake", T::Path,
+                     "without bake: keep the first bake's files in this new (or empty) folder; default: a temporary "
+                     "folder removed after the render"))
       .bind("materials_file",
             ParamDef("materials", T::Path,
                      "the spheres: a material file (ours or glTF, as eval and tabulate read; one sphere "
@@ -168,6 +172,17 @@ class PreviewFamily final : public Family {
   void check(TableRequest& t, const FieldName& name) const override {
     if (t.find("materials") && t.find("scene"))
       throw FieldError("scene", "give " + name("materials") + " or " + name("scene") + ", not both");
+    if (t.find("keep_bake")) {
+      if (t.find("bake"))
+        throw FieldError("keep_bake", "give " + name("bake") + " or " + name("keep_bake") + ", not both");
+      std::error_code ec;
+      const fs::path keep = t.text("keep_bake");
+      const auto type = fs::symlink_status(keep, ec).type();
+      if (type != fs::file_type::not_found && (type != fs::file_type::directory || !fs::is_empty(keep, ec)))
+        throw FieldError("keep_bake", "'" + t.text("keep_bake") +
+                                          "' exists and is not an empty folder: give a new one (the first bake is "
+                                          "written there as a bake's output folder)");
+    }
     if (t.find("bake")) {
       std::error_code ec;
       if (!fs::is_regular_file(fs::path(t.text("bake")) / "manifest.json", ec))

@@ -672,8 +672,12 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   std::string folder = res.spec.bake;
   if (folder.empty()) {
     const auto t0 = Clock::now();
-    temp = std::make_unique<TempFolder>(scratch_dir);
-    folder = temp->path();
+    if (res.spec.keep_bake.empty()) {
+      temp = std::make_unique<TempFolder>(scratch_dir);
+      folder = temp->path();
+    } else {
+      folder = res.spec.keep_bake;  // kept: the JSON names its files where the user finds them
+    }
     bake_first(backend, environment, res.spec.target, folder,
                std::any_of(res.spheres.begin(), res.spheres.end(),
                            [](const PreviewSphere& s) { return preview_has_sheen(s.material); }),
@@ -683,9 +687,14 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   auto t0 = Clock::now();
   SplitSumOptions split_options;
   split_options.babylon_mix_ibl_radiance_with_irradiance = res.spec.mix_ibl_radiance_with_irradiance;
-  SplitSum split(read_bake_files(folder, res.spec.target, temp ? std::string() : environment.source), split_options);
+  const bool baked_first = res.spec.bake.empty();
+  SplitSum split(read_bake_files(folder, res.spec.target, baked_first ? std::string() : environment.source),
+                 split_options);
   res.times.read = since(t0);
   res.bake = split.files().settings;
+  if (baked_first && !temp)
+    res.bake[0].second = "baked first into " + folder + " (brdfbake bake --target " +
+                         std::string(engine_target_name(res.spec.target)) + "), kept";
   if (temp) {
     res.bake[0].second =
         "baked first (brdfbake bake --target " + std::string(engine_target_name(res.spec.target)) + ")";
