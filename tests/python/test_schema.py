@@ -106,7 +106,8 @@ CONTEXT = {
                  "symbol": {"layout": "albedo", "symbol": "albedo", "output": "a.h"}},
     # preview reads its files when validated: a material file (RED_FILE) and a bake folder (BAKE_DIR,
     # one holding a manifest.json), put in by request()
-    "preview": {"materials": {"materials": "RED_FILE"}, "scene": {"scene": "RED_FILE"}, "bake": {"bake": "BAKE_DIR"}},
+    "preview": {"materials": {"materials": "RED_FILE"}, "scene": {"scene": "RED_FILE"}, "bake": {"bake": "BAKE_DIR"},
+                "keep_bake": {"keep_bake": "NEW_DIR"}},
 }
 
 
@@ -119,7 +120,8 @@ def test_every_parameter_is_accepted_by_validation(kind, red_file, tmp_path):
     def request(args):
         if kind in ("eval", "tabulate"):
             args = dict(args, material=str(red_file))
-        args = {k: str(red_file) if v == "RED_FILE" else str(bake_dir) if v == "BAKE_DIR" else v for k, v in args.items()}
+        args = {k: str(red_file) if v == "RED_FILE" else str(bake_dir) if v == "BAKE_DIR"
+                else str(tmp_path / "kept") if v == "NEW_DIR" else v for k, v in args.items()}
         return brdfbake.validate(kind, **args)
 
     base = MINIMAL.get(kind, {})
