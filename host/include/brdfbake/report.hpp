@@ -34,7 +34,7 @@ struct BakeSweepOptions {
   // tried one at a time around every target's default; empty: kDefaultBakeFactors.
   std::vector<std::pair<std::string, std::vector<std::string>>> factors;
   int preview_width = 512;  // the preview's width; its height is half (the default grid's 12 x 6 square cells)
-  int runs = 3;             // bakes per setting, the median is reported; a bake over 1 s runs once
+  int runs = 3;             // bakes of each setting the recommendation may take (the median and spread); others once
   std::string keep_bakes;   // a folder: each setting's bake kept as DIR/TARGET/LABEL (else removed)
 };
 
@@ -86,24 +86,39 @@ struct PrefilterReport {
 extern const std::vector<std::pair<std::string, std::vector<std::string>>> kDefaultBakeFactors;
 
 // The error of one material group (a row of the default grid: white, grey, dark, gold, copper,
-// silver): over its spheres, the median and the largest relative RMS error in linear radiance.
+// silver): over its spheres, the median and the largest relative RMS error in linear radiance, and
+// the same of its two shares (docs/PREVIEW.md, "Engine share and bake share": the bake's, the files'
+// split-sum against the ideal bake's, what a setting can move; the engine's, the ideal bake's against
+// the reference, what no file changes), and the sharp-reflection probe's bake share (the worst of the
+// group's spheres below roughness 0.1, drawn where one texel of level 0 spans 2 pixels: render.hpp,
+// sharp_probe; -1: the group has none).
 struct BakeSweepGroup {
   std::string name;
   double median_rms = 0.0, max_rms = 0.0;
+  double bake_median = 0.0, bake_worst = 0.0;
+  double engine_median = 0.0, engine_worst = 0.0;
+  double sharp = -1.0;
 };
 struct BakeSweepPoint {
   std::string label;                 // "default", "cube_size=128", ...
   std::string option, value;         // empty for the default
   std::vector<double> wall_seconds;  // each run of the bake
   double seconds = 0.0;              // their median
+  double spread = 0.0;               // their largest minus their smallest (0 for one run)
   std::uint64_t bytes = 0;           // every file the bake wrote (manifest.json included)
   int files = 0;
   double splitsum_seconds = 0.0;  // the split-sum render
+  double ideal_seconds = 0.0;     // the ideal bake (0 when an earlier setting's is shared) and its render
   double error = 0.0;             // the median over every sphere of its relative RMS error
+  double bake_error = 0.0;        // the median over every sphere of its bake share (RMS)
+  double engine_error = 0.0;      // the median over every sphere of its engine share (RMS)
   std::vector<BakeSweepGroup> groups;
   std::vector<double> sphere_rms, sphere_p99, sphere_max;  // per sphere, linear radiance
+  std::vector<double> sphere_bake, sphere_engine;          // per sphere, the shares' RMS
+  std::vector<double> sphere_sharp;                        // per sphere, the probe's (-1: not probed)
   bool pareto_time = false;   // no other point of the target is at most as slow and as wrong, one strictly
   bool pareto_bytes = false;  // the same with bytes
+  bool eligible = false;      // within the recommendation's tolerances (kBakeRecommendWithin, kBakeSharpWithin)
   std::string folder;         // the kept bake (keep_bakes), else empty
 };
 struct BakeSweepTarget {
@@ -111,11 +126,19 @@ struct BakeSweepTarget {
   double reference_seconds = 0.0;      // the reference render (once per target and BRDF)
   double reference_bound = 0.0;        // the reference's largest per-sphere RMS bound
   std::vector<BakeSweepPoint> points;  // points[0] is the target's default
-  int recommended = -1;                // index into points (kBakeRecommendRule), -1: none
+  int recommended = -1;                // index into points (the rule below), -1: none
+  std::vector<std::string> ties;       // the eligible settings whose time ties the recommended's
+  std::string why;                     // the recommendation in words: the rule's outcome, its ties
   std::vector<std::string> skipped;    // "cube_size=100: why"
 };
-// The recommended setting: the fastest whose error is within this factor of the target's best.
+// The recommended setting (mark_bake_sweep): among the settings whose bake share on every material
+// group's worst sphere is within kBakeRecommendWithin of the best any setting reached for that group,
+// and whose sharp-reflection probe on every group is within kBakeSharpWithin of the default's (no
+// blurrier reflections than the default's), the fastest by its median time; a setting whose median
+// differs from the fastest's by less than either's spread (the largest minus the smallest of its
+// runs) is a tie, and of the tied settings the one with the fewest bytes is taken.
 inline constexpr double kBakeRecommendWithin = 1.10;
+inline constexpr double kBakeSharpWithin = 1.02;
 struct BakeSweep {
   std::string environment;
   int preview_width = 0;

@@ -26,20 +26,24 @@
 #include "brdfbake/plan.hpp"
 #include "brdfbake/preview.hpp"
 #include "brdfbake/report.hpp"
+#include "families/preview/bake_files.hpp"
+#include "families/preview/ideal.hpp"
 #include "families/preview/model.hpp"
 #include "families/preview/render.hpp"
+#include "families/preview/splitsum.hpp"
 
 namespace brdfbake {
 
+// What moves the bake's share of the render's error (issue 35): the chain's sizes, its schedule where
+// the engine reads it, its refinement and its texels' storage (ASTC where the target takes it). The
+// DFG table's size and axis and the SH order moved no target's render by 0.1 % of itself in the
+// sweeps of docs/REPORT.md: `--vary lut_size=16,32` and the like measure them on demand.
 const std::vector<std::pair<std::string, std::vector<std::string>>> kDefaultBakeFactors = {
     {"cube_size", {"64", "128", "512"}},
     {"min_size", {"4", "64"}},
     {"schedule", {"sqrt"}},
-    {"lut_size", {"16", "32", "64"}},
-    {"n_dot_v_axis", {"sqrt"}},
-    {"pixel", {"f32"}},
-    {"sh_order", {"5"}},
     {"prefilter_max_error", {"0.03", "0.003"}},
+    {"pixel", {"f32", "astc4x4", "astc6x6"}},
 };
 
 namespace {
@@ -47,10 +51,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// A bake cheaper than this is run `runs` times and the median reported; a slower one once (its
-// scatter from run to run is small against its time).
-constexpr double kRepeatBelowSeconds = 1.0;
 
 // A folder removed with everything in it on destruction (unless kept).
 class Folder {
@@ -145,24 +145,55 @@ std::vector<PreviewErrorStats> compare(const PreviewResult& split, const Preview
 }
 
 // The material groups of the spheres: the first word of each material's name ("gold r0.2": gold), in
-// order of first appearance.
-void fill_errors(BakeSweepPoint& pt, const PreviewResult& split, const std::vector<PreviewErrorStats>& stats) {
+// order of first appearance; per group the error's, the shares' and the probe's figures.
+void fill_errors(BakeSweepPoint& pt, const PreviewResult& split, const std::vector<PreviewErrorStats>& stats,
+                 const std::vector<PreviewSphereStats>& shares, const std::vector<double>& sharp) {
   std::vector<std::string> order;
-  std::map<std::string, std::vector<double>> by;
+  std::map<std::string, std::vector<size_t>> by;
   for (size_t s = 0; s < stats.size(); ++s) {
     pt.sphere_rms.push_back(stats[s].rms);
     pt.sphere_p99.push_back(stats[s].p99);
     pt.sphere_max.push_back(stats[s].max);
+    pt.sphere_bake.push_back(shares[s].bake_share.rms);
+    pt.sphere_engine.push_back(shares[s].engine_share.rms);
+    pt.sphere_sharp.push_back(sharp[s]);
     const std::string& name = split.spheres[s].material.name;
     const std::string group = name.substr(0, name.find(' '));
     if (!by.count(group)) order.push_back(group);
-    by[group].push_back(stats[s].rms);
+    by[group].push_back(s);
   }
-  for (const auto& g : order) {
-    const std::vector<double>& v = by[g];
-    pt.groups.push_back({g, median(v), *std::max_element(v.begin(), v.end())});
+  for (const auto& name : order) {
+    std::vector<double> total, bake, engine;
+    BakeSweepGroup g;
+    g.name = name;
+    for (size_t s : by[name]) {
+      total.push_back(pt.sphere_rms[s]);
+      bake.push_back(pt.sphere_bake[s]);
+      engine.push_back(pt.sphere_engine[s]);
+      g.sharp = std::max(g.sharp, pt.sphere_sharp[s]);
+    }
+    g.median_rms = median(total);
+    g.max_rms = *std::max_element(total.begin(), total.end());
+    g.bake_median = median(bake);
+    g.bake_worst = *std::max_element(bake.begin(), bake.end());
+    g.engine_median = median(engine);
+    g.engine_worst = *std::max_element(engine.begin(), engine.end());
+    pt.groups.push_back(g);
   }
   pt.error = median(pt.sphere_rms);
+  pt.bake_error = median(pt.sphere_bake);
+  pt.engine_error = median(pt.sphere_engine);
+}
+
+// Bakes `job` into `dir` once more and adds its wall time to pt (the folder is replaced).
+void timed_bake(const Job& job, const fs::path& dir, const RunOptions& ro, BakeSweepPoint& pt) {
+  fs::remove_all(dir);
+  const auto t0 = Clock::now();
+  run_job(job, {}, ro);
+  pt.wall_seconds.push_back(since(t0));
+  pt.seconds = median(pt.wall_seconds);
+  const auto [lo, hi] = std::minmax_element(pt.wall_seconds.begin(), pt.wall_seconds.end());
+  pt.spread = *hi - *lo;
 }
 
 }  // namespace
@@ -172,7 +203,7 @@ void mark_bake_sweep(BakeSweepTarget& t) {
     for (size_t j = 0; j < t.points.size(); ++j) {
       if (j == i) continue;
       const double ci = cost(t.points[i]), cj = cost(t.points[j]);
-      const double ei = t.points[i].error, ej = t.points[j].error;
+      const double ei = t.points[i].bake_error, ej = t.points[j].bake_error;
       if (cj <= ci && ej <= ei && (cj < ci || ej < ei)) return true;
     }
     return false;
@@ -182,13 +213,71 @@ void mark_bake_sweep(BakeSweepTarget& t) {
     t.points[i].pareto_bytes = !dominated(i, [](const BakeSweepPoint& p) { return double(p.bytes); });
   }
   t.recommended = -1;
+  t.ties.clear();
+  t.why.clear();
   if (t.points.empty()) return;
-  double best = HUGE_VAL;
-  for (const auto& p : t.points) best = std::min(best, p.error);
+  // Per group, the best bake share any setting reached on its worst sphere; the default's probe.
+  const BakeSweepPoint& def = t.points.front();
+  std::map<std::string, double> best;
+  for (const auto& p : t.points)
+    for (const auto& g : p.groups) {
+      auto it = best.find(g.name);
+      if (it == best.end() || g.bake_worst < it->second) best[g.name] = g.bake_worst;
+    }
+  std::map<std::string, double> default_sharp;
+  for (const auto& g : def.groups)
+    if (g.sharp >= 0.0) default_sharp[g.name] = g.sharp;
+  for (auto& p : t.points) {
+    p.eligible = true;
+    for (const auto& g : p.groups) {
+      if (g.bake_worst > kBakeRecommendWithin * best[g.name]) p.eligible = false;
+      const auto ds = default_sharp.find(g.name);
+      if (ds != default_sharp.end() && g.sharp >= 0.0 && g.sharp > kBakeSharpWithin * ds->second) p.eligible = false;
+    }
+  }
+  int fastest = -1;
   for (size_t i = 0; i < t.points.size(); ++i)
-    if (t.points[i].error <= kBakeRecommendWithin * best &&
-        (t.recommended < 0 || t.points[i].seconds < t.points[size_t(t.recommended)].seconds))
-      t.recommended = int(i);
+    if (t.points[i].eligible && (fastest < 0 || t.points[i].seconds < t.points[size_t(fastest)].seconds))
+      fastest = int(i);
+  if (fastest < 0) {
+    t.why = "no setting is within the tolerances on every group (none recommended)";
+    return;
+  }
+  // The ties: eligible settings whose median differs from the fastest's by less than either spread.
+  const BakeSweepPoint& f = t.points[size_t(fastest)];
+  std::vector<int> tied;
+  for (size_t i = 0; i < t.points.size(); ++i) {
+    const BakeSweepPoint& p = t.points[i];
+    if (p.eligible && std::abs(p.seconds - f.seconds) <= std::max(p.spread, f.spread)) tied.push_back(int(i));
+  }
+  int pick = fastest;
+  for (int i : tied) {
+    const BakeSweepPoint &p = t.points[size_t(i)], &q = t.points[size_t(pick)];
+    if (p.bytes < q.bytes || (p.bytes == q.bytes && p.seconds < q.seconds)) pick = i;
+  }
+  t.recommended = pick;
+  for (int i : tied)
+    if (i != pick) t.ties.push_back(t.points[size_t(i)].label);
+  int eligible = 0;
+  for (const auto& p : t.points) eligible += p.eligible ? 1 : 0;
+  const BakeSweepPoint& r = t.points[size_t(pick)];
+  char text[160];
+  std::snprintf(text, sizeof text, "%d of %zu settings within the tolerances; ", eligible, t.points.size());
+  t.why = text;
+  if (eligible == 1) {
+    t.why += r.label;
+  } else if (t.ties.empty()) {
+    t.why += r.label + " is the fastest of them";
+  } else {
+    std::string list;
+    for (const auto& l : t.ties) list += (list.empty() ? "" : ", ") + l;
+    t.why += r.label + " ties in time with " + list + " (their medians differ by less than their spread): of them it " +
+             "writes the fewest bytes";
+  }
+  if (eligible == 1)
+    t.why += " (the only one: not timed again)";
+  else if (r.wall_seconds.size() < 2)
+    t.why += "; timed once (no spread)";
 }
 
 void check_bake_sweep(const BakeSweepOptions& o) {
@@ -216,6 +305,7 @@ void check_bake_sweep(const BakeSweepOptions& o) {
 
 BakeSweep sweep_bake(const std::string& environment, const std::string& device, const BakeSweepOptions& o,
                      const std::function<void(const std::string&)>& log) {
+  using namespace detail::preview;
   const auto t_start = Clock::now();
   auto say = [&](const std::string& s) {
     if (log) log(s);
@@ -238,7 +328,12 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
     BakeSweepTarget bt;
     bt.target = target;
     std::map<std::string, std::shared_ptr<PreviewResult>> references;  // by BRDF
+    // The ideal bake's parts (ideal.hpp), shared by settings of the same key: the default's, kept for
+    // the whole target (most settings change the storage or the refinement, not the chain's shape),
+    // and the last other one. At most these two are held (the memory of the sweep).
+    std::shared_ptr<IdealParts> default_parts, other_parts;
     std::string default_job;
+    std::vector<Job> jobs;  // the job of each point, for the timing runs that follow
     std::vector<std::pair<std::string, std::string>> settings = {{"", ""}};
     for (const auto& f : factors)
       for (const auto& v : f.second) settings.push_back({f.first, v});
@@ -267,13 +362,7 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
       const fs::path dir = root / target / label;
       job.output_dir = dir.string();
       try {
-        for (int run = 0; run < o.runs; ++run) {
-          fs::remove_all(dir);
-          const auto t0 = Clock::now();
-          run_job(job, {}, ro);
-          pt.wall_seconds.push_back(since(t0));
-          if (pt.wall_seconds.back() >= kRepeatBelowSeconds) break;
-        }
+        timed_bake(job, dir, ro, pt);
       } catch (const Cancelled&) {
         throw;  // SIGINT, SIGTERM: the whole report stops
       } catch (const Error& e) {
@@ -281,7 +370,6 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
         say("  bake " + target + " " + label + ": failed (" + e.what() + ")");
         continue;
       }
-      pt.seconds = median(pt.wall_seconds);
       folder_size(dir, &pt.bytes, &pt.files);
       if (!o.keep_bakes.empty()) pt.folder = dir.string();
 
@@ -291,7 +379,7 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
       spec.width = o.preview_width;
       spec.height = o.preview_width / 2;
       spec.reference = false;
-      spec.shares = false;  // the sweep compares bakes against one reference (the shares: issue 35's next part)
+      spec.shares = false;  // the shares below, the ideal bake shared between settings
       auto t0 = Clock::now();
       PreviewResult split = render_preview(*backend, env, spec);
       pt.splitsum_seconds = since(t0);
@@ -303,19 +391,64 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
         bt.reference_seconds += since(t0);
         for (const auto& s : ref->stats) bt.reference_bound = std::max(bt.reference_bound, s.reference_rms_bound);
       }
-      fill_errors(pt, split, compare(split, *ref));
-      char line[200];
-      std::snprintf(line, sizeof line, "  bake %s %s: %.2f s (%zu run%s), %.3g MB, error %.3g (median sphere RMS)",
-                    target.c_str(), label.c_str(), pt.seconds, pt.wall_seconds.size(),
-                    pt.wall_seconds.size() == 1 ? "" : "s", double(pt.bytes) / 1e6, pt.error);
+      // The ideal bake of these files (its parts shared where the key is the same) and its split-sum
+      // render; the shares against the reference as render_preview computes them; the probe.
+      t0 = Clock::now();
+      BakeFiles files = read_bake_files(dir.string(), spec.target, env.source);
+      const std::string key = ideal_parts_key(files);
+      std::shared_ptr<IdealParts> parts = default_parts && default_parts->key == key ? default_parts
+                                          : other_parts && other_parts->key == key   ? other_parts
+                                                                                     : nullptr;
+      if (!parts) {
+        other_parts.reset();  // its memory first
+        parts = std::make_shared<IdealParts>(ideal_parts(*backend, env, files));
+        (option.empty() ? default_parts : other_parts) = parts;
+      }
+      SplitSumOptions split_options;
+      split_options.babylon_mix_ibl_radiance_with_irradiance = split.spec.mix_ibl_radiance_with_irradiance;
+      const SplitSum ideal_split(apply_ideal_parts(*parts, files).files, split_options);
+      const SplitSum files_split(std::move(files), split_options);
+      const Layout layout = make_layout(split.spec);
+      const std::vector<SpherePixel> pixels = sphere_pixels(layout);
+      PreviewResult shares = split;  // its split-sum image and spheres, with the reference and the ideal
+      shares.reference = ref->reference;
+      render_split_sum(layout, pixels, ideal_split, view_vector(layout.camera), shares, shares.ideal);
+      const std::vector<PreviewErrorStats> stats = compare(split, *ref);
+      shares.stats = sphere_errors(layout, pixels, shares.splitsum, shares.reference, shares.exposure);
+      add_shares(layout, pixels, shares);
+      const std::vector<double> sharp = sharp_probe(layout, files_split, ideal_split);
+      pt.ideal_seconds = since(t0);
+      fill_errors(pt, split, stats, shares.stats, sharp);
+      char line[260];
+      std::snprintf(line, sizeof line,
+                    "  bake %s %s: %.2f s, %.3g MB, error %.3g (median sphere RMS), bake share %.3g, engine share %.3g",
+                    target.c_str(), label.c_str(), pt.seconds, double(pt.bytes) / 1e6, pt.error, pt.bake_error,
+                    pt.engine_error);
       say(line);
       if (o.keep_bakes.empty()) fs::remove_all(dir);
       bt.points.push_back(std::move(pt));
+      jobs.push_back(std::move(job));
     }
     if (bt.points.empty() || bt.points.front().label != "default")
       throw Error("the bake sweep could not bake the default of target " + target +
                   (bt.skipped.empty() ? std::string() : " (" + bt.skipped.front() + ")"));
+    // The settings the recommendation may take are timed again, up to `runs` runs each: the median
+    // and the spread that decide it (the others keep their one run). One bake's files at a time.
+    // With one setting eligible, no time decides: it is not timed again.
     mark_bake_sweep(bt);
+    const auto eligible = std::count_if(bt.points.begin(), bt.points.end(), [](const auto& p) { return p.eligible; });
+    for (size_t i = 0; i < bt.points.size() && eligible > 1; ++i) {
+      BakeSweepPoint& pt = bt.points[i];
+      if (!pt.eligible) continue;
+      const fs::path dir = root / target / ("timing-" + pt.label);
+      Job job = jobs[i];
+      job.output_dir = dir.string();
+      while (int(pt.wall_seconds.size()) < o.runs) timed_bake(job, dir, ro, pt);
+      fs::remove_all(dir);
+    }
+    mark_bake_sweep(bt);
+    say("  " + target + ": recommended " +
+        (bt.recommended >= 0 ? bt.points[size_t(bt.recommended)].label : std::string("none")) + " (" + bt.why + ")");
     sweep.targets.push_back(std::move(bt));
   }
   sweep.seconds = since(t_start);

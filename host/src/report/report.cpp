@@ -152,17 +152,35 @@ json bake_json(const BakeSweep& s) {
   b["seconds"] = s.seconds;
   b["time_definition"] =
       "wall seconds of the whole bake as `brdfbake bake --target T` runs it (planner, environment load, every table, "
-      "the engine's files, manifest; programs cached, the backend warm), the median of up to 3 runs (one above 1 s)";
+      "the engine's files, manifest; programs cached, the backend warm): every setting once, the settings the "
+      "recommendation may take again up to --runs "
+      "runs (default 3); 'seconds' the median of 'wall_seconds', 'spread' their largest minus their smallest";
   b["bytes_definition"] = "every file the bake wrote, manifest.json included";
   b["error_definition"] =
       "per sphere, the relative RMS over its pixels of |split-sum - reference| / |reference| (linear RGB norms), the "
       "split-sum render from the setting's files, the reference rendered once per target (brdfbake preview); "
       "'error' is the median over the spheres, groups the median and max over each row of the default grid";
+  b["shares_definition"] =
+      "per sphere, the bake's share: the relative RMS of |split-sum(files) - split-sum(ideal bake)| / |reference|, "
+      "what "
+      "the setting's files add (resolution, refinement, storage); the engine's share: of |split-sum(ideal bake) - "
+      "reference| / |reference|, the target's split-sum approximation that no file changes (docs/PREVIEW.md, 'Engine "
+      "share and bake share'); the ideal bake made for the files' chain shape (level count and sizes), shared by the "
+      "settings of the same shape";
+  b["sharp_definition"] =
+      "per sphere below roughness 0.1 (sphere_sharp, -1 for the others; a group's 'sharp' the worst of its spheres): "
+      "the bake's share drawn at a radius of 2 x the files' level-0 face size in pixels (one texel of level 0 spans "
+      ">= 2 pixels at the sphere's centre), the RMS over 16384 of its pixels of |files - ideal| / |ideal|";
   b["pareto_definition"] =
       "a point is on the front when no other point of its target is at most as slow (or as large) and at most as "
       "wrong, one of them strictly";
-  b["recommended_rule"] = "the fastest setting whose error is within " +
-                          std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) + "% of the target's best";
+  b["recommended_rule"] =
+      "among the settings whose bake share on every group's worst sphere is within " +
+      std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
+      "% of the best any setting reached for that group, and whose sharp-reflection probe on every group is within " +
+      std::to_string(int(std::lround((kBakeSharpWithin - 1) * 100))) +
+      "% of the default's ('eligible'), the fastest by its median time; settings whose medians differ by less than "
+      "either's spread tie ('ties'), and of them the one with the fewest bytes is taken";
   json targets = json::array();
   for (const auto& t : s.targets) {
     json tj;
@@ -172,27 +190,44 @@ json bake_json(const BakeSweep& s) {
     json pts = json::array();
     for (const auto& p : t.points) {
       json groups = json::object();
-      for (const auto& g : p.groups) groups[g.name] = {{"median_rms", g.median_rms}, {"max_rms", g.max_rms}};
+      for (const auto& g : p.groups)
+        groups[g.name] = {{"median_rms", g.median_rms},
+                          {"max_rms", g.max_rms},
+                          {"bake_median", g.bake_median},
+                          {"bake_worst", g.bake_worst},
+                          {"engine_median", g.engine_median},
+                          {"engine_worst", g.engine_worst},
+                          {"sharp", g.sharp >= 0.0 ? json(g.sharp) : json(nullptr)}};
       json pj = {{"label", p.label},
                  {"option", p.option},
                  {"value", p.value},
                  {"seconds", p.seconds},
+                 {"spread", p.spread},
                  {"wall_seconds", p.wall_seconds},
                  {"bytes", p.bytes},
                  {"files", p.files},
                  {"splitsum_seconds", p.splitsum_seconds},
+                 {"ideal_seconds", p.ideal_seconds},
                  {"error", p.error},
+                 {"bake_error", p.bake_error},
+                 {"engine_error", p.engine_error},
                  {"groups", groups},
                  {"sphere_rms", p.sphere_rms},
                  {"sphere_p99", p.sphere_p99},
                  {"sphere_max", p.sphere_max},
+                 {"sphere_bake", p.sphere_bake},
+                 {"sphere_engine", p.sphere_engine},
+                 {"sphere_sharp", p.sphere_sharp},
                  {"pareto_time", p.pareto_time},
-                 {"pareto_bytes", p.pareto_bytes}};
+                 {"pareto_bytes", p.pareto_bytes},
+                 {"eligible", p.eligible}};
       if (!p.folder.empty()) pj["folder"] = p.folder;
       pts.push_back(pj);
     }
     tj["points"] = pts;
     tj["recommended"] = t.recommended >= 0 ? json(t.points[size_t(t.recommended)].label) : json(nullptr);
+    tj["ties"] = t.ties;
+    tj["why"] = t.why;
     tj["skipped"] = t.skipped;
     targets.push_back(tj);
   }

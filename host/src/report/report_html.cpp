@@ -414,7 +414,7 @@ std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
   auto cost = [&](const BakeSweepPoint& p) { return bytes ? double(p.bytes) / 1e6 : p.seconds; };
   for (const auto& p : t.points) {
     all.x.push_back(cost(p));
-    all.y.push_back(p.error);
+    all.y.push_back(p.bake_error);
     all.labels.push_back(p.label);
     const bool pareto = bytes ? p.pareto_bytes : p.pareto_time;
     all.label_modes.push_back(pareto ? Series::Label::Never : Series::Label::IfRoom);  // the front's label
@@ -423,48 +423,74 @@ std::string bake_plot(const BakeSweepTarget& t, bool bytes) {
   std::sort(f.begin(), f.end(), [&](const BakeSweepPoint* a, const BakeSweepPoint* b) { return cost(*a) < cost(*b); });
   for (const BakeSweepPoint* p : f) {
     front.x.push_back(cost(*p));
-    front.y.push_back(p->error);
+    front.y.push_back(p->bake_error);
     front.labels.push_back(p->label);
   }
-  return svg_plot(t.target + ": render error against " + (bytes ? "bytes" : "bake time"),
+  return svg_plot(t.target + ": the bake's share against " + (bytes ? "bytes" : "bake time"),
                   bytes ? "bytes written (MB)" : "whole bake, wall seconds",
-                  "median sphere RMS error (split-sum vs ref)", {all, front}, true, true, true);
+                  "bake share, median sphere RMS (files vs ideal)", {all, front}, true, true, true);
+}
+
+// The worst over a point's groups of their worst sphere's bake share, and of their probe.
+double worst_bake(const BakeSweepPoint& p) {
+  double w = 0.0;
+  for (const auto& g : p.groups) w = std::max(w, g.bake_worst);
+  return w;
+}
+std::string worst_sharp(const BakeSweepPoint& p) {
+  double w = -1.0;
+  for (const auto& g : p.groups) w = std::max(w, g.sharp);
+  return w < 0.0 ? "&ndash;" : pct(w);
+}
+std::string seconds_text(const BakeSweepPoint& p) {
+  return fmt(p.seconds, "%.2f") + (p.wall_seconds.size() > 1 ? " &plusmn; " + fmt(0.5 * p.spread, "%.2f") : "");
 }
 
 void bake_section(std::ostringstream& o, const BakeSweep& s) {
   o << "<h2>What each bake setting costs, at the level of the render</h2>\n";
   o << "<p>Environment <code>" << esc(s.environment) << "</code>. For each target, its default bake and one setting "
     << "changed at a time, each baked as <code>brdfbake bake --target T --OPTION VALUE</code> runs it (wall seconds of "
-       "the whole bake with the programs cached: the median of up to 3 runs, one above 1 s; bytes: every file written) "
-       "and rendered by the target's split-sum shader (<code>brdfbake preview</code>, the default grid at "
+       "the whole bake with the programs cached; the settings the recommendation may take timed 3 times: the median "
+       "&plusmn; half the spread; bytes: every file written) and rendered by the target's split-sum shader "
+       "(<code>brdfbake preview</code>, the default grid at "
     << s.preview_width << "&times;" << s.preview_width / 2
-    << ") against the converged reference render (once per target). Error: per sphere the relative RMS of "
-       "|split-sum &minus; reference| / |reference| in linear radiance; a point's error is the median over the 72 "
-       "spheres. Recommended: the fastest setting whose error is within "
+    << ") against the converged reference render (once per target). The render's error splits in two "
+       "(docs/PREVIEW.md): the <b>engine's share</b>, the target's split-sum approximation rendered from an ideal "
+       "bake (converged chain levels at the engine's roughness per level, exact DFG values, no storage), which no "
+       "setting changes, and the <b>bake's share</b>, the files' render against the ideal bake's: what a setting "
+       "buys. Sharp reflections: each group's spheres below roughness 0.1 drawn again where one texel of level 0 "
+       "spans 2 pixels (the bake's share there; a 20-pixel sphere cannot show a chain's resolution). "
+       "<b>Recommended</b>: among the settings whose bake share on every group's worst sphere is within "
     << fmt((kBakeRecommendWithin - 1) * 100, "%.0f")
-    << "% of the target's best. Most of the error is the split-sum approximation itself, which no setting removes: "
-       "the settings move it little, and the cheapest that reaches the floor is the one to bake. The sweep took "
+    << "% of the best any setting reached for the group, and whose sharp reflections are within "
+    << fmt((kBakeSharpWithin - 1) * 100, "%.0f")
+    << "% of the default's on every group, the fastest; settings whose times differ by less than their spread tie, "
+       "and the tie goes to the fewest bytes. The sweep took "
     << fmt(s.seconds, "%.0f") << " s.</p>\n";
-  o << "<table><tr><th>target</th><th>recommended</th><th>bake (s)</th><th>bytes</th><th>error</th>"
-       "<th>default: bake (s)</th><th>bytes</th><th>error</th><th>best error (setting)</th></tr>\n";
+  o << "<table><tr><th>target</th><th>recommended</th><th>bake (s)</th><th>bytes</th><th>bake share (worst "
+       "sphere)</th><th>sharp</th><th>error</th><th>default: bake (s)</th><th>bytes</th><th>bake share (worst "
+       "sphere)</th><th>sharp</th><th>error</th><th>engine share</th><th>why</th></tr>\n";
   for (const auto& t : s.targets) {
     if (t.points.empty()) continue;
     const BakeSweepPoint& d = t.points.front();
-    const BakeSweepPoint* best = &d;
-    for (const auto& p : t.points)
-      if (p.error < best->error) best = &p;
     o << "<tr><td>" << esc(t.target) << "</td>";
     if (t.recommended >= 0) {
       const BakeSweepPoint& r = t.points[size_t(t.recommended)];
-      o << "<td><b>" << esc(r.label) << "</b></td><td>" << fmt(r.seconds, "%.2f") << "</td><td>" << megabytes(r.bytes)
+      o << "<td><b>" << esc(r.label) << "</b></td><td>" << seconds_text(r) << "</td><td>" << megabytes(r.bytes)
+        << "</td><td>" << pct(r.bake_error) << " (" << pct(worst_bake(r)) << ")</td><td>" << worst_sharp(r)
         << "</td><td>" << pct(r.error) << "</td>";
     } else {
-      o << "<td>&ndash;</td><td></td><td></td><td></td>";
+      o << "<td>&ndash;</td><td></td><td></td><td></td><td></td><td></td>";
     }
-    o << "<td>" << fmt(d.seconds, "%.2f") << "</td><td>" << megabytes(d.bytes) << "</td><td>" << pct(d.error)
-      << "</td><td>" << pct(best->error) << " (" << esc(best->label) << ")</td></tr>\n";
+    o << "<td>" << seconds_text(d) << "</td><td>" << megabytes(d.bytes) << "</td><td>" << pct(d.bake_error) << " ("
+      << pct(worst_bake(d)) << ")</td><td>" << worst_sharp(d) << "</td><td>" << pct(d.error) << "</td><td>"
+      << pct(d.engine_error) << "</td><td>" << esc(t.why) << "</td></tr>\n";
   }
   o << "</table>\n";
+  o << "<p class=\"note\">Bake share and error: the median over the 72 spheres of each sphere's relative RMS (the "
+       "worst "
+       "sphere of any group in brackets); sharp: the worst group's probe; engine share: the default's median (it "
+       "changes only with the chain's level count).</p>\n";
   for (const auto& t : s.targets) {
     if (t.points.empty()) continue;
     o << "<h3>" << esc(t.target) << "</h3>\n<div class=\"plots\">" << bake_plot(t, false) << bake_plot(t, true)
@@ -474,19 +500,25 @@ void bake_section(std::ostringstream& o, const BakeSweep& s) {
          "Reference render: "
       << fmt(t.reference_seconds, "%.1f")
       << " s; its own bound (worst sphere, relative RMS): " << pct(t.reference_bound)
-      << ". Group columns: the median sphere RMS error over the row's 12 roughnesses (the worst in brackets).</p>\n";
-    o << "<table><tr><th>setting</th><th>bake (s)</th><th>runs</th><th>bytes</th><th>files</th><th>error</th>";
+      << ". Group columns: the bake's share, the median sphere RMS over the row's 12 roughnesses (the worst in "
+         "brackets), and the probe of its sharp reflections after the slash. Recommendation: "
+      << esc(t.why) << ".</p>\n";
+    o << "<table><tr><th>setting</th><th>bake (s)</th><th>runs</th><th>bytes</th><th>files</th><th>error</th>"
+         "<th>engine share</th><th>bake share</th>";
     if (!t.points.front().groups.empty())
       for (const auto& g : t.points.front().groups) o << "<th>" << esc(g.name) << "</th>";
-    o << "<th>Pareto (time, bytes)</th></tr>\n";
+    o << "<th>eligible</th><th>Pareto (time, bytes)</th></tr>\n";
     for (size_t i = 0; i < t.points.size(); ++i) {
       const BakeSweepPoint& p = t.points[i];
       o << "<tr><td>" << (int(i) == t.recommended ? "<b>" + esc(p.label) + "</b> (recommended)" : esc(p.label))
-        << "</td><td>" << fmt(p.seconds, "%.2f") << "</td><td>" << p.wall_seconds.size() << "</td><td>"
-        << megabytes(p.bytes) << "</td><td>" << p.files << "</td><td>" << pct(p.error) << "</td>";
-      for (const auto& g : p.groups) o << "<td>" << pct(g.median_rms) << " (" << pct(g.max_rms) << ")</td>";
-      o << "<td>" << (p.pareto_time ? "time" : "") << (p.pareto_time && p.pareto_bytes ? ", " : "")
-        << (p.pareto_bytes ? "bytes" : "") << "</td></tr>\n";
+        << "</td><td>" << seconds_text(p) << "</td><td>" << p.wall_seconds.size() << "</td><td>" << megabytes(p.bytes)
+        << "</td><td>" << p.files << "</td><td>" << pct(p.error) << "</td><td>" << pct(p.engine_error) << "</td><td>"
+        << pct(p.bake_error) << "</td>";
+      for (const auto& g : p.groups)
+        o << "<td>" << pct(g.bake_median) << " (" << pct(g.bake_worst) << ")"
+          << (g.sharp >= 0.0 ? " / " + pct(g.sharp) : std::string()) << "</td>";
+      o << "<td>" << (p.eligible ? "yes" : "") << "</td><td>" << (p.pareto_time ? "time" : "")
+        << (p.pareto_time && p.pareto_bytes ? ", " : "") << (p.pareto_bytes ? "bytes" : "") << "</td></tr>\n";
     }
     o << "</table>\n";
     if (!t.skipped.empty()) {

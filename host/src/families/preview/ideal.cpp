@@ -50,13 +50,19 @@ std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const B
     return it->second;
   };
   std::vector<CubeLevels> out;
+  // The mirror: the environment converted to 2 size, but no finer than the source resolves (an
+  // equirect's width / 2, twice a cube's face) unless size needs it: beyond, a conversion adds texels
+  // and no detail (a 1024^2 mirror of a 1k map: 100 MB more for the bake sweep's 512^2 setting).
+  const int detail = env.layout == EnvImage::Layout::Cube ? 2 * env.width : env.width / 2;
+  int mirror_size = 2 * size;
+  while (mirror_size > size && mirror_size / 2 >= std::max(size, detail)) mirror_size /= 2;
   {
     CubeLevels mirror;
-    mirror.size = 2 * size;
-    mirror.levels.push_back(source(2 * size).levels[0]);
+    mirror.size = mirror_size;
+    mirror.levels.push_back(source(mirror_size).levels[0]);
     out.push_back(std::move(mirror));
   }
-  std::string roughness, sizes = std::to_string(2 * size);
+  std::string roughness, sizes = std::to_string(mirror_size);
   PrefilterSpec spec;
   spec.distribution = EnvDistribution::Ggx;
   spec.schedule = schedule;
@@ -141,34 +147,43 @@ Table ideal_charlie(Backend& backend, const BakeFiles& files, int size) {
 
 }  // namespace
 
-IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFiles& files) {
+std::string ideal_parts_key(const BakeFiles& files) {
+  // What ideal_chain, ideal_dfg and ideal_charlie read of the files.
+  std::string k = std::string(engine_target_name(files.target)) + " levels";
+  for (int l = 0; l < files.specular.level_count(); ++l) k += " " + std::to_string(files.specular.level_size(l));
+  if (!engines::target_def(files.target).engine_dfg)
+    k += files.dfg_multiscatter ? " dfg multiscatter" : " dfg single",
+        k += files.dfg_sqrt_n_dot_v ? " sqrt" : " linear";
+  if (files.charlie.width > 0)
+    k += " charlie " + files.charlie_visibility + (files.charlie_sqrt_n_dot_v ? " sqrt" : " linear") + " " +
+         (files.charlie.channels.empty() ? std::string("albedo") : files.charlie.channels[0]);
+  return k;
+}
+
+IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const BakeFiles& files) {
   const auto t0 = std::chrono::steady_clock::now();
   Device* device = backend.device();
   if (!device) throw Error("the ideal bake (the error's shares) filters its chain on an OpenCL device");
-  IdealBake out;
-  out.files = files;
-  out.files.folder = "the ideal bake (in memory)";
+  IdealParts out;
+  out.key = ideal_parts_key(files);
   const int size = std::clamp(files.specular.size, kIdealChainSize, kIdealChainMaxSize);
-  out.files.specular_levels =
+  out.specular_levels =
       ideal_chain(*device, environment, files, size, engine_settings(files.target).schedule, out.settings);
   const double chain_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.settings.push_back({"specular_seconds", std::to_string(chain_seconds).substr(0, 6)});
-  out.files.specular_format = "float32 (the ideal bake)";
   if (engines::target_def(files.target).engine_dfg) {
     out.settings.push_back({"dfg", "the engine's own table (" + file_name(files.dfg_file) + "): no file changes it"});
   } else {
-    out.files.dfg = ideal_dfg(backend, files, kIdealLutSize);
-    out.files.dfg_file = "the ideal DFG table";
+    out.dfg = ideal_dfg(backend, files, kIdealLutSize);
     out.settings.push_back({"dfg", std::to_string(kIdealLutSize) +
                                        "^2 float32, each texel the exact albedos at its "
                                        "centre (the DFG family's quadrature), the files' axes and channels"});
   }
-  out.settings.push_back({"diffuse", "the files' own (" + file_name(files.diffuse_file) + ")"});
+  out.settings.push_back({"diffuse", ""});  // the files' own: apply_ideal_parts names them
   // KHR_materials_sheen: the charlie table where its visibility is the reference's (Estevez & Kulla);
   // the Charlie chain stays the files'
   if (files.charlie.width > 0 && (files.charlie_visibility.empty() || files.charlie_visibility == "estevez-kulla")) {
-    out.files.charlie = ideal_charlie(backend, files, kIdealLutSize);
-    out.files.charlie_file = "the ideal charlie table";
+    out.charlie = ideal_charlie(backend, files, kIdealLutSize);
     out.settings.push_back({"charlie", std::to_string(kIdealLutSize) +
                                            "^2 float32, each texel the exact sheen albedo "
                                            "at its centre (the charlie table's quadrature), the files' n.v axis"});
@@ -179,6 +194,34 @@ IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFi
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.settings.push_back({"seconds", std::to_string(out.seconds).substr(0, 6)});
   return out;
+}
+
+IdealBake apply_ideal_parts(const IdealParts& parts, const BakeFiles& files) {
+  if (parts.key != ideal_parts_key(files))
+    throw Error("internal: an ideal bake made for other files (" + parts.key + ") applied to " +
+                ideal_parts_key(files));
+  IdealBake out;
+  out.files = files;
+  out.files.folder = "the ideal bake (in memory)";
+  out.files.specular_levels = parts.specular_levels;
+  out.files.specular_format = "float32 (the ideal bake)";
+  if (parts.dfg.width > 0) {
+    out.files.dfg = parts.dfg;
+    out.files.dfg_file = "the ideal DFG table";
+  }
+  if (parts.charlie.width > 0) {
+    out.files.charlie = parts.charlie;
+    out.files.charlie_file = "the ideal charlie table";
+  }
+  out.settings = parts.settings;
+  for (auto& [key, value] : out.settings)
+    if (key == "diffuse") value = "the files' own (" + file_name(files.diffuse_file) + ")";
+  out.seconds = parts.seconds;
+  return out;
+}
+
+IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFiles& files) {
+  return apply_ideal_parts(ideal_parts(backend, environment, files), files);
 }
 
 }  // namespace brdfbake::detail::preview

@@ -17,8 +17,9 @@
 
 namespace brdfbake::detail::preview {
 
-// The ideal bake's sizes: the mirror (level 0) the environment converted to 2 size, size the files'
-// level 0's within [kIdealChainSize, kIdealChainMaxSize]; every other level at least 4 x the files'
+// The ideal bake's sizes: the mirror (level 0) the environment converted to 2 size (no finer than
+// the source resolves, an equirect's width / 2, unless size needs it), size the files' level 0's
+// within [kIdealChainSize, kIdealChainMaxSize]; every other level at least 4 x the files'
 // level of its index, its texels no wider than an eighth of its lobe, at least kIdealMinLevelSize and
 // at most size (ideal.cpp, level_size), filtered from the environment converted to twice its size;
 // the DFG table kIdealLutSize^2.
@@ -37,9 +38,26 @@ struct IdealBake {
   double seconds = 0.0;
 };
 
+// What an ideal bake replaces in a bake's files: the chain's levels, the DFG table (unless the engine
+// samples its own) and the charlie table (Estevez & Kulla's visibility). They depend on the files only
+// through ideal_parts_key(files): bakes of one target whose keys are equal (a sweep's settings that
+// change the storage, the refinement or the DFG table's size, not the chain's shape) share them.
+struct IdealParts {
+  std::string key;
+  std::vector<CubeLevels> specular_levels;
+  Table dfg;      // width 0: the files' own (the engine samples its own table)
+  Table charlie;  // width 0: the files' own (none, or another visibility)
+  Metadata settings;
+  double seconds = 0.0;
+};
+std::string ideal_parts_key(const BakeFiles& files);
+IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const BakeFiles& files);
+// `files` with `parts` in place of what they replace. Throws Error when parts.key is not files' key.
+IdealBake apply_ideal_parts(const IdealParts& parts, const BakeFiles& files);
+
 // The ideal bake of `files` (a target's bake read by read_bake_files) under `environment`, on
-// `backend`'s OpenCL device. Throws Error on the scalar reference backend (the chain's levels would
-// take minutes there).
+// `backend`'s OpenCL device: apply_ideal_parts(ideal_parts(...), files). Throws Error on the scalar
+// reference backend (the chain's levels would take minutes there).
 IdealBake ideal_bake(Backend& backend, const EnvImage& environment, const BakeFiles& files);
 
 }  // namespace brdfbake::detail::preview

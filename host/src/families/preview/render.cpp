@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <thread>
 
 #include "brdfbake/cancel.hpp"
 #include "brdfbake/error.hpp"
@@ -297,8 +298,6 @@ std::vector<PreviewShareGroup> share_groups(const PreviewResult& r) {
 
 namespace detail::preview {
 
-namespace {
-
 // The split-sum render into `out`: the background (the bake's level 0, or grey) and each sphere pixel
 // shaded as the target's shader does from the bake's files.
 void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixels, const SplitSum& split,
@@ -313,6 +312,59 @@ void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixe
   for (const SpherePixel& p : pixels)
     put(out, p.x, p.y, split.shade(p.n, v, res.spheres[size_t(p.sphere)].material, float(p.normal_slope2)));
 }
+
+std::vector<double> sharp_probe(const Layout& layout, const SplitSum& files, const SplitSum& ideal, int samples) {
+  const PreviewCamera& c = layout.camera;
+  const Vec3 v = view_vector(c);
+  const double radius = 2.0 * std::max(files.files().specular.size, 1);
+  const int across = int(2.0 * radius);
+  std::vector<double> out(layout.spheres.size(), -1.0);
+  std::vector<size_t> probed;
+  for (size_t s = 0; s < layout.spheres.size(); ++s)
+    if (layout.spheres[s].material.roughness < kProbeMaxRoughness) probed.push_back(s);
+  // The spheres shared among the machine's cores (SplitSum::shade reads only).
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t at = next++; at < probed.size(); at = next++) {
+      const size_t s = probed[at];
+      const PreviewMaterial& m = layout.spheres[s].material;
+      double sum = 0.0;
+      int n = 0;
+      // The pixels of a sphere of `radius` centred on a pixel corner: the R2 sequence (Roberts 2018) over
+      // the square around it, each point taken to its pixel's centre, those off the disc skipped.
+      constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+      for (long k = 0; n < samples && k < 4L * samples; ++k) {
+        const double u = std::fmod(0.5 + a1 * double(k), 1.0), w = std::fmod(0.5 + a2 * double(k), 1.0);
+        const int px = std::min(across - 1, int(u * across)), py = std::min(across - 1, int(w * across));
+        const double dx = (px + 0.5 - radius) / radius, dy = (py + 0.5 - radius) / radius;
+        const double d2 = dx * dx + dy * dy;
+        if (!(d2 < 1.0)) continue;
+        const double nz = std::sqrt(1.0 - d2);
+        Vec3 normal{dx * c.right.x - dy * c.up.x + nz * v.x, dx * c.right.y - dy * c.up.y + nz * v.y,
+                    dx * c.right.z - dy * c.up.z + nz * v.z};
+        const double length = std::sqrt(math::dot(normal, normal));
+        normal = {normal.x / length, normal.y / length, normal.z / length};
+        // the analytic normal slope of sphere_pixels' rim (Babylon.js's specular anti-aliasing)
+        const float slope2 = float((1.0 + std::max(dx * dx, dy * dy) / std::max(nz * nz, 1e-12)) / (radius * radius));
+        const Rgb f = files.shade(normal, v, m, slope2), i = ideal.shade(normal, v, m, slope2);
+        const float fa[3] = {float(f.r), float(f.g), float(f.b)}, ia[3] = {float(i.r), float(i.g), float(i.b)};
+        const double norm = rgb_norm(ia), d = rgb_distance(fa, ia);
+        const double rel = std::min(kProbeMaxPixelError, norm > 0.0 ? d / norm : (d > 0.0 ? 1.0 : 0.0));
+        sum += rel * rel;
+        ++n;
+      }
+      if (n > 0) out[s] = std::sqrt(sum / n);
+    }
+  };
+  std::vector<std::thread> threads;
+  const unsigned cores = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  for (unsigned t = 1; t < cores && t < probed.size(); ++t) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  return out;
+}
+
+namespace {
 
 // The sheet's exposure: 0.18 / the environment's median (a sun map is not white), lowered where
 // that would put the spheres' median luminance above 0.8 (a dark studio lit by small softboxes:
@@ -630,6 +682,8 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
   }
 }
 
+}  // namespace
+
 // The shares per sphere (PreviewSphereStats::engine_share, bake_share: |ideal - reference| and
 // |split-sum - ideal| over |reference|, per pixel) and per group.
 void add_shares(const Layout& layout, const std::vector<SpherePixel>& pixels, PreviewResult& res) {
@@ -650,8 +704,6 @@ void add_shares(const Layout& layout, const std::vector<SpherePixel>& pixels, Pr
   }
   res.share_groups = share_groups(res);
 }
-
-}  // namespace
 
 }  // namespace detail::preview
 

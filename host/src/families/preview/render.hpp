@@ -6,6 +6,7 @@
 #include "brdfbake/plan.hpp"
 #include "brdfbake/preview.hpp"
 #include "families/preview/model.hpp"
+#include "families/preview/splitsum.hpp"
 
 namespace brdfbake::detail::preview {
 
@@ -38,5 +39,31 @@ std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::v
 // grid's rows by their material ("gold r0.5" is in "gold"), any other material a group of its own;
 // per group the median and the worst sphere's relative RMS of the error and of each share.
 std::vector<PreviewShareGroup> share_groups(const PreviewResult& r);
+// The shares per sphere of `res` (PreviewSphereStats::engine_share, bake_share: |ideal - reference|
+// and |split-sum - ideal| over |reference|, per pixel, from res.splitsum, res.ideal, res.reference)
+// into res.stats (filled by sphere_errors first) and res.share_groups.
+void add_shares(const Layout& layout, const std::vector<SpherePixel>& pixels, PreviewResult& res);
+// The split-sum render of `split`'s files into `out` as render_preview draws it (the background and
+// every sphere pixel of `layout`), for the spheres of `res` (its spec's background).
+void render_split_sum(const Layout& layout, const std::vector<SpherePixel>& pixels, const SplitSum& split,
+                      const Vec3& v, const PreviewResult& res, PreviewImage& out);
+
+// The sharp-reflection probe (docs/REPORT.md, "Sharp reflections"): the bake's share where a sphere of
+// the default grid's 20 pixels cannot show it. Each sphere of roughness below kProbeMaxRoughness is
+// drawn again at a radius of 2 x the files' level-0 face size in pixels, so that one texel of level
+// 0 spans at least 2 pixels at the sphere's centre (the reflection turns twice as fast as the normal,
+// and a texel at a face's centre spans 2 / size radians); kProbeSamples of its pixels, drawn with a
+// fixed low-discrepancy sequence, are shaded from the files and from their ideal bake, and the
+// sphere's probe error is the RMS over them of min(|files - ideal| / |ideal|, kProbeMaxPixelError)
+// (the linear RGB norms, as the shares). Point samples: the RMS over the drawn pixels estimates the RMS over all the
+// sphere's pixels (to about 1 / sqrt(2 kProbeSamples) of itself). Per sphere of `layout`; -1 where not probed. A
+// pixel's error counts up to kProbeMaxPixelError (as large as the pixel itself): a sun blurred into the sky beside it
+// is ~100x off there, and a handful of such pixels would decide the RMS alone (and its estimate from the drawn pixels:
+// 30 % off on venice's sun at 16384 draws of 51,000 pixels).
+inline constexpr double kProbeMaxPixelError = 1.0;
+inline constexpr double kProbeMaxRoughness = 0.1;
+inline constexpr int kProbeSamples = 16384;
+std::vector<double> sharp_probe(const Layout& layout, const SplitSum& files, const SplitSum& ideal,
+                                int samples = kProbeSamples);
 
 }  // namespace brdfbake::detail::preview
