@@ -187,6 +187,13 @@ TEST(FilamentFiles, CmgenFileSetWithShKeyAndR11Chain) {
   EXPECT_EQ(key(kv, "KTXwriter"), "<missing>");
   const auto sky = read_all(dir / "venice_skybox.ktx");
   EXPECT_EQ(u32(sky, 56), 1u);
+  // The skybox is one level: the chain's schedule and LOD mapping do not describe it (issue 34: its
+  // caption said "1 level ... (levels = 3)")
+  const auto sky_kv = ktx1_keys(sky);
+  EXPECT_EQ(key(sky_kv, "brdfbake:levels"), "1");
+  EXPECT_EQ(key(sky_kv, "brdfbake:roughness_schedule"), "<missing>");
+  EXPECT_EQ(key(sky_kv, "brdfbake:lod_from_roughness"), "<missing>");
+  EXPECT_EQ(key(kv, "brdfbake:roughness_schedule"), "filament");  // the chain keeps them
   const std::string txt(reinterpret_cast<const char*>(read_all(dir / "sh.txt").data()), fs::file_size(dir / "sh.txt"));
   EXPECT_NE(txt.find("); // L00, irradiance, pre-scaled base"), std::string::npos);
   EXPECT_NE(key(r.delivered, "venice_ibl.ktx: storage_max_rel_error_per_level"), "<missing>");

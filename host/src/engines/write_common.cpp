@@ -107,7 +107,14 @@ const CubeLevels& skybox_of(const EngineBake& bake, CubeLevels& storage) {
   storage = CubeLevels{};
   storage.size = bake.prefiltered->size;
   storage.levels = {bake.prefiltered->levels.front()};
-  storage.metadata = bake.prefiltered->metadata;
+  // Level 0's own metadata: what describes the chain's other levels (its roughness schedule and the
+  // engine's LOD from roughness, per-level lists) does not describe a one-level skybox.
+  static const char* const kChainOnly[] = {"roughness_schedule",   "lod_from_roughness", "roughness_of_level",
+                                           "roughness_per_level",  "min_size",           "subdivision_per_level",
+                                           "refinement_per_level", "samples_per_level",  "bound_samples_per_level"};
+  for (const auto& [key, value] : bake.prefiltered->metadata)
+    if (std::find(std::begin(kChainOnly), std::end(kChainOnly), key) == std::end(kChainOnly))
+      storage.metadata.emplace_back(key, value);
   storage.set_meta("kind", "skybox (level 0 of the prefiltered chain: the source cube)");
   storage.set_meta("levels", "1");
   return storage;

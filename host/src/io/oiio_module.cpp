@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "io/image_limits.hpp"
+#include "io/srgb.hpp"
 
 #define BRDFBAKE_OIIO_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -53,7 +54,7 @@ struct Transfer {
   std::string note;
 };
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+using brdfbake::io::srgb_to_linear;
 
 // False (with `why`) for a colour space whose transfer is not known.
 bool integer_transfer(const OIIO::ImageSpec& spec, Transfer& t, std::string& why) {

@@ -23,6 +23,7 @@
 #include "io/atomic_file.hpp"
 #include "io/image_file.hpp"
 #include "io/special_files.hpp"
+#include "io/srgb.hpp"
 
 namespace brdfbake::io {
 namespace {
@@ -182,8 +183,6 @@ struct Transfer {
   double exponent = 1.0;  // Gamma: linear = sample^exponent
   std::string note;       // what the file said, for FloatImage::transfer_note
 };
-
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 // Everything with a destructor that decode_linear uses lives here, reached through a pointer set
 // before setjmp: a libpng error jumps back over decode_linear's frame without skipping any.

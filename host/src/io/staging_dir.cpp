@@ -11,6 +11,13 @@
 
 namespace brdfbake::io {
 
+bool is_new_or_empty_folder(const std::filesystem::path& folder) {
+  std::error_code ec;
+  const auto type = std::filesystem::symlink_status(folder, ec).type();
+  if (type == std::filesystem::file_type::not_found) return true;
+  return type == std::filesystem::file_type::directory && std::filesystem::is_empty(folder, ec) && !ec;
+}
+
 namespace fs = std::filesystem;
 
 StagingDir::StagingDir(const fs::path& target) : target_(target) {

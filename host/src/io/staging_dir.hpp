@@ -10,6 +10,11 @@
 
 namespace brdfbake::io {
 
+// Whether `folder` may be taken whole by a command that replaces what it writes there (preview's
+// --keep-bake, the bake sweep's --keep-bakes): it does not exist, or it is an empty folder (not a
+// link to one, not a file). Symlinks are not followed.
+bool is_new_or_empty_folder(const std::filesystem::path& folder);
+
 class StagingDir {
  public:
   // Creates the missing parents of `target` (removed again unless committed) and the temporary

@@ -31,6 +31,7 @@
 #include "families/preview/model.hpp"
 #include "families/preview/render.hpp"
 #include "families/preview/splitsum.hpp"
+#include "io/staging_dir.hpp"
 
 namespace brdfbake {
 
@@ -288,13 +289,10 @@ void check_bake_sweep(const BakeSweepOptions& o) {
   for (const auto& t : o.targets) engine_target_from_name(t);  // throws, listing the targets
   // The sweep replaces KEEP/TARGET/SETTING folders: only a new or an empty folder is taken, before
   // anything runs (issue 34, class 1).
-  if (!o.keep_bakes.empty()) {
-    std::error_code ec;
-    const auto type = fs::symlink_status(o.keep_bakes, ec).type();
-    if (type != fs::file_type::not_found && (type != fs::file_type::directory || !fs::is_empty(o.keep_bakes, ec)))
-      throw Error("keep_bakes: '" + o.keep_bakes +
-                  "' exists and is not an empty folder: give a new folder (the sweep replaces its TARGET/SETTING "
-                  "folders)");
+  if (!o.keep_bakes.empty() && !io::is_new_or_empty_folder(o.keep_bakes)) {
+    throw Error("keep_bakes: '" + o.keep_bakes +
+                "' exists and is not an empty folder: give a new folder (the sweep replaces its TARGET/SETTING "
+                "folders)");
   }
   for (const auto& f : o.factors)
     if (f.first != "n_dot_v_axis" && !find_param_def(bake_option_schema(), f.first))

@@ -10,6 +10,7 @@
 #include <stb/stb_easy_font.h>
 
 #include "brdfbake/math/conventions.hpp"
+#include "io/srgb.hpp"
 
 namespace brdfbake::view {
 
@@ -95,7 +96,7 @@ namespace {
 
 // The sRGB encoding (IEC 61966-2-1) of v in (0, 1), rounded to 8 bits.
 int srgb8_formula(double v) {
-  const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  const double e = io::linear_to_srgb(v);
   return static_cast<int>(std::lround(e * 255.0));
 }
 

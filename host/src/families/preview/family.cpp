@@ -23,6 +23,7 @@
 #include "families/preview/model.hpp"
 #include "families/preview/output.hpp"
 #include "families/spec_schema.hpp"
+#include "io/staging_dir.hpp"
 
 namespace brdfbake::detail {
 namespace {
@@ -175,10 +176,7 @@ class PreviewFamily final : public Family {
     if (t.find("keep_bake")) {
       if (t.find("bake"))
         throw FieldError("keep_bake", "give " + name("bake") + " or " + name("keep_bake") + ", not both");
-      std::error_code ec;
-      const fs::path keep = t.text("keep_bake");
-      const auto type = fs::symlink_status(keep, ec).type();
-      if (type != fs::file_type::not_found && (type != fs::file_type::directory || !fs::is_empty(keep, ec)))
+      if (!io::is_new_or_empty_folder(t.text("keep_bake")))
         throw FieldError("keep_bake", "'" + t.text("keep_bake") +
                                           "' exists and is not an empty folder: give a new one (the first bake is "
                                           "written there as a bake's output folder)");

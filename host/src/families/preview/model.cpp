@@ -10,6 +10,7 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "io/image_file.hpp"
+#include "io/srgb.hpp"
 
 namespace brdfbake {
 
@@ -127,8 +128,8 @@ std::vector<std::string> unrendered(const NamedMaterial& nm) {
   return notes;
 }
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-double linear_to_srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+using io::linear_to_srgb;
+using io::srgb_to_linear;
 
 // The mean of an image's first three channels (one channel: repeated), as glTF reads the texture:
 // `srgb` (baseColorTexture) decoded to linear, else (metallicRoughnessTexture) the stored values.
