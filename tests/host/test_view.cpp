@@ -11,12 +11,16 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "brdfbake/environment.hpp"
 #include "brdfbake/error.hpp"
 #include "brdfbake/io.hpp"
+#include "brdfbake/preview.hpp"
 #include "brdfbake/view.hpp"
+#include "families/preview/model.hpp"
+#include "families/preview/output.hpp"
 #include "io/png_image.hpp"
 #include "support/cli_runner.hpp"
 #include "support/temp_dir.hpp"
@@ -604,6 +608,65 @@ TEST(CliView, BadUsageIsOneLineAndExitTwo) {
   EXPECT_EQ(tonemap.code, 2);
   EXPECT_NE(tonemap.err.find("aces, reinhard or clamp"), std::string::npos) << tonemap.err;
   EXPECT_FALSE(fs::exists(dir / "s.png"));
+}
+
+// The preview sheet's numbers under each sphere of its error panel are drawn only where they fit
+// between a sphere and the one below it (issue 34: at 384 x 192 they covered the next row). The
+// pixels that the numbers alone change (two results that differ only in their statistics) are never
+// inside a sphere, and at 384 x 192 there are none: the header says which --height holds them.
+TEST(PreviewSheet, NumbersUnderTheSpheresNeverCoverASphere) {
+  using namespace detail::preview;
+  for (const auto& [w, h, drawn] : {std::tuple{512, 512, true}, std::tuple{384, 192, false}}) {
+    PreviewSpec spec;
+    spec.width = w;
+    spec.height = h;
+    const PreviewSpec resolved = resolve_spec(spec);
+    const Layout layout = make_layout(resolved);
+    auto result = [&](double error) {
+      PreviewResult r;
+      r.spec = resolved;
+      r.spheres = layout.spheres;
+      r.camera = layout.camera;
+      for (PreviewImage* img : {&r.splitsum, &r.reference, &r.ideal}) {
+        img->width = w;
+        img->height = h;
+        img->rgb.assign(3 * size_t(w) * size_t(h), 0.5f);
+      }
+      r.stats.resize(r.spheres.size());
+      for (PreviewSphereStats& st : r.stats) {
+        st.linear = {error, error, error};
+        st.srgb8 = {10 * error, 100 * error, 100 * error};
+        st.bake_share = {error / 2, error, error};
+      }
+      return r;
+    };
+    const ContactSheet a = preview_sheet(result(0.012), "t"), b = preview_sheet(result(0.876), "t");
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    // the error panel: the third panel, right of the first sphere region's panel by 2 (w + gap)
+    std::vector<SheetRegion> spheres;
+    for (const SheetRegion& r : a.regions)
+      if (r.role == "sphere") spheres.push_back(r);
+    ASSERT_EQ(spheres.size(), layout.spheres.size());
+    const SheetRegion* panel = nullptr;
+    for (const SheetRegion& r : a.regions)
+      if (r.role == "error") panel = &r;
+    int changed = 0, inside = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        const size_t at = 3 * (size_t(y) * size_t(a.width) + size_t(x));
+        if (a.rgb[at] == b.rgb[at] && a.rgb[at + 1] == b.rgb[at + 1] && a.rgb[at + 2] == b.rgb[at + 2]) continue;
+        ++changed;
+        if (!panel) continue;
+        for (const PreviewSphere& sp : layout.spheres) {
+          const double dx = x + 0.5 - (panel->x + sp.centre_x), dy = y + 0.5 - (panel->y + sp.centre_y);
+          if (dx * dx + dy * dy < sp.radius * sp.radius) ++inside;
+        }
+      }
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    ASSERT_NE(panel, nullptr) << "no region for the error panel";
+    EXPECT_EQ(changed > 0, drawn);
+    EXPECT_EQ(inside, 0);
+  }
 }
 
 }  // namespace

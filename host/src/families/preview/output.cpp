@@ -113,7 +113,33 @@ struct SheetLayout {
   // 84 px). Otherwise (a scene's materials) each sphere's name goes under it in the first panel.
   bool named_rows = true;
   std::vector<std::string> rows;
+  // The numbers under the spheres of the error panel (numbers_fit), and the pixels the bottom row's
+  // take below the panels.
+  bool numbers = false;
+  int below = 0;
 };
+
+// The numbers under each sphere of the error panel (2 lines, 3 with the shares) fit between the
+// sphere and the one below it, and across its cell: at the default 512^2 they do; at 384 x 192 (cells
+// 32 pixels high, spheres 29) they covered the next row. Else they are left out, and the header says
+// the height that holds them. `min_height`: that height.
+bool numbers_fit(const PreviewResult& r, int* min_height) {
+  int rows = 0, columns = 0;
+  double radius = 0.0;
+  for (const PreviewSphere& sp : r.spheres) {
+    rows = std::max(rows, sp.row + 1);
+    columns = std::max(columns, sp.column + 1);
+    radius = std::max(radius, sp.radius);
+  }
+  if (rows == 0) return false;
+  const int lines = r.ideal.rgb.empty() ? 2 : 3;
+  const double need = 2.0 * radius + 2.0 + lines * (kLine - 2);
+  const double cell_h = double(r.splitsum.height) / rows, cell_w = double(r.splitsum.width) / columns;
+  // a sphere is 0.92 of the smaller side of its cell (make_layout): cells taller than wide keep its
+  // width's sphere and hold the lines under it
+  *min_height = int(std::ceil(rows * (0.92 * cell_w + 2.0 + lines * (kLine - 2))));
+  return need <= cell_h && view::text_width("b100.0%") + 2 <= cell_w;
+}
 
 SheetLayout sheet_layout(const PreviewResult& r) {
   SheetLayout l;
@@ -137,6 +163,13 @@ SheetLayout sheet_layout(const PreviewResult& r) {
   l.top = kMargin + 2 * kLine + (r.ideal.rgb.empty() ? 5 : 6) * kLine + kGap;
   l.panel_top = l.top + 2 * kLine + 4;  // the panel's title, the columns' roughness
   l.x0 = kMargin + label_w;
+  int min_height = 0;
+  l.numbers = l.with_ref && numbers_fit(r, &min_height);
+  if (l.numbers) {
+    const int lines = r.ideal.rgb.empty() ? 2 : 3;
+    for (const PreviewSphere& sp : r.spheres)
+      l.below = std::max(l.below, int(sp.centre_y + sp.radius) + 2 + lines * (kLine - 2) - l.h);
+  }
   return l;
 }
 
@@ -162,21 +195,27 @@ void sheet_header(const PreviewResult& r, const std::string& title, const SheetL
   if (l.with_ref) c.text(kMargin, y + 2 * kLine, sheet.colour_scale_text, view::kText);
   double worst_bound = 0.0;
   for (const auto& s : r.stats) worst_bound = std::max(worst_bound, s.reference_rms_bound);
-  if (l.with_ref)
+  int min_height = 0;
+  if (l.with_ref && numbers_fit(r, &min_height))
     c.text(
         kMargin, y + 3 * kLine,
         "under each sphere: relative RMS error in linear radiance, then the 99th percentile in 8-bit sRGB steps; the "
         "reference is within " +
             percent(worst_bound) + " RMS on every sphere",
         view::kDim);
+  else if (l.with_ref)
+    c.text(kMargin, y + 3 * kLine,
+           "the cells are too small for the numbers under each sphere (the JSON has them; --height " +
+               std::to_string(min_height) + " holds them); the reference is within " + percent(worst_bound) +
+               " RMS on every sphere",
+           view::kDim);
   else
     c.text(kMargin, y + 3 * kLine, "the split-sum render alone (no reference: --no-reference)", view::kDim);
   c.text(kMargin, y + 4 * kLine, "emulation held to: " + engine_settings(r.spec.target).held_to_short, view::kDim);
   if (!r.ideal.rgb.empty()) {
     // the error's shares per group: the engine's (its split sum from an ideal bake) and the bake's
-    std::string line =
-        "error's shares, median over a group's spheres (engine | bake, the third line under each "
-        "sphere the bake's):";
+    std::string line = std::string("error's shares, median over a group's spheres (engine | bake") +
+                       (numbers_fit(r, &min_height) ? ", the third line under each sphere the bake's):" : "):");
     const size_t shown = std::min<size_t>(r.share_groups.size(), 8);
     for (size_t g = 0; g < shown; ++g)
       line += (g ? ", " : " ") + shortened(r.share_groups[g].name, 12) + " " +
@@ -235,6 +274,7 @@ void sheet_panel(const PreviewResult& r, const SheetLayout& l, int k, const std:
 // the error panel.
 void sheet_sphere_labels(const PreviewResult& r, const SheetLayout& l, Canvas& c, ContactSheet& sheet) {
   std::string last_row;
+  const bool fit = l.numbers;
   for (size_t s = 0; s < r.spheres.size(); ++s) {
     const PreviewSphere& sp = r.spheres[s];
     if (l.named_rows && sp.column == 0 && l.rows[s] != last_row) {
@@ -254,11 +294,11 @@ void sheet_sphere_labels(const PreviewResult& r, const SheetLayout& l, Canvas& c
     region.y = l.panel_top + int(sp.centre_y - sp.radius);
     region.width = region.height = int(2 * sp.radius);
     sheet.regions.push_back(region);
-    if (!l.with_ref || s >= r.stats.size()) continue;
+    if (!l.with_ref || s >= r.stats.size() || !fit) continue;
     const std::string a = percent(r.stats[s].linear.rms), b = fmt(r.stats[s].srgb8.p99, "%.0f");
     const int below = int(sp.centre_y + sp.radius) + 2;
     const int px = l.x0 + 2 * (l.w + kGap);
-    const int ty = l.panel_top + std::min(below, l.h - (r.ideal.rgb.empty() ? 2 : 3) * kLine);
+    const int ty = l.panel_top + below;  // the bottom row's below the panel (l.below)
     c.text(px + int(sp.centre_x) - view::text_width(a) / 2, ty, a, view::kText);
     c.text(px + int(sp.centre_x) - view::text_width(b) / 2, ty + kLine - 2, b, view::kDim);
     if (!r.ideal.rgb.empty()) {
@@ -270,7 +310,7 @@ void sheet_sphere_labels(const PreviewResult& r, const SheetLayout& l, Canvas& c
 
 // The error panel's colour scale under it.
 void sheet_error_scale(const SheetLayout& l, Canvas& c, ContactSheet& sheet) {
-  const int px = l.x0 + 2 * (l.w + kGap), sy = l.panel_top + l.h + kGap;
+  const int px = l.x0 + 2 * (l.w + kGap), sy = l.panel_top + l.h + l.below + kGap;
   for (int i = 0; i < l.w; ++i) {
     const double t = double(i) / (l.w - 1);
     const Rgb8 col = view::cubehelix(t);
@@ -298,7 +338,7 @@ void sheet_error_scale(const SheetLayout& l, Canvas& c, ContactSheet& sheet) {
 ContactSheet preview_sheet(const PreviewResult& r, const std::string& title) {
   const SheetLayout l = sheet_layout(r);
   const int sheet_w = std::max(l.x0 + kMargin + l.panels * l.w + (l.panels - 1) * kGap, 640);
-  const int sheet_h = l.panel_top + l.h + kGap + 3 * kLine + kMargin;
+  const int sheet_h = l.panel_top + l.h + l.below + kGap + 3 * kLine + kMargin;
   Canvas c(sheet_w, sheet_h, view::kBackground);
   ContactSheet sheet;
   sheet_header(r, title, l, c, sheet);
