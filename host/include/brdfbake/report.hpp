@@ -131,12 +131,14 @@ struct BakeSweepTarget {
   std::string why;                     // the recommendation in words: the rule's outcome, its ties
   std::vector<std::string> skipped;    // "cube_size=100: why"
 };
-// The recommended setting (mark_bake_sweep): among the settings whose bake share on every material
-// group's worst sphere is within kBakeRecommendWithin of the best any setting reached for that group,
-// and whose sharp-reflection probe on every group is within kBakeSharpWithin of the default's (no
-// blurrier reflections than the default's), the fastest by its median time; a setting whose median
-// differs from the fastest's by less than either's spread (the largest minus the smallest of its
-// runs) is a tie, and of the tied settings the one with the fewest bytes is taken.
+// The recommended setting (mark_bake_sweep): of the settings no blurrier than the default (their
+// sharp-reflection probe within kBakeSharpWithin of the default's on every group), those whose bake
+// share on every material group's worst sphere is within kBakeRecommendWithin of the best any of them
+// reached for that group are eligible, and the fastest of these by its median time is taken; a
+// setting whose median differs from the fastest's by less than either's spread (the largest minus
+// the smallest of its runs) is a tie, and of the tied settings the one with the fewest bytes is
+// taken. Where settings trade one group against another so that none is eligible, the one closest
+// to the best on its worst group is taken, and `why` says so.
 inline constexpr double kBakeRecommendWithin = 1.10;
 inline constexpr double kBakeSharpWithin = 1.02;
 struct BakeSweep {

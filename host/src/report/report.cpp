@@ -175,12 +175,13 @@ json bake_json(const BakeSweep& s) {
       "a point is on the front when no other point of its target is at most as slow (or as large) and at most as "
       "wrong, one of them strictly";
   b["recommended_rule"] =
-      "among the settings whose bake share on every group's worst sphere is within " +
-      std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
-      "% of the best any setting reached for that group, and whose sharp-reflection probe on every group is within " +
+      "of the settings whose sharp-reflection probe on every group is within " +
       std::to_string(int(std::lround((kBakeSharpWithin - 1) * 100))) +
-      "% of the default's ('eligible'), the fastest by its median time; settings whose medians differ by less than "
-      "either's spread tie ('ties'), and of them the one with the fewest bytes is taken";
+      "% of the default's (no blurrier), those whose bake share on every group's worst sphere is within " +
+      std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
+      "% of the best of them for that group ('eligible'); the fastest by its median time; settings whose medians "
+      "differ by less than either's spread tie ('ties'), and of them the one with the fewest bytes is taken; with "
+      "none eligible, the one closest to the best on its worst group";
   json targets = json::array();
   for (const auto& t : s.targets) {
     json tj;

@@ -460,11 +460,11 @@ void bake_section(std::ostringstream& o, const BakeSweep& s) {
        "setting changes, and the <b>bake's share</b>, the files' render against the ideal bake's: what a setting "
        "buys. Sharp reflections: each group's spheres below roughness 0.1 drawn again where one texel of level 0 "
        "spans 2 pixels (the bake's share there; a 20-pixel sphere cannot show a chain's resolution). "
-       "<b>Recommended</b>: among the settings whose bake share on every group's worst sphere is within "
-    << fmt((kBakeRecommendWithin - 1) * 100, "%.0f")
-    << "% of the best any setting reached for the group, and whose sharp reflections are within "
+       "<b>Recommended</b>: of the settings no blurrier than the default (sharp reflections within "
     << fmt((kBakeSharpWithin - 1) * 100, "%.0f")
-    << "% of the default's on every group, the fastest; settings whose times differ by less than their spread tie, "
+    << "% of the default's on every group), those whose bake share on every group's worst sphere is within "
+    << fmt((kBakeRecommendWithin - 1) * 100, "%.0f")
+    << "% of the best of them for the group, the fastest; settings whose times differ by less than their spread tie, "
        "and the tie goes to the fewest bytes. The sweep took "
     << fmt(s.seconds, "%.0f") << " s.</p>\n";
   o << "<table><tr><th>target</th><th>recommended</th><th>bake (s)</th><th>bytes</th><th>bake share (worst "

@@ -43,25 +43,37 @@ int level_size(const BakeFiles& files, int l, double roughness, int size) {
 std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const BakeFiles& files, int size,
                                     RoughnessSchedule schedule, Metadata& settings) {
   const int n = files.specular.level_count();
-  std::map<int, CubeLevels> sources;  // by face size
-  const auto source = [&](int s) -> const CubeLevels& {
-    auto it = sources.find(s);
-    if (it == sources.end()) it = sources.emplace(s, environment_to_cube(device, env, s)).first;
-    return it->second;
-  };
-  std::vector<CubeLevels> out;
   // The mirror: the environment converted to 2 size, but no finer than the source resolves (an
   // equirect's width / 2, twice a cube's face) unless size needs it: beyond, a conversion adds texels
   // and no detail (a 1024^2 mirror of a 1k map: 100 MB more for the bake sweep's 512^2 setting).
   const int detail = env.layout == EnvImage::Layout::Cube ? 2 * env.width : env.width / 2;
   int mirror_size = 2 * size;
   while (mirror_size > size && mirror_size / 2 >= std::max(size, detail)) mirror_size /= 2;
-  {
-    CubeLevels mirror;
-    mirror.size = mirror_size;
-    mirror.levels.push_back(source(mirror_size).levels[0]);
-    out.push_back(std::move(mirror));
+  // Each level's size, and how many times each converted source is used: a source is handed over
+  // (not copied) at its last use and freed (the memory of a 512^2 chain's ideal bake: its 1024^2
+  // source is 100 MB).
+  std::vector<int> level_sizes(size_t(n), 0);
+  std::map<int, int> uses{{mirror_size, 1}};
+  for (int l = 1; l < n; ++l) {
+    level_sizes[size_t(l)] = level_size(files, l, schedule_roughness(schedule, l, n), size);
+    ++uses[2 * level_sizes[size_t(l)]];
   }
+  std::map<int, CubeLevels> sources;  // by face size
+  const auto take = [&](int s) {
+    auto it = sources.find(s);
+    if (it == sources.end()) it = sources.emplace(s, environment_to_cube(device, env, s)).first;
+    CubeLevels one;
+    one.size = s;
+    if (--uses[s] == 0) {
+      one.levels.push_back(std::move(it->second.levels[0]));
+      sources.erase(it);
+    } else {
+      one.levels.push_back(it->second.levels[0]);
+    }
+    return one;
+  };
+  std::vector<CubeLevels> out;
+  out.push_back(take(mirror_size));
   std::string roughness, sizes = std::to_string(mirror_size);
   PrefilterSpec spec;
   spec.distribution = EnvDistribution::Ggx;
@@ -70,13 +82,10 @@ std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const B
   spec.refinement = kIdealRefinement;
   for (int l = 1; l < n; ++l) {
     const double r = schedule_roughness(schedule, l, n);
-    const int s = level_size(files, l, r, size);
+    const int s = level_sizes[size_t(l)];
     spec.size = 2 * s;
     spec.min_size = s;
-    CubeLevels copy;
-    copy.size = 2 * s;
-    copy.levels.push_back(source(2 * s).levels[0]);
-    out.push_back(second_level(prefilter_chain_at(device, std::move(copy), spec, {0.0, r})));
+    out.push_back(second_level(prefilter_chain_at(device, take(2 * s), spec, {0.0, r})));
     roughness += ", " + std::to_string(r).substr(0, 6);
     sizes += ", " + std::to_string(s);
   }
