@@ -245,6 +245,8 @@ TEST(CliReport, BakeSweepTimesBytesAndTheErrorsOfADirectPreview) {
       const json& d = pts[0]["groups"][name]["sharp"];
       if (!d.is_null() && !g["sharp"].is_null())
         sharp_ok[i] = sharp_ok[i] && g["sharp"].get<double>() <= kBakeSharpWithin * d.get<double>();
+      sharp_ok[i] = sharp_ok[i] && g["engine_median"].get<double>() <=
+                                       kBakeSharpWithin * pts[0]["groups"][name]["engine_median"].get<double>();
     }
   std::map<std::string, double> best;
   for (size_t i = 0; i < pts.size(); ++i)
@@ -317,18 +319,25 @@ TEST(BakeSweep, ParetoFrontAndRecommendation) {
       // far lower on gold's worst sphere but blurrier than the default: it does not set the bar (else
       // no other setting would be within 10 % of its 0.05 on gold)
       sweep_point("blur", 0.3, 0.01, 0.02, 3, {{0.02, 0.10}, {0.050, 0.40}}),
+      // the default's bake shares, fastest of all, but the engine reads it worse (a chain of fewer
+      // levels: its LOD from roughness): not eligible
+      sweep_point("lod", 0.2, 0.01, 0.010, 40, {{0.0085, 0.10}, {0.100, 0.30}}),
   };
+  for (BakeSweepPoint& p : t.points)
+    for (BakeSweepGroup& g : p.groups) g.engine_median = 0.2;
+  t.points.back().groups[1].engine_median = 0.21;  // 5 % above the default's
   mark_bake_sweep(t);
-  const bool eligible[] = {true, false, false, true, true, true, false};
+  const bool eligible[] = {true, false, false, true, true, true, false, false};
   for (size_t i = 0; i < t.points.size(); ++i) EXPECT_EQ(t.points[i].eligible, eligible[i]) << t.points[i].label;
   ASSERT_EQ(t.recommended, 4) << t.why;
   EXPECT_EQ(t.ties, std::vector<std::string>{"c"});
   EXPECT_NE(t.why.find("ties in time with c"), std::string::npos) << t.why;
   // time front over the bake share: b (0.4 s, 0.009) dominates a (0.5 s, 0.009) and c (0.9 s, 0.009);
   // default (1.0, 0.010) and d (0.95, 0.011) are dominated by b; e is the least wrong
-  const bool time_front[] = {false, false, true, false, false, true, true};
+  // blur (0.3 s, 0.02) by lod (0.2 s, 0.010)
+  const bool time_front[] = {false, false, true, false, false, true, false, true};
   // bytes: e (5, 0.008) dominates every other but blur (3 bytes, the fewest)
-  const bool bytes_front[] = {false, false, false, false, false, true, true};
+  const bool bytes_front[] = {false, false, false, false, false, true, true, false};
   for (size_t i = 0; i < t.points.size(); ++i) {
     EXPECT_EQ(t.points[i].pareto_time, time_front[i]) << t.points[i].label;
     EXPECT_EQ(t.points[i].pareto_bytes, bytes_front[i]) << t.points[i].label;

@@ -132,7 +132,9 @@ struct BakeSweepTarget {
   std::vector<std::string> skipped;    // "cube_size=100: why"
 };
 // The recommended setting (mark_bake_sweep): of the settings no blurrier than the default (their
-// sharp-reflection probe within kBakeSharpWithin of the default's on every group), those whose bake
+// sharp-reflection probe within kBakeSharpWithin of the default's on every group) and read no worse by
+// the engine (each group's median engine share within kBakeSharpWithin of the default's: a chain of
+// another level count changes the engine's LOD from roughness), those whose bake
 // share on every material group's worst sphere is within kBakeRecommendWithin of the best any of them
 // reached for that group are eligible, and the fastest of these by its median time is taken; a
 // setting whose median differs from the fastest's by less than either's spread (the largest minus

@@ -229,10 +229,18 @@ void mark_bake_sweep(BakeSweepTarget& t) {
   std::map<std::string, double> default_sharp;
   for (const auto& g : def.groups)
     if (g.sharp >= 0.0) default_sharp[g.name] = g.sharp;
+  // ... and whose engine share is no larger than the default's on any group (its median, within the
+  // same 2 %): a setting that changes the chain's level count changes how the engine reads it (the
+  // LOD from roughness), which the bake's share does not see (generic's min_size=64 under venice: the
+  // same bake share, the engine's 12.0 % -> 14.4 %).
+  std::map<std::string, double> default_engine;
+  for (const auto& g : def.groups) default_engine[g.name] = g.engine_median;
   const auto sharp_ok = [&](const BakeSweepPoint& p) {
     for (const auto& g : p.groups) {
       const auto ds = default_sharp.find(g.name);
       if (ds != default_sharp.end() && g.sharp >= 0.0 && g.sharp > kBakeSharpWithin * ds->second) return false;
+      const auto de = default_engine.find(g.name);
+      if (de != default_engine.end() && g.engine_median > kBakeSharpWithin * de->second) return false;
     }
     return true;
   };

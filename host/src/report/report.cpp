@@ -177,7 +177,8 @@ json bake_json(const BakeSweep& s) {
   b["recommended_rule"] =
       "of the settings whose sharp-reflection probe on every group is within " +
       std::to_string(int(std::lround((kBakeSharpWithin - 1) * 100))) +
-      "% of the default's (no blurrier), those whose bake share on every group's worst sphere is within " +
+      "% of the default's (no blurrier) and whose engine share (each group's median) is within as much of the "
+      "default's, those whose bake share on every group's worst sphere is within " +
       std::to_string(int(std::lround((kBakeRecommendWithin - 1) * 100))) +
       "% of the best of them for that group ('eligible'); the fastest by its median time; settings whose medians "
       "differ by less than either's spread tie ('ties'), and of them the one with the fewest bytes is taken; with "

@@ -462,7 +462,9 @@ void bake_section(std::ostringstream& o, const BakeSweep& s) {
        "spans 2 pixels (the bake's share there; a 20-pixel sphere cannot show a chain's resolution). "
        "<b>Recommended</b>: of the settings no blurrier than the default (sharp reflections within "
     << fmt((kBakeSharpWithin - 1) * 100, "%.0f")
-    << "% of the default's on every group), those whose bake share on every group's worst sphere is within "
+    << "% of the default's on every group) and read no worse by the engine (each group's engine share within as "
+       "much of the default's: a chain of another level count changes the engine's lookup), those whose bake share on "
+       "every group's worst sphere is within "
     << fmt((kBakeRecommendWithin - 1) * 100, "%.0f")
     << "% of the best of them for the group, the fastest; settings whose times differ by less than their spread tie, "
        "and the tie goes to the fewest bytes. The sweep took "
