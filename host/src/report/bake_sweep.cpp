@@ -284,11 +284,11 @@ void mark_bake_sweep(BakeSweepTarget& t) {
     const BakeSweepPoint& p = t.points[i];
     if (p.eligible && std::abs(p.seconds - f.seconds) <= std::max(p.spread, f.spread)) tied.push_back(int(i));
   }
-  int pick = fastest;
-  for (int i : tied) {
-    const BakeSweepPoint &p = t.points[size_t(i)], &q = t.points[size_t(pick)];
-    if (p.bytes < q.bytes || (p.bytes == q.bytes && p.seconds < q.seconds)) pick = i;
-  }
+  // of the tied, the fewest bytes; on equal bytes the first in the sweep's order (the default, when it
+  // ties: no change to make)
+  int pick = tied.front();
+  for (int i : tied)
+    if (t.points[size_t(i)].bytes < t.points[size_t(pick)].bytes) pick = i;
   t.recommended = pick;
   for (int i : tied)
     if (i != pick) t.ties.push_back(t.points[size_t(i)].label);
