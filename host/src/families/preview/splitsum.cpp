@@ -246,15 +246,12 @@ SplitSum::SplitSum(BakeFiles files, SplitSumOptions options) : shading_(&engines
   if (!f.irradiance.levels.empty()) sampler_.irradiance.push_back(SplitSumSampler::pad(f.irradiance, 0));
   for (int l = 0; l < f.sheen.level_count(); ++l) sampler_.sheen_levels.push_back(SplitSumSampler::pad(f.sheen, l));
   if (shading_->prepare) shading_->prepare(sampler_);
-  // Every chain is sampled from its padded copies: the unpadded texels are let go, the levels' count
-  // and sizes kept (what the engine's lookup reads). The memory of the preview and the bake sweep: a
-  // 512^2 chain and its ideal bake's are ~200 MB.
-  const auto release = [](CubeLevels& c) {
-    for (std::vector<float>& level : c.levels) std::vector<float>().swap(level);
-  };
-  release(sampler_.files.specular);
-  release(sampler_.files.sheen);
-  release(sampler_.files.irradiance);
+  // The GGX chain is sampled from its padded copies: its unpadded texels are let go, the levels' count
+  // and sizes kept (what the engine's lookup reads; an ideal bake made from these files replaces the
+  // chain and reads only those). The memory of the preview and the bake sweep: a 512^2 chain and its
+  // ideal bake's are ~200 MB. The Charlie chain and the irradiance cube stay: an ideal bake keeps the
+  // files' own.
+  for (std::vector<float>& level : sampler_.files.specular.levels) std::vector<float>().swap(level);
   std::vector<CubeLevels>().swap(sampler_.files.specular_levels);
   if (f.diffuse == DiffuseSource::OurSh && f.sh_order < 3)
     throw Error("'" + f.diffuse_file + "': SH of " + std::to_string(f.sh_order) + " bands (at least 3)");
