@@ -1,9 +1,11 @@
 // Error bounds on inputs whose errors are known, each asserted to its exact value where a term
 // decides, so that a changed factor, a dropped term or a floor moved fails (issue 35: with the chain
 // bound's safety factor set to 1, the test that compares a bake's bound with the level's error over
-// all its texels still passed, the sample's largest difference alone covering that error):
+// all its texels still passed, the sample's largest difference alone covering that error; a halved
+// preview reference bound was caught only by another test's precondition):
 // - the prefiltered chain's (host/src/families/prefilter/bound.cpp): max(2 x RMS, the largest
-//   difference, 1e-6) per level.
+//   difference, 1e-6) per level;
+// - the preview reference's per sphere (host/src/families/preview/render.cpp, reference_bound).
 // All on the scalar reference: no OpenCL device.
 #include <gtest/gtest.h>
 
@@ -17,6 +19,7 @@
 #include "brdfbake/reference/envmap.hpp"
 #include "env/reference_cube.hpp"
 #include "families/prefilter/model.hpp"
+#include "families/preview/render.hpp"
 
 namespace brdfbake {
 namespace {
@@ -169,6 +172,16 @@ TEST(ChainBound, AChainWithPlantedErrorsRecordsTwiceAnEvenErrorAndTheLargestOfOn
   EXPECT_NEAR(planted.max_difference[2], 0.05, kFloatLevel);
   EXPECT_NEAR(planted.per_level[2], 0.05, kFloatLevel) << "the largest: 5 % on one texel of 24";
   EXPECT_EQ(planted.bound, *std::max_element(planted.per_level.begin(), planted.per_level.end()));
+}
+
+// ---- The preview reference's bound per sphere (reference_bound) ------------------------------------
+
+TEST(PreviewReferenceBound, TwiceTheRmsAndTheMaxOfTheFinerDifferences) {
+  // four bound pixels, differences 1e-3, 1e-3, 1e-3 and 3e-3 from the render at twice the refinement:
+  // RMS sqrt(12 / 4) 1e-3, max 3e-3; each x 2
+  const detail::preview::ReferenceBound b = detail::preview::reference_bound({1e-3, 1e-3, 1e-3, 3e-3});
+  EXPECT_DOUBLE_EQ(b.rms, 2.0 * std::sqrt(3.0) * 1e-3);
+  EXPECT_DOUBLE_EQ(b.max, 6e-3);
 }
 
 }  // namespace

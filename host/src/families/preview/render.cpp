@@ -234,6 +234,14 @@ PreviewErrorStats error_stats(std::vector<double> e) {
   return s;
 }
 
+ReferenceBound reference_bound(const std::vector<double>& differences) {
+  const PreviewErrorStats d = error_stats(differences);
+  ReferenceBound b;
+  b.rms = kPreviewBoundFactor * d.rms;
+  b.max = kPreviewBoundFactor * d.max;
+  return b;
+}
+
 std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels,
                                               const PreviewImage& splitsum, const PreviewImage& reference,
                                               double exposure) {
@@ -613,7 +621,7 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
     if (round == kMaxRefinements || res.spec.bound_goal <= 0.0 || 2.0 * refinement > kPreviewMaxRefinement) break;
     bool any = false;
     for (size_t s = 0; s < res.spheres.size(); ++s) {
-      again[s] = again[s] && kPreviewBoundFactor * error_stats(bound[s]).rms > res.spec.bound_goal;
+      again[s] = again[s] && reference_bound(bound[s]).rms > res.spec.bound_goal;
       any = any || again[s];
     }
     if (!any) break;
@@ -622,9 +630,9 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
   res.stats = sphere_errors(layout, pixels, res.splitsum, res.reference, res.exposure);
   for (size_t s = 0; s < res.spheres.size(); ++s) {
     PreviewSphereStats& st = res.stats[s];
-    const PreviewErrorStats b = error_stats(bound[s]);
-    st.reference_rms_bound = kPreviewBoundFactor * b.rms;
-    st.reference_max_bound = kPreviewBoundFactor * b.max;
+    const ReferenceBound b = reference_bound(bound[s]);
+    st.reference_rms_bound = b.rms;
+    st.reference_max_bound = b.max;
     st.bound_pixels = int(bound[s].size());
     st.refinement = refinement_of[s];
   }
