@@ -28,6 +28,7 @@
 #include "families/preview/model.hpp"
 #include "families/preview/shading.hpp"
 #include "families/preview/splitsum.hpp"
+#include "text.hpp"
 #include "view/canvas.hpp"
 
 namespace brdfbake {
@@ -237,8 +238,8 @@ PreviewErrorStats error_stats(std::vector<double> e) {
 ReferenceBound reference_bound(const std::vector<double>& differences) {
   const PreviewErrorStats d = error_stats(differences);
   ReferenceBound b;
-  b.rms = kPreviewBoundFactor * d.rms;
-  b.max = kPreviewBoundFactor * d.max;
+  b.rms = kPreviewBoundFactor * d.rms + kPreviewBoundFloor;
+  b.max = kPreviewBoundFactor * d.max + kPreviewBoundFloor;
   return b;
 }
 
@@ -564,8 +565,11 @@ void reference_pass(Backend& backend, const EnvImage& equirect, const std::vecto
       "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
       std::to_string(res.spec.bound_stride) +
       "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
-      "(RGB norms); a sphere whose RMS bound exceeds the bound goal is integrated again at twice the refinement "
-      "(at most twice); the reference is " +
+      "(RGB norms), plus " +
+      fmt_number(100.0 * kPreviewBoundFloor, "%g") +
+      "% (what no refinement shows: the float sums and the environment's model, at the resolution of an independent "
+      "check); a sphere whose RMS bound exceeds the bound goal is integrated again at twice the refinement (at most "
+      "twice); the reference is " +
       sums.method;
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];

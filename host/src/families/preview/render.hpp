@@ -26,7 +26,8 @@ PreviewErrorStats error_stats(std::vector<double> errors);
 
 // The reference's own bound over one sphere (PreviewSphereStats::reference_rms_bound and
 // reference_max_bound) from its bound pixels' relative differences |reference - reference at twice
-// the refinement| / |the finer one| (RGB norms): kPreviewBoundFactor x their RMS, and x their max.
+// the refinement| / |the finer one| (RGB norms): kPreviewBoundFactor x their RMS, and x their max,
+// each plus kPreviewBoundFloor (brdfbake/preview.hpp says why).
 struct ReferenceBound {
   double rms = 0.0, max = 0.0;
 };
