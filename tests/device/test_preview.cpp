@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -61,6 +63,12 @@ constexpr double kFloatSums = 2e-5;
 // A measured error may exceed the stated bound by the brute force's own convergence (subdivision 16
 // against 32: below 2e-4 on these maps, tests/reference/test_preview_reference.cpp).
 constexpr double kBruteForceSlack = 3e-4;
+// EachSpheresBoundHoldsAgainstTheDoubleReference: the grid at its smallest (12 columns of 8-pixel
+// cells), and how close to its bound's quadrature part the worst sphere must come: measured 0.57
+// (dark r0.2; 0.43-0.57 on every material and roughness, 0.77 under the 256 x 128 map), so a factor
+// 2 inflated to 4 fails, and a noisier device's rounding still passes.
+constexpr int kBoundCheckSize = 96;
+constexpr double kBoundTightness = 0.3;
 
 EnvImage random_equirect(int width, unsigned seed, float scale = 1.0f) {
   EnvImage e;
@@ -679,6 +687,108 @@ TEST(PreviewReference, ASphereAboveTheBoundGoalIsIntegratedAgainFiner) {
   }
   EXPECT_GT(metal_pixels, 100u);
   EXPECT_GT(rough_pixels, 100u);
+}
+
+// ---- Each sphere's stated bound against the double reference ---------------------------------------------
+
+// `e` at half its width and height, each pixel the mean of 2 x 2 (the source's name kept: its bake
+// is of the same map).
+EnvImage half_equirect(const EnvImage& e) {
+  EnvImage h = e;
+  h.width = e.width / 2;
+  h.height = e.height / 2;
+  h.rgb.assign(size_t(3 * h.width * h.height), 0.0f);
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0.0f;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx)
+            sum += e.rgb[3 * (size_t(2 * y + dy) * size_t(e.width) + size_t(2 * x + dx)) + size_t(c)];
+        h.rgb[3 * (size_t(y) * size_t(h.width) + size_t(x)) + size_t(c)] = 0.25f * sum;
+      }
+  return h;
+}
+
+// Issue 35: the bound each sphere states (reference_rms_bound) holds against an independent
+// computation on every sphere, and is not vacuous. The default grid (72 spheres) rendered at its
+// smallest (96 x 96) on the device, and again on the reference backend: every pixel by the double
+// brute force (host/reference/src/preview.cpp, subdivision 16) from the same bake, under venice at
+// 128 x 64 (the brute force's work is the map's pixels: 14 s of CPU); per sphere the RMS over all
+// its pixels of |device - double| / |double| (RGB norms). The brute force shares the environment's
+// model (constant cells), so what it checks is the bound's quadrature part, 2 x the difference to
+// twice the refinement: the stated bound less kPreviewBoundFloor (what only a check with another
+// model of the map resolves, brdfbake/preview.hpp), and so the stated bound itself. A factor halved
+// (issue 35: caught only by another test's precondition) fails on nearly every sphere; a bound
+// inflated fails kBoundTightness.
+TEST(PreviewReference, EachSpheresBoundHoldsAgainstTheDoubleReference) {
+  const std::string file = shared_envmap("derived/venice_sunset_256x128_derived.hdr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto device = Backend::open(*dev);
+  auto reference = Backend::open("reference");
+  // a small bake of the map's own (the split-sum render is not what is measured here)
+  PlanOptions o;
+  o.environment = file;
+  o.target = "filament";
+  o.lut_size = 16;
+  o.cube_size = 16;
+  o.cube_min_size = 8;
+  o.prefilter_max_error = 0.0;
+  Plan plan = plan_default(o);
+  plan.job.output_dir = (temp_dir("bound-vs-double") / "filament").string();
+  run_job(plan.job, {}, on_backend(*device));
+  const EnvImage env = half_equirect(load_environment(file));
+  PreviewSpec spec;
+  spec.target = EngineTarget::Filament;
+  spec.bake = plan.job.output_dir;
+  spec.width = spec.height = kBoundCheckSize;
+  spec.shares = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const PreviewResult d = render_preview(*device, env, spec);
+  const auto t1 = std::chrono::steady_clock::now();
+  // the brute force's own bound is not used: its fewest pixels (16 a sphere, at subdivision 32), and
+  // no sphere integrated again (the brute force has no refinement to double)
+  spec.bound_stride = 1 << 20;
+  spec.bound_goal = 0.0;
+  const PreviewResult r = render_preview(*reference, env, spec);
+  const auto t2 = std::chrono::steady_clock::now();
+  std::printf("device render %.1f s, double brute force %.1f s\n", std::chrono::duration<double>(t1 - t0).count(),
+              std::chrono::duration<double>(t2 - t1).count());
+  ASSERT_EQ(d.stats.size(), 72u);
+  ASSERT_EQ(r.stats.size(), d.stats.size());
+
+  const auto layout = detail::preview::make_layout(d.spec);
+  std::vector<std::vector<double>> diff(d.spheres.size());
+  for (const auto& p : detail::preview::sphere_pixels(layout)) {
+    const size_t at = 3 * (size_t(p.y) * size_t(d.spec.width) + size_t(p.x));
+    const double a[3] = {d.reference.rgb[at], d.reference.rgb[at + 1], d.reference.rgb[at + 2]};
+    const double b[3] = {r.reference.rgb[at], r.reference.rgb[at + 1], r.reference.rgb[at + 2]};
+    diff[size_t(p.sphere)].push_back(rel(a, b));
+  }
+  double worst = 0.0, worst_stated = 0.0;
+  std::string worst_name;
+  std::map<std::string, double> row_worst, column_worst;  // per material, per roughness
+  for (size_t s = 0; s < d.spheres.size(); ++s) {
+    const std::string& name = d.spheres[s].material.name;
+    const double rms = detail::preview::error_stats(diff[s]).rms, stated = d.stats[s].reference_rms_bound;
+    const double quadrature = stated - kPreviewBoundFloor;
+    EXPECT_LE(rms, stated) << name << ": " << diff[s].size() << " pixels";
+    EXPECT_LE(rms, quadrature) << name << ": the quadrature's part of the bound";
+    const double ratio = rms / quadrature;
+    std::printf("%-14s rms %.2e, bound %.2e (quadrature %.2e): %.2f of the quadrature's, %.2f of the bound\n",
+                name.c_str(), rms, stated, quadrature, ratio, rms / stated);
+    const std::string row = name.substr(0, name.find(' ')), column = name.substr(name.find(' ') + 1);
+    row_worst[row] = std::max(row_worst[row], ratio);
+    column_worst[column] = std::max(column_worst[column], ratio);
+    worst_stated = std::max(worst_stated, rms / stated);
+    if (ratio > worst) worst = ratio, worst_name = name;
+  }
+  for (const auto& [k, v] : row_worst) std::printf("worst of the quadrature's part, %s: %.2f\n", k.c_str(), v);
+  for (const auto& [k, v] : column_worst) std::printf("worst of the quadrature's part, %s: %.2f\n", k.c_str(), v);
+  std::printf("worst: %.2f of the quadrature's part (%s), %.2f of a stated bound\n", worst, worst_name.c_str(),
+              worst_stated);
+  EXPECT_GE(worst, kBoundTightness) << worst_name << ": the bound is far above the error on every sphere";
 }
 
 // ---- The stored encodings read back --------------------------------------------------------------------

@@ -7,12 +7,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
@@ -462,6 +464,122 @@ TEST(EstimateJob, GroupsTheTablesAsTheRunDoes) {
   EXPECT_NE(e.tables[3].bake, e.tables[1].bake);
   EXPECT_EQ(e.tables[2].seconds, 0.0) << "a second output of one bake costs its bake once";
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// The estimate's arithmetic with its clock given (EstimateOptions::timer), whatever the machine's
+// speed: each measuring bake "takes" 0.25 s plus 2^-16 s a texel and each environment read 0.125 s,
+// binary fractions, so the fit's arithmetic is exact and every expected time is asserted to the
+// bit. Issue 35: with every table's estimate doubled, the test against a real bake
+// (TimeAndBytesOfTheBakeItEstimates, a factor 3 either way) still passed. The bakes themselves run
+// on the reference backend (their bytes are measured as ever).
+struct FakeClock {
+  std::vector<std::string> steps;  // what was timed, in order: "fresnel 32x32", "read grey.hdr"
+  // seconds of a bake of `texels`; the default: the line 0.25 + 2^-16 texels
+  std::function<double(double texels)> bake_seconds = [](double texels) { return 0.25 + texels / 65536.0; };
+
+  EstimateOptions options() {
+    EstimateOptions o;
+    o.timer = [this](const EstimateStep& step, const std::function<void()>& work) {
+      work();
+      if (!step.bake) {
+        steps.push_back("read " + step.environment);
+        return 0.125;
+      }
+      const TableRequest& t = *step.bake;
+      // the texels each request bakes, spelt out for these kinds: a 1-D Fresnel table's cells, else
+      // size x height; a table without a size (irradiance's SH): 1
+      const double size = t.number("size", 0);
+      const bool one_d = t.kind == TableKind::Fresnel && t.text("table") != "2d";
+      const double texels = size <= 0 ? 1.0 : one_d ? size : size * t.number("height", size);
+      const auto whole = [](double x) { return std::to_string(static_cast<long long>(x)); };
+      steps.push_back(std::string(table_kind_name(t.kind)) + " " + (size <= 0 ? std::string("-") : whole(size)) +
+                      (one_d || size <= 0 ? std::string() : "x" + whole(t.number("height", size))));
+      return bake_seconds(texels);
+    };
+    return o;
+  }
+};
+
+TEST(EstimateJob, TheArithmeticWithAGivenClock) {
+  // a small environment (32 x 16, RGBE 0.5): the reference backend's irradiance of it is quick
+  const fs::path dir = temp_dir("estimate-clock");
+  fs::create_directories(dir);
+  const fs::path env = dir / "grey.hdr";
+  {
+    std::ofstream f(env, std::ios::binary);
+    f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n";
+    for (int i = 0; i < 32 * 16; ++i) f.write("\x80\x80\x80\x80", 4);
+  }
+  const Job job = parse_job(R"({"tables": [
+      {"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 128},
+      {"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 128, "output": "copy/fresnel.exr"},
+      {"kind": "fresnel", "model": "dielectric", "ior": 1.5, "size": 16384},
+      {"kind": "ggx", "size": 8},
+      {"kind": "irradiance"}],
+      "device": "reference", "environment": ")" +
+                                env.string() + R"("})",
+                            "job.json");
+  FakeClock clock;
+  const PlanEstimate e = estimate_job(job, clock.options());
+  ASSERT_EQ(e.tables.size(), 5u);
+  for (const auto& s : clock.steps) std::cout << "timed: " << s << "\n";
+
+  // 128 x 128 = 16,384 texels, above kEstimateMeasureBelow (8,192): baked at 32^2 (0.25 + 1/64 s) and
+  // 64^2 (0.25 + 1/16 s), each after an untimed-in-the-fit first bake; the line through them at
+  // 16,384 texels: 0.25 + 0.25 s.
+  EXPECT_EQ(e.tables[0].method, "scaled");
+  EXPECT_EQ(e.tables[0].seconds, 0.5);
+  EXPECT_EQ(e.tables[1].seconds, 0.0) << "a second output of one bake costs its bake once";
+  EXPECT_EQ(e.tables[1].bake, e.tables[0].bake);
+  // A 1-D table of 16,384 cells: baked at 4,096 and 8,192 cells, the line at 16,384: 0.5 s.
+  EXPECT_EQ(e.tables[2].method, "scaled");
+  EXPECT_EQ(e.tables[2].seconds, 0.5);
+  // 8 x 8 = 64 texels: baked at its own size, its time is that bake's: 0.25 + 64 / 65536 s.
+  EXPECT_EQ(e.tables[3].method, "measured");
+  EXPECT_EQ(e.tables[3].seconds, 0.25 + 1.0 / 1024.0);
+  EXPECT_EQ(e.tables[4].method, "measured");
+  EXPECT_EQ(e.tables[4].seconds, 0.25 + 1.0 / 65536.0);
+  // The environment read once (irradiance reads it), and the whole: the read and every table.
+  EXPECT_EQ(e.environment_seconds, 0.125);
+  EXPECT_EQ(e.seconds, 0.125 + 0.5 + 0.5 + (0.25 + 1.0 / 1024.0) + (0.25 + 1.0 / 65536.0));
+
+  // What was timed: each scaled group's 1/4 and 1/2 twice (the first of each builds its programs),
+  // each measured group's own size twice, the environment once.
+  const std::vector<std::string> want = {"fresnel 32x32", "fresnel 64x64", "fresnel 32x32",        "fresnel 64x64",
+                                         "fresnel 4096",  "fresnel 8192",  "fresnel 4096",         "fresnel 8192",
+                                         "ggx 8x8",       "ggx 8x8",       "read " + env.string(), "irradiance -",
+                                         "irradiance -"};
+  EXPECT_EQ(clock.steps, want);
+
+  // A given clock's times are not kept for the process: a second estimate times its bakes again.
+  clock.steps.clear();
+  const PlanEstimate again = estimate_job(job, clock.options());
+  EXPECT_EQ(clock.steps.size(), want.size());
+  EXPECT_EQ(again.seconds, e.seconds);
+  fs::remove_all(dir);
+}
+
+// The fit's guards, with the clock given: a fixed part that comes out negative (the smaller bake
+// relatively slow: noise) is dropped and the larger bake scaled in proportion to the texels; so is a
+// time that does not grow with the texels.
+TEST(EstimateJob, AFitWithoutAFixedPartScalesTheLargerBake) {
+  const Job job = parse_job(R"({"tables": [{"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 128}],
+      "device": "reference"})",
+                            "job.json");
+  FakeClock clock;
+  // 2^-16 s a texel less 2^-8 s: a = -2^-8 < 0; the 64^2 bake (1/16 - 1/256 s) x 4.
+  clock.bake_seconds = [](double texels) { return texels / 65536.0 - 1.0 / 256.0; };
+  EXPECT_EQ(estimate_job(job, clock.options()).tables[0].seconds, (1.0 / 16.0 - 1.0 / 256.0) * 4.0);
+  // The smaller bake slower than the larger (b < 0): the 64^2 bake (0.375 s) x 4.
+  clock.bake_seconds = [](double texels) { return texels < 2048 ? 0.5 : 0.375; };
+  EXPECT_EQ(estimate_job(job, clock.options()).tables[0].seconds, 1.5);
+  // A time that does not grow (b = 0): likewise, 0.375 s x 4.
+  clock.bake_seconds = [](double) { return 0.375; };
+  EXPECT_EQ(estimate_job(job, clock.options()).tables[0].seconds, 1.5);
 }
 
 }  // namespace

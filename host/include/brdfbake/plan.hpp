@@ -129,6 +129,14 @@ struct PlanEstimate {
   double calibration_seconds = 0.0;   // what making the estimate took (0 when every table was cached)
 };
 
+// One step the estimate times (EstimateOptions::timer): a measuring bake or an environment's read.
+struct EstimateStep {
+  // A measuring bake of this request (a group's first table, its sides divided or not) and the
+  // delivery of each output of its group; null for an environment's read.
+  const TableRequest* bake = nullptr;
+  std::string environment;  // the environment read (its spec), when bake is null
+};
+
 struct EstimateOptions {
   // Runs `work` on the device a selector names (the server: on its warm device, before queued jobs);
   // empty: a backend opened once per selector.
@@ -137,6 +145,10 @@ struct EstimateOptions {
   // The measuring bakes stop at their next step (Cancelled is thrown) once this returns true: the
   // server's deadline for POST /v1/plan.
   std::function<bool()> stop_requested;
+  // Times one step: runs `work` once and returns its seconds. Empty: its wall time (steady_clock).
+  // Given (a test's clock with known times: tests/host/test_job.cpp), what it returns is the
+  // measurement, and the process's kept measurements are neither read nor added to.
+  std::function<double(const EstimateStep& step, const std::function<void()>& work)> timer;
 };
 
 // Estimates a job's bake (validated or not: a validated copy is estimated) from measured speed on

@@ -11,6 +11,10 @@
 // with the texels: t = a + b * work, bytes = c + d * work, extrapolated to the table's work. What this misses: costs
 // not proportional to the texels (a chain's coarse levels, adaptive refinement that converges differently at another
 // size, compression ratios).
+//
+// Every measurement goes through one timer (EstimateOptions::timer: the wall time of each step unless a caller gives
+// its own), so the arithmetic (the fit, the extrapolation, a group's outputs, the environment's read once, the sum)
+// is tested with known times whatever the machine's speed (tests/host/test_job.cpp, EstimateJob.*GivenClock).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +37,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// EstimateOptions::timer, or the wall time of the work.
+using Timer = std::function<double(const EstimateStep&, const std::function<void()>&)>;
+double time_step(const Timer& timer, const EstimateStep& step, const std::function<void()>& work) {
+  if (timer) return timer(step, work);
+  const auto t0 = Clock::now();
+  work();
+  return since(t0);
+}
 
 // The texels a request bakes, every level and face: the unit its time and bytes grow with.
 double work_units(const TableRequest& t) {
@@ -117,30 +130,33 @@ std::string group_key(const Job& job, const std::vector<size_t>& g) {
 // A group measured on `backend`: baked at its own size when small, else at 1/4 and 1/2 of its sides
 // and extrapolated in its texels.
 Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeInputs& inputs, Backend& backend,
-                       const std::function<bool()>& stop_requested) {
+                       const std::function<bool()>& stop_requested, const Timer& timer) {
   const TableRequest& head = job.tables[g.front()];
   Measured m;
   // A bake of `t` (the head's sides divided or not) and the delivery of each output at its sides.
   const auto measure = [&](const TableRequest& t) {
     Point p;
     p.work = work_units(t);
-    const auto t0 = Clock::now();
-    TableRunOptions run;
-    run.delivery = TableDelivery::Memory;
-    run.backend = &backend;
-    run.inputs = inputs;
-    run.stop_requested = stop_requested;
-    const TableRun tr = run_table(t, run);
-    const BakeResult& r = tr.result;
-    for (size_t i : g) {
-      TableRequest o = job.tables[i];
-      o.params = t.params;  // the outputs of a group share the bake's parameters
-      const Delivery d = deliver_result(r, o, TableDelivery::Bytes);
-      double b = 0;
-      for (const auto& f : d.files) b += double(f.bytes.size());
-      p.bytes.push_back(b);
-    }
-    p.seconds = since(t0);
+    EstimateStep step;
+    step.bake = &t;
+    p.seconds = time_step(timer, step, [&] {
+      TableRunOptions run;
+      run.delivery = TableDelivery::Memory;
+      run.backend = &backend;
+      run.inputs = inputs;
+      run.stop_requested = stop_requested;
+      const TableRun tr = run_table(t, run);
+      const BakeResult& r = tr.result;
+      for (size_t i : g) {
+        TableRequest o = job.tables[i];
+        o.params = t.params;  // the outputs of a group share the bake's parameters
+        const Delivery d = deliver_result(r, o, TableDelivery::Bytes);
+        double b = 0;
+        for (const auto& f : d.files) b += double(f.bytes.size());
+        p.bytes.push_back(b);
+      }
+    });
+    if (p.bytes.size() != g.size()) throw Error("estimate: the timer did not run the measuring bake of " + t.output);
     return p;
   };
   const double work = work_units(head);
@@ -190,16 +206,23 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
   }
 
   std::map<std::string, EnvImage> environments;  // loaded only when a group must be measured
+  std::map<std::string, double> read_seconds;    // the seconds of each read here
   EnvLoadOptions load;
   load.sanitize = job.sanitize;
   if (options.memory_budget) load.memory_budget = options.memory_budget;
   const auto environment = [&](const std::string& spec) -> EnvImage& {
     auto it = environments.find(spec);
     if (it == environments.end()) {
-      const auto t0 = Clock::now();
-      it = environments.emplace(spec, load_environment(spec, load)).first;
-      std::lock_guard<std::mutex> lock(cache_mutex);
-      environment_cache()[spec + (job.sanitize ? "|s" : "")] = since(t0);
+      EstimateStep step;
+      step.environment = spec;
+      const double seconds =
+          time_step(options.timer, step, [&] { it = environments.emplace(spec, load_environment(spec, load)).first; });
+      if (it == environments.end()) throw Error("estimate: the timer did not run the read of " + spec);
+      read_seconds[spec] = seconds;
+      if (!options.timer) {
+        std::lock_guard<std::mutex> lock(cache_mutex);
+        environment_cache()[spec + (job.sanitize ? "|s" : "")] = seconds;
+      }
     }
     return it->second;
   };
@@ -218,7 +241,7 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
     const std::string key = group_key(job, g);
     Measured m;
     bool cached = false;
-    {
+    if (!options.timer) {
       std::lock_guard<std::mutex> lock(cache_mutex);
       auto it = group_cache().find(key);
       if (it != group_cache().end()) m = it->second, cached = true;
@@ -229,10 +252,13 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
       BakeInputs inputs;
       if (table_kind_uses_environment(head.kind)) inputs.environment = &environment(head.environment);
       if (options.stop_requested && options.stop_requested()) throw Cancelled("cancelled: the estimate was stopped", 0);
-      on_device(head.device,
-                [&](Backend& backend) { m = measure_group(job, g, inputs, backend, options.stop_requested); });
-      std::lock_guard<std::mutex> lock(cache_mutex);
-      group_cache()[key] = m;
+      on_device(head.device, [&](Backend& backend) {
+        m = measure_group(job, g, inputs, backend, options.stop_requested, options.timer);
+      });
+      if (!options.timer) {
+        std::lock_guard<std::mutex> lock(cache_mutex);
+        group_cache()[key] = m;
+      }
     }
     for (size_t k = 0; k < g.size(); ++k) {
       TableEstimate& e = out.tables[g[k]];
@@ -250,7 +276,9 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
       specs.push_back(t.environment);
   for (const auto& spec : specs) {
     double seconds = -1;
-    {
+    if (read_seconds.count(spec)) {
+      seconds = read_seconds[spec];
+    } else if (!options.timer) {
       std::lock_guard<std::mutex> lock(cache_mutex);
       auto it = environment_cache().find(spec + (job.sanitize ? "|s" : ""));
       if (it != environment_cache().end()) seconds = it->second;
@@ -258,8 +286,7 @@ PlanEstimate estimate_job(const Job& given, const EstimateOptions& options) {
     if (seconds < 0) {
       environment(spec);
       measured_any = true;
-      std::lock_guard<std::mutex> lock(cache_mutex);
-      seconds = environment_cache()[spec + (job.sanitize ? "|s" : "")];
+      seconds = read_seconds[spec];
     }
     out.environment_seconds += seconds;
   }

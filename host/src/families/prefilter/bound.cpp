@@ -4,8 +4,11 @@
 // of its texels.
 //
 // Per level l >= 1, with Y the luminance of a texel:
-//   d_k   = |Y_stored(k) - Y_ref(k)| / max(Y_ref(k), 1e-6 max_k Y_ref(k))   on the sample texels k,
-//   bound = max(kChainBoundSafety * RMS_k d_k, max_k d_k, kChainBoundFloor).
+//   d_k   = |Y_stored(k) - Y_ref(k)| / max(Y_ref(k), 1e-6 max_k Y_ref(k))   on the sample texels k
+//           (relative_differences),
+//   bound = max(kChainBoundSafety * RMS_k d_k, max_k d_k, kChainBoundFloor)   (level_bound).
+// Both are pure functions of the sample's luminances, tested on inputs with known differences where
+// each term decides (tests/host/test_error_bounds.cpp).
 // The safety factor and the sample's largest difference stand for what a sample of the level does
 // not see (the RMS over a few dozen texels against the RMS over all of them: a sun's neighbourhood
 // holds most of a level's error, and the sample holds the brightest texel's); the floor is the fp32
@@ -21,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -81,6 +85,34 @@ std::vector<Texel> sample_texels(const CubeLevels& cube, int level, int count) {
 
 }  // namespace
 
+std::vector<double> relative_differences(const std::vector<double>& y_stored, const std::vector<double>& y_ref) {
+  if (y_stored.size() != y_ref.size())
+    throw std::invalid_argument("relative_differences: " + std::to_string(y_stored.size()) + " stored values against " +
+                                std::to_string(y_ref.size()) + " reference values");
+  double y_max = 0.0;
+  for (double y : y_ref) y_max = std::max(y_max, y);
+  std::vector<double> d(y_ref.size());
+  for (size_t k = 0; k < y_ref.size(); ++k)
+    d[k] = std::fabs(y_stored[k] - y_ref[k]) / std::max({y_ref[k], kChainBoundDarkFraction * y_max, 1e-300});
+  return d;
+}
+
+LevelBound level_bound(const std::vector<double>& differences) {
+  LevelBound b;
+  double sum = 0.0;
+  for (double d : differences) {
+    sum += d * d;
+    b.worst = std::max(b.worst, d);
+  }
+  b.rms = std::sqrt(sum / double(std::max<size_t>(differences.size(), 1)));
+  b.bound = std::max({kChainBoundSafety * b.rms, b.worst, kChainBoundFloor});
+  return b;
+}
+
+double chain_recorded_bound(const ChainBound& chain, double max_error, double measured_error) {
+  return max_error > 0 && measured_error > chain.bound ? measured_error : chain.bound;
+}
+
 ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,
                              const std::vector<double>& roughness) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -105,22 +137,14 @@ ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distributio
       for (const Texel& t : texels) dirs.push_back(math::cube_texel_direction(t.face, cube.level_size(l), t.i, t.j));
       const std::vector<double> ref = reference::prefilter_directions(source, lobe, r, dirs, q);
       std::vector<double> y_ref(texels.size());
-      double y_max = 0.0;
-      for (size_t k = 0; k < texels.size(); ++k) {
-        // in double, with luminance()'s weights (Rec. 709)
+      for (size_t k = 0; k < texels.size(); ++k)  // in double, with luminance()'s weights (Rec. 709)
         y_ref[k] = 0.2126 * ref[3 * k] + 0.7152 * ref[3 * k + 1] + 0.0722 * ref[3 * k + 2];
-        y_max = std::max(y_max, y_ref[k]);
-      }
-      double sum = 0.0, worst = 0.0;
-      for (size_t k = 0; k < texels.size(); ++k) {
-        const double y = luminance(cube.texel(l, texels[k].face, texels[k].i, texels[k].j));
-        const double d = std::fabs(y - y_ref[k]) / std::max({y_ref[k], 1e-6 * y_max, 1e-300});
-        sum += d * d;
-        worst = std::max(worst, d);
-      }
-      const double rms = std::sqrt(sum / double(std::max<size_t>(texels.size(), 1)));
-      b.per_level[size_t(l)] = std::max({kChainBoundSafety * rms, worst, kChainBoundFloor});
-      b.max_difference[size_t(l)] = worst;
+      std::vector<double> y_stored(texels.size());
+      for (size_t k = 0; k < texels.size(); ++k)
+        y_stored[k] = luminance(cube.texel(l, texels[k].face, texels[k].i, texels[k].j));
+      const LevelBound lb = level_bound(relative_differences(y_stored, y_ref));
+      b.per_level[size_t(l)] = lb.bound;
+      b.max_difference[size_t(l)] = lb.worst;
       b.samples[size_t(l)] = static_cast<int>(texels.size());
     }
   }

@@ -226,11 +226,10 @@ class PrefilterFamily final : public Family {
     cube.set_meta("integration_error_bound_definition", kChainBoundDefinition);
     cube.set_meta("max_relative_difference_per_level", comma_join(max_text));
     cube.set_meta("bound_samples_per_level", comma_join(sample_text));
-    r.error_bound = bound.bound;
+    r.error_bound = chain_recorded_bound(bound, spec.max_error, timing.measured_error);
     r.error_bound_definition = std::string(kChainBoundDefinition) + "; the largest over the levels";
-    if (spec.max_error > 0 && timing.measured_error > bound.bound) {
+    if (*r.error_bound > bound.bound) {
       // the search's last difference, where it says more than the comparison
-      r.error_bound = timing.measured_error;
       r.error_bound_definition +=
           ", or max_error's measured difference (" + fmt_number(timing.measured_error, "%.3g") + ") where larger";
     }

@@ -116,6 +116,9 @@ inline constexpr int kChainBoundMaxSamples = 64;
 inline constexpr int kChainBoundNeighbourhood = 16;
 inline constexpr double kChainBoundSafety = 2.0;
 inline constexpr double kChainBoundFloor = 1e-6;
+// A texel darker than this fraction of the level's brightest sample is compared relative to that
+// fraction of the brightest: a black texel's absolute difference is not divided by 0.
+inline constexpr double kChainBoundDarkFraction = 1e-6;
 
 inline constexpr const char* kChainBoundDefinition =
     "bound on the RMS relative luminance distance of a level's stored values from the converged ones (the double "
@@ -131,6 +134,19 @@ struct ChainBound {
   double bound = 0.0;                  // the largest of per_level
   double seconds = 0.0;                // wall seconds of the comparison
 };
+// One level's sample: d_k = |y_stored[k] - y_ref[k]| / max(y_ref[k], kChainBoundDarkFraction max y_ref),
+// the relative luminance differences of its texels (throws std::invalid_argument on sizes that differ).
+std::vector<double> relative_differences(const std::vector<double>& y_stored, const std::vector<double>& y_ref);
+// One level's bound from its sample's differences: max(kChainBoundSafety x RMS, the largest, kChainBoundFloor).
+struct LevelBound {
+  double bound = 0.0;  // what the level records
+  double rms = 0.0;    // RMS of the differences (0 for an empty sample)
+  double worst = 0.0;  // the largest difference
+};
+LevelBound level_bound(const std::vector<double>& differences);
+// The bound a chain's file records: the chain's (the largest level's), or with max_error > 0 the
+// search's last measured difference where that is larger (family.cpp says so in the definition).
+double chain_recorded_bound(const ChainBound& chain, double max_error, double measured_error);
 // Every level of `cube` (level 0 its source) compared with the double reference on a sample of its
 // texels (bound.cpp says how); roughness: of each level.
 ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,

@@ -29,6 +29,7 @@
 #include "families/preview/model.hpp"
 #include "families/preview/shading.hpp"
 #include "families/preview/splitsum.hpp"
+#include "text.hpp"
 #include "view/canvas.hpp"
 
 namespace brdfbake {
@@ -233,6 +234,14 @@ PreviewErrorStats error_stats(std::vector<double> e) {
   s.p99 = e[(e.size() - 1) * 99 / 100];
   s.max = e.back();
   return s;
+}
+
+ReferenceBound reference_bound(const std::vector<double>& differences) {
+  const PreviewErrorStats d = error_stats(differences);
+  ReferenceBound b;
+  b.rms = kPreviewBoundFactor * d.rms + kPreviewBoundFloor;
+  b.max = kPreviewBoundFactor * d.max + kPreviewBoundFloor;
+  return b;
 }
 
 std::vector<PreviewSphereStats> sphere_errors(const Layout& layout, const std::vector<SpherePixel>& pixels,
@@ -608,8 +617,11 @@ void reference_pass(Backend& backend, const EnvImage& equirect, const std::vecto
       "per sphere, " + std::to_string(int(kPreviewBoundFactor)) + " x the RMS (and max) over its bound pixels (every " +
       std::to_string(res.spec.bound_stride) +
       "th, at least 16) of |reference - reference at twice the refinement| / |reference at twice the refinement| "
-      "(RGB norms); a sphere whose RMS bound exceeds the bound goal is integrated again at twice the refinement "
-      "(at most twice); the reference is " +
+      "(RGB norms), plus " +
+      fmt_number(100.0 * kPreviewBoundFloor, "%g") +
+      "% (what no refinement shows: the float sums and the environment's model, at the resolution of an independent "
+      "check); a sphere whose RMS bound exceeds the bound goal is integrated again at twice the refinement (at most "
+      "twice); the reference is " +
       sums.method;
   for (size_t i = 0; i < pixels.size(); ++i) {
     const SpherePixel& p = pixels[i];
@@ -665,7 +677,7 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
     if (round == kMaxRefinements || res.spec.bound_goal <= 0.0 || 2.0 * refinement > kPreviewMaxRefinement) break;
     bool any = false;
     for (size_t s = 0; s < res.spheres.size(); ++s) {
-      again[s] = again[s] && kPreviewBoundFactor * error_stats(bound[s]).rms > res.spec.bound_goal;
+      again[s] = again[s] && reference_bound(bound[s]).rms > res.spec.bound_goal;
       any = any || again[s];
     }
     if (!any) break;
@@ -674,9 +686,9 @@ void render_reference(Backend& backend, const EnvImage& equirect, const Layout& 
   res.stats = sphere_errors(layout, pixels, res.splitsum, res.reference, res.exposure);
   for (size_t s = 0; s < res.spheres.size(); ++s) {
     PreviewSphereStats& st = res.stats[s];
-    const PreviewErrorStats b = error_stats(bound[s]);
-    st.reference_rms_bound = kPreviewBoundFactor * b.rms;
-    st.reference_max_bound = kPreviewBoundFactor * b.max;
+    const ReferenceBound b = reference_bound(bound[s]);
+    st.reference_rms_bound = b.rms;
+    st.reference_max_bound = b.max;
     st.bound_pixels = int(bound[s].size());
     st.refinement = refinement_of[s];
   }

@@ -25,6 +25,15 @@ double median_luminance(const EnvImage& equirect);
 // The statistics of one sphere from per-pixel relative errors (rms, 99th percentile, max).
 PreviewErrorStats error_stats(std::vector<double> errors);
 
+// The reference's own bound over one sphere (PreviewSphereStats::reference_rms_bound and
+// reference_max_bound) from its bound pixels' relative differences |reference - reference at twice
+// the refinement| / |the finer one| (RGB norms): kPreviewBoundFactor x their RMS, and x their max,
+// each plus kPreviewBoundFloor (brdfbake/preview.hpp says why).
+struct ReferenceBound {
+  double rms = 0.0, max = 0.0;
+};
+ReferenceBound reference_bound(const std::vector<double>& differences);
+
 // Per sphere of `layout` (its `pixels`, sphere_pixels(layout)): the error of a split-sum image
 // against a reference image of the same layout, as render_preview states it: per pixel
 // |s - r| / |r| (Euclidean norms of the linear RGB triples, in double from the float images) and
