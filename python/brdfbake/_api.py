@@ -491,6 +491,24 @@ class _Family:
         self.params = [d for name, d in merged.items() if name not in replaced]
         self.takes_material = any(d["name"] == "material" and d["type"] == "path" for d in self.params)
         self.is_eval = "eval" in self.kinds
+        # Other spellings of a parameter (its old names: cube_size for irradiance_size), as keywords.
+        self.aliases = {a[2:].replace("-", "_"): d["name"] for d in self.params for a in d.get("aliases", [])}
+
+    def canonical(self, kwargs: Dict[str, Any]) -> Dict[str, Any]:
+        """The keywords with every alias under its parameter's name; both together are refused."""
+        out = dict(kwargs)
+        for alias, name in self.aliases.items():
+            if alias not in out:
+                continue
+            if name in out:
+                raise ArgumentError(f"{self.function}.{name}: given together with its alias {alias} "
+                                    "(the same option): give one")
+            other = [a for a, n in self.aliases.items() if n == name and a != alias and a in out]
+            if other:
+                raise ArgumentError(f"{self.function}.{name}: given as both {alias} and {other[0]} "
+                                    "(the same option): give one")
+            out[name] = out.pop(alias)
+        return out
 
     def positional(self) -> List[str]:
         names = []
@@ -665,7 +683,7 @@ def _make_function(family: _Family) -> Callable[..., Result]:
     sig = family.signature()
 
     def bake(*args: Any, **kwargs: Any) -> Result:
-        given = _bind(family, sig, args, kwargs)
+        given = _bind(family, sig, args, family.canonical(kwargs))
         kind, params, common, inputs = _prepare(family, given)
         where = family.function
         progress = common.pop("progress", None)

@@ -358,6 +358,10 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
   const Family& family = family_of(t.kind);
   const std::vector<ParamDef>& schema = family.schema(t.kind);
   auto field = [&](const std::string& name) { return naming.field(t.kind, name); };
+  // Old and short spellings (aliases) to the schema's names, before anything reads or records them.
+  canonicalize_params(t.params, schema, naming.cli || naming.prefix.empty() ? "" : naming.prefix + ".", naming.cli);
+  for (auto& g : t.given)
+    if (const ParamDef* d = find_param_def_or_alias(schema, g)) g = d->name;
   for (const auto& p : t.params)
     if (!find_param_def(schema, p.name)) {
       std::vector<std::string> names = table_common_fields();

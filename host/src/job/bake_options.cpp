@@ -96,7 +96,12 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
   BakeOptions out;
   PlanOptions& o = out.plan;
   std::set<std::string> seen;
-  for (const Param& p : given) {
+  // Old and short spellings (aliases: cube_size for chain_size) to the schema's names.
+  Params canonical = given;
+  canonicalize_params(canonical, schema,
+                      naming.cli || naming.prefix.empty() ? "" : naming.prefix + (naming.dotted ? "." : ": "),
+                      naming.cli);
+  for (const Param& p : canonical) {
     const ParamDef* d = find_param_def(schema, p.name);
     if (!d)
       throw Error((naming.prefix.empty() ? std::string() : naming.prefix + ": ") + p.name.substr(0, 60) + ": " +

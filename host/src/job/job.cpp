@@ -123,8 +123,8 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
         }
         t.requested_by.push_back(q);
       }
-    } else if (find_param_def(schema, key)) {
-      t.params.push_back({key, to_param(*it, field)});
+    } else if (find_param_def_or_alias(schema, key)) {
+      t.params.push_back({key, to_param(*it, field)});  // an alias: renamed below
     } else {
       std::vector<std::string> names = table_common_fields();
       for (const auto& d : schema) names.push_back(d.name);
@@ -132,6 +132,7 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
                   "' (expected " + join(names) + ")");
     }
   }
+  canonicalize_params(t.params, schema, where + ".", false);
   return t;
 }
 
