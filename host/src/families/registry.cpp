@@ -410,6 +410,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
 
 std::string default_table_output(const TableRequest& t) { return family_of(t.kind).default_output(t); }
 
+const char* table_size_param(TableKind kind) { return kind == TableKind::Prefilter ? "chain_size" : "size"; }
+
 std::uint64_t estimate_table_bytes(const TableRequest& t) { return family_of(t.kind).estimated_bytes(t); }
 
 std::string table_bake_key(const TableRequest& t) {
