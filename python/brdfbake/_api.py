@@ -489,7 +489,10 @@ class _Family:
         for k in self.kinds:
             replaced |= set(REPLACED.get(k, {}))
         self.params = [d for name, d in merged.items() if name not in replaced]
-        self.takes_material = any(d["name"] == "material" and d["type"] == "path" for d in self.params)
+        # eval and tabulate: a material (a file, a dict, a list), positional; preview's material is
+        # an optional file, a keyword like its other parameters
+        self.takes_material = any(d["name"] == "material" and d["type"] == "path" and d["required"]
+                                  for d in self.params)
         self.is_eval = "eval" in self.kinds
         # Other spellings of a parameter (its old names: cube_size for irradiance_size), as keywords.
         self.aliases = {a[2:].replace("-", "_"): d["name"] for d in self.params for a in d.get("aliases", [])}
@@ -572,7 +575,7 @@ class _Family:
             only = "" if len(d["kinds"]) == len(self.kinds) else f" ({', '.join(d['kinds'])} only)"
             lines.append(f"  {d['name']}: {d['help']}{only}")
             lines.append(f"      {what}")
-            if d["name"] == "material" and d["type"] == "path":
+            if d["name"] == "material" and self.takes_material:
                 lines.append("      (also a material dict, a list of them, or {'materials': [...]}: see docs/CONVENTIONS.md)")
         if self.uses_environment:
             lines.append("  sanitize: replace NaN, infinite and negative environment pixels instead of refusing them")
