@@ -148,7 +148,7 @@ json errors_json(const TableErrors& e) { return json{{"max", e.max}, {"rms", e.r
 json bake_json(const BakeSweep& s) {
   json b;
   b["environment"] = s.environment;
-  b["preview"] = {{"width", s.preview_width}, {"height", s.preview_width / 2}, {"materials", "the default grid"}};
+  b["preview"] = {{"width", s.preview_width}, {"height", s.preview_width / 2}, {"material", "the default grid"}};
   b["seconds"] = s.seconds;
   b["time_definition"] =
       "wall seconds of the whole bake as `brdfbake bake --target T` runs it (planner, environment load, every table, "
