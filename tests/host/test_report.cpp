@@ -159,7 +159,7 @@ TEST(CliReport, BakeSweepTimesBytesAndTheErrorsOfADirectPreview) {
   const json& pts = t["points"];
   ASSERT_EQ(pts.size(), 3u) << t.dump();
   EXPECT_EQ(pts[0]["label"], "default");
-  EXPECT_EQ(pts[1]["label"], "cube_size=32");
+  EXPECT_EQ(pts[1]["label"], "chain_size=32");  // --vary by the old name: reported canonically
   EXPECT_EQ(pts[2]["label"], "lut_size=16");
   for (size_t i = 0; i < pts.size(); ++i) {
     const json& p = pts[i];
@@ -329,8 +329,10 @@ TEST(CliReport, BadUsageIsOneLineAndExitTwo) {
   const fs::path dir = temp_dir("bad");
   for (const std::string args :
        {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium",
-        "--kinds bake --targets nope", "--kinds bake --vary cube_size", "--kinds bake --vary colour=red",
-        "--kinds bake --preview-width 8", "--kinds bake --runs 0"}) {
+        "--kinds bake --targets nope", "--kinds bake --vary cube_size",
+        "--kinds bake --vary 'chain_size=32;cube_size=64'", "--kinds bake --vary colour=red",
+        "--kinds bake --preview-width 8", "--kinds bake --runs 0",
+        "--lut-size 4" /* with the --size 4 below: an option and its alias together */}) {
     const CliRun r = run_cli("report " + args + " --size 4 -o " + (dir / "r.html").string());
     EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     EXPECT_EQ(test::count_lines(r.err), 1) << args << ": " << r.err;
