@@ -110,6 +110,7 @@ TEST(CliReport, ReducedReportNumbersAgreeWithTheReference) {
   // 5% RMS even at 8^2 (docs/BENCHMARKS.md: < 1% at the default sizes).
   ASSERT_EQ(j["prefilter"].size(), 2u);
   for (const json& p : j["prefilter"]) {
+    EXPECT_EQ(p["chain_size"], 8) << "--cube-size, its alias, named canonically";
     ASSERT_FALSE(p["levels"].empty());
     for (const json& l : p["levels"]) {
       EXPECT_TRUE(std::isfinite(l["rms_error"].get<double>()));

@@ -340,7 +340,7 @@ std::string report_json(const Report& r) {
     e["environment"] = p.environment;
     e["distribution"] = p.distribution;
     e["estimator"] = p.estimator;
-    e["size"] = p.size;
+    e["chain_size"] = p.size;  // the chain's level 0 (report --chain-size)
     e["device_seconds"] = p.device_seconds;
     e["reference_seconds"] = p.reference_seconds;
     json lv = json::array();
