@@ -1,7 +1,7 @@
 // Scene-driven baking against baking everything: for each scene, the wall time of `bake` (the
 // planner's job, run_job) and of a bake of every table for the same environment, and the saving.
 //
-//   bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--cube-size N] [--out FILE]
+//   bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--chain-size N] [--out FILE]
 //
 // "Every table" is what a pipeline without the planner bakes so that any material works: the three
 // DFG tables (ggx, ggx-multiscatter, charlie), the GGX and Charlie prefiltered chains and the
@@ -140,14 +140,14 @@ int main(int argc, char** argv) {
       o.reps = std::max(1, std::atoi(next().c_str()));
     else if (a == "--lut-size")
       o.lut_size = std::atoi(next().c_str());
-    else if (a == "--cube-size")
+    else if (a == "--chain-size" || a == "--cube-size")  // --cube-size: its old name
       o.cube_size = std::atoi(next().c_str());
     else if (a == "--out")
       o.out = next();
     else {
       std::fprintf(
           stderr,
-          "usage: bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--cube-size N] [--out FILE]\n");
+          "usage: bake_bench [--scenes DIR] [--env SPEC] [--reps N] [--lut-size N] [--chain-size N] [--out FILE]\n");
       return 2;
     }
   }
@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
   PlanOptions po;
   po.environment = o.env;
   po.lut_size = o.lut_size;
-  po.cube_size = o.cube_size;
+  po.chain_size = o.cube_size;
   const fs::path work = fs::temp_directory_path() / ("brdfbake-bake-bench-" + std::to_string(::getpid()));
 
   std::ostringstream md;
@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
   } catch (const Error&) {
   }
   md << "Environment `" << o.env << "`, DFG tables " << o.lut_size << "², chains " << o.cube_size
-     << "² (prefilter max_error " << po.prefilter_max_error << "), device " << device << ", fastest of " << o.reps
+     << "² (chain_max_error " << po.chain_max_error << "), device " << device << ", fastest of " << o.reps
      << " runs.\n\n";
   md << "| scene | planned tables | every table | bake wall (s) | every table wall (s) | saving (wall) | bake CPU (s) "
         "| "

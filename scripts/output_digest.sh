@@ -17,7 +17,7 @@ repo=$PWD
 b() { (cd "$work" && "$BRDFBAKE" "$@" --quiet) || { echo "FAILED: brdfbake $*" >&2; exit 1; }; }
 
 b bake -o bake_default
-b bake --env builtin:sun --cube-size 64 --lut-size 32 -o bake_sun
+b bake --env builtin:sun --chain-size 64 --lut-size 32 -o bake_sun
 "$BRDFBAKE" run examples/job.json -o "$work/job" --quiet || { echo "FAILED: brdfbake run" >&2; exit 1; }
 b lut --kind ggx --size 32 -o lut_ggx.exr
 b lut --kind ggx-multiscatter --size 64 -o lut_ms.ktx2
@@ -29,22 +29,22 @@ b fresnel --model dielectric --ior 1.5 --size 64 -o fresnel_glass.exr
 b fresnel --model schlick --f0 0.04 --size 32 -o fresnel_schlick.exr
 b fresnel --model f82-tint --f0 0.9,0.6,0.2 --f82 0.8,0.5,0.2 --size 32 -o fresnel_f82.exr
 b thin-film --base-ior 1.5 --size 32 -o thin_film.exr
-b prefilter --env builtin:studio --size 64 -o prefilter_studio.ktx2
-b prefilter --env builtin:sun --size 32 --distribution charlie -o prefilter_charlie.ktx2
-b prefilter --env builtin:studio --size 32 --max-error 0.02 -o prefilter_dir
+b prefilter --env builtin:studio --chain-size 64 -o prefilter_studio.ktx2
+b prefilter --env builtin:sun --chain-size 32 --distribution charlie -o prefilter_charlie.ktx2
+b prefilter --env builtin:studio --chain-size 32 --chain-max-error 0.02 -o prefilter_dir
 b irradiance --env builtin:studio -o irr_sh3.json
-b irradiance --env builtin:sun --sh 5 --cube 16 -o irr_cube.ktx2
+b irradiance --env builtin:sun --sh-order 5 --irradiance-size 16 -o irr_cube.ktx2
 b eval --material "$repo/examples/materials.json" --name gold -i "$repo/examples/pairs.csv" -o eval_gold.csv
 b tabulate --material "$repo/examples/materials.json" --name gold --layout merl -o gold.binary
 b tabulate --material "$repo/examples/materials.json" --layout albedo --model gltf-correlated --res 16 -o albedo.exr
 if [[ -n $SHARED && -d $SHARED/scenes ]]; then
   env=$SHARED/envmaps/derived/venice_sunset_256x128_derived.hdr
-  b bake --scene "$SHARED/scenes/SheenChair.gltf" --env "$env" --cube-size 64 --lut-size 32 -o scene_sheen
+  b bake --scene "$SHARED/scenes/SheenChair.gltf" --env "$env" --chain-size 64 --lut-size 32 -o scene_sheen
   for target in filament gltf babylon khronos-viewer; do
-    b bake --scene "$SHARED/scenes/MetalRoughSpheres.gltf" --env "$env" --cube-size 64 --lut-size 32 \
+    b bake --scene "$SHARED/scenes/MetalRoughSpheres.gltf" --env "$env" --chain-size 64 --lut-size 32 \
       --target "$target" -o "scene_$target"
   done
-  b bake --scene "$SHARED/scenes/IridescenceLamp.gltf" --env "$env" --cube-size 32 --lut-size 32 -o scene_irid
+  b bake --scene "$SHARED/scenes/IridescenceLamp.gltf" --env "$env" --chain-size 32 --lut-size 32 -o scene_irid
 else
   echo "output_digest: ../shared absent, scene bakes skipped" >&2
 fi

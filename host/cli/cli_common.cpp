@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <map>
+#include <sstream>
 #include <vector>
 
 #include "brdfbake/backend.hpp"
@@ -94,7 +96,23 @@ cxxopts::ParseResult parse(cxxopts::Options& options, int argc, char** argv) {
     const std::string typed = unknown_argument(argc, argv, names, e.what());
     if (typed.empty()) throw UsageError(e.what());
     const std::string name = typed.substr(typed[1] == '-' ? 2 : 1);
-    const std::string close = closest_name(name, names);
+    // An alias meant (--cube-sze, --cube): its option's canonical name, the first of its long names.
+    std::map<std::string, std::string> canonical;
+    for (const std::string& g : options.groups())
+      for (const auto& o : options.group_help(g).options)
+        for (size_t k = 1; k < o.l.size(); ++k) canonical[o.l[k]] = o.l.front();
+    std::string close;
+    std::istringstream words(closest_name(name, names));
+    for (std::string w; words >> w;) {
+      const bool comma = !w.empty() && w.back() == ',';
+      if (comma) w.pop_back();
+      const size_t dashes = w.rfind("--", 0) == 0 ? 2 : 0;
+      if (w != "or") {
+        const auto c = canonical.find(w.substr(dashes));
+        if (c != canonical.end()) w = w.substr(0, dashes) + c->second;
+      }
+      close += (close.empty() ? "" : " ") + w + (comma ? "," : "");
+    }
     throw UsageError("unknown option '" + typed + "' (" +
                      (close.empty() ? "see --help" : "did you mean --" + close + "?") + ")");
   } catch (const cxxopts::exceptions::exception& e) {

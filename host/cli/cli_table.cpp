@@ -1,5 +1,6 @@
 #include "cli_table.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,19 +14,25 @@ namespace brdfbake::cli {
 
 namespace {
 
+// An alias as an option: "cube-size" for cube_size.
+std::string alias_option(std::string a) {
+  std::replace(a.begin(), a.end(), '_', '-');
+  return a;
+}
+
 // The option's names for cxxopts: its one spelling (the job field's), then its aliases, and the
 // one-letter alias users expect of --input.
 std::string option_spec(const ParamDef& d) {
   std::string spec = d.cli_name();
   if (spec == "input") spec = "i,input";
-  for (const std::string& a : d.aliases) spec += "," + a;
+  for (const std::string& a : d.aliases) spec += "," + alias_option(a);
   return spec;
 }
 
-// " (alias: --sh)" for the help of an option with aliases.
+// " (alias: --cube-size)" for the help of an option with aliases.
 std::string aliases_text(const ParamDef& d) {
   std::string s;
-  for (const std::string& a : d.aliases) s += (s.empty() ? " (alias: --" : ", --") + a;
+  for (const std::string& a : d.aliases) s += (s.empty() ? " (alias: --" : ", --") + alias_option(a);
   return s.empty() ? s : s + ")";
 }
 
@@ -101,6 +108,23 @@ Params schema_params(const cxxopts::ParseResult& r, const std::vector<ParamDef>&
   return out;
 }
 
+void refuse_two_spellings(int argc, char** argv, const std::vector<ParamDef>& schema) {
+  Params typed;  // the options of `schema` as typed, by any of their spellings (values not needed)
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") break;
+    if (a.size() < 3 || a.compare(0, 2, "--") != 0) continue;
+    std::string name = a.substr(2, a.find('=') == std::string::npos ? std::string::npos : a.find('=') - 2);
+    std::replace(name.begin(), name.end(), '-', '_');
+    if (find_param_def_or_alias(schema, name)) typed.push_back({name, false});
+  }
+  try {
+    canonicalize_params(typed, schema, "", true);
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
 std::vector<std::string> one_letter_options(int argc, char** argv, const std::vector<ParamDef>& schema) {
   std::vector<std::string> args(argv, argv + argc);
   for (std::string& a : args)
@@ -164,6 +188,11 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   std::vector<char*> arg_ptrs;
   for (const std::string& a : args) arg_ptrs.push_back(const_cast<char*>(a.c_str()));
   const auto r = parse(options, argc, arg_ptrs.data());
+  {
+    std::vector<ParamDef> spelled = schema;  // with --environment's own alias, added above
+    if (env) spelled.push_back(ParamDef("environment", ParamType::Path, "").alias("env"));
+    refuse_two_spellings(argc, argv, spelled);
+  }
   if (r.count("help")) {
     std::printf("%s\n", options.help().c_str());
     if (!command.example.empty()) std::printf("example:\n  %s\n", command.example.c_str());

@@ -19,6 +19,9 @@ namespace brdfbake::cli {
 void add_schema_options(cxxopts::Options& options, const std::vector<ParamDef>& schema);
 // The parameters given on the command line, typed; errors name the option as typed.
 Params schema_params(const cxxopts::ParseResult& r, const std::vector<ParamDef>& schema);
+// Refuses an option of `schema` typed by two of its spellings (--chain-size with its alias
+// --cube-size): cxxopts would keep the last one silently. Throws UsageError, one line.
+void refuse_two_spellings(int argc, char** argv, const std::vector<ParamDef>& schema);
 // Rewrites "--n" as "-n" for the one-letter parameters of `schema` (cxxopts takes long names of two
 // characters or more).
 std::vector<std::string> one_letter_options(int argc, char** argv, const std::vector<ParamDef>& schema);

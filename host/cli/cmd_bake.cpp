@@ -232,6 +232,7 @@ int cmd_bake(int argc, char** argv) {
   add_common_options(options);
   add_remote_options(options);
   const auto r = parse(options, argc, argv);
+  refuse_two_spellings(argc, argv, bake_option_schema());
   if (r.count("help")) {
     std::cout
         << options.help()

@@ -23,6 +23,14 @@ std::string default_of(const ParamDef& d) {
   return param_value_text(*d.fallback);
 }
 
+// " (alias: size)": the other names a parameter is taken by (docs/SCENES.md, "One name
+// per meaning"), or "".
+std::string aliases_of(const ParamDef& d) {
+  std::string s;
+  for (const std::string& a : d.aliases) s += (s.empty() ? " (alias: " : ", ") + a;
+  return s.empty() ? s : s + ")";
+}
+
 }  // namespace
 
 int cmd_kinds(int argc, char** argv) {
@@ -40,14 +48,16 @@ int cmd_kinds(int argc, char** argv) {
     for (TableKind k : table_kinds())
       for (const ParamDef& d : table_schema(k))
         std::cout << "| `" << table_kind_name(k) << "` | " << table_kind_command(k) << " | `" << d.name << "` | "
-                  << cell(param_expectation(d)) << " | " << cell(default_of(d)) << " | " << cell(d.help) << " |\n";
+                  << cell(param_expectation(d)) << " | " << cell(default_of(d)) << " | " << cell(d.help + aliases_of(d))
+                  << " |\n";
     return 0;
   }
   for (TableKind k : table_kinds()) {
     std::cout << table_kind_name(k) << " (brdfbake " << table_kind_command(k) << "): " << table_kind_summary(k) << "\n";
     for (const ParamDef& d : table_schema(k)) {
       const std::string def = default_of(d);
-      std::cout << "  " << d.name << ": " << param_expectation(d) << (def.empty() ? "" : "; default " + def) << "\n";
+      std::cout << "  " << d.name << aliases_of(d) << ": " << param_expectation(d)
+                << (def.empty() ? "" : "; default " + def) << "\n";
     }
   }
   return 0;

@@ -7,6 +7,7 @@
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/report.hpp"
 #include "cli_common.hpp"
+#include "cli_table.hpp"
 
 namespace brdfbake::cli {
 
@@ -44,25 +45,29 @@ int cmd_report(int argc, char** argv) {
   // clang-format off
   options.add_options()
       ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter, bake (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
-      ("size", "DFG tables: cells a side (default: 64)", cxxopts::value<std::string>())
+      ("lut-size,size", "DFG tables: cells a side (default: 64) (alias: --size)", cxxopts::value<std::string>())
       ("counts", "DFG tables: sample counts (default: 16,32,64,128,256,384,512,768,1024,2048,4096)", cxxopts::value<std::string>())
       ("estimators", "DFG tables: quadrature, vndf, ndf, uniform (default: every estimator of the kind)", cxxopts::value<std::string>())
       ("precisions", "fp32, fp64 (default: fp32)", cxxopts::value<std::string>())
       ("max-seconds", "DFG tables: after a bake slower than this, larger counts of its estimator are skipped (default: 1.5; 0: none)", cxxopts::value<std::string>())
       ("materials", "fresnel: measured materials (default: gold,copper,aluminium,water)", cxxopts::value<std::string>())
       ("targets", "bake: the targets swept (default: generic,filament,gltf,babylon,khronos-viewer)", cxxopts::value<std::string>())
-      ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: cube_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;prefilter_max_error=0.03,0.003)", cxxopts::value<std::string>())
+      ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: chain_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;chain_max_error=0.03,0.003); an alias (cube_size) is taken as its option's name", cxxopts::value<std::string>())
       ("preview-width", "bake: the preview's width, its height half of it (default: 512: the spheres of the default 512x512 preview)", cxxopts::value<std::string>())
       ("runs", "bake: bakes per setting under 1 s, the median reported (default: 3)", cxxopts::value<std::string>())
       ("keep-bakes", "bake: keep each setting's bake in DIR/TARGET/SETTING (default: removed)", cxxopts::value<std::string>())
       ("environment,env", "prefilter and bake: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
-      ("cube-size", "prefilter: face size of the chain's first level (default: 32)", cxxopts::value<std::string>())
+      ("chain-size,cube-size", "prefilter: face size of the chain's first level (default: 32) (alias: --cube-size)", cxxopts::value<std::string>())
       ("device", "P:D, cpu, gpu or a name substring (default: BRDFBAKE_DEVICE, else the first GPU, else the first CPU)", cxxopts::value<std::string>())
       ("o,output", "the page (.html); the JSON goes beside it with .json (default: report.html)", cxxopts::value<std::string>())
       ("quiet", "no progress lines or summary")
       ("h,help", "this help");
   // clang-format on
   const auto r = parse(options, argc, argv);
+  refuse_two_spellings(argc, argv,
+                       {ParamDef("lut_size", ParamType::Int, "").alias("size"),
+                        ParamDef("chain_size", ParamType::Int, "").alias("cube_size"),
+                        ParamDef("environment", ParamType::Path, "").alias("env")});
   if (r.count("help")) {
     std::cout << options.help()
               << "\nexamples:\n  brdfbake report -o report.html\n"
@@ -73,8 +78,8 @@ int cmd_report(int argc, char** argv) {
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
   ReportOptions o;
   if (r.count("kinds")) o.kinds = list(r["kinds"].as<std::string>(), "kinds");
-  if (r.count("size")) o.dfg.size = integer(r, "size");
-  if (o.dfg.size < 1 || o.dfg.size > 4096) throw UsageError("--size must be 1 to 4096");
+  if (r.count("lut-size")) o.dfg.size = integer(r, "lut-size");
+  if (o.dfg.size < 1 || o.dfg.size > 4096) throw UsageError("--lut-size must be 1 to 4096");
   if (r.count("counts")) o.dfg.counts = int_list(r["counts"].as<std::string>(), "counts");
   if (r.count("estimators"))
     for (const auto& e : list(r["estimators"].as<std::string>(), "estimators"))
@@ -90,8 +95,8 @@ int cmd_report(int argc, char** argv) {
   }
   if (r.count("materials")) o.materials = list(r["materials"].as<std::string>(), "materials");
   if (r.count("environment")) o.environment = r["environment"].as<std::string>();
-  if (r.count("cube-size")) o.prefilter_size = integer(r, "cube-size");
-  if (o.prefilter_size < 4 || o.prefilter_size > 256) throw UsageError("--cube-size must be 4 to 256");
+  if (r.count("chain-size")) o.prefilter_size = integer(r, "chain-size");
+  if (o.prefilter_size < 4 || o.prefilter_size > 256) throw UsageError("--chain-size must be 4 to 256");
   if (r.count("targets")) o.bake.targets = list(r["targets"].as<std::string>(), "targets");
   if (r.count("vary")) {
     std::stringstream f(r["vary"].as<std::string>());
@@ -100,7 +105,7 @@ int cmd_report(int argc, char** argv) {
       if (item.empty()) continue;
       const size_t eq = item.find('=');
       if (eq == std::string::npos || eq == 0)
-        throw UsageError("--vary: '" + item + "' is not OPTION=VALUE,VALUE (e.g. cube_size=64,128)");
+        throw UsageError("--vary: '" + item + "' is not OPTION=VALUE,VALUE (e.g. chain_size=64,128)");
       o.bake.factors.push_back({item.substr(0, eq), list(item.substr(eq + 1), "vary")});
     }
     if (o.bake.factors.empty()) throw UsageError("--vary must list at least one OPTION=VALUES");

@@ -723,7 +723,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
   try {
     const auto queued = std::chrono::steady_clock::now();
     const std::string label =
-        table_kind_name(t.kind) + (t.find("size") ? " " + param_value_text(*t.find("size")) : std::string());
+        table_kind_name(t.kind) +
+        (t.find(table_size_param(t.kind)) ? " " + param_value_text(*t.find(table_size_param(t.kind))) : std::string());
     done = scheduler->run_now(key, label, [this, t, environment, sanitize, reply, abandoned, queued](Backend& backend) {
       if (*abandoned) return;  // the client stopped waiting before the device was free
       const auto began = std::chrono::steady_clock::now();

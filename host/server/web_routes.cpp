@@ -526,7 +526,7 @@ Plan bake_plan(const std::string& body_text, const std::string& origin, const Ro
   // shared with the command line and Python.
   Params given;
   for (auto it = body.begin(); it != body.end(); ++it) {
-    const std::string key = it.key() == "env" ? std::string("environment") : it.key();
+    const std::string& key = it.key();  // an alias (env, cube_size) is the parser's to rename
     ParamValue v;
     if (it->is_boolean())
       v = it->get<bool>();

@@ -72,6 +72,44 @@ const ParamDef* find_param_def(const std::vector<ParamDef>& schema, const std::s
   return nullptr;
 }
 
+const ParamDef* find_param_def_or_alias(const std::vector<ParamDef>& schema, const std::string& name) {
+  if (const ParamDef* d = find_param_def(schema, name)) return d;
+  for (const auto& d : schema)
+    if (std::find(d.aliases.begin(), d.aliases.end(), name) != d.aliases.end()) return &d;
+  return nullptr;
+}
+
+std::string spelled_name(const std::string& name, bool cli) {
+  if (!cli) return name;
+  std::string s = name;
+  std::replace(s.begin(), s.end(), '_', '-');
+  return "--" + s;
+}
+
+void canonicalize_params(Params& params, const std::vector<ParamDef>& schema, const std::string& prefix, bool cli) {
+  const auto is_alias = [](const ParamDef& d, const std::string& n) {
+    return std::find(d.aliases.begin(), d.aliases.end(), n) != d.aliases.end();
+  };
+  for (const ParamDef& d : schema) {
+    if (d.aliases.empty()) continue;
+    std::vector<std::string> given;  // the spellings of `d` given, each once (one given twice is the caller's)
+    for (const Param& p : params)
+      if ((p.name == d.name || is_alias(d, p.name)) && std::find(given.begin(), given.end(), p.name) == given.end())
+        given.push_back(p.name);
+    if (given.size() > 1) {
+      const bool canonical = std::find(given.begin(), given.end(), d.name) != given.end();
+      const std::string alias = *std::find_if(given.begin(), given.end(), [&](const auto& g) { return g != d.name; });
+      throw Error(prefix + spelled_name(d.name, cli) +
+                  (canonical
+                       ? ": given together with its alias " + spelled_name(alias, cli)
+                       : ": given as both " + spelled_name(given[0], cli) + " and " + spelled_name(given[1], cli)) +
+                  " (the same option): give one");
+    }
+    for (Param& p : params)
+      if (is_alias(d, p.name)) p.name = d.name;
+  }
+}
+
 std::string param_value_text(const ParamValue& v) {
   if (auto b = std::get_if<bool>(&v)) return *b ? "true" : "false";
   if (auto d = std::get_if<double>(&v)) return num(*d);

@@ -40,8 +40,8 @@ json param_json(const ParamDef& d) {
   p["option"] = "--" + d.cli_name();
   if (!d.aliases.empty()) {
     json a = json::array();
-    for (const std::string& x : d.aliases) a.push_back("--" + x);
-    p["aliases"] = a;  // shorter spellings the command line also accepts
+    for (const std::string& x : d.aliases) a.push_back(spelled_name(x, true));
+    p["aliases"] = a;  // other spellings every front end also accepts (old names, short ones), as options
   }
   p["type"] = param_type_name(d.type);
   p["expects"] = param_expectation(d);

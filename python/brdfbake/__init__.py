@@ -9,7 +9,7 @@ command-line tool's writers, atomic):
 >>> dfg = brdfbake.lut(kind="ggx", size=32)
 >>> dfg.array.shape
 (32, 32, 3)
->>> chain = brdfbake.prefilter("builtin:studio", size=64)
+>>> chain = brdfbake.prefilter("builtin:studio", chain_size=64)
 >>> merl = brdfbake.tabulate({"model": "disney", "roughness": 0.3}, layout="merl")
 >>> manifest = brdfbake.run("job.json", "out")
 >>> manifest = brdfbake.bake_scene("scene.glb", "out", target="filament")

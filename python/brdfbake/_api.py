@@ -248,7 +248,7 @@ class Result:
 
         The extension picks the format as on the command line (tables: .exr .png .hdr .ktx2 .csv .h;
         prefilter: .ktx2 .ktx .dds or a folder; irradiance: .json, or a cube container when baked
-        with ``cube_size``; merl: .binary with a .json beside it; eval: CSV, or float32 for .f32
+        with ``irradiance_size``; merl: .binary with a .json beside it; eval: CSV, or float32 for .f32
         .bin .raw). ``format`` and ``pixel`` (``"f16"`` or ``"f32"``; a prefilter chain's .ktx2 also
         ``"astc4x4"`` or ``"astc6x6"``, ASTC HDR with its measured error) and the family's output
         parameters (``symbol``, ``layout``, ``image_format``, ``sh_json``) are those of the CLI.
@@ -302,7 +302,7 @@ def load_environment(env: Any, *, sanitize: bool = False) -> Environment:
     float32). NaN, infinite and negative values are refused unless ``sanitize=True`` replaces them.
 
     >>> env = brdfbake.load_environment("builtin:studio")
-    >>> chain = brdfbake.prefilter(env, size=64)
+    >>> chain = brdfbake.prefilter(env, chain_size=64)
     """
     return _environment(env, bool(sanitize), "load_environment")
 
@@ -446,16 +446,16 @@ _EXAMPLES = {
     "thin_film": """    >>> film = brdfbake.thin_film(base_ior=1.5, film_ior=1.3, size=64)
     >>> film.array.shape              # (thickness, cos_theta, rgb)
     (64, 64, 3)""",
-    "prefilter": """    >>> chain = brdfbake.prefilter("builtin:studio", size=64, min_size=8)
+    "prefilter": """    >>> chain = brdfbake.prefilter("builtin:studio", chain_size=64, min_size=8)
     >>> [level.shape for level in chain.array]      # levels -> (face, y, x, rgb)
     [(6, 64, 64, 3), (6, 32, 32, 3), (6, 16, 16, 3), (6, 8, 8, 3)]
     >>> chain.save("studio_ggx.ktx2")
     >>> hdr = np.zeros((256, 512, 3), np.float32); hdr[:128] = 1.0   # an equirect array
-    >>> sky = brdfbake.prefilter(hdr, size=32)""",
+    >>> sky = brdfbake.prefilter(hdr, chain_size=32)""",
     "irradiance": """    >>> sh = brdfbake.irradiance("builtin:studio")
     >>> sh.array.shape                # SH coefficients of E / pi
     (9, 3)
-    >>> cube = brdfbake.irradiance("builtin:studio", cube_size=32).cube   # (6, 32, 32, 3)""",
+    >>> cube = brdfbake.irradiance("builtin:studio", irradiance_size=32).cube   # (6, 32, 32, 3)""",
     "eval": """    >>> wi = np.array([[0.0, 0.0, 1.0], [0.3, 0.0, 0.95]])
     >>> wo = np.array([0.0, 0.2, 0.98])                         # broadcast against wi
     >>> f = brdfbake.eval({"model": "gltf", "baseColor": [0.9, 0.6, 0.2], "roughness": 0.3}, wi, wo)
@@ -489,8 +489,29 @@ class _Family:
         for k in self.kinds:
             replaced |= set(REPLACED.get(k, {}))
         self.params = [d for name, d in merged.items() if name not in replaced]
-        self.takes_material = any(d["name"] == "material" and d["type"] == "path" for d in self.params)
+        # eval and tabulate: a material (a file, a dict, a list), positional; preview's material is
+        # an optional file, a keyword like its other parameters
+        self.takes_material = any(d["name"] == "material" and d["type"] == "path" and d["required"]
+                                  for d in self.params)
         self.is_eval = "eval" in self.kinds
+        # Other spellings of a parameter (its old names: cube_size for irradiance_size), as keywords.
+        self.aliases = {a[2:].replace("-", "_"): d["name"] for d in self.params for a in d.get("aliases", [])}
+
+    def canonical(self, kwargs: Dict[str, Any]) -> Dict[str, Any]:
+        """The keywords with every alias under its parameter's name; both together are refused."""
+        out = dict(kwargs)
+        for alias, name in self.aliases.items():
+            if alias not in out:
+                continue
+            if name in out:
+                raise ArgumentError(f"{self.function}.{name}: given together with its alias {alias} "
+                                    "(the same option): give one")
+            other = [a for a, n in self.aliases.items() if n == name and a != alias and a in out]
+            if other:
+                raise ArgumentError(f"{self.function}.{name}: given as both {alias} and {other[0]} "
+                                    "(the same option): give one")
+            out[name] = out.pop(alias)
+        return out
 
     def positional(self) -> List[str]:
         names = []
@@ -554,7 +575,7 @@ class _Family:
             only = "" if len(d["kinds"]) == len(self.kinds) else f" ({', '.join(d['kinds'])} only)"
             lines.append(f"  {d['name']}: {d['help']}{only}")
             lines.append(f"      {what}")
-            if d["name"] == "material" and d["type"] == "path":
+            if d["name"] == "material" and self.takes_material:
                 lines.append("      (also a material dict, a list of them, or {'materials': [...]}: see docs/CONVENTIONS.md)")
         if self.uses_environment:
             lines.append("  sanitize: replace NaN, infinite and negative environment pixels instead of refusing them")
@@ -665,7 +686,7 @@ def _make_function(family: _Family) -> Callable[..., Result]:
     sig = family.signature()
 
     def bake(*args: Any, **kwargs: Any) -> Result:
-        given = _bind(family, sig, args, kwargs)
+        given = _bind(family, sig, args, family.canonical(kwargs))
         kind, params, common, inputs = _prepare(family, given)
         where = family.function
         progress = common.pop("progress", None)
@@ -792,12 +813,13 @@ def bake_scene(scene: "os.PathLike[str] | str | None" = None, output_dir: "os.Pa
     materials. ``env`` is an environment path or ``builtin:NAME``. ``target`` adds an engine's file
     set (docs/ENGINES.md: ``"filament"``, ``"gltf"``, ``"babylon"``, ``"khronos-viewer"``) with its
     schedule, sizes and SH window. ``options`` are the planner's other options, the command's long
-    options with ``_`` for ``-`` (:func:`plan_options` lists them): ``lut_size``, ``cube_size``,
-    ``min_size``, ``schedule``, ``prefilter_max_error``, ``fresnel_size``, ``thin_film_size``,
+    options with ``_`` for ``-`` (:func:`plan_options` lists them): ``lut_size``, ``chain_size``,
+    ``min_size``, ``schedule``, ``chain_max_error``, ``fresnel_size``, ``thin_film_size``,
     ``sh_order``, ``sheen_visibility``, ``energy_compensation``, ``table_format``, ``cube_format``.
+    The old names (``cube_size``, ``prefilter_max_error``) are aliases: taken, never written.
 
     >>> plan = brdfbake.bake_scene("scene.glb", dry_run=True, target="filament")
-    >>> manifest = brdfbake.bake_scene("scene.glb", "out", target="filament", cube_size=128)
+    >>> manifest = brdfbake.bake_scene("scene.glb", "out", target="filament", chain_size=128)
     """
     scene_path = "" if scene is None else _text_path(scene, "bake_scene.scene")
     env_text = _text_path(env, "bake_scene.env")

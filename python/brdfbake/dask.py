@@ -402,7 +402,10 @@ def bake(client, items: Iterable[Any], *, kind: Optional[str] = None, output_roo
 
 
 def _setting_label(options: Dict[str, Any]) -> str:
-    return ",".join(f"{k}={v}" for k, v in options.items()) or "default"
+    """``chain_size=64``: the options by their canonical names (an alias such as ``cube_size`` is
+    named as its option, as everything the package writes names it)."""
+    aliases = {a[2:].replace("-", "_"): o["name"] for o in brdfbake.plan_options() for a in o.get("aliases", [])}
+    return ",".join(f"{aliases.get(k, k)}={v}" for k, v in options.items()) or "default"
 
 
 def _file_sizes(folder: str) -> Dict[str, int]:
@@ -501,7 +504,7 @@ def sweep(client, envs: Iterable[Any], settings: Any = None, *, target: str = "g
     grid at ``width`` x ``height``) against the reference render, rendered once per environment.
 
     ``envs`` are environment paths (a path every worker can read) or ``builtin:NAME``. ``settings``
-    are :func:`brdfbake.bake_scene` options, a list of dicts (``[{}, {"cube_size": 64}]``; ``{}`` is
+    are :func:`brdfbake.bake_scene` options, a list of dicts (``[{}, {"chain_size": 64}]``; ``{}`` is
     the target's default) or a dict ``{label: options}``; default: the target's default alone. One
     task per environment (named ``brdfbake-sweep-<env>``) bakes its settings one after the other, so
     the reference is rendered once and the times are not shared between tasks; ``client=None`` runs

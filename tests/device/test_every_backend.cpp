@@ -136,8 +136,8 @@ std::string case_name(const ::testing::TestParamInfo<Case>& i) {
 // were measured at (8^2 from a sun is below them: the sun's few texels are one conversion apart).
 TableExample test_example(TableKind kind) {
   TableExample e = table_kind_example(kind);
-  if (kind == TableKind::Prefilter) e.request.params = {{"size", 32.0}, {"min_size", 4.0}};
-  if (kind == TableKind::Irradiance) e.request.params = {{"cube_size", 8.0}, {"source_size", 64.0}};
+  if (kind == TableKind::Prefilter) e.request.params = {{"chain_size", 32.0}, {"min_size", 4.0}};
+  if (kind == TableKind::Irradiance) e.request.params = {{"irradiance_size", 8.0}, {"source_size", 64.0}};
   if (table_kind_uses_environment(kind)) e.request.environment = "builtin:studio";
   return e;
 }

@@ -467,9 +467,9 @@ Job small_preview_job(const fs::path& out) {
   o.environment = "builtin:sun";
   o.target = "filament";
   o.lut_size = 16;
-  o.cube_size = 16;
+  o.chain_size = 16;
   o.cube_min_size = 8;
-  o.prefilter_max_error = 0.0;
+  o.chain_max_error = 0.0;
   Plan plan = plan_default(o);
   plan.job.output_dir = out.string();
   plan.job.preview = true;
@@ -860,7 +860,7 @@ std::string first_bake(Backend& backend, const EnvImage& env, EngineTarget targe
 std::string furnace_bake(Backend& backend, const EnvImage& white, EngineTarget target, bool sheen,
                          const fs::path& dir) {
   PlanOptions o;
-  o.cube_size = 16;
+  o.chain_size = 16;
   return first_bake(backend, white, target, sheen, dir, o);
 }
 

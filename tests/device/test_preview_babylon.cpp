@@ -55,7 +55,7 @@ constexpr int kSceneCubeSize = 64;
 // `folder`; the tests render from it (PreviewSpec::bake).
 void bake_babylon(Backend& backend, const std::string& environment, const fs::path& folder, int cube_size) {
   PlanOptions o;
-  o.cube_size = cube_size;
+  o.chain_size = cube_size;
   Plan plan = detail::preview::first_bake_plan(load_environment(environment), EngineTarget::Babylon, true, o);
   plan.job.output_dir = folder.string();
   run_job(plan.job, {}, on_backend(backend));

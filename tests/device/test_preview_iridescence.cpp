@@ -369,7 +369,7 @@ TEST(PreviewIridescence, SplitSumInAWhiteFurnaceIsTheShadersFormula) {
     PlanOptions o;
     o.environment = white;
     o.target = name;
-    o.cube_size = 32;
+    o.chain_size = 32;
     o.cube_min_size = target == EngineTarget::Babylon ? 1 : 8;  // babylon's .env holds the chain to 1x1
     Plan plan = plan_default(o);
     plan.job.output_dir = folder.string();

@@ -96,7 +96,7 @@ TEST(PreviewShares, WhiteFurnaceEngineShareIsTheSplitSumsExactness) {
   const fs::path dir = test::temp_dir("preview_shares", "furnace");
   const EnvImage env = load_environment(white_hdr(dir).string());
   PlanOptions o;
-  o.cube_size = 16;  // a constant map: every level of every chain is 1.0 whatever its size
+  o.chain_size = 16;  // a constant map: every level of every chain is 1.0 whatever its size
   for (EngineTarget target : {EngineTarget::Generic, EngineTarget::Filament}) {
     const std::string name = engine_target_name(target);
     const PreviewResult r = render(*backend, env, target, bake_folder(*backend, env, target, o, dir, name));
@@ -131,10 +131,10 @@ TEST(PreviewShares, DegradingOneInputMovesTheBakeShareAlone) {
   const EngineTarget target = EngineTarget::Generic;
   // the same 4 levels: 64^2 .. 8^2 against 16^2 .. 2^2; the DFG table 128^2 against 8^2
   PlanOptions good;
-  good.cube_size = 64;
+  good.chain_size = 64;
   good.cube_min_size = 8;
   PlanOptions small_chain = good;
-  small_chain.cube_size = 16;
+  small_chain.chain_size = 16;
   small_chain.cube_min_size = 2;
   PlanOptions small_table = good;
   small_table.lut_size = 8;
@@ -249,7 +249,7 @@ TEST(PreviewShares, OffMeansNone) {
   const fs::path dir = test::temp_dir("preview_shares", "off");
   const EnvImage env = load_environment(white_hdr(dir).string());
   PlanOptions o;
-  o.cube_size = 16;
+  o.chain_size = 16;
   PreviewSpec spec;
   spec.bake = bake_folder(*backend, env, EngineTarget::Generic, o, dir, "generic");
   spec.width = spec.height = 32;

@@ -223,16 +223,19 @@ TEST(CliEnv, BadInputGivesOneLineAndNoOutput) {
     EXPECT_EQ(source, "builtin:studio");
     fs::remove(dir / "x.ktx2");
   }
-  expect_clean_failure("prefilter --env builtin:studio --size 0" + out, dir, "--size");
+  expect_clean_failure("prefilter --env builtin:studio --chain-size 0" + out, dir, "--chain-size");
   expect_clean_failure("prefilter --env builtin:studio --size 16 --min-size 32" + out, dir, "--min-size");
-  expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--size");
+  // --size, --max-error: the old names (aliases), named canonically; both spellings together refused
+  expect_clean_failure("prefilter --env builtin:studio --size abc" + out, dir, "--chain-size");
+  expect_clean_failure("prefilter --env builtin:studio --chain-size 8 --size 8" + out, dir,
+                       "--chain-size: given together with its alias --size (the same option): give one");
   expect_clean_failure("prefilter --env builtin:studio --distribution phong" + out, dir,
                        "--distribution: must be one of ggx, charlie (got 'phong')");
   expect_clean_failure("prefilter --env builtin:studio --schedule cubic" + out, dir,
                        "--schedule: must be one of linear, filament, sqrt, babylon (got 'cubic')");
   expect_clean_failure("prefilter --env builtin:studio --samples 64" + out, dir, "--estimator sampling");
   expect_clean_failure("prefilter --env builtin:studio --estimator sampling --samples 0" + out, dir, "--samples");
-  expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--max-error");
+  expect_clean_failure("prefilter --env builtin:studio --max-error nan" + out, dir, "--chain-max-error");
   expect_clean_failure("prefilter --env builtin:moon" + out, dir, "builtin:moon");
   expect_clean_failure("prefilter --env builtin:studio -o " + (dir / "x.png").string(), dir, "output format");
   expect_clean_failure("prefilter --env builtin:studio --device no-such-device --size 4 --min-size 4" + out, dir,

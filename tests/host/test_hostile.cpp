@@ -865,23 +865,28 @@ void knobs(std::vector<Row>& rows) {
       {"lut_samples_hex", "lut --samples 0x10p99", {"--samples"}},
       {"lut_samples_empty", "lut --samples ''", {"--samples"}},
       {"lut_size_missing_value", "lut --size", {"size"}},
-      {"bake_cube_size_5000", "bake --cube-size 5000", {"--cube-size", "1..2048"}},
-      {"bake_min_size_above_cube_size", "bake --cube-size 16 --min-size 64", {"--min-size", "--cube-size"}},
+      // --cube-size: the old name of --chain-size (an alias); messages name the option canonically
+      {"bake_cube_size_5000", "bake --cube-size 5000", {"--chain-size", "1..2048"}},
+      {"bake_min_size_above_cube_size", "bake --cube-size 16 --min-size 64", {"--min-size", "--chain-size"}},
+      {"bake_chain_size_and_cube_size",
+       "bake --chain-size 16 --cube-size 16",
+       {"--chain-size", "--cube-size", "give one"}},
       {"bake_sh_4", "bake --sh 4", {"--sh"}},
       {"bake_json_without_dry_run", "bake --json", {"--json", "--dry-run"}},
       {"bake_pixel_f8", "bake --pixel f8", {"--pixel"}},
-      {"prefilter_size_5000", "prefilter --size 5000", {"--size", "1..2048"}},
+      // --size, --cube: old names (aliases) of --chain-size and --irradiance-size, named canonically
+      {"prefilter_size_5000", "prefilter --size 5000", {"--chain-size", "1..2048"}},
       {"prefilter_samples_65537", "prefilter --estimator sampling --samples 65537", {"--samples", "65536"}},
       {"prefilter_samples_with_quadrature", "prefilter --samples 64", {"--samples", "--estimator sampling"}},
-      {"prefilter_min_size_above_size", "prefilter --size 16 --min-size 32", {"--min-size", "--size"}},
+      {"prefilter_min_size_above_size", "prefilter --size 16 --min-size 32", {"--min-size", "--chain-size"}},
       {"prefilter_refinement_1", "prefilter --refinement 1", {"--refinement", "1.5..64"}},
       {"prefilter_clamp_zero", "prefilter --clamp 0", {"--clamp", "greater than 0"}},
       {"prefilter_layout_for_container", "prefilter --layout cross --size 8 --min-size 4 -o {d}/p.ktx2", {"--layout"}},
       {"prefilter_stdout", "prefilter --size 8 -o -", {"--format csv"}},
-      {"irradiance_cube_5000", "irradiance --cube 5000 -o x.ktx2", {"--cube", "1..1024"}},
+      {"irradiance_cube_5000", "irradiance --cube 5000 -o x.ktx2", {"--irradiance-size", "1..1024"}},
       {"irradiance_source_size_99999", "irradiance --source-size 99999", {"--source-size", "1..2048"}},
       {"irradiance_sh_4", "irradiance --sh 4", {"--sh", "3 or 5"}},
-      {"irradiance_cube_for_json", "irradiance --cube 8 -o x.json", {"--cube", ".json"}},
+      {"irradiance_cube_for_json", "irradiance --cube 8 -o x.json", {"--irradiance-size", ".json"}},
       {"fresnel_size_1e9", "fresnel --model schlick --f0 0.04 --size 1e9", {"--size", "16777216"}},
       {"fresnel_2d_too_many_cells", "fresnel --model schlick --table 2d --size 8192 --height 8192", {"cells"}},
       {"fresnel_ior_1e999", "fresnel --model dielectric --ior 1e999", {"--ior"}},
@@ -1793,9 +1798,9 @@ void collisions(std::vector<Row>& rows) {
 // too; and --keep-bakes, whose folders the sweep replaces, is checked before anything runs.
 void sibling_outputs(std::vector<Row>& rows) {
   rows.push_back(R("sibling_preview_json_is_materials",
-                   "preview --env builtin:sun --materials {d}/p.json -o {d}/p.png --no-reference", 2)
+                   "preview --env builtin:sun --materials {d}/p.json -o {d}/p.png --no-reference", 2)  // the old name
                      .file("p.json", kMaterials)
-                     .says("--materials")
+                     .says("same file as --material (")  // named canonically
                      .says("p.json")
                      .keeps("p.json")
                      .no("p.png"));
@@ -1868,8 +1873,8 @@ void smaller_classes(std::vector<Row>& rows) {
                     R"(, "environment": "builtin:sun")"))
           .no("out"));
   rows.push_back(R("class7_bake_dry_run_refuses_what_the_writer_would",
-                   "bake --env builtin:sun --target babylon --cube-size 100 -o {d}/o --dry-run", 2)
-                     .says("cube_size")
+                   "bake --env builtin:sun --target babylon --chain-size 100 -o {d}/o --dry-run", 2)
+                     .says("chain_size")
                      .says("power-of-two")
                      .no("o"));
   rows.push_back(R("class7_bake_dry_run_refuses_a_schedule_the_engine_does_not_read",
@@ -1917,7 +1922,7 @@ void smaller_classes(std::vector<Row>& rows) {
                    "-o {d}/c.ktx2",
                    0)
                      .says("warning: charlie prefiltered chain: the chain's error bound")
-                     .says("is above the max_error 0.01 asked"));
+                     .says("is above the chain_max_error 0.01 asked"));
   // Issue 35: a preview that bakes first keeps that bake when asked, and names its files where they are.
   R kept("class7_preview_keeps_its_first_bake",
          "preview --env builtin:sun --target filament --keep-bake {d}/kept -o {d}/p.png --width 192 --height 96 "

@@ -119,8 +119,10 @@ TEST(Job, BadInputNamesTheFileAndTheField) {
        "tables[0].output: vs_exact adds three error columns"},
       {R"({"tables": [{"kind": "prefilter", "output": "p.exr"}]})",
        "tables[0].output: unknown output format '.exr' of 'p.exr' (prefilter writes a cube container"},
-      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})",
-       "tables[0].min_size: must be at most size (got 32 > 16)"},
+      {R"({"tables": [{"kind": "prefilter", "size": 16, "min_size": 32}]})",  // size: chain_size's old name
+       "tables[0].min_size: must be at most chain_size (got 32 > 16)"},
+      {R"({"tables": [{"kind": "prefilter", "chain_size": 16, "size": 16}]})",
+       "job.json: tables[0].chain_size: given together with its alias size (the same option): give one"},
       {R"({"tables": [{"kind": "irradiance", "sh_order": 4}]})", "tables[0].sh_order: must be 3 or 5"},
       {R"({"tables": [{"kind": "thin-film", "base_ior": 1.5, "base_f0": 0.5}]})",
        "tables[0].base_f0: give exactly one of base_ior"},

@@ -58,24 +58,29 @@ std::string read_bytes(const fs::path& p) {
 
 // ---- Option names ----------------------------------------------------------------------------------
 
-// The job's spelling is the option (sh_order is --sh-order, cube_size --cube-size, environment
-// --environment); the short spellings of before still work, as aliases, and give the same file.
+// The job's spelling is the option (sh_order is --sh-order, irradiance_size --irradiance-size,
+// environment --environment); the short and old spellings still work, as aliases, and give the same
+// file.
 TEST(OptionNames, TheJobsSpellingIsTheOptionAndShortOnesAreAliases) {
   const fs::path dir = temp_dir("spelling");
   const std::string common = " --source-size 8 --quiet -o ";
-  const CliRun job_names =
-      run_cli("irradiance --environment builtin:sun --sh-order 5 --cube-size 4" + common + (dir / "a.ktx2").string());
+  const CliRun job_names = run_cli("irradiance --environment builtin:sun --sh-order 5 --irradiance-size 4" + common +
+                                   (dir / "a.ktx2").string());
   ASSERT_EQ(job_names.code, 0) << job_names.err;
   const CliRun aliases = run_cli("irradiance --env builtin:sun --sh 5 --cube 4" + common + (dir / "b.ktx2").string());
   ASSERT_EQ(aliases.code, 0) << aliases.err;
   EXPECT_EQ(read_bytes(dir / "a.ktx2"), read_bytes(dir / "b.ktx2"));
+  const CliRun old_name =
+      run_cli("irradiance --env builtin:sun --sh 5 --cube-size 4" + common + (dir / "c.ktx2").string());
+  ASSERT_EQ(old_name.code, 0) << old_name.err;
+  EXPECT_EQ(read_bytes(dir / "a.ktx2"), read_bytes(dir / "c.ktx2"));
   // bake: the same spellings (its sh_order is the table's).
   const CliRun plan = run_cli("bake --environment builtin:sun --sh-order 5 --dry-run --json");
   ASSERT_EQ(plan.code, 0) << plan.err;
   EXPECT_NE(plan.out.find("\"sh_order\": 5"), std::string::npos) << plan.out;
   EXPECT_NE(plan.out.find("\"environment\": \"builtin:sun\""), std::string::npos) << plan.out;
   // Messages name the option by its one spelling.
-  const CliRun bad = run_cli("irradiance --sh 4 -o " + (dir / "c.json").string());
+  const CliRun bad = run_cli("irradiance --sh 4 -o " + (dir / "d.json").string());
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--sh-order: must be 3 or 5"), std::string::npos) << bad.err;
 }
@@ -98,7 +103,14 @@ TEST(OptionNames, EveryParameterIsItsJobNameAndEveryAliasIsListed) {
         EXPECT_NE(help.find(" -" + option + " arg"), std::string::npos) << help;
       else
         EXPECT_NE(help.find("--" + std::string(negated ? "no-" : "") + option + " "), std::string::npos) << help;
-      for (const std::string& a : d.aliases) EXPECT_NE(help.find("(alias: --" + a + ")"), std::string::npos) << help;
+      std::string listed;  // "(alias: --cube-size, --cube)": every alias, spelled as an option
+      for (std::string a : d.aliases) {
+        std::replace(a.begin(), a.end(), '_', '-');
+        listed += (listed.empty() ? "(alias: --" : ", --") + a;
+      }
+      if (!listed.empty()) {
+        EXPECT_NE(help.find(listed + ")"), std::string::npos) << help;
+      }
     }
   }
   for (const ParamDef& d : bake_option_schema()) {
@@ -125,7 +137,7 @@ TEST(OptionNames, UnknownOptionsOnEveryCommandSayWhatWasMeant) {
     const char* meant;
   };
   const Case cases[] = {
-      {"bake", "--cube-sze 64", "--cube-size"},
+      {"bake", "--cube-sze 64", "--chain-size"},  // an alias meant: its option's canonical name
       {"run", "--dry-rn x.json", "--dry-run"},
       {"serve", "--max-queu 3", "--max-queue"},
       {"devices", "--jsn", "--json"},
@@ -150,7 +162,7 @@ TEST(OptionNames, UnknownOptionsOnEveryCommandSayWhatWasMeant) {
   }
   // Several options start with what was typed: all of them; nothing close: the pointer to --help.
   const CliRun prefix = run_cli("bake --cube 64");
-  EXPECT_NE(prefix.err.find("did you mean --cube-size or --cube-format?"), std::string::npos) << prefix.err;
+  EXPECT_NE(prefix.err.find("did you mean --chain-size or --cube-format?"), std::string::npos) << prefix.err;
   const CliRun far = run_cli("lut --zzzzzz 3");
   EXPECT_EQ(far.code, 2);
   EXPECT_NE(far.err.find("unknown option '--zzzzzz' (see --help)"), std::string::npos) << far.err;
@@ -287,6 +299,251 @@ TEST(Progress, HundredPercentMeansTheFilesAreWritten) {
   EXPECT_EQ(events.back().what, "writing the babylon files");
   EXPECT_EQ(events.back().fraction, 1.0);
   EXPECT_TRUE(fs::exists(dir / "out" / "out.env"));
+}
+
+// ---- One name per meaning (issue 34, "Names") -------------------------------------------------------
+// A name means one thing on every command and in every front end, and one thing has one name
+// (docs/SCENES.md, "One name per meaning"); the old names are aliases that every front end takes and
+// that nothing the tool writes uses.
+
+// A value for each bake option that has aliases: a new alias without a value here fails the tests.
+const std::map<std::string, std::string>& aliased_bake_values() {
+  static const std::map<std::string, std::string> v = {
+      {"chain_size", "64"}, {"chain_max_error", "0.02"}, {"sh_order", "5"}, {"environment", "builtin:sun"}};
+  return v;
+}
+
+// The same for the table kinds' parameters that have aliases (by kind, then parameter).
+const std::map<std::string, std::map<std::string, std::string>>& aliased_table_values() {
+  static const std::map<std::string, std::map<std::string, std::string>> v = {
+      {"prefilter", {{"chain_size", "16"}, {"chain_max_error", "0.02"}}},
+      {"irradiance", {{"irradiance_size", "4"}, {"sh_order", "5"}}},
+      {"preview", {{"material", "FILE"}}},  // a material file the test writes
+  };
+  return v;
+}
+
+std::string dashed(std::string name) {
+  std::replace(name.begin(), name.end(), '_', '-');
+  return name;
+}
+
+// What parse_bake_options makes of `given` (name, text) pairs, as the plan's JSON.
+std::string bake_plan_of(const std::vector<std::pair<std::string, std::string>>& given) {
+  Params p;
+  for (const auto& [name, text] : given) {
+    const ParamDef* d = find_param_def_or_alias(bake_option_schema(), name);
+    if (!d) throw Error("no bake option " + name);
+    p.push_back({name, parse_param_text(*d, text, name)});
+  }
+  OptionNaming naming;
+  naming.prefix = "bake";
+  return plan_to_json(plan_bake(parse_bake_options(p, naming)));
+}
+
+// Every alias of a bake option gives the plan its canonical name gives, through the options' parser
+// (the server's bodies and Python's bake_scene) and through `bake --dry-run --json`; the plan
+// names only the canonical name; both together are refused with one line.
+TEST(OneName, EveryBakeAliasGivesTheSamePlanAsItsName) {
+  const std::string default_plan = bake_plan_of({});
+  int checked = 0;
+  for (const ParamDef& d : bake_option_schema())
+    for (const std::string& alias : d.aliases) {
+      SCOPED_TRACE(d.name + " / " + alias);
+      ASSERT_TRUE(aliased_bake_values().count(d.name)) << "give the option a value in aliased_bake_values";
+      const std::string value = aliased_bake_values().at(d.name);
+      const std::string by_name = bake_plan_of({{d.name, value}});
+      EXPECT_NE(by_name, default_plan) << "the value must change the plan, or the test proves nothing";
+      EXPECT_EQ(bake_plan_of({{alias, value}}), by_name);
+      EXPECT_EQ(by_name.find("\"" + alias + "\""), std::string::npos) << by_name;
+      try {
+        bake_plan_of({{d.name, value}, {alias, value}});
+        ADD_FAILURE() << "both spellings taken";
+      } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "bake: " + d.name + ": given together with its alias " + alias + " (the same option): give one");
+      }
+      // The command line: the same plan, the same refusal, one line.
+      const CliRun canonical = run_cli("bake --dry-run --json --" + dashed(d.name) + " " + value);
+      const CliRun old = run_cli("bake --dry-run --json --" + dashed(alias) + " " + value);
+      ASSERT_EQ(canonical.code, 0) << canonical.err;
+      ASSERT_EQ(old.code, 0) << old.err;
+      EXPECT_EQ(old.out, canonical.out);
+      EXPECT_EQ(old.out.find("\"" + alias + "\""), std::string::npos) << old.out;
+      const CliRun both =
+          run_cli("bake --dry-run --" + dashed(d.name) + " " + value + " --" + dashed(alias) + " " + value);
+      EXPECT_EQ(both.code, 2);
+      EXPECT_EQ(test::count_lines(both.err), 1) << both.err;
+      EXPECT_NE(both.err.find("--" + dashed(d.name) + ": given together with its alias --" + dashed(alias) +
+                              " (the same option): give one"),
+                std::string::npos)
+          << both.err;
+      ++checked;
+    }
+  EXPECT_GE(checked, 4);  // chain_size, chain_max_error, sh_order, environment at least
+  // The old names of issue 34, by name.
+  EXPECT_EQ(bake_plan_of({{"cube_size", "64"}}), bake_plan_of({{"chain_size", "64"}}));
+  EXPECT_EQ(bake_plan_of({{"prefilter_max_error", "0.02"}}), bake_plan_of({{"chain_max_error", "0.02"}}));
+  EXPECT_NE(bake_plan_of({{"chain_size", "64"}}).find("\"chain_size\": 64"), std::string::npos);
+}
+
+// Every alias of a table parameter: a job by either name is the same job, and writes only the
+// canonical name; both together are refused with one line, in a job and on the command line.
+TEST(OneName, EveryTableAliasGivesTheSameJobAsItsName) {
+  const fs::path material = temp_dir("material") / "m.json";
+  std::ofstream(material) << R"({"materials": [{"name": "a", "model": "gltf", "roughness": 0.5}]})";
+  int checked = 0;
+  for (TableKind k : table_kinds())
+    for (const ParamDef& d : table_schema(k))
+      for (const std::string& alias : d.aliases) {
+        const std::string kind = table_kind_name(k);
+        SCOPED_TRACE(kind + " " + d.name + " / " + alias);
+        ASSERT_TRUE(aliased_table_values().count(kind) && aliased_table_values().at(kind).count(d.name))
+            << "give the parameter a value in aliased_table_values";
+        std::string value = aliased_table_values().at(kind).at(d.name), option_value = value;
+        if (value == "FILE") {
+          option_value = material.string();
+          value = "\"" + option_value + "\"";
+        }
+        const auto job_of = [&](const std::string& fields) {
+          Job job = parse_job(R"({"brdfbake_job": 1, "environment": "builtin:sun", "tables": [{"kind": ")" + kind +
+                                  "\", " + fields + "}]}",
+                              "job.json");
+          validate_job(job);
+          return job_to_json(job);
+        };
+        const std::string by_name = job_of("\"" + d.name + "\": " + value);
+        EXPECT_EQ(job_of("\"" + alias + "\": " + value), by_name);
+        EXPECT_NE(by_name.find("\"" + d.name + "\": " + value), std::string::npos) << by_name;
+        EXPECT_EQ(by_name.find("\"" + alias + "\""), std::string::npos) << by_name;
+        try {
+          job_of("\"" + d.name + "\": " + value + ", \"" + alias + "\": " + value);
+          ADD_FAILURE() << "both spellings taken";
+        } catch (const Error& e) {
+          EXPECT_EQ(std::string(e.what()), "job.json: tables[0]." + d.name + ": given together with its alias " +
+                                               alias + " (the same option): give one");
+        }
+        const CliRun both =
+            run_cli(table_kind_command(k) + " --env builtin:sun --" + dashed(d.name) + " " + option_value + " --" +
+                    dashed(alias) + " " + option_value + " -o " + (temp_dir("both_" + d.name) / "x.ktx2").string());
+        EXPECT_EQ(both.code, 2);
+        EXPECT_EQ(test::count_lines(both.err), 1) << both.err;
+        EXPECT_NE(both.err.find("--" + dashed(d.name) + ": given together with its alias --" + dashed(alias) +
+                                " (the same option): give one"),
+                  std::string::npos)
+            << both.err;
+        ++checked;
+      }
+  EXPECT_GE(checked, 6);  // prefilter size, max_error; irradiance cube_size, cube, sh; preview materials
+  // Two aliases of one parameter together.
+  const CliRun two = run_cli("irradiance --env builtin:sun --cube-size 4 --cube 4 -o " +
+                             (temp_dir("two_aliases") / "x.ktx2").string());
+  EXPECT_EQ(two.code, 2);
+  EXPECT_NE(two.err.find("--irradiance-size: given as both --cube-size and --cube (the same option): give one"),
+            std::string::npos)
+      << two.err;
+  // The command line by the old name writes the file the canonical name writes.
+  const fs::path dir = temp_dir("prefilter_alias");
+  const std::string common = " --env builtin:sun --min-size 4 --quiet -o ";
+  const CliRun canonical = run_cli("prefilter --chain-size 8" + common + (dir / "a.ktx2").string());
+  ASSERT_EQ(canonical.code, 0) << canonical.err;
+  const CliRun old = run_cli("prefilter --size 8" + common + (dir / "b.ktx2").string());
+  ASSERT_EQ(old.code, 0) << old.err;
+  EXPECT_EQ(read_bytes(dir / "a.ktx2"), read_bytes(dir / "b.ktx2"));
+}
+
+// No canonical name has two meanings across the commands, and no meaning two canonical names:
+// - the old names of issue 34 are canonical nowhere; no command's alias is one of its own names;
+// - a name bake shares with a table command is that command's parameter (the same type, choices and
+//   range), and setting it on bake sets that parameter of the planned table;
+// - a name several table commands share is one of the generic names below, each with its meaning.
+TEST(OneName, NoNameHasTwoMeaningsAcrossTheCommands) {
+  std::map<std::string, std::vector<std::pair<std::string, const ParamDef*>>> uses;  // name -> (command, def)
+  for (TableKind k : table_kinds())
+    for (const ParamDef& d : table_schema(k)) uses[d.name].push_back({table_kind_command(k), &d});
+  for (const ParamDef& d : bake_option_schema()) uses[d.name].push_back({"bake", &d});
+  for (const char* old : {"cube_size", "prefilter_max_error"}) EXPECT_EQ(uses.count(old), 0u) << old;
+  // a table's `materials` is its informative list of the materials that asked for it, no parameter
+  EXPECT_EQ(uses.count("materials"), 0u);
+  EXPECT_EQ(find_param_def(table_schema(TableKind::Prefilter), "size"), nullptr);
+  EXPECT_EQ(find_param_def(table_schema(TableKind::Prefilter), "max_error"), nullptr);
+  EXPECT_EQ(find_param_def(table_schema(TableKind::Irradiance), "cube_size"), nullptr);
+  for (TableKind k : table_kinds())
+    for (const ParamDef& d : table_schema(k))
+      for (const std::string& a : d.aliases)
+        EXPECT_EQ(find_param_def(table_schema(k), a), nullptr) << table_kind_name(k) << ": " << a;
+  for (const ParamDef& d : bake_option_schema())
+    for (const std::string& a : d.aliases) EXPECT_EQ(find_param_def(bake_option_schema(), a), nullptr) << a;
+
+  // Shared with bake: the table's own parameter. chain_max_error on bake also takes 0 (no search,
+  // the table's absent value), its only difference.
+  for (const ParamDef& b : bake_option_schema())
+    for (const auto& [command, t] : uses[b.name]) {
+      if (command == "bake") continue;
+      SCOPED_TRACE("bake and " + command + ": " + b.name);
+      EXPECT_EQ(b.type, t->type);
+      EXPECT_EQ(b.choices, t->choices);
+      EXPECT_EQ(b.hi, t->hi);
+      if (b.name != "chain_max_error") {
+        EXPECT_EQ(b.lo, t->lo);
+      }
+    }
+  const std::map<std::string, std::pair<std::string, std::string>> sets = {
+      // bake option -> (table kind in the default plan, value)
+      {"chain_size", {"prefilter", "32"}},   {"min_size", {"prefilter", "4"}},
+      {"schedule", {"prefilter", "'sqrt'"}}, {"chain_max_error", {"prefilter", "0.02"}},
+      {"sh_order", {"irradiance", "5"}},     {"sh_window", {"irradiance", "'lanczos'"}},
+  };
+  for (const auto& [name, kv] : sets) {
+    SCOPED_TRACE(name);
+    const ParamDef* b = find_param_def(bake_option_schema(), name);
+    ASSERT_NE(b, nullptr);
+    ASSERT_NE(find_param_def(table_schema(table_kind_from_name(kv.first)), name), nullptr)
+        << "bake's option is not " << kv.first << "'s parameter of the same name";
+    std::string text = kv.second;
+    if (text.front() == '\'') text = text.substr(1, text.size() - 2);
+    Params p = {{name, parse_param_text(*b, text, name)}};
+    const Plan plan = plan_bake(parse_bake_options(p, OptionNaming{}));
+    bool found = false;
+    for (const TableRequest& t : plan.job.tables)
+      if (table_kind_name(t.kind) == kv.first && t.find(name)) {
+        EXPECT_EQ(param_value_text(*t.find(name)), kv.second);
+        found = true;
+      }
+    EXPECT_TRUE(found) << "no " << kv.first << " table of the plan has " << name;
+  }
+
+  // Shared by table commands: the names of a command's own table or output, one meaning each.
+  const std::map<std::string, std::string> generic = {
+      {"size", "the command's one table: cells along its first axis (bake: lut_size, fresnel_size, ...)"},
+      {"height", "the output's second axis: a table's cells, the preview image's pixels"},
+      {"samples", "the estimator's samples per texel or cell"},
+      {"estimator", "how the table's integral is estimated"},
+      {"refinement", "the quadrature's refinement (prefilter's chain, preview's reference)"},
+      {"target", "the engine target whose conventions the file follows"},
+      {"model", "the analytic model of the command's table (the Fresnel model; the BRDF model)"},
+      {"material",
+       "the material the output is of (fresnel: a measured preset's name; eval, tabulate, preview: a file)"},
+      {"name", "which material of the file"},
+      {"layout", "how the output's values are arranged (a folder's images; tabulate's table)"},
+      {"image_format", "a folder output's image format"},
+      {"symbol", "a .h output's C symbol"},
+      {"png_range", "a .png output's value range"},
+      {"clamp_f16", "binary16 outputs: clamp beyond 65504 instead of refusing"},
+      {"fast_math", "the evaluator's relaxed-math kernels"},
+  };
+  for (const auto& [name, list] : uses) {
+    std::set<std::string> commands;
+    for (const auto& [command, d] : list)
+      if (command != "bake") commands.insert(command);
+    if (commands.size() < 2) continue;
+    std::string names;
+    for (const auto& c : commands) names += " " + c;
+    EXPECT_TRUE(generic.count(name)) << "'" << name << "' is a parameter of" << names
+                                     << ": the same meaning? Add it to `generic` with its meaning, or rename it";
+  }
+  // bake's several tables: each size names its table.
+  for (const char* name : {"size", "max_error"}) EXPECT_EQ(find_param_def(bake_option_schema(), name), nullptr);
 }
 
 }  // namespace

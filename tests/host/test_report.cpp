@@ -112,6 +112,7 @@ TEST(CliReport, ReducedReportNumbersAgreeWithTheReference) {
   // 5% RMS even at 8^2 (docs/BENCHMARKS.md: < 1% at the default sizes).
   ASSERT_EQ(j["prefilter"].size(), 2u);
   for (const json& p : j["prefilter"]) {
+    EXPECT_EQ(p["chain_size"], 8) << "--cube-size, its alias, named canonically";
     ASSERT_FALSE(p["levels"].empty());
     for (const json& l : p["levels"]) {
       EXPECT_TRUE(std::isfinite(l["rms_error"].get<double>()));
@@ -161,7 +162,7 @@ TEST(CliReport, BakeSweepTimesBytesAndTheErrorsOfADirectPreview) {
   const json& pts = t["points"];
   ASSERT_EQ(pts.size(), 3u) << t.dump();
   EXPECT_EQ(pts[0]["label"], "default");
-  EXPECT_EQ(pts[1]["label"], "cube_size=32");
+  EXPECT_EQ(pts[1]["label"], "chain_size=32");  // --vary by the old name: reported canonically
   EXPECT_EQ(pts[2]["label"], "lut_size=16");
   for (size_t i = 0; i < pts.size(); ++i) {
     const json& p = pts[i];
@@ -443,8 +444,10 @@ TEST(CliReport, BadUsageIsOneLineAndExitTwo) {
   const fs::path dir = temp_dir("bad");
   for (const std::string args :
        {"--kinds nope", "--device reference", "--counts 0", "--precisions fp16", "--materials unobtainium",
-        "--kinds bake --targets nope", "--kinds bake --vary cube_size", "--kinds bake --vary colour=red",
-        "--kinds bake --preview-width 8", "--kinds bake --runs 0"}) {
+        "--kinds bake --targets nope", "--kinds bake --vary cube_size",
+        "--kinds bake --vary 'chain_size=32;cube_size=64'", "--kinds bake --vary colour=red",
+        "--kinds bake --preview-width 8", "--kinds bake --runs 0",
+        "--lut-size 4" /* with the --size 4 below: an option and its alias together */}) {
     const CliRun r = run_cli("report " + args + " --size 4 -o " + (dir / "r.html").string());
     EXPECT_EQ(r.code, 2) << args << ": " << r.err;
     EXPECT_EQ(test::count_lines(r.err), 1) << args << ": " << r.err;

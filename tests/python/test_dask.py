@@ -157,8 +157,8 @@ def test_a_sweep_of_settings_over_two_environments(client, shared_dir, tmp_path)
     rows = bdask.sweep(client, envs, [{}, {"cube_size": 32}], width=96, height=48)
     assert time.perf_counter() - t0 < 240  # 4 bakes of about a second and 2 small references
     assert [(r["env"], r["setting"]) for r in rows] == [
-        ("builtin:sun", "default"), ("builtin:sun", "cube_size=32"),
-        ("venice_sunset_256x128_derived", "default"), ("venice_sunset_256x128_derived", "cube_size=32")]
+        ("builtin:sun", "default"), ("builtin:sun", "chain_size=32"),  # cube_size: an alias, named canonically
+        ("venice_sunset_256x128_derived", "default"), ("venice_sunset_256x128_derived", "chain_size=32")]
     for r in rows:
         assert "failed" not in r, r.get("failed")
         assert r["seconds"] > 0 and r["bytes"] == sum(r["file_sizes"].values()) and "manifest.json" in r["file_sizes"]
@@ -193,7 +193,7 @@ def test_a_sweep_without_a_cluster_and_a_failing_setting():
                        width=96, height=48)
     assert [r["setting"] for r in rows] == ["small", "bad"]
     assert "failed" not in rows[0] and rows[0]["bytes"] > 0
-    assert "cube_size" in rows[1]["failed"] and "error" not in rows[1]
+    assert "chain_size" in rows[1]["failed"] and "error" not in rows[1]  # cube_size: its alias
     with pytest.raises(brdfbake.InputError, match="sweep.envs"):
         bdask.sweep(None, [], [{}])
 

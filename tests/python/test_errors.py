@@ -105,7 +105,7 @@ def test_eval_directions():
 
 def test_save_refuses_what_the_result_cannot_be(tmp_path):
     sh = brdfbake.irradiance("builtin:studio")
-    raises(lambda: sh.save(tmp_path / "x.ktx2"), brdfbake.InputError, "cube_size")
+    raises(lambda: sh.save(tmp_path / "x.ktx2"), brdfbake.InputError, "irradiance_size")
     raises(lambda: brdfbake.lut(size=4).save(tmp_path / "x.jpg"), brdfbake.InputError, "unknown output format")
     raises(lambda: brdfbake.lut(size=4).save(tmp_path / "x.exr", size=8), brdfbake.InputError, "not an output parameter")
     raises(lambda: brdfbake.lut(size=4).save(tmp_path / "no" / "such" / "folder" / "x.exr", pixel="f64"),

@@ -106,7 +106,7 @@ CONTEXT = {
                  "symbol": {"layout": "albedo", "symbol": "albedo", "output": "a.h"}},
     # preview reads its files when validated: a material file (RED_FILE) and a bake folder (BAKE_DIR,
     # one holding a manifest.json), put in by request()
-    "preview": {"materials": {"materials": "RED_FILE"}, "scene": {"scene": "RED_FILE"}, "bake": {"bake": "BAKE_DIR"},
+    "preview": {"material": {"material": "RED_FILE"}, "scene": {"scene": "RED_FILE"}, "bake": {"bake": "BAKE_DIR"},
                 "keep_bake": {"keep_bake": "NEW_DIR"}},
 }
 

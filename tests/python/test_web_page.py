@@ -226,10 +226,10 @@ def test_bad_inputs_show_the_api_error_next_to_the_field(server, browser):
     # A number out of its range, in the generated options.
     browser.find_element("css selector", "#more-options summary").click()
     _set(browser, "environment", HDR)
-    _set(browser, "cube_size", "-1")
+    _set(browser, "chain_size", "-1")
     browser.find_element("id", "plan-button").click()
-    _wait(browser, lambda d: _text(d, "error-cube_size") != "", "the error next to cube_size")
-    assert _text(browser, "error-cube_size") == "bake: cube_size: must be an integer in 1..2048 (got -1)"
+    _wait(browser, lambda d: _text(d, "error-chain_size") != "", "the error next to chain_size")
+    assert _text(browser, "error-chain_size") == "bake: chain_size: must be an integer in 1..2048 (got -1)"
     assert _text(browser, "error-environment") == ""
     _shot(browser, "error")
 
@@ -259,11 +259,13 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     _set(browser, "environment", HDR)
     _set(browser, "target", "filament")
     browser.find_element("id", "preset-draft").click()
-    assert browser.find_element("id", "opt-cube_size").get_attribute("value") == "64"
+    assert browser.find_element("id", "opt-chain_size").get_attribute("value") == "64"
     browser.find_element("id", "copy-command").click()
     command = _text(browser, "command-text")
     assert command.startswith("brdfbake bake ") and f"--environment {HDR}" in command and "--target filament" in command
-    assert "--cube-size 64" in command
+    # The canonical names (issue 34), never the old ones.
+    assert "--chain-size 64" in command and "--chain-max-error 0.05" in command, command
+    assert "--cube-size" not in command and "--prefilter-max-error" not in command, command
     # The dry run: each table's estimated time on the server's device and the bytes of its files
     # (POST /v1/plan, measured by bakes at reduced size), and the whole bake's.
     browser.find_element("id", "plan-button").click()
@@ -430,7 +432,7 @@ def test_progress_moves_and_cancel_stops_the_job(server, browser):
     _set(browser, "target", "generic")
     if not browser.find_element("id", "more-options").get_attribute("open"):
         browser.find_element("css selector", "#more-options summary").click()
-    _set(browser, "cube_size", "512")  # a chain of several seconds: long enough to be caught running
+    _set(browser, "chain_size", "512")  # a chain of several seconds: long enough to be caught running
     before = _text(browser, "job-id")
     browser.find_element("id", "bake-button").click()
     # The new job running, and its bars moving: the DFG table done or the chain under way.

@@ -114,9 +114,14 @@ TEST_F(ServerWeb, SchemasAreTheCommandLines) {
     EXPECT_TRUE(help.out.find(option + " ") != std::string::npos || help.out.find(negated + " ") != std::string::npos)
         << option;
   }
-  ASSERT_TRUE(by_name.count("cube_size") && by_name.count("environment") && by_name.count("target"));
-  EXPECT_EQ(by_name["cube_size"]["type"], "integer");
-  EXPECT_EQ(by_name["cube_size"]["min"], 1);
+  ASSERT_TRUE(by_name.count("chain_size") && by_name.count("environment") && by_name.count("target"));
+  EXPECT_EQ(by_name["chain_size"]["type"], "integer");
+  EXPECT_EQ(by_name["chain_size"]["min"], 1);
+  // Canonical names only (issue 34): the old ones are aliases of the options, as the CLI spells them.
+  EXPECT_EQ(by_name.count("cube_size"), 0u);
+  EXPECT_EQ(by_name.count("prefilter_max_error"), 0u);
+  EXPECT_EQ(by_name["chain_size"]["aliases"], json::array({"--cube-size"}));
+  EXPECT_EQ(by_name["chain_max_error"]["aliases"], json::array({"--prefilter-max-error"}));
   EXPECT_EQ(by_name["environment"]["default"], "builtin:studio");
   EXPECT_NE(std::find(by_name["target"]["choices"].begin(), by_name["target"]["choices"].end(), "filament"),
             by_name["target"]["choices"].end());
@@ -140,11 +145,12 @@ TEST_F(ServerWeb, InputsListsWhatARequestMayReadAndNothingElse) {
 
 TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
   auto c = server_->client(kToken);
+  // The body by the old name (an alias), the command line by the canonical one: the same plan.
   auto r = c.Post("/v1/plan", R"({"cube_size": 32, "target": "filament"})", "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
   const json plan = body_json(r);
-  const CliRun cli = run_cli("bake --dry-run --json --cube-size 32 --target filament");
+  const CliRun cli = run_cli("bake --dry-run --json --chain-size 32 --target filament");
   ASSERT_EQ(cli.code, 0) << cli.err;
   const json want = json::parse(cli.out);
   EXPECT_EQ(plan["job"]["tables"], want["tables"]);
@@ -200,7 +206,18 @@ TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
   auto bad = c.Post("/v1/plan", R"({"cube_size": -1})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
-  EXPECT_EQ(body_json(bad).value("error", ""), "bake: cube_size: must be an integer in 1..2048 (got -1)");
+  EXPECT_EQ(body_json(bad).value("error", ""), "bake: chain_size: must be an integer in 1..2048 (got -1)");
+  // A name and its alias together: refused, one line (not a silent pick).
+  auto both = c.Post("/v1/plan", R"({"chain_size": 32, "cube_size": 64})", "application/json");
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->status, 400);
+  EXPECT_EQ(body_json(both).value("error", ""),
+            "bake: chain_size: given together with its alias cube_size (the same option): give one");
+  auto both_env = c.Post("/v1/bake", R"({"environment": "builtin:sun", "env": "builtin:sun"})", "application/json");
+  ASSERT_TRUE(both_env);
+  EXPECT_EQ(both_env->status, 400);
+  EXPECT_EQ(body_json(both_env).value("error", ""),
+            "bake: environment: given together with its alias env (the same option): give one");
   auto outside = c.Post("/v1/plan", R"({"environment": "../token"})", "application/json");
   ASSERT_TRUE(outside);
   EXPECT_EQ(outside->status, 400);

@@ -40,7 +40,9 @@ struct ParamDef {
   std::vector<std::string> choices;    // Name: the accepted values
   std::optional<ParamValue> fallback;  // the default; none: absent unless given (see default_text)
   std::string help;                    // one line, for --help, docs and Python docstrings
-  std::vector<std::string> aliases;    // shorter command-line spellings also accepted (--sh for --sh-order)
+  std::vector<std::string> aliases;    // other spellings also accepted, snake_case as `name`: old names kept
+                                       // working (cube_size for chain_size) and shorter ones (sh for sh_order);
+                                       // every front end accepts them, and writes only `name`
   std::string default_text;            // a default that depends on others, e.g. "size"
   bool lo_open = false;                // Number: lo itself is refused (e.g. max_error > 0)
   bool required = false;
@@ -102,6 +104,17 @@ void check_param(const ParamDef& def, const ParamValue& value, const std::string
 ParamValue parse_param_text(const ParamDef& def, const std::string& text, const std::string& field);
 
 const ParamDef* find_param_def(const std::vector<ParamDef>& schema, const std::string& name);
+// The definition `name` spells: its own name, or else one of its aliases.
+const ParamDef* find_param_def_or_alias(const std::vector<ParamDef>& schema, const std::string& name);
+// Renames each parameter given by an alias to its definition's name, so that everything after reads
+// (and writes) only canonical names. Two spellings of one definition given together are refused:
+// Error("<prefix><name>: given together with its alias <alias> (the same option): give one"), the
+// names spelled as options ("--chain-size") when `cli`, else as fields ("chain_size"); `prefix` as the caller names its
+// fields ("bake: ", "job.json: tables[0]."). Names the schema does not know are left as they are, for the caller's own
+// message.
+void canonicalize_params(Params& params, const std::vector<ParamDef>& schema, const std::string& prefix, bool cli);
+// "--chain-size" (cli) or "chain_size".
+std::string spelled_name(const std::string& name, bool cli);
 
 // The one serialisation of schemas, shared by `brdfbake kinds --json` and the Python package:
 // a type's name ("integer", "number", "name", "path", "flag", "rgb", "range", "integers"), and a

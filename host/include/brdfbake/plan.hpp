@@ -22,10 +22,10 @@ struct PlanOptions {
   std::optional<int> lut_size;          // DFG tables: size x size
   std::optional<int> fresnel_size;      // Fresnel tables: cells along cos_theta
   std::optional<int> thin_film_size;    // thin-film tables: size x size (cos_theta x thickness)
-  std::optional<int> cube_size;         // prefiltered chains: face size of level 0
+  std::optional<int> chain_size;        // prefiltered chains: face size of level 0
   std::optional<int> cube_min_size;     // prefiltered chains: face size of the smallest level
   std::optional<std::string> schedule;  // prefiltered chains: roughness of each level
-  double prefilter_max_error = 0.01;    // > 0: each level refined until successive refinements differ
+  double chain_max_error = 0.01;        // > 0: each level refined until successive refinements differ
                                         // by less (RMS relative luminance): the chain's measured bound
   std::optional<int> sh_order;
   std::optional<std::string> sh_window;         // irradiance: the SH window; default the target's
@@ -77,9 +77,9 @@ const std::vector<ParamDef>& bake_option_schema();
 
 // How a front end names an option in its messages.
 struct OptionNaming {
-  bool cli = false;                       // "--cube-size"
+  bool cli = false;                       // "--chain-size"
   std::string prefix;                     // "bake_scene" (Python), "bake" (the server)
-  bool dotted = false;                    // "bake_scene.cube_size" (true) or "bake: cube_size"
+  bool dotted = false;                    // "bake_scene.chain_size" (true) or "bake: chain_size"
   std::string unknown = "unknown field";  // what an unknown name is called
   std::string field(const ParamDef& d) const;
 };

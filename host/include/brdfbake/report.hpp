@@ -29,9 +29,10 @@ inline const std::vector<int> kReportCounts = {16, 32, 64, 128, 256, 384, 512, 7
 // The bake sweep's choices (kind "bake").
 struct BakeSweepOptions {
   std::vector<std::string> targets = {"generic", "filament", "gltf", "babylon", "khronos-viewer"};
-  // The factors: a bake option (bake_option_schema: cube_size, min_size, schedule, lut_size,
-  // sh_order, pixel, prefilter_max_error) or n_dot_v_axis (the DFG table's), each with the values
-  // tried one at a time around every target's default; empty: kDefaultBakeFactors.
+  // The factors: a bake option (bake_option_schema: chain_size, min_size, schedule, lut_size,
+  // sh_order, pixel, chain_max_error; an alias such as cube_size is taken and reported under the
+  // canonical name) or n_dot_v_axis (the DFG table's), each with the values tried one at a time
+  // around every target's default; empty: kDefaultBakeFactors.
   std::vector<std::pair<std::string, std::vector<std::string>>> factors;
   int preview_width = 512;  // the preview's width; its height is half (the default grid's 12 x 6 square cells)
   int runs = 3;             // bakes of each setting the recommendation may take (the median and spread); others once
@@ -100,7 +101,7 @@ struct BakeSweepGroup {
   double sharp = -1.0;
 };
 struct BakeSweepPoint {
-  std::string label;                 // "default", "cube_size=128", ...
+  std::string label;                 // "default", "chain_size=128", ...
   std::string option, value;         // empty for the default
   std::vector<double> wall_seconds;  // each run of the bake
   double seconds = 0.0;              // their median
@@ -129,7 +130,7 @@ struct BakeSweepTarget {
   int recommended = -1;                // index into points (the rule below), -1: none
   std::vector<std::string> ties;       // the eligible settings whose time ties the recommended's
   std::string why;                     // the recommendation in words: the rule's outcome, its ties
-  std::vector<std::string> skipped;    // "cube_size=100: why"
+  std::vector<std::string> skipped;    // "chain_size=100: why"
 };
 // The recommended setting (mark_bake_sweep): of the settings no blurrier than the default (their
 // sharp-reflection probe within kBakeSharpWithin of the default's on every group) and read no worse by

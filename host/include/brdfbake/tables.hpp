@@ -139,6 +139,9 @@ struct FieldNaming {
 void validate_table(TableRequest& request, const FieldNaming& naming = {});
 // The file name a request is written to when it names none, e.g. "dfg_ggx_multiscatter_128.exr".
 std::string default_table_output(const TableRequest& request);
+// The parameter of a kind's face or cell count along its first axis, as labels and estimates read it:
+// "chain_size" for a prefiltered chain, "size" for the 1-D and 2-D tables (a kind may have none).
+const char* table_size_param(TableKind kind);
 // A key equal for requests that bake the same data (output fields aside).
 std::string table_bake_key(const TableRequest& request);
 // About how many bytes baking a validated request holds at its peak, host and device together (the

@@ -10,7 +10,7 @@ const MAIN_OPTIONS = ['environment', 'scene', 'target'];
 // Presets: values given to options of the schema (options the schema lacks are skipped); production
 // leaves every option at its default, which is the target's file set (docs/ENGINES.md).
 const PRESETS = {
-  draft: { cube_size: 64, min_size: 8, lut_size: 32, fresnel_size: 32, thin_film_size: 32, prefilter_max_error: 0.05 },
+  draft: { chain_size: 64, min_size: 8, lut_size: 32, fresnel_size: 32, thin_film_size: 32, chain_max_error: 0.05 },
   production: {},
 };
 const PROGRESS_POLL_MS = 200;   // the progress bars' refresh while a job runs
@@ -277,7 +277,7 @@ function clearErrors() {
   for (const e of document.querySelectorAll('#bake-form [aria-invalid]')) e.removeAttribute('aria-invalid');
 }
 
-// The field an API error names: "bake: cube_size: ...", "bake: tables[1].environment: ...", or the
+// The field an API error names: "bake: chain_size: ...", "bake: tables[1].environment: ...", or the
 // first option named anywhere in the line.
 function fieldOfError(message) {
   const names = state.options.map((d) => d.name);

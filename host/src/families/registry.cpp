@@ -358,6 +358,10 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
   const Family& family = family_of(t.kind);
   const std::vector<ParamDef>& schema = family.schema(t.kind);
   auto field = [&](const std::string& name) { return naming.field(t.kind, name); };
+  // Old and short spellings (aliases) to the schema's names, before anything reads or records them.
+  canonicalize_params(t.params, schema, naming.cli || naming.prefix.empty() ? "" : naming.prefix + ".", naming.cli);
+  for (auto& g : t.given)
+    if (const ParamDef* d = find_param_def_or_alias(schema, g)) g = d->name;
   for (const auto& p : t.params)
     if (!find_param_def(schema, p.name)) {
       std::vector<std::string> names = table_common_fields();
@@ -405,6 +409,8 @@ void validate_table(TableRequest& t, const FieldNaming& naming) {
 }
 
 std::string default_table_output(const TableRequest& t) { return family_of(t.kind).default_output(t); }
+
+const char* table_size_param(TableKind kind) { return kind == TableKind::Prefilter ? "chain_size" : "size"; }
 
 std::uint64_t estimate_table_bytes(const TableRequest& t) { return family_of(t.kind).estimated_bytes(t); }
 

@@ -23,14 +23,14 @@ void set_plan_option(PlanOptions& o, const std::string& name, const ParamValue& 
     o.energy_compensation = std::get<bool>(v);
   else if (name == "lut_size")
     o.lut_size = integer(v);
-  else if (name == "cube_size")
-    o.cube_size = integer(v);
+  else if (name == "chain_size")
+    o.chain_size = integer(v);
   else if (name == "min_size")
     o.cube_min_size = integer(v);
   else if (name == "schedule")
     o.schedule = std::get<std::string>(v);
-  else if (name == "prefilter_max_error")
-    o.prefilter_max_error = std::get<double>(v);
+  else if (name == "chain_max_error")
+    o.chain_max_error = std::get<double>(v);
   else if (name == "fresnel_size")
     o.fresnel_size = integer(v);
   else if (name == "thin_film_size")
@@ -96,7 +96,12 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
   BakeOptions out;
   PlanOptions& o = out.plan;
   std::set<std::string> seen;
-  for (const Param& p : given) {
+  // Old and short spellings (aliases: cube_size for chain_size) to the schema's names.
+  Params canonical = given;
+  canonicalize_params(canonical, schema,
+                      naming.cli || naming.prefix.empty() ? "" : naming.prefix + (naming.dotted ? "." : ": "),
+                      naming.cli);
+  for (const Param& p : canonical) {
     const ParamDef* d = find_param_def(schema, p.name);
     if (!d)
       throw Error((naming.prefix.empty() ? std::string() : naming.prefix + ": ") + p.name.substr(0, 60) + ": " +
@@ -137,10 +142,10 @@ BakeOptions parse_bake_options(const Params& given, const OptionNaming& naming) 
   if ((o.pixel == "astc4x4" || o.pixel == "astc6x6") && o.target != "generic" && o.target != "khronos-viewer")
     throw Error(named("pixel") + ": " + o.pixel + ": the target " + o.target +
                 " cannot load ASTC (generic and khronos-viewer can; give f16 or f32)");
-  const int size = o.cube_size.value_or(
-      static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "size")->fallback)));
+  const int size = o.chain_size.value_or(
+      static_cast<int>(std::get<double>(*find_param_def(table_schema(TableKind::Prefilter), "chain_size")->fallback)));
   if (o.cube_min_size && *o.cube_min_size > size)
-    throw Error(named("min_size") + ": must be at most " + named("cube_size") + " (got " +
+    throw Error(named("min_size") + ": must be at most " + named("chain_size") + " (got " +
                 std::to_string(*o.cube_min_size) + " > " + std::to_string(size) + ")");
   return out;
 }

@@ -49,7 +49,7 @@ double time_step(const Timer& timer, const EstimateStep& step, const std::functi
 
 // The texels a request bakes, every level and face: the unit its time and bytes grow with.
 double work_units(const TableRequest& t) {
-  const double size = t.number("size", 0);
+  const double size = t.number(table_size_param(t.kind), 0);
   if (size <= 0) return 1;
   if (t.find("min_size")) {  // a cube chain: 6 faces a level, halving down to min_size
     double w = 0;
@@ -68,8 +68,9 @@ double work_units(const TableRequest& t) {
 // nothing when the smaller request does not validate (a target's power-of-two rule, a size floor).
 std::optional<TableRequest> scaled(const TableRequest& t, int d) {
   TableRequest s = t;
-  const double size = std::max(1.0, std::round(t.number("size") / d));
-  s.set("size", size);
+  const char* size_param = table_size_param(t.kind);
+  const double size = std::max(1.0, std::round(t.number(size_param) / d));
+  s.set(size_param, size);
   if (t.find("height")) s.set("height", std::max(1.0, std::round(t.number("height") / d)));
   // A chain keeps its levels (each level's roughness and sample pattern as in the full chain): the
   // smallest level is divided too.
@@ -161,7 +162,7 @@ Measured measure_group(const Job& job, const std::vector<size_t>& g, const BakeI
   };
   const double work = work_units(head);
   std::optional<TableRequest> half, quarter;
-  if (head.find("size") && work > kEstimateMeasureBelow) {
+  if (head.find(table_size_param(head.kind)) && work > kEstimateMeasureBelow) {
     half = scaled(head, 2);
     quarter = scaled(head, 4);
   }

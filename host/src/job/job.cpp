@@ -98,9 +98,9 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
         throw Error(field + ": " + e.what());
       }
       *precision_given = true;
-    } else if (key == "materials" && !(it->is_string() && find_param_def(schema, key))) {
-      // informative: derived from requested_by (a kind's own `materials` parameter, the preview's
-      // material file, is a string)
+    } else if (key == "materials" && !(it->is_string() && find_param_def_or_alias(schema, key))) {
+      // informative: derived from requested_by (a string is the preview's material file by its old
+      // name, an alias of `material`)
       get_strings(*it, field);
     } else if (key == "requested_by") {
       if (!it->is_array()) throw Error(field + ": must be an array of {rule, purpose, materials, note}");
@@ -123,8 +123,8 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
         }
         t.requested_by.push_back(q);
       }
-    } else if (find_param_def(schema, key)) {
-      t.params.push_back({key, to_param(*it, field)});
+    } else if (find_param_def_or_alias(schema, key)) {
+      t.params.push_back({key, to_param(*it, field)});  // an alias: renamed below
     } else {
       std::vector<std::string> names = table_common_fields();
       for (const auto& d : schema) names.push_back(d.name);
@@ -132,6 +132,7 @@ TableRequest parse_table(const json& o, const std::string& where, bool* precisio
                   "' (expected " + join(names) + ")");
     }
   }
+  canonicalize_params(t.params, schema, where + ".", false);
   return t;
 }
 

@@ -56,15 +56,15 @@ class Planner {
       // The engine's conventions, unless the options say otherwise.
       const EngineSettings e = engine_settings(engine_target_from_name(o.target));
       if (!o_.schedule) o_.schedule = roughness_schedule_name(e.schedule);
-      if (!o_.cube_size) o_.cube_size = e.size;
+      if (!o_.chain_size) o_.chain_size = e.size;
       if (!o_.cube_min_size) o_.cube_min_size = e.min_size;
       if (e.sh_window != ShWindow::None && !o.sh_window) sh_window_ = sh_window_name(e.sh_window);
       plan_.job.engine_name = o.engine_name;
       // What the engine's writer would refuse after the bake (engines/engine_writers.cpp, check_chain),
       // refused here, before anything is baked: the command line, its --dry-run and POST /v1/bake alike.
-      const int size = *o_.cube_size;
+      const int size = *o_.chain_size;
       if (e.power_of_two && (size & (size - 1)) != 0)
-        throw Error("cube_size: " + o.target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
+        throw Error("chain_size: " + o.target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
       if (*o_.schedule != roughness_schedule_name(e.schedule))
         throw Error("schedule: " + o.target + " reads its levels with the '" + roughness_schedule_name(e.schedule) +
                     "' schedule (" + e.lod_formula + "), not '" + *o_.schedule + "'");
@@ -155,10 +155,10 @@ class Planner {
     TableRequest t;
     t.kind = TableKind::Prefilter;
     t.params.push_back({"distribution", distribution});
-    if (o_.cube_size) t.params.push_back({"size", double(*o_.cube_size)});
+    if (o_.chain_size) t.params.push_back({"chain_size", double(*o_.chain_size)});
     if (o_.cube_min_size) t.params.push_back({"min_size", double(*o_.cube_min_size)});
     if (o_.schedule) t.params.push_back({"schedule", *o_.schedule});
-    if (o_.prefilter_max_error > 0) t.params.push_back({"max_error", o_.prefilter_max_error});
+    if (o_.chain_max_error > 0) t.params.push_back({"chain_max_error", o_.chain_max_error});
     t.format = o_.cube_format;
     return t;
   }
@@ -646,11 +646,15 @@ std::string plan_to_json(const Plan& plan) {
 
 namespace {
 
-// A planner option that sets a table parameter: the parameter's definition under the option's name
-// (with the parameter's aliases where the name is the parameter's own: --sh for --sh-order).
-ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help) {
+// A planner option that sets a table parameter: the parameter's definition under the option's name,
+// with the option's own aliases (a table's aliases are its command's old spellings: prefilter's
+// --size is bake's --chain-size, not bake's --size). The name is the parameter's own wherever one
+// name can serve both (docs/SCENES.md, "One name per meaning"); a table's plain "size" is prefixed
+// with its table, bake having several.
+ParamDef from_table(TableKind kind, const char* param, const char* name, const std::string& help,
+                    std::vector<std::string> aliases = {}) {
   ParamDef d = *find_param_def(table_schema(kind), param);
-  if (d.name != name) d.aliases.clear();
+  d.aliases = std::move(aliases);
   d.name = name;
   d.help = help;
   d.fallback.reset();  // unset: the table's own default
@@ -668,18 +672,20 @@ const std::vector<ParamDef>& plan_schema() {
                "bake ggx-multiscatter (Kulla & Conty energy compensation) instead of the ggx DFG table")
           .def(d.energy_compensation),
       from_table(TableKind::GgxMultiscatter, "size", "lut_size", "DFG tables: cells along n_dot_v and roughness"),
-      from_table(TableKind::Prefilter, "size", "cube_size", "prefiltered chains: face size of level 0"),
+      from_table(TableKind::Prefilter, "chain_size", "chain_size", "prefiltered chains: face size of level 0",
+                 {"cube_size"}),
       from_table(TableKind::Prefilter, "min_size", "min_size", "prefiltered chains: face size of the smallest level"),
       from_table(TableKind::Prefilter, "schedule", "schedule", "prefiltered chains: roughness of each level"),
-      ParamDef("prefilter_max_error", ParamType::Number,
+      ParamDef("chain_max_error", ParamType::Number,
                "prefiltered chains: refine each level until successive refinements differ by less (RMS); 0: fixed "
                "refinement, no measured bound")
           .range(0, 1)
-          .def(d.prefilter_max_error),
+          .def(d.chain_max_error)
+          .alias("prefilter_max_error"),
       from_table(TableKind::Fresnel, "size", "fresnel_size", "Fresnel tables: cells along cos_theta"),
       from_table(TableKind::ThinFilm, "size", "thin_film_size",
                  "thin-film tables: cells along cos_theta and thickness"),
-      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5"),
+      from_table(TableKind::Irradiance, "sh_order", "sh_order", "irradiance: SH bands, 3 or 5", {"sh"}),
       [] {
         ParamDef w =
             from_table(TableKind::Irradiance, "sh_window", "sh_window", "irradiance: the SH window against ringing");

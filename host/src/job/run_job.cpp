@@ -61,7 +61,8 @@ std::string bake_label(const TableRequest& t) {
   std::string what = table_kind_name(t.kind);
   for (const char* key : {"distribution", "model", "layout"})
     if (!t.text(key).empty()) what += " " + t.text(key);
-  if (t.find("size")) what += " " + std::to_string(static_cast<long long>(t.number("size")));
+  if (const char* size = table_size_param(t.kind); t.find(size))
+    what += " " + std::to_string(static_cast<long long>(t.number(size)));
   return what;
 }
 

@@ -40,14 +40,14 @@ namespace brdfbake {
 // the engine reads it, its refinement and its texels' storage (ASTC where the target takes it). The
 // DFG table's size and axis and the SH order moved no target's render by 0.1 % of itself in the
 // sweeps of docs/REPORT.md: `--vary lut_size=16,32` and the like measure them on demand. Chains above
-// the default 256^2 too (`--vary cube_size=512`): the ideal bake of a 512^2 chain filters its levels
+// the default 256^2 too (`--vary chain_size=512`): the ideal bake of a 512^2 chain filters its levels
 // from a 1024^2 source, ~600 MB more at its peak (babylon's ten levels: 0.95 GB for the sweep), over
 // the default sweep's memory budget of 600 MB.
 const std::vector<std::pair<std::string, std::vector<std::string>>> kDefaultBakeFactors = {
-    {"cube_size", {"64", "128"}},
+    {"chain_size", {"64", "128"}},
     {"min_size", {"4", "64"}},
     {"schedule", {"sqrt"}},
-    {"prefilter_max_error", {"0.03", "0.003"}},
+    {"chain_max_error", {"0.03", "0.003"}},
     {"pixel", {"f32", "astc4x4", "astc6x6"}},
 };
 
@@ -328,11 +328,29 @@ void check_bake_sweep(const BakeSweepOptions& o) {
                 "folders)");
   }
   for (const auto& f : o.factors)
-    if (f.first != "n_dot_v_axis" && !find_param_def(bake_option_schema(), f.first))
+    if (f.first != "n_dot_v_axis" && !find_param_def_or_alias(bake_option_schema(), f.first))
       throw Error("the bake sweep cannot vary '" + f.first +
-                  "' (a bake option: cube_size, min_size, schedule, lut_size, sh_order, pixel, prefilter_max_error, "
+                  "' (a bake option: chain_size, min_size, schedule, lut_size, sh_order, pixel, chain_max_error, "
                   "..., or n_dot_v_axis)");
+  Params named;  // an option varied under two of its names (chain_size and its alias cube_size)
+  for (const auto& f : o.factors)
+    if (f.first != "n_dot_v_axis") named.push_back({f.first, false});
+  canonicalize_params(named, bake_option_schema(), "the bake sweep's factors: ", false);
 }
+
+namespace {
+
+// The factors under the options' canonical names (cube_size=64 is chain_size=64): the labels, the
+// report's JSON and the folders of kept bakes name only those.
+std::vector<std::pair<std::string, std::vector<std::string>>> canonical_factors(
+    const std::vector<std::pair<std::string, std::vector<std::string>>>& factors) {
+  auto out = factors;
+  for (auto& f : out)
+    if (const ParamDef* d = find_param_def_or_alias(bake_option_schema(), f.first)) f.first = d->name;
+  return out;
+}
+
+}  // namespace
 
 BakeSweep sweep_bake(const std::string& environment, const std::string& device, const BakeSweepOptions& o,
                      const std::function<void(const std::string&)>& log) {
@@ -342,7 +360,7 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
     if (log) log(s);
   };
   check_bake_sweep(o);
-  const auto& factors = o.factors.empty() ? kDefaultBakeFactors : o.factors;
+  const auto factors = canonical_factors(o.factors.empty() ? kDefaultBakeFactors : o.factors);
   BakeSweep sweep;
   sweep.environment = environment;
   sweep.preview_width = o.preview_width;

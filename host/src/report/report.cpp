@@ -148,7 +148,7 @@ json errors_json(const TableErrors& e) { return json{{"max", e.max}, {"rms", e.r
 json bake_json(const BakeSweep& s) {
   json b;
   b["environment"] = s.environment;
-  b["preview"] = {{"width", s.preview_width}, {"height", s.preview_width / 2}, {"materials", "the default grid"}};
+  b["preview"] = {{"width", s.preview_width}, {"height", s.preview_width / 2}, {"material", "the default grid"}};
   b["seconds"] = s.seconds;
   b["time_definition"] =
       "wall seconds of the whole bake as `brdfbake bake --target T` runs it (planner, environment load, every table, "
@@ -377,7 +377,7 @@ std::string report_json(const Report& r) {
     e["environment"] = p.environment;
     e["distribution"] = p.distribution;
     e["estimator"] = p.estimator;
-    e["size"] = p.size;
+    e["chain_size"] = p.size;  // the chain's level 0 (report --chain-size)
     e["device_seconds"] = p.device_seconds;
     e["reference_seconds"] = p.reference_seconds;
     json lv = json::array();

@@ -83,13 +83,16 @@ SpecSchema<IrradianceSpec> make_irradiance_schema() {
                 .one_of(enum_names(kShWindowNames))
                 .def(std::string(sh_window_name(d.window))),
             by_name(sh_window_from_name))
-      // no cube_size: SH alone (a .json output), not the struct's default
+      // no irradiance_size: SH alone (a .json output), not the struct's default
       .bind("cube_size",
-            ParamDef("cube_size", T::Int, "face size of the irradiance cube (a cube output only)")
+            ParamDef("irradiance_size", T::Int, "face size of the irradiance cube (a cube output only)")
                 .range(1, kIrradianceMaxCube)
+                .alias("cube_size")
                 .alias("cube")
                 .defaults_to(fmt_number(d.cube_size) + " for a cube output"),
-            [](IrradianceSpec& i, const TableRequest& t) { i.cube_size = static_cast<int>(t.number("cube_size", 0)); })
+            [](IrradianceSpec& i, const TableRequest& t) {
+              i.cube_size = static_cast<int>(t.number("irradiance_size", 0));
+            })
       .bind(&S::source_size, "source_size",
             ParamDef("source_size", T::Int, "face size the environment is converted to first")
                 .range(1, kIrradianceMaxSource)
@@ -117,14 +120,14 @@ class IrradianceFamily final : public Family {
   std::uint64_t estimated_bytes(const TableRequest& t) const override {
     // RGBA float texels (16 bytes): the source cube on the host and the device; the irradiance cube
     // on the device, the host and in the writer's encoding.
-    const double source = t.number("source_size"), cube = t.number("cube_size", 0);
+    const double source = t.number("source_size"), cube = t.number("irradiance_size", 0);
     return static_cast<std::uint64_t>(16 * (2 * 6 * source * source + 3 * 6 * cube * cube)) + (std::uint64_t(1) << 20);
   }
   std::string command() const override { return "irradiance"; }
   TableExample example(TableKind) const override {
     TableExample e;
     e.request.environment = "builtin:sun";
-    e.request.params = {{"cube_size", 4.0}, {"source_size", 8.0}};
+    e.request.params = {{"irradiance_size", 4.0}, {"source_size", 8.0}};
     return e;
   }
   CommandText command_text() const override {
@@ -136,7 +139,7 @@ class IrradianceFamily final : public Family {
     return "diffuse irradiance of an environment: spherical harmonics (.json) and an irradiance cube";
   }
   bool uses_environment() const override { return true; }
-  bool needs_device(const TableRequest& t) const override { return t.find("cube_size") != nullptr; }
+  bool needs_device(const TableRequest& t) const override { return t.find("irradiance_size") != nullptr; }
 
   const std::vector<ParamDef>& schema(TableKind) const override { return irradiance_schema().schema(); }
   std::vector<SpecField> spec_fields(TableKind) const override { return irradiance_schema().fields(); }
@@ -151,21 +154,23 @@ class IrradianceFamily final : public Family {
             std::string(sh_window_name(engine_settings(engine_target_from_name(t.text("target"))).sh_window)));
     if (t.number("sh_order") != 3 && t.number("sh_order") != 5)
       throw FieldError("sh_order", "must be 3 or 5 (got " + fmt_number(t.number("sh_order")) + ")");
-    const bool json = !t.output.empty() ? is_json(t) : !t.format.empty() ? t.format == "json" : !t.find("cube_size");
-    if (json && t.find("cube_size"))
+    const bool json = !t.output.empty()   ? is_json(t)
+                      : !t.format.empty() ? t.format == "json"
+                                          : !t.find("irradiance_size");
+    if (json && t.find("irradiance_size"))
       throw FieldError(
-          "cube_size",
+          "irradiance_size",
           "a .json output holds the SH coefficients only: write the cube to .ktx2, .ktx, .dds or a folder");
     if (json && t.find("sh_json"))
       throw FieldError("sh_json", "is for a cube output (the output already is the SH JSON)");
-    if (!json && !t.find("cube_size")) t.set("cube_size", double(IrradianceSpec{}.cube_size));
+    if (!json && !t.find("irradiance_size")) t.set("irradiance_size", double(IrradianceSpec{}.cube_size));
     (void)name;
   }
 
   std::string default_output(const TableRequest& t) const override {
     std::string stem = "irradiance_sh" + fmt_number(t.number("sh_order"), "%.0f");
-    if (!t.find("cube_size") || t.format == "json") return stem + ".json";
-    return stem + "_cube" + fmt_number(t.number("cube_size"), "%.0f") +
+    if (!t.find("irradiance_size") || t.format == "json") return stem + ".json";
+    return stem + "_cube" + fmt_number(t.number("irradiance_size"), "%.0f") +
            (t.format.empty() ? ".ktx2" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override {

@@ -30,7 +30,7 @@ namespace brdfbake::detail {
 
 namespace {
 
-// RMS relative difference of two levels (luminance), the measured error estimate of --max-error.
+// RMS relative difference of two levels (luminance), the measured error estimate of --chain-max-error.
 double rms_difference(const std::vector<float>& a, const std::vector<float>& b) {
   double sum = 0.0;
   size_t count = 0;

@@ -38,9 +38,10 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
              .def(std::string(env_distribution_name(d.distribution))),
          by_name(env_distribution_from_name))
       .bind(&S::size, "size",
-            ParamDef("size", T::Int, "face size of level 0 (the source cube)")
+            ParamDef("chain_size", T::Int, "face size of level 0 (the source cube)")
                 .range(1, kPrefilterMaxSize)
-                .def(double(d.size)))
+                .def(double(d.size))
+                .alias("size"))
       .bind(&S::min_size, "min_size",
             ParamDef("min_size", T::Int, "face size of the smallest level")
                 .range(1, kPrefilterMaxSize)
@@ -63,14 +64,15 @@ SpecSchema<PrefilterSpec> make_prefilter_schema() {
                 .defaults_to("1024"))
       .bind(&S::max_error, "max_error",
             ParamDef(
-                "max_error", T::Number,
+                "chain_max_error", T::Number,
                 "refine each level (quadrature) or choose samples (sampling) until successive estimates differ by less "
                 "(RMS relative luminance)")
-                .above(0, 1))
+                .above(0, 1)
+                .alias("max_error"))
       .bind(&S::refinement, "refinement",
             ParamDef("refinement", T::Number,
                      "quadrature: refine pyramid texels within this many texel sizes of the lobe's centre (not with "
-                     "max_error)")
+                     "chain_max_error)")
                 .range(1.5, 64)
                 .defaults_to(fmt_number(d.refinement)))
       .bind("bright_texels",
@@ -109,7 +111,7 @@ class PrefilterFamily final : public Family {
   std::uint64_t estimated_bytes(const TableRequest& t) const override {
     // RGBA float texels (16 bytes): the source cube and its mips on the host and on the device, the
     // chain on the device, on the host and in the writer's encoding.
-    const double size = t.number("size"), min_size = std::max(1.0, t.number("min_size", 1));
+    const double size = t.number("chain_size"), min_size = std::max(1.0, t.number("min_size", 1));
     double chain = 0;
     for (double s = size; s >= min_size; s = std::floor(s / 2)) {
       chain += 6 * s * s;
@@ -122,13 +124,13 @@ class PrefilterFamily final : public Family {
   TableExample example(TableKind) const override {
     TableExample e;
     e.request.environment = "builtin:sun";
-    e.request.params = {{"size", 8.0}, {"min_size", 4.0}};
+    e.request.params = {{"chain_size", 8.0}, {"min_size", 4.0}};
     return e;
   }
   CommandText command_text() const override {
     return {"prefilter an environment into a GGX or Charlie radiance mip chain",
             "Prefilter an environment into a GGX or Charlie radiance mip chain",
-            "brdfbake prefilter --env studio.hdr --size 256 --distribution ggx -o studio_ggx.ktx2"};
+            "brdfbake prefilter --env studio.hdr --chain-size 256 --distribution ggx -o studio_ggx.ktx2"};
   }
   std::string summary(TableKind) const override {
     return "a prefiltered radiance mip chain of an environment (GGX or Charlie lobe per level)";
@@ -147,15 +149,15 @@ class PrefilterFamily final : public Family {
       // The engine's conventions where the request does not name its own.
       const EngineSettings e = engine_settings(engine_target_from_name(t.text("target")));
       if (!t.was_given("schedule")) t.set("schedule", std::string(roughness_schedule_name(e.schedule)));
-      if (!t.was_given("size")) t.set("size", double(e.size));
+      if (!t.was_given("chain_size")) t.set("chain_size", double(e.size));
       if (!t.was_given("min_size")) t.set("min_size", double(e.min_size));
       // What the engine's files hold, checked here as the bake's engine writer checks its chain
       // (engine_writers.cpp, check_chain), so that a one-table command, a job and the server refuse
       // what the file's engine metadata would misdescribe, before anything is baked.
       const std::string target = t.text("target");
-      const int size = static_cast<int>(t.number("size"));
+      const int size = static_cast<int>(t.number("chain_size"));
       if (e.power_of_two && (size & (size - 1)) != 0)
-        throw FieldError("size", target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
+        throw FieldError("chain_size", target + " needs a power-of-two face size (got " + std::to_string(size) + ")");
       if (t.text("schedule") != roughness_schedule_name(e.schedule))
         throw FieldError("schedule", target + " reads its levels with the '" + roughness_schedule_name(e.schedule) +
                                          "' schedule (" + e.lod_formula + "), not '" + t.text("schedule") + "'");
@@ -165,16 +167,17 @@ class PrefilterFamily final : public Family {
     }
     if (t.find("samples") && t.text("estimator") != "sampling")
       throw FieldError("samples", "needs " + name("estimator") + " sampling (the quadrature takes " +
-                                      name("refinement") + " or " + name("max_error") + ")");
-    if (t.find("samples") && t.find("max_error"))
-      throw FieldError("max_error", "give " + name("samples") + " or " + name("max_error") + ", not both");
-    if (t.find("refinement") && (t.find("max_error") || t.text("estimator") != "quadrature"))
-      throw FieldError("refinement", t.find("max_error")
-                                         ? "give " + name("refinement") + " or " + name("max_error") + ", not both"
-                                         : "applies to " + name("estimator") + " quadrature");
-    if (t.number("min_size") > t.number("size"))
-      throw FieldError("min_size", "must be at most " + name("size") + " (got " + fmt_number(t.number("min_size")) +
-                                       " > " + fmt_number(t.number("size")) + ")");
+                                      name("refinement") + " or " + name("chain_max_error") + ")");
+    if (t.find("samples") && t.find("chain_max_error"))
+      throw FieldError("chain_max_error", "give " + name("samples") + " or " + name("chain_max_error") + ", not both");
+    if (t.find("refinement") && (t.find("chain_max_error") || t.text("estimator") != "quadrature"))
+      throw FieldError("refinement", t.find("chain_max_error") ? "give " + name("refinement") + " or " +
+                                                                     name("chain_max_error") + ", not both"
+                                                               : "applies to " + name("estimator") + " quadrature");
+    if (t.number("min_size") > t.number("chain_size"))
+      throw FieldError("min_size", "must be at most " + name("chain_size") + " (got " +
+                                       fmt_number(t.number("min_size")) + " > " + fmt_number(t.number("chain_size")) +
+                                       ")");
     if (!t.flag("fis") && t.text("estimator") != "sampling")
       throw FieldError("fis", "applies to " + name("estimator") + " sampling");
     try {
@@ -185,7 +188,7 @@ class PrefilterFamily final : public Family {
   }
 
   std::string default_output(const TableRequest& t) const override {
-    return "prefilter_" + t.text("distribution") + "_" + fmt_number(t.number("size"), "%.0f") +
+    return "prefilter_" + t.text("distribution") + "_" + fmt_number(t.number("chain_size"), "%.0f") +
            (t.format.empty() ? ".ktx2" : output_extension(t));
   }
   OutputFormats formats(const TableRequest&) const override { return cube_formats(); }
@@ -231,19 +234,19 @@ class PrefilterFamily final : public Family {
     if (*r.error_bound > bound.bound) {
       // the search's last difference, where it says more than the comparison
       r.error_bound_definition +=
-          ", or max_error's measured difference (" + fmt_number(timing.measured_error, "%.3g") + ") where larger";
+          ", or chain_max_error's measured difference (" + fmt_number(timing.measured_error, "%.3g") + ") where larger";
     }
-    // max_error stops the refinement when successive refinements agree; the comparison with the
+    // chain_max_error stops the refinement when successive refinements agree; the comparison with the
     // double reference can still measure more: said in the file, the summary and the manifest (issue 35)
     if (spec.max_error > 0 && r.error_bound && *r.error_bound > spec.max_error) {
       const std::string miss = "the chain's error bound " + fmt_number(*r.error_bound, "%.3g") +
-                               " (against the double reference) is above the max_error " +
+                               " (against the double reference) is above the chain_max_error " +
                                fmt_number(spec.max_error, "%.3g") +
                                " asked: successive refinements agreed to it, the converged chain differs more";
       cube.set_meta("max_error_met", "no: " + miss);
       r.warnings.push_back(std::string(env_distribution_name(spec.distribution)) + " prefiltered chain: " + miss);
     } else if (spec.max_error > 0) {
-      cube.set_meta("max_error_met", "yes: the error bound is at most the max_error asked");
+      cube.set_meta("max_error_met", "yes: the error bound is at most the chain_max_error asked");
     }
     if (spec.estimator == EnvEstimator::Quadrature && spec.max_error <= 0)
       r.parameters.push_back({"refinement", spec.refinement});

@@ -41,11 +41,11 @@ void max_error_metadata(CubeLevels& out, const PrefilterSpec& s, const detail::C
     }
   }
   if (worst > s.max_error)
-    throw Error("max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) +
+    throw Error("chain-max-error " + fmt(s.max_error) + " is not reached: level " + std::to_string(worst_level) +
                 " still differs by " + fmt(worst, "%.3g") + " (RMS) between its two finest " +
                 (quadrature ? "refinements (the largest is 16)"
                             : "sample counts (the largest is " + std::to_string(kPrefilterSearchMax) + ")") +
-                "; ask for max-error " + fmt(worst * 1.5, "%.2g") + " or more");
+                "; ask for chain-max-error " + fmt(worst * 1.5, "%.2g") + " or more");
   out.set_meta("max_error", "measured per level: RMS relative luminance difference between successive " +
                                 std::string(quadrature ? "refinements" : "sample counts (N, 4N)") +
                                 " <= " + fmt(s.max_error) + " (the finer result is kept)");

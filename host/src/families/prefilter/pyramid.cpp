@@ -262,7 +262,7 @@ void detail::pyramid_thresholds(const Pyramid& p, EnvDistribution dist, double a
 // any of the lobes `alphas`: one below the finest level it refines (core, horizon band or Charlie's
 // ring). Levels below it are never read, so build_pyramid starts there; the thresholds do not
 // depend on the refinement's value (only on the lobe, core_refinement and horizon_texel), so every
-// run of a --max-error search visits the same levels.
+// run of a --chain-max-error search visits the same levels.
 int detail::pyramid_base_level(int s0, EnvDistribution dist, const std::vector<double>& alphas,
                                const PrefilterSpec& s) {
   Pyramid shape;

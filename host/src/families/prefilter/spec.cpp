@@ -18,8 +18,8 @@ PrefilterSpec resolve_prefilter_spec(const PrefilterSpec& in) {
   if (s.samples < 0 || s.samples > kPrefilterMaxSamples)
     throw Error("samples must be in 1.." + std::to_string(kPrefilterMaxSamples) + " (got " + std::to_string(s.samples) +
                 ")");
-  if (!std::isfinite(s.max_error) || s.max_error < 0.0) throw Error("max-error must be a positive number");
-  if (s.max_error > 0.0 && s.samples > 0) throw Error("give either samples or max-error, not both");
+  if (!std::isfinite(s.max_error) || s.max_error < 0.0) throw Error("chain-max-error must be a positive number");
+  if (s.max_error > 0.0 && s.samples > 0) throw Error("give either samples or chain-max-error, not both");
   if (!std::isfinite(s.lod_bias)) throw Error("lod bias must be finite");
   if (!std::isfinite(s.clamp_luminance) || s.clamp_luminance < 0.0) throw Error("clamp must be a positive number");
   if (s.bright_texels < -1) throw Error("bright texel count must be >= 0 (or -1: automatic)");
@@ -27,7 +27,7 @@ PrefilterSpec resolve_prefilter_spec(const PrefilterSpec& in) {
   if (!(s.core_refinement >= 1.0 && s.core_refinement <= 256.0)) throw Error("core refinement must be in 1..256");
   if (!(s.horizon_texel > 0.0)) throw Error("horizon texel size must be positive");
   if (s.estimator == EnvEstimator::Quadrature && s.samples > 0)
-    throw Error("samples apply to the sampling estimator; the quadrature takes a refinement (or max-error)");
+    throw Error("samples apply to the sampling estimator; the quadrature takes a refinement (or chain-max-error)");
   return s;
 }
 

@@ -48,16 +48,19 @@ SpecSchema<PreviewSpec> preview_schema() {
                      "without bake: keep the first bake's files in this new (or empty) folder; default: a temporary "
                      "folder removed after the render"))
       .bind("materials_file",
-            ParamDef("materials", T::Path,
+            // "material", as eval and tabulate name a material file ("materials" is a table's
+            // informative list of the materials that asked for it): its old name is an alias
+            ParamDef("material", T::Path,
                      "the spheres: a material file (ours or glTF, as eval and tabulate read; one sphere "
-                     "a material); default: roughness 0..1 x white, grey, dark, gold, copper, silver"),
+                     "a material); default: roughness 0..1 x white, grey, dark, gold, copper, silver")
+                .alias("materials"),
             [](PreviewSpec& p, const TableRequest& t) {
-              if (t.find("materials"))
-                p.materials_file = t.text("materials");
+              if (t.find("material"))
+                p.materials_file = t.text("material");
               else if (t.find("scene"))
                 p.materials_file = t.text("scene");
             })
-      .param(ParamDef("scene", T::Path, "the spheres: a glTF scene's materials, one sphere each (not with materials)"))
+      .param(ParamDef("scene", T::Path, "the spheres: a glTF scene's materials, one sphere each (not with material)"))
       .internal("materials", "in-memory materials (API callers); the command line and jobs give a file")
       .bind(&PreviewSpec::width, "width",
             ParamDef("width", T::Int, "image width in pixels").range(16, kPreviewMaxSize).def(double(d.width)))
@@ -171,8 +174,8 @@ class PreviewFamily final : public Family {
   bool needs_device(const TableRequest& t) const override { return t.flag("reference", true) || !t.find("bake"); }
 
   void check(TableRequest& t, const FieldName& name) const override {
-    if (t.find("materials") && t.find("scene"))
-      throw FieldError("scene", "give " + name("materials") + " or " + name("scene") + ", not both");
+    if (t.find("material") && t.find("scene"))
+      throw FieldError("scene", "give " + name("material") + " or " + name("scene") + ", not both");
     if (t.find("keep_bake")) {
       if (t.find("bake"))
         throw FieldError("keep_bake", "give " + name("bake") + " or " + name("keep_bake") + ", not both");
@@ -192,9 +195,9 @@ class PreviewFamily final : public Family {
       preview::resolve_spec(spec_of(t));
     } catch (const Error& e) {
       const std::string what = e.what();
-      const std::string field = t.find("materials") && what.find(t.text("materials")) != std::string::npos ? "materials"
-                                : t.find("scene") && what.find(t.text("scene")) != std::string::npos       ? "scene"
-                                : what.find("material") != std::string::npos ? (t.find("scene") ? "scene" : "materials")
+      const std::string field = t.find("material") && what.find(t.text("material")) != std::string::npos ? "material"
+                                : t.find("scene") && what.find(t.text("scene")) != std::string::npos     ? "scene"
+                                : what.find("material") != std::string::npos ? (t.find("scene") ? "scene" : "material")
                                 : what.find("refinement") != std::string::npos ? "refinement"
                                                                                : "width";
       throw FieldError(field, what);
@@ -205,7 +208,7 @@ class PreviewFamily final : public Family {
     return {{".png"}, "a contact sheet (.png; NAME_splitsum.exr, NAME_reference.exr and NAME.json beside it)"};
   }
   // The sheet's siblings are outputs as the sheet is (issue 34, class 1: `-o p.png` beside
-  // `--materials p.json`, `-o BAKE/manifest.png`).
+  // `--material p.json`, `-o BAKE/manifest.png`).
   std::vector<RequestFile> outputs_beside(const TableRequest& t) const override {
     std::vector<RequestFile> out;
     for (const char* suffix : {".json", "_splitsum.exr", "_reference.exr"}) {

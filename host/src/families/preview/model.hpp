@@ -15,7 +15,7 @@ inline constexpr EnumName<PreviewBackground> kBackgroundNames[] = {{PreviewBackg
                                                                    {PreviewBackground::Grey, "grey"}};
 
 // Fills the spheres (from materials_file, or the default grid) and the columns; checks the sizes.
-// Throws Error naming the field ("materials", "width", ...).
+// Throws Error naming the field ("material", "width", ...).
 PreviewSpec resolve_spec(const PreviewSpec& spec);
 
 struct Layout {
