@@ -732,9 +732,9 @@ TEST(PreviewReference, EachSpheresBoundHoldsAgainstTheDoubleReference) {
   o.environment = file;
   o.target = "filament";
   o.lut_size = 16;
-  o.cube_size = 16;
+  o.chain_size = 16;
   o.cube_min_size = 8;
-  o.prefilter_max_error = 0.0;
+  o.chain_max_error = 0.0;
   Plan plan = plan_default(o);
   plan.job.output_dir = (temp_dir("bound-vs-double") / "filament").string();
   run_job(plan.job, {}, on_backend(*device));

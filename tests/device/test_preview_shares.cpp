@@ -176,10 +176,10 @@ TEST(PreviewShares, SharpProbeSeesTheChainsResolution) {
   const EnvImage env = load_environment(file);
   const EngineTarget target = EngineTarget::Generic;
   PlanOptions good;
-  good.cube_size = 64;
+  good.chain_size = 64;
   good.cube_min_size = 8;
   PlanOptions coarse = good;
-  coarse.cube_size = 16;
+  coarse.chain_size = 16;
   coarse.cube_min_size = 2;
   const std::string good_folder = bake_folder(*backend, env, target, good, dir, "good");
   const std::string coarse_folder = bake_folder(*backend, env, target, coarse, dir, "coarse");
