@@ -306,6 +306,23 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
     }
     for (const auto& f : m["engine"]["files"])
       EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
+    // every file has its entry: its size, and a delivered error where it holds texels (issue 35)
+    ASSERT_EQ(m["engine"]["file_entries"].size(), m["engine"]["files"].size()) << target;
+    for (size_t k = 0; k < m["engine"]["files"].size(); ++k) {
+      const json& e = m["engine"]["file_entries"][k];
+      const std::string path = m["engine"]["files"][k].get<std::string>();
+      EXPECT_EQ(e["path"], path) << target;
+      EXPECT_EQ(e["bytes"].get<std::uint64_t>(), fs::file_size(out / path)) << target << ": " << path;
+      const std::string ext = fs::path(path).extension().string();
+      if (ext == ".ktx" || ext == ".ktx2" || ext == ".env" || ext == ".png") {
+        ASSERT_TRUE(e["error_rms_rel"].is_number()) << target << ": " << e.dump();
+        EXPECT_GT(e["error_rms_rel"].get<double>(), 0.0) << target << ": " << path << ": every encoding is lossy";
+        EXPECT_LT(e["error_rms_rel"].get<double>(), 0.05) << target << ": " << path;
+        EXPECT_GE(e["error_max_rel"].get<double>(), e["error_rms_rel"].get<double>() * 0.5) << path;
+      } else {
+        EXPECT_TRUE(e["error_rms_rel"].is_null()) << target << ": " << path;
+      }
+    }
     // the chain the set was made from has the engine's schedule
     for (const auto& f : m["files"]) {
       if (f["kind"] == "prefilter") {
