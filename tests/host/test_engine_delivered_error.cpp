@@ -132,13 +132,16 @@ CubeLevels decode_ktx1_r11g11b10(const std::vector<uint8_t>& b) {
   return c;
 }
 
-// An 8-bit RGBA PNG read by OpenImageIO from bytes written to `scratch`.
+// An 8-bit RGBA PNG read by OpenImageIO from bytes written to `scratch`, its alpha unassociated.
 std::vector<uint8_t> png_rgba8(const uint8_t* data, size_t size, const fs::path& scratch, int* w) {
   {
     std::ofstream out(scratch, std::ios::binary);
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
   }
-  auto in = OIIO::ImageInput::open(scratch.string());
+  // RGBD's alpha is a divisor, not coverage: the bytes as stored, not premultiplied by OpenImageIO
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(scratch.string(), &config);
   if (!in) throw std::runtime_error("OpenImageIO cannot open " + scratch.string());
   const OIIO::ImageSpec& spec = in->spec();
   EXPECT_EQ(spec.nchannels, 4);
