@@ -6,6 +6,7 @@
 #include <iostream>
 #include <set>
 
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/runner.hpp"
@@ -283,9 +284,10 @@ int run_table_command(const TableCommand& command, int argc, char** argv) {
   for (const auto& w : done.delivery.warnings) print_warning(w);
   std::string stored;
   if (const WriteReport& written = done.delivery.report; written.error_bound) {
-    char b[160];
-    std::snprintf(b, sizeof b, "; stored values within %.2g of converged (%s adds %.2g)", *written.error_bound,
-                  written.encoding.c_str(), written.storage_error);
+    // the figure under its kind's name, as the file and the manifest record it (docs/CONVENTIONS.md)
+    char b[256];
+    std::snprintf(b, sizeof b, "; stored values: %s %.2g (%s adds %.2g)", error_figure(t.kind).name,
+                  *written.error_bound, written.encoding.c_str(), written.storage_error);
     stored = b;
   }
   if (!quiet)

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/view.hpp"
 #include "cli_remote.hpp"
@@ -156,12 +157,23 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
                 human_bytes(total).c_str(), m.seconds);
   out << head;
   for (const auto& f : m.files) {
-    std::string bound = "error bound not measured";
+    // The error figure under its kind's name (docs/CONVENTIONS.md, "Error figures")
+    const char* figure = error_figure(f.kind).name;
+    std::string bound = std::string(figure) + " not measured";
     if (f.error_bound) {
-      char b[64];
-      std::snprintf(b, sizeof b, "error bound %.2g", *f.error_bound);
+      char b[96];
+      std::snprintf(b, sizeof b, "%s %.2g", figure, *f.error_bound);
       bound = b;
     }
+    // A DFG table's lookup: what a shader's bilinear fetch between texel centres misses, beside the
+    // bound of the stored values (the family's interpolation_error, edge_error)
+    std::string lookup, edge;
+    for (const auto& [key, value] : f.details) {
+      if (key == "interpolation_error") lookup = value;
+      if (key == "edge_error") edge = value;
+    }
+    if (!lookup.empty())
+      bound += ", bilinear lookup within " + lookup + (edge.empty() ? "" : " (" + edge + " at the edges)");
     if (!f.materials.empty())
       bound += ", " + std::to_string(f.materials.size()) + (f.materials.size() == 1 ? " material" : " materials");
     char line[512];
@@ -173,7 +185,18 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
       if (key == "runtime") out << "    " << std::string(width, ' ') << "runtime: " << value << "\n";
   }
   if (!m.engine_files.empty()) {
-    out << "  engine files, target " << m.target << " (docs/ENGINES.md):\n";
+    out << "  engine files, target " << m.target
+        << " (docs/ENGINES.md; delivered error: the file decoded as the engine decodes it, docs/CONVENTIONS.md):\n";
+    const auto entry_of = [&m](const std::string& f) -> const EngineFileEntry* {
+      for (const EngineFileEntry& e : m.engine_entries)
+        if (e.path == f) return &e;
+      return nullptr;
+    };
+    const auto error_text = [](double rms, double max) {
+      char b[96];
+      std::snprintf(b, sizeof b, "error_rms_rel %.2g, error_max_rel %.2g", rms, max);
+      return std::string(b);
+    };
     // Each file with its format; a glTF document's RGBD face PNGs as one line.
     std::vector<size_t> faces;
     std::uint64_t face_bytes = 0;
@@ -187,17 +210,40 @@ void print_manifest_summary(const Manifest& m, std::ostream& out) {
       std::string format;
       for (const auto& [key, value] : m.engine_delivered)
         if (key == f + ": format") format = value;
+      const EngineFileEntry* e = entry_of(f);
+      if (format.empty() && e) format = e->format;
+      if (e && e->measured) format += (format.empty() ? "" : ", ") + error_text(e->error_rms_rel, e->error_max_rel);
       char line[512];
       std::snprintf(line, sizeof line, "  %-*s  %-16s %9s%s\n", int(width), f.c_str(), "engine file",
                     human_bytes(engine_bytes[k]).c_str(), format.empty() ? "" : ("  " + format).c_str());
       out << line;
+      // a chain's levels: the error of each, as the manifest's _per_level lists give it
+      if (e && e->measured && e->error_rms_rel_per_level.size() > 1) {
+        std::string levels;
+        for (size_t l = 0; l < e->error_rms_rel_per_level.size(); ++l) {
+          char b[32];
+          std::snprintf(b, sizeof b, "%s%.2g", l == 0 ? "" : " ", e->error_rms_rel_per_level[l]);
+          levels += b;
+        }
+        out << "    " << std::string(width, ' ') << "error_rms_rel per level: " << levels << "\n";
+      }
     }
     if (!faces.empty()) {
       const std::string what = std::to_string(faces.size()) + " PNGs: " + m.engine_files[faces.front()] + " ... " +
                                m.engine_files[faces.back()];
+      // the faces' worst: each face is its own file
+      double rms = 0.0, max = 0.0;
+      bool measured = false;
+      for (size_t k : faces)
+        if (const EngineFileEntry* e = entry_of(m.engine_files[k]); e && e->measured) {
+          measured = true;
+          rms = std::max(rms, e->error_rms_rel);
+          max = std::max(max, e->error_max_rel);
+        }
       char line[768];
-      std::snprintf(line, sizeof line, "  %-*s  %-16s %9s  RGBD faces the .gltf names\n", int(width), what.c_str(),
-                    "engine file", human_bytes(face_bytes).c_str());
+      std::snprintf(line, sizeof line, "  %-*s  %-16s %9s  RGBD faces the .gltf names%s\n", int(width), what.c_str(),
+                    "engine file", human_bytes(face_bytes).c_str(),
+                    measured ? (", worst face " + error_text(rms, max)).c_str() : "");
       out << line;
     }
   }

@@ -8,9 +8,11 @@
 #include <thread>
 
 #include "brdfbake/cancel.hpp"
+#include "brdfbake/error_figures.hpp"
 #include "io/json_input.hpp"
 #include "io/special_files.hpp"
 #include "io/staging_dir.hpp"
+#include "job/job_json.hpp"
 
 namespace brdfbake::server {
 
@@ -108,8 +110,10 @@ Manifest manifest_from_json(const std::string& text, const std::string& output_d
       e.kind = table_kind_from_name(f.value("kind", "ggx"));
       e.device = f.value("device", "");
       e.environment = f.value("environment", "");
-      if (f.contains("error_bound") && f["error_bound"].is_number()) e.error_bound = f["error_bound"].get<double>();
-      e.error_bound_definition = f.value("error_bound_definition", "");
+      // the error figure under its kind's name, or (an older server) error_bound
+      const std::string figure = f.value("error_name", std::string(kLegacyErrorBoundName));
+      if (f.contains(figure) && f[figure].is_number()) e.error_bound = f[figure].get<double>();
+      e.error_bound_definition = f.value("error_measurement", f.value("error_bound_definition", ""));
       if (f.contains("materials") && f["materials"].is_array())
         for (const auto& mat : f["materials"])
           if (mat.is_string()) e.materials.push_back(mat.get<std::string>());
@@ -127,6 +131,7 @@ Manifest manifest_from_json(const std::string& text, const std::string& output_d
     if (e.contains("delivered") && e["delivered"].is_object())
       for (const auto& [k, v] : e["delivered"].items())
         if (v.is_string()) out.engine_delivered.emplace_back(k, v.get<std::string>());
+    out.engine_entries = detail::engine_entries_from_json(e);
   }
   for (const char* key : {"notes", "warnings"})
     if (m.contains(key) && m[key].is_array())

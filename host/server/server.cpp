@@ -23,6 +23,7 @@
 #include <set>
 #include <sstream>
 
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/plan.hpp"
 #include "brdfbake/runner.hpp"
@@ -507,14 +508,19 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
-    // Each file's delivered bound as the command line prints it and the file records it
-    // (error_bound_text: rounded up to three digits), by its path in the manifest.
+    // Each file's error figure as the command line prints it and the file records it
+    // (error_bound_text: rounded up to three digits), by its path in the manifest; the figure's
+    // name is the manifest entry's error_name (error_bound in an older manifest).
     json bounds = json::object();
     if (m.is_object() && m.contains("files") && m["files"].is_array())
-      for (const auto& f : m["files"])
-        if (f.is_object() && f.contains("path") && f["path"].is_string() && f.contains("error_bound") &&
-            f["error_bound"].is_number())
-          bounds[f["path"].get<std::string>()] = error_bound_text(f["error_bound"].get<double>());
+      for (const auto& f : m["files"]) {
+        if (!f.is_object() || !f.contains("path") || !f["path"].is_string()) continue;
+        const std::string figure = f.contains("error_name") && f["error_name"].is_string()
+                                       ? f["error_name"].get<std::string>()
+                                       : std::string(kLegacyErrorBoundName);
+        if (f.contains(figure) && f[figure].is_number())
+          bounds[f["path"].get<std::string>()] = error_bound_text(f[figure].get<double>());
+      }
     o["error_bounds"] = bounds;
     o["manifest"] = m;
   }

@@ -103,8 +103,20 @@ class Result:
 
     @property
     def error_bound(self) -> Optional[float]:
-        """The measured error bound, or None where the family measures none."""
+        """The measured error figure (named :attr:`error_name`), or None where the family measures none."""
         return self._core.error_bound
+
+    @property
+    def error_name(self) -> str:
+        """What :attr:`error_bound` is, by the name the manifest, the files and the summary give it
+        (docs/CONVENTIONS.md, "Error figures"): ``error_bound_mixed``, ``error_bound_rel``,
+        ``error_rms_rel`` or ``error_rms_rel_bound``."""
+        return self._core.error_name
+
+    @property
+    def error_definition(self) -> str:
+        """The one definition of :attr:`error_name` for this kind."""
+        return self._core.error_definition
 
     @property
     def warnings(self) -> List[str]:
@@ -115,10 +127,17 @@ class Result:
 
     @property
     def files(self) -> List[Dict[str, Any]]:
-        """The files written from this result, in order: ``path``, ``error_bound`` (what the file
-        records: the integration bound plus ``storage_error``, what its ``encoding`` adds) and
-        ``warnings``."""
-        return self._core.files
+        """The files written from this result, in order: ``path``, ``error_name`` and the figure under
+        that name (what the file records: the integration bound plus ``storage_error``, what its
+        ``encoding`` adds), ``storage_error``, ``encoding`` and ``warnings``."""
+        files = []
+        for f in self._core.files:
+            f = dict(f)
+            value = f.pop("error_bound", None)
+            f["error_name"] = self.error_name
+            f[self.error_name] = value
+            files.append(f)
+        return files
 
     @property
     def details(self) -> Dict[str, str]:
@@ -228,7 +247,7 @@ class Result:
 
     @property
     def meta(self) -> Dict[str, Any]:
-        """The metadata the file carries, with ``error_bound`` as a number (or None)."""
+        """The metadata the file carries, with its error figure (``error_name``) as a number (or None)."""
         if self._core.artifact == "irradiance":
             doc = json.loads(self._core.sh_json())
             meta: Dict[str, Any] = {k: v for k, v in doc.items() if k not in ("radiance", "irradiance_over_pi")}
@@ -238,8 +257,13 @@ class Result:
         else:
             meta = dict(self._core.metadata)
         meta.setdefault("kind", self.kind)
-        meta["error_bound"] = self._core.error_bound
-        meta["error_bound_definition"] = self._core.error_bound_definition
+        # the error figure under its kind's name, as the files record it (never the legacy error_bound)
+        meta.pop("error_bound", None)
+        meta.pop("error_bound_definition", None)
+        meta["error_name"] = self.error_name
+        meta[self.error_name] = self._core.error_bound
+        meta["error_definition"] = self.error_definition
+        meta["error_measurement"] = self._core.error_bound_definition
         return meta
 
     def save(self, path: "os.PathLike[str] | str", *, format: Optional[str] = None, pixel: Optional[str] = None,
@@ -262,7 +286,7 @@ class Result:
     def __repr__(self) -> str:
         a = self.array
         shape = [x.shape for x in a] if isinstance(a, list) else a.shape
-        return f"<brdfbake.Result {self.kind}: {shape}, error bound {self.error_bound}>"
+        return f"<brdfbake.Result {self.kind}: {shape}, {self.error_name} {self.error_bound}>"
 
 
 def _warn(messages: List[str]) -> None:
@@ -436,7 +460,7 @@ _EXAMPLES = {
     "lut": """    >>> dfg = brdfbake.lut(kind="ggx", size=128)
     >>> dfg.array.shape              # (roughness, n_dot_v, channels): scale, bias, diffuse
     (128, 128, 3)
-    >>> dfg.meta["error_bound"]
+    >>> dfg.meta["error_bound_mixed"]
     1.7e-05
     >>> dfg.save("dfg.ktx2", pixel="f16")""",
     "fresnel": """    >>> f = brdfbake.fresnel("conductor", material="gold", size=64)
@@ -780,7 +804,7 @@ def run(job: Any, output_dir: "os.PathLike[str] | str | None" = None, *, sanitiz
     manifest's ``"warnings"``.
 
     >>> manifest = brdfbake.run({"brdfbake_job": 1, "tables": [{"kind": "ggx", "size": 64}]}, "out")
-    >>> manifest["files"][0]["path"], manifest["files"][0]["error_bound"]
+    >>> manifest["files"][0]["path"], manifest["files"][0]["error_bound_mixed"]
     ('dfg_ggx_64.exr', 1.7e-05)
     """
     if progress is not None and not callable(progress):

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "convert.hpp"
 
@@ -262,6 +263,10 @@ void bind_results(py::module_& module) {
                              })
       .def_property_readonly("error_bound_definition",
                              [](const PyResult& r) { return r.result.error_bound_definition; })
+      .def_property_readonly("error_name",
+                             [](const PyResult& r) { return std::string(error_figure(r.result.kind).name); })
+      .def_property_readonly("error_definition",
+                             [](const PyResult& r) { return std::string(error_figure(r.result.kind).definition); })
       .def_property_readonly("parameters",
                              [](const PyResult& r) { return params_dict(r.result.parameters, r.result.kind); })
       .def_property_readonly("details", [](const PyResult& r) { return metadata_dict(r.result.details); })

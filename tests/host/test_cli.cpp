@@ -84,7 +84,7 @@ TEST(Cli, CsvToStandardOutput) {
   EXPECT_EQ(rows, 12);
   EXPECT_GT(comments, 5) << "the metadata lines";
   EXPECT_NE(r.out.find("# kind: ggx"), std::string::npos);
-  EXPECT_NE(r.out.find("# error_bound: "), std::string::npos);
+  EXPECT_NE(r.out.find("# error_bound_mixed: "), std::string::npos);
   EXPECT_NE(r.out.find("0.125,0.166666"), std::string::npos) << "first cell centre (0.5/4, 0.5/3)";
 }
 
@@ -94,11 +94,12 @@ TEST(Cli, PrefilterRecordsItsBoundWithoutMaxError) {
   const fs::path out = temp_dir() / "bound.ktx2";
   const CliRun r = run("prefilter --env builtin:sun --size 16 --min-size 4 -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE((r.out + r.err).find("stored values within "), std::string::npos) << r.out << r.err;
+  EXPECT_NE((r.out + r.err).find("stored values: error_bound_rel "), std::string::npos) << r.out << r.err;
   std::ifstream in(out, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const char* key : {"brdfbake:error_bound", "brdfbake:integration_error_bound_per_level",
-                          "brdfbake:integration_error_bound_definition", "brdfbake:storage_error"})
+  for (const char* key :
+       {"brdfbake:error_bound_rel", "brdfbake:error_name", "brdfbake:integration_error_bound_per_level",
+        "brdfbake:integration_error_bound_definition", "brdfbake:storage_error"})
     EXPECT_NE(bytes.find(std::string(key) + '\0'), std::string::npos) << key;
   fs::remove(out);
 }

@@ -306,6 +306,23 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
     }
     for (const auto& f : m["engine"]["files"])
       EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
+    // every file has its entry: its size, and a delivered error where it holds texels (issue 35)
+    ASSERT_EQ(m["engine"]["file_entries"].size(), m["engine"]["files"].size()) << target;
+    for (size_t k = 0; k < m["engine"]["files"].size(); ++k) {
+      const json& entry = m["engine"]["file_entries"][k];
+      const std::string path = m["engine"]["files"][k].get<std::string>();
+      EXPECT_EQ(entry["path"], path) << target;
+      EXPECT_EQ(entry["bytes"].get<std::uint64_t>(), fs::file_size(out / path)) << target << ": " << path;
+      const std::string ext = fs::path(path).extension().string();
+      if (ext == ".ktx" || ext == ".ktx2" || ext == ".env" || ext == ".png") {
+        ASSERT_TRUE(entry["error_rms_rel"].is_number()) << target << ": " << entry.dump();
+        EXPECT_GT(entry["error_rms_rel"].get<double>(), 0.0) << target << ": " << path << ": every encoding is lossy";
+        EXPECT_LT(entry["error_rms_rel"].get<double>(), 0.05) << target << ": " << path;
+        EXPECT_GE(entry["error_max_rel"].get<double>(), entry["error_rms_rel"].get<double>() * 0.5) << path;
+      } else {
+        EXPECT_TRUE(entry["error_rms_rel"].is_null()) << target << ": " << path;
+      }
+    }
     // the chain the set was made from has the engine's schedule
     for (const auto& f : m["files"]) {
       if (f["kind"] == "prefilter") {

@@ -82,7 +82,7 @@ std::vector<float> read_back(const fs::path& p, int channels) {
 
 double recorded_bound(const fs::path& p) {
   std::string text = p.extension() == ".hdr" ? read_file(p.string() + ".json") : read_file(p);
-  const std::regex key(R"(error_bound[^_a-z][^0-9]*([0-9.eE+-]+))");
+  const std::regex key(R"(error_bound_mixed[^_a-z][^0-9]*([0-9.eE+-]+))");
   std::smatch m;
   if (!std::regex_search(text, m, key)) return -1.0;
   return std::stod(m[1].str());

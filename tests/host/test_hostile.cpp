@@ -1599,7 +1599,7 @@ void special_files(std::vector<Row>& rows) {
   // not infinities that meet 0; a model that exceeds 1 says so.
   rows.push_back(R("edge_fresnel_empirical_1e308",
                    "fresnel --model empirical --bias 1e308 --scale 1e308 --power 1e308 --size 8 -o {d}/f.csv", 0)
-                     .has("f.csv", "# error_bound: 0\n")
+                     .has("f.csv", "# error_bound_mixed: 0\n")
                      .has("f.csv", ",1\n")
                      .lacks("f.csv", ",0\n"));
   rows.push_back(R("edge_thin_film_above_one", "thin-film --base-f0 0.95,0.64,0.54 --size 16 -o {d}/t.csv", 0)

@@ -243,24 +243,26 @@ TEST(RunJob, BakesEachDistinctTableOnceAndWritesTheManifest) {
   EXPECT_EQ(dfg["kind"], "ggx-multiscatter");
   EXPECT_EQ(dfg["parameters"]["size"], 8);
   EXPECT_GT(dfg["parameters"]["samples"].get<int>(), 0) << "resolved by the family";
-  EXPECT_TRUE(dfg["error_bound"].is_number());
+  EXPECT_EQ(dfg["error_name"], "error_bound_mixed");
+  EXPECT_TRUE(dfg["error_bound_mixed"].is_number());
+  EXPECT_FALSE(dfg.contains("error_bound")) << "named for what it is";
   EXPECT_EQ(dfg["materials"], json::array({"#0 A"}));
   EXPECT_EQ(dfg["requested_by"][0]["rule"], "r1");
   EXPECT_EQ(j["files"][1]["materials"], json::array({"#1 B"}));
   const json& fres = j["files"][2];
   EXPECT_EQ(fres["kind"], "fresnel");
-  ASSERT_TRUE(fres["error_bound"].is_number());
-  EXPECT_LT(fres["error_bound"].get<double>(), test::kFresnelFp32)
+  ASSERT_TRUE(fres["error_bound_mixed"].is_number());
+  EXPECT_LT(fres["error_bound_mixed"].get<double>(), test::kFresnelFp32)
       << "fp32 exact dielectric against the double reference";
   EXPECT_TRUE(j["files"][3].contains("error_vs_exact_max_abs"));
   EXPECT_EQ(j["files"][4]["device"], "reference");
   EXPECT_EQ(j["files"][5]["environment"], "builtin:studio");
   // The SH's own error against the exact irradiance of the map (issue 35): builtin:studio's 3 bands
   // are 3.7 % off (ShError.ClosedFormsOfTheTruncation holds the measure to a closed form)
-  ASSERT_TRUE(j["files"][6]["error_bound"].is_number()) << j["files"][6].dump();
-  EXPECT_GT(j["files"][6]["error_bound"].get<double>(), 0.01);
-  EXPECT_LT(j["files"][6]["error_bound"].get<double>(), 0.1);
-  EXPECT_NE(j["files"][6]["error_bound_definition"].get<std::string>().find("relative RMS of the SH's E / pi"),
+  ASSERT_TRUE(j["files"][6]["error_rms_rel"].is_number()) << j["files"][6].dump();
+  EXPECT_GT(j["files"][6]["error_rms_rel"].get<double>(), 0.01);
+  EXPECT_LT(j["files"][6]["error_rms_rel"].get<double>(), 0.1);
+  EXPECT_NE(j["files"][6]["error_measurement"].get<std::string>().find("relative RMS of the SH's E / pi"),
             std::string::npos);
   EXPECT_NE(read(dir / "irradiance_sh3.json").find("irradiance_over_pi"), std::string::npos);
   // Nothing else in the folder, no temporaries beside it.

@@ -281,5 +281,39 @@ TEST(ShError, ClosedFormsOfTheTruncation) {
   EXPECT_NEAR(sh_error(point), want, 0.05 * want);
 }
 
+// The projection against the converged projection of the same pixels (issue 35;
+// sh_projection_error): an equirect's cells are integrated exactly (0 recorded, no subdivision); a
+// cube's texel centres are a midpoint rule whose error falls as 1 / n^2, so doubling the face size
+// divides the measure by about 4 (a wrong sub-texel solid angle or direction would not converge,
+// and the measure of a constant cube, exact at band 0 only, stays small).
+TEST(ShError, ProjectionAgainstTheConvergedProjection) {
+  const int w = 64, h = 32;
+  const EnvImage flat = environment_from_equirect(w, h, std::vector<float>(3 * size_t(w) * h, 1.0f), "test");
+  const detail::ShProjectionMeasure e = detail::sh_projection_error(flat, project_sh(flat, 3));
+  EXPECT_EQ(e.subdivision, 0);
+  EXPECT_EQ(e.relative_rms, 0.0);
+  auto cube_error = [](int n) {
+    EnvImage env;
+    env.layout = EnvImage::Layout::Cube;
+    env.width = env.height = n;
+    env.source = "test";
+    for (int f = 0; f < 6; ++f)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const Vec3 d = math::cube_texel_direction(f, n, i, j);
+          const float v = float(1.0 + d.x + 0.5 * d.y * d.z);  // bands 0..2 and above
+          env.rgb.insert(env.rgb.end(), {v, v, v});
+        }
+    const detail::ShProjectionMeasure m = detail::sh_projection_error(env, project_sh(env, 3));
+    EXPECT_EQ(m.subdivision, 4);
+    return m.relative_rms;
+  };
+  const double e8 = cube_error(8), e16 = cube_error(16);
+  EXPECT_GT(e8, 0.0);
+  EXPECT_LT(e8, 0.05);
+  EXPECT_GT(e8 / e16, 3.0) << e8 << " " << e16;
+  EXPECT_LT(e8 / e16, 5.0) << e8 << " " << e16;
+}
+
 }  // namespace
 }  // namespace brdfbake

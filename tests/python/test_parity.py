@@ -45,7 +45,8 @@ def test_dfg_table_python_cli_and_job_identical(cli, tmp_path):
     np.testing.assert_array_equal(values[:, 2:].astype(np.float32).reshape(32, 32, 3), r.array)
     # The manifest records what .meta does.
     f = manifest["files"][0]
-    assert f["error_bound"] == r.meta["error_bound"] and f["parameters"] == r.parameters
+    assert f["error_name"] == r.error_name
+    assert f[r.error_name] == r.meta[r.error_name] and f["parameters"] == r.parameters
 
 
 def test_merl_table_python_cli_and_job_identical(cli, red, red_file, tmp_path):

@@ -25,8 +25,9 @@ def test_lut_is_a_view_of_the_result_with_its_metadata():
     np.testing.assert_allclose(axes["y"], (np.arange(16) + 0.5) / 16)
     meta = r.meta
     assert meta["kind"] == "ggx" and meta["channels"] == "scale,bias,diffuse"
-    assert isinstance(meta["error_bound"], float) and 0 < meta["error_bound"] <= 1e-4
-    assert meta["error_bound"] == r.error_bound
+    assert meta["error_name"] == r.error_name == "error_bound_mixed" and "error_bound" not in meta
+    assert isinstance(meta["error_bound_mixed"], float) and 0 < meta["error_bound_mixed"] <= 1e-4
+    assert meta["error_bound_mixed"] == r.error_bound
     assert r.parameters["samples"] > 0 and r.parameters["size"] == 32
     # Split-sum sanity at the smoothest row and normal incidence: scale + bias is the directional
     # albedo of a white specular GGX lobe, at most 1 and near 1 for a smooth surface.
@@ -132,7 +133,7 @@ def test_irradiance_of_a_white_environment_is_pi_in_l00_only():
     assert r.array.dtype == np.float32 and r.array.shape == (9, 3)
     assert r.cube.shape == (6, 8, 8, 3)
     np.testing.assert_allclose(r.cube, 1.0, rtol=10 * ENV_FURNACE)
-    assert "basis" in r.meta and r.meta["error_bound"] is None
+    assert "basis" in r.meta and r.meta["error_name"] == "error_rms_rel" and r.meta["error_rms_rel"] is None
 
 
 def test_tabulate_merl_layout(red, tmp_path):

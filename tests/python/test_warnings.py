@@ -49,8 +49,9 @@ def test_files_record_the_delivered_bound(tmp_path):
     r.save(tmp_path / "dfg.exr")
     f16, f32 = r.files
     assert f16["encoding"].startswith("binary16") and f16["storage_error"] > 2 ** -13
-    assert f16["error_bound"] == pytest.approx(r.error_bound + f16["storage_error"], rel=1e-12)
-    assert f32["storage_error"] == 0 and f32["error_bound"] == r.error_bound
+    assert r.error_name == "error_bound_mixed" and f16["error_name"] == r.error_name
+    assert f16["error_bound_mixed"] == pytest.approx(r.error_bound + f16["storage_error"], rel=1e-12)
+    assert f32["storage_error"] == 0 and f32["error_bound_mixed"] == r.error_bound
 
 
 def test_job_warns_as_the_command_line_prints(tmp_path):

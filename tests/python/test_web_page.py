@@ -306,13 +306,27 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     # most three significant digits, rounded up, never below the manifest's bound.
     for f in manifest["files"]:
         shown = browser.find_element("css selector", f"#results div.file[data-path='{f['path']}'] p").text
-        bound = re.search(r"delivered error bound: (\S+)", shown).group(1)
-        if f.get("error_bound") is not None:
+        # under the figure's name, as the manifest names it (docs/CONVENTIONS.md, "Error figures")
+        name = f["error_name"]
+        bound = re.search(re.escape(name) + r" (\S+)", shown).group(1)
+        if f.get(name) is not None:
             assert bound == bound_texts[f["path"]], shown
-            assert float(bound) >= f["error_bound"], shown
+            assert float(bound) >= f[name], shown
             assert len(re.sub(r"e.*$", "", bound).replace("0.", "").lstrip("0").replace(".", "")) <= 3, shown
         else:
             assert bound == "—", shown
+    # Each engine file with its size and delivered error (the manifest's engine.file_entries, issue 35):
+    # the page prints the figures the manifest records, under their names.
+    entries = {e["path"]: e for e in manifest["engine"]["file_entries"]}
+    for p in manifest["engine"]["files"]:
+        shown = browser.find_element("css selector", f"#results div.file[data-path='{p}'] p").text
+        e = entries[p]
+        if e["error_rms_rel"] is None:
+            assert "no texel values" in shown, shown
+        else:
+            rms = float(re.search(r"error_rms_rel (\S+),", shown).group(1))
+            assert rms == pytest.approx(e["error_rms_rel"], rel=0.05), shown
+            assert "error_max_rel" in shown and e["format"] in shown, shown
 
     # A download is byte for byte the file the command line writes for the same job.
     browser.find_element("id", "copy-result-job").click()  # fetched, then shown: wait for it

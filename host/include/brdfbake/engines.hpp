@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -112,9 +113,32 @@ struct EngineWriteOptions {
   GltfScene gltf_scene = GltfScene::LeftHanded;  // gltf: the scene it is for (frame, rotation)
 };
 
+// One file of a target's set with its size and its delivered error: the file's bytes decoded as the
+// engine decodes them (io/gpu_cube_read.hpp: R11F_G11F_B10F, binary16, ASTC through astcenc, RGBD
+// PNG through Babylon.js's fromRGBD) against the float values the bake computed before encoding
+// (docs/CONVENTIONS.md, "Error figures": error_rms_rel, error_max_rel).
+struct EngineFileEntry {
+  std::string path;         // relative to the folder
+  std::uint64_t bytes = 0;  // the file's size
+  std::string format;       // its encoding ("R11F_G11F_B10F", "RGBA16F", "ASTC 4x4 SFLOAT", "PNG RGBD 8-bit", "text")
+  std::string values;       // what its values are ("the prefiltered chain", "level 2, face +X", ...); empty: none
+  bool measured = false;    // false: a file without texel values (JSON, text)
+  double error_rms_rel = 0.0;  // over every R, G, B of the file
+  double error_max_rel = 0.0;
+  std::vector<double> error_rms_rel_per_level, error_max_rel_per_level;  // a chain's levels (one for an image)
+};
+// The definitions the manifest, the summary and the page give the two figures.
+inline constexpr const char* kEngineErrorRmsRelDefinition =
+    "sqrt(sum (decoded - value)^2 / sum value^2) over R, G, B of every texel: the file decoded as the engine "
+    "decodes it against the float values baked before encoding";
+inline constexpr const char* kEngineErrorMaxRelDefinition =
+    "max over texels of max_c |decoded_c - value_c| / max(largest channel of the value, 1e-6 x the level's "
+    "largest value)";
+
 struct EngineWriteResult {
-  std::vector<std::string> files;  // paths written, in the order above
-  Metadata delivered;              // delivered error of each file: storage rounding, clamping, compression
+  std::vector<std::string> files;        // paths written, in the order above
+  Metadata delivered;                    // each file's format and clamping (storage, compression)
+  std::vector<EngineFileEntry> entries;  // each file's size and delivered error, in the order of `files`
 };
 
 // Writes the target's file set into `out_dir` (created if missing): every file goes to a temporary

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "brdfbake/engines.hpp"
 #include "brdfbake/tables.hpp"
 
 namespace brdfbake {
@@ -35,11 +36,12 @@ struct Manifest {
   int bakes = 0;  // distinct tables baked
   double seconds = 0.0;
   std::vector<std::string> notes, warnings;
-  std::string target;                      // the engine target, when not generic
-  std::vector<std::string> engine_files;   // the files of its file set, relative to the folder
-  Metadata engine_delivered;               // their delivered error (storage, clamping, compression)
-  std::vector<std::string> preview_files;  // bake --preview: the preview's files (docs/PREVIEW.md)
-  Metadata preview;                        // ... and its summary (the sheet, errors, bound, seconds)
+  std::string target;                           // the engine target, when not generic
+  std::vector<std::string> engine_files;        // the files of its file set, relative to the folder
+  Metadata engine_delivered;                    // their formats and clamping (storage, compression)
+  std::vector<EngineFileEntry> engine_entries;  // each file's size and delivered error (engines.hpp)
+  std::vector<std::string> preview_files;       // bake --preview: the preview's files (docs/PREVIEW.md)
+  Metadata preview;                             // ... and its summary (the sheet, errors, bound, seconds)
 };
 std::string manifest_to_json(const Manifest& manifest);
 

@@ -494,7 +494,16 @@ function describe(f) {
   const parts = [];
   if (f.kind) parts.push(f.kind);
   if (typeof f.bytes === 'number') parts.push(humanBytes(f.bytes));
-  if (f.table) parts.push('delivered error bound: ' + (f.bound_text || '— (none recorded)'));
+  // the error figure under its kind's name, as the manifest and the summary lines name it
+  if (f.table) parts.push(`${f.error_name || 'error_bound'} ` + (f.bound_text || '— (not measured)'));
+  // An engine file's delivered error: the file decoded as the engine decodes it, the manifest's names
+  if (f.engine_entry) {
+    const e = f.engine_entry;
+    if (e.format) parts.push(e.format);
+    parts.push(typeof e.error_rms_rel === 'number'
+      ? `error_rms_rel ${e.error_rms_rel.toPrecision(2)}, error_max_rel ${e.error_max_rel.toPrecision(2)}`
+      : 'no texel values (text)');
+  }
   if (typeof f.seconds === 'number') parts.push(`${f.seconds.toFixed(2)} s`);
   return parts.join(' · ');
 }
@@ -508,7 +517,12 @@ function showResults(job, s) {
   const files = (manifest.files || []).map((f) => ({ ...f, picture: true, table: true, bound_text: bounds[f.path] }));
   const engine = manifest.engine || {};
   // Filament's KTX1 cubes (R11F_G11F_B10F, RGBM) are drawn too: the view code reads them.
-  for (const p of engine.files || []) files.push({ path: p, kind: `${engine.target} engine file`, picture: /\.ktx$/i.test(p) });
+  const entries = {};
+  for (const e of engine.file_entries || []) entries[e.path] = e;
+  for (const p of engine.files || []) {
+    const e = entries[p];
+    files.push({ path: p, kind: `${engine.target} engine file`, picture: /\.ktx$/i.test(p), engine_entry: e, bytes: e ? e.bytes : undefined });
+  }
   // The material preview (the bake option "preview", docs/PREVIEW.md): its sheet drawn like any file,
   // captioned with the split-sum's error against the reference; its EXRs and JSON listed.
   const preview = manifest.preview || {};

@@ -9,7 +9,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "brdfbake/engines.hpp"
@@ -24,8 +26,14 @@ namespace brdfbake::detail::engines {
 
 // One file of a target's set, encoded in memory (write_common.cpp writes the set atomically).
 struct OutFile {
+  OutFile(std::string n, std::vector<uint8_t> b, std::shared_ptr<const CubeLevels> v = nullptr, int l = -1, int f = -1)
+      : name(std::move(n)), bytes(std::move(b)), values(std::move(v)), level(l), face(f) {}
   std::string name;
   std::vector<uint8_t> bytes;
+  // The float values the file encodes (its delivered error is measured against them when the file is
+  // decoded, write_common.cpp): a cube file's whole chain, or one face image (`level`, `face`).
+  std::shared_ptr<const CubeLevels> values;
+  int level = -1, face = -1;
 };
 
 struct TargetDef {

@@ -8,12 +8,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include "brdfbake/error.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
+#include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
+#include "io/gpu_cube_read.hpp"
 #include "io/half.hpp"
 #include "io/ktx2.hpp"
 #include "io/packed_float.hpp"
@@ -184,6 +187,107 @@ void check_sh(const ShCoefficients& sh) {
 
 namespace {
 
+// Sums of one level (or one face of it) decoded against its values: R, G, B of `texels` texels.
+struct LevelSums {
+  double squared_error = 0.0, squared_value = 0.0, max_rel = 0.0;
+  void add(const float* decoded, const float* value, size_t texels, double level_max) {
+    const double floor = 1e-6 * level_max;
+    for (size_t t = 0; t < texels; ++t) {
+      const float* d = decoded + 4 * t;
+      const float* v = value + 4 * t;
+      const double scale = std::max({double(v[0]), double(v[1]), double(v[2]), floor});
+      for (int c = 0; c < 3; ++c) {
+        const double e = double(d[c]) - double(v[c]);
+        squared_error += e * e;
+        squared_value += double(v[c]) * double(v[c]);
+        if (scale > 0.0) max_rel = std::max(max_rel, std::fabs(e) / scale);
+        if (!std::isfinite(d[c])) max_rel = std::numeric_limits<double>::infinity();
+      }
+    }
+  }
+  double rms_rel() const {
+    return squared_value > 0.0 ? std::sqrt(squared_error / squared_value) : squared_error > 0.0 ? 1.0 : 0.0;
+  }
+};
+
+double level_max(const std::vector<float>& level) {
+  double m = 0.0;
+  for (size_t t = 0; t < level.size() / 4; ++t)
+    for (size_t c = 0; c < 3; ++c) m = std::max(m, double(level[4 * t + c]));
+  return m;
+}
+
+std::string file_format(const std::string& name) {
+  const std::string ext = fs::path(name).extension().string();
+  return ext == ".json" || ext == ".gltf" ? "JSON" : "text";
+}
+
+}  // namespace
+
+// The file's size and, where it holds texel values, its delivered error: its bytes decoded as the
+// engine decodes them (io/gpu_cube_read.hpp), never through the encoder's own round trip.
+EngineFileEntry measure_engine_file(const OutFile& f) {
+  EngineFileEntry e;
+  e.path = f.name;
+  e.bytes = f.bytes.size();
+  if (!f.values) {
+    e.format = file_format(f.name);
+    return e;
+  }
+  const CubeLevels& values = *f.values;
+  LevelSums file;
+  if (f.face >= 0) {  // one RGBD face image of one level
+    const int s = values.level_size(f.level);
+    const std::vector<float> decoded = io::decode_rgbd_face(f.bytes, s, "'" + f.name + "'");
+    const size_t texels = size_t(s) * size_t(s);
+    const std::vector<float>& level = values.levels[size_t(f.level)];
+    file.add(decoded.data(), level.data() + 4 * texels * size_t(f.face), texels, level_max(level));
+    e.format = "PNG RGBD 8-bit";
+    e.values = "level " + std::to_string(f.level) + ", face " + kFaceNames[f.face];
+  } else {
+    CubeLevels decoded;
+    if (fs::path(f.name).extension() == ".env") {
+      const io::BabylonEnv env = io::decode_babylon_env(f.bytes);
+      std::vector<std::vector<std::vector<uint8_t>>> faces;
+      for (size_t k = 0; k < env.images.size(); ++k) {
+        if (k % 6 == 0) faces.emplace_back();
+        faces.back().push_back(env.images[k]);
+      }
+      decoded = io::decode_rgbd_cube(faces, env.width, "'" + f.name + "'");
+      e.format = "RGBD PNG faces (.env)";
+    } else {
+      decoded = io::decode_gpu_cube(f.bytes, "'" + f.name + "'", &e.format);
+    }
+    if (decoded.levels.size() != values.levels.size() || decoded.size != values.size)
+      throw Error("engine files: '" + f.name + "' decodes to " + std::to_string(decoded.levels.size()) + " levels of " +
+                  std::to_string(decoded.size) + ", not the " + std::to_string(values.levels.size()) + " of " +
+                  std::to_string(values.size) + " it encodes");
+    for (size_t l = 0; l < values.levels.size(); ++l) {
+      const std::vector<float>& level = values.levels[l];
+      if (decoded.levels[l].size() != level.size())
+        throw Error("engine files: '" + f.name + "': level " + std::to_string(l) + " decodes to another size");
+      LevelSums one;
+      one.add(decoded.levels[l].data(), level.data(), level.size() / 4, level_max(level));
+      e.error_rms_rel_per_level.push_back(one.rms_rel());
+      e.error_max_rel_per_level.push_back(one.max_rel);
+      file.squared_error += one.squared_error;
+      file.squared_value += one.squared_value;
+      file.max_rel = std::max(file.max_rel, one.max_rel);
+    }
+    e.values = values.level_count() > 1 ? std::to_string(values.level_count()) + " levels" : "1 level";
+  }
+  e.measured = true;
+  e.error_rms_rel = file.rms_rel();
+  e.error_max_rel = file.max_rel;
+  if (f.face >= 0) {
+    e.error_rms_rel_per_level = {e.error_rms_rel};
+    e.error_max_rel_per_level = {e.error_max_rel};
+  }
+  return e;
+}
+
+namespace {
+
 void write_all(const std::string& out_dir, const std::vector<OutFile>& files, std::vector<std::string>& written) {
   std::error_code ec;
   const bool existed = fs::is_directory(out_dir, ec);
@@ -244,6 +348,11 @@ EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake
   std::vector<OutFile> files;
   try {
     files = def.write(s, bake, name, o, result.delivered);  // the target's writer.cpp
+  } catch (const Error& e) {
+    io::throw_write_error(out_dir, e.what());
+  }
+  try {
+    for (const OutFile& f : files) result.entries.push_back(measure_engine_file(f));
   } catch (const Error& e) {
     io::throw_write_error(out_dir, e.what());
   }

@@ -49,6 +49,10 @@ std::vector<uint8_t> rgbd_face_png(const CubeLevels& cube, int level, int face, 
 void add_rgbd_metadata(Metadata& delivered, const std::string& file, const RgbdStats& st);
 nlohmann::ordered_json metadata_json(const Metadata& m);
 
+// A file's size and delivered error: its bytes decoded as the engine decodes them (.ktx, .ktx2,
+// .env, an RGBD face PNG) against `f.values`; a file without values (JSON, text) only its size.
+EngineFileEntry measure_engine_file(const OutFile& f);
+
 // ---- SH bases -------------------------------------------------------------------------------------
 
 // The basis constants of the real SH of bands 0..2 (docs/CONVENTIONS.md, without the

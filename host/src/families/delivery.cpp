@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "brdfbake/error_figures.hpp"
 #include "families/family.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
@@ -127,6 +128,29 @@ void apply_png_range(Table& out, io::StorageReport& s, WriteReport& w, const Tab
 }
 
 // Values the format cannot hold are refused, naming the option that fixes it.
+// The file's error figure under its kind's name (brdfbake/error_figures.hpp, docs/CONVENTIONS.md
+// "Error figures"): error_name, NAME and error_definition, in place of what the bake recorded under
+// the legacy `error_bound` and its definition (kept as integration_error_bound_definition).
+void set_error_figure(Metadata& meta, TableKind kind, const std::string& value) {
+  meta.erase(std::remove_if(meta.begin(), meta.end(),
+                            [](const auto& kv) {
+                              return kv.first == kLegacyErrorBoundName || kv.first == "error_bound_definition";
+                            }),
+             meta.end());
+  const ErrorFigure& e = error_figure(kind);
+  const auto set = [&meta](const std::string& k, const std::string& v) {
+    for (auto& kv : meta)
+      if (kv.first == k) {
+        kv.second = v;
+        return;
+      }
+    meta.emplace_back(k, v);
+  };
+  set("error_name", e.name);
+  set(e.name, value);
+  set("error_definition", e.definition);
+}
+
 void refuse_out_of_range(const io::StorageReport& s, TableFormat format, PixelType pixel, const std::string& path) {
   if ((format == TableFormat::Ktx2 || format == TableFormat::CHeader) && pixel == PixelType::F16)
     throw Error("'" + path + "': " + count_text(s.out_of_range, "value") + " beyond 65504 (largest " +
@@ -140,7 +164,7 @@ void refuse_out_of_range(const io::StorageReport& s, TableFormat format, PixelTy
 // The delivered bound, `bound` plus the storage error: refused above `limit` (the request's
 // max_error), else recorded with its parts in the table's metadata.
 void record_table_bound(Table& out, WriteReport& w, const io::StorageReport& s, double bound,
-                        std::optional<double> limit, TableFormat format, const std::string& path) {
+                        std::optional<double> limit, TableFormat format, const std::string& path, TableKind kind) {
   w.error_bound = bound + s.max_error;
   if (limit && *w.error_bound > *limit)
     throw Error("'" + path + "': the stored values would be within " + bound_text(*w.error_bound) +
@@ -153,11 +177,7 @@ void record_table_bound(Table& out, WriteReport& w, const io::StorageReport& s, 
   if (!definition.empty()) out.set_meta("integration_error_bound_definition", definition);
   out.set_meta("storage_error", bound_text(s.max_error));
   out.set_meta("storage_encoding", s.encoding);
-  out.set_meta("error_bound", bound_text(*w.error_bound));
-  out.set_meta("error_bound_definition",
-               "bound on |stored value - converged value| (abs below 1, relative above) of every value this "
-               "file stores: integration_error_bound plus storage_error, the encoding's error measured on the "
-               "stored values");
+  set_error_figure(out.metadata, kind, bound_text(*w.error_bound));
 }
 
 }  // namespace
@@ -185,7 +205,7 @@ WriteReport write_or_encode_table(const Table& table, const TableRequest& t, con
   if (s.out_of_range > 0) refuse_out_of_range(s, format, pixel, path);
   w.storage_error = s.max_error;
   w.encoding = s.encoding;
-  if (bound) record_table_bound(out, w, s, *bound, limit, format, path);
+  if (bound) record_table_bound(out, w, s, *bound, limit, format, path, t.kind);
   if (path == "-") {
     write_table_csv(out, std::cout);
     return w;
@@ -286,7 +306,8 @@ namespace {
 // of the decoded values (the chains' bound is an RMS; a block's darkest channels beside a sun
 // differ by up to 100 % and more, recorded per level in astc_max_rel_error_per_level), added to
 // `bound` as binary16's rounding is.
-WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string& path, std::optional<double> bound) {
+WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string& path, std::optional<double> bound,
+                            TableKind kind) {
   const io::AstcCube astc = io::compress_astc_cube(cube, block, kAstcQuality);
   WriteReport w;
   w.storage_error = 0.0;
@@ -300,7 +321,7 @@ WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string
   out.set_meta("storage_encoding", w.encoding);
   if (bound) {
     w.error_bound = *bound + w.storage_error;
-    out.set_meta("error_bound", bound_text(*w.error_bound));
+    set_error_figure(out.metadata, kind, bound_text(*w.error_bound));
   }
   const std::vector<uint8_t> bytes = io::astc_ktx2_bytes(out, astc, kAstcQuality);
   io::write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
@@ -311,7 +332,7 @@ WriteReport write_astc_cube(const CubeLevels& cube, int block, const std::string
 
 WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, const std::string& path,
                               const std::string& stem, std::optional<double> bound) {
-  if (const int block = astc_block_of(t)) return write_astc_cube(cube, block, path, bound);
+  if (const int block = astc_block_of(t)) return write_astc_cube(cube, block, path, bound, t.kind);
   const PixelType pixel = pixel_of(t);
   io::StorageReport s = io::measure_cube_storage(cube.levels, pixel);
   WriteReport w;
@@ -347,7 +368,7 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
   w.error_bound = *bound + s.max_error;
   out.set_meta("storage_error", bound_text(s.max_error));
   out.set_meta("storage_encoding", s.encoding);
-  out.set_meta("error_bound", bound_text(*w.error_bound));
+  set_error_figure(out.metadata, t.kind, bound_text(*w.error_bound));
   write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
   return w;
 }

@@ -135,7 +135,11 @@ CubeLevels read_ktx1_packed(const std::vector<uint8_t>& b, const std::string& pa
 
 CubeLevels read_gpu_cube(const std::string& path, std::string* format,
                          std::vector<std::pair<std::string, std::string>>* key_values) {
-  const std::vector<uint8_t> bytes = read_binary_file(path, "cube file");
+  return decode_gpu_cube(read_binary_file(path, "cube file"), path, format, key_values);
+}
+
+CubeLevels decode_gpu_cube(const std::vector<uint8_t>& bytes, const std::string& path, std::string* format,
+                           std::vector<std::pair<std::string, std::string>>* key_values) {
   if (bytes.size() >= 12 && bytes[1] == 'K' && bytes[5] == '2' && bytes[6] == '0') {  // «KTX 20»
     const Ktx2Image k = decode_ktx2(bytes);
     if (key_values) *key_values = k.key_values;
@@ -181,6 +185,27 @@ CubeLevels read_gpu_cube(const std::string& path, std::string* format,
   throw Error("'" + path + "' is neither a KTX 2.0 nor a KTX 1.1 file");
 }
 
+std::vector<float> decode_rgbd_face(const std::vector<uint8_t>& png, int size, const std::string& origin) {
+  int w = 0, h = 0;
+  const std::vector<uint8_t> px = decode_png_rgba8(png.data(), png.size(), &w, &h);
+  if (w != size || h != size)
+    throw Error(origin + " is " + std::to_string(w) + "x" + std::to_string(h) + ", expected " + std::to_string(size) +
+                "x" + std::to_string(size));
+  const size_t s = size_t(size);
+  std::vector<float> rgba(4 * s * s, 1.0f);
+  for (size_t t = 0; t < s * s; ++t) {
+    // fromRGBD in fp32, then stored as binary16; row 0 of the image is the face's last row
+    const float a = float(px[4 * t + 3]) / 255.0f;
+    const size_t row = t / s, column = t % s;
+    float* out = &rgba[4 * ((s - 1 - row) * s + column)];
+    for (int c = 0; c < 3; ++c) {
+      const float v = a > 0.0f ? std::pow(float(px[4 * t + size_t(c)]) / 255.0f, 2.2f) / a : 0.0f;
+      out[c] = half_bits_to_float(float_to_half_bits(v));
+    }
+  }
+  return rgba;
+}
+
 CubeLevels decode_rgbd_cube(const std::vector<std::vector<std::vector<uint8_t>>>& levels, int size,
                             const std::string& origin) {
   CubeLevels cube;
@@ -188,24 +213,12 @@ CubeLevels decode_rgbd_cube(const std::vector<std::vector<std::vector<uint8_t>>>
   for (size_t l = 0; l < levels.size(); ++l) {
     const int s = cube.level_size(int(l));
     if (levels[l].size() != 6) throw Error(origin + ": level " + std::to_string(l) + " does not have six faces");
-    std::vector<float> rgba(4 * 6 * size_t(s) * size_t(s), 1.0f);
+    std::vector<float> rgba;
+    rgba.reserve(4 * 6 * size_t(s) * size_t(s));
     for (size_t f = 0; f < 6; ++f) {
-      int w = 0, h = 0;
-      const std::vector<uint8_t> px = decode_png_rgba8(levels[l][f].data(), levels[l][f].size(), &w, &h);
-      if (w != s || h != s)
-        throw Error(origin + ": face " + std::to_string(f) + " of level " + std::to_string(l) + " is " +
-                    std::to_string(w) + "x" + std::to_string(h) + ", expected " + std::to_string(s) + "x" +
-                    std::to_string(s));
-      for (size_t t = 0; t < size_t(s) * size_t(s); ++t) {
-        // fromRGBD in fp32, then stored as binary16; row 0 of the image is the face's last row
-        const float a = float(px[4 * t + 3]) / 255.0f;
-        const size_t row = t / size_t(s), column = t % size_t(s);
-        float* out = &rgba[4 * (f * size_t(s) * size_t(s) + (size_t(s) - 1 - row) * size_t(s) + column)];
-        for (int c = 0; c < 3; ++c) {
-          const float v = a > 0.0f ? std::pow(float(px[4 * t + size_t(c)]) / 255.0f, 2.2f) / a : 0.0f;
-          out[c] = half_bits_to_float(float_to_half_bits(v));
-        }
-      }
+      const std::vector<float> face =
+          decode_rgbd_face(levels[l][f], s, origin + ": face " + std::to_string(f) + " of level " + std::to_string(l));
+      rgba.insert(rgba.end(), face.begin(), face.end());
     }
     cube.levels.push_back(std::move(rgba));
   }

@@ -31,6 +31,14 @@ namespace brdfbake::io {
 CubeLevels read_gpu_cube(const std::string& path, std::string* format = nullptr,
                          std::vector<std::pair<std::string, std::string>>* key_values = nullptr);
 
+// The same of a file's bytes already in memory (`origin` names it in messages).
+CubeLevels decode_gpu_cube(const std::vector<uint8_t>& bytes, const std::string& origin, std::string* format = nullptr,
+                           std::vector<std::pair<std::string, std::string>>* key_values = nullptr);
+
+// One RGBD face image of `size` x `size` as Babylon.js reads it (below): RGBA float, alpha 1, the
+// face's row 0 first. Throws Error naming `origin` for another size or a bad PNG.
+std::vector<float> decode_rgbd_face(const std::vector<uint8_t>& png, int size, const std::string& origin);
+
 // Babylon.js's RGBD faces: levels[l][f] the PNG bytes of face f (+X, -X, +Y, -Y, +Z, -Z) of level l,
 // level 0 the largest (face size `size`, halved each level), read as Babylon.js 8.46.2 reads them: row
 // 0 of an image is the face's last row (engines/babylon_frame.hpp). `origin` names them in messages.

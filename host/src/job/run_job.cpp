@@ -174,6 +174,7 @@ void add_engine_files(Manifest& manifest, EngineTarget engine, const Job& job, c
   manifest.target = job.target;
   for (const auto& f : w.files) manifest.engine_files.push_back(fs::path(f).lexically_relative(staged).string());
   manifest.engine_delivered = w.delivered;
+  manifest.engine_entries = w.entries;
 }
 
 // The job as run_job takes it, or Error: valid, with an output folder and every kind bakeable in

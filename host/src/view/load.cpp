@@ -14,6 +14,7 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/math/cubemap.hpp"
 #include "brdfbake/math/equirect.hpp"
 #include "engines/babylon_frame.hpp"
@@ -399,7 +400,12 @@ Item read_manifest(const json& j, const std::string& path) {
       throw Error("cannot view '" + path + "': a file entry without a path");
     list.paths.push_back((dir / f["path"].get<std::string>()).string());
     Metadata notes;
-    for (const char* key : {"kind", "error_bound", "runtime", "channels", "device"})
+    // the error figure under its kind's name (error_name; error_bound in an older manifest)
+    const std::string figure = f.contains("error_name") && f["error_name"].is_string()
+                                   ? f["error_name"].get<std::string>()
+                                   : std::string(kLegacyErrorBoundName);
+    for (const std::string& key :
+         {std::string("kind"), figure, std::string("runtime"), std::string("channels"), std::string("device")})
       if (f.contains(key) && !f[key].is_null())
         notes.emplace_back(key, f[key].is_string() ? f[key].get<std::string>() : f[key].dump());
     list.notes.push_back(std::move(notes));

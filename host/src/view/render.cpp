@@ -18,6 +18,7 @@
 #include <set>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/math/conventions.hpp"
 #include "brdfbake/math/sh.hpp"
 #include "brdfbake/version.hpp"
@@ -680,7 +681,8 @@ std::string facts(const Item& it) {
     add("kind", meta_of(*meta, "kind"));
     add("model", meta_of(*meta, "model"));
     add("distribution", meta_of(*meta, "distribution"));
-    add("error bound", meta_of(*meta, "error_bound"));
+    // the error figure under its kind's name (error_bound in older files)
+    if (const auto figure = error_figure_value(*meta)) add(figure->first, figure->second);
     add("precision", meta_of(*meta, "precision"));
   }
   for (const auto& [k, v] : it.notes)

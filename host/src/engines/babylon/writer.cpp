@@ -68,7 +68,7 @@ std::vector<OutFile> create_env_texture(const EngineSettings& s, const EngineBak
   meta.emplace_back("rgbd_clamped_texels", std::to_string(stats.clamped));
   env.extra["brdfbake"] = metadata_json(meta);
   add_rgbd_metadata(delivered, name + ".env", stats);
-  return {{name + ".env", io::encode_babylon_env(env)}};
+  return {{name + ".env", io::encode_babylon_env(env), std::make_shared<const CubeLevels>(std::move(chain))}};
 }
 
 }  // namespace detail::engines::babylon

@@ -65,13 +65,14 @@ std::vector<OutFile> cmgen_ktx(const EngineSettings& s, const EngineBake& bake, 
   const std::string ibl = name + "_ibl.ktx";
   add_storage_metadata(delivered, ibl, pixel, measure_storage(chain, pixel));
   std::vector<OutFile> files;
-  files.push_back({ibl, io::encode_ktx1_cube(chain, pixel, kv, k1)});
+  files.push_back({ibl, io::encode_ktx1_cube(chain, pixel, kv, k1), std::make_shared<const CubeLevels>(chain)});
 
   CubeLevels sky_storage;
   const CubeLevels sky = with_target_metadata(skybox_of(bake, sky_storage), s);
   const std::string skybox = name + "_skybox.ktx";
   add_storage_metadata(delivered, skybox, pixel, measure_storage(sky, pixel));
-  files.push_back({skybox, io::encode_ktx1_cube(sky, pixel, io::cube_key_values(sky, 1), k1)});
+  files.push_back({skybox, io::encode_ktx1_cube(sky, pixel, io::cube_key_values(sky, 1), k1),
+                   std::make_shared<const CubeLevels>(sky)});
   const std::string txt = filament_sh_txt(sh);
   files.push_back({"sh.txt", std::vector<uint8_t>(txt.begin(), txt.end())});
   return files;

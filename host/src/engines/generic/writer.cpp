@@ -10,7 +10,8 @@ std::vector<OutFile> write(const EngineSettings& s, const EngineBake& bake, cons
   std::vector<OutFile> files;
   const CubeLevels chain = with_target_metadata(*bake.prefiltered, s);
   const PixelType pixel = o.override_pixel ? o.pixel : s.pixel;
-  files.push_back({name + "_ggx.ktx2", ktx2_cube_bytes(chain, pixel, name + "_ggx.ktx2", o, delivered)});
+  files.push_back({name + "_ggx.ktx2", ktx2_cube_bytes(chain, pixel, name + "_ggx.ktx2", o, delivered),
+                   std::make_shared<const CubeLevels>(chain)});
   const std::string json = sh_to_json(*bake.sh, chain.metadata);
   files.push_back({name + "_sh.json", std::vector<uint8_t>(json.begin(), json.end())});
   return files;

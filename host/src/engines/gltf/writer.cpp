@@ -42,11 +42,12 @@ std::vector<OutFile> ext_lights_image_based(const EngineSettings& s, const Engin
   nlohmann::ordered_json images = nlohmann::ordered_json::array();
   nlohmann::ordered_json specular = nlohmann::ordered_json::array();
   RgbdStats stats;
+  const auto values = std::make_shared<const CubeLevels>(chain);
   for (int l = 0; l < chain.level_count(); ++l) {
     nlohmann::ordered_json faces = nlohmann::ordered_json::array();
     for (int f = 0; f < 6; ++f) {
       const std::string file = name + "_specular_" + std::to_string(l) + "_" + kFaceNames[f] + ".png";
-      files.push_back({file, rgbd_face_png(chain, l, f, stats)});
+      files.push_back({file, rgbd_face_png(chain, l, f, stats), values, l, f});
       faces.push_back(images.size());
       images.push_back({{"uri", file}, {"mimeType", "image/png"}});
     }

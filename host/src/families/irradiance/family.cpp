@@ -12,11 +12,13 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
+#include "brdfbake/error_figures.hpp"
 #include "families/irradiance/kernel.hpp"
 #include "families/irradiance/model.hpp"
 #include "families/kernels.hpp"
 #include "families/spec_schema.hpp"
 #include "io/atomic_file.hpp"
+#include "text.hpp"
 
 namespace brdfbake::detail {
 
@@ -62,8 +64,17 @@ Metadata sh_metadata(const BakeResult& r) {
   Metadata m;
   for (const auto& [k, v] : r.details)
     if (k == "source" || k == "source_size" || k == "sanitized" || k == "sh_irradiance_error" ||
-        k == "sh_irradiance_error_definition")
+        k == "sh_irradiance_error_definition" || k == "sh_projection_error" || k == "sh_projection_error_definition")
       m.push_back({k, v});
+  // the file's error figure under its kind's name (brdfbake/error_figures.hpp): the SH's, always
+  // measured (sh_irradiance_error, rounded up)
+  const ErrorFigure& figure = error_figure(TableKind::Irradiance);
+  std::string value = "not measured";
+  for (const auto& [k, v] : r.details)
+    if (k == "sh_irradiance_error") value = v;
+  m.push_back({"error_name", figure.name});
+  m.push_back({figure.name, value});
+  m.push_back({"error_definition", figure.definition});
   return m;
 }
 
@@ -215,8 +226,21 @@ class IrradianceFamily final : public Family {
                                             ", window " + sh_window_name(res.sh.window) +
                                             ") against the exact irradiance of the source's pixels, luminance over " +
                                             std::to_string(sh_error.directions) + " directions";
-    r.details.push_back({"sh_irradiance_error", fmt_number(sh_error.relative_rms, "%.3g")});
+    r.details.push_back({"sh_irradiance_error", bound_text(sh_error.relative_rms)});
     r.details.push_back({"sh_irradiance_error_definition", sh_error_definition});
+    // ... and the projection against the converged projection of the same pixels (sh_error.cpp)
+    const ShProjectionMeasure projection = sh_projection_error(env, res.sh);
+    r.details.push_back({"sh_projection_error", bound_text(projection.relative_rms)});
+    r.details.push_back(
+        {"sh_projection_error_definition",
+         projection.subdivision == 0
+             ? std::string("0: the source's cells are integrated exactly (Gauss-Legendre in latitude, closed form in "
+                           "longitude; sh_projection.cpp), rounding only")
+             : "relative RMS of the luminance of the radiance coefficients (projected at texel centres with exact "
+               "solid "
+               "angles) against the projection of every texel split " +
+                   std::to_string(projection.subdivision) + "x" + std::to_string(projection.subdivision) +
+                   " (each sub-texel at its centre with its exact solid angle)"});
     if (spec.cube_size > 0) {
       r.error_bound_definition = "not measured when baked (the irradiance cube; its SH's error is sh_irradiance_error)";
     } else {

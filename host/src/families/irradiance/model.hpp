@@ -32,5 +32,13 @@ struct ShErrorMeasure {
   int directions = 0;
 };
 ShErrorMeasure sh_irradiance_error(const EnvImage& env, const ShCoefficients& sh);
+// The SH's radiance coefficients against the converged projection of the same pixels (sh_error.cpp):
+// the relative RMS of their luminance; 0 for an equirect (its cells are integrated exactly,
+// subdivision 0), a cube's texels split kSub x kSub (subdivision).
+struct ShProjectionMeasure {
+  double relative_rms = 0.0;
+  int subdivision = 0;
+};
+ShProjectionMeasure sh_projection_error(const EnvImage& env, const ShCoefficients& sh);
 
 }  // namespace brdfbake::detail

@@ -10,6 +10,7 @@
 #include <optional>
 #include <thread>
 
+#include "brdfbake/error_figures.hpp"
 #include "brdfbake/version.hpp"
 #include "families/preview/model.hpp"
 #include "io/atomic_file.hpp"
@@ -464,6 +465,10 @@ std::string preview_json(const PreviewResult& r, const std::string& environment,
                       {"bound_definition", r.bound_definition},
                       {"bound_rms", worst_rms},
                       {"bound_max", worst_max}};
+    // the preview's error figure as the manifest names it (brdfbake/error_figures.hpp)
+    const ErrorFigure& figure = error_figure(TableKind::Preview);
+    j["error_name"] = figure.name;
+    j[figure.name] = worst_rms;
     j["error_definition"] = {
         {"linear",
          "per pixel |split-sum - reference| / |reference| (Euclidean norms of the linear RGB triples); per sphere "
