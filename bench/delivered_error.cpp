@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
   fs::create_directories(dir);
   std::printf("device: %s\n\n", backend->name().c_str());
   std::printf(
-      "| kind | size | storage | stored within (file's error_bound_mixed) | bilinear between centres | bilinear at the edges "
+      "| kind | size | storage | stored within (file's error_bound_mixed) | bilinear between centres | bilinear at the "
+      "edges "
       "|\n");
   std::printf("|---|---:|---|---:|---:|---:|\n");
   for (TableKind kind : {TableKind::Ggx, TableKind::GgxMultiscatter, TableKind::Charlie})

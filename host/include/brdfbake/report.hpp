@@ -140,8 +140,8 @@ struct BakeSweepTarget {
 // reached for that group are eligible, and the fastest of these by its median time is taken; a
 // setting whose median differs from the fastest's by less than either's spread (the largest minus
 // the smallest of its runs) is a tie, and of the tied settings the one with the fewest bytes is
-// taken (on equal bytes the first in the sweep's order: the default, when it ties). Where settings trade one group against another so that none is eligible, the one closest
-// to the best on its worst group is taken, and `why` says so.
+// taken (on equal bytes the first in the sweep's order: the default, when it ties). Where settings trade one group
+// against another so that none is eligible, the one closest to the best on its worst group is taken, and `why` says so.
 inline constexpr double kBakeRecommendWithin = 1.10;
 inline constexpr double kBakeSharpWithin = 1.02;
 struct BakeSweep {

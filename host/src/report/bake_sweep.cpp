@@ -305,8 +305,12 @@ void mark_bake_sweep(BakeSweepTarget& t) {
   } else {
     std::string list;
     for (const auto& l : t.ties) list += (list.empty() ? "" : ", ") + l;
+    bool as_few = false;
+    for (const auto& l : t.ties)
+      for (const auto& p : t.points) as_few = as_few || (p.label == l && p.bytes == r.bytes);
     t.why += r.label + " ties in time with " + list + " (their medians differ by less than their spread): of them it " +
-             "writes the fewest bytes";
+             (as_few ? "writes the fewest bytes and comes first in the sweep of those that write as few"
+                     : "writes the fewest bytes");
   }
   if (eligible == 1)
     t.why += " (the only one: not timed again)";
