@@ -14,6 +14,7 @@
 #include <OpenEXR/ImfTiledInputFile.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -184,9 +185,18 @@ void write_exr_to(Target&& target, const std::string& destination, int width, in
   const bool small = compression == ExrCompression::None ||
                      size_t(width) * size_t(height) * size_t(channels) * sizeof(float) < (size_t(1) << 20);
   if (!small) start_exr_threads();
+  // OpenEXR reads a ZIP file 16 scanlines a block and refuses a block above INT_MAX bytes
+  // (ScanLineInputFile: "maximum bytes per scanline exceeds maximum permissible size"): `fresnel
+  // --size 16777216` wrote a 16M x 1 table that no reader could open. Rows that long are compressed
+  // one at a time (ZIPS: a block is a scanline).
+  const size_t line_bytes = size_t(width) * size_t(channels) * sizeof(float);
+  const bool long_lines = line_bytes * 16 > size_t(INT_MAX);
+  if (line_bytes > size_t(INT_MAX))
+    throw_write_error(destination, "a row of " + std::to_string(line_bytes) +
+                                       " bytes: OpenEXR reads rows of at most 2 GiB (give fewer cells a row)");
   try {
     Imf::Header header(width, height);
-    header.compression() = small ? Imf::NO_COMPRESSION : Imf::ZIP_COMPRESSION;
+    header.compression() = small ? Imf::NO_COMPRESSION : long_lines ? Imf::ZIPS_COMPRESSION : Imf::ZIP_COMPRESSION;
     for (int c = 0; c < channels; ++c) header.channels().insert(kNames[c], Imf::Channel(Imf::FLOAT));
     for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
     const size_t x_stride = sizeof(float) * size_t(channels), y_stride = x_stride * size_t(width);
