@@ -132,35 +132,27 @@ std::string label_of(const std::string& option, const std::string& value) {
   return l;
 }
 
-// The per-sphere relative error of a split-sum render against a reference render of the same
-// layout, as render_preview computes it (detail::preview::sphere_errors): per pixel |s - r| / |r|
-// (Euclidean norms of the linear RGB triples, in double from the float images), per sphere its RMS,
-// 99th percentile and max.
-std::vector<PreviewErrorStats> compare(const PreviewResult& split, const PreviewResult& reference) {
-  using namespace detail::preview;
-  const Layout layout = make_layout(split.spec);
+// The reference render is of the split-sum render's layout (the errors compare them pixel by pixel).
+void check_layout(const PreviewResult& reference, const detail::preview::Layout& layout) {
   if (reference.reference.width != layout.width || reference.reference.height != layout.height ||
       reference.spheres.size() != layout.spheres.size())
     throw Error("the bake sweep's reference render has another layout than the split-sum render");
-  std::vector<PreviewErrorStats> out;
-  for (const PreviewSphereStats& s :
-       sphere_errors(layout, sphere_pixels(layout), split.splitsum, reference.reference, split.exposure))
-    out.push_back(s.linear);
-  return out;
 }
 
 // The material groups of the spheres: the first word of each material's name ("gold r0.2": gold), in
-// order of first appearance; per group the error's, the shares' and the probe's figures.
-void fill_errors(BakeSweepPoint& pt, const PreviewResult& split, const std::vector<PreviewErrorStats>& stats,
-                 const std::vector<PreviewSphereStats>& shares, const std::vector<double>& sharp) {
+// order of first appearance; per group the error's, the shares' and the probe's figures. `stats`: per
+// sphere the error against the reference and its shares, as render_preview states them (sphere_errors
+// then add_shares).
+void fill_errors(BakeSweepPoint& pt, const PreviewResult& split, const std::vector<PreviewSphereStats>& stats,
+                 const std::vector<double>& sharp) {
   std::vector<std::string> order;
   std::map<std::string, std::vector<size_t>> by;
   for (size_t s = 0; s < stats.size(); ++s) {
-    pt.sphere_rms.push_back(stats[s].rms);
-    pt.sphere_p99.push_back(stats[s].p99);
-    pt.sphere_max.push_back(stats[s].max);
-    pt.sphere_bake.push_back(shares[s].bake_share.rms);
-    pt.sphere_engine.push_back(shares[s].engine_share.rms);
+    pt.sphere_rms.push_back(stats[s].linear.rms);
+    pt.sphere_p99.push_back(stats[s].linear.p99);
+    pt.sphere_max.push_back(stats[s].linear.max);
+    pt.sphere_bake.push_back(stats[s].bake_share.rms);
+    pt.sphere_engine.push_back(stats[s].engine_share.rms);
     pt.sphere_sharp.push_back(sharp[s]);
     const std::string& name = split.spheres[s].material.name;
     const std::string group = name.substr(0, name.find(' '));
@@ -466,12 +458,12 @@ BakeSweep sweep_bake(const std::string& environment, const std::string& device, 
       PreviewResult shares = split;  // its split-sum image and spheres, with the reference and the ideal
       shares.reference = ref->reference;
       render_split_sum(layout, pixels, ideal_split, view_vector(layout.camera), shares, shares.ideal);
-      const std::vector<PreviewErrorStats> stats = compare(split, *ref);
+      check_layout(*ref, layout);
       shares.stats = sphere_errors(layout, pixels, shares.splitsum, shares.reference, shares.exposure);
       add_shares(layout, pixels, shares);
       const std::vector<double> sharp = sharp_probe(layout, files_split, ideal_split);
       pt.ideal_seconds = since(t0);
-      fill_errors(pt, split, stats, shares.stats, sharp);
+      fill_errors(pt, split, shares.stats, sharp);
       char line[260];
       std::snprintf(line, sizeof line,
                     "  bake %s %s: %.2f s, %.3g MB, error %.3g (median sphere RMS), bake share %.3g, engine share %.3g",
