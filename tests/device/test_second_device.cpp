@@ -28,8 +28,8 @@
 #include "brdfbake/environment.hpp"
 #include "brdfbake/job.hpp"
 #include "brdfbake/tables.hpp"
+#include "support/family_cases.hpp"
 #include "support/result_values.hpp"
-#include "support/tolerances.hpp"
 
 namespace brdfbake {
 namespace {
@@ -108,117 +108,17 @@ class StderrCapture {
 
 using test::values_of;
 
-struct Case {
-  std::string name;
-  std::string table;     // the job's table, JSON; empty: the example request of `kind`
-  double tolerance = 0;  // when the result records no bound
-  TableKind kind = TableKind::Ggx;
-};
+using test::FamilyCase;
 
-// The fp32 tolerance of a kind's device tests (tests/support/tolerances.hpp), for results that
-// record no bound of their own; 0 for the kinds that record one.
-double example_tolerance(TableKind kind) {
-  switch (kind) {
-    case TableKind::Ggx:
-    case TableKind::GgxMultiscatter:
-    case TableKind::Charlie:
-      return 0;  // the calibrated bound the result records
-    case TableKind::Fresnel:
-    case TableKind::ThinFilm:
-      return test::kFresnelFp32;
-    case TableKind::Prefilter:
-    case TableKind::Irradiance:
-      return test::kEnvFp32VsFp64;
-    case TableKind::Eval:
-      return test::kBrdfFp32;
-    case TableKind::Tabulate:
-      return test::kBrdfTableFp32;
-    case TableKind::Preview:
-      return 0;  // not among the examples here (see cases())
-  }
-  return 0;
-}
-
-std::string source_path(const char* relative) { return std::string(BRDFBAKE_SOURCE_DIR) + "/" + relative; }
-
-std::vector<Case> cases() {
-  const std::string mats = source_path("examples/materials.json"), pairs = source_path("examples/pairs.csv");
-  using test::kBrdfFp32;
-  using test::kBrdfTableFp32;
-  using test::kEnvFp32VsFp64;
-  using test::kFresnelFp32;
-  std::vector<Case> list = {
-      {"lut_ggx_quadrature", R"({"kind": "ggx", "size": 4, "samples": 256})", 0},
-      {"lut_ggx_vndf", R"({"kind": "ggx", "size": 4, "estimator": "vndf", "samples": 256})", 0},
-      {"lut_ggx_ndf_fp64", R"({"kind": "ggx", "size": 4, "estimator": "ndf", "samples": 128, "precision": "fp64"})", 0},
-      {"lut_multiscatter", R"({"kind": "ggx-multiscatter", "size": 4, "samples": 256})", 0},
-      {"lut_charlie_uniform", R"({"kind": "charlie", "size": 4, "estimator": "uniform", "samples": 256})", 0},
-      {"fresnel_conductor",
-       R"({"kind": "fresnel", "model": "conductor", "n": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2], "size": 16})",
-       kFresnelFp32},
-      {"fresnel_dielectric_2d", R"({"kind": "fresnel", "model": "dielectric", "table": "2d", "size": 8})",
-       kFresnelFp32},
-      {"thin_film", R"({"kind": "thin-film", "base_ior": 1.5, "size": 4})", kFresnelFp32},
-      {"prefilter_quadrature", R"({"kind": "prefilter", "environment": "builtin:sun", "size": 8, "min_size": 4})",
-       kEnvFp32VsFp64},
-      {"prefilter_sampling", R"({"kind": "prefilter", "environment": "builtin:sun", "size": 8, "min_size": 4,
-                                 "estimator": "sampling", "samples": 64})",
-       kEnvFp32VsFp64},
-      {"prefilter_charlie", R"({"kind": "prefilter", "environment": "builtin:studio", "distribution": "charlie",
-                                "size": 4, "min_size": 4})",
-       kEnvFp32VsFp64},
-      {"irradiance_cube", R"({"kind": "irradiance", "environment": "builtin:sun", "cube_size": 4, "source_size": 8})",
-       kEnvFp32VsFp64},
-      {"eval", R"({"kind": "eval", "material": ")" + mats + R"(", "name": "velvet", "input": ")" + pairs + "\"}",
-       kBrdfFp32},
-      {"tabulate_grid", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "red-plastic", "layout": "grid",
-                            "res": [4, 4, 4]})",
-       kBrdfTableFp32},
-      {"tabulate_slice", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "gold", "layout": "slice",
-                             "res": [8, 8]})",
-       kBrdfTableFp32},
-      {"tabulate_albedo", R"({"kind": "tabulate", "material": ")" + mats + R"(", "name": "velvet", "layout": "albedo",
-                              "res": [4]})",
-       kBrdfTableFp32},
-  };
-  for (TableKind kind : table_kinds()) {
-    // The preview's reference render interpreted by Oclgrind takes minutes even at its example's
-    // 96x48; tests/device/test_preview.cpp holds its kernels to the scalar reference.
-    if (kind == TableKind::Preview) continue;
-    std::string name = std::string("example_") + table_kind_name(kind);
-    std::replace(name.begin(), name.end(), '-', '_');
-    list.push_back({name, "", example_tolerance(kind), kind});
-  }
-  return list;
-}
-
-class SecondDevice : public ::testing::TestWithParam<Case> {};
+class SecondDevice : public ::testing::TestWithParam<FamilyCase> {};
 
 TEST_P(SecondDevice, AgreesWithTheFirstAndOclgrindReportsNothing) {
   const Pair& b = backends();
   if (!b.oclgrind) GTEST_SKIP() << b.why_not;
-  const Case& c = GetParam();
-  TableExample example;
-  if (c.table.empty()) {
-    example = table_kind_example(c.kind);
-  } else {
-    const Job job = parse_job(R"({"brdfbake_job": 1, "output_dir": "unused", "tables": [)" + c.table + "]}", c.name);
-    ASSERT_EQ(job.tables.size(), 1u);
-    example.request = job.tables[0];
-    if (example.request.environment.empty()) example.request.environment = job.environment;
-  }
-  const TableRequest& t = example.request;
-  EnvImage env;
-  BakeInputs inputs;
-  if (table_kind_uses_environment(t.kind)) {
-    env = load_environment(t.environment);
-    inputs.environment = &env;
-  }
-  if (!example.pairs.empty()) {
-    inputs.pairs = example.pairs.data();
-    inputs.pair_count = example.pairs.size() / 6;
-  }
-
+  const FamilyCase& c = GetParam();
+  const std::unique_ptr<test::PreparedCase> prepared = test::prepare_case(c);
+  const TableRequest& t = prepared->request();
+  const BakeInputs& inputs = prepared->inputs;
   const BakeResult first = bake_table(t, *b.other, inputs);
   BakeResult second;
   std::string reports;
@@ -249,8 +149,7 @@ TEST_P(SecondDevice, AgreesWithTheFirstAndOclgrindReportsNothing) {
                                << " on " << b.other_name << " (bound " << bound << ")";
 }
 
-INSTANTIATE_TEST_SUITE_P(Family, SecondDevice, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<Case>& i) { return i.param.name; });
+INSTANTIATE_TEST_SUITE_P(Family, SecondDevice, ::testing::ValuesIn(test::family_cases()), test::case_test_name);
 
 }  // namespace
 }  // namespace brdfbake

@@ -29,7 +29,20 @@ struct DeviceInfo {
   size_t max_work_group_size = 0;
   bool fp64 = false;
   bool is_default = false;  // the device chosen when nothing is asked for
+  // The work shape the kernels take on this device (docs/DEVICES.md, "Kernel shapes"): "cpu" (a
+  // work-item walks a block of texels with wide vectors: what PoCL's vectoriser fills) or "gpu" (a
+  // work-item a texel, pixel or pair, in work-groups the device's limits allow). What
+  // kernel_shape_request() asks for, "auto" being the device's type: "cpu" on a CPU, else "gpu".
+  std::string kernel_shape;
 };
+
+// The kernel shape asked for in this process: set_kernel_shape's ("auto", "cpu" or "gpu": the
+// CLI's --kernel-shape, serve's, Python's), else $BRDFBAKE_KERNEL_SHAPE, else "auto". Devices
+// opened afterwards take it. Throws Error naming the choices for any other name.
+void set_kernel_shape(const std::string& shape);
+std::string kernel_shape_request();
+// "cpu" or "gpu": a request ("auto", "cpu", "gpu") for a device of `device_type` (DeviceInfo::type).
+std::string resolve_kernel_shape(const std::string& request, const std::string& device_type);
 
 // Every device of every platform; an empty list when there is no OpenCL platform at all.
 std::vector<DeviceInfo> list_devices();
@@ -43,6 +56,7 @@ DeviceInfo select_device(const std::string& selector);
 class Device {
  public:
   static Device open(const std::string& selector = {});
+  // The device `info` names (platform and device index), in info.kernel_shape where it is set.
   static Device open(const DeviceInfo& info);
 
   const DeviceInfo& info() const;

@@ -153,6 +153,7 @@ DeviceInfo full_info(const Found& f) {
     return 0;
   });
   apply_test_limits(info);
+  info.kernel_shape = resolve_kernel_shape(kernel_shape_request(), info.type);
   return info;
 }
 
@@ -203,6 +204,45 @@ Found find(const std::string& selector_in) {
 
 }  // namespace
 
+namespace {
+std::mutex& shape_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::string& shape_set() {
+  static std::string s;  // empty: not set
+  return s;
+}
+std::string checked_shape(const std::string& shape, const char* from) {
+  const std::string s = lower(trim(shape));
+  if (s != "auto" && s != "cpu" && s != "gpu")
+    throw Error(std::string(from) + " must be auto, cpu or gpu (got '" + shape + "')");
+  return s;
+}
+}  // namespace
+
+void set_kernel_shape(const std::string& shape) {
+  const std::string s = checked_shape(shape, "the kernel shape");
+  std::lock_guard<std::mutex> lock(shape_mutex());
+  shape_set() = s;
+}
+
+std::string kernel_shape_request() {
+  {
+    std::lock_guard<std::mutex> lock(shape_mutex());
+    if (!shape_set().empty()) return shape_set();
+  }
+  const char* env = std::getenv("BRDFBAKE_KERNEL_SHAPE");
+  if (!env || !*env) return "auto";
+  return checked_shape(env, "BRDFBAKE_KERNEL_SHAPE");
+}
+
+std::string resolve_kernel_shape(const std::string& request, const std::string& device_type) {
+  const std::string s = checked_shape(request, "the kernel shape");
+  if (s != "auto") return s;
+  return device_type == "cpu" ? "cpu" : "gpu";
+}
+
 std::vector<DeviceInfo> list_devices() {
   std::lock_guard<std::recursive_mutex> lock(discovery_mutex());
   std::vector<DeviceInfo> out;
@@ -231,7 +271,9 @@ Device Device::open(const std::string& selector) {
 }
 
 Device Device::open(const DeviceInfo& info) {
-  return open(std::to_string(info.platform_index) + ":" + std::to_string(info.device_index));
+  Device d = open(std::to_string(info.platform_index) + ":" + std::to_string(info.device_index));
+  if (!info.kernel_shape.empty()) d.impl_->info.kernel_shape = resolve_kernel_shape(info.kernel_shape, info.type);
+  return d;
 }
 
 const DeviceInfo& Device::info() const { return impl_->info; }
