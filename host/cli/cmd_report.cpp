@@ -3,6 +3,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "brdfbake/device.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/report.hpp"
@@ -44,7 +45,7 @@ int cmd_report(int argc, char** argv) {
       "and a JSON of the numbers beside it (docs/BENCHMARKS.md)");
   // clang-format off
   options.add_options()
-      ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter, bake (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
+      ("kinds", "what to measure: ggx, ggx-multiscatter, charlie, fresnel, prefilter, bake, kernels (default: ggx,ggx-multiscatter,charlie)", cxxopts::value<std::string>())
       ("lut-size,size", "DFG tables: cells a side (default: 64) (alias: --size)", cxxopts::value<std::string>())
       ("counts", "DFG tables: sample counts (default: 16,32,64,128,256,384,512,768,1024,2048,4096)", cxxopts::value<std::string>())
       ("estimators", "DFG tables: quadrature, vndf, ndf, uniform (default: every estimator of the kind)", cxxopts::value<std::string>())
@@ -54,7 +55,9 @@ int cmd_report(int argc, char** argv) {
       ("targets", "bake: the targets swept (default: generic,filament,gltf,babylon,khronos-viewer)", cxxopts::value<std::string>())
       ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: chain_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;chain_max_error=0.03,0.003); an alias (cube_size) is taken as its option's name", cxxopts::value<std::string>())
       ("preview-width", "bake: the preview's width, its height half of it (default: 512: the spheres of the default 512x512 preview)", cxxopts::value<std::string>())
-      ("runs", "bake: bakes per setting under 1 s, the median reported (default: 3)", cxxopts::value<std::string>())
+      ("runs", "bake: bakes per setting under 1 s, the median reported; kernels: timed runs of each kernel after a warm-up (default: 3)", cxxopts::value<std::string>())
+      ("kernel-shape", "kernels (and every kind): the kernels' work shape, auto, cpu or gpu (default: BRDFBAKE_KERNEL_SHAPE, else auto: the device's type)", cxxopts::value<std::string>())
+      ("count-ops", "kernels: run each kernel once at its counting size under Oclgrind's flop counter (scripts/count_kernel_ops.sh), no peaks, no figures")
       ("keep-bakes", "bake: keep each setting's bake in DIR/TARGET/SETTING (default: removed)", cxxopts::value<std::string>())
       ("environment,env", "prefilter and bake: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
       ("chain-size,cube-size", "prefilter: face size of the chain's first level (default: 32) (alias: --cube-size)", cxxopts::value<std::string>())
@@ -72,7 +75,8 @@ int cmd_report(int argc, char** argv) {
     std::cout << options.help()
               << "\nexamples:\n  brdfbake report -o report.html\n"
                  "  brdfbake report --kinds ggx,fresnel,prefilter --precisions fp32,fp64 --device gpu -o gpu.html\n"
-                 "  brdfbake report --kinds bake --env ../shared/envmaps/venice_sunset_1k.hdr -o bake.html\n";
+                 "  brdfbake report --kinds bake --env ../shared/envmaps/venice_sunset_1k.hdr -o bake.html\n"
+                 "  brdfbake report --kinds kernels -o kernels.html\n";
     return 0;
   }
   if (!r.unmatched().empty()) throw UsageError("unexpected argument '" + r.unmatched().front() + "'");
@@ -113,8 +117,10 @@ int cmd_report(int argc, char** argv) {
   if (r.count("preview-width")) o.bake.preview_width = integer(r, "preview-width");
   if (o.bake.preview_width < 96 || o.bake.preview_width > 4096)
     throw UsageError("--preview-width must be 96 to 4096 (12 columns of spheres at least 8 pixels wide)");
-  if (r.count("runs")) o.bake.runs = integer(r, "runs");
+  if (r.count("runs")) o.bake.runs = o.kernels.runs = integer(r, "runs");
   if (o.bake.runs < 1 || o.bake.runs > 9) throw UsageError("--runs must be 1 to 9");
+  if (r.count("kernel-shape")) set_kernel_shape(r["kernel-shape"].as<std::string>());
+  o.kernels.count = r.count("count-ops") > 0;
   if (r.count("keep-bakes")) o.bake.keep_bakes = r["keep-bakes"].as<std::string>();
   if (r.count("device")) o.device = r["device"].as<std::string>();
   const std::string out = r.count("output") ? r["output"].as<std::string>() : std::string("report.html");
@@ -140,6 +146,7 @@ int cmd_report(int argc, char** argv) {
     for (const auto& p : report.prefilter) n += p.levels.size();
     for (const auto& b : report.bake)
       for (const auto& t : b.targets) n += t.points.size();
+    for (const auto& k : report.kernels) n += k.rows.size();
     std::fprintf(
         stderr,
         "%s and %s: %zu measurements on %s in %.1f s (load average %.2f at the start, %.2f at the end, %d cores)\n",

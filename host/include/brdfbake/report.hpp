@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "brdfbake/accuracy.hpp"
+#include "brdfbake/device.hpp"
 #include "brdfbake/fresnel.hpp"
 
 namespace brdfbake {
@@ -39,8 +40,83 @@ struct BakeSweepOptions {
   std::string keep_bakes;   // a folder: each setting's bake kept as DIR/TARGET/LABEL (else removed)
 };
 
+// ---- kernels: where each hot kernel stands against the device's measured peak (issue 36) ------------
+
+struct KernelsOptions {
+  // Count mode (scripts/count_kernel_ops.sh runs the report under Oclgrind with the flop counter of
+  // bench/kernel_ops): every row's launch once at its counting size, a marker line before each in
+  // $BRDFBAKE_FLOP_COUNTS, no peaks; the figures are not measurements.
+  bool count = false;
+  int runs = 3;  // timed runs of each row after a warm-up (the median)
+};
+
+// The flops and bytes of one row's launch as counted (host/src/report/kernel_ops.inc): `units` work
+// units at the counting size, the flops (per lane: add, mul, fma = 2, div, sqrt, transcendentals)
+// and the bytes of every global and constant load and store the kernel executed.
+struct KernelOpCount {
+  const char* row;          // the row's id
+  const char* shape;        // "cpu" or "gpu": the kernel shape it was counted in
+  const char* source_hash;  // FNV-1a of the kernel file's source (includes expanded) it was counted on
+  double units;
+  double flops, fp64_flops;
+  double add, mul, fma, div, sqrt, transcendental;  // flops by kind (fma: 2 a lane)
+  double load_bytes, store_bytes;
+};
+// The counts of a row in a shape, or nullptr.
+const KernelOpCount* find_kernel_op_count(const std::string& row, const std::string& shape);
+// How the counts were made, per the generated table (tool, date, sizes).
+const char* kernel_op_count_source();
+
+struct KernelPeak {
+  double gflops = 0.0;   // the best of the runs
+  double seconds = 0.0;  // device seconds of that run
+  double flops = 0.0;    // its flops, exactly (work-items x iterations x 8 chains x 16 lanes x 2)
+};
+struct KernelRow {
+  std::string id;               // "dfg_lut ggx fp32": the count's key
+  std::string kernel;           // the OpenCL kernel measured (kernels/*.cl)
+  std::string launch;           // the launch measured, in words
+  std::string unit;             // "texel", "pair", "cell"
+  std::string precision;        // "fp32" | "fp64"
+  bool walk = false;            // a data-dependent walk per work-item (branches and gathers differ by lane)
+  double units = 0.0;           // work units of the measured launch
+  double device_seconds = 0.0;  // the row's kernels, OpenCL event profiling (median of the runs)
+  double wall_seconds = 0.0;    // the whole call (transfers, host work, other kernels)
+  // From the count (counted false: none for this row and shape, and nothing below is filled).
+  bool counted = false;
+  bool stale = false;  // a count exists, made on other sources of the kernel (not used)
+  double flops_per_unit = 0.0, bytes_per_unit = 0.0;
+  double special_share = 0.0;  // divisions, square roots and transcendentals, of the flops
+  // place_kernel_row:
+  double units_per_second = 0.0, gflops = 0.0, gbytes_per_second = 0.0;
+  double intensity = 0.0;  // flops per byte
+  std::string bound;       // "compute" (intensity at or above the ridge) or "memory"
+  double fraction = 0.0;   // of the measured peak: GFLOP/s over peak (compute), GB/s over bandwidth (memory)
+  std::string limit;       // below kKernelLowFraction: what bounds it, in words
+};
+inline constexpr double kKernelLowFraction = 0.25;
+struct KernelsReport {
+  std::string shape;  // the kernel shape the device was opened in
+  KernelPeak fp32, fp64;
+  double bandwidth = 0.0;          // GB/s, the best triad
+  double bandwidth_bytes = 0.0;    // bytes of one triad (3 arrays)
+  double bandwidth_seconds = 0.0;  // its device seconds
+  std::vector<KernelRow> rows;
+};
+// Fills a row's derived figures from its units, device seconds and per-unit counts, against the
+// peaks (GFLOP/s of its precision, GB/s): throughput, GFLOP/s, GB/s, intensity, the side of the
+// ridge, the fraction of the peak and, below kKernelLowFraction, what bounds it.
+void place_kernel_row(KernelRow& row, double peak_gflops, double bandwidth_gbs, unsigned compute_units);
+// The device's peaks alone (kernels/device_peak.cl): fp32 and, where the device has it, fp64 FMA
+// rate, and the triad's bandwidth; the shape the device was opened in. No rows.
+KernelsReport measure_device_peaks(Device& device);
+// The peaks, then every hot kernel (or, with options.count, every row once at its counting size).
+KernelsReport measure_kernels(Device& device, const KernelsOptions& options,
+                              const std::function<void(const std::string&)>& log = {});
+
 struct ReportOptions {
-  std::vector<std::string> kinds = {"ggx", "ggx-multiscatter", "charlie"};  // and "fresnel", "prefilter"
+  std::vector<std::string> kinds = {"ggx", "ggx-multiscatter",
+                                    "charlie"};  // and "fresnel", "prefilter", "bake", "kernels"
   std::string device;  // a device selector (brdfbake/device.hpp); the reference is the baseline, not a device
   DfgSweepOptions dfg = [] {
     DfgSweepOptions o;
@@ -53,8 +129,9 @@ struct ReportOptions {
   int fresnel_rate_cells = 1 << 18;
   std::string environment = "builtin:studio";  // prefilter
   int prefilter_size = 32;
-  BakeSweepOptions bake;  // bake: the sweep of bake settings
-  std::string command;    // the command line, recorded for reproduction
+  BakeSweepOptions bake;   // bake: the sweep of bake settings
+  KernelsOptions kernels;  // kernels: the hot kernels against the device's peak
+  std::string command;     // the command line, recorded for reproduction
   std::function<void(const std::string&)> log;
 };
 
@@ -174,7 +251,8 @@ struct Report {
   std::vector<DfgSweep> dfg;
   std::vector<FresnelComparison> fresnel;
   std::vector<PrefilterReport> prefilter;
-  std::vector<BakeSweep> bake;  // at most one
+  std::vector<BakeSweep> bake;         // at most one
+  std::vector<KernelsReport> kernels;  // at most one
 };
 
 // Runs every measurement the options ask for. Throws Error for an unknown kind, material or device.

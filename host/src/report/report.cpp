@@ -237,12 +237,68 @@ json bake_json(const BakeSweep& s) {
   return b;
 }
 
+json kernels_json(const KernelsReport& k) {
+  json j;
+  j["kernel_shape"] = k.shape;
+  j["peaks"] = {{"fp32_gflops", k.fp32.gflops},
+                {"fp32_seconds", k.fp32.seconds},
+                {"fp64_gflops", k.fp64.gflops},
+                {"fp64_seconds", k.fp64.seconds},
+                {"bandwidth_gbs", k.bandwidth},
+                {"bandwidth_bytes", k.bandwidth_bytes},
+                {"bandwidth_seconds", k.bandwidth_seconds}};
+  j["peak_definition"] =
+      "peak_fma (kernels/device_peak.cl): 8 independent chains of fma on float16 (double16 for fp64) per work-item, "
+      "flops = 2 x 16 lanes x 8 chains x iterations x work-items, the best of 3 launches of >= 20 ms; bandwidth: "
+      "STREAM's triad on float4 over three arrays of 64 MiB (CPU) or 256 MiB (GPU), bytes = 3 x the array, the best of "
+      "5 launches after one that touches the pages";
+  j["count_source"] = kernel_op_count_source();
+  j["count_definition"] =
+      "flops and bytes per work unit counted by Oclgrind (bench/kernel_ops/flop_counter.cpp, every lane of a vector "
+      "instruction): fadd, fsub, fmul, fdiv 1, fma and fmuladd 2, sqrt, rsqrt and each transcendental builtin 1; "
+      "bytes: every global and constant load and store the kernel executed (caches serve re-reads, so above the "
+      "DRAM traffic); the row ran at the counting size (scripts/count_kernel_ops.sh) and its counts per unit scale "
+      "to the measured launch's units";
+  j["fraction_definition"] =
+      "compute-bound rows (flops per byte at or above the ridge, peak GFLOP/s / triad GB/s): GFLOP/s over the peak of "
+      "the row's precision; memory-bound rows: GB/s over the triad's";
+  json rows = json::array();
+  for (const auto& r : k.rows) {
+    json row = {{"id", r.id},
+                {"kernel", r.kernel},
+                {"launch", r.launch},
+                {"unit", r.unit},
+                {"precision", r.precision},
+                {"units", r.units},
+                {"device_seconds", r.device_seconds},
+                {"wall_seconds", r.wall_seconds},
+                {"units_per_second", r.units_per_second},
+                {"counted", r.counted},
+                {"stale_count", r.stale}};
+    if (r.counted) {
+      row["flops_per_unit"] = r.flops_per_unit;
+      row["bytes_per_unit"] = r.bytes_per_unit;
+      row["special_share"] = r.special_share;
+      row["gflops"] = r.gflops;
+      row["gbytes_per_second"] = r.gbytes_per_second;
+      row["intensity"] = std::isfinite(r.intensity) ? json(r.intensity) : json(nullptr);
+      row["bound"] = r.bound;
+      row["fraction"] = r.fraction;
+      row["limit"] = r.limit;
+    }
+    rows.push_back(row);
+  }
+  j["rows"] = rows;
+  return j;
+}
+
 json rgb_json(const Rgb& v) { return json::array({v.r, v.g, v.b}); }
 
 }  // namespace
 
 const std::vector<std::string>& report_kinds() {
-  static const std::vector<std::string> k = {"ggx", "ggx-multiscatter", "charlie", "fresnel", "prefilter", "bake"};
+  static const std::vector<std::string> k = {"ggx",  "ggx-multiscatter", "charlie", "fresnel", "prefilter",
+                                             "bake", "kernels"};
   return k;
 }
 
@@ -256,7 +312,7 @@ Report run_report(const ReportOptions& o) {
   for (const auto& k : o.kinds)
     if (std::find(report_kinds().begin(), report_kinds().end(), k) == report_kinds().end())
       throw Error("unknown report kind '" + k +
-                  "' (expected ggx, ggx-multiscatter, charlie, fresnel, prefilter or bake)");
+                  "' (expected ggx, ggx-multiscatter, charlie, fresnel, prefilter, bake or kernels)");
   if (o.kinds.empty()) throw Error("the report needs at least one kind");
   if (o.device == "reference")
     throw Error(
@@ -277,7 +333,7 @@ Report run_report(const ReportOptions& o) {
   r.device = info.name;
   r.device_details = info.platform_name + ", driver " + info.driver_version + ", " +
                      std::to_string(info.compute_units) + " compute units, " + info.type +
-                     (info.fp64 ? ", fp64" : ", no fp64");
+                     (info.fp64 ? ", fp64" : ", no fp64") + ", kernel shape " + info.kernel_shape;
   auto log = [&](const std::string& s) {
     if (o.log) o.log(s);
   };
@@ -304,6 +360,8 @@ Report run_report(const ReportOptions& o) {
       log("bake: " + o.environment + ", targets and settings one at a time, preview " +
           std::to_string(o.bake.preview_width) + "x" + std::to_string(o.bake.preview_width / 2));
       r.bake.push_back(sweep_bake(o.environment, o.device, o.bake, o.log));
+    } else if (k == "kernels") {
+      r.kernels.push_back(measure_kernels(dev, o.kernels, o.log));
     }
   }
   read_load(r.load_after);
@@ -395,6 +453,7 @@ std::string report_json(const Report& r) {
   }
   j["prefilter"] = pre;
   if (!r.bake.empty()) j["bake"] = bake_json(r.bake.front());
+  if (!r.kernels.empty()) j["kernels"] = kernels_json(r.kernels.front());
   return j.dump(2) + "\n";
 }
 

@@ -531,6 +531,88 @@ void bake_section(std::ostringstream& o, const BakeSweep& s) {
   }
 }
 
+// The roofline: the device's measured peaks (fp32, and fp64 dashed) as attainable GFLOP/s against
+// flops per byte, min(peak, intensity x bandwidth), and each counted row as a point.
+std::string roofline_plot(const KernelsReport& k) {
+  std::vector<Series> series;
+  double lo = 0.01, hi = 1000.0;
+  for (const auto& r : k.rows)
+    if (r.counted && std::isfinite(r.intensity) && r.intensity > 0) {
+      lo = std::min(lo, r.intensity / 2);
+      hi = std::max(hi, r.intensity * 2);
+    }
+  for (int p = 0; p < 2; ++p) {
+    const double peak = p == 0 ? k.fp32.gflops : k.fp64.gflops;
+    if (peak <= 0 || k.bandwidth <= 0) continue;
+    Series roof;
+    roof.name = std::string(p == 0 ? "fp32" : "fp64") + " roof";
+    roof.dashed = p == 1;
+    const double ridge = peak / k.bandwidth;
+    for (double x : {lo, std::clamp(ridge, lo, hi), hi}) {
+      roof.x.push_back(x);
+      roof.y.push_back(std::min(peak, x * k.bandwidth));
+    }
+    series.push_back(roof);
+  }
+  for (const char* prec : {"fp32", "fp64"}) {
+    Series pts;
+    pts.name = std::string("kernels ") + prec;
+    pts.line = false;
+    for (const auto& r : k.rows)
+      if (r.counted && r.precision == prec && std::isfinite(r.intensity)) {
+        pts.x.push_back(r.intensity);
+        pts.y.push_back(r.gflops);
+        pts.labels.push_back(r.kernel);
+      }
+    if (!pts.x.empty()) series.push_back(pts);
+  }
+  return svg_plot("roofline (" + k.shape + " shape)", "flops per byte (counted)", "GFLOP/s (counted flops / device s)",
+                  series, true, true);
+}
+
+void kernels_section(std::ostringstream& o, const KernelsReport& k) {
+  o << "<h2>Kernels against the device's measured peak</h2>\n";
+  o << "<p>Kernel shape <b>" << esc(k.shape) << "</b>. Measured peaks on this device (kernels/device_peak.cl): fp32 <b>"
+    << fmt(k.fp32.gflops, "%.1f") << " GFLOP/s</b>, fp64 <b>" << fmt(k.fp64.gflops, "%.1f")
+    << " GFLOP/s</b> (8 independent FMA chains on 16-lane vectors a work-item), streaming triad <b>"
+    << fmt(k.bandwidth, "%.1f") << " GB/s</b> (" << fmt(k.bandwidth_bytes / 1e6, "%.0f")
+    << " MB a launch). Each hot kernel ran through the library's entries at the size in the table, a warm-up then "
+       "the median of its runs; device seconds from OpenCL event profiling (the row's kernel only), wall seconds of "
+       "the whole call beside them. Flops and bytes are <b>counted</b>, not estimated: "
+    << esc(kernel_op_count_source())
+    << ". A row is compute-bound where its flops per byte reach the ridge (peak / bandwidth), and its fraction is of "
+       "the peak GFLOP/s of its precision; else of the triad's GB/s. Below "
+    << fmt(100 * kKernelLowFraction, "%.0f") << "% the table says what bounds it.</p>\n";
+  o << "<div class=\"plots\">" << roofline_plot(k) << "</div>\n";
+  o << "<table><tr><th>kernel</th><th>launch</th><th>precision</th><th>throughput</th><th>device (ms)</th><th>wall "
+       "(ms)</th><th>flops/unit</th><th>bytes/unit</th><th>GFLOP/s</th><th>GB/s</th><th>flops/byte</th><th>bound</th>"
+       "<th>of peak</th><th>what bounds it</th></tr>\n";
+  for (const auto& r : k.rows) {
+    o << "<tr><td><code>" << esc(r.kernel) << "</code></td><td>" << esc(r.launch) << "</td><td>" << r.precision
+      << "</td><td>" << fmt(r.units_per_second, "%.3g") << " " << esc(r.unit) << "s/s</td><td>"
+      << fmt(r.device_seconds * 1e3, "%.2f") << "</td><td>" << fmt(r.wall_seconds * 1e3, "%.2f") << "</td>";
+    if (r.counted)
+      o << "<td>" << fmt(r.flops_per_unit, "%.4g") << "</td><td>" << fmt(r.bytes_per_unit, "%.3g") << "</td><td>"
+        << fmt(r.gflops, "%.2f") << "</td><td>" << fmt(r.gbytes_per_second, "%.2f") << "</td><td>"
+        << fmt(r.intensity, "%.3g") << "</td><td>" << r.bound << "</td><td><b>" << pct(r.fraction) << "</b></td><td>"
+        << esc(r.limit) << "</td></tr>\n";
+    else
+      o << "<td colspan=\"8\">"
+        << (r.stale ? "counted on other sources of its kernel file: count again"
+                    : "not counted in the " + esc(k.shape) + " shape")
+        << " (scripts/count_kernel_ops.sh)</td></tr>\n";
+  }
+  o << "</table>\n";
+  o << "<p class=\"note\">Flops per lane: add, subtract, multiply, divide 1; fma 2; sqrt, rsqrt and each "
+       "transcendental 1 (their share of the flops is a cause the last column names: each takes many cycles). Bytes: "
+       "every global and constant load and store the kernel executed, so re-reads a cache serves count too and the "
+       "flops per byte are a lower bound. The prefilter rows were counted on a 64&sup2; chain (measured: 128&sup2;; "
+       "the "
+       "same levels' roughness and mix of sizes) and the conversion at 32&sup2; (measured: 256&sup2;, the same "
+       "supersampling): the walk refines deeper on a finer source, so the walks' flops per texel, and GFLOP/s, are "
+       "lower bounds.</p>\n";
+}
+
 }  // namespace
 
 std::string report_html(const Report& r) {
@@ -539,7 +621,11 @@ std::string report_html(const Report& r) {
     << "</title>\n<style>" << kStyle << "</style></head><body>\n";
   // The page says what it answers: a bake sweep alone (report --kinds bake) is not the tables' report.
   const bool tables = !r.dfg.empty() || !r.fresnel.empty() || !r.prefilter.empty();
-  o << "<h1>" << (tables ? "brdfbake: accuracy against time" : "brdfbake: what each bake setting costs") << "</h1>\n";
+  o << "<h1>"
+    << (tables               ? "brdfbake: accuracy against time"
+        : !r.kernels.empty() ? "brdfbake: where each kernel stands against its device"
+                             : "brdfbake: what each bake setting costs")
+    << "</h1>\n";
   o << "<p class=\"meta\">" << esc(r.generator) << ", " << esc(r.date) << "<br>Device: <b>" << esc(r.device) << "</b> ("
     << esc(r.device_details) << ")<br>Machine: " << r.cores << " cores; load average (1, 5, 15 min) "
     << load_text(r.load_before) << " at the start, " << load_text(r.load_after)
@@ -557,6 +643,7 @@ std::string report_html(const Report& r) {
          "after a warm-up; one run above 0.1 s), without program builds or transfers. DFG errors are the max (and "
          "RMS) over every channel and cell of |table &minus; reference| / max(1, |reference|) against the converged "
          "scalar double reference at the same cells. The numbers are also in the JSON file beside this page.</p>\n";
+  for (const auto& k : r.kernels) kernels_section(o, k);
   for (const auto& b : r.bake) bake_section(o, b);  // first: "which settings, for how long, at what error"
   for (const auto& s : r.dfg) dfg_section(o, s);
   if (!r.fresnel.empty()) fresnel_section(o, r.fresnel);
