@@ -3,8 +3,10 @@
 # host/src/report/kernel_ops.inc, the table the report divides by its device seconds:
 #   1. builds the Oclgrind plugin bench/kernel_ops/flop_counter.cpp (it counts every lane of a vector
 #      instruction; Oclgrind's --inst-counts counts a float16 add once) against LLVM 14's headers;
-#   2. runs `brdfbake report --kinds kernels --count-ops` under Oclgrind in each kernel shape: every
-#      row's launch once at its counting size, a marker line before and after it in the counts file;
+#   2. runs `brdfbake report --kinds kernels --count-ops` under Oclgrind in each kernel shape, on one
+#      worker thread (the plugin's counters are not atomic, and Oclgrind 21.10 runs several workers
+#      whatever the plugin says): every row's launch once at its counting size, a marker line before
+#      and after it in the counts file;
 #   3. sums, per row, the launches of the row's kernel between its markers, with the row's work units
 #      and the hash of its kernel file's source (the report ignores a count made on other sources).
 # Usage: scripts/count_kernel_ops.sh [BUILD_DIR] [SHAPES]  (default: build, "cpu gpu"); minutes:
@@ -18,11 +20,12 @@ trap 'rm -rf "$work"' EXIT
 llvm=${LLVM_DIR:-/usr/lib/llvm-14}
 g++ -std=c++17 -O2 -fPIC -fno-rtti -shared -I"$llvm/include" bench/kernel_ops/flop_counter.cpp \
   -o "$work/libflop_counter.so" -loclgrind-21.10 -L"$llvm/lib" -lLLVM-14
-version=$(oclgrind --version 2>&1 | grep -m1 -o 'Oclgrind [0-9.]*' || echo Oclgrind)
+version=$(oclgrind --version 2>&1 | grep -o 'Oclgrind [0-9][0-9.]*' | head -1)
+version=${version:-Oclgrind}
 for shape in $shapes; do
   echo "counting the $shape shape under $version ..." >&2
   BRDFBAKE_KERNEL_SHAPE=$shape BRDFBAKE_FLOP_COUNTS="$work/$shape.jsonl" BRDFBAKE_CACHE_DIR="$work/cache" \
-    oclgrind --plugins "$work/libflop_counter.so" "$build/host/cli/brdfbake" report --kinds kernels --count-ops \
+    oclgrind --num-threads 1 --plugins "$work/libflop_counter.so" "$build/host/cli/brdfbake" report --kinds kernels --count-ops \
     --quiet -o "$work/$shape.html"
 done
 python3 - "$work" "$version" $shapes <<'PY'

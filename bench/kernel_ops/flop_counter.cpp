@@ -6,6 +6,7 @@
 // Each launch appends one JSON line to $BRDFBAKE_FLOP_COUNTS (else stderr):
 //   {"kernel": NAME, "work_items": N, "flops": F, "fp64_flops": F64, "add": .., "mul": .., "fma": ..,
 //    "div": .., "sqrt": .., "transcendental": .., "global_load_bytes": .., "global_store_bytes": ..}
+// Bytes: every load and store of global (and, loaded, constant) memory, vloadN/vstoreN included.
 // What counts as a flop (per lane): fadd, fsub, fmul, fdiv 1; fma/fmuladd/mad 2; sqrt, rsqrt 1; each
 // transcendental builtin (exp, log, pow, sin, cos, tan, acos, asin, atan, atan2, exp2, log2, sincos) 1;
 // dot of n lanes 2n - 1, length 2n, normalize 3n, cross 9, mix 3, distance 3n. fneg, fabs, fmin,
@@ -159,6 +160,18 @@ class FlopCounter : public oclgrind::Plugin {
     if (name.rfind("llvm.sqrt", 0) == 0) return flop(lanes, c_.sqrt);
     if (name.rfind("llvm.", 0) == 0) return;  // fabs, minnum, lifetime, memcpy ...
     const std::string b = builtin_name(name);
+    if (b.rfind("vload", 0) == 0 || b.rfind("vstore", 0) == 0) {  // vloadN, vstoreN, vload_half, vstore_half
+      const bool load = b[1] == 'l', half = b.find("half") != std::string::npos;
+      const unsigned pointer = load ? 1 : 2;
+      if (call->arg_size() <= pointer || !call->getArgOperand(pointer)->getType()->isPointerTy()) return;
+      const unsigned space = call->getArgOperand(pointer)->getType()->getPointerAddressSpace();
+      if (load && (space == 1 || space == 2)) c_.load += half ? 2.0 * result.num : double(result.size) * result.num;
+      if (!load && space == 1) {
+        const llvm::Type* v = call->getArgOperand(0)->getType();
+        c_.store += half ? 2.0 * lanes_of(v) : double(v->getPrimitiveSizeInBits()) / 8.0;
+      }
+      return;
+    }
     if (b == "mad" || b == "fma") return flop_arg(2 * arg_lanes, c_.fma);
     if (b == "sqrt" || b == "rsqrt" || b == "native_sqrt" || b == "native_rsqrt") return flop_arg(arg_lanes, c_.sqrt);
     if (b == "dot") return flop_arg(2 * arg_lanes - 1, c_.fma);
@@ -188,7 +201,7 @@ class FlopCounter : public oclgrind::Plugin {
     std::fputs(line, out ? out : stderr);
     if (out) std::fclose(out);
   }
-  bool isThreadSafe() const override { return false; }
+  bool isThreadSafe() const override { return false; }  // and run it with --num-threads 1: the counters are plain
 
  private:
   Counts c_;

@@ -38,6 +38,7 @@ TEST(KernelRoofline, ComputeBoundRowFromKnownCountsAndTimes) {
   EXPECT_DOUBLE_EQ(r.intensity, 50.0);
   EXPECT_EQ(r.bound, "compute");
   EXPECT_DOUBLE_EQ(r.fraction, 0.5);
+  EXPECT_DOUBLE_EQ(r.flops_fraction, 0.5);
   EXPECT_TRUE(r.limit.empty()) << r.limit;  // above 25 %: no cause named
 }
 
@@ -50,7 +51,21 @@ TEST(KernelRoofline, MemoryBoundRowIsAFractionOfTheBandwidth) {
   EXPECT_DOUBLE_EQ(r.gflops, 2.0);
   EXPECT_DOUBLE_EQ(r.gbytes_per_second, 16.0);
   EXPECT_DOUBLE_EQ(r.fraction, 0.8);
+  EXPECT_DOUBLE_EQ(r.flops_fraction, 0.005);
   EXPECT_TRUE(r.limit.empty());
+}
+
+TEST(KernelRoofline, AboveTheTriadSaysTheCachesServeIt) {
+  // 1 flop and 8 bytes a texel at 5e9 texels/s: 40 GB/s against the triad's 20, 5 GFLOP/s of 400.
+  KernelRow r = counted_row(5e7, 0.01, 1, 8);
+  r.walk = true;
+  place_kernel_row(r, 400.0, 20.0, 2);
+  EXPECT_EQ(r.bound, "memory");
+  EXPECT_DOUBLE_EQ(r.fraction, 2.0);
+  EXPECT_DOUBLE_EQ(r.flops_fraction, 0.0125);
+  EXPECT_NE(r.limit.find("the caches serve them"), std::string::npos) << r.limit;
+  EXPECT_NE(r.limit.find("1.2% of the flops peak"), std::string::npos) << r.limit;
+  EXPECT_NE(r.limit.find("walk"), std::string::npos) << r.limit;
 }
 
 TEST(KernelRoofline, BelowAQuarterOfThePeakSaysWhatBoundsIt) {

@@ -89,10 +89,11 @@ struct KernelRow {
   double special_share = 0.0;  // divisions, square roots and transcendentals, of the flops
   // place_kernel_row:
   double units_per_second = 0.0, gflops = 0.0, gbytes_per_second = 0.0;
-  double intensity = 0.0;  // flops per byte
-  std::string bound;       // "compute" (intensity at or above the ridge) or "memory"
-  double fraction = 0.0;   // of the measured peak: GFLOP/s over peak (compute), GB/s over bandwidth (memory)
-  std::string limit;       // below kKernelLowFraction: what bounds it, in words
+  double intensity = 0.0;       // flops per byte
+  std::string bound;            // "compute" (intensity at or above the ridge) or "memory"
+  double fraction = 0.0;        // of the roof: GFLOP/s over the peak (compute), GB/s over the triad's (memory)
+  double flops_fraction = 0.0;  // GFLOP/s over the peak of its precision, whichever side of the ridge
+  std::string limit;            // below kKernelLowFraction of the roof, or above the triad: what bounds it, in words
 };
 inline constexpr double kKernelLowFraction = 0.25;
 struct KernelsReport {
@@ -105,7 +106,8 @@ struct KernelsReport {
 };
 // Fills a row's derived figures from its units, device seconds and per-unit counts, against the
 // peaks (GFLOP/s of its precision, GB/s): throughput, GFLOP/s, GB/s, intensity, the side of the
-// ridge, the fraction of the peak and, below kKernelLowFraction, what bounds it.
+// ridge, the fraction of the roof and of the flops peak and, below kKernelLowFraction of the roof
+// (or above the triad's bandwidth: loads the caches serve), what bounds it.
 void place_kernel_row(KernelRow& row, double peak_gflops, double bandwidth_gbs, unsigned compute_units);
 // The device's peaks alone (kernels/device_peak.cl): fp32 and, where the device has it, fp64 FMA
 // rate, and the triad's bandwidth; the shape the device was opened in. No rows.

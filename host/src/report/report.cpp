@@ -260,8 +260,9 @@ json kernels_json(const KernelsReport& k) {
       "DRAM traffic); the row ran at the counting size (scripts/count_kernel_ops.sh) and its counts per unit scale "
       "to the measured launch's units";
   j["fraction_definition"] =
-      "compute-bound rows (flops per byte at or above the ridge, peak GFLOP/s / triad GB/s): GFLOP/s over the peak of "
-      "the row's precision; memory-bound rows: GB/s over the triad's";
+      "'fraction', of the roof: compute-bound rows (flops per byte at or above the ridge, peak GFLOP/s / triad GB/s): "
+      "GFLOP/s over the peak of the row's precision; memory-bound rows: GB/s over the triad's (above 1: the caches "
+      "serve the loads); 'flops_fraction': GFLOP/s over the peak, whichever the side";
   json rows = json::array();
   for (const auto& r : k.rows) {
     json row = {{"id", r.id},
@@ -284,6 +285,7 @@ json kernels_json(const KernelsReport& k) {
       row["intensity"] = std::isfinite(r.intensity) ? json(r.intensity) : json(nullptr);
       row["bound"] = r.bound;
       row["fraction"] = r.fraction;
+      row["flops_fraction"] = r.flops_fraction;
       row["limit"] = r.limit;
     }
     rows.push_back(row);

@@ -581,23 +581,25 @@ void kernels_section(std::ostringstream& o, const KernelsReport& k) {
        "the whole call beside them. Flops and bytes are <b>counted</b>, not estimated: "
     << esc(kernel_op_count_source())
     << ". A row is compute-bound where its flops per byte reach the ridge (peak / bandwidth), and its fraction is of "
-       "the peak GFLOP/s of its precision; else of the triad's GB/s. Below "
+       "the peak GFLOP/s of its precision; else of the triad's GB/s (above 100 %: the caches serve its loads). The "
+       "flops peak's fraction is beside it whatever the side. Below "
     << fmt(100 * kKernelLowFraction, "%.0f") << "% the table says what bounds it.</p>\n";
   o << "<div class=\"plots\">" << roofline_plot(k) << "</div>\n";
   o << "<table><tr><th>kernel</th><th>launch</th><th>precision</th><th>throughput</th><th>device (ms)</th><th>wall "
        "(ms)</th><th>flops/unit</th><th>bytes/unit</th><th>GFLOP/s</th><th>GB/s</th><th>flops/byte</th><th>bound</th>"
-       "<th>of peak</th><th>what bounds it</th></tr>\n";
+       "<th>of the roof</th><th>of the flops peak</th><th>what bounds it</th></tr>\n";
   for (const auto& r : k.rows) {
-    o << "<tr><td><code>" << esc(r.kernel) << "</code></td><td>" << esc(r.launch) << "</td><td>" << r.precision
-      << "</td><td>" << fmt(r.units_per_second, "%.3g") << " " << esc(r.unit) << "s/s</td><td>"
-      << fmt(r.device_seconds * 1e3, "%.2f") << "</td><td>" << fmt(r.wall_seconds * 1e3, "%.2f") << "</td>";
+    o << "<tr><td><code>" << esc(r.kernel) << "</code></td><td style=\"text-align:left\">" << esc(r.launch)
+      << "</td><td>" << r.precision << "</td><td>" << fmt(r.units_per_second, "%.3g") << " " << esc(r.unit)
+      << "s/s</td><td>" << fmt(r.device_seconds * 1e3, "%.2f") << "</td><td>" << fmt(r.wall_seconds * 1e3, "%.2f")
+      << "</td>";
     if (r.counted)
       o << "<td>" << fmt(r.flops_per_unit, "%.4g") << "</td><td>" << fmt(r.bytes_per_unit, "%.3g") << "</td><td>"
         << fmt(r.gflops, "%.2f") << "</td><td>" << fmt(r.gbytes_per_second, "%.2f") << "</td><td>"
         << fmt(r.intensity, "%.3g") << "</td><td>" << r.bound << "</td><td><b>" << pct(r.fraction) << "</b></td><td>"
-        << esc(r.limit) << "</td></tr>\n";
+        << pct(r.flops_fraction) << "</td><td style=\"text-align:left\">" << esc(r.limit) << "</td></tr>\n";
     else
-      o << "<td colspan=\"8\">"
+      o << "<td colspan=\"9\">"
         << (r.stale ? "counted on other sources of its kernel file: count again"
                     : "not counted in the " + esc(k.shape) + " shape")
         << " (scripts/count_kernel_ops.sh)</td></tr>\n";
