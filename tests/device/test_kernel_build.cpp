@@ -219,6 +219,30 @@ TEST(KernelBuild, BrdfEvalVariantsAreWarningFree) {
   expect_warning_free(brdf_variants(), {{{"BRDFBAKE_LANES", "8"}}, {{"BRDFBAKE_LANES", "16"}}});
 }
 TEST(KernelBuild, EnvironmentVariantsAreWarningFree) { expect_warning_free(environment_variants()); }
+// The GPU shape's programs (docs/DEVICES.md, "Kernel shapes"; the prefilter's per-texel walk is in
+// prefilter.cl whatever the shape, built above): brdf_eval.cl at 4 lanes, every model with every lobe
+// its materials can switch on together (the largest program of each model: the lanes change the
+// vector types, which every lobe's code meets), and fresnel.cl at one chunk of 8 lanes a work-item.
+TEST(KernelBuild, GpuShapeVariantsAreWarningFree) {
+  std::vector<Variant> brdf;
+  for (const Variant& v : brdf_variants()) {
+    const auto same_model =
+        std::find_if(brdf.begin(), brdf.end(), [&](const Variant& b) { return b.defines.at(0) == v.defines.at(0); });
+    if (same_model == brdf.end())
+      brdf.push_back(v);
+    else if (v.defines.size() > same_model->defines.size())
+      *same_model = v;
+  }
+  for (Variant& v : brdf) v.fast_math_too = false;
+  expect_warning_free(brdf, {{{"BRDFBAKE_LANES", "4"}}});
+  std::vector<Variant> fresnel = fresnel_variants();
+  for (Variant& v : fresnel) {
+    for (auto& d : v.defines)
+      if (d.first == "BRDFBAKE_FRESNEL_CHUNKS") d.second = "1";
+    v.defines.insert(v.defines.begin() + 2, {"BRDFBAKE_LANES", "8"});
+  }
+  expect_warning_free(fresnel);
+}
 
 // ---- The enumeration against the sources --------------------------------------------------------
 
