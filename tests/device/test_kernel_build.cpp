@@ -80,6 +80,16 @@ std::vector<Variant> dfg_variants() {
   return v;
 }
 
+// The GPU shape of host/src/families/dfg_lut/opencl.cpp: the same variants, a work-group of 32 a cell.
+std::vector<Variant> gpu_dfg_variants() {
+  std::vector<Variant> v = dfg_variants();
+  for (Variant& d : v) {
+    d.defines.push_back({"BRDFBAKE_DFG_GROUPS", "1"});
+    d.defines.push_back({"BRDFBAKE_DFG_GROUP", "32"});
+  }
+  return v;
+}
+
 // host/src/families/fresnel/opencl.cpp: one model, 1-D or 2-D; the lane count is set per precision below.
 std::vector<Variant> fresnel_variants() {
   std::vector<Variant> v;
@@ -244,7 +254,8 @@ TEST(KernelBuild, EnvironmentVariantsAreWarningFree) { expect_warning_free(envir
 // The GPU shape's programs (docs/DEVICES.md, "Kernel shapes"; the prefilter's per-texel walk is in
 // prefilter.cl whatever the shape, built above): brdf_eval.cl at 4 lanes, every model with every lobe
 // its materials can switch on together (the largest program of each model: the lanes change the
-// vector types, which every lobe's code meets), and fresnel.cl at one chunk of 8 lanes a work-item.
+// vector types, which every lobe's code meets), fresnel.cl at one chunk of 8 lanes a work-item, and
+// dfg_lut.cl at a work-group a cell.
 TEST(KernelBuild, GpuShapeVariantsAreWarningFree) {
   std::vector<Variant> brdf = largest_brdf_variants();
   for (Variant& v : brdf) v.fast_math_too = false;
@@ -256,6 +267,7 @@ TEST(KernelBuild, GpuShapeVariantsAreWarningFree) {
     v.defines.insert(v.defines.begin() + 2, {"BRDFBAKE_LANES", "8"});
   }
   expect_warning_free(fresnel);
+  expect_warning_free(gpu_dfg_variants());
 }
 
 // ---- The enumeration against the sources --------------------------------------------------------
@@ -327,7 +339,8 @@ std::set<std::string> host_switches(const std::set<std::string>& in_kernels) {
 // BRDFBAKE_FP64, which build_program sets for Precision::Fp64 (both precisions are built).
 std::set<std::string> enumerated_switches() {
   std::set<std::string> out = {"BRDFBAKE_FP64", "BRDFBAKE_LANES"};
-  for (const auto& variants : {dfg_variants(), fresnel_variants(), brdf_variants(), environment_variants()})
+  for (const auto& variants :
+       {dfg_variants(), gpu_dfg_variants(), fresnel_variants(), brdf_variants(), environment_variants()})
     for (const Variant& v : variants)
       for (const auto& d : v.defines) out.insert(d.first);
   return out;
