@@ -365,6 +365,8 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
                                    httplib::Response& res) {
   JobRecord r;
   Job job;
+  double units = 0;
+  std::string choice;
   try {
     roots->confine_job_document(doc, origin);
     job = parse_job(doc.dump(), origin);
@@ -393,6 +395,21 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     }
     check_memory(job, origin);
     r.timeout = number_param(req, "timeout", opt.job_timeout, 0.01, opt.job_timeout);
+    // A job that names no device, where several are served, goes to the one that finishes it first
+    // (Scheduler::choose_device: backlogs and measured rates); the job then names it, so that its
+    // tables bake there, and its status says why (device_choice).
+    units = job_work_units(job.tables);
+    const bool named = !job.device.empty() || std::any_of(job.tables.begin(), job.tables.end(),
+                                                          [](const TableRequest& t) { return !t.device.empty(); });
+    if (!named) {
+      const std::string pick = scheduler->choose_device(units, &choice);
+      if (!pick.empty()) {
+        r.device = pick;
+        job.device = pick;
+      } else {
+        choice.clear();
+      }
+    }
   } catch (const NotAvailableError& e) {
     fail(res, 501, e.what());
     return;
@@ -412,7 +429,7 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   r.job = job_to_json(job);
   r.submitted = now_seconds();
   try {
-    scheduler->submit(r);
+    scheduler->submit(r, units, choice);
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
     fail(res, 503, e.what());
@@ -426,6 +443,8 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   body["state"] = "queued";
   body["url"] = "/v1/jobs/" + r.id;
   body["tables"] = job.tables.size();
+  body["device"] = r.device;
+  if (!choice.empty()) body["device_choice"] = choice;
   res.set_header("Location", "/v1/jobs/" + r.id);
   reply_json(res, 202, body);
 }
@@ -471,6 +490,7 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
   o["state"] = job_state_name(r.state);
   o["source"] = r.source;
   o["device"] = r.device;
+  if (const std::string c = scheduler->device_choice(r.id); !c.empty()) o["device_choice"] = c;
   o["submitted"] = r.submitted;
   o["started"] = r.started > 0 ? json(r.started) : json(nullptr);
   o["finished"] = r.finished > 0 ? json(r.finished) : json(nullptr);
@@ -915,6 +935,8 @@ void Server::Impl::routes() {
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
       e["load"] = d.load;
+      // the work rate the choice of a job's device reads (bytes of output a second, measured)
+      e["rate"] = d.rate > 0 ? json(d.rate) : json(nullptr);
       a.push_back(e);
     }
     json o;

@@ -97,6 +97,14 @@ TEST_F(ServerApi, HealthDevicesAndMetrics) {
   const std::string id = submit(c, small_job());
   ASSERT_FALSE(id.empty());
   EXPECT_EQ(wait_job(c, id)["state"], "done");
+  // Each OpenCL device's work rate (the choice of a job's device reads it), measured by its warm-up
+  // or by the job; the reference is chosen only by name and has none.
+  auto d2 = c.Get("/v1/devices");
+  ASSERT_TRUE(d2);
+  const json after = body_json(d2)["devices"];
+  ASSERT_TRUE(after[0]["rate"].is_number()) << after.dump();
+  EXPECT_GT(after[0]["rate"].get<double>(), 0.0);
+  EXPECT_TRUE(after.back()["rate"].is_null()) << after.dump();
   auto m = c.Get("/metrics");
   ASSERT_TRUE(m);
   EXPECT_EQ(m->status, 200);
