@@ -869,9 +869,18 @@ def plan_options() -> List[Dict[str, Any]]:
 
 def devices() -> List[Dict[str, Any]]:
     """The OpenCL devices: selector ("P:D"), name, type, vendor, platform, versions, compute units,
-    memory, fp64, and which is the default. ``device="reference"`` (the scalar double reference) is
-    always there too. An empty list when there is no OpenCL platform."""
+    memory, fp64, which is the default, and the kernel shape it opens in (``kernel_shape``: "cpu"
+    or "gpu", docs/DEVICES.md). ``device="reference"`` (the scalar double reference) is always there
+    too. An empty list when there is no OpenCL platform."""
     return _core.devices()
+
+
+def set_kernel_shape(shape: str) -> None:
+    """The kernels' work shape for the devices opened from now on: "auto" (the device's type),
+    "cpu" or "gpu" (docs/DEVICES.md, "Kernel shapes"); as ``--kernel-shape`` of the command line,
+    and ahead of ``BRDFBAKE_KERNEL_SHAPE``. A device already opened (by an earlier call) keeps its
+    shape. Raises ValueError for another name."""
+    _core.set_kernel_shape(shape)
 
 
 def kinds() -> List[Dict[str, Any]]:

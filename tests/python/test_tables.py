@@ -233,3 +233,24 @@ def test_a_png_environment_goes_through_the_installed_openimageio_module(tmp_pat
     assert (env.width, env.height) == (64, 32)
     r = brdfbake.irradiance(env, sh_order=3)
     np.testing.assert_allclose(r.sh[0], 2 * math.sqrt(math.pi), rtol=ENV_FURNACE)
+
+
+def test_kernel_shape_from_python():
+    """The kernels' work shape (docs/DEVICES.md): devices() says each device's; set_kernel_shape
+    chooses it for the devices opened afterwards (a process of its own here: it is process-wide);
+    another name is an InputError (a ValueError) and changes nothing."""
+    import os
+    import subprocess
+    import sys
+
+    if not os.environ.get("BRDFBAKE_KERNEL_SHAPE"):
+        for d in brdfbake.devices():
+            assert d["kernel_shape"] == ("cpu" if d["type"] == "cpu" else "gpu"), d
+    with pytest.raises(ValueError, match="auto, cpu or gpu"):
+        brdfbake.set_kernel_shape("warp")
+    code = ("import brdfbake, json; brdfbake.set_kernel_shape('gpu'); "
+            "print(json.dumps([d['kernel_shape'] for d in brdfbake.devices()]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    shapes = json.loads(out.stdout)
+    assert shapes and all(s == "gpu" for s in shapes), shapes
