@@ -146,7 +146,8 @@ std::uint64_t resident_bytes() {
 
 // What POST /v1/tables sends back, kept by the result cache.
 struct TableReply {
-  std::string bytes, content_type, filename, summary, error_bound;
+  std::string bytes, content_type, filename, summary;
+  std::string error_name, error_value;  // the figure's name (error_figures.hpp) and its text, as the file records it
   std::vector<std::string> warnings;
   double seconds = 0;
   std::string timing;  // the device task's part of Server-Timing
@@ -528,20 +529,39 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
-    // Each file's error figure as the command line prints it and the file records it
-    // (error_bound_text: rounded up to three digits), by its path in the manifest; the figure's
-    // name is the manifest entry's error_name (error_bound in an older manifest).
-    json bounds = json::object();
+    // Each file's error figures under their names (docs/CONVENTIONS.md, "Error figures"), as the
+    // command line prints them and the files record them (error_bound_text: rounded up to three
+    // digits), by its path: a table's `error_name` and its figure (error_bound in an older
+    // manifest), an engine file's error_rms_rel and error_max_rel (engine.file_entries).
+    // `error_bounds` is the deprecated alias of the first release (path: the text alone).
+    json figures = json::object(), bounds = json::object();
     if (m.is_object() && m.contains("files") && m["files"].is_array())
       for (const auto& f : m["files"]) {
         if (!f.is_object() || !f.contains("path") || !f["path"].is_string()) continue;
         const std::string figure = f.contains("error_name") && f["error_name"].is_string()
                                        ? f["error_name"].get<std::string>()
                                        : std::string(kLegacyErrorBoundName);
-        if (f.contains(figure) && f[figure].is_number())
-          bounds[f["path"].get<std::string>()] = error_bound_text(f[figure].get<double>());
+        json e;
+        e["error_name"] = figure;
+        e[figure] = nullptr;
+        if (f.contains(figure) && f[figure].is_number()) {
+          e[figure] = error_bound_text(f[figure].get<double>());
+          bounds[f["path"].get<std::string>()] = e[figure];
+        }
+        figures[f["path"].get<std::string>()] = e;
       }
-    o["error_bounds"] = bounds;
+    if (m.is_object() && m.contains("engine") && m["engine"].is_object() && m["engine"].contains("file_entries") &&
+        m["engine"]["file_entries"].is_array())
+      for (const auto& f : m["engine"]["file_entries"]) {
+        if (!f.is_object() || !f.contains("path") || !f["path"].is_string()) continue;
+        json e;
+        e["error_name"] = kEngineErrorName;
+        for (const char* name : {"error_rms_rel", "error_max_rel"})
+          e[name] = f.contains(name) && f[name].is_number() ? json(error_bound_text(f[name].get<double>())) : json();
+        figures[f["path"].get<std::string>()] = e;
+      }
+    o["error_figures"] = figures;
+    o["error_bounds"] = bounds;  // deprecated (docs/SERVICE.md): error_figures
     o["manifest"] = m;
   }
   return o;
@@ -726,7 +746,13 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
     res.status = 200;
     res.set_header("Content-Disposition", content_disposition(r.filename));
     res.set_header("X-Brdfbake-Summary", header_text(r.summary));
-    if (!r.error_bound.empty()) res.set_header("X-Brdfbake-Error-Bound", r.error_bound);
+    // The file's error figure under its name (docs/CONVENTIONS.md, "Error figures"); the value only
+    // where one was measured. X-Brdfbake-Error-Bound: the deprecated alias of the value.
+    res.set_header("X-Brdfbake-Error-Name", r.error_name);
+    if (!r.error_value.empty()) {
+      res.set_header("X-Brdfbake-Error-Value", r.error_value);
+      res.set_header("X-Brdfbake-Error-Bound", r.error_value);
+    }
     for (const auto& w : r.warnings) res.set_header("X-Brdfbake-Warning", header_text(w));
     res.set_header("X-Brdfbake-Cache", hit ? "hit" : "miss");
     // Where the time went (docs/SERVICE.md): checking the request, then on a miss the device task's
@@ -772,7 +798,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
       reply->content_type = content_type(t.output);
       reply->filename = fs::path(t.output).filename().string();
       reply->summary = run.result.summary;
-      reply->error_bound = run.delivery.error_bound_text;  // what the file records
+      reply->error_name = error_figure(t.kind).name;
+      reply->error_value = run.delivery.error_bound_text;  // what the file records
       reply->warnings = run.warnings;
       reply->seconds = run.result.seconds;
       char timing[160];
