@@ -2,7 +2,9 @@
 // shader would show from perfect files. The target's own files with their inputs replaced, so that the
 // same split-sum code (splitsum.hpp) renders them: each level of the GGX chain at the roughness the
 // target's schedule gives it in a chain of the files' level count (the engine's LOD mapping and its
-// blend between levels unchanged), filtered on its own at a high face size in float32; the DFG table
+// blend between levels unchanged), filtered on its own at a high face size in float32; the Charlie
+// chain (KHR_materials_sheen) likewise at the roughness its lookup asks of each level (lod =
+// sheenRoughness (levels - 1): linear); the DFG table
 // at its texel centres' exact albedos in float32 at a high size (a target whose engine samples its own
 // table keeps it: no file changes it); no storage. What the files add to the render's error is then
 // split-sum(files) - split-sum(ideal), what the engine's approximation adds split-sum(ideal) -
@@ -45,8 +47,9 @@ struct IdealBake {
 struct IdealParts {
   std::string key;
   std::vector<CubeLevels> specular_levels;
-  Table dfg;      // width 0: the files' own (the engine samples its own table)
-  Table charlie;  // width 0: the files' own (none, or another visibility)
+  std::vector<CubeLevels> sheen_levels;  // empty: the bake has no Charlie chain
+  Table dfg;                             // width 0: the files' own (the engine samples its own table)
+  Table charlie;                         // width 0: the files' own (none, or another visibility)
   Metadata settings;
   double seconds = 0.0;
 };
