@@ -171,6 +171,7 @@ std::string ideal_parts_key(const BakeFiles& files) {
   if (!engines::target_def(files.target).engine_dfg)
     k += files.dfg_multiscatter ? " dfg multiscatter" : " dfg single",
         k += files.dfg_sqrt_n_dot_v ? " sqrt" : " linear";
+  if (files.diffuse == DiffuseSource::IrradianceCube) k += " irradiance " + std::to_string(files.irradiance.size);
   if (files.charlie.width > 0)
     k += " charlie " + files.charlie_visibility + (files.charlie_sqrt_n_dot_v ? " sqrt" : " linear") + " " +
          (files.charlie.channels.empty() ? std::string("albedo") : files.charlie.channels[0]);
@@ -196,7 +197,19 @@ IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const Bake
                                        "^2 float32, each texel the exact albedos at its "
                                        "centre (the DFG family's quadrature), the files' axes and channels"});
   }
-  out.settings.push_back({"diffuse", ""});  // the files' own: apply_ideal_parts names them
+  if (files.diffuse == DiffuseSource::IrradianceCube) {
+    // the Lambertian cube (khronos-viewer): the irradiance family's at 4 x the files' face size
+    IrradianceSpec spec;
+    spec.cube_size = std::min(std::max(kIdealIrradianceSize, 2 * files.irradiance.size), kIrradianceMaxCube);
+    spec.source_size = kIdealIrradianceSource;
+    out.irradiance = compute_irradiance(backend, environment, spec).cube;
+    out.settings.push_back({"diffuse", "the Lambertian cube " + std::to_string(spec.cube_size) +
+                                           "^2 float32 (the irradiance family's, from the environment converted "
+                                           "to " +
+                                           std::to_string(spec.source_size) + "^2), no storage"});
+  } else {
+    out.settings.push_back({"diffuse", ""});  // the files' own: apply_ideal_parts names them
+  }
   // KHR_materials_sheen: the charlie table where its visibility is the reference's (Estevez & Kulla);
   // the Charlie chain stays the files'
   if (files.charlie.width > 0 && (files.charlie_visibility.empty() || files.charlie_visibility == "estevez-kulla")) {
@@ -238,13 +251,17 @@ IdealBake apply_ideal_parts(const IdealParts& parts, const BakeFiles& files) {
     out.files.dfg_file = "the ideal DFG table";
   }
   if (!parts.sheen_levels.empty()) out.files.sheen_levels = parts.sheen_levels;
+  if (!parts.irradiance.levels.empty()) {
+    out.files.irradiance = parts.irradiance;
+    out.files.diffuse_file = "the ideal Lambertian cube";
+  }
   if (parts.charlie.width > 0) {
     out.files.charlie = parts.charlie;
     out.files.charlie_file = "the ideal charlie table";
   }
   out.settings = parts.settings;
   for (auto& [key, value] : out.settings)
-    if (key == "diffuse") value = "the files' own (" + file_name(files.diffuse_file) + ")";
+    if (key == "diffuse" && value.empty()) value = "the files' own (" + file_name(files.diffuse_file) + ")";
   out.seconds = parts.seconds;
   return out;
 }
