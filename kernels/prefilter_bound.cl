@@ -64,28 +64,20 @@ inline double3 bound_fetch_extended(global const float4* level0, int size, int f
 
 // The seamless bilinear interpolation of level 0 at the point (a, b) of `face` (cube_bilinear, which
 // finds them from the direction: a sub-cell's centre is inside its face, and the reference's face
-// coordinates of its direction are its own up to a rounding).
-inline double3 bound_bilinear(global const float4* level0, int size, int face, double a, double b) {
-  const double x = 0.5 * (a + 1.0) * (double)size - 0.5, y = 0.5 * (b + 1.0) * (double)size - 0.5;
-  const double x0 = floor(x), y0 = floor(y);
-  const double fx = x - x0, fy = y - y0;
-  const int i0 = (int)x0, j0 = (int)y0;
-  if (i0 >= 0 && j0 >= 0 && i0 + 1 < size && j0 + 1 < size) {  // inside the face: no neighbour's texel
-    const double3 t00 = bound_texel(level0, size, face, i0, j0), t10 = bound_texel(level0, size, face, i0 + 1, j0);
-    const double3 t01 = bound_texel(level0, size, face, i0, j0 + 1);
-    const double3 t11 = bound_texel(level0, size, face, i0 + 1, j0 + 1);
-    return (1.0 - fy) * ((1.0 - fx) * t00 + fx * t10) + fy * ((1.0 - fx) * t01 + fx * t11);
-  }
+// coordinates of its direction are its own up to a rounding), at x = i0 + fx, y = j0 + fy in texels.
+inline double3 bound_interpolate(double3 t00, double3 t10, double3 t01, double3 t11, double fx, double fy) {
+  return (1.0 - fy) * ((1.0 - fx) * t00 + fx * t10) + fy * ((1.0 - fx) * t01 + fx * t11);
+}
+
+// The same where a texel of the four lies past the face's edge (bound_fetch_extended's).
+double3 bound_bilinear_extended(global const float4* level0, int size, int face, int i0, int j0, double fx,
+                                double fy) {
   const double3 t00 = bound_fetch_extended(level0, size, face, i0, j0);
   const double3 t10 = bound_fetch_extended(level0, size, face, i0 + 1, j0);
   const double3 t01 = bound_fetch_extended(level0, size, face, i0, j0 + 1);
   const double3 t11 = bound_fetch_extended(level0, size, face, i0 + 1, j0 + 1);
-  return (1.0 - fy) * ((1.0 - fx) * t00 + fx * t10) + fy * ((1.0 - fx) * t01 + fx * t11);
+  return bound_interpolate(t00, t10, t01, t11, fx, fy);
 }
-
-// The antiderivative of a face's solid angle, F(a, b) = atan2(a b, sqrt(1 + a^2 + b^2))
-// (math::cube_rect_solid_angle's).
-inline double bound_corner(double a, double b) { return atan2(a * b, sqrt(1.0 + a * a + b * b)); }
 
 // K(c) = D(n.h) c for c = R.l > 0 with n.h = sqrt((1 + c) / 2), per lane (env_lobe_kernel); a: the
 // lane's alpha floored at kMinAlpha, a2 = a * a (both from the host, as the reference computes them).
@@ -110,8 +102,13 @@ inline realv bound_lobe_kernel(realv c, realv a, realv a2) {
   return d * cm;
 }
 
-// Directions a launch takes: BOUND_BLOCKS blocks of BRDFBAKE_LANES.
+// The antiderivative of a face's solid angle, F(a, b) = atan2(a b, sqrt(1 + a^2 + b^2))
+// (math::cube_rect_solid_angle's).
+inline double bound_corner(double a, double b) { return atan2(a * b, sqrt(1.0 + a * a + b * b)); }
+
+// Directions a launch takes: BOUND_BLOCKS blocks of BRDFBAKE_LANES; sub-cells prepared at a time.
 #define BOUND_BLOCKS 8
+#define BOUND_CHUNK 64
 
 // One work-item: row `row` of sub-cells (face = row / n, sub-cell row sj = row % n, n = size q
 // sub-cells a face side) for every block's BRDFBAKE_LANES directions: each sub-cell's direction,
@@ -166,6 +163,13 @@ kernel void prefilter_bound_reference(global double* out, global const float4* l
     row_last = max(row_last, last[bl]);
   }
 
+  // the bilinear's rows: y = 0.5 (b + 1) size - 0.5 is the row's (cube_bilinear)
+  const double y = 0.5 * (bc + 1.0) * (double)size - 0.5, y0 = floor(y), fy = y - y0;
+  const int j0 = (int)y0;
+  const bool rows_inside = j0 >= 0 && j0 + 1 < size;
+  global const float4* r0 = level0 + ((size_t)face * (size_t)size + (size_t)(rows_inside ? j0 : 0)) * (size_t)size;
+  global const float4* r1 = r0 + (rows_inside ? size : 0);
+
   realv acc[4 * BOUND_BLOCKS];
   for (int k = 0; k < 4 * BOUND_BLOCKS; ++k) acc[k] = (realv)0.0;
   global const double* c0 = corner + (table ? (size_t)sj * (size_t)(n + 1) : 0);
@@ -173,33 +177,60 @@ kernel void prefilter_bound_reference(global double* out, global const float4* l
   // without the table: F(a0, b0) and F(a0, b1) carried along the row
   const double a_first = -1.0 + 2.0 * row_first / n;
   double f00 = table ? 0.0 : bound_corner(a_first, b0), f01 = table ? 0.0 : bound_corner(a_first, b1);
-  for (int si = row_first; si < row_last; ++si) {
-    const double a0 = -1.0 + 2.0 * si / n, a1 = -1.0 + 2.0 * (si + 1) / n;
-    // cube_rect_solid_angle: F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0)
-    double omega;
-    if (table) {
-      omega = c1[si + 1] - c1[si] - c0[si + 1] + c0[si];
-    } else {
-      const double f10 = bound_corner(a1, b0), f11 = bound_corner(a1, b1);
-      omega = f11 - f01 - f10 + f00;
-      f00 = f10;
-      f01 = f11;
+  // BOUND_CHUNK sub-cells at a time: their directions, solid angles and radiances, then every
+  // block's terms of them (the block's lanes and sums held in registers over the chunk)
+  double cx[BOUND_CHUNK], cy[BOUND_CHUNK], cz[BOUND_CHUNK], cw[BOUND_CHUNK];
+  double cr[BOUND_CHUNK], cg[BOUND_CHUNK], cb[BOUND_CHUNK];
+  for (int start = row_first; start < row_last; start += BOUND_CHUNK) {
+    const int end = min(start + BOUND_CHUNK, row_last);
+    for (int si = start; si < end; ++si) {
+      const int k = si - start;
+      const double a0 = -1.0 + 2.0 * si / n, a1 = -1.0 + 2.0 * (si + 1) / n;
+      // cube_rect_solid_angle: F(a1, b1) - F(a0, b1) - F(a1, b0) + F(a0, b0)
+      if (table) {
+        cw[k] = c1[si + 1] - c1[si] - c0[si + 1] + c0[si];
+      } else {
+        const double f10 = bound_corner(a1, b0), f11 = bound_corner(a1, b1);
+        cw[k] = f11 - f01 - f10 + f00;
+        f00 = f10;
+        f01 = f11;
+      }
+      // the sub-cell's centre, normalised (the reference's normalized() divides by the length: a
+      // rounding apart)
+      const double ac = 0.5 * (a0 + a1);
+      const double3 p = cube_plane_point(face, ac, bc);
+      const double3 d = p * (1.0 / sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+      const double x = 0.5 * (ac + 1.0) * (double)size - 0.5, x0 = floor(x), fx = x - x0;
+      const int i0 = (int)x0;
+      const double3 l = rows_inside && i0 >= 0 && i0 + 1 < size
+                            ? bound_interpolate(convert_double3(r0[i0].xyz), convert_double3(r0[i0 + 1].xyz),
+                                                convert_double3(r1[i0].xyz), convert_double3(r1[i0 + 1].xyz), fx, fy)
+                            : bound_bilinear_extended(level0, size, face, i0, j0, fx, fy);
+      cx[k] = d.x;
+      cy[k] = d.y;
+      cz[k] = d.z;
+      cr[k] = l.x;
+      cg[k] = l.y;
+      cb[k] = l.z;
     }
-    // the sub-cell's centre, normalised (the reference's normalized() divides by the length: a
-    // rounding apart)
-    const double ac = 0.5 * (a0 + a1);
-    const double3 p = cube_plane_point(face, ac, bc);
-    const double3 d = p * (1.0 / sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
-    const double3 l = bound_bilinear(level0, size, face, ac, bc);
     for (int bl = 0; bl < blocks; ++bl) {
 #pragma OPENCL FP_CONTRACT ON
-      if (si < first[bl] || si >= last[bl]) continue;
-      const realv c = rx[bl] * d.x + ry[bl] * d.y + rz[bl] * d.z;
-      const realv kw = select((realv)0.0, bound_lobe_kernel(c, ra[bl], ra2[bl]) * omega, c > 0.0);
-      acc[4 * bl] += kw * l.x;
-      acc[4 * bl + 1] += kw * l.y;
-      acc[4 * bl + 2] += kw * l.z;
-      acc[4 * bl + 3] += kw;
+      const int lo = max(first[bl], start), hi = min(last[bl], end);
+      if (lo >= hi) continue;
+      const realv x = rx[bl], y = ry[bl], z = rz[bl], a = ra[bl], a2 = ra2[bl];
+      realv s0 = acc[4 * bl], s1 = acc[4 * bl + 1], s2 = acc[4 * bl + 2], s3 = acc[4 * bl + 3];
+      for (int k = lo - start; k < hi - start; ++k) {
+        const realv c = x * cx[k] + y * cy[k] + z * cz[k];
+        const realv kw = select((realv)0.0, bound_lobe_kernel(c, a, a2) * cw[k], c > 0.0);
+        s0 += kw * cr[k];
+        s1 += kw * cg[k];
+        s2 += kw * cb[k];
+        s3 += kw;
+      }
+      acc[4 * bl] = s0;
+      acc[4 * bl + 1] = s1;
+      acc[4 * bl + 2] = s2;
+      acc[4 * bl + 3] = s3;
     }
   }
   for (int bl = 0; bl < blocks; ++bl) {
