@@ -199,7 +199,11 @@ class OpenClChainBound final : public ChainBoundKernel {
   explicit OpenClChainBound(Device& device) : device_(device) {}
   ChainBound measure(const CubeLevels& cube, EnvDistribution distribution,
                      const std::vector<double>& roughness) override {
-    if (!device_.impl().info.fp64) return chain_error_bound(cube, distribution, roughness);
+    // the host's reference where the device has no fp64, or cannot hold level 0 in one buffer
+    const DeviceInfo& info = device_.impl().info;
+    const size_t level0_bytes = cube.levels.empty() ? 0 : cube.levels[0].size() * sizeof(float);
+    if (!info.fp64 || (info.max_alloc != 0 && level0_bytes > info.max_alloc))
+      return chain_error_bound(cube, distribution, roughness);
     double device_seconds = 0.0;
     ChainBound b =
         chain_error_bound(cube, distribution, roughness,

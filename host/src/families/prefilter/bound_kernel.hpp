@@ -1,6 +1,7 @@
 // Internal: the chain's error bound as a backend kernel (bound.cpp says what it measures). Its
 // implementations: bound_device.cpp (the reference's values summed on an OpenCL device in fp64,
-// kernels/prefilter_bound.cl; the host's scalar reference where the device has no fp64) and the
+// kernels/prefilter_bound.cl; the host's scalar reference where the device has no fp64 or cannot
+// allocate level 0 in one buffer) and the
 // reference backend's (the scalar reference); the descriptor (family.cpp) registers both.
 #pragma once
 
