@@ -1,23 +1,22 @@
 // The chain's error bound with the reference's values summed on the device (kernels/prefilter_bound.cl):
 // the same definition as the scalar reference (host/reference/src/prefilter.cpp, prefilter_directions),
 // every sub-cell of level 0 against every sample direction in double, so the bound a chain records
-// does not depend on where its reference was summed (tests/device/test_prefilter.cpp holds the two to
-// each other). The kernel classes of ChainBoundKernel (bound_kernel.hpp): OpenCL (this device in
-// fp64, else the host's reference) and the reference backend's.
+// does not depend on where its reference was summed (tests/device/test_prefilter_bound.cpp holds the
+// two to each other). The kernel classes of ChainBoundKernel (bound_kernel.hpp): OpenCL (this device
+// in fp64, else the host's reference) and the reference backend's.
 //
 // What the device is given: level 0 in place (its float texels, CL_MEM_USE_HOST_PTR: no copy on a
 // CPU device, none in double anywhere), the sample directions of every level that shares a
-// subdivision q, BRDFBAKE_LANES a block (sorted by face and position, so that a block's lanes look
-// the same way and a row's culled part is large), each lane's alpha, and the antiderivative F of the
-// face's solid angle at the (size q + 1)^2 sub-cell corners (computed here in double, as
-// math::cube_rect_solid_angle computes it: the solid angles are the reference's to the last bit),
-// where that table is no larger than level 0 itself; past that (small sources' fine sub-cells) the
-// kernel computes F along each row itself. It answers per row of sub-cells and lane the four sums,
-// which are added here row by row.
+// subdivision q, BRDFBAKE_LANES a block and at most 8 blocks a launch (sorted by face and position,
+// so that a block's lanes look the same way and a row's culled part is large), each lane's alpha,
+// and the antiderivative F of the face's solid angle at the (size q + 1)^2 sub-cell corners
+// (computed here in double as math::cube_rect_solid_angle computes it: the solid angles are the
+// reference's to the last bit) where that table is no larger than level 0 itself; past that (small
+// sources' fine sub-cells) the kernel computes F along each row itself. It answers per row of
+// sub-cells and lane the four sums, which are added here row by row.
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numeric>
 #include <string>
 #include <vector>
 
