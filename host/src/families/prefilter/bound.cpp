@@ -1,7 +1,10 @@
 // The error bound every prefiltered chain records (docs/CONVENTIONS.md, "Error bounds"): each
 // stored level compared with the double reference (host/reference/src/prefilter.cpp, the definition
 // itself: the lobe's integral over the bilinear interpolation of level 0) on a deterministic sample
-// of its texels.
+// of its texels. The reference's values are summed by host_bound_reference (the scalar reference
+// itself) or, on an OpenCL device with fp64, by bound_device.cpp (kernels/prefilter_bound.cl: the
+// same terms, held to the scalar reference by tests/device/test_prefilter_bound.cpp); this file
+// chooses the sample and turns the values into the bound.
 //
 // Per level l >= 1, with Y the luminance of a texel:
 //   d_k   = |Y_stored(k) - Y_ref(k)| / max(Y_ref(k), 1e-6 max_k Y_ref(k))   on the sample texels k
