@@ -3,7 +3,8 @@
 //   startup_stages lut [SIZE]            the DFG LUT (ggx-multiscatter) as `brdfbake lut` runs it
 //   startup_stages irradiance ENV        3-band SH only, as `brdfbake irradiance --sh 3 -o x.json`
 //   startup_stages prefilter ENV [SIZE [charlie]]   the chain SIZE^2 -> 16^2 (issue 11, prefilter),
-//                                        with the library's stages and the peak resident memory
+//                                        with the library's stages, the error bound the chain
+//                                        records and the peak resident memory
 //
 // Each stage is timed with a steady clock (wall time, milliseconds): opening the OpenCL platform
 // and device, loading the environment, the bake (program from the binary cache, kernels, read
@@ -18,11 +19,15 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "brdfbake/backend.hpp"
 #include "brdfbake/dfg_lut.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/io.hpp"
+#include "families/prefilter/bound_kernel.hpp"
 
 using namespace brdfbake;
 
@@ -121,6 +126,15 @@ int prefilter(const std::string& env_spec, int size, bool charlie) {
   for (size_t l = 0; l < timing.level_device_seconds.size(); ++l)
     std::printf("    %-40s %8.2f ms\n", (l == 0 ? std::string("conversion") : "level " + std::to_string(l)).c_str(),
                 1e3 * timing.level_device_seconds[l]);
+  // the bound every chain records (families/prefilter/bound.cpp), as the family's bake measures it:
+  // its reference on this device in fp64 where it has it
+  const std::shared_ptr<Backend> backend = Backend::open(device);
+  std::vector<double> roughness;
+  for (int l = 0; l < cube.level_count(); ++l)
+    roughness.push_back(schedule_roughness(spec.schedule, l, cube.level_count()));
+  const detail::ChainBound bound = detail::chain_error_bound(*backend, cube, spec.distribution, roughness);
+  t.mark(bound.on_device ? "error bound (reference on the device, fp64)" : "error bound (reference on the host)");
+  std::printf("%-44s %8.2f ms\n", "  of which device time (event profiling)", 1e3 * bound.device_seconds);
   const std::string out = temp_output(".ktx2");
   write_cubemap(cube, out, CubeFormat::Ktx2);
   t.mark("write .ktx2");

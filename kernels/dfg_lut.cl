@@ -6,6 +6,9 @@
 //              BRDFBAKE_LUT_CHARLIE        -> sheen albedo
 //   estimator: BRDFBAKE_EST_QUADRATURE | BRDFBAKE_EST_VNDF | BRDFBAKE_EST_NDF | BRDFBAKE_EST_UNIFORM
 //   sheen:     BRDFBAKE_SHEEN_NEUBELT (else Estevez & Kulla's fitted Lambda)
+//   shape:     BRDFBAKE_DFG_GROUPS (the GPU shape, docs/DEVICES.md): a work-group a cell, its
+//              work-items taking every get_local_size(0)-th chunk of polar nodes (or samples), their
+//              sums added in local memory; else (the CPU shape) a work-item a cell
 //
 // Frame: n = +z, v = (sin_v, 0, n_dot_v). A microfacet normal h at polar angle theta_h and azimuth
 // phi reflects v into l = 2 (v.h) h - v, with n.l = 2 (v.h)(n.h) - n.v.
@@ -19,6 +22,17 @@
 #if BRDFBAKE_LANES != 8
 #error "the host pads the quadrature nodes to multiples of 8 lanes"
 #endif
+
+// The polar nodes (and samples) a work-item takes: all of them in the CPU shape; in the GPU shape
+// every get_local_size(0)-th chunk of BRDFBAKE_LANES, from its local id.
+#ifdef BRDFBAKE_DFG_GROUPS
+#define DFG_FIRST ((int)get_local_id(0))
+#define DFG_STRIDE ((int)get_local_size(0))
+#else
+#define DFG_FIRST 0
+#define DFG_STRIDE 1
+#endif
+#define DFG_NODES(k, n_xi) for (int k = DFG_FIRST * BRDFBAKE_LANES; k < (n_xi); k += DFG_STRIDE * BRDFBAKE_LANES)
 
 // ---------------------------------------------------------------------------------------------
 // Integrands in half-vector space.
@@ -217,7 +231,7 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   // expm1: sin^(1/alpha) with 1/alpha up to 1e7 would amplify a rounding of sin a million-fold.
   const real log_xi1 = e * log(sin1);
   if (log_xi1 > R(-700.0)) {
-    for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+    DFG_NODES(k, n_xi) {
       const realv log_s = (log_xi1 + log(vload_lanes(0, q + k))) * (alpha / (R(2.0) * alpha + R(1.0)));
       const realv s = exp(log_s);
       const realv c = sqrt(-expm1(R(2.0) * log_s));
@@ -237,7 +251,7 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
     const real h = (y1 - y2) / (real)n_sub;
     for (int p = 0; p < n_sub; ++p) {
       const real y0 = y2 + h * (real)p;
-      for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+      DFG_NODES(k, n_xi) {
         const realv c = exp(y0 + h * vload_lanes(0, q + 2 * n_xi + k));
         const realv s = sqrt(fmax((R(1.0) - c) * (R(1.0) + c), R(0.0)));
         const realv density = e * exp(log1p(-c * c) * (R(0.5) / alpha)) * c * c;
@@ -251,7 +265,7 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   const real eta1 = a2 / (a2 + t1 * t1), eta2 = a2 / (a2 + R(1.0) / (t1 * t1));
   // Panel A: y = log(eta) from log(eta_1) up to 0; d xi = eta dy.
   const real ya = log(eta1);
-  for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+  DFG_NODES(k, n_xi) {
     const realv eta = exp(ya * (R(1.0) - vload_lanes(0, q + k)));
     realv s, c;
     sample_ggx_ndf_polar_v(eta, alpha, &s, &c);
@@ -260,7 +274,7 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
   // Panel B: y = log(eta) from log(eta_2) up to log(eta_1).
   const real yb = log(eta2);
   if (sin_v > R(0.0) && ya > yb) {
-    for (int k = 0; k < n_xi; k += BRDFBAKE_LANES) {
+    DFG_NODES(k, n_xi) {
       const realv eta = exp(yb + (ya - yb) * vload_lanes(0, q + 2 * n_xi + k));
       realv s, c;
       sample_ggx_ndf_polar_v(eta, alpha, &s, &c);
@@ -279,7 +293,7 @@ inline real2 lobe_quadrature(real n_dot_v, real sin_v, real alpha, constant real
 inline real2 lobe_monte_carlo(real n_dot_v, real sin_v, real alpha, uint samples) {
   const real3 v = (real3)(sin_v, R(0.0), n_dot_v);
   real2 acc = (real2)(R(0.0), R(0.0));
-  for (uint i = 0; i < samples; ++i) {
+  for (uint i = (uint)DFG_FIRST; i < samples; i += (uint)DFG_STRIDE) {
     const real2 u = hammersley(i, samples);
 #if defined(BRDFBAKE_LUT_CHARLIE)
 #if defined(BRDFBAKE_EST_UNIFORM)
@@ -337,10 +351,32 @@ inline real burley_albedo(real n_dot_v, real sin_v, real roughness, constant rea
   return R(0.5) * lanes_sum(w * t * row);
 }
 
+#ifdef BRDFBAKE_DFG_GROUPS
+// The sum over the work-group of each work-item's v (the group's size a power of two), in `part`.
+inline real2 dfg_group_sum(real2 v, local real2* part) {
+  const int lid = (int)get_local_id(0);
+  part[lid] = v;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (int h = (int)get_local_size(0) / 2; h > 0; h >>= 1) {
+    if (lid < h) part[lid] += part[lid + h];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  return part[0];
+}
+#endif
+
+// The CPU shape: work-item (i, j) is cell (i, j). The GPU shape (BRDFBAKE_DFG_GROUPS): work-group
+// (i, j) of BRDFBAKE_DFG_GROUP work-items along x is cell (i, j); the whole group shares the cell, so
+// it returns (or not) together, before its barriers.
 kernel void dfg_lut(global float* out, global const real* n_dot_vs, global const real* roughnesses,
                     const int width, const int height, const uint samples, constant real* q,
                     const int n_xi, const int n_phi) {
+#ifdef BRDFBAKE_DFG_GROUPS
+  local real2 part[BRDFBAKE_DFG_GROUP];
+  const int i = (int)(get_global_id(0) / get_local_size(0)), j = (int)get_global_id(1);
+#else
   const int i = (int)get_global_id(0), j = (int)get_global_id(1);
+#endif
   if (i >= width || j >= height) return;
   // Inputs a hair outside [0,1] from upstream rounding are clamped; n.v = 0 exactly has no
   // defined reflection and stands for its limit (the smallest positive cosine kept).
@@ -349,9 +385,13 @@ kernel void dfg_lut(global float* out, global const real* n_dot_vs, global const
   const real roughness = clamp(roughnesses[j], R(0.0), R(1.0));
   const real alpha = max(roughness * roughness, BRDFBAKE_MIN_ALPHA);
 #if defined(BRDFBAKE_EST_QUADRATURE)
-  const real2 lobe = lobe_quadrature(n_dot_v, sin_v, alpha, q, n_xi, n_phi);
+  real2 lobe = lobe_quadrature(n_dot_v, sin_v, alpha, q, n_xi, n_phi);
 #else
-  const real2 lobe = lobe_monte_carlo(n_dot_v, sin_v, alpha, samples);
+  real2 lobe = lobe_monte_carlo(n_dot_v, sin_v, alpha, samples);
+#endif
+#ifdef BRDFBAKE_DFG_GROUPS
+  lobe = dfg_group_sum(lobe, part);
+  if (get_local_id(0) != 0) return;
 #endif
   const size_t texel = (size_t)j * (size_t)width + (size_t)i;
 #if defined(BRDFBAKE_LUT_CHARLIE)

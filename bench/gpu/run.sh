@@ -42,6 +42,10 @@ step 60 startup_stages irradiance "$V"
 step 60 startup_stages prefilter "$V" 256
 step 60 startup_stages prefilter "$V" 256 charlie
 step 90 startup_stages prefilter "$V" 1024
+# The kernel shapes (docs/DEVICES.md): the steps above run the GPU shape (auto on a GPU); the same
+# chains in the CPU shape, the shape of the first H200 figures, for the comparison.
+BRDFBAKE_KERNEL_SHAPE=cpu step 60 startup_stages prefilter "$V" 256
+BRDFBAKE_KERNEL_SHAPE=cpu step 120 startup_stages prefilter "$V" 1024
 for i in 1 2 3; do step 60 brdfbake preview --environment "$V" -o preview$i.png --quiet; done  # 1: cold caches
 step 60 brdfbake bake --environment "$V" -o bake --quiet
 for i in 1 2 3; do step 60 brdfbake preview --bake bake --environment "$V" -o splitsum$i.png --quiet --no-reference; done

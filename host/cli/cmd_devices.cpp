@@ -33,6 +33,7 @@ int cmd_devices(int argc, char** argv) {
                      {"max_alloc_bytes", d.max_alloc},
                      {"max_work_group_size", d.max_work_group_size},
                      {"fp64", d.fp64},
+                     {"kernel_shape", d.kernel_shape},
                      {"default", d.is_default}});
     out.push_back({{"id", "reference"},
                    {"name", "scalar double reference (CPU, converged, slow)"},
@@ -52,7 +53,7 @@ int cmd_devices(int argc, char** argv) {
     std::cout << "  " << d.platform_index << ":" << d.device_index << (d.is_default ? " * " : "   ") << d.name << "\n"
               << "        type " << d.type << ", " << d.version << ", driver " << d.driver_version << "\n"
               << "        " << d.compute_units << " compute units, " << (d.global_memory >> 20)
-              << " MiB global memory, fp64 " << (d.fp64 ? "yes" : "no") << "\n";
+              << " MiB global memory, fp64 " << (d.fp64 ? "yes" : "no") << ", kernel shape " << d.kernel_shape << "\n";
   }
   std::cout << "  reference   scalar double reference (--device reference): converged, slow\n";
   if (!devices.empty()) std::cout << "(* the default device; choose with --device or BRDFBAKE_DEVICE)\n";

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "brdfbake/cancel.hpp"
+#include "brdfbake/device.hpp"
 #include "brdfbake/diagnostics.hpp"
 #include "brdfbake/tables.hpp"
 #include "brdfbake/version.hpp"
@@ -91,7 +92,9 @@ void usage(std::ostream& out) {
   out << "  view      draw outputs (cubes, tables, SH, MERL, a bake's folder) into one contact sheet PNG\n"
       << "  report    measure accuracy against time on a device: an HTML page of plots and a JSON\n\n"
       << "Every command also takes --verbose: one line per OpenCL program built or loaded from the cache,\n"
-      << "with the compiler's build log (which is otherwise never shown unless a build fails).\n";
+      << "with the compiler's build log (which is otherwise never shown unless a build fails), and\n"
+      << "--kernel-shape auto|cpu|gpu: the kernels' work shape (default: BRDFBAKE_KERNEL_SHAPE, else auto:\n"
+      << "the device's type; docs/DEVICES.md, \"Kernel shapes\").\n";
 }
 
 // The OpenCL compiler's output stays off stderr (brdfbake/diagnostics.hpp). --verbose shows every
@@ -127,12 +130,28 @@ int run(int argc, char** argv) {
   }
   const std::string command = argv[1];
   install_stop_handlers(command != "serve");
-  // --verbose is taken by every command: it is removed here before the command parses its options.
+  // --verbose and --kernel-shape are taken by every command: they are removed here before the
+  // command parses its options.
   std::vector<char*> args;
   bool verbose = false, quiet = false;
+  std::string kernel_shape;
   for (int i = 0; i < argc; ++i) {
     if (i > 1 && std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
+      continue;
+    }
+    if (i > 1 && std::strncmp(argv[i], "--kernel-shape=", 15) == 0) {
+      kernel_shape = argv[i] + 15;
+      if (kernel_shape.empty()) kernel_shape = " ";  // refused below, as an empty name
+      continue;
+    }
+    if (i > 1 && std::strcmp(argv[i], "--kernel-shape") == 0) {
+      if (i + 1 >= argc) {
+        std::cerr << "brdfbake " << command << ": --kernel-shape needs a value (auto, cpu or gpu)\n";
+        return cli::kExitUsage;
+      }
+      kernel_shape = argv[++i];
+      if (kernel_shape.empty()) kernel_shape = " ";
       continue;
     }
     if (i > 1 && std::strcmp(argv[i], "--quiet") == 0) quiet = true;
@@ -141,6 +160,14 @@ int run(int argc, char** argv) {
   args.push_back(nullptr);
   argc = static_cast<int>(args.size()) - 1;
   argv = args.data();
+  if (!kernel_shape.empty()) {
+    try {
+      set_kernel_shape(kernel_shape);
+    } catch (const Error& e) {
+      std::cerr << "brdfbake " << command << ": --kernel-shape: " << brdfbake::cli::one_line(e.what()) << "\n";
+      return cli::kExitUsage;
+    }
+  }
   observe_program_builds(verbose, quiet);
   // A kernel cache folder that cannot be written: said, and the run goes on without it.
   set_runtime_warning_observer([](const std::string& w) {

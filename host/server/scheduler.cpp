@@ -36,7 +36,45 @@ void log_line(const std::string& s) {
   std::fflush(stderr);
 }
 
+// The calibration bake of a device's warm-up: its time gives the device's first rate (work units a
+// second) before any job measured one; a 16 x 16 GGX table of 256 evaluations a texel, long enough
+// to be more than a launch's overhead on a CPU, a few milliseconds on a GPU.
+TableRequest calibration_table() {
+  TableRequest t;
+  t.kind = TableKind::Ggx;
+  t.params = {{"size", 16.0}, {"samples", 256.0}};
+  return t;
+}
+
 }  // namespace
+
+int fastest_device(const std::vector<DeviceCandidate>& candidates, double units, std::string* why) {
+  int best = -1, measured = 0;
+  double best_seconds = 0;
+  std::string text;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const DeviceCandidate& c = candidates[i];
+    if (!(c.rate > 0)) {
+      text += (text.empty() ? "" : "; ") + c.key + " '" + c.name + "': rate not measured yet";
+      continue;
+    }
+    ++measured;
+    const double backlog = c.backlog / c.rate, seconds = backlog + units / c.rate;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, ": done in %.3g s (%.3g s of queued work first)", seconds, backlog);
+    text += (text.empty() ? "" : "; ") + c.key + " '" + c.name + "'" + buf;
+    if (best < 0 || seconds < best_seconds) best = static_cast<int>(i), best_seconds = seconds;
+  }
+  if (measured < 2) return -1;
+  if (why) *why = "the first to finish it of " + std::to_string(measured) + " devices (" + text + ")";
+  return best;
+}
+
+double job_work_units(const std::vector<TableRequest>& tables) {
+  double units = 0;
+  for (const TableRequest& t : tables) units += double(estimate_table_bytes(t));
+  return units;
+}
 
 struct Scheduler::Slot {
   std::string key, name, type;
@@ -50,6 +88,7 @@ struct Scheduler::Slot {
   std::string table;  // the fast-path table being baked
   bool warm = false;
   double busy_seconds = 0;
+  double rate = 0;  // work units a second (job_work_units): the warm-up's calibration, then each job's
   // The device load of the last minute (DeviceStatus::load): when the worker's current task or job
   // began (steady seconds, -1 when idle), and the busy intervals that ended within the last minute.
   double busy_since = -1;
@@ -143,7 +182,7 @@ int Scheduler::retry_after_locked() const {
   return static_cast<int>(std::clamp(std::ceil(seconds), 1.0, 60.0));
 }
 
-void Scheduler::submit(JobRecord& r) {
+void Scheduler::submit(JobRecord& r, double units, const std::string& choice) {
   std::unique_lock<std::mutex> lock(queue_mutex_);
   if (stopping_) throw QueueFull("the server is shutting down", 5);
   int queued = 0;
@@ -156,6 +195,11 @@ void Scheduler::submit(JobRecord& r) {
   if (!s) throw Error("device '" + r.device + "' is not served");
   store_.insert(r);  // under the lock: the queue and the store agree on every job
   s->jobs.push_back(r.id);
+  job_units_[r.id] = units;
+  if (!choice.empty()) {
+    if (choices_.size() >= 4096) choices_.erase(choices_.begin());  // bounded: the oldest ids first
+    choices_[r.id] = choice;
+  }
   lock.unlock();
   work_cv_.notify_all();
 }
@@ -172,6 +216,35 @@ void Scheduler::resume(const JobRecord& r) {
   s->jobs.push_back(r.id);
   lock.unlock();
   work_cv_.notify_all();
+}
+
+std::string Scheduler::choose_device(double units, std::string* why) const {
+  std::vector<DeviceCandidate> candidates;
+  std::vector<std::string> keys;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    for (const auto& s : slots_) {
+      if (s->key == "reference") continue;  // chosen only by name
+      double backlog = 0;
+      for (const std::string& id : s->jobs) {
+        const auto it = job_units_.find(id);
+        if (it != job_units_.end()) backlog += it->second;
+      }
+      if (!s->running.empty()) {
+        const auto it = job_units_.find(s->running);
+        if (it != job_units_.end()) backlog += it->second;  // all of it: its progress is not in units
+      }
+      candidates.push_back({s->key, s->name, s->rate, backlog});
+    }
+  }
+  const int i = fastest_device(candidates, units, why);
+  return i < 0 ? std::string() : candidates[static_cast<size_t>(i)].key;
+}
+
+std::string Scheduler::device_choice(const std::string& id) const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  const auto it = choices_.find(id);
+  return it == choices_.end() ? std::string() : it->second;
 }
 
 std::future<void> Scheduler::run_now(const std::string& key, const std::string& label,
@@ -232,8 +305,20 @@ void Scheduler::warm_up(Slot& s) {
   } catch (const std::exception& e) {
     log_line("warming up device " + s.key + " failed: " + e.what());
   }
+  double rate = 0;
+  try {
+    TableRequest t = calibration_table();
+    validate_table(t);
+    const auto t0 = std::chrono::steady_clock::now();
+    (void)bake_table(t, *s.backend);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (seconds > 0) rate = job_work_units({t}) / seconds;
+  } catch (const std::exception& e) {
+    log_line("timing device " + s.key + " failed: " + e.what());
+  }
   std::lock_guard<std::mutex> lock(queue_mutex_);
   s.warm = true;
+  if (s.rate <= 0) s.rate = rate;
 }
 
 // Called with queue_mutex_ held: the worker's task or job ended.
@@ -272,6 +357,7 @@ void Scheduler::worker(Slot& s) {
     end_busy(s);
     s.running.clear();
     running_.erase(id);
+    job_units_.erase(id);
     lock.unlock();
     finished_cv_.notify_all();
   }
@@ -369,6 +455,12 @@ void Scheduler::run_job(Slot& s, const std::string& id) {
       std::lock_guard<std::mutex> lock(queue_mutex_);
       for (const auto& k : keys) slot(k)->busy_seconds += seconds;
       mean_job_seconds_ = 0.8 * mean_job_seconds_ + 0.2 * seconds;
+      // the device's rate, from what this job measured (it alone used the device: keys.size() 1)
+      const auto units = job_units_.find(id);
+      if (units != job_units_.end() && units->second > 0 && seconds > 0 && keys.size() == 1) {
+        const double measured = units->second / seconds;
+        s.rate = s.rate > 0 ? 0.7 * s.rate + 0.3 * measured : measured;
+      }
     }
     std::vector<bool> seen(static_cast<size_t>(std::max(m.bakes, 0)), false);
     for (const auto& f : m.files)
@@ -410,6 +502,7 @@ CancelResult Scheduler::cancel(const std::string& id) {
     auto it = std::find(s->jobs.begin(), s->jobs.end(), id);
     if (it != s->jobs.end()) {
       s->jobs.erase(it);
+      job_units_.erase(id);
       store_.finish(id, JobState::Cancelled, now_seconds(), "cancelled (DELETE /v1/jobs/" + id + ") before it started",
                     1, "");
       lock.unlock();
@@ -473,6 +566,7 @@ std::vector<DeviceStatus> Scheduler::devices() const {
     d.table = s->table;
     d.busy = !s->running.empty() || !s->table.empty();
     d.queued = static_cast<int>(s->jobs.size());
+    d.rate = s->rate;
     d.busy_seconds = s->busy_seconds;
     // The busy part of the last minute: finished intervals and the one under way, clipped to it.
     const double now = steady_seconds(), from = now - kLoadWindowSeconds;

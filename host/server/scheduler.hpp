@@ -21,6 +21,7 @@
 
 #include "brdfbake/backend.hpp"
 #include "brdfbake/error.hpp"
+#include "brdfbake/tables.hpp"
 #include "server/job_store.hpp"
 #include "server/metrics.hpp"
 
@@ -56,6 +57,7 @@ struct DeviceStatus {
   std::uint64_t global_memory = 0;  // 0 for the reference
   bool warm = false;                // programs built
   std::string running;              // the job id it runs, "" when idle
+  double rate = 0;                  // work units a second (job_work_units), measured; 0: not yet
   std::string table;                // the POST /v1/tables request it bakes ("ggx 1024"), "" when none
   bool busy = false;                // running a job or a table
   int queued = 0;                   // jobs waiting for it
@@ -66,6 +68,21 @@ struct DeviceStatus {
 };
 
 enum class CancelResult { Cancelled, Stopping, Finished, Unknown };
+
+// A served device as the choice of a job's device sees it (Scheduler::fastest_device).
+struct DeviceCandidate {
+  std::string key, name;
+  double rate = 0;     // work units a second it measured; 0: not measured yet
+  double backlog = 0;  // work units of the jobs queued on it and of the one it runs
+};
+// The candidate that finishes `units` of work first: backlog / rate + units / rate, the smallest
+// (the first of equal ones); candidates with no rate yet are left out. Returns its index, or -1
+// when fewer than two candidates have a rate (then there is nothing to choose); `why` gets each
+// one's estimate ("0:0 'NVIDIA H200': 0.12 s (backlog 0.05 s) ...").
+int fastest_device(const std::vector<DeviceCandidate>& candidates, double units, std::string* why);
+// A job's work in the units above: the bytes its tables' outputs hold (estimate_table_bytes), the
+// one measure every kind has; a device's rate is measured in the same units.
+double job_work_units(const std::vector<TableRequest>& tables);
 
 class Scheduler {
  public:
@@ -83,8 +100,16 @@ class Scheduler {
   std::uint64_t device_memory(const std::string& key) const;
 
   // Stores a queued job (fills id and seq) and queues it on record.device. Throws QueueFull when
-  // max_queue jobs are waiting, Error when the store fails.
-  void submit(JobRecord& record);
+  // max_queue jobs are waiting, Error when the store fails. `units`: its work (job_work_units), for
+  // the backlog the choice of a device reads; `choice`: why its device was chosen (choose_device),
+  // kept for its status while the server runs.
+  void submit(JobRecord& record, double units = 0, const std::string& choice = {});
+  // For a job that names no device, where several OpenCL devices are served: the one that finishes
+  // it first (fastest_device over the served OpenCL devices, their backlogs and measured rates).
+  // Empty when there is no choice to make (one device, or rates not measured yet).
+  std::string choose_device(double units, std::string* why) const;
+  // Why a job's device was chosen ("" when it was named or there was no choice); in memory only.
+  std::string device_choice(const std::string& id) const;
   // After a restart: queues a stored job again, whatever the limit.
   void resume(const JobRecord& record);
 
@@ -128,6 +153,8 @@ class Scheduler {
   bool stopping_ = false;
   std::map<std::string, std::shared_ptr<Control>> running_;  // by job id
   double mean_job_seconds_ = 1.0;
+  std::map<std::string, double> job_units_;     // queued and running jobs' work units, by id
+  std::map<std::string, std::string> choices_;  // by id: why its device was chosen (bounded)
   mutable std::mutex selector_mutex_;
   std::map<std::string, std::string> selector_keys_;
 };

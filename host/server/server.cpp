@@ -146,7 +146,8 @@ std::uint64_t resident_bytes() {
 
 // What POST /v1/tables sends back, kept by the result cache.
 struct TableReply {
-  std::string bytes, content_type, filename, summary, error_bound;
+  std::string bytes, content_type, filename, summary;
+  std::string error_name, error_value;  // the figure's name (error_figures.hpp) and its text, as the file records it
   std::vector<std::string> warnings;
   double seconds = 0;
   std::string timing;  // the device task's part of Server-Timing
@@ -365,6 +366,8 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
                                    httplib::Response& res) {
   JobRecord r;
   Job job;
+  double units = 0;
+  std::string choice;
   try {
     roots->confine_job_document(doc, origin);
     job = parse_job(doc.dump(), origin);
@@ -393,6 +396,21 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
     }
     check_memory(job, origin);
     r.timeout = number_param(req, "timeout", opt.job_timeout, 0.01, opt.job_timeout);
+    // A job that names no device, where several are served, goes to the one that finishes it first
+    // (Scheduler::choose_device: backlogs and measured rates); the job then names it, so that its
+    // tables bake there, and its status says why (device_choice).
+    units = job_work_units(job.tables);
+    const bool named = !job.device.empty() || std::any_of(job.tables.begin(), job.tables.end(),
+                                                          [](const TableRequest& t) { return !t.device.empty(); });
+    if (!named) {
+      const std::string pick = scheduler->choose_device(units, &choice);
+      if (!pick.empty()) {
+        r.device = pick;
+        job.device = pick;
+      } else {
+        choice.clear();
+      }
+    }
   } catch (const NotAvailableError& e) {
     fail(res, 501, e.what());
     return;
@@ -412,7 +430,7 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   r.job = job_to_json(job);
   r.submitted = now_seconds();
   try {
-    scheduler->submit(r);
+    scheduler->submit(r, units, choice);
   } catch (const QueueFull& e) {
     res.set_header("Retry-After", std::to_string(e.retry_after));
     fail(res, 503, e.what());
@@ -426,6 +444,8 @@ void Server::Impl::submit_document(json doc, const std::string& origin, const ht
   body["state"] = "queued";
   body["url"] = "/v1/jobs/" + r.id;
   body["tables"] = job.tables.size();
+  body["device"] = r.device;
+  if (!choice.empty()) body["device_choice"] = choice;
   res.set_header("Location", "/v1/jobs/" + r.id);
   reply_json(res, 202, body);
 }
@@ -471,6 +491,7 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
   o["state"] = job_state_name(r.state);
   o["source"] = r.source;
   o["device"] = r.device;
+  if (const std::string c = scheduler->device_choice(r.id); !c.empty()) o["device_choice"] = c;
   o["submitted"] = r.submitted;
   o["started"] = r.started > 0 ? json(r.started) : json(nullptr);
   o["finished"] = r.finished > 0 ? json(r.finished) : json(nullptr);
@@ -508,20 +529,39 @@ json Server::Impl::job_json(const JobRecord& r, bool full) {
         warnings.push_back(text);
       }
     o["warnings"] = warnings;
-    // Each file's error figure as the command line prints it and the file records it
-    // (error_bound_text: rounded up to three digits), by its path in the manifest; the figure's
-    // name is the manifest entry's error_name (error_bound in an older manifest).
-    json bounds = json::object();
+    // Each file's error figures under their names (docs/CONVENTIONS.md, "Error figures"), as the
+    // command line prints them and the files record them (error_bound_text: rounded up to three
+    // digits), by its path: a table's `error_name` and its figure (error_bound in an older
+    // manifest), an engine file's error_rms_rel and error_max_rel (engine.file_entries).
+    // `error_bounds` is the deprecated alias of the first release (path: the text alone).
+    json figures = json::object(), bounds = json::object();
     if (m.is_object() && m.contains("files") && m["files"].is_array())
       for (const auto& f : m["files"]) {
         if (!f.is_object() || !f.contains("path") || !f["path"].is_string()) continue;
         const std::string figure = f.contains("error_name") && f["error_name"].is_string()
                                        ? f["error_name"].get<std::string>()
                                        : std::string(kLegacyErrorBoundName);
-        if (f.contains(figure) && f[figure].is_number())
-          bounds[f["path"].get<std::string>()] = error_bound_text(f[figure].get<double>());
+        json e;
+        e["error_name"] = figure;
+        e[figure] = nullptr;
+        if (f.contains(figure) && f[figure].is_number()) {
+          e[figure] = error_bound_text(f[figure].get<double>());
+          bounds[f["path"].get<std::string>()] = e[figure];
+        }
+        figures[f["path"].get<std::string>()] = e;
       }
-    o["error_bounds"] = bounds;
+    if (m.is_object() && m.contains("engine") && m["engine"].is_object() && m["engine"].contains("file_entries") &&
+        m["engine"]["file_entries"].is_array())
+      for (const auto& f : m["engine"]["file_entries"]) {
+        if (!f.is_object() || !f.contains("path") || !f["path"].is_string()) continue;
+        json e;
+        e["error_name"] = kEngineErrorName;
+        for (const char* name : {"error_rms_rel", "error_max_rel"})
+          e[name] = f.contains(name) && f[name].is_number() ? json(error_bound_text(f[name].get<double>())) : json();
+        figures[f["path"].get<std::string>()] = e;
+      }
+    o["error_figures"] = figures;
+    o["error_bounds"] = bounds;  // deprecated (docs/SERVICE.md): error_figures
     o["manifest"] = m;
   }
   return o;
@@ -706,7 +746,13 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
     res.status = 200;
     res.set_header("Content-Disposition", content_disposition(r.filename));
     res.set_header("X-Brdfbake-Summary", header_text(r.summary));
-    if (!r.error_bound.empty()) res.set_header("X-Brdfbake-Error-Bound", r.error_bound);
+    // The file's error figure under its name (docs/CONVENTIONS.md, "Error figures"); the value only
+    // where one was measured. X-Brdfbake-Error-Bound: the deprecated alias of the value.
+    res.set_header("X-Brdfbake-Error-Name", r.error_name);
+    if (!r.error_value.empty()) {
+      res.set_header("X-Brdfbake-Error-Value", r.error_value);
+      res.set_header("X-Brdfbake-Error-Bound", r.error_value);
+    }
     for (const auto& w : r.warnings) res.set_header("X-Brdfbake-Warning", header_text(w));
     res.set_header("X-Brdfbake-Cache", hit ? "hit" : "miss");
     // Where the time went (docs/SERVICE.md): checking the request, then on a miss the device task's
@@ -752,7 +798,8 @@ void Server::Impl::post_table(const httplib::Request& req, httplib::Response& re
       reply->content_type = content_type(t.output);
       reply->filename = fs::path(t.output).filename().string();
       reply->summary = run.result.summary;
-      reply->error_bound = run.delivery.error_bound_text;  // what the file records
+      reply->error_name = error_figure(t.kind).name;
+      reply->error_value = run.delivery.error_bound_text;  // what the file records
       reply->warnings = run.warnings;
       reply->seconds = run.result.seconds;
       char timing[160];
@@ -915,6 +962,8 @@ void Server::Impl::routes() {
       e["queued"] = d.queued;
       e["busy_seconds"] = d.busy_seconds;
       e["load"] = d.load;
+      // the work rate the choice of a job's device reads (bytes of output a second, measured)
+      e["rate"] = d.rate > 0 ? json(d.rate) : json(nullptr);
       a.push_back(e);
     }
     json o;

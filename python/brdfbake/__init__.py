@@ -38,6 +38,7 @@ from ._api import (
     bake,
     bake_scene,
     devices,
+    set_kernel_shape,
     function_of,
     kinds,
     load_environment,
@@ -56,6 +57,6 @@ globals().update(_FUNCTIONS)
 # `eval` stays out of the star-import, which would shadow the builtin: use brdfbake.eval.
 __all__ = [
     "ArgumentError", "BakeWarning", "DeviceError", "Environment", "Error", "InputError", "NotAvailableError", "Result",
-    "bake", "bake_scene", "devices", "function_of", "kinds", "load_environment", "plan_options", "run", "schema", "validate",
+    "bake", "bake_scene", "devices", "function_of", "kinds", "load_environment", "plan_options", "run", "schema", "set_kernel_shape", "validate",
     *sorted(name for name in _FUNCTIONS if name != "eval"),
 ]

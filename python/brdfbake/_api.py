@@ -54,8 +54,9 @@ class Result:
     - preview: shape (height, width, 3): the split-sum render, linear radiance, row 0 at the top;
       ``.preview`` holds both renders, the error image and every number.
 
-    ``meta`` is the metadata the file would carry, as a dict of strings, with ``error_bound`` as a
-    number (None where the family measures none) and its definition. ``save(path)`` writes the
+    ``meta`` is the metadata the file would carry, as a dict of strings, with its error figure under
+    its name (``error_name``; ``error`` and ``errors`` give it too) as a number (None where the family
+    measures none) and its definition. ``save(path)`` writes the
     result with the command-line tool's writers (atomically: no partial file, ever).
     """
 
@@ -102,14 +103,30 @@ class Result:
         return self._core.device_seconds
 
     @property
+    def error(self) -> Optional[float]:
+        """The result's error figure, the number named :attr:`error_name` (None where the family
+        measures none): the result's own, the integration bound (what a file adds is in
+        :attr:`files`)."""
+        return self._core.error
+
+    @property
+    def errors(self) -> Dict[str, Optional[float]]:
+        """The error figure by its name, as the manifest and the files key it:
+        ``{error_name: error}``, e.g. ``{"error_bound_mixed": 1.8e-05}``."""
+        return {self.error_name: self.error}
+
+    @property
     def error_bound(self) -> Optional[float]:
-        """The measured error figure (named :attr:`error_name`), or None where the family measures none."""
-        return self._core.error_bound
+        """Deprecated (a name that did not say which figure): :attr:`error`, named by
+        :attr:`error_name`, or :attr:`errors`. Warns with :class:`DeprecationWarning`."""
+        warnings.warn("Result.error_bound is deprecated: use Result.error (the figure Result.error_name names) "
+                      "or Result.errors (by its name)", DeprecationWarning, stacklevel=2)
+        return self.error
 
     @property
     def error_name(self) -> str:
-        """What :attr:`error_bound` is, by the name the manifest, the files and the summary give it
-        (docs/CONVENTIONS.md, "Error figures"): ``error_bound_mixed``, ``error_bound_rel``,
+        """What :attr:`error` is, by the name the manifest, the files, the summary and the server give
+        it (docs/CONVENTIONS.md, "Error figures"): ``error_bound_mixed``, ``error_bound_rel``,
         ``error_rms_rel`` or ``error_rms_rel_bound``."""
         return self._core.error_name
 
@@ -133,7 +150,7 @@ class Result:
         files = []
         for f in self._core.files:
             f = dict(f)
-            value = f.pop("error_bound", None)
+            value = f.pop("error", None)
             f["error_name"] = self.error_name
             f[self.error_name] = value
             files.append(f)
@@ -261,9 +278,9 @@ class Result:
         meta.pop("error_bound", None)
         meta.pop("error_bound_definition", None)
         meta["error_name"] = self.error_name
-        meta[self.error_name] = self._core.error_bound
+        meta[self.error_name] = self._core.error
         meta["error_definition"] = self.error_definition
-        meta["error_measurement"] = self._core.error_bound_definition
+        meta["error_measurement"] = self._core.error_measurement
         return meta
 
     def save(self, path: "os.PathLike[str] | str", *, format: Optional[str] = None, pixel: Optional[str] = None,
@@ -286,7 +303,7 @@ class Result:
     def __repr__(self) -> str:
         a = self.array
         shape = [x.shape for x in a] if isinstance(a, list) else a.shape
-        return f"<brdfbake.Result {self.kind}: {shape}, {self.error_name} {self.error_bound}>"
+        return f"<brdfbake.Result {self.kind}: {shape}, {self.error_name} {self.error}>"
 
 
 def _warn(messages: List[str]) -> None:
@@ -869,9 +886,18 @@ def plan_options() -> List[Dict[str, Any]]:
 
 def devices() -> List[Dict[str, Any]]:
     """The OpenCL devices: selector ("P:D"), name, type, vendor, platform, versions, compute units,
-    memory, fp64, and which is the default. ``device="reference"`` (the scalar double reference) is
-    always there too. An empty list when there is no OpenCL platform."""
+    memory, fp64, which is the default, and the kernel shape it opens in (``kernel_shape``: "cpu"
+    or "gpu", docs/DEVICES.md). ``device="reference"`` (the scalar double reference) is always there
+    too. An empty list when there is no OpenCL platform."""
     return _core.devices()
+
+
+def set_kernel_shape(shape: str) -> None:
+    """The kernels' work shape for the devices opened from now on: "auto" (the device's type),
+    "cpu" or "gpu" (docs/DEVICES.md, "Kernel shapes"); as ``--kernel-shape`` of the command line,
+    and ahead of ``BRDFBAKE_KERNEL_SHAPE``. A device already opened (by an earlier call) keeps its
+    shape. Raises ValueError for another name."""
+    _core.set_kernel_shape(shape)
 
 
 def kinds() -> List[Dict[str, Any]]:

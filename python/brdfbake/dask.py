@@ -439,9 +439,11 @@ def _sphere_errors(split: np.ndarray, ref: np.ndarray, spheres: List[Dict[str, A
 
 
 def _sweep_env(env: str, name: str, labelled: Sequence[tuple], target: str, width: int, height: int,
-               device: Optional[str], runs: int) -> List[Dict[str, Any]]:
+               device: Optional[str], runs: int, shares: bool = True) -> List[Dict[str, Any]]:
     """One environment's rows (runs on a worker): each setting baked as ``brdfbake.bake_scene`` bakes
-    it, its split-sum render compared with the reference render, rendered once for the environment
+    it, its split-sum render compared with the reference render; with ``shares`` each setting's
+    preview renders its reference and its files' ideal bake, whose engine and bake shares (the
+    preview's JSON's) go into the row; without, the reference is rendered once for the environment
     (again only for a setting that changes the target's BRDF)."""
     try:
         from distributed import get_worker
@@ -468,20 +470,35 @@ def _sweep_env(env: str, name: str, labelled: Sequence[tuple], target: str, widt
                 row["file_sizes"] = _file_sizes(folder)
                 row["bytes"], row["files"] = sum(row["file_sizes"].values()), len(row["file_sizes"])
                 look = dict(target=target, bake=folder, width=width, height=height, **dev)
-                split = brdfbake.preview(env, reference=False, **look).preview
-                ref = references.get(split["brdf"])
-                if ref is None:
+                # With shares: the whole preview of these files, its own reference and the ideal bake's
+                # render that splits the error (docs/PREVIEW.md, "Engine share and bake share");
+                # without, the split-sum render alone against the environment's reference, rendered once.
+                split = brdfbake.preview(env, reference=shares, shares=shares, **look).preview
+                ref = split if shares else references.get(split["brdf"])
+                if shares:
+                    row["reference_seconds"] = split["times"]["reference"]
+                elif ref is None:
                     t0 = time.perf_counter()
-                    ref = references[split["brdf"]] = brdfbake.preview(env, **look).preview
+                    ref = references[split["brdf"]] = brdfbake.preview(env, shares=False, **look).preview
                     row["reference_seconds"] = time.perf_counter() - t0
                 errors = _sphere_errors(split["splitsum"], ref["reference"], split["spheres"])
-                rms = [e["rms"] for e in errors]
-                row["error"] = float(np.median(rms))
-                groups: Dict[str, List[float]] = {}
-                for sphere, e in zip(split["spheres"], rms):
-                    groups.setdefault(sphere["name"].split(" ")[0], []).append(e)
-                for g, v in groups.items():
-                    row["error_" + g] = float(np.median(v))
+                if shares:  # each sphere's shares as the preview's JSON gives them (spheres[k].engine_share, ...)
+                    for e, sphere in zip(errors, split["spheres"]):
+                        e["engine_share"] = dict(sphere["engine_share"])
+                        e["bake_share"] = dict(sphere["bake_share"])
+                # the median over the spheres of each figure's RMS, and over each group's
+                figures = {"error": [e["rms"] for e in errors]}
+                if shares:
+                    figures["engine_share"] = [e["engine_share"]["rms"] for e in errors]
+                    figures["bake_share"] = [e["bake_share"]["rms"] for e in errors]
+                group_of = [sphere["name"].split(" ")[0] for sphere in split["spheres"]]
+                for figure, values in figures.items():
+                    row[figure] = float(np.median(values))
+                    groups: Dict[str, List[float]] = {}
+                    for g, v in zip(group_of, values):
+                        groups.setdefault(g, []).append(v)
+                    for g, v in groups.items():
+                        row[f"{figure}_{g}"] = float(np.median(v))
                 row["spheres"] = [{"name": s["name"], **e} for s, e in zip(split["spheres"], errors)]
             except brdfbake.Error as e:
                 row["failed"] = f"{type(e).__name__}: {e}"
@@ -494,31 +511,40 @@ def _sweep_env(env: str, name: str, labelled: Sequence[tuple], target: str, widt
 
 
 def sweep(client, envs: Iterable[Any], settings: Any = None, *, target: str = "generic", width: int = 128,
-          height: int = 128, runs: int = 1, device: Optional[str] = None,
+          height: int = 128, runs: int = 1, device: Optional[str] = None, shares: bool = True,
           resources: Optional[Dict[str, float]] = None, retries: int = 0,
           progress: bool = False) -> List[Dict[str, Any]]:
     """What each bake setting costs under many environments, at the level of the render (the
     cluster form of ``brdfbake report --kinds bake``, docs/REPORT.md): for every environment and
     setting, the whole bake's wall time (``brdfbake.bake_scene`` into a temporary folder, the median
     of ``runs``), the bytes it wrote, and the preview's split-sum render of its files (the default
-    grid at ``width`` x ``height``) against the reference render, rendered once per environment.
+    grid at ``width`` x ``height``) against the reference render, and how that error splits into the
+    engine's share and the bake's.
 
     ``envs`` are environment paths (a path every worker can read) or ``builtin:NAME``. ``settings``
     are :func:`brdfbake.bake_scene` options, a list of dicts (``[{}, {"chain_size": 64}]``; ``{}`` is
     the target's default) or a dict ``{label: options}``; default: the target's default alone. One
     task per environment (named ``brdfbake-sweep-<env>``) bakes its settings one after the other, so
-    the reference is rendered once and the times are not shared between tasks; ``client=None`` runs
-    them in this process.
+    the times are not shared between tasks (and, with ``shares=False``, the reference is rendered
+    once); ``client=None`` runs them in this process.
 
     Returns one dict per environment and setting, in the order given: ``env``, ``setting`` (its
     label), ``target``, ``options``, ``seconds``, ``bytes`` and ``files`` (every file the bake wrote,
     manifest.json included; ``file_sizes`` each), ``error`` (the median over
     the spheres of their relative RMS error, split-sum vs reference, in linear radiance),
     ``error_<group>`` (the median over each row of the grid: ``white``, ``grey``, ``dark``,
-    ``gold``, ``copper``, ``silver``), ``spheres`` (each sphere's ``rms``, ``p99``, ``max``),
-    ``worker``, and ``reference_seconds`` on the row that rendered it. A setting that fails has
-    ``failed`` (the message) instead of the numbers; the others go on. ``pandas.DataFrame(rows)``
-    makes a table of them.
+    ``gold``, ``copper``, ``silver``), ``engine_share`` and ``bake_share`` (the error's shares,
+    docs/PREVIEW.md "Engine share and bake share": the median over the spheres of the RMS of
+    \|ideal - reference\| / \|reference\|, what the target's shader does with perfect files, and of
+    \|split-sum - ideal\| / \|reference\|, what these files add; as the preview's JSON gives them per
+    sphere), ``engine_share_<group>`` and ``bake_share_<group>``, ``spheres`` (each sphere's ``rms``,
+    ``p99``, ``max``, and its ``engine_share`` and ``bake_share``, each ``rms``, ``p99``, ``max``),
+    ``worker``, and ``reference_seconds`` on each row that rendered a reference: every row with
+    shares (each setting's preview renders its reference and its ideal bake), else the first row of
+    an environment (its reference serves the others). ``shares=False`` leaves the shares out, and
+    with them each setting's ideal bake (a few seconds: the chain filtered again at a high face size)
+    and its reference render. A setting that fails has ``failed`` (the
+    message) instead of the numbers; the others go on. ``pandas.DataFrame(rows)`` makes a table of them.
     """
     if isinstance(settings, dict):
         labelled = [(str(k), dict(v)) for k, v in settings.items()]
@@ -547,7 +573,8 @@ def sweep(client, envs: Iterable[Any], settings: Any = None, *, target: str = "g
         raise InputError(f"sweep.runs: must be a count >= 1 (got {runs!r})")
     names = [os.path.splitext(os.path.basename(os.fspath(e)))[0] if not os.fspath(e).startswith("builtin:")
              else os.fspath(e) for e in envs]
-    args = [(os.fspath(e), n, labelled, target, int(width), int(height), device, runs) for e, n in zip(envs, names)]
+    args = [(os.fspath(e), n, labelled, target, int(width), int(height), device, runs, bool(shares))
+            for e, n in zip(envs, names)]
     if client is None:
         rows = []
         for a in args:

@@ -112,6 +112,7 @@ py::list devices() {
     d["max_alloc"] = i.max_alloc;
     d["fp64"] = i.fp64;
     d["default"] = i.is_default;
+    d["kernel_shape"] = i.kernel_shape;
     out.append(d);
   }
   return out;
@@ -272,6 +273,7 @@ PYBIND11_MODULE(_brdfbake, m) {
   m.def("kinds_json", [] { return table_kinds_json(); });
   m.def("common_fields", [] { return table_common_fields(); });
   m.def("devices", &devices);
+  m.def("set_kernel_shape", [](const std::string& shape) { set_kernel_shape(shape); });
   m.def("opened_backends", &opened_backends);
   m.def("open_backend", [](const std::string& selector) {
     const py::gil_scoped_release release;

@@ -229,7 +229,7 @@ std::vector<std::string> save(PyResult& r, const std::string& path, const std::s
 py::dict file_dict(const WrittenFile& f) {
   py::dict d;
   d["path"] = f.path;
-  d["error_bound"] = f.error_bound ? py::object(py::float_(*f.error_bound)) : py::object(py::none());
+  d["error"] = f.error_bound ? py::object(py::float_(*f.error_bound)) : py::object(py::none());
   d["storage_error"] = f.storage_error;
   d["encoding"] = f.encoding;
   d["warnings"] = f.warnings;
@@ -256,13 +256,13 @@ void bind_results(py::module_& module) {
       .def_property_readonly("device", [](const PyResult& r) { return r.result.device; })
       .def_property_readonly("seconds", [](const PyResult& r) { return r.result.seconds; })
       .def_property_readonly("device_seconds", [](const PyResult& r) { return r.result.device_seconds; })
-      .def_property_readonly("error_bound",
+      // the figure error_name names (brdfbake.Result.error; error_bound is its deprecated alias there)
+      .def_property_readonly("error",
                              [](const PyResult& r) -> py::object {
                                if (r.result.error_bound) return py::float_(*r.result.error_bound);
                                return py::none();
                              })
-      .def_property_readonly("error_bound_definition",
-                             [](const PyResult& r) { return r.result.error_bound_definition; })
+      .def_property_readonly("error_measurement", [](const PyResult& r) { return r.result.error_bound_definition; })
       .def_property_readonly("error_name",
                              [](const PyResult& r) { return std::string(error_figure(r.result.kind).name); })
       .def_property_readonly("error_definition",

@@ -13,6 +13,7 @@
 // BRDFBAKE_RECORD_SHAPE_DIGESTS=FILE writes the digests of this device to FILE instead of checking.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -26,6 +27,8 @@
 
 #include "brdfbake/backend.hpp"
 #include "brdfbake/device.hpp"
+#include "brdfbake/error.hpp"
+#include "families/brdf_eval/model.hpp"
 #include "support/family_cases.hpp"
 #include "support/result_values.hpp"
 
@@ -108,6 +111,93 @@ TEST(KernelShape, CpuShapeOutputsAreThoseRecordedBeforeTheGpuShapes) {
     ++checked;
   }
   EXPECT_EQ(checked, j.at("digests").size()) << "a recorded case is no longer baked";
+}
+
+// The GPU shape on the first CPU device (PoCL here) against the CPU shape on the same device: each
+// value within the bound the result records (absolute below 1, relative above, as the bounds are),
+// else the family's fp32 tolerance (tests/support/tolerances.hpp). The two shapes sum in different
+// orders (lanes, blocks against texels), so they agree to rounding, not to the bit.
+class GpuShape : public ::testing::TestWithParam<FamilyCase> {};
+
+TEST_P(GpuShape, AgreesWithTheCpuShapeOnTheSameDevice) {
+  DeviceInfo info;
+  try {
+    info = select_device("cpu");
+  } catch (const std::exception& e) {
+    GTEST_SKIP() << "no OpenCL CPU device: " << e.what();
+  }
+  static std::shared_ptr<Backend>* cpu = nullptr;  // opened once for every case, never destroyed
+  static std::shared_ptr<Backend>* gpu = nullptr;
+  if (!cpu) {
+    info.kernel_shape = "cpu";
+    cpu = new std::shared_ptr<Backend>(Backend::open(Device::open(info)));
+    info.kernel_shape = "gpu";
+    gpu = new std::shared_ptr<Backend>(Backend::open(Device::open(info)));
+  }
+  ASSERT_EQ((*cpu)->device()->info().kernel_shape, "cpu");
+  ASSERT_EQ((*gpu)->device()->info().kernel_shape, "gpu");
+  const FamilyCase& c = GetParam();
+  const std::unique_ptr<test::PreparedCase> p = test::prepare_case(c);
+  const BakeResult a = bake_table(p->request(), **cpu, p->inputs);
+  const BakeResult g = bake_table(p->request(), **gpu, p->inputs);
+  const std::vector<double> va = test::values_of(a), vg = test::values_of(g);
+  ASSERT_EQ(va.size(), vg.size());
+  ASSERT_FALSE(va.empty());
+  const double bound = a.error_bound ? *a.error_bound : c.tolerance;
+  ASSERT_GT(bound, 0.0) << c.name << ": no bound and no tolerance";
+  size_t worst = 0;
+  double worst_excess = -1.0;
+  for (size_t k = 0; k < va.size(); ++k) {
+    ASSERT_TRUE(std::isfinite(vg[k])) << c.name << ": value " << k << " in the GPU shape is " << vg[k];
+    const double excess = std::fabs(vg[k] - va[k]) / std::max(1.0, std::fabs(va[k])) / bound;
+    if (excess > worst_excess) worst_excess = excess, worst = k;
+  }
+  EXPECT_LE(worst_excess, 1.0) << c.name << ": value " << worst << " is " << vg[worst] << " in the GPU shape and "
+                               << va[worst] << " in the CPU shape (bound " << bound << ")";
+}
+
+INSTANTIATE_TEST_SUITE_P(Family, GpuShape, ::testing::ValuesIn(shape_cases()), test::case_test_name);
+
+// The shape a device takes: auto follows its type; a name in any case; anything else refused, naming
+// the choices and where the name came from.
+TEST(KernelShape, AutoFollowsTheDeviceTypeAndOtherNamesAreRefused) {
+  EXPECT_EQ(resolve_kernel_shape("auto", "cpu"), "cpu");
+  EXPECT_EQ(resolve_kernel_shape("auto", "gpu"), "gpu");
+  EXPECT_EQ(resolve_kernel_shape("auto", "accelerator"), "gpu");
+  EXPECT_EQ(resolve_kernel_shape("GPU", "cpu"), "gpu");
+  EXPECT_EQ(resolve_kernel_shape("cpu", "gpu"), "cpu");
+  try {
+    resolve_kernel_shape("warp", "cpu");
+    ADD_FAILURE() << "'warp' was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("auto, cpu or gpu"), std::string::npos) << e.what();
+  }
+}
+
+// eval's batches and lanes follow the shape: the CPU shape's 65,536 pairs and 16 / 8 lanes as
+// measured on PoCL; the GPU shape's 16,384 pairs a compute unit, at least the CPU's and at most 2^21
+// (an H200's 132 SMs: 2.16M, capped to 2.10M, where 2M pairs a launch measured 15.4 G/s against 1.67
+// at 65,536), and 4 lanes.
+TEST(KernelShape, EvalBatchesAndLanesFollowTheShape) {
+  DeviceInfo d;
+  d.kernel_shape = "cpu";
+  d.compute_units = 132;
+  EXPECT_EQ(detail::eval_chunk_pairs(d), size_t(65536));
+  EXPECT_EQ(detail::resolve_lanes(EvalOptions{}, d), 16);
+  EvalOptions fp64;
+  fp64.precision = Precision::Fp64;
+  EXPECT_EQ(detail::resolve_lanes(fp64, d), 8);
+  d.kernel_shape = "gpu";
+  EXPECT_EQ(detail::eval_chunk_pairs(d), size_t(1) << 21);
+  d.compute_units = 100;
+  EXPECT_EQ(detail::eval_chunk_pairs(d), size_t(100) * 16384);
+  EXPECT_EQ(detail::resolve_lanes(EvalOptions{}, d), 4);
+  EXPECT_EQ(detail::resolve_lanes(fp64, d), 4);
+  d.compute_units = 2;
+  EXPECT_EQ(detail::eval_chunk_pairs(d), size_t(65536));
+  EvalOptions eight;
+  eight.lanes = 8;
+  EXPECT_EQ(detail::resolve_lanes(eight, d), 8);  // asked for: kept
 }
 
 }  // namespace

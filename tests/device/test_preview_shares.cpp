@@ -161,6 +161,111 @@ TEST(PreviewShares, DegradingOneInputMovesTheBakeShareAlone) {
   EXPECT_GT(chain.stats[0].linear.rms, base.stats[0].linear.rms);
 }
 
+// KHR_materials_sheen: the ideal bake replaces the Charlie chain too (each level at the roughness the
+// lookup asks of it, lod = sheenRoughness (levels - 1)). A sheen-only material (no specular lobe:
+// KHR_materials_specular 0; a black base) sees nothing of the GGX chain, so a coarser bake moves its
+// bake share through the Charlie chain alone, and its engine share not at all (the ideal Charlie
+// chain's levels are the same for both bakes: level_size's floor and the lobe decide them). With the
+// files' own Charlie chain in the ideal bake (before stop 35) its engine share moved with the bake.
+TEST(PreviewShares, TheCharlieChainIsInTheBakeShare) {
+  const std::string file = shared_envmap("venice_sunset_1k.hdr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path dir = test::temp_dir("preview_shares", "sheen");
+  const EnvImage env = load_environment(file);
+  const EngineTarget target = EngineTarget::Generic;
+  PreviewMaterial sheen_only{"sheen r0.5", {0.0, 0.0, 0.0}, 0.0, 0.5, {}};
+  sheen_only.specular = 0.0;
+  sheen_only.sheen_color = {1.0, 1.0, 1.0};
+  sheen_only.sheen_roughness = 0.5;
+  PlanOptions good;
+  good.chain_size = 64;
+  good.cube_min_size = 8;
+  PlanOptions coarse = good;
+  coarse.chain_size = 16;
+  coarse.cube_min_size = 2;
+  const auto bake_and_render = [&](const PlanOptions& o, const std::string& name) {
+    Plan plan = detail::preview::first_bake_plan(env, target, true, o);
+    plan.job.output_dir = (dir / name).string();
+    run_job(plan.job, {}, on_backend(*backend));
+    PreviewSpec spec;
+    spec.target = target;
+    spec.bake = plan.job.output_dir;
+    spec.width = spec.height = 96;
+    spec.bound_stride = 64;
+    spec.materials = {sheen_only};
+    return render_preview(*backend, env, spec);
+  };
+  const PreviewResult a = bake_and_render(good, "good"), b = bake_and_render(coarse, "coarse");
+  for (const PreviewResult* r : {&a, &b}) {
+    expect_shares_add_up(*r);
+    const auto sheen =
+        std::find_if(r->ideal_bake.begin(), r->ideal_bake.end(), [](const auto& kv) { return kv.first == "sheen"; });
+    ASSERT_NE(sheen, r->ideal_bake.end());
+    EXPECT_NE(sheen->second.find("Charlie"), std::string::npos) << sheen->second;
+  }
+  EXPECT_EQ(b.stats[0].engine_share.rms, a.stats[0].engine_share.rms);
+  EXPECT_GT(a.stats[0].bake_share.rms, 0.0);
+  EXPECT_GT(b.stats[0].bake_share.rms, 1.2 * a.stats[0].bake_share.rms)
+      << "the 16^2 Charlie chain against the 64^2 one: " << b.stats[0].bake_share.rms << " against "
+      << a.stats[0].bake_share.rms;
+}
+
+// khronos-viewer's Lambertian cube: the ideal bake's is the irradiance family's at 128^2, so the
+// files' cube resolution is the bake's share. A diffuse-only material (KHR_materials_specular 0) sees
+// nothing but the cube: an 8^2 cube against the default 32^2 raises its bake share, and its engine
+// share stays to the bit (the ideal cube is 128^2 for both).
+TEST(PreviewShares, TheLambertianCubeIsInTheBakeShare) {
+  const std::string file = shared_envmap("venice_sunset_1k.hdr");
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file;
+  BRDFBAKE_REQUIRE_DEVICE(dev);
+  auto backend = Backend::open(*dev);
+  const fs::path dir = test::temp_dir("preview_shares", "lambertian");
+  const EnvImage env = load_environment(file);
+  const EngineTarget target = EngineTarget::KhronosViewer;
+  PreviewMaterial diffuse_only{"white diffuse", {0.8, 0.8, 0.8}, 0.0, 1.0, {}};
+  diffuse_only.specular = 0.0;
+  PlanOptions o;
+  o.chain_size = 32;
+  o.cube_min_size = 4;
+  const auto bake_and_render = [&](int irradiance_size, const std::string& name) {
+    Plan plan = detail::preview::first_bake_plan(env, target, false, o);
+    plan.job.output_dir = (dir / name).string();
+    bool found = false;
+    for (TableRequest& t : plan.job.tables)
+      if (t.kind == TableKind::Irradiance) {
+        // the plan names the cube's size (32, the table's default for a cube): replaced
+        t.params.erase(std::remove_if(t.params.begin(), t.params.end(),
+                                      [](const Param& p) { return p.name == "irradiance_size"; }),
+                       t.params.end());
+        t.params.push_back({"irradiance_size", double(irradiance_size)});
+        found = true;
+      }
+    EXPECT_TRUE(found) << "khronos-viewer's bake has no irradiance table";
+    run_job(plan.job, {}, on_backend(*backend));
+    PreviewSpec spec;
+    spec.target = target;
+    spec.bake = plan.job.output_dir;
+    spec.width = spec.height = 96;
+    spec.bound_stride = 64;
+    spec.materials = {diffuse_only};
+    return render_preview(*backend, env, spec);
+  };
+  const PreviewResult a = bake_and_render(32, "cube32"), b = bake_and_render(8, "cube8");
+  for (const PreviewResult* r : {&a, &b}) {
+    expect_shares_add_up(*r);
+    const auto diffuse =
+        std::find_if(r->ideal_bake.begin(), r->ideal_bake.end(), [](const auto& kv) { return kv.first == "diffuse"; });
+    ASSERT_NE(diffuse, r->ideal_bake.end());
+    EXPECT_NE(diffuse->second.find("Lambertian cube 128^2"), std::string::npos) << diffuse->second;
+  }
+  EXPECT_EQ(b.stats[0].engine_share.rms, a.stats[0].engine_share.rms);
+  EXPECT_GT(a.stats[0].bake_share.rms, 0.0);
+  EXPECT_GT(b.stats[0].bake_share.rms, 1.5 * a.stats[0].bake_share.rms)
+      << "the 8^2 cube against the 32^2 one: " << b.stats[0].bake_share.rms << " against " << a.stats[0].bake_share.rms;
+}
+
 // The sharp-reflection probe (render.hpp, sharp_probe): the bake's share of the spheres below
 // roughness 0.1 drawn at 2 x the files' level-0 size in pixels. Its drawn pixels stand for all of the
 // sphere's: the RMS over every pixel of that sphere, computed here by brute force, agrees with it; it

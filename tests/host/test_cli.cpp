@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -137,6 +138,35 @@ TEST(Cli, DevicesListsTheDefaultAndJson) {
   const CliRun plain = run("devices");
   EXPECT_EQ(plain.code, 0);
   EXPECT_NE(plain.out.find(" * "), std::string::npos) << plain.out;
+}
+
+// --kernel-shape is taken by every command (docs/DEVICES.md, "Kernel shapes"): the device is opened
+// in that shape (devices prints it), BRDFBAKE_KERNEL_SHAPE does the same, and a name other than auto,
+// cpu or gpu is a one-line usage error (exit 2), before any work.
+TEST(Cli, KernelShapeIsAnOptionOfEveryCommand) {
+  const CliRun gpu = run("devices --json --kernel-shape gpu");
+  ASSERT_EQ(gpu.code, 0) << gpu.err;
+  EXPECT_NE(gpu.out.find("\"kernel_shape\": \"gpu\""), std::string::npos) << gpu.out;
+  EXPECT_EQ(gpu.out.find("\"kernel_shape\": \"cpu\""), std::string::npos) << gpu.out;
+  const CliRun cpu = run("devices --kernel-shape=cpu");
+  ASSERT_EQ(cpu.code, 0) << cpu.err;
+  EXPECT_NE(cpu.out.find("kernel shape cpu"), std::string::npos) << cpu.out;
+  const CliRun lut = run("lut --kind ggx --size 4 --samples 64 -o - --format csv --quiet --kernel-shape gpu");
+  EXPECT_EQ(lut.code, 0) << lut.err;
+  EXPECT_NE(lut.out.find("n_dot_v"), std::string::npos) << lut.out.substr(0, 400);
+  for (const char* bad : {"lut --kind ggx --size 4 -o - --format csv --kernel-shape warp", "devices --kernel-shape",
+                          "devices --kernel-shape="}) {
+    const CliRun r = run(bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--kernel-shape"), std::string::npos) << bad << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+  }
+  const CliRun env = brdfbake::test::run_cli("devices --json", "", "BRDFBAKE_KERNEL_SHAPE=gpu");
+  ASSERT_EQ(env.code, 0) << env.err;
+  EXPECT_NE(env.out.find("\"kernel_shape\": \"gpu\""), std::string::npos) << env.out;
+  const CliRun bad_env = brdfbake::test::run_cli("devices --json", "", "BRDFBAKE_KERNEL_SHAPE=simd");
+  EXPECT_NE(bad_env.code, 0);
+  EXPECT_NE(bad_env.err.find("BRDFBAKE_KERNEL_SHAPE"), std::string::npos) << bad_env.err;
 }
 
 // Every command's help gives each option one default at most, says none is an empty string, and

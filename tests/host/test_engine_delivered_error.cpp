@@ -15,11 +15,14 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "brdfbake/engines.hpp"
+#include "brdfbake/error_figures.hpp"
+#include "brdfbake/tables.hpp"
 #include "engines/babylon_frame.hpp"
 #include "test_target_support.hpp"
 
@@ -340,6 +343,97 @@ TEST(EngineDeliveredError, KhronosViewerHalfIsTheDecodedFilesError) {
   EXPECT_EQ(e.format, "RGBA16F");
   expect_entry(e, decoded, chain);
   EXPECT_LE(e.error_max_rel, std::ldexp(1.0, -11) * 1.0001) << "binary16: half a step of 2^-10";
+}
+
+// ---- Every target: each file carries its manifest entry's figures -------------------------------
+
+// The key/value pairs of a KTX2 file (KTX 2.0 "Key/Value Data": kvdByteOffset and kvdByteLength at
+// bytes 56 and 60; keyAndValueByteLength, key NUL value, padding to 4).
+std::vector<std::pair<std::string, std::string>> ktx2_keys(const std::vector<uint8_t>& b) {
+  std::vector<std::pair<std::string, std::string>> kv;
+  const size_t begin = u32(b, 56), end = begin + u32(b, 60);
+  for (size_t at = begin; at < end;) {
+    const uint32_t n = u32(b, at);
+    const std::string entry(reinterpret_cast<const char*>(&b[at + 4]), n);
+    const size_t nul = entry.find('\0');
+    std::string value = entry.substr(nul + 1);
+    if (!value.empty() && value.back() == '\0') value.pop_back();
+    kv.emplace_back(entry.substr(0, nul), value);
+    at += 4 + ((n + 3) & ~3u);
+  }
+  return kv;
+}
+
+// What a file records of its entry: rounded up (error_bound_text), never below the entry's number.
+void expect_figures(const std::function<std::string(const std::string&)>& recorded, const EngineFileEntry& e) {
+  EXPECT_EQ(recorded("error_name"), "error_rms_rel") << e.path;
+  EXPECT_EQ(recorded("error_rms_rel"), error_bound_text(e.error_rms_rel)) << e.path;
+  EXPECT_EQ(recorded("error_max_rel"), error_bound_text(e.error_max_rel)) << e.path;
+  EXPECT_GE(std::stod(recorded("error_rms_rel")), e.error_rms_rel) << e.path;
+  std::string per_level;
+  for (double v : e.error_rms_rel_per_level) per_level += (per_level.empty() ? "" : " ") + error_bound_text(v);
+  EXPECT_EQ(recorded("error_rms_rel_per_level"), per_level) << e.path;
+  per_level.clear();
+  for (double v : e.error_max_rel_per_level) per_level += (per_level.empty() ? "" : " ") + error_bound_text(v);
+  EXPECT_EQ(recorded("error_max_rel_per_level"), per_level) << e.path;
+  EXPECT_EQ(recorded("error_definition"), kEngineErrorRmsRelDefinition) << e.path;
+  EXPECT_EQ(recorded("error_max_rel_definition"), kEngineErrorMaxRelDefinition) << e.path;
+}
+
+// Each target's files read back: a KTX1 or KTX2 file's key/values, a .env's manifest, a .gltf's image
+// entries hold the figures of the file's entry (what manifest.json's engine.file_entries writes), and
+// its entry's size is the file's with them; the figures are those of the file as written (the keys
+// change no texel: the tests above decode the files with their keys).
+TEST(EngineDeliveredError, EachFileCarriesItsManifestEntry) {
+  const CubeLevels chain = synthetic_chain(8, 1, RoughnessSchedule::Linear);
+  const CubeLevels filament_chain = synthetic_chain(8, 1, RoughnessSchedule::Filament);
+  const CubeLevels babylon_chain = synthetic_chain(8, 1, RoughnessSchedule::Babylon);
+  CubeLevels lambertian = synthetic_chain(4, 4, RoughnessSchedule::Linear);
+  const ShCoefficients sh = sh_one_plus_x();
+  int ktx1 = 0, ktx2 = 0, env = 0, faces = 0;
+  for (const EngineTarget target : {EngineTarget::Generic, EngineTarget::Filament, EngineTarget::Babylon,
+                                    EngineTarget::Gltf, EngineTarget::KhronosViewer}) {
+    SCOPED_TRACE(engine_target_name(target));
+    EngineBake bake;
+    bake.prefiltered = target == EngineTarget::Filament  ? &filament_chain
+                       : target == EngineTarget::Babylon ? &babylon_chain
+                                                         : &chain;
+    bake.sh = &sh;
+    bake.irradiance_cube = &lambertian;
+    const fs::path dir = temp_dir(std::string("carried_") + engine_target_name(target));
+    EngineWriteOptions o;
+    o.name = "env";
+    const EngineWriteResult w = write_engine_files(target, bake, dir.string(), o);
+    nlohmann::json gltf_images;
+    for (const EngineFileEntry& e : w.entries) {
+      const std::vector<uint8_t> b = read_all(dir / e.path);
+      EXPECT_EQ(e.bytes, b.size()) << e.path;
+      const std::string ext = fs::path(e.path).extension().string();
+      if (ext == ".gltf") gltf_images = nlohmann::json::parse(b.begin(), b.end())["images"];
+      if (!e.measured) continue;
+      if (ext == ".ktx" || ext == ".ktx2") {
+        const auto kv = ext == ".ktx" ? ktx1_keys(b) : ktx2_keys(b);
+        expect_figures([&](const std::string& k) { return key(kv, "brdfbake:" + k); }, e);
+        ++(ext == ".ktx" ? ktx1 : ktx2);
+      } else if (ext == ".env") {
+        const auto nul = std::find(b.begin() + 8, b.end(), uint8_t(0));
+        const nlohmann::json m = nlohmann::json::parse(std::string(b.begin() + 8, nul))["brdfbake"];
+        expect_figures([&](const std::string& k) { return m.value(k, std::string("<missing>")); }, e);
+        ++env;
+      }
+    }
+    // glTF: each face's figures in its image entry (the PNG files carry none of ours)
+    for (const auto& image : gltf_images) {
+      const EngineFileEntry& e = entry(w, image["uri"].get<std::string>());
+      const nlohmann::json m = image["extras"]["brdfbake"];
+      expect_figures([&](const std::string& k) { return m.value(k, std::string("<missing>")); }, e);
+      ++faces;
+    }
+  }
+  EXPECT_EQ(ktx1, 2) << "filament's _ibl.ktx and _skybox.ktx";
+  EXPECT_EQ(ktx2, 3) << "generic's _ggx.ktx2, khronos-viewer's _ggx.ktx2 and _lambertian.ktx2";
+  EXPECT_EQ(env, 1);
+  EXPECT_EQ(faces, 6 * chain.level_count());
 }
 
 }  // namespace

@@ -93,3 +93,71 @@ def test_run_takes_a_jobs_engine_target(tmp_path):
     assert manifest["engine"]["target"] == "gltf"
     for name in manifest["engine"]["files"]:
         assert (tmp_path / "out" / name).is_file(), name
+
+
+def _key_values(data: bytes, ktx2: bool) -> dict:
+    """The key/value data of a KTX 1.1 file (bytesOfKeyValueData at byte 60, the entries from byte 64)
+    or of a KTX 2.0 file (kvdByteOffset, kvdByteLength at bytes 56, 60); values without their NUL."""
+    import struct
+
+    begin, length = struct.unpack_from("<II", data, 56) if ktx2 else (64, struct.unpack_from("<I", data, 60)[0])
+    out, at = {}, begin
+    while at < begin + length:
+        n = struct.unpack_from("<I", data, at)[0]
+        key, value = data[at + 4:at + 4 + n].split(b"\0", 1)
+        out[key.decode()] = value.rstrip(b"\0").decode()
+        at += 4 + ((n + 3) & ~3)
+    return out
+
+
+def _recorded(text: str, value: float) -> None:
+    """A figure as files record it: rounded up to three significant digits, never below the measured."""
+    import re
+
+    recorded = float(text)
+    assert value <= recorded <= value * (1 + 1e-2) + 1e-300, (text, value)
+    assert len(re.sub(r"e.*$", "", text).replace("0.", "").lstrip("0").replace(".", "")) <= 3, text
+
+
+@pytest.mark.parametrize("target", ["filament", "khronos-viewer", "babylon", "gltf"])
+def test_each_engine_file_carries_its_manifest_entry(tmp_path, target):
+    """The files users ship carry their error (issue 35): each engine file's own metadata (KTX1/KTX2
+    key/values, the .env's manifest, a .gltf's image extras for its PNG faces) holds the delivered
+    figures manifest.json's engine.file_entries records for it, under their names."""
+    import json
+
+    folder = tmp_path / "out"
+    brdfbake.bake_scene(None, folder, target=target, **SMALL)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    entries = {e["path"]: e for e in manifest["engine"]["file_entries"]}
+    images = {}
+    carried = 0
+    for path, e in entries.items():
+        data = (folder / path).read_bytes()
+        assert e["bytes"] == len(data), path
+        if path.endswith(".gltf"):
+            images = {i["uri"]: i.get("extras", {}).get("brdfbake") for i in json.loads(data)["images"]}
+        if e["error_rms_rel"] is None:
+            continue
+        if path.endswith((".ktx", ".ktx2")):
+            kv = {k[len("brdfbake:"):]: v for k, v in _key_values(data, path.endswith(".ktx2")).items()
+                  if k.startswith("brdfbake:")}
+        elif path.endswith(".env"):
+            kv = json.loads(data[8:data.index(b"\0", 8)])["brdfbake"]
+        else:
+            continue  # a PNG face: its figures are in the .gltf (below)
+        carried += 1
+        assert kv["error_name"] == "error_rms_rel", path
+        for name in ("error_rms_rel", "error_max_rel"):
+            _recorded(kv[name], e[name])
+            levels = kv[name + "_per_level"].split(" ")
+            assert len(levels) == len(e[name + "_per_level"]), path
+            for text, value in zip(levels, e[name + "_per_level"]):
+                _recorded(text, value)
+        assert "decoded as the engine decodes it" in kv["error_definition"]
+    for uri, kv in images.items():
+        assert kv is not None and kv["error_name"] == "error_rms_rel", uri
+        _recorded(kv["error_rms_rel"], entries[uri]["error_rms_rel"])
+        _recorded(kv["error_max_rel"], entries[uri]["error_max_rel"])
+        carried += 1
+    assert carried >= {"filament": 2, "khronos-viewer": 2, "babylon": 1, "gltf": 6}[target]

@@ -159,15 +159,16 @@ def test_a_sweep_of_settings_over_two_environments(client, shared_dir, tmp_path)
     assert [(r["env"], r["setting"]) for r in rows] == [
         ("builtin:sun", "default"), ("builtin:sun", "chain_size=32"),  # cube_size: an alias, named canonically
         ("venice_sunset_256x128_derived", "default"), ("venice_sunset_256x128_derived", "chain_size=32")]
+    groups = ("white", "grey", "dark", "gold", "copper", "silver")
     for r in rows:
         assert "failed" not in r, r.get("failed")
         assert r["seconds"] > 0 and r["bytes"] == sum(r["file_sizes"].values()) and "manifest.json" in r["file_sizes"]
         assert len(r["spheres"]) == 72 and 0 < r["error"] < 10
-        assert set(k for k in r if k.startswith("error_")) == {f"error_{g}" for g in
-                                                               ("white", "grey", "dark", "gold", "copper", "silver")}
-    # The reference is rendered once per environment (on its first row), and the two maps differ.
-    assert "reference_seconds" in rows[0] and "reference_seconds" not in rows[1]
-    assert rows[0]["error"] != rows[2]["error"]
+        for figure in ("error", "engine_share", "bake_share"):
+            assert set(k for k in r if k.startswith(figure + "_")) == {f"{figure}_{g}" for g in groups}
+        # the shares (the default: each setting's preview renders its reference and its ideal bake)
+        assert 0 < r["engine_share"] < 10 and 0 < r["bake_share"] < 10 and "reference_seconds" in r
+    assert rows[0]["error"] != rows[2]["error"]  # the two maps differ
     # The 32^2 chain is smaller and, against the same reference, further from it.
     assert rows[1]["bytes"] < rows[0]["bytes"] and rows[1]["error"] > rows[0]["error"]
 
@@ -186,6 +187,35 @@ def test_a_sweep_of_settings_over_two_environments(client, shared_dir, tmp_path)
         assert got["name"] == want["name"]
         for stat in ("rms", "p99", "max"):
             assert got[stat] == pytest.approx(want["linear"][stat], rel=1e-9, abs=1e-12), (want["name"], stat)
+            # the shares are the preview's own (its JSON's spheres[k].engine_share, .bake_share)
+            for share in ("engine_share", "bake_share"):
+                assert got[share][stat] == pytest.approx(want[share][stat], rel=1e-9, abs=1e-12), (want["name"], share)
+    for share in ("engine_share", "bake_share"):
+        assert row[share] == pytest.approx(float(np.median([s[share]["rms"] for s in direct["spheres"]])), rel=1e-9)
+        gold = [s[share]["rms"] for s in direct["spheres"] if s["name"].startswith("gold")]
+        assert row[share + "_gold"] == pytest.approx(float(np.median(gold)), rel=1e-9)
+
+
+def test_a_sweep_splits_its_error_into_the_engines_share_and_the_bakes():
+    """Each row's shares: per sphere the triangle inequality |engine - bake| <= error <= engine + bake
+    (the difference images add up exactly: docs/PREVIEW.md), the row's error measured here against
+    the preview's reference; a coarser chain (16^2) has the larger bake share (its level count moves
+    the engine's too: the ideal bake has the files' levels); shares=False leaves them out and renders
+    the reference once."""
+    rows = bdask.sweep(None, "builtin:sun", [{}, {"chain_size": 16}], width=96, height=48)
+    for r in rows:
+        assert "failed" not in r, r.get("failed")
+        for s in r["spheres"]:
+            e, b = s["engine_share"]["rms"], s["bake_share"]["rms"]
+            assert abs(e - b) * (1 - 1e-6) - 1e-9 <= s["rms"] <= (e + b) * (1 + 1e-6) + 1e-9, s
+    default, coarse = rows
+    assert coarse["bake_share"] > default["bake_share"]
+    without = bdask.sweep(None, "builtin:sun", [{}, {"chain_size": 16}], width=96, height=48, shares=False)
+    for r, w in zip(rows, without):
+        assert not any(k.startswith(("engine_share", "bake_share")) for k in w)
+        assert "engine_share" not in w["spheres"][0]
+        assert w["error"] == pytest.approx(r["error"], rel=1e-9)  # the same reference
+    assert "reference_seconds" in without[0] and "reference_seconds" not in without[1]
 
 
 def test_a_sweep_without_a_cluster_and_a_failing_setting():

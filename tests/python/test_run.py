@@ -20,7 +20,7 @@ def test_run_a_job_dict_returns_the_manifest(tmp_path):
         assert (tmp_path / "out" / p).stat().st_size > 0
     on_disk = json.loads((tmp_path / "out" / "manifest.json").read_text())
     assert on_disk["files"] == m["files"]
-    assert m["files"][0]["error_bound_mixed"] == brdfbake.lut(kind="ggx", size=16).error_bound
+    assert m["files"][0]["error_bound_mixed"] == brdfbake.lut(kind="ggx", size=16).error
     assert {e["bake"] for e in events} == {0, 1, 2} and all(e["bakes"] == 3 for e in events)
 
 

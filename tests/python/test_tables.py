@@ -27,11 +27,29 @@ def test_lut_is_a_view_of_the_result_with_its_metadata():
     assert meta["kind"] == "ggx" and meta["channels"] == "scale,bias,diffuse"
     assert meta["error_name"] == r.error_name == "error_bound_mixed" and "error_bound" not in meta
     assert isinstance(meta["error_bound_mixed"], float) and 0 < meta["error_bound_mixed"] <= 1e-4
-    assert meta["error_bound_mixed"] == r.error_bound
+    assert meta["error_bound_mixed"] == r.error
     assert r.parameters["samples"] > 0 and r.parameters["size"] == 32
     # Split-sum sanity at the smoothest row and normal incidence: scale + bias is the directional
     # albedo of a white specular GGX lobe, at most 1 and near 1 for a smooth surface.
     assert 0.9 < a[0, -1, 0] + a[0, -1, 1] <= 1.0 + 1e-6
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda: brdfbake.lut(kind="ggx", size=16), "error_bound_mixed"),
+    (lambda: brdfbake.prefilter("builtin:sun", chain_size=16, min_size=4), "error_bound_rel"),
+    (lambda: brdfbake.irradiance("builtin:sun"), "error_rms_rel"),
+])
+def test_the_error_figure_by_its_name_and_the_deprecated_error_bound(call, name, recwarn):
+    """Result.error is the figure Result.error_name names, Result.errors keys it by that name, as the
+    metadata does (docs/CONVENTIONS.md, "Error figures"); error_bound is a deprecated alias that warns."""
+    r = call()
+    assert r.error_name == name and r.meta["error_name"] == name
+    assert isinstance(r.error, float) and r.error > 0
+    assert r.errors == {name: r.error}
+    assert r.meta[name] == r.error
+    assert not [w for w in recwarn if issubclass(w.category, DeprecationWarning)]
+    with pytest.warns(DeprecationWarning, match=r"Result\.error_bound is deprecated: use Result\.error"):
+        assert r.error_bound == r.error
 
 
 def test_array_outlives_the_result():
@@ -50,7 +68,7 @@ def test_fresnel_dielectric_matches_the_closed_form():
     assert abs(a[0, -1, 0] - 0.04) < FRESNEL_FP32  # ((1.5 - 1) / (1.5 + 1))^2
     assert abs(a[0, 0, 0] - 1.0) < FRESNEL_FP32  # grazing: total reflection
     # Fresnel's error bound is measured against the double reference at every cell as it is baked.
-    assert r.error_bound is not None and r.error_bound < FRESNEL_FP32
+    assert r.error is not None and r.error < FRESNEL_FP32
 
 
 def test_eval_lambert_is_albedo_over_pi_and_zero_below_the_horizon():
@@ -92,7 +110,7 @@ def test_prefilter_saves_as_astc_hdr_with_its_bound(tmp_path):
     # = 1000066000, 6x6 = 1000066004 at byte 12 of the header), its measured storage error in the
     # metadata and in the error bound; the chain records its integration bound (item 7) as well.
     r = brdfbake.prefilter("builtin:sun", size=16, min_size=4)
-    assert r.error_bound is not None and r.error_bound > 0
+    assert r.error is not None and r.error > 0
     for pixel, vk_format in (("astc4x4", 1000066000), ("astc6x6", 1000066004)):
         out = tmp_path / f"{pixel}.ktx2"
         r.save(out, pixel=pixel)
@@ -233,3 +251,24 @@ def test_a_png_environment_goes_through_the_installed_openimageio_module(tmp_pat
     assert (env.width, env.height) == (64, 32)
     r = brdfbake.irradiance(env, sh_order=3)
     np.testing.assert_allclose(r.sh[0], 2 * math.sqrt(math.pi), rtol=ENV_FURNACE)
+
+
+def test_kernel_shape_from_python():
+    """The kernels' work shape (docs/DEVICES.md): devices() says each device's; set_kernel_shape
+    chooses it for the devices opened afterwards (a process of its own here: it is process-wide);
+    another name is an InputError (a ValueError) and changes nothing."""
+    import os
+    import subprocess
+    import sys
+
+    if not os.environ.get("BRDFBAKE_KERNEL_SHAPE"):
+        for d in brdfbake.devices():
+            assert d["kernel_shape"] == ("cpu" if d["type"] == "cpu" else "gpu"), d
+    with pytest.raises(ValueError, match="auto, cpu or gpu"):
+        brdfbake.set_kernel_shape("warp")
+    code = ("import brdfbake, json; brdfbake.set_kernel_shape('gpu'); "
+            "print(json.dumps([d['kernel_shape'] for d in brdfbake.devices()]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    shapes = json.loads(out.stdout)
+    assert shapes and all(s == "gpu" for s in shapes), shapes

@@ -50,8 +50,8 @@ def test_files_record_the_delivered_bound(tmp_path):
     f16, f32 = r.files
     assert f16["encoding"].startswith("binary16") and f16["storage_error"] > 2 ** -13
     assert r.error_name == "error_bound_mixed" and f16["error_name"] == r.error_name
-    assert f16["error_bound_mixed"] == pytest.approx(r.error_bound + f16["storage_error"], rel=1e-12)
-    assert f32["storage_error"] == 0 and f32["error_bound_mixed"] == r.error_bound
+    assert f16["error_bound_mixed"] == pytest.approx(r.error + f16["storage_error"], rel=1e-12)
+    assert f32["storage_error"] == 0 and f32["error_bound_mixed"] == r.error
 
 
 def test_job_warns_as_the_command_line_prints(tmp_path):

@@ -293,7 +293,7 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
     # Every table of the manifest has its picture, decoded and not blank.
     status, _, body = _http(f"{server['url']}/v1/jobs/{job_id}", TOKEN)
     manifest = json.loads(body)["manifest"]
-    bound_texts = json.loads(body)["error_bounds"]
+    figures = json.loads(body)["error_figures"]
     pictures = browser.execute_script(PIXELS_JS)
     # ... and Filament's KTX1 cubes (the IBL and the skybox), which `brdfbake view` reads too.
     ktx = [p for p in manifest.get("engine", {}).get("files", []) if p.endswith(".ktx")]
@@ -309,8 +309,9 @@ def test_bake_a_shared_hdr_for_filament_look_and_download(server, browser, cli, 
         # under the figure's name, as the manifest names it (docs/CONVENTIONS.md, "Error figures")
         name = f["error_name"]
         bound = re.search(re.escape(name) + r" (\S+)", shown).group(1)
+        assert figures[f["path"]]["error_name"] == name
         if f.get(name) is not None:
-            assert bound == bound_texts[f["path"]], shown
+            assert bound == figures[f["path"]][name], shown
             assert float(bound) >= f[name], shown
             assert len(re.sub(r"e.*$", "", bound).replace("0.", "").lstrip("0").replace(".", "")) <= 3, shown
         else:

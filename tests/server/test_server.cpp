@@ -97,6 +97,14 @@ TEST_F(ServerApi, HealthDevicesAndMetrics) {
   const std::string id = submit(c, small_job());
   ASSERT_FALSE(id.empty());
   EXPECT_EQ(wait_job(c, id)["state"], "done");
+  // Each OpenCL device's work rate (the choice of a job's device reads it), measured by its warm-up
+  // or by the job; the reference is chosen only by name and has none.
+  auto d2 = c.Get("/v1/devices");
+  ASSERT_TRUE(d2);
+  const json after = body_json(d2)["devices"];
+  ASSERT_TRUE(after[0]["rate"].is_number()) << after.dump();
+  EXPECT_GT(after[0]["rate"].get<double>(), 0.0);
+  EXPECT_TRUE(after.back()["rate"].is_null()) << after.dump();
   auto m = c.Get("/metrics");
   ASSERT_TRUE(m);
   EXPECT_EQ(m->status, 200);
@@ -167,7 +175,8 @@ TEST_F(ServerApi, TableFastPathReturnsTheFile) {
   EXPECT_EQ(dfg->status, 200);
   EXPECT_EQ(dfg->get_header_value("Content-Disposition"),
             "attachment; filename=\"dfg_ggx_32.exr\"; filename*=UTF-8''dfg_ggx_32.exr");
-  EXPECT_FALSE(dfg->get_header_value("X-Brdfbake-Error-Bound").empty());
+  EXPECT_EQ(dfg->get_header_value("X-Brdfbake-Error-Name"), "error_bound_mixed");
+  EXPECT_FALSE(dfg->get_header_value("X-Brdfbake-Error-Value").empty());
   // A bad one names the field as the table spells it.
   auto bad = c.Post("/v1/tables", R"({"kind": "ggx", "size": 0})", "application/json");
   ASSERT_TRUE(bad);
@@ -197,14 +206,79 @@ TEST_F(ServerApi, TableErrorBoundHeaderIsWhatTheFileRecords) {
                     integration = ktx2_value(r->body, "integration_error_bound");
   ASSERT_FALSE(recorded.empty());
   ASSERT_FALSE(integration.empty());
-  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
-  EXPECT_GT(std::stod(r->get_header_value("X-Brdfbake-Error-Bound")), std::stod(integration) + std::ldexp(1.0, -13))
+  // The figure under the name the file gives it (docs/CONVENTIONS.md, "Error figures").
+  EXPECT_EQ(ktx2_value(r->body, "error_name"), "error_bound_mixed");
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Name"), "error_bound_mixed");
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Value"), recorded);
+  EXPECT_GT(std::stod(r->get_header_value("X-Brdfbake-Error-Value")), std::stod(integration) + std::ldexp(1.0, -13))
       << "the storage error is part of the bound";
+  // The deprecated alias (docs/SERVICE.md) says the same for one release.
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
   // A format that adds nothing (float32 EXR) records the integration bound, rounded the same way.
   auto exr = c.Post("/v1/tables", R"({"kind": "ggx", "size": 32, "output": "dfg32.exr"})", "application/json");
   ASSERT_TRUE(exr);
   ASSERT_EQ(exr->status, 200) << exr->body;
-  EXPECT_EQ(exr->get_header_value("X-Brdfbake-Error-Bound"), integration);
+  EXPECT_EQ(exr->get_header_value("X-Brdfbake-Error-Value"), integration);
+}
+
+// Each kind's figure under its own name, the same in the header as in the file and in a job's
+// manifest (docs/CONVENTIONS.md, "Error figures"): a prefiltered chain's error_bound_rel, the
+// irradiance SH's error_rms_rel, a DFG table's error_bound_mixed; a kind that measures none names
+// its figure and sends no value.
+TEST_F(ServerApi, TableErrorHeadersNameTheKindsFigure) {
+  auto c = server_->client();
+  struct Case {
+    const char* body;
+    const char* name;
+  };
+  const Case cases[] = {
+      {R"({"kind": "ggx", "size": 16, "pixel": "f16", "output": "g.ktx2"})", "error_bound_mixed"},
+      {R"({"kind": "prefilter", "environment": "builtin:sun", "size": 16, "min_size": 4, "output": "p.ktx2"})",
+       "error_bound_rel"},
+      {R"({"kind": "irradiance", "environment": "builtin:sun", "output": "sh.json"})", "error_rms_rel"},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.body);
+    auto r = c.Post("/v1/tables", k.body, "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Name"), k.name);
+    const std::string value = r->get_header_value("X-Brdfbake-Error-Value");
+    ASSERT_FALSE(value.empty());
+    EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), value);  // the deprecated alias
+    // what the file itself records under that name
+    if (std::string(k.body).find(".ktx2") != std::string::npos) {
+      EXPECT_EQ(ktx2_value(r->body, "error_name"), k.name);
+      EXPECT_EQ(ktx2_value(r->body, k.name), value);
+    } else {
+      const json sh = json::parse(r->body);
+      ASSERT_TRUE(sh.contains("metadata")) << r->body.substr(0, 400);
+      EXPECT_EQ(sh["metadata"].value("error_name", ""), k.name);
+      EXPECT_EQ(sh["metadata"].value(k.name, ""), value);
+    }
+    // ... and a job's manifest, for the same table
+    const json job =
+        wait_job(c, body_json(c.Post("/v1/jobs", std::string(R"({"tables": [)") + k.body + "]}", "application/json"))
+                        .value("id", ""));
+    ASSERT_EQ(job["state"], "done") << job.dump();
+    const json& f = job["manifest"]["files"][0];
+    EXPECT_EQ(f["error_name"], k.name);
+    ASSERT_TRUE(f[k.name].is_number()) << f.dump();
+    EXPECT_EQ(error_bound_text(f[k.name].get<double>()), value);
+    const json& figure = job["error_figures"][f["path"].get<std::string>()];
+    EXPECT_EQ(figure["error_name"], k.name);
+    EXPECT_EQ(figure[k.name], value);
+  }
+  // tabulate measures none: the name, no value
+  auto none = c.Post(
+      "/v1/tables",
+      R"({"kind": "tabulate", "material": "sharp.json", "layout": "slice", "res": 16, "pixel": "f32", "output": "n.ktx2"})",
+      "application/json");
+  ASSERT_TRUE(none);
+  ASSERT_EQ(none->status, 200) << none->body;
+  EXPECT_EQ(none->get_header_value("X-Brdfbake-Error-Name"), "error_bound_mixed");
+  EXPECT_FALSE(none->has_header("X-Brdfbake-Error-Value"));
+  EXPECT_FALSE(none->has_header("X-Brdfbake-Error-Bound"));
 }
 
 // pixel astc4x4 (issue 24 item 9) reaches the server as every other front end: the chain comes back
@@ -226,7 +300,8 @@ TEST_F(ServerApi, AstcChainsAndTheirBound) {
   const std::string recorded = ktx2_value(r->body, "error_bound_rel"), storage = ktx2_value(r->body, "storage_error");
   ASSERT_FALSE(recorded.empty());
   ASSERT_FALSE(storage.empty());
-  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Bound"), recorded);
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Name"), "error_bound_rel");
+  EXPECT_EQ(r->get_header_value("X-Brdfbake-Error-Value"), recorded);
   EXPECT_GE(std::stod(recorded), std::stod(storage));
   auto bad =
       c.Post("/v1/tables", R"({"kind": "ggx", "size": 8, "pixel": "astc4x4", "output": "d.ktx2"})", "application/json");

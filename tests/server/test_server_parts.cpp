@@ -8,6 +8,7 @@
 #include "server/confine.hpp"
 #include "server/job_store.hpp"
 #include "server/reply.hpp"
+#include "server/scheduler.hpp"
 #include "server/server.hpp"
 #include "server/server_process.hpp"
 #include "server/site_policy.hpp"
@@ -15,6 +16,7 @@
 namespace brdfbake::test {
 namespace {
 
+using server::DeviceCandidate;
 using server::JobRecord;
 using server::JobState;
 using server::JobStore;
@@ -276,6 +278,43 @@ TEST(ServerParts, SitePolicyRefusesOtherPagesAndForeignHosts) {
   // A header's bytes are shown printable in the one-line message.
   EXPECT_EQ(refuse_by_site(p, "POST", "127.0.0.1:8737", "http://a\nwarning: x", "").find('\n'), std::string::npos);
   EXPECT_EQ(server::split_list(" a, ,b ,"), (std::vector<std::string>{"a", "b"}));
+}
+
+// The choice of a job's device (serve --devices, issue 36): the one that finishes it first, its
+// queued work and the job at its measured rate; devices with no rate yet are left out, and with
+// fewer than two measured there is no choice. Known rates and backlogs, exact times.
+TEST(DeviceChoice, TheFirstToFinishWithItsQueueAndRate) {
+  const std::vector<DeviceCandidate> two = {{"0:0", "gpu", 1000.0, 0.0}, {"1:0", "cpu", 100.0, 0.0}};
+  std::string why;
+  EXPECT_EQ(server::fastest_device(two, 500.0, &why), 0);  // 0.5 s against 5 s
+  EXPECT_NE(why.find("0:0 'gpu': done in 0.5 s"), std::string::npos) << why;
+  EXPECT_NE(why.find("1:0 'cpu': done in 5 s"), std::string::npos) << why;
+  // the GPU's queue holds 9,800 units (9.8 s): the CPU finishes 500 first (5 s against 10.3 s)
+  const std::vector<DeviceCandidate> busy = {{"0:0", "gpu", 1000.0, 9800.0}, {"1:0", "cpu", 100.0, 0.0}};
+  EXPECT_EQ(server::fastest_device(busy, 500.0, &why), 1);
+  EXPECT_NE(why.find("done in 10.3 s (9.8 s of queued work first)"), std::string::npos) << why;
+  // equal times: the first
+  const std::vector<DeviceCandidate> tie = {{"0:0", "a", 100.0, 0.0}, {"0:1", "b", 100.0, 0.0}};
+  EXPECT_EQ(server::fastest_device(tie, 10.0, &why), 0);
+  // a device not measured yet is left out; one measured device alone is no choice
+  const std::vector<DeviceCandidate> one = {{"0:0", "gpu", 0.0, 0.0}, {"1:0", "cpu", 100.0, 0.0}};
+  why.clear();
+  EXPECT_EQ(server::fastest_device(one, 500.0, &why), -1);
+  EXPECT_TRUE(why.empty()) << why;
+  const std::vector<DeviceCandidate> three = {
+      {"0:0", "gpu", 0.0, 0.0}, {"1:0", "cpu", 100.0, 0.0}, {"2:0", "cpu2", 200.0, 100.0}};
+  EXPECT_EQ(server::fastest_device(three, 500.0, &why), 2);  // 3 s against 5 s
+  EXPECT_NE(why.find("rate not measured yet"), std::string::npos) << why;
+  // a job's work units: its tables' output bytes
+  TableRequest a, b;
+  a.kind = TableKind::Ggx;
+  a.params = {{"size", 32.0}};
+  b.kind = TableKind::Ggx;
+  b.params = {{"size", 64.0}};
+  validate_table(a);
+  validate_table(b);
+  EXPECT_EQ(server::job_work_units({a, b}), double(estimate_table_bytes(a) + estimate_table_bytes(b)));
+  EXPECT_GT(server::job_work_units({b}), server::job_work_units({a}));
 }
 
 }  // namespace

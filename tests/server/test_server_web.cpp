@@ -184,15 +184,41 @@ TEST_F(ServerWeb, PlanIsTheDryRunOfTheCommandLine) {
     }
   }
   EXPECT_GT(compared, 0) << "the SH is always baked at its own size";
-  // Each file's bound as the command line prints it (the page shows these).
+  // Each file's figure under its name as the command line prints it (the page shows these), and the
+  // deprecated error_bounds the same text without its name.
   int bounds = 0;
-  for (const auto& f : files)
-    if (const std::string name = f.value("error_name", ""); !name.empty() && f[name].is_number()) {
+  for (const auto& f : files) {
+    const std::string name = f.value("error_name", "");
+    ASSERT_FALSE(name.empty()) << f.dump();
+    const json& figure = job["error_figures"][f["path"].get<std::string>()];
+    EXPECT_EQ(figure.value("error_name", ""), name);
+    if (f[name].is_number()) {
+      EXPECT_EQ(figure.value(name, ""), error_bound_text(f[name].get<double>()));
       EXPECT_EQ(job["error_bounds"].value(f["path"].get<std::string>(), ""), error_bound_text(f[name].get<double>()));
       ++bounds;
+    } else {
+      EXPECT_TRUE(figure[name].is_null()) << figure.dump();
     }
+  }
   EXPECT_GT(bounds, 0);
   EXPECT_EQ(job["error_bounds"].size(), size_t(bounds));
+  // Each engine file's delivered error (filament: the two KTX1 cubes and sh.txt), as its entry records it.
+  const json& entries = job["manifest"]["engine"]["file_entries"];
+  ASSERT_EQ(entries.size(), 3u) << entries.dump();
+  int measured = 0;
+  for (const auto& e : entries) {
+    const json& figure = job["error_figures"][e["path"].get<std::string>()];
+    EXPECT_EQ(figure.value("error_name", ""), "error_rms_rel");
+    for (const char* name : {"error_rms_rel", "error_max_rel"})
+      if (e[name].is_number()) {
+        EXPECT_EQ(figure.value(name, ""), error_bound_text(e[name].get<double>())) << e.dump();
+        ++measured;
+      } else {
+        EXPECT_TRUE(figure[name].is_null()) << figure.dump();
+      }
+  }
+  EXPECT_EQ(measured, 4) << "_ibl.ktx and _skybox.ktx, two figures each";
+  EXPECT_EQ(job["error_figures"].size(), files.size() + entries.size());
   // The device's load over the last minute counts at least the job it just ran (the estimate's
   // bakes and the job, within the minute: at least half the job's seconds, the two clocks apart).
   const json devices = body_json(c.Get("/v1/devices"));

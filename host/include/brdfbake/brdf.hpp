@@ -139,7 +139,8 @@ struct EvalOptions {
   Precision precision = Precision::Fp32;
   bool fast_math = false;  // build with -cl-fast-relaxed-math (an opt-in variant, docs/BENCHMARKS.md)
   bool specialize = true;  // compile only the lobes the materials use; false: every lobe of the model
-  int lanes = 0;           // directions per work-item (8 or 16); 0: the measured best per precision
+  int lanes = 0;           // directions per work-item (4, 8 or 16); 0: the device's kernel shape's (cpu: the
+                           // measured best per precision, 16 fp32 / 8 fp64; gpu: 4)
 };
 
 struct EvalTiming {
@@ -165,6 +166,7 @@ class BrdfEvaluator {
   const Lobes& lobes() const;
   std::size_t material_count() const;
   int lanes() const;
+  std::size_t chunk_pairs() const;  // PairEvaluator::chunk_pairs for this evaluator's device
 
  private:
   struct Impl;
@@ -179,6 +181,10 @@ class PairEvaluator {
   virtual ~PairEvaluator() = default;
   // pairs: 6 values a pair; out: 3 values a pair a material, material-major.
   virtual void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing = nullptr) = 0;
+  // The pairs a batch should hold to fill the device (the streams of `brdfbake eval` and a job's
+  // pairs go through in batches of this many): 65,536 on a CPU shape and the reference, the device's
+  // compute units times kGpuPairsPerComputeUnit on a GPU shape.
+  virtual std::size_t chunk_pairs() const { return std::size_t(1) << 16; }
 };
 // An evaluator on a backend (brdfbake/backend.hpp): a BrdfEvaluator on its OpenCL device, or the
 // scalar reference (eval_reference); each batch holds the backend's call lock. The backend outlives

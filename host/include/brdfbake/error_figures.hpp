@@ -25,6 +25,12 @@ const ErrorFigure& error_figure(TableKind kind);
 std::vector<std::string> error_figure_names();
 inline constexpr const char* kLegacyErrorBoundName = "error_bound";
 
+// An engine file's delivered error (the manifest's engine.file_entries, the file's own key/values,
+// the server's error_figures): named error_rms_rel, with error_max_rel beside it; their definitions
+// are kEngineErrorRmsRelDefinition and kEngineErrorMaxRelDefinition (brdfbake/engines.hpp).
+inline constexpr const char* kEngineErrorName = "error_rms_rel";
+inline constexpr const char* kEngineErrorMaxName = "error_max_rel";
+
 // The figure's text among `meta` (a file's metadata): under its kind's name, else under any other
 // figure's name, else under the legacy `error_bound`; empty when none is there.
 std::optional<std::pair<std::string, std::string>> error_figure_value(

@@ -512,9 +512,15 @@ function showResults(job, s) {
   const box = $('results');
   box.textContent = '';
   const manifest = s.manifest || {};
-  // Bounds as the command line prints them (error_bound_text: rounded up to three digits).
+  // Each file's figure under its name as the command line prints it (error_bound_text: rounded up to
+  // three digits); error_bounds: an older server's, the text alone.
+  const figures = s.error_figures || {};
   const bounds = s.error_bounds || {};
-  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, table: true, bound_text: bounds[f.path] }));
+  const figureText = (f) => {
+    const e = figures[f.path];
+    return e ? e[e.error_name] : bounds[f.path];
+  };
+  const files = (manifest.files || []).map((f) => ({ ...f, picture: true, table: true, bound_text: figureText(f) }));
   const engine = manifest.engine || {};
   // Filament's KTX1 cubes (R11F_G11F_B10F, RGBM) are drawn too: the view code reads them.
   const entries = {};

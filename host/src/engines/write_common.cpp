@@ -12,12 +12,14 @@
 #include <memory>
 
 #include "brdfbake/error.hpp"
+#include "brdfbake/error_figures.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
 #include "io/babylon_env.hpp"
 #include "io/cubemap_io.hpp"
 #include "io/gpu_cube_read.hpp"
 #include "io/half.hpp"
+#include "io/ktx1.hpp"
 #include "io/ktx2.hpp"
 #include "io/packed_float.hpp"
 #include "io/png_rgbd.hpp"
@@ -288,6 +290,54 @@ EngineFileEntry measure_engine_file(const OutFile& f) {
 
 namespace {
 
+// A file's delivered error as its own metadata records it (docs/CONVENTIONS.md, "Error figures"): the
+// manifest entry's figures under their names, rounded up as every recorded bound is.
+Metadata error_metadata(const EngineFileEntry& e) {
+  return {{"error_name", kEngineErrorName},
+          {kEngineErrorName, bound_text(e.error_rms_rel)},
+          {kEngineErrorMaxName, bound_text(e.error_max_rel)},
+          {std::string(kEngineErrorName) + "_per_level", bounds_text(e.error_rms_rel_per_level)},
+          {std::string(kEngineErrorMaxName) + "_per_level", bounds_text(e.error_max_rel_per_level)},
+          {"error_definition", kEngineErrorRmsRelDefinition},
+          {std::string(kEngineErrorMaxName) + "_definition", kEngineErrorMaxRelDefinition},
+          {"error_measurement", "this file (" + e.format + ", " + e.values +
+                                    ") decoded as the engine decodes it, measured before these keys were added: "
+                                    "they change no texel"}};
+}
+
+// `f` with its delivered error in its container's metadata, where the container has any: KTX1 and
+// KTX2 key/values (brdfbake:NAME), the .env's manifest (its "brdfbake" member). The error depends
+// on the texels alone, measured before (measure_engine_file), so the keys can hold it. An RGBD face
+// PNG carries none (the .gltf's image entries do: with_face_errors).
+void carry_error(OutFile& f, const EngineFileEntry& e) {
+  const std::string ext = fs::path(f.name).extension().string();
+  const Metadata meta = error_metadata(e);
+  if (ext == ".ktx" || ext == ".ktx2") {
+    std::vector<std::pair<std::string, std::string>> kv;
+    for (const auto& [k, v] : meta) kv.emplace_back("brdfbake:" + k, v);
+    f.bytes = ext == ".ktx" ? io::ktx1_with_key_values(f.bytes, kv, f.name) : io::ktx2_with_key_values(f.bytes, kv);
+  } else if (ext == ".env") {
+    io::BabylonEnv env = io::decode_babylon_env(f.bytes);
+    for (const auto& [k, v] : meta) env.extra["brdfbake"][k] = v;
+    f.bytes = io::encode_babylon_env(env);
+  }
+}
+
+// A .gltf with each RGBD face's delivered error in its image's extras ("brdfbake"), by the face's
+// entry.
+void with_face_errors(OutFile& gltf, const std::vector<EngineFileEntry>& entries) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(gltf.bytes.begin(), gltf.bytes.end());
+  if (!j.contains("images") || !j["images"].is_array()) return;
+  for (auto& image : j["images"]) {
+    if (!image.contains("uri") || !image["uri"].is_string()) continue;
+    for (const EngineFileEntry& e : entries)
+      if (e.measured && e.path == image["uri"].get<std::string>())
+        image["extras"]["brdfbake"] = metadata_json(error_metadata(e));
+  }
+  const std::string text = j.dump(2) + "\n";
+  gltf.bytes.assign(text.begin(), text.end());
+}
+
 void write_all(const std::string& out_dir, const std::vector<OutFile>& files, std::vector<std::string>& written) {
   std::error_code ec;
   const bool existed = fs::is_directory(out_dir, ec);
@@ -352,7 +402,16 @@ EngineWriteResult write_engine_files(EngineTarget target, const EngineBake& bake
     io::throw_write_error(out_dir, e.what());
   }
   try {
-    for (const OutFile& f : files) result.entries.push_back(measure_engine_file(f));
+    // Each file measured, then its figures written into it where its container has metadata (its
+    // size is the file's with them).
+    for (OutFile& f : files) {
+      result.entries.push_back(measure_engine_file(f));
+      if (result.entries.back().measured) carry_error(f, result.entries.back());
+    }
+    for (size_t k = 0; k < files.size(); ++k) {
+      if (fs::path(files[k].name).extension() == ".gltf") with_face_errors(files[k], result.entries);
+      result.entries[k].bytes = files[k].bytes.size();
+    }
   } catch (const Error& e) {
     io::throw_write_error(out_dir, e.what());
   }

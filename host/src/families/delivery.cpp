@@ -13,6 +13,7 @@
 #include "families/family.hpp"
 #include "io/astc_ktx2.hpp"
 #include "io/atomic_file.hpp"
+#include "io/cubemap_io.hpp"
 #include "io/ktx2.hpp"
 #include "io/storage.hpp"
 
@@ -364,12 +365,16 @@ WriteReport write_cube_result(const CubeLevels& cube, const TableRequest& t, con
     write_cubemap(cube_out, path, cube_format_of(at), cube_write_options_of(at, stem));
     return w;
   }
-  CubeLevels out = cube_out;
+  // the bound's figures added to a copy of the metadata, not of the levels (every chain records a
+  // bound: a copy of a 1024^2 chain is 128 MiB)
+  CubeLevels figures;
+  figures.metadata = cube_out.metadata;
   w.error_bound = *bound + s.max_error;
-  out.set_meta("storage_error", bound_text(s.max_error));
-  out.set_meta("storage_encoding", s.encoding);
-  set_error_figure(out.metadata, t.kind, bound_text(*w.error_bound));
-  write_cubemap(out, path, cube_format_of(at), cube_write_options_of(at, stem));
+  figures.set_meta("storage_error", bound_text(s.max_error));
+  figures.set_meta("storage_encoding", s.encoding);
+  set_error_figure(figures.metadata, t.kind, bound_text(*w.error_bound));
+  io::write_cubemap_with_metadata(cube_out, figures.metadata, path, cube_format_of(at),
+                                  cube_write_options_of(at, stem));
   return w;
 }
 

@@ -192,18 +192,19 @@ std::vector<float> equirect_rgb(const CubeLevels& cube, int level, int* w, int* 
   return rgb;
 }
 
-std::string metadata_json(const CubeLevels& cube, const std::vector<std::string>& files, const std::string& layout) {
+std::string metadata_json(const Metadata& metadata, const std::vector<std::string>& files, const std::string& layout) {
   nlohmann::ordered_json j;
   j["generator"] = kGenerator;
   j["layout"] = layout;
   j["files"] = files;
   nlohmann::ordered_json meta = nlohmann::ordered_json::object();
-  for (const auto& [k, v] : cube.metadata) meta[k] = v;
+  for (const auto& [k, v] : metadata) meta[k] = v;
   j["metadata"] = meta;
   return j.dump(2) + "\n";
 }
 
-void write_directory(const CubeLevels& cube, const std::string& path, const CubeWriteOptions& o) {
+void write_directory(const CubeLevels& cube, const Metadata& metadata, const std::string& path,
+                     const CubeWriteOptions& o) {
   std::error_code ec;
   const bool existed = fs::is_directory(path, ec);
   if (!existed && fs::exists(path, ec)) throw_write_error(path, "exists and is not a folder");
@@ -217,7 +218,7 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
     auto write_one = [&](const std::string& name, int w, int h, const std::vector<float>& rgb) {
       const std::string file = (fs::path(path) / name).string();
       temps.push_back(std::make_unique<TempFile>(file));
-      write_image(*temps.back(), o.image_format, w, h, rgb, cube.metadata);
+      write_image(*temps.back(), o.image_format, w, h, rgb, metadata);
       names.push_back(name);
     };
     const std::string layout = o.layout == CubeImageLayout::Faces             ? "faces"
@@ -241,7 +242,7 @@ void write_directory(const CubeLevels& cube, const std::string& path, const Cube
     }
     const std::string json = (fs::path(path) / (o.stem + ".json")).string();
     temps.push_back(std::make_unique<TempFile>(json));
-    write_bytes(*temps.back(), metadata_json(cube, names, layout));
+    write_bytes(*temps.back(), metadata_json(metadata, names, layout));
     for (auto& t : temps) t->commit();
   } catch (...) {
     if (!existed) fs::remove_all(path, ec);
@@ -300,8 +301,12 @@ std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, Pixel
 }
 
 std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version) {
+  return metadata_key_values(cube.metadata, ktx_version);
+}
+
+std::vector<std::pair<std::string, std::string>> metadata_key_values(const Metadata& metadata, int ktx_version) {
   std::vector<std::pair<std::string, std::string>> kv;
-  for (const auto& [k, v] : cube.metadata) kv.emplace_back(kKeyPrefix + k, v);
+  for (const auto& [k, v] : metadata) kv.emplace_back(kKeyPrefix + k, v);
   if (ktx_version == 2) {
     // KTX 2.0 "KTXwriter" and "KTXorientation": cubemap faces must be "rd" (row 0 at the top).
     kv.emplace_back("KTXwriter", kGenerator);
@@ -430,6 +435,11 @@ CubeFormat cube_format_from_path(const std::string& path) {
 }
 
 void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat format, const CubeWriteOptions& o) {
+  io::write_cubemap_with_metadata(cube, cube.metadata, path, format, o);
+}
+
+void io::write_cubemap_with_metadata(const CubeLevels& cube, const Metadata& metadata, const std::string& path,
+                                     CubeFormat format, const CubeWriteOptions& o) {
   io::check_cube(cube);
   switch (format) {
     case CubeFormat::Ktx2: {
@@ -444,7 +454,7 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       image.faces = 6;
       image.levels = static_cast<uint32_t>(cube.level_count());
       image.level_data = io::cube_level_bytes(cube, o.pixel);
-      image.key_values = io::cube_key_values(cube, 2);
+      image.key_values = io::metadata_key_values(metadata, 2);
       try {
         io::write_ktx2(image, path);  // streamed: the levels are not copied again
       } catch (const IoError&) {
@@ -455,7 +465,8 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       return;
     }
     case CubeFormat::Ktx1:
-      io::write_file_atomically(path, io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::cube_key_values(cube, 1))));
+      io::write_file_atomically(path,
+                                io::as_view(io::encode_ktx1_cube(cube, o.pixel, io::metadata_key_values(metadata, 1))));
       return;
     case CubeFormat::Dds:
     case CubeFormat::DdsLegacy: {
@@ -468,14 +479,14 @@ void write_cubemap(const CubeLevels& cube, const std::string& path, CubeFormat f
       }
       io::TempFile image(path), json(path + ".json");
       io::write_bytes(image, io::as_view(dds));
-      io::write_bytes(json, io::metadata_json(cube, {std::filesystem::path(path).filename().string()},
+      io::write_bytes(json, io::metadata_json(metadata, {std::filesystem::path(path).filename().string()},
                                               format == CubeFormat::Dds ? "dds-dx10" : "dds-legacy"));
       image.commit();
       json.commit();
       return;
     }
     case CubeFormat::Directory:
-      io::write_directory(cube, path, o);
+      io::write_directory(cube, metadata, path, o);
       return;
   }
 }

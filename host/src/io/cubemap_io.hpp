@@ -65,5 +65,12 @@ std::vector<uint8_t> encode_dds_cube(const CubeLevels& cube, PixelType pixel, bo
 // (ktx_version 2), KTXwriter and KTXorientation "rd"; for KTX 1.1 (ktx_version 1) only keys KTX 1.1
 // defines, KTXorientation "S=r,T=d", and the writer as "brdfbake:writer".
 std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version);
+// The same of any metadata.
+std::vector<std::pair<std::string, std::string>> metadata_key_values(const Metadata& metadata, int ktx_version);
+
+// write_cubemap with `metadata` written in place of the cube's own: a writer that adds to a cube's
+// metadata copies the metadata, not the levels (a 1024^2 chain's are 128 MiB).
+void write_cubemap_with_metadata(const CubeLevels& cube, const Metadata& metadata, const std::string& path,
+                                 CubeFormat format, const CubeWriteOptions& options);
 
 }  // namespace brdfbake::io

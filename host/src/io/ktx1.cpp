@@ -108,6 +108,59 @@ Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origi
   return k;
 }
 
+std::vector<uint8_t> ktx1_with_key_values(const std::vector<uint8_t>& file,
+                                          const std::vector<std::pair<std::string, std::string>>& key_values,
+                                          const std::string& origin) {
+  auto fail = [&](const std::string& why) -> Error { return Error("invalid KTX file '" + origin + "': " + why); };
+  const uint8_t* data = file.data();
+  const size_t size = file.size();
+  if (size < kHeaderBytes || std::memcmp(data, kIdentifier, 12) != 0) throw fail("not a KTX 1.1 file (bad identifier)");
+  auto u32 = [&](size_t at) {
+    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 |
+           uint32_t(data[at + 3]) << 24;
+  };
+  if (u32(12) != 0x04030201) throw fail("big-endian files are not supported");
+  const uint32_t kvd_bytes = u32(60);
+  if (kvd_bytes > size - kHeaderBytes) throw fail("the key/value data runs past the end of the file");
+  // The entries as they are (values with their NUL), then the new ones set.
+  std::vector<std::pair<std::string, std::string>> entries;
+  size_t at = kHeaderBytes;
+  const size_t kvd_end = kHeaderBytes + kvd_bytes;
+  while (at < kvd_end) {
+    if (kvd_end - at < 4) throw fail("truncated key/value entry");
+    const uint32_t n = u32(at);
+    at += 4;
+    if (n > kvd_end - at) throw fail("a key/value entry runs past the key/value data");
+    const char* kv = reinterpret_cast<const char*>(data + at);
+    const size_t key_len = strnlen(kv, n);
+    if (key_len == n) throw fail("a key without its NUL terminator");
+    entries.emplace_back(std::string(kv, key_len), std::string(kv + key_len + 1, n - key_len - 1));
+    at += pad4(n);
+  }
+  for (const auto& [key, value] : key_values) {
+    if (key.empty() || key.find('\0') != std::string::npos) throw fail("a key must be non-empty text without NUL");
+    std::string v = value + std::string(1, '\0');
+    auto it = std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.first == key; });
+    if (it != entries.end())
+      it->second = std::move(v);
+    else
+      entries.emplace_back(key, std::move(v));
+  }
+  std::vector<uint8_t> out(data, data + kHeaderBytes);
+  for (const auto& [key, value] : entries) {
+    const uint32_t n = uint32_t(key.size() + 1 + value.size());  // keyAndValueByteSize
+    for (int b = 0; b < 4; ++b) out.push_back(uint8_t(n >> (8 * b)));
+    out.insert(out.end(), key.begin(), key.end());
+    out.push_back(0);
+    out.insert(out.end(), value.begin(), value.end());
+    out.resize(pad4(out.size()), 0);  // valuePadding
+  }
+  const uint32_t kvd = uint32_t(out.size() - kHeaderBytes);
+  for (int b = 0; b < 4; ++b) out[60 + size_t(b)] = uint8_t(kvd >> (8 * b));
+  out.insert(out.end(), data + kvd_end, data + size);  // the levels, unchanged
+  return out;
+}
+
 Ktx1Image read_ktx1(const std::string& path) {
   const std::vector<uint8_t> bytes = read_binary_file(path, "KTX file");
   return decode_ktx1(bytes.data(), bytes.size(), path);

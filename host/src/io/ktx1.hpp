@@ -33,4 +33,12 @@ struct Ktx1Image {
 Ktx1Image decode_ktx1(const uint8_t* data, size_t size, const std::string& origin);
 Ktx1Image read_ktx1(const std::string& path);
 
+// `file` (a KTX 1.1 file, any glType: the packed R11F_G11F_B10F too) with `key_values` set in its
+// key/value data: a key it has already takes the new value in place, the others are appended. Only
+// the key/value data and bytesOfKeyValueData change; the image data is copied as it is. Throws
+// Error("invalid KTX file '<origin>': ...") for a header or key/value data it cannot parse.
+std::vector<uint8_t> ktx1_with_key_values(const std::vector<uint8_t>& file,
+                                          const std::vector<std::pair<std::string, std::string>>& key_values,
+                                          const std::string& origin);
+
 }  // namespace brdfbake::io

@@ -746,6 +746,20 @@ Ktx2Image decode_ktx2(const uint8_t* data, size_t size) { return Decoder(data, s
 
 Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes) { return decode_ktx2(bytes.data(), bytes.size()); }
 
+std::vector<uint8_t> ktx2_with_key_values(const std::vector<uint8_t>& file,
+                                          const std::vector<std::pair<std::string, std::string>>& key_values) {
+  Ktx2Image image = decode_ktx2(file);
+  for (const auto& [key, value] : key_values) {
+    auto it =
+        std::find_if(image.key_values.begin(), image.key_values.end(), [&](const auto& e) { return e.first == key; });
+    if (it != image.key_values.end())
+      it->second = value;
+    else
+      image.key_values.emplace_back(key, value);
+  }
+  return encode_ktx2(image);
+}
+
 Ktx2Image read_ktx2(const std::string& path) {
   // A regular file of at most 4 GiB (io/special_files.hpp); every size inside is checked against it.
   if (file_type(path) == FileType::Missing)

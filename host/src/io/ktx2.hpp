@@ -62,4 +62,10 @@ Ktx2Image decode_ktx2(const uint8_t* data, size_t size);
 Ktx2Image decode_ktx2(const std::vector<uint8_t>& bytes);
 Ktx2Image read_ktx2(const std::string& path);
 
+// `file` (a valid KTX2 file of this subset) with `key_values` set: a key it has already takes the new
+// value, the others are added; decoded and encoded again, so the levels are the same bytes (their
+// offsets move with the key/value data). Throws brdfbake::Error as decode_ktx2 and encode_ktx2 do.
+std::vector<uint8_t> ktx2_with_key_values(const std::vector<uint8_t>& file,
+                                          const std::vector<std::pair<std::string, std::string>>& key_values);
+
 }  // namespace brdfbake::io

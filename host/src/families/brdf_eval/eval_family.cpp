@@ -171,8 +171,9 @@ class EvalFamily final : public Family {
     if (inputs.pairs) {  // in memory: the same chunks through the same evaluator
       res.pairs = inputs.pair_count;
       res.values.assign(3 * inputs.pair_count, 0.0);
-      for (size_t at = 0; at < inputs.pair_count; at += kChunkPairs) {
-        const size_t n = std::min(kChunkPairs, inputs.pair_count - at);
+      const size_t chunk = get().chunk_pairs();
+      for (size_t at = 0; at < inputs.pair_count; at += chunk) {
+        const size_t n = std::min(chunk, inputs.pair_count - at);
         EvalTiming timing;
         get().eval(inputs.pairs + 6 * at, n, res.values.data() + 3 * at, &timing);
         device_seconds += timing.device_seconds;

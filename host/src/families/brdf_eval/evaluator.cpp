@@ -23,8 +23,11 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Lane widths measured by bench/brdf_bench on PoCL (docs/BENCHMARKS.md): float16 and double8 fill
-// an AVX-512 register.
-int default_lanes(Precision p) { return p == Precision::Fp64 ? 8 : 16; }
+// an AVX-512 register; a GPU shape's work-item takes 4.
+int default_lanes(Precision p, const DeviceInfo& device) {
+  if (device.kernel_shape == "gpu") return 4;
+  return p == Precision::Fp64 ? 8 : 16;
+}
 
 }  // namespace
 
@@ -50,10 +53,18 @@ detail::ProgramSpec detail::brdf_program_spec(BrdfModel model, const Lobes& lobe
   return ps;
 }
 
-int detail::resolve_lanes(const EvalOptions& o) {
-  const int lanes = o.lanes == 0 ? default_lanes(o.precision) : o.lanes;
-  if (lanes != 8 && lanes != 16) throw Error("lanes must be 8 or 16 (got " + std::to_string(lanes) + ")");
+int detail::resolve_lanes(const EvalOptions& o, const DeviceInfo& device) {
+  const int lanes = o.lanes == 0 ? default_lanes(o.precision, device) : o.lanes;
+  if (lanes != 4 && lanes != 8 && lanes != 16)
+    throw Error("lanes must be 4, 8 or 16 (got " + std::to_string(lanes) + ")");
   return lanes;
+}
+
+size_t detail::eval_chunk_pairs(const DeviceInfo& device) {
+  constexpr size_t kCpuChunk = size_t(1) << 16, kMaxChunk = size_t(1) << 21;
+  if (device.kernel_shape != "gpu") return kCpuChunk;
+  const size_t want = size_t(std::max(1u, device.compute_units)) * kGpuPairsPerComputeUnit;
+  return std::min(kMaxChunk, std::max(kCpuChunk, want));
 }
 
 cl::Buffer detail::brdf_real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v, cl_mem_flags flags) {
@@ -121,7 +132,7 @@ BrdfEvaluator::BrdfEvaluator(Device& device, BrdfModel model, std::vector<Materi
   s.options = options;
   if (s.materials.empty()) throw Error("no materials to evaluate");
   for (size_t i = 0; i < s.materials.size(); ++i) validate_material(s.materials[i], "material " + std::to_string(i));
-  s.lanes = detail::resolve_lanes(options);
+  s.lanes = detail::resolve_lanes(options, device.info());
   s.lobes = options.specialize ? lobes_used(model, s.materials) : all_lobes(model);
   auto& dev = device.impl();
   s.program = detail::build_program(dev, detail::brdf_program_spec(model, s.lobes, options, s.lanes));
@@ -137,6 +148,7 @@ BrdfEvaluator::~BrdfEvaluator() = default;
 const Lobes& BrdfEvaluator::lobes() const { return impl_->lobes; }
 size_t BrdfEvaluator::material_count() const { return impl_->materials.size(); }
 int BrdfEvaluator::lanes() const { return impl_->lanes; }
+size_t BrdfEvaluator::chunk_pairs() const { return detail::eval_chunk_pairs(impl_->device->info()); }
 
 void BrdfEvaluator::eval(const double* pairs, size_t count, double* out, EvalTiming* timing) {
   const auto t0 = Clock::now();

@@ -23,6 +23,7 @@ class GuardedEvaluator final : public PairEvaluator {
     const std::unique_lock<std::mutex> lock = backend_.lock_calls();
     inner_->eval(pairs, count, out, timing);
   }
+  std::size_t chunk_pairs() const override { return inner_->chunk_pairs(); }
 
  private:
   Backend& backend_;

@@ -47,7 +47,14 @@ double narrowest_lobe(BrdfModel model, const Material& material);
 // The program of a model for the lobes used, in the options' precision, `lanes` directions a
 // work-item; the lane count of the options (8 or 16; 0 the measured best).
 ProgramSpec brdf_program_spec(BrdfModel model, const Lobes& lobes, const EvalOptions& options, int lanes);
-int resolve_lanes(const EvalOptions& options);
+// The lanes of a program: options.lanes, else the device's kernel shape's (DeviceInfo::kernel_shape):
+// cpu 16 in fp32 and 8 in fp64 (bench/brdf_bench on PoCL), gpu 4 (a work-item is one lane of a warp:
+// float16 vectors spill its registers, and fp64 outran fp32 on an H200 for that reason).
+int resolve_lanes(const EvalOptions& options, const DeviceInfo& device);
+// Pairs a batch on a GPU-shaped device, per compute unit: 16,384 x 132 SMs = 2.2M pairs a launch on
+// an H200, where 2M measured 15.4 G evaluations/s against 1.67 at 65,536 (docs/BENCHMARKS.md).
+inline constexpr size_t kGpuPairsPerComputeUnit = size_t(1) << 14;
+size_t eval_chunk_pairs(const DeviceInfo& device);
 // Device-side copies of a real-valued host array in the program's precision, and back.
 cl::Buffer brdf_real_buffer(Device::Impl& dev, Precision p, const std::vector<double>& v,
                             cl_mem_flags flags = CL_MEM_READ_ONLY);

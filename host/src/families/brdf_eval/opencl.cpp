@@ -16,6 +16,7 @@ class OpenClEvaluator final : public PairEvaluator {
   void eval(const double* pairs, std::size_t count, double* out, EvalTiming* timing) override {
     evaluator_.eval(pairs, count, out, timing);
   }
+  std::size_t chunk_pairs() const override { return evaluator_.chunk_pairs(); }
 
  private:
   BrdfEvaluator evaluator_;

@@ -165,7 +165,10 @@ std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<Pa
                            std::uint64_t max_pairs) {
   PairInput::Impl& in = input.impl();
   std::vector<double> pairs, f;
-  pairs.reserve(6 * kChunkPairs);
+  // the first chunk holds kChunkPairs, the next ones as many as the evaluator asks for (it is made
+  // with the first chunk, after its lines were checked)
+  size_t chunk = kChunkPairs;
+  pairs.reserve(6 * chunk);
   std::uint64_t total = 0;
   auto evaluate = [&](size_t count) {
     if (total + count > max_pairs)
@@ -176,6 +179,7 @@ std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<Pa
     if (count > 0) {
       EvalTiming t;
       ev().eval(pairs.data(), count, f.data(), &t);
+      chunk = std::max<size_t>(1, ev().chunk_pairs());
       *device_seconds += t.device_seconds;
       // No NaN or Inf reaches an output (docs/RELIABILITY.md): the inputs were checked finite and
       // non-zero, so a non-finite f is a failure of the evaluation, refused with its pair.
@@ -189,10 +193,11 @@ std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<Pa
   };
   if (binary) {
     constexpr size_t kPairBytes = 6 * sizeof(float);
-    std::vector<unsigned char> bytes(kPairBytes * kChunkPairs);
+    std::vector<unsigned char> bytes;
     std::vector<float> values;
     for (;;) {
       // short only at the end of the input
+      bytes.resize(kPairBytes * chunk);
       const size_t got = in.read(bytes.data(), bytes.size());
       if (got % kPairBytes != 0)
         throw Error(in.name() + ": the input is not a whole number of pairs (6 float32 = 24 bytes each): " +
@@ -233,8 +238,8 @@ std::uint64_t stream_pairs(PairInput& input, bool binary, const std::function<Pa
     double v[6];
     parse_pair(t, line, in.name(), v);
     pairs.insert(pairs.end(), v, v + 6);
-    if (pairs.size() == 6 * kChunkPairs) {
-      evaluate(kChunkPairs);
+    if (pairs.size() >= 6 * chunk) {
+      evaluate(pairs.size() / 6);
       pairs.clear();
     }
   }

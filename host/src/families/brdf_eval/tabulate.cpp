@@ -354,7 +354,7 @@ MerlTable tabulate_merl(Device& device, const TabulateSpec& s, TabulateTiming* t
   detail::check_tabulate_spec(s);
   const std::vector<int> res = tabulate_resolution(s);
   auto& dev = device.impl();
-  const int lanes = detail::resolve_lanes(s.options);
+  const int lanes = detail::resolve_lanes(s.options, dev.info);
   const std::vector<Material> mats = params_of(s);
   const Lobes lobes = s.options.specialize ? lobes_used(s.model, mats) : all_lobes(s.model);
   cl::Program program = detail::build_program(dev, detail::brdf_program_spec(s.model, lobes, s.options, lanes));
@@ -389,7 +389,7 @@ Table tabulate(Device& device, const TabulateSpec& s, TabulateTiming* timing) {
   detail::check_tabulate_spec(s);
   const std::vector<int> res = tabulate_resolution(s);
   auto& dev = device.impl();
-  const int lanes = detail::resolve_lanes(s.options);
+  const int lanes = detail::resolve_lanes(s.options, dev.info);
   const std::vector<Material> mats = params_of(s);
   const Lobes lobes = s.options.specialize ? lobes_used(s.model, mats) : all_lobes(s.model);
   cl::Program program = detail::build_program(dev, detail::brdf_program_spec(s.model, lobes, s.options, lanes));

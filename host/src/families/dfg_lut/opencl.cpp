@@ -53,8 +53,19 @@ Rule01 rule01(int n) {
   return out;
 }
 
-// The program of a resolved spec: one kind, one estimator, the Charlie visibility.
-detail::ProgramSpec program_spec(const LutSpec& s) {
+// The GPU shape's work-group a cell (docs/DEVICES.md, "Kernel shapes"): 32 work-items (a warp),
+// each taking every 32nd chunk of 8 polar nodes (or every 32nd sample), within the device's limit and
+// a power of two (the kernel's sum over the group halves it); 0 in the CPU shape (a work-item a cell).
+size_t cell_group(const DeviceInfo& d) {
+  if (d.kernel_shape != "gpu") return 0;
+  size_t g = 32;
+  while (g > 1 && g > d.max_work_group_size) g /= 2;
+  return g;
+}
+
+// The program of a resolved spec: one kind, one estimator, the Charlie visibility; the GPU shape's
+// group.
+detail::ProgramSpec program_spec(const LutSpec& s, size_t group) {
   detail::ProgramSpec ps;
   ps.file = "dfg_lut.cl";
   ps.precision = s.precision;
@@ -69,6 +80,10 @@ detail::ProgramSpec program_spec(const LutSpec& s) {
   ps.defines.push_back({est, "1"});
   if (s.kind == LutKind::Charlie && s.sheen_visibility == SheenVisibility::Neubelt)
     ps.defines.push_back({"BRDFBAKE_SHEEN_NEUBELT", "1"});
+  if (group > 0) {
+    ps.defines.push_back({"BRDFBAKE_DFG_GROUPS", "1"});
+    ps.defines.push_back({"BRDFBAKE_DFG_GROUP", std::to_string(group)});
+  }
   return ps;
 }
 
@@ -110,7 +125,8 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
   const LutSpec s = resolve_lut_spec(in);
   auto& dev = device.impl();
 
-  cl::Program program = detail::build_program(dev, program_spec(s));
+  const size_t group = cell_group(dev.info);
+  cl::Program program = detail::build_program(dev, program_spec(s, group));
   int n_xi = 1, n_phi = 1;
   if (s.estimator == Estimator::Quadrature) quadrature_shape(s.kind, s.samples, n_xi, n_phi);
   const std::vector<double> q = quadrature_nodes(n_xi, n_phi);
@@ -137,8 +153,10 @@ Table bake_lut(Device& device, const LutSpec& in, LutTiming* timing, const Progr
     const double seconds = detail::launch_in_tiles(
         static_cast<size_t>(s.width), static_cast<size_t>(s.height), double(evaluations(s)),
         [&](size_t x0, size_t nx, size_t y0, size_t ny) {
-          return dfg(detail::tile_range(dev.queue, x0, nx, y0, ny), out, xs, ys, s.width, s.height,
-                     static_cast<cl_uint>(s.samples), qb, n_xi, n_phi);
+          const cl::EnqueueArgs range = group > 0 ? cl::EnqueueArgs(dev.queue, cl::NDRange(x0 * group, y0),
+                                                                    cl::NDRange(nx * group, ny), cl::NDRange(group, 1))
+                                                  : detail::tile_range(dev.queue, x0, nx, y0, ny);
+          return dfg(range, out, xs, ys, s.width, s.height, static_cast<cl_uint>(s.samples), qb, n_xi, n_phi);
         },
         [&](double f) {
           if (progress) progress(f);

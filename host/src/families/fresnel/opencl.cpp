@@ -17,10 +17,13 @@ using detail::Resolved;
 
 namespace {
 
-// Cells per work-item in kernels/fresnel.cl: kChunks vectors of lanes(precision) cells; 16 lanes
-// fill a 512-bit register in fp32 (double16 spills: fp64 keeps 8). See kernels/common/fresnel.clh.
-constexpr int kChunks = 8;
-int lanes(Precision p) { return p == Precision::Fp64 ? 8 : 16; }
+// Cells per work-item in kernels/fresnel.cl: chunks(device) vectors of lanes(precision) cells; 16
+// lanes fill a 512-bit register in fp32 (double16 spills: fp64 keeps 8). See
+// kernels/common/fresnel.clh. The CPU shape takes 8 chunks a work-item (128 cells in fp32), the GPU
+// shape (docs/DEVICES.md, "Kernel shapes") one chunk of 8 lanes: 16x as many work-items, 8 cells
+// each (the kernel stores 8 cells at a time).
+int chunks(const DeviceInfo& d) { return d.kernel_shape == "gpu" ? 1 : 8; }
+int lanes(Precision p, const DeviceInfo& d) { return p == Precision::Fp64 || d.kernel_shape == "gpu" ? 8 : 16; }
 
 class OpenClFresnel final : public detail::FresnelKernel {
  public:
@@ -46,13 +49,13 @@ Table bake_fresnel(Device& device, const FresnelSpec& spec, FresnelTiming* timin
   ps.file = "fresnel.cl";
   ps.precision = spec.precision;
   ps.defines.push_back({detail::fresnel_model_info(spec.model).define, "1"});
-  ps.defines.push_back({"BRDFBAKE_FRESNEL_CHUNKS", std::to_string(kChunks)});
-  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes(spec.precision))});
+  ps.defines.push_back({"BRDFBAKE_FRESNEL_CHUNKS", std::to_string(chunks(dev.info))});
+  ps.defines.push_back({"BRDFBAKE_LANES", std::to_string(lanes(spec.precision, dev.info))});
   if (r.two_d) ps.defines.push_back({"BRDFBAKE_FRESNEL_2D", "1"});
   cl::Program program = detail::build_program(dev, ps);
 
   // xs padded to whole work-items (the kernel loads whole vectors; the pad is never stored).
-  const size_t cells_per_item = static_cast<size_t>(kChunks * lanes(spec.precision));
+  const size_t cells_per_item = static_cast<size_t>(chunks(dev.info) * lanes(spec.precision, dev.info));
   const size_t items = (static_cast<size_t>(r.width) + cells_per_item - 1) / cells_per_item;
   std::vector<double> xs = r.x;
   xs.resize(items * cells_per_item, 1.0);

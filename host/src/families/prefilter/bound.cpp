@@ -1,7 +1,10 @@
 // The error bound every prefiltered chain records (docs/CONVENTIONS.md, "Error bounds"): each
 // stored level compared with the double reference (host/reference/src/prefilter.cpp, the definition
 // itself: the lobe's integral over the bilinear interpolation of level 0) on a deterministic sample
-// of its texels.
+// of its texels. The reference's values are summed by host_bound_reference (the scalar reference
+// itself) or, on an OpenCL device with fp64, by bound_device.cpp (kernels/prefilter_bound.cl: the
+// same terms, held to the scalar reference by tests/device/test_prefilter_bound.cpp); this file
+// chooses the sample and turns the values into the bound.
 //
 // Per level l >= 1, with Y the luminance of a texel:
 //   d_k   = |Y_stored(k) - Y_ref(k)| / max(Y_ref(k), 1e-6 max_k Y_ref(k))   on the sample texels k
@@ -113,8 +116,20 @@ double chain_recorded_bound(const ChainBound& chain, double max_error, double me
   return max_error > 0 && measured_error > chain.bound ? measured_error : chain.bound;
 }
 
-ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,
-                             const std::vector<double>& roughness) {
+std::vector<std::vector<double>> host_bound_reference(const CubeLevels& cube, EnvDistribution distribution,
+                                                      const std::vector<BoundLevelSample>& samples) {
+  std::vector<std::vector<double>> out;
+  if (samples.empty()) return out;
+  const reference::EnvCube source = to_reference_cube(cube.levels[0], cube.size);
+  const reference::EnvLobe lobe =
+      distribution == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
+  for (const BoundLevelSample& s : samples)
+    out.push_back(reference::prefilter_directions(source, lobe, s.roughness, s.directions, s.subdivision));
+  return out;
+}
+
+ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution, const std::vector<double>& roughness,
+                             const BoundReference& reference_values) {
   const auto t0 = std::chrono::steady_clock::now();
   const int levels = cube.level_count();
   ChainBound b;
@@ -122,30 +137,45 @@ ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distributio
   b.max_difference.assign(size_t(levels), 0.0);
   b.samples.assign(size_t(levels), 0);
   if (levels > 1) {
-    const reference::EnvCube source = to_reference_cube(cube.levels[0], cube.size);
     const reference::EnvLobe lobe =
         distribution == EnvDistribution::Charlie ? reference::EnvLobe::Charlie : reference::EnvLobe::Ggx;
     const double cells = 6.0 * double(cube.size) * double(cube.size);
+    std::vector<BoundLevelSample> samples;
+    std::vector<std::vector<Texel>> texels;
     for (int l = 1; l < levels; ++l) {
       const double r = roughness.at(size_t(l));
       const int q = reference::env_default_subdivision(lobe, r * r, cube.size);
       const double per_direction = cells * q * q;
       const int count = static_cast<int>(std::clamp(kChainBoundWork / (levels - 1) / per_direction,
                                                     double(kChainBoundMinSamples), double(kChainBoundMaxSamples)));
-      const std::vector<Texel> texels = sample_texels(cube, l, count);
-      std::vector<Vec3> dirs;
-      for (const Texel& t : texels) dirs.push_back(math::cube_texel_direction(t.face, cube.level_size(l), t.i, t.j));
-      const std::vector<double> ref = reference::prefilter_directions(source, lobe, r, dirs, q);
-      std::vector<double> y_ref(texels.size());
-      for (size_t k = 0; k < texels.size(); ++k)  // in double, with luminance()'s weights (Rec. 709)
-        y_ref[k] = 0.2126 * ref[3 * k] + 0.7152 * ref[3 * k + 1] + 0.0722 * ref[3 * k + 2];
-      std::vector<double> y_stored(texels.size());
-      for (size_t k = 0; k < texels.size(); ++k)
-        y_stored[k] = luminance(cube.texel(l, texels[k].face, texels[k].i, texels[k].j));
+      texels.push_back(sample_texels(cube, l, count));
+      BoundLevelSample s;
+      s.level = l;
+      s.roughness = r;
+      s.subdivision = q;
+      for (const Texel& t : texels.back())
+        s.directions.push_back(math::cube_texel_direction(t.face, cube.level_size(l), t.i, t.j));
+      samples.push_back(std::move(s));
+    }
+    // every level's reference values at once: a device sums the levels that share a subdivision
+    // in one pass over level 0
+    const std::vector<std::vector<double>> ref = reference_values ? reference_values(cube, distribution, samples)
+                                                                  : host_bound_reference(cube, distribution, samples);
+    if (ref.size() != samples.size())
+      throw std::logic_error("chain_error_bound: the reference answered " + std::to_string(ref.size()) + " levels of " +
+                             std::to_string(samples.size()));
+    for (size_t s = 0; s < samples.size(); ++s) {
+      const int l = samples[s].level;
+      const std::vector<Texel>& ts = texels[s];
+      std::vector<double> y_ref(ts.size());
+      for (size_t k = 0; k < ts.size(); ++k)  // in double, with luminance()'s weights (Rec. 709)
+        y_ref[k] = 0.2126 * ref[s][3 * k] + 0.7152 * ref[s][3 * k + 1] + 0.0722 * ref[s][3 * k + 2];
+      std::vector<double> y_stored(ts.size());
+      for (size_t k = 0; k < ts.size(); ++k) y_stored[k] = luminance(cube.texel(l, ts[k].face, ts[k].i, ts[k].j));
       const LevelBound lb = level_bound(relative_differences(y_stored, y_ref));
       b.per_level[size_t(l)] = lb.bound;
       b.max_difference[size_t(l)] = lb.worst;
-      b.samples[size_t(l)] = static_cast<int>(texels.size());
+      b.samples[size_t(l)] = static_cast<int>(ts.size());
     }
   }
   b.bound = *std::max_element(b.per_level.begin(), b.per_level.end());

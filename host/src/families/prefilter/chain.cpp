@@ -191,7 +191,7 @@ class ChainBaker {
     const double bright = double(bright_.size()) * 4.0 * q * q;
     if (!quadrature_) return double(std::max(rec_.samples[size_t(l)], 1)) + bright;
     const int size = out_.level_size(l);
-    const bool strips = s_.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
+    const bool strips = quadrature_ && use_strips(size);
     const double widen = strips ? std::sqrt(2.0) * 8.0 / size : 0.0;  // radians, at a face's centre
     std::vector<double> cos_core, band;
     pyramid_thresholds(pyramid_, s_.distribution, alpha, s_, rec_.refinement[size_t(l)], cos_core, band);
@@ -374,7 +374,7 @@ class ChainBaker {
     // The quadrature a block of 8 x 8 texels at a time where the block divides the level
     // (prefilter_pyramid_strips), else (and with s.strips off) a walk per texel
     // (prefilter_pyramid).
-    const bool strips = quadrature_ && s_.strips && size % 8 == 0 && size % (2 * kStripRows) == 0;
+    const bool strips = quadrature_ && use_strips(size);
     const int unit = strips ? 2 * kStripRows : 1;
     StripBright sb;
     if (strips) sb = strip_bright(in);
@@ -382,6 +382,7 @@ class ChainBaker {
     // ones measured to take about 50 ms (runtime/launch.hpp: no display watchdog is approached on
     // a GPU, a stop waits for one launch, progress follows the parts). A band's cost in
     // LaunchSizer's units: its texels times ~64 evaluations (pyramid texels or samples) each.
+    const size_t texel_group = per_texel_group(size);
     const size_t bands = size_t(6 * size / unit);
     const double band_cost = double(size) * double(unit) * 64.0;
     const double level_seconds = launch_in_parts(
@@ -389,9 +390,11 @@ class ChainBaker {
         [&](size_t first, size_t count) -> cl::Event {
           const size_t row0 = first * size_t(unit), n_rows = count * size_t(unit);
           const cl::EnqueueArgs range =
-              strips
-                  ? cl::EnqueueArgs(dev_.queue, cl::NDRange(0, first), cl::NDRange(size_t(size / 8), count),
-                                    cl::NDRange(1, 1))
+              strips ? cl::EnqueueArgs(dev_.queue, cl::NDRange(0, first), cl::NDRange(size_t(size / 8), count),
+                                       cl::NDRange(1, 1))
+              : texel_group > 0
+                  ? cl::EnqueueArgs(dev_.queue, cl::NDRange(0, row0), cl::NDRange(size_t(size), n_rows),
+                                    cl::NDRange(texel_group, 1))
                   : cl::EnqueueArgs(dev_.queue, cl::NDRange(0, row0), cl::NDRange(size_t(size), n_rows), cl::NullRange);
           return launch(size, dst_buf, in, sb, strips, range);
         },
@@ -400,6 +403,25 @@ class ChainBaker {
     dev_.queue.enqueueUnmapMemObject(dst_buf, mapped);
     dev_.queue.finish();
     return level_seconds;
+  }
+
+  // The kernel shape (docs/DEVICES.md, "Kernel shapes"): the CPU shape walks the quadrature a block
+  // of 8 x 8 texels a work-item (prefilter_pyramid_strips, float16 vectors: what PoCL's vectoriser
+  // fills; `strips` off: a walk per texel, the accuracy reference of the bench and tests), where the
+  // block divides the level; the GPU shape a texel a work-item (prefilter_pyramid), in work-groups
+  // of a row's neighbouring texels (per_texel_group), so that a 128^2 level is 98,304 work-items,
+  // not 1,536 blocks.
+  bool use_strips(int size) const {
+    return s_.strips && dev_.info.kernel_shape != "gpu" && size % 8 == 0 && size % (2 * kStripRows) == 0;
+  }
+  // The work-group of the per-texel kernels in the GPU shape: up to 64 texels of a row (their walks
+  // refine nearly the same pyramid texels: the warp's branches agree), within the device's limit;
+  // 0 (the implementation chooses) in the CPU shape, as before.
+  size_t per_texel_group(int size) const {
+    if (dev_.info.kernel_shape != "gpu") return 0;
+    size_t g = std::min<size_t>({64, size_t(size), std::max<size_t>(1, dev_.info.max_work_group_size)});
+    while (g > 1 && size_t(size) % g != 0) --g;
+    return g;
   }
 
   // One launch of the level's kernel over `range`, in the spec's precision.

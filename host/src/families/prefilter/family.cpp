@@ -18,6 +18,7 @@
 #include "env/cube.hpp"
 #include "families/delivery.hpp"
 #include "families/kernels.hpp"
+#include "families/prefilter/bound_kernel.hpp"
 #include "families/prefilter/kernel.hpp"
 #include "families/prefilter/model.hpp"
 #include "families/spec_schema.hpp"
@@ -142,6 +143,8 @@ class PrefilterFamily final : public Family {
   void register_kernels(KernelRegistry& r) const override {
     r.add<PrefilterKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_prefilter(*b.device()); });
     r.add<PrefilterKernel>(Platform::Reference, [](Backend&) { return make_reference_prefilter(); });
+    r.add<ChainBoundKernel>(Platform::OpenCl, [](Backend& b) { return make_opencl_chain_bound(*b.device()); });
+    r.add<ChainBoundKernel>(Platform::Reference, [](Backend&) { return make_reference_chain_bound(); });
   }
 
   void check(TableRequest& t, const FieldName& name) const override {
@@ -215,7 +218,7 @@ class PrefilterFamily final : public Family {
     std::vector<double> roughness;
     for (int l = 0; l < cube.level_count(); ++l)
       roughness.push_back(schedule_roughness(resolved.schedule, l, cube.level_count()));
-    const ChainBound bound = chain_error_bound(cube, resolved.distribution, roughness);
+    const ChainBound bound = chain_error_bound(backend, cube, resolved.distribution, roughness);
     if (scale != 1.0)
       for (auto& level : cube.levels)
         for (float& v : level) v = static_cast<float>(double(v) * scale);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -133,6 +134,8 @@ struct ChainBound {
   std::vector<int> samples;            // texels compared per level
   double bound = 0.0;                  // the largest of per_level
   double seconds = 0.0;                // wall seconds of the comparison
+  bool on_device = false;              // the reference's values from an fp64 device (bound_device.cpp)
+  double device_seconds = 0.0;         // its kernels' device time
 };
 // One level's sample: d_k = |y_stored[k] - y_ref[k]| / max(y_ref[k], kChainBoundDarkFraction max y_ref),
 // the relative luminance differences of its texels (throws std::invalid_argument on sizes that differ).
@@ -147,10 +150,26 @@ LevelBound level_bound(const std::vector<double>& differences);
 // The bound a chain's file records: the chain's (the largest level's), or with max_error > 0 the
 // search's last measured difference where that is larger (family.cpp says so in the definition).
 double chain_recorded_bound(const ChainBound& chain, double max_error, double measured_error);
+// One level's sample for the reference: the directions of its sample texels, the level's roughness
+// and the sub-cells per source texel side the reference sums (env_default_subdivision).
+struct BoundLevelSample {
+  int level = 0;
+  double roughness = 0.0;
+  int subdivision = 1;
+  std::vector<Vec3> directions;
+};
+// The double reference's prefiltered radiance of level 0 of `cube` at every sample's directions
+// (reference::prefilter_directions' definition: 3 doubles a direction, one vector a sample).
+using BoundReference = std::function<std::vector<std::vector<double>>(
+    const CubeLevels& cube, EnvDistribution distribution, const std::vector<BoundLevelSample>& samples)>;
+// The scalar reference itself, on the host's cores (level 0 copied into double).
+std::vector<std::vector<double>> host_bound_reference(const CubeLevels& cube, EnvDistribution distribution,
+                                                      const std::vector<BoundLevelSample>& samples);
 // Every level of `cube` (level 0 its source) compared with the double reference on a sample of its
-// texels (bound.cpp says how); roughness: of each level.
-ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution,
-                             const std::vector<double>& roughness);
+// texels (bound.cpp says how); roughness: of each level. `reference` computes the reference's
+// values (empty: host_bound_reference; an fp64 device: bound_device.cpp's, the same definition).
+ChainBound chain_error_bound(const CubeLevels& cube, EnvDistribution distribution, const std::vector<double>& roughness,
+                             const BoundReference& reference = {});
 
 // ---- The reference (reference.cpp) -----------------------------------------------------------------
 

@@ -10,6 +10,7 @@ set(BRDFBAKE_FAMILY_SOURCES
   chain.cpp
   metadata.cpp
   bound.cpp
+  bound_device.cpp
   kernel.cpp
   opencl.cpp
   reference.cpp

@@ -47,6 +47,9 @@ struct BakeFiles {
   // khronos-viewer: NAME_charlie.ktx2; filament samples its GGX chain) and the charlie DFG table.
   CubeLevels sheen;  // empty: none
   std::string sheen_file;
+  // The ideal bake's Charlie chain, each level a cube of its own as specular_levels; when not empty
+  // the render samples these in place of `sheen`'s levels.
+  std::vector<CubeLevels> sheen_levels;
   Table charlie;  // width 0: none
   std::string charlie_file;
   bool charlie_sqrt_n_dot_v = false;

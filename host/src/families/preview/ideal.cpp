@@ -29,20 +29,22 @@ CubeLevels second_level(CubeLevels c) {
 // bilinear interpolation error, second order in the texel, 1/16 of theirs), texels no wider than an
 // eighth of the lobe (pi/2 / S <= alpha / 8), at least kIdealMinLevelSize, at most `size` (a power
 // of two).
-int level_size(const BakeFiles& files, int l, double roughness, int size) {
+int level_size(const CubeLevels& chain, int l, double roughness, int size) {
   const double alpha = std::max(roughness * roughness, 1e-4);
-  const double want = std::max({double(kIdealMinLevelSize), 4.0 * files.specular.level_size(l), 4.0 * M_PI / alpha});
+  const double want = std::max({double(kIdealMinLevelSize), 4.0 * chain.level_size(l), 4.0 * M_PI / alpha});
   int s = kIdealMinLevelSize;
   while (s < size && double(s) < want) s *= 2;
   return std::min(s, size);
 }
 
-// The GGX chain: level l of the files' N at schedule_roughness(the target's schedule, l, N), at its
-// level_size S, filtered from the environment converted to 2 S (a chain of two levels whose second is
-// at that roughness: prefilter_chain_at); level 0, the mirror, is the environment converted to 2 size.
-std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const BakeFiles& files, int size,
-                                    RoughnessSchedule schedule, Metadata& settings) {
-  const int n = files.specular.level_count();
+// A chain of the files (the GGX chain, `name` "specular", or the Charlie chain, "sheen"): level l of
+// the files' N at schedule_roughness(schedule, l, N), at its level_size S, filtered with
+// `distribution` from the environment converted to 2 S (a chain of two levels whose second is at that
+// roughness: prefilter_chain_at); level 0, the mirror, is the environment converted to 2 size.
+std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const CubeLevels& chain, int size,
+                                    RoughnessSchedule schedule, EnvDistribution distribution, const std::string& name,
+                                    const std::string& schedule_note, Metadata& settings) {
+  const int n = chain.level_count();
   // The mirror: the environment converted to 2 size, but no finer than the source resolves (an
   // equirect's width / 2, twice a cube's face) unless size needs it: beyond, a conversion adds texels
   // and no detail (a 1024^2 mirror of a 1k map: 100 MB more for the bake sweep's 512^2 setting).
@@ -55,7 +57,7 @@ std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const B
   std::vector<int> level_sizes(size_t(n), 0);
   std::map<int, int> uses{{mirror_size, 1}};
   for (int l = 1; l < n; ++l) {
-    level_sizes[size_t(l)] = level_size(files, l, schedule_roughness(schedule, l, n), size);
+    level_sizes[size_t(l)] = level_size(chain, l, schedule_roughness(schedule, l, n), size);
     ++uses[2 * level_sizes[size_t(l)]];
   }
   std::map<int, CubeLevels> sources;  // by face size
@@ -76,7 +78,7 @@ std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const B
   out.push_back(take(mirror_size));
   std::string roughness, sizes = std::to_string(mirror_size);
   PrefilterSpec spec;
-  spec.distribution = EnvDistribution::Ggx;
+  spec.distribution = distribution;
   spec.schedule = schedule;
   spec.precision = Precision::Fp32;
   spec.refinement = kIdealRefinement;
@@ -89,14 +91,16 @@ std::vector<CubeLevels> ideal_chain(Device& device, const EnvImage& env, const B
     roughness += ", " + std::to_string(r).substr(0, 6);
     sizes += ", " + std::to_string(s);
   }
-  settings.push_back({"specular", std::to_string(n) +
-                                      " levels as the files' (the engine's LOD mapping unchanged), level 0 the "
-                                      "environment converted to a cube, every other level filtered on its own from "
-                                      "the environment converted to twice its size (quadrature, refinement " +
-                                      std::to_string(int(kIdealRefinement)) + "), float32, no storage"});
-  settings.push_back({"specular_sizes", sizes});
-  settings.push_back({"specular_schedule", std::string(roughness_schedule_name(schedule)) + " (the target's)"});
-  settings.push_back({"specular_roughness_per_level", "0" + roughness});
+  settings.push_back({name, std::to_string(n) +
+                                " levels as the files' (the engine's LOD mapping unchanged), level 0 the "
+                                "environment converted to a cube, every other level filtered (" +
+                                std::string(distribution == EnvDistribution::Charlie ? "Charlie" : "GGX") +
+                                ") on its own from the environment converted to twice its size (quadrature, "
+                                "refinement " +
+                                std::to_string(int(kIdealRefinement)) + "), float32, no storage"});
+  settings.push_back({name + "_sizes", sizes});
+  settings.push_back({name + "_schedule", std::string(roughness_schedule_name(schedule)) + " (" + schedule_note + ")"});
+  settings.push_back({name + "_roughness_per_level", "0" + roughness});
   return out;
 }
 
@@ -160,9 +164,14 @@ std::string ideal_parts_key(const BakeFiles& files) {
   // What ideal_chain, ideal_dfg and ideal_charlie read of the files.
   std::string k = std::string(engine_target_name(files.target)) + " levels";
   for (int l = 0; l < files.specular.level_count(); ++l) k += " " + std::to_string(files.specular.level_size(l));
+  if (!files.sheen.levels.empty()) {
+    k += " sheen levels";
+    for (int l = 0; l < files.sheen.level_count(); ++l) k += " " + std::to_string(files.sheen.level_size(l));
+  }
   if (!engines::target_def(files.target).engine_dfg)
     k += files.dfg_multiscatter ? " dfg multiscatter" : " dfg single",
         k += files.dfg_sqrt_n_dot_v ? " sqrt" : " linear";
+  if (files.diffuse == DiffuseSource::IrradianceCube) k += " irradiance " + std::to_string(files.irradiance.size);
   if (files.charlie.width > 0)
     k += " charlie " + files.charlie_visibility + (files.charlie_sqrt_n_dot_v ? " sqrt" : " linear") + " " +
          (files.charlie.channels.empty() ? std::string("albedo") : files.charlie.channels[0]);
@@ -176,8 +185,8 @@ IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const Bake
   IdealParts out;
   out.key = ideal_parts_key(files);
   const int size = std::clamp(files.specular.size, kIdealChainSize, kIdealChainMaxSize);
-  out.specular_levels =
-      ideal_chain(*device, environment, files, size, engine_settings(files.target).schedule, out.settings);
+  out.specular_levels = ideal_chain(*device, environment, files.specular, size, engine_settings(files.target).schedule,
+                                    EnvDistribution::Ggx, "specular", "the target's", out.settings);
   const double chain_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.settings.push_back({"specular_seconds", std::to_string(chain_seconds).substr(0, 6)});
   if (engines::target_def(files.target).engine_dfg) {
@@ -188,7 +197,19 @@ IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const Bake
                                        "^2 float32, each texel the exact albedos at its "
                                        "centre (the DFG family's quadrature), the files' axes and channels"});
   }
-  out.settings.push_back({"diffuse", ""});  // the files' own: apply_ideal_parts names them
+  if (files.diffuse == DiffuseSource::IrradianceCube) {
+    // the Lambertian cube (khronos-viewer): the irradiance family's at 4 x the files' face size
+    IrradianceSpec spec;
+    spec.cube_size = std::min(std::max(kIdealIrradianceSize, 2 * files.irradiance.size), kIrradianceMaxCube);
+    spec.source_size = kIdealIrradianceSource;
+    out.irradiance = compute_irradiance(backend, environment, spec).cube;
+    out.settings.push_back({"diffuse", "the Lambertian cube " + std::to_string(spec.cube_size) +
+                                           "^2 float32 (the irradiance family's, from the environment converted "
+                                           "to " +
+                                           std::to_string(spec.source_size) + "^2), no storage"});
+  } else {
+    out.settings.push_back({"diffuse", ""});  // the files' own: apply_ideal_parts names them
+  }
   // KHR_materials_sheen: the charlie table where its visibility is the reference's (Estevez & Kulla);
   // the Charlie chain stays the files'
   if (files.charlie.width > 0 && (files.charlie_visibility.empty() || files.charlie_visibility == "estevez-kulla")) {
@@ -199,7 +220,18 @@ IdealParts ideal_parts(Backend& backend, const EnvImage& environment, const Bake
   } else if (files.charlie.width > 0) {
     out.settings.push_back({"charlie", "the files' own (" + files.charlie_visibility + " visibility, not replaced)"});
   }
-  if (!files.sheen.levels.empty()) out.settings.push_back({"sheen", "the files' Charlie chain (not replaced)"});
+  // the Charlie chain: every target that samples one reads level sheenRoughness (levels - 1)
+  // (engines/generic and khronos_viewer/splitsum.cpp): the linear schedule
+  if (!files.sheen.levels.empty()) {
+    const auto t1 = std::chrono::steady_clock::now();
+    out.sheen_levels =
+        ideal_chain(*device, environment, files.sheen,
+                    std::clamp(files.sheen.size, kIdealChainSize, kIdealChainMaxSize), RoughnessSchedule::Linear,
+                    EnvDistribution::Charlie, "sheen", "the lookup's: lod = sheenRoughness (levels - 1)", out.settings);
+    out.settings.push_back(
+        {"sheen_seconds",
+         std::to_string(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()).substr(0, 6)});
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.settings.push_back({"seconds", std::to_string(out.seconds).substr(0, 6)});
   return out;
@@ -218,13 +250,18 @@ IdealBake apply_ideal_parts(const IdealParts& parts, const BakeFiles& files) {
     out.files.dfg = parts.dfg;
     out.files.dfg_file = "the ideal DFG table";
   }
+  if (!parts.sheen_levels.empty()) out.files.sheen_levels = parts.sheen_levels;
+  if (!parts.irradiance.levels.empty()) {
+    out.files.irradiance = parts.irradiance;
+    out.files.diffuse_file = "the ideal Lambertian cube";
+  }
   if (parts.charlie.width > 0) {
     out.files.charlie = parts.charlie;
     out.files.charlie_file = "the ideal charlie table";
   }
   out.settings = parts.settings;
   for (auto& [key, value] : out.settings)
-    if (key == "diffuse") value = "the files' own (" + file_name(files.diffuse_file) + ")";
+    if (key == "diffuse" && value.empty()) value = "the files' own (" + file_name(files.diffuse_file) + ")";
   out.seconds = parts.seconds;
   return out;
 }

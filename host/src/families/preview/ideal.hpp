@@ -2,7 +2,9 @@
 // shader would show from perfect files. The target's own files with their inputs replaced, so that the
 // same split-sum code (splitsum.hpp) renders them: each level of the GGX chain at the roughness the
 // target's schedule gives it in a chain of the files' level count (the engine's LOD mapping and its
-// blend between levels unchanged), filtered on its own at a high face size in float32; the DFG table
+// blend between levels unchanged), filtered on its own at a high face size in float32; the Charlie
+// chain (KHR_materials_sheen) likewise at the roughness its lookup asks of each level (lod =
+// sheenRoughness (levels - 1): linear); the DFG table
 // at its texel centres' exact albedos in float32 at a high size (a target whose engine samples its own
 // table keeps it: no file changes it); no storage. What the files add to the render's error is then
 // split-sum(files) - split-sum(ideal), what the engine's approximation adds split-sum(ideal) -
@@ -27,6 +29,13 @@ inline constexpr int kIdealChainSize = 256;
 inline constexpr int kIdealChainMaxSize = 512;
 inline constexpr int kIdealMinLevelSize = 64;
 inline constexpr int kIdealLutSize = 256;
+// The Lambertian cube of a target that samples one (khronos-viewer): kIdealIrradianceSize, or twice
+// the files' face size where that is larger (at most kIrradianceMaxCube), from the environment
+// converted to kIdealIrradianceSource (irradiance is smooth: the irradiance family's default source).
+// 128^2 (~1 s on two CPU cores) against the bakes' 32^2: a bilinear lookup's error, second order in
+// the texel, 1/16 of theirs.
+inline constexpr int kIdealIrradianceSize = 128;
+inline constexpr int kIdealIrradianceSource = 256;
 // The quadrature's refinement of the ideal chain's levels, the bakes' default: at 8 the shares of
 // venice's default grid for babylon (its 8 filtered levels) moved by at most 0.052 percentage points
 // on any sphere (engine share) for twice the seconds (5.9 s against 2.8 s; docs/PREVIEW.md).
@@ -45,8 +54,10 @@ struct IdealBake {
 struct IdealParts {
   std::string key;
   std::vector<CubeLevels> specular_levels;
-  Table dfg;      // width 0: the files' own (the engine samples its own table)
-  Table charlie;  // width 0: the files' own (none, or another visibility)
+  std::vector<CubeLevels> sheen_levels;  // empty: the bake has no Charlie chain
+  CubeLevels irradiance;                 // empty: the files' diffuse (SH: exact projections already)
+  Table dfg;                             // width 0: the files' own (the engine samples its own table)
+  Table charlie;                         // width 0: the files' own (none, or another visibility)
   Metadata settings;
   double seconds = 0.0;
 };

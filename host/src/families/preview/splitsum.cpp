@@ -244,15 +244,24 @@ SplitSum::SplitSum(BakeFiles files, SplitSumOptions options) : shading_(&engines
     for (const CubeLevels& level : f.specular_levels) sampler_.levels.push_back(SplitSumSampler::pad(level, 0));
   }
   if (!f.irradiance.levels.empty()) sampler_.irradiance.push_back(SplitSumSampler::pad(f.irradiance, 0));
-  for (int l = 0; l < f.sheen.level_count(); ++l) sampler_.sheen_levels.push_back(SplitSumSampler::pad(f.sheen, l));
+  if (f.sheen_levels.empty()) {
+    for (int l = 0; l < f.sheen.level_count(); ++l) sampler_.sheen_levels.push_back(SplitSumSampler::pad(f.sheen, l));
+  } else {
+    if (int(f.sheen_levels.size()) != f.sheen.level_count())
+      throw Error("the ideal bake's Charlie chain has " + std::to_string(f.sheen_levels.size()) + " levels, not " +
+                  std::to_string(f.sheen.level_count()));
+    for (const CubeLevels& level : f.sheen_levels) sampler_.sheen_levels.push_back(SplitSumSampler::pad(level, 0));
+  }
   if (shading_->prepare) shading_->prepare(sampler_);
   // The GGX chain is sampled from its padded copies: its unpadded texels are let go, the levels' count
   // and sizes kept (what the engine's lookup reads; an ideal bake made from these files replaces the
   // chain and reads only those). The memory of the preview and the bake sweep: a 512^2 chain and its
-  // ideal bake's are ~200 MB. The Charlie chain and the irradiance cube stay: an ideal bake keeps the
-  // files' own.
+  // ideal bake's are ~200 MB. The Charlie chain likewise (an ideal bake made from these files
+  // replaces it too); the irradiance cube stays: an ideal bake keeps the files' own.
   for (std::vector<float>& level : sampler_.files.specular.levels) std::vector<float>().swap(level);
   std::vector<CubeLevels>().swap(sampler_.files.specular_levels);
+  for (std::vector<float>& level : sampler_.files.sheen.levels) std::vector<float>().swap(level);
+  std::vector<CubeLevels>().swap(sampler_.files.sheen_levels);
   if (f.diffuse == DiffuseSource::OurSh && f.sh_order < 3)
     throw Error("'" + f.diffuse_file + "': SH of " + std::to_string(f.sh_order) + " bands (at least 3)");
 }
