@@ -13,10 +13,10 @@ set logscale xy
 set grid
 set key outside right
 set samples 400
-set xrange [0.01:10000]
+set xrange [0.01:1000]
 set xlabel 'flops per byte (counted: Oclgrind, every lane; bytes: global and constant loads and stores)'
 set ylabel 'GFLOP/s (counted flops / device seconds)'
-set title sprintf('%s, %s shape: fp32 %.0f, fp64 %.0f GFLOP/s, triad %.1f GB/s', device, shape, p32, p64, bw)
+set title sprintf("%s shape: fp32 %.0f, fp64 %.0f GFLOP/s, triad %.1f GB/s\n%s", shape, p32, p64, bw, device) font ',10'
 roof(x, p) = x * bw < p ? x * bw : p
 plot roof(x, p32) with lines lw 2 lc 'black' title 'fp32 roof', \
      roof(x, p64) with lines lw 2 dt 2 lc 'black' title 'fp64 roof', \

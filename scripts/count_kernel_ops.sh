@@ -10,7 +10,7 @@
 #   3. sums, per row, the launches of the row's kernel between its markers, with the row's work units
 #      and the hash of its kernel file's source (the report ignores a count made on other sources).
 # Usage: scripts/count_kernel_ops.sh [BUILD_DIR] [SHAPES]  (default: build, "cpu gpu"); minutes:
-# Oclgrind interprets every instruction (the prefilter rows take about 2 minutes each).
+# Oclgrind interprets every instruction (about 20 minutes a shape, the shapes side by side; the prefilter rows are the slow ones).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build=${1:-build}
@@ -22,12 +22,13 @@ g++ -std=c++17 -O2 -fPIC -fno-rtti -shared -I"$llvm/include" bench/kernel_ops/fl
   -o "$work/libflop_counter.so" -loclgrind-21.10 -L"$llvm/lib" -lLLVM-14
 version=$(oclgrind --version 2>&1 | grep -o 'Oclgrind [0-9][0-9.]*' | head -1)
 version=${version:-Oclgrind}
-for shape in $shapes; do
+for shape in $shapes; do  # one Oclgrind process a shape, side by side
   echo "counting the $shape shape under $version ..." >&2
-  BRDFBAKE_KERNEL_SHAPE=$shape BRDFBAKE_FLOP_COUNTS="$work/$shape.jsonl" BRDFBAKE_CACHE_DIR="$work/cache" \
-    oclgrind --num-threads 1 --plugins "$work/libflop_counter.so" "$build/host/cli/brdfbake" report --kinds kernels --count-ops \
-    --quiet -o "$work/$shape.html"
+  BRDFBAKE_KERNEL_SHAPE=$shape BRDFBAKE_FLOP_COUNTS="$work/$shape.jsonl" BRDFBAKE_CACHE_DIR="$work/cache-$shape" \
+    oclgrind --num-threads 1 --plugins "$work/libflop_counter.so" "$build/host/cli/brdfbake" report --kinds kernels \
+    --count-ops --quiet -o "$work/$shape.html" &
 done
+for shape in $shapes; do wait -n || { echo "a count failed" >&2; exit 1; }; done
 python3 - "$work" "$version" $shapes <<'PY'
 import datetime, json, sys
 work, version, shapes = sys.argv[1], sys.argv[2], sys.argv[3:]

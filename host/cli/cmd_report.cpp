@@ -3,7 +3,6 @@
 #include <iostream>
 #include <sstream>
 
-#include "brdfbake/device.hpp"
 #include "brdfbake/environment.hpp"
 #include "brdfbake/output_checks.hpp"
 #include "brdfbake/report.hpp"
@@ -56,7 +55,6 @@ int cmd_report(int argc, char** argv) {
       ("vary", "bake: the settings, one at a time around each target's defaults, as OPTION=V1,V2;OPTION=... (default: chain_size=64,128,512;min_size=4,64;schedule=sqrt;lut_size=16,32,64;n_dot_v_axis=sqrt;pixel=f32;sh_order=5;chain_max_error=0.03,0.003); an alias (cube_size) is taken as its option's name", cxxopts::value<std::string>())
       ("preview-width", "bake: the preview's width, its height half of it (default: 512: the spheres of the default 512x512 preview)", cxxopts::value<std::string>())
       ("runs", "bake: bakes per setting under 1 s, the median reported; kernels: timed runs of each kernel after a warm-up (default: 3)", cxxopts::value<std::string>())
-      ("kernel-shape", "kernels (and every kind): the kernels' work shape, auto, cpu or gpu (default: BRDFBAKE_KERNEL_SHAPE, else auto: the device's type)", cxxopts::value<std::string>())
       ("count-ops", "kernels: run each kernel once at its counting size under Oclgrind's flop counter (scripts/count_kernel_ops.sh), no peaks, no figures")
       ("keep-bakes", "bake: keep each setting's bake in DIR/TARGET/SETTING (default: removed)", cxxopts::value<std::string>())
       ("environment,env", "prefilter and bake: the environment (default: builtin:studio) (alias: --env)", cxxopts::value<std::string>())
@@ -119,7 +117,6 @@ int cmd_report(int argc, char** argv) {
     throw UsageError("--preview-width must be 96 to 4096 (12 columns of spheres at least 8 pixels wide)");
   if (r.count("runs")) o.bake.runs = o.kernels.runs = integer(r, "runs");
   if (o.bake.runs < 1 || o.bake.runs > 9) throw UsageError("--runs must be 1 to 9");
-  if (r.count("kernel-shape")) set_kernel_shape(r["kernel-shape"].as<std::string>());
   o.kernels.count = r.count("count-ops") > 0;
   if (r.count("keep-bakes")) o.bake.keep_bakes = r["keep-bakes"].as<std::string>();
   if (r.count("device")) o.device = r["device"].as<std::string>();

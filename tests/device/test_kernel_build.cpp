@@ -136,14 +136,15 @@ std::vector<Variant> brdf_variants() {
 }
 
 // host/src/prefilter.cpp (the lobe, and kStripRows = 4 rows per strip), environment.cpp,
-// irradiance.cpp, thin_film.cpp.
+// irradiance.cpp, thin_film.cpp, report/kernels.cpp (the device's peaks).
 std::vector<Variant> environment_variants() {
   return {{"cubemap.cl", {}},
           {"prefilter.cl", {{"BRDFBAKE_ENV_GGX", "1"}, {"BRDFBAKE_STRIP_ROWS", "4"}}},
           {"prefilter.cl", {{"BRDFBAKE_ENV_CHARLIE", "1"}, {"BRDFBAKE_STRIP_ROWS", "4"}}},
           {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "3"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
           {"irradiance.cl", {{"BRDFBAKE_SH_ORDER", "5"}, {"BRDFBAKE_ENV_COSINE", "1"}}},
-          {"thin_film.cl", {}}};
+          {"thin_film.cl", {}},
+          {"device_peak.cl", {}}};  // report --kinds kernels' peaks (host/src/report/kernels.cpp)
 }
 
 // The program text the host writes for a variant: its defines in the host's order (a lane count

@@ -125,6 +125,7 @@ struct RowDef {
   const char* unit;
   Precision precision;
   bool walk;
+  const char* shape;  // "cpu": measured in the CPU shape only (the GPU shape does not launch the kernel); "": both
   std::string (*launch)(bool count);
   Run (*run)(Device& dev, bool count);
 };
@@ -216,41 +217,41 @@ Run run_chain(Device& dev, bool count, EnvEstimator estimator, bool strips) {
 }
 
 const RowDef kRows[] = {
-    {"dfg_lut ggx fp32", "dfg_lut", "dfg_lut.cl", "texel", Precision::Fp32, false,
+    {"dfg_lut ggx fp32", "dfg_lut", "dfg_lut.cl", "texel", Precision::Fp32, false, "",
      [](bool c) {
        return std::string(c ? "GGX DFG table 16x16" : "GGX DFG table 128x128") + ", 384 evaluations a texel";
      },
      [](Device& d, bool c) { return run_lut(d, c, Precision::Fp32); }},
-    {"dfg_lut ggx fp64", "dfg_lut", "dfg_lut.cl", "texel", Precision::Fp64, false,
+    {"dfg_lut ggx fp64", "dfg_lut", "dfg_lut.cl", "texel", Precision::Fp64, false, "",
      [](bool c) {
        return std::string(c ? "GGX DFG table 16x16" : "GGX DFG table 128x128") + ", 384 evaluations a texel";
      },
      [](Device& d, bool c) { return run_lut(d, c, Precision::Fp64); }},
-    {"brdf_pairs disney fp32", "brdf_pairs", "brdf_eval.cl", "pair", Precision::Fp32, false,
+    {"brdf_pairs disney fp32", "brdf_pairs", "brdf_eval.cl", "pair", Precision::Fp32, false, "",
      [](bool c) { return std::string(c ? "512" : "2,097,152") + " direction pairs, Disney, one material (eval)"; },
      [](Device& d, bool c) { return run_pairs(d, c, Precision::Fp32); }},
-    {"brdf_pairs disney fp64", "brdf_pairs", "brdf_eval.cl", "pair", Precision::Fp64, false,
+    {"brdf_pairs disney fp64", "brdf_pairs", "brdf_eval.cl", "pair", Precision::Fp64, false, "",
      [](bool c) { return std::string(c ? "512" : "2,097,152") + " direction pairs, Disney, one material (eval)"; },
      [](Device& d, bool c) { return run_pairs(d, c, Precision::Fp64); }},
-    {"brdf_grid disney fp32", "brdf_grid", "brdf_eval.cl", "cell", Precision::Fp32, false,
+    {"brdf_grid disney fp32", "brdf_grid", "brdf_eval.cl", "cell", Precision::Fp32, false, "",
      [](bool c) { return std::string(c ? "4x4x16" : "64x64x128") + " grid, Disney (tabulate)"; },
      [](Device& d, bool c) { return run_grid(d, c); }},
-    {"equirect_to_cube fp32", "equirect_to_cube", "cubemap.cl", "texel", Precision::Fp32, false,
+    {"equirect_to_cube fp32", "equirect_to_cube", "cubemap.cl", "texel", Precision::Fp32, false, "",
      [](bool c) { return std::string(c ? "128x64 equirect to a 32^2 cube" : "1024x512 equirect to a 256^2 cube"); },
      [](Device& d, bool c) { return run_convert(d, c); }},
-    {"prefilter_pyramid_strips fp32", "prefilter_pyramid_strips", "prefilter.cl", "texel", Precision::Fp32, true,
+    {"prefilter_pyramid_strips fp32", "prefilter_pyramid_strips", "prefilter.cl", "texel", Precision::Fp32, true, "cpu",
      [](bool c) {
        return std::string(c ? "levels 1-3 of a 64^2 GGX chain" : "levels 1-3 of a 128^2 GGX chain") +
               ", quadrature, blocks of 8x8 texels (the CPU shape's default)";
      },
      [](Device& d, bool c) { return run_chain(d, c, EnvEstimator::Quadrature, true); }},
-    {"prefilter_pyramid fp32", "prefilter_pyramid", "prefilter.cl", "texel", Precision::Fp32, true,
+    {"prefilter_pyramid fp32", "prefilter_pyramid", "prefilter.cl", "texel", Precision::Fp32, true, "",
      [](bool c) {
        return std::string(c ? "levels 1-3 of a 64^2 GGX chain" : "levels 1-3 of a 128^2 GGX chain") +
-              ", quadrature, a walk per texel";
+              ", quadrature, a walk per texel (the GPU shape's default)";
      },
      [](Device& d, bool c) { return run_chain(d, c, EnvEstimator::Quadrature, false); }},
-    {"prefilter_level fp32", "prefilter_level", "prefilter.cl", "texel", Precision::Fp32, false,
+    {"prefilter_level fp32", "prefilter_level", "prefilter.cl", "texel", Precision::Fp32, false, "",
      [](bool c) {
        return std::string(c ? "levels 1-3 of a 64^2 GGX chain" : "levels 1-3 of a 128^2 GGX chain") +
               ", sampling (1024 lobe samples a texel)";
@@ -287,6 +288,11 @@ const KernelOpCount* find_kernel_op_count(const std::string& row, const std::str
 
 const char* kernel_op_count_source() { return kKernelOpCountSource; }
 
+// Above this share of its flops, divisions, square roots and transcendentals are named as a cause: on
+// a CPU a vector division or square root takes the time of 10-40 FMAs, so 5 % of them can double the
+// time the flops alone would take.
+constexpr double kSpecialShare = 0.05;
+
 void place_kernel_row(KernelRow& r, double peak_gflops, double bandwidth_gbs, unsigned compute_units) {
   r.units_per_second = r.device_seconds > 0 ? r.units / r.device_seconds : 0.0;
   if (!r.counted) return;
@@ -310,7 +316,10 @@ void place_kernel_row(KernelRow& r, double peak_gflops, double bandwidth_gbs, un
                   r.bytes_per_unit, r.unit.c_str(), 100.0 * r.flops_fraction);
     why.push_back(b);
   } else if (r.bound == "memory") {
-    std::snprintf(b, sizeof b, "memory: %.2g flops a byte, below the ridge's %.2g", r.intensity, ridge);
+    std::snprintf(b, sizeof b,
+                  "below the ridge (%.2g flops a byte against %.2g) yet at %.0f%% of the triad's GB/s: bandwidth does "
+                  "not bound it",
+                  r.intensity, ridge, 100.0 * r.fraction);
     why.push_back(b);
   }
   if (r.device_seconds > 0 && r.device_seconds < 2e-3) {
@@ -318,10 +327,9 @@ void place_kernel_row(KernelRow& r, double peak_gflops, double bandwidth_gbs, un
     why.push_back(b);
   }
   if (compute_units > 0 && r.units < 4.0 * compute_units) why.push_back("too few work units to fill the compute units");
-  if (r.special_share > 0.1) {
+  if (r.special_share > kSpecialShare) {
     std::snprintf(b, sizeof b,
-                  "divisions, square roots and transcendentals: %.0f%% of its flops, each many cycles against an "
-                  "FMA's one",
+                  "divisions, square roots and transcendentals: %.1f%% of its flops, each the time of many FMAs",
                   100.0 * r.special_share);
     why.push_back(b);
   }
@@ -329,8 +337,8 @@ void place_kernel_row(KernelRow& r, double peak_gflops, double bandwidth_gbs, un
     why.push_back(
         "a serial, data-dependent walk per work-item: branches and gathers differ by lane, so vector lanes idle "
         "and the loads are scattered");
-  if (why.empty() && !cached)
-    why.push_back("none of the causes checked here (memory, launches, special functions, a walk)");
+  if (why.size() == (r.bound == "memory" && !cached ? 1u : 0u))  // nothing named but the ridge's side
+    why.push_back("none of the causes checked here (launches, work units, special functions, a walk)");
   for (size_t k = 0; k < why.size(); ++k) r.limit += (k ? "; " : "") + why[k];
 }
 
@@ -360,6 +368,7 @@ KernelsReport measure_kernels(Device& dev, const KernelsOptions& o,
   }
   for (const RowDef& d : kRows) {
     if (d.precision == Precision::Fp64 && !dev.info().fp64) continue;
+    if (*d.shape && r.shape != d.shape) continue;  // the strips: the CPU shape's quadrature only
     KernelRow row;
     row.id = d.id;
     row.kernel = d.kernel;
