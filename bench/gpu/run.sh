@@ -19,7 +19,7 @@ step 30 brdfbake devices
 # Each hot kernel against the device's measured peak (issue 36; docs/REPORT.md): in the device's own
 # shape (gpu on a GPU), then in the CPU shape forced, for the comparison.
 step 150 brdfbake report --kinds kernels -o kernels_auto.html
-step 150 env BRDFBAKE_KERNEL_SHAPE=cpu brdfbake report --kinds kernels -o kernels_cpu.html
+BRDFBAKE_KERNEL_SHAPE=cpu step 150 brdfbake report --kinds kernels -o kernels_cpu.html
 # Agreement with the scalar double reference (on this machine's CPU): max |device - reference|.
 for k in ggx ggx-multiscatter charlie; do
   for p in fp32 fp64; do step 60 brdfbake lut --kind $k --size 32 --precision $p -o lut_${k}_$p.csv --quiet; done

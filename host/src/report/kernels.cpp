@@ -409,7 +409,7 @@ KernelsReport measure_kernels(Device& dev, const KernelsOptions& o,
     const double peak = d.precision == Precision::Fp64 ? r.fp64.gflops : r.fp32.gflops;
     place_kernel_row(row, peak, r.bandwidth, dev.info().compute_units);
     char b[240];
-    std::snprintf(b, sizeof b, "  %s: %.3g %ss/s, device %.2f ms, wall %.2f ms, %.1f GFLOP/s (%.1f%% of peak)", d.id,
+    std::snprintf(b, sizeof b, "  %s: %.3g %ss/s, device %.2f ms, wall %.2f ms, %.1f GFLOP/s, %.1f%% of the roof", d.id,
                   row.units_per_second, d.unit, row.device_seconds * 1e3, row.wall_seconds * 1e3, row.gflops,
                   100.0 * row.fraction);
     say(b);
