@@ -88,12 +88,20 @@ double run_chunk(Device::Impl& dev, const cl::Program& prog, const CubeLevels& c
                      partial.data());
   cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl::Buffer, cl_int> kernel(
       prog, "prefilter_bound_reference");
-  // rows in parts of about 50 ms (runtime/launch.hpp), one work-item a row (a fixed work-group of
-  // one: PoCL compiles a kernel once per work-group size); a row's cost: its sub-cells x the lanes
-  const double seconds = launch_in_parts(rows, double(n) * blocks * kLanes, [&](size_t first, size_t rows_now) {
-    return kernel(cl::EnqueueArgs(dev.queue, cl::NDRange(first), cl::NDRange(rows_now), cl::NDRange(1)), out_buf,
-                  level0, cube.size, q, corner_buf, table ? 1 : 0, dirs_buf, blocks);
-  });
+  // rows in parts of about 50 ms (runtime/launch.hpp), one work-item a row, in a fixed work-group:
+  // of one in the CPU shape (PoCL compiles a kernel once per work-group size), of 32 rows in the GPU
+  // shape (docs/DEVICES.md: a warp's work-items on neighbouring rows; the launches cover whole
+  // groups, the last past the end, where the kernel returns at once); a row's cost: its sub-cells x
+  // the lanes
+  const size_t group =
+      dev.info.kernel_shape == "gpu" ? std::min<size_t>(32, std::max<size_t>(1, dev.info.max_work_group_size)) : 1;
+  const size_t groups = (rows + group - 1) / group;
+  const double seconds =
+      launch_in_parts(groups, double(n) * blocks * kLanes * double(group), [&](size_t first, size_t n_groups) {
+        return kernel(
+            cl::EnqueueArgs(dev.queue, cl::NDRange(first * group), cl::NDRange(n_groups * group), cl::NDRange(group)),
+            out_buf, level0, cube.size, q, corner_buf, table ? 1 : 0, dirs_buf, blocks);
+      });
   void* mapped = dev.queue.enqueueMapBuffer(out_buf, CL_TRUE, CL_MAP_READ, 0, partial.size() * sizeof(double));
   dev.queue.enqueueUnmapMemObject(out_buf, mapped);
   dev.queue.finish();
