@@ -17,9 +17,10 @@
 // coordinates, weighted by their solid angle (the area element), so that the texel holds the
 // equirect's average over its own footprint. The direction maths runs BRDFBAKE_LANES texels at a
 // time (PoCL vectorises only explicit vectors); the fetches are per lane.
-// dst holds faces face0.. (the host converts one face at a time: global id 1 is offset to the face,
-// so that no device buffer is larger than a face).
-kernel void equirect_to_cube(global const float* src, int width, int height, global float4* dst,
+// dst holds faces face0.. as packed RGB, three floats a texel (the host converts one face at a time:
+// global id 1 is offset to the face, so that no device buffer is larger than a face; the host adds
+// the alpha once the equirect is released, so that the two are never held whole at once).
+kernel void equirect_to_cube(global const float* src, int width, int height, global float* dst,
                              int size, int k, int face0) {
   const int i0 = (int)get_global_id(0) * BRDFBAKE_LANES, gj = (int)get_global_id(1);
   if (i0 >= size || gj >= 6 * size) return;
@@ -87,8 +88,8 @@ kernel void equirect_to_cube(global const float* src, int width, int height, glo
   vstore_lanes(sb / wsum, 0, out_b);
   const int n = min(BRDFBAKE_LANES, size - i0);
   for (int q = 0; q < n; ++q)
-    dst[((size_t)(face - face0) * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q)] =
-        (float4)((float)out_r[q], (float)out_g[q], (float)out_b[q], 1.0f);
+    vstore3((float3)((float)out_r[q], (float)out_g[q], (float)out_b[q]),
+            ((size_t)(face - face0) * (size_t)size + (size_t)j) * (size_t)size + (size_t)(i0 + q), dst);
 }
 
 // ---- Padded levels -------------------------------------------------------------------------------

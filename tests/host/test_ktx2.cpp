@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -333,6 +335,49 @@ TEST(Ktx2Writer, UnwritablePathThrowsAndLeavesNothing) {
     EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(folder));
+}
+
+// The streamed writer (write_ktx2 with a level source, what cube outputs use so that a chain is never
+// held twice) writes the very bytes encode_ktx2 gives for the same levels, whatever the pieces'
+// sizes; a source that gives too few or too many bytes is an error and leaves no file.
+TEST(Ktx2Writer, StreamedLevelsAreTheBytesOfTheWholeImage) {
+  const fs::path path = brdfbake::test::test_temp_root() / "streamed.ktx2";
+  for (const uint32_t format : {kVkFormatR32G32B32A32Sfloat, kVkFormatR16G16B16A16Sfloat, 90u}) {
+    const Ktx2Image whole = make_image(format, 16, 16, 6, 5, {{"KTXwriter", "brdfbake test"}, {"a", "b"}});
+    Ktx2Image header = whole;
+    header.level_data.clear();
+    std::vector<uint32_t> asked;
+    write_ktx2(header, path.string(), [&](uint32_t level, const std::function<void(const uint8_t*, size_t)>& put) {
+      asked.push_back(level);
+      const std::vector<uint8_t>& data = whole.level_data.at(level);
+      for (size_t at = 0, piece = 1; at < data.size(); at += piece, piece = piece * 3 + 1)
+        put(data.data() + at, std::min(piece, data.size() - at));  // pieces of 1, 4, 13, ... bytes
+    });
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(file, encode_ktx2(whole)) << "format " << format;
+    EXPECT_EQ(asked, (std::vector<uint32_t>{4, 3, 2, 1, 0})) << "smallest level first, as in the file";
+  }
+  fs::remove(path);
+  const Ktx2Image whole = make_image(kVkFormatR32G32B32A32Sfloat, 4, 4, 6, 2, {});
+  Ktx2Image header = whole;
+  header.level_data.clear();
+  for (const long extra : {-1L, 1L}) {
+    try {
+      write_ktx2(header, path.string(), [&](uint32_t level, const std::function<void(const uint8_t*, size_t)>& put) {
+        std::vector<uint8_t> data = whole.level_data.at(level);
+        if (level == 0) data.resize(size_t(long(data.size()) + extra));
+        put(data.data(), data.size());
+      });
+      ADD_FAILURE() << "no error for a level " << extra << " byte(s) off";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("level 0"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path)) << "a failed write leaves no file";
+  }
+  EXPECT_THROW(write_ktx2(whole, path.string(), [](uint32_t, const std::function<void(const uint8_t*, size_t)>&) {}),
+               Error)
+      << "levels both as buffers and as a source";
 }
 
 // ---- Reader validation -------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 // An environment (equirect or cube) as a cube of a given face size on the device (kernels/cubemap.cl):
 // level 0 of the prefiltered chain and the source of the irradiance cube.
 #include <algorithm>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,8 @@
 namespace brdfbake {
 
 CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
-                                   const std::function<void()>& program_built) {
+                                   const std::function<void()>& program_built,
+                                   const std::function<void()>& source_done) {
   if (size < 1 || size > kPrefilterMaxSize)
     throw Error("cube size must be in 1.." + std::to_string(kPrefilterMaxSize) + " (got " + std::to_string(size) + ")");
   if (env.width < 1 || env.height < 1 || env.rgb.empty()) throw Error("empty environment");
@@ -19,7 +21,7 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
   CubeLevels cube;
   cube.size = size;
   cube.levels.resize(1);
-  cube.levels[0].resize(4 * face_texels(size));  // in place: assign(1, vector) would hold two copies
+  const size_t texels = face_texels(size);
   const std::string what = "converting '" + env.source + "' to a cube on '" + dev.info.name + "'";
   {
     // Device limits (docs/RELIABILITY.md): the source and the cube must fit the device's memory.
@@ -42,20 +44,44 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
       const int k = std::clamp((env.width + 2 * size - 1) / (2 * size), 1, 16);
       cl::KernelFunctor<cl::Buffer, cl_int, cl_int, cl::Buffer, cl_int, cl_int, cl_int> convert(prog,
                                                                                                 "equirect_to_cube");
-      // one work-item per 8 texels of a row (kernels/cubemap.cl), one face at a time into a face buffer
-      const size_t face_bytes = 4 * static_cast<size_t>(size) * static_cast<size_t>(size) * sizeof(float);
+      // Level 0 is taken in as packed RGB (3/4 of RGBA: 72 MiB at 1024^2) while the equirect is
+      // alive, and spread to RGBA in place once it is released (below): the capacity is reserved
+      // now and its last quarter untouched until then. One work-item per 8 texels of a row
+      // (kernels/cubemap.cl), one face at a time.
+      cube.levels[0].reserve(4 * texels);
+      cube.levels[0].resize(3 * texels);
+      const size_t face_bytes = 3 * static_cast<size_t>(size) * static_cast<size_t>(size) * sizeof(float);
       check_allocation(dev, face_bytes, "a face of the " + std::to_string(size) + "^2 cube");
-      cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
       const cl::NDRange rows(static_cast<size_t>((size + kEnvVectorWidth - 1) / kEnvVectorWidth),
                              static_cast<size_t>(size));
+      float* const level0 = cube.levels[0].data();
+      const size_t face_floats = face_bytes / sizeof(float);
+      if (dev.info.type == "cpu") {
+        // a CPU device's memory is the host's: each face is written where level 0 holds it (no face
+        // buffer: 16 MiB less at 1024^2, while the map and level 0 are both alive), mapped to be read
+        for (int f = 0; f < 6; ++f) {
+          cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, face_bytes,
+                              level0 + face_floats * size_t(f));
+          const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(f) * size_t(size)), rows, cl::NullRange);
+          events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
+          void* mapped = dev.queue.enqueueMapBuffer(face_buf, CL_TRUE, CL_MAP_READ, 0, face_bytes);
+          if (mapped != level0 + face_floats * size_t(f))  // a copy after all: take its values
+            std::memcpy(level0 + face_floats * size_t(f), mapped, face_bytes);
+          dev.queue.enqueueUnmapMemObject(face_buf, mapped);
+        }
+        dev.queue.finish();
+        return sum_seconds(events);
+      }
+      cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
       for (int f = 0; f < 6; ++f) {
         const cl::EnqueueArgs range(dev.queue, cl::NDRange(0, size_t(f) * size_t(size)), rows, cl::NullRange);
         events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
-        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes,
-                                    cube.levels[0].data() + (face_bytes / sizeof(float)) * size_t(f));
+        dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes, level0 + face_floats * size_t(f));
       }
       return sum_seconds(events);
+      return sum_seconds(events);
     } else {
+      cube.levels[0].resize(4 * texels);
       cl::Buffer dst(dev.context, CL_MEM_READ_WRITE, 4 * face_texels(size) * sizeof(float));
       const int s = env.width;
       std::vector<float> rgba(4 * face_texels(s), 1.0f);
@@ -79,6 +105,20 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
     }
     return sum_seconds(events);
   });
+  if (source_done) source_done();  // env's pixels are not read again
+  if (cube.levels[0].size() == 3 * texels) {
+    // RGB to RGBA in place, from the last texel down (texel t's RGBA, from 4t on, lies past the RGB
+    // of every lower texel, below 3t): within the reserved capacity, no second copy
+    std::vector<float>& level0 = cube.levels[0];
+    level0.resize(4 * texels);
+    for (size_t t = texels; t-- > 0;) {
+      const float r = level0[3 * t], g = level0[3 * t + 1], b = level0[3 * t + 2];
+      level0[4 * t] = r;
+      level0[4 * t + 1] = g;
+      level0[4 * t + 2] = b;
+      level0[4 * t + 3] = 1.0f;
+    }
+  }
   if (device_seconds) *device_seconds = seconds;
   cube_conventions_metadata(cube);
   cube.set_meta("source", env.source);
@@ -86,7 +126,7 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
 }
 
 CubeLevels environment_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds) {
-  return detail::convert_to_cube(device, env, size, device_seconds, {});
+  return detail::convert_to_cube(device, env, size, device_seconds, {}, {});
 }
 
 }  // namespace brdfbake

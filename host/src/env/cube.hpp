@@ -69,8 +69,9 @@ PaddedChain build_padded_chain(Device::Impl& dev, cl::Program& cube_prog, const 
 
 // The environment as a cube of face `size` on the device (environment_to_cube); program_built runs
 // once the conversion's program is built, before its kernels (prefilter_environment builds the
-// filter's program meanwhile).
+// filter's program meanwhile); source_done once env's pixels are no longer read (the caller may
+// release them), before level 0 takes its full size (an equirect's level 0 is taken in as RGB).
 CubeLevels convert_to_cube(Device& device, const EnvImage& env, int size, double* device_seconds,
-                           const std::function<void()>& program_built);
+                           const std::function<void()>& program_built, const std::function<void()>& source_done);
 
 }  // namespace brdfbake::detail

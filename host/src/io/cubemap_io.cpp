@@ -261,43 +261,63 @@ bool is_little_endian() {
 }
 }  // namespace
 
+namespace {
+
+size_t texel_bytes(PixelType pixel) { return pixel == PixelType::R11G11B10 ? 4 : pixel == PixelType::F16 ? 8 : 16; }
+
+void texels_to_bytes(const float* rgba, size_t texels, PixelType pixel, uint8_t* out, int* saturated) {
+  const size_t n = 4 * texels;
+  if (pixel == PixelType::R11G11B10) {  // RGB packed into one UInt32, alpha dropped
+    for (size_t t = 0; t < texels; ++t) {
+      const uint32_t p = pack_r11g11b10(rgba[4 * t], rgba[4 * t + 1], rgba[4 * t + 2], saturated);
+      for (size_t i = 0; i < 4; ++i) out[4 * t + i] = static_cast<uint8_t>(p >> (8 * i));
+    }
+    return;
+  }
+  if (pixel == PixelType::F16) {
+    // little-endian: where the host is, its uint16 are the file's bytes
+    if (is_little_endian()) {
+      floats_to_half_bits(rgba, n, reinterpret_cast<uint16_t*>(out));
+    } else {
+      std::vector<uint16_t> bits(n);
+      floats_to_half_bits(rgba, n, bits.data());
+      for (size_t k = 0; k < n; ++k) {
+        out[2 * k] = static_cast<uint8_t>(bits[k]);
+        out[2 * k + 1] = static_cast<uint8_t>(bits[k] >> 8);
+      }
+    }
+    return;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    uint32_t b = 0;
+    std::memcpy(&b, &rgba[k], 4);
+    for (size_t i = 0; i < 4; ++i) out[4 * k + i] = static_cast<uint8_t>(b >> (8 * i));
+  }
+}
+
+}  // namespace
+
 std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated) {
   check_cube(cube);
   std::vector<std::vector<uint8_t>> out;
   for (const auto& level : cube.levels) {
-    if (pixel == PixelType::R11G11B10) {  // RGB packed into one UInt32, alpha dropped
-      std::vector<uint8_t> bytes(level.size());
-      for (size_t t = 0; t < level.size() / 4; ++t) {
-        const uint32_t p = pack_r11g11b10(level[4 * t], level[4 * t + 1], level[4 * t + 2], saturated);
-        for (size_t i = 0; i < 4; ++i) bytes[4 * t + i] = static_cast<uint8_t>(p >> (8 * i));
-      }
-      out.push_back(std::move(bytes));
-      continue;
-    }
-    std::vector<uint8_t> bytes(level.size() * (pixel == PixelType::F16 ? 2 : 4));
-    if (pixel == PixelType::F16) {
-      // little-endian: where the host is, its uint16 are the file's bytes
-      if (is_little_endian()) {
-        floats_to_half_bits(level.data(), level.size(), reinterpret_cast<uint16_t*>(bytes.data()));
-      } else {
-        std::vector<uint16_t> bits(level.size());
-        floats_to_half_bits(level.data(), level.size(), bits.data());
-        for (size_t k = 0; k < level.size(); ++k) {
-          bytes[2 * k] = static_cast<uint8_t>(bits[k]);
-          bytes[2 * k + 1] = static_cast<uint8_t>(bits[k] >> 8);
-        }
-      }
-      out.push_back(std::move(bytes));
-      continue;
-    }
-    for (size_t k = 0; k < level.size(); ++k) {
-      uint32_t b = 0;
-      std::memcpy(&b, &level[k], 4);
-      for (size_t i = 0; i < 4; ++i) bytes[4 * k + i] = static_cast<uint8_t>(b >> (8 * i));
-    }
+    std::vector<uint8_t> bytes(level.size() / 4 * texel_bytes(pixel));
+    texels_to_bytes(level.data(), level.size() / 4, pixel, bytes.data(), saturated);
     out.push_back(std::move(bytes));
   }
   return out;
+}
+
+void put_cube_level_bytes(const CubeLevels& cube, int level, PixelType pixel,
+                          const std::function<void(const uint8_t*, size_t)>& put) {
+  const std::vector<float>& data = cube.levels.at(size_t(level));
+  constexpr size_t kChunkTexels = size_t(1) << 16;  // 512 KiB of binary16, 1 MiB of float
+  std::vector<uint8_t> bytes(std::min(kChunkTexels, data.size() / 4) * texel_bytes(pixel));
+  for (size_t t = 0; t < data.size() / 4; t += kChunkTexels) {
+    const size_t n = std::min(kChunkTexels, data.size() / 4 - t);
+    texels_to_bytes(data.data() + 4 * t, n, pixel, bytes.data(), nullptr);
+    put(bytes.data(), n * texel_bytes(pixel));
+  }
 }
 
 std::vector<std::pair<std::string, std::string>> cube_key_values(const CubeLevels& cube, int ktx_version) {
@@ -453,10 +473,12 @@ void io::write_cubemap_with_metadata(const CubeLevels& cube, const Metadata& met
       image.width = image.height = static_cast<uint32_t>(cube.size);
       image.faces = 6;
       image.levels = static_cast<uint32_t>(cube.level_count());
-      image.level_data = io::cube_level_bytes(cube, o.pixel);
       image.key_values = io::metadata_key_values(metadata, 2);
       try {
-        io::write_ktx2(image, path);  // streamed: the levels are not copied again
+        // streamed: each level converted a piece at a time as it is written, never a second chain
+        io::write_ktx2(image, path, [&](uint32_t level, const std::function<void(const uint8_t*, size_t)>& put) {
+          io::put_cube_level_bytes(cube, int(level), o.pixel, put);
+        });
       } catch (const IoError&) {
         throw;
       } catch (const Error& e) {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,6 +49,10 @@ inline constexpr uint32_t kDdsResourceMiscTextureCube = 0x4;
 // little-endian, KTX order: level, face, row, texel. `saturated`, when given, counts the channels
 // that R11F_G11F_B10F clamped to its largest finite value.
 std::vector<std::vector<uint8_t>> cube_level_bytes(const CubeLevels& cube, PixelType pixel, int* saturated = nullptr);
+// Level `level` of `cube` in the bytes cube_level_bytes gives it (f16 or f32; R11G11B10 without the
+// saturation count), handed to `put` a piece at a time (64 Ki texels): a file streamed from it.
+void put_cube_level_bytes(const CubeLevels& cube, int level, PixelType pixel,
+                          const std::function<void(const uint8_t*, size_t)>& put);
 
 struct Ktx1Options {
   // R11F_G11F_B10F only. KTX 1.1 wants glType GL_UNSIGNED_INT_10F_11F_11F_REV (0x8C3B); Filament's

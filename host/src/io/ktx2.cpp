@@ -292,7 +292,9 @@ void check_key_values(const Ktx2Image& image, const std::vector<std::pair<std::s
 
 // ---- Writer -------------------------------------------------------------------------------------
 
-const Format& check_image(const Ktx2Image& image) {
+// `streamed`: the levels come from a Ktx2LevelSource (level_data empty). `level_sizes`: each level's
+// bytes, when asked for.
+const Format& check_image(const Ktx2Image& image, bool streamed = false, std::vector<uint64_t>* level_sizes = nullptr) {
   const Format* format = find_format(image.vk_format);
   if (format == nullptr) {
     throw Error("KTX2 writer: unsupported vkFormat " + std::to_string(image.vk_format) +
@@ -312,15 +314,19 @@ const Format& check_image(const Ktx2Image& image) {
                 std::to_string(max_levels) + " for " + std::to_string(image.width) + "x" +
                 std::to_string(image.height));
   }
-  if (image.level_data.size() != image.levels) {
+  if (!streamed && image.level_data.size() != image.levels) {
     throw Error("KTX2 writer: " + std::to_string(image.level_data.size()) + " level buffers for levelCount " +
                 std::to_string(image.levels));
   }
+  if (streamed && !image.level_data.empty()) throw Error("KTX2 writer: levels given both as buffers and as a source");
+  if (level_sizes) level_sizes->assign(image.levels, 0);
   for (uint32_t level = 0; level < image.levels; ++level) {
     uint64_t expected = 0;
     if (!level_byte_size(*format, image.width, image.height, image.faces, level, &expected)) {
       throw Error("KTX2 writer: level " + std::to_string(level) + " is too large");
     }
+    if (level_sizes) (*level_sizes)[level] = expected;
+    if (streamed) continue;
     if (image.level_data[level].size() != expected) {
       throw Error("KTX2 writer: level " + std::to_string(level) + " holds " +
                   std::to_string(image.level_data[level].size()) + " bytes, expected " + std::to_string(expected) +
@@ -646,8 +652,10 @@ namespace {
 
 // Everything before the level data (header, level index, DFD, key/value data: the bytes up to the
 // smallest level's offset, padding included), and each level's offset.
-std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>& level_offsets, uint64_t& total) {
-  const Format& format = check_image(image);
+std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>& level_offsets, uint64_t& total,
+                                   bool streamed = false) {
+  std::vector<uint64_t> level_sizes;
+  const Format& format = check_image(image, streamed, &level_sizes);
   auto entries = image.key_values;
   std::sort(entries.begin(), entries.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });  // code point order
@@ -668,7 +676,7 @@ std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>
   for (uint32_t level = image.levels; level-- > 0;) {  // smallest level first
     cursor = align_up(cursor, level_alignment(format));
     level_offsets[level] = cursor;
-    cursor += image.level_data[level].size();
+    cursor += level_sizes[level];
   }
   total = cursor;
 
@@ -692,8 +700,8 @@ std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>
   for (uint32_t level = 0; level < image.levels; ++level) {
     const size_t entry = kLevelIndexOffset + kLevelIndexEntrySize * level;
     put_u64(out, entry, level_offsets[level]);
-    put_u64(out, entry + 8, image.level_data[level].size());
-    put_u64(out, entry + 16, image.level_data[level].size());
+    put_u64(out, entry + 8, level_sizes[level]);
+    put_u64(out, entry + 16, level_sizes[level]);
   }
   for (size_t i = 0; i < dfd.size(); ++i) put_u32(out, dfd_offset + 4 * i, dfd[i]);
   size_t at = dfd_offset + dfd_length;
@@ -720,12 +728,15 @@ std::vector<uint8_t> encode_ktx2(const Ktx2Image& image) {
   return out;
 }
 
-void write_ktx2(const Ktx2Image& image, const std::string& path) {
+void write_ktx2(const Ktx2Image& image, const std::string& path) { write_ktx2(image, path, {}); }
+
+void write_ktx2(const Ktx2Image& image, const std::string& path, const Ktx2LevelSource& levels) {
+  const bool streamed = static_cast<bool>(levels);
   std::vector<uint64_t> level_offsets;
   uint64_t total = 0;
-  const std::vector<uint8_t> prefix = encode_prefix(image, level_offsets, total);
-  // the levels are written from where they are, smallest first as they lie in the file: no
-  // second copy of a chain (a 1024^2 chain in binary16 is 64 MiB)
+  const std::vector<uint8_t> prefix = encode_prefix(image, level_offsets, total, streamed);
+  // the levels are written from where they are (or as their source makes them), smallest first as
+  // they lie in the file: no second copy of a chain (a 1024^2 chain in binary16 is 64 MiB)
   OutputStream out(path);
   out.write(prefix.data(), prefix.size());
   uint64_t at = prefix.size();
@@ -736,8 +747,24 @@ void write_ktx2(const Ktx2Image& image, const std::string& path) {
       out.write(kZeros, n);
       at += n;
     }
-    out.write(image.level_data[level].data(), image.level_data[level].size());
-    at += image.level_data[level].size();
+    if (!streamed) {
+      out.write(image.level_data[level].data(), image.level_data[level].size());
+      at += image.level_data[level].size();
+      continue;
+    }
+    uint64_t expected = 0, written = 0;
+    level_byte_size(*find_format(image.vk_format), image.width, image.height, image.faces, level, &expected);
+    levels(level, [&](const uint8_t* data, size_t bytes) {
+      if (written + bytes > expected)
+        throw Error("KTX2 writer: level " + std::to_string(level) + "'s source gave more than its " +
+                    std::to_string(expected) + " bytes");
+      out.write(data, bytes);
+      written += bytes;
+    });
+    if (written != expected)
+      throw Error("KTX2 writer: level " + std::to_string(level) + "'s source gave " + std::to_string(written) +
+                  " bytes, expected " + std::to_string(expected));
+    at += written;
   }
   out.commit();
 }

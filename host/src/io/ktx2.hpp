@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,6 +55,13 @@ uint32_t ktx2_max_levels(uint32_t width, uint32_t height);
 std::vector<uint8_t> encode_ktx2(const Ktx2Image& image);
 // encode_ktx2, written atomically to `path`.
 void write_ktx2(const Ktx2Image& image, const std::string& path);
+// The same file with each level made as it is written, never whole in memory: `image.level_data`
+// is empty and `levels(level, put)` hands level `level`'s bytes to `put` in pieces, in order,
+// exactly ktx2_level_size(image, level) of them (else Error, and no file). Levels are asked for
+// smallest first, as they lie in the file.
+using Ktx2LevelSource =
+    std::function<void(uint32_t level, const std::function<void(const uint8_t* data, size_t bytes)>& put)>;
+void write_ktx2(const Ktx2Image& image, const std::string& path, const Ktx2LevelSource& levels);
 
 // Parses and validates a file: identifier, header fields, index offsets and lengths, level index,
 // mip layout and padding, Data Format Descriptor and key/value data. Throws brdfbake::Error with

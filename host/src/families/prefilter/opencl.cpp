@@ -47,13 +47,15 @@ CubeLevels prefilter_environment(Device& device, const EnvImage& env, const Pref
   double convert_seconds = 0.0;
   // the filter's program is built (or read from the cache) while the conversion runs
   std::future<void> filter_built;
-  CubeLevels source = detail::convert_to_cube(device, env, s.size, &convert_seconds, [&] {
-    filter_built = std::async(std::launch::async, [&device, &s] {
-      detail::cl_call("building kernels/prefilter.cl", [&] { return detail::filter_program(device.impl(), s), 0; });
-    });
-  });
+  CubeLevels source = detail::convert_to_cube(
+      device, env, s.size, &convert_seconds,
+      [&] {
+        filter_built = std::async(std::launch::async, [&device, &s] {
+          detail::cl_call("building kernels/prefilter.cl", [&] { return detail::filter_program(device.impl(), s), 0; });
+        });
+      },
+      source_done);  // the pixels are not read again
   if (filter_built.valid()) filter_built.get();
-  if (source_done) source_done();  // the pixels are not read again
   PrefilterTiming t;
   t.device_seconds = convert_seconds;
   t.stage_seconds.emplace_back("convert", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
