@@ -340,6 +340,34 @@ TEST(CliBake, EveryEngineTargetWritesItsFileSet) {
   fs::remove_all(dir);
 }
 
+// A scene of metals asks for no irradiance, yet every engine target's file set holds the diffuse
+// light (Filament's SH key, the .env's polynomial, the glTF light's irradianceCoefficients, the
+// viewer's Lambertian cube): the plan adds it for the set, and the bake writes the whole set (it
+// was refused: "needs ... an irradiance table", stop 41).
+TEST(CliBake, ASceneOfMetalsBakesEveryEngineTargetsWholeSet) {
+  const fs::path dir = temp_dir() / "metals";
+  fs::create_directories(dir);
+  std::ofstream(dir / "metals.gltf") << R"({"asset": {"version": "2.0"}, "materials": [{"name": "gold", )"
+                                        R"("pbrMetallicRoughness": {"baseColorFactor": [1, 0.8, 0.3, 1], )"
+                                        R"("metallicFactor": 1, "roughnessFactor": 0.3}}]})";
+  for (const std::string& target : brdfbake::engine_target_names()) {
+    if (target == "generic") continue;
+    const fs::path out = dir / ("set_" + target);
+    const CliRun r = run("bake --scene " + (dir / "metals.gltf").string() + " --env builtin:sun --target " + target +
+                         " --chain-size 32 --lut-size 16 --quiet -o " + out.string());
+    ASSERT_EQ(r.code, 0) << target << ": " << r.err;
+    const json m = json::parse(std::ifstream(out / "manifest.json"));
+    bool irradiance = false;
+    for (const auto& f : m["files"]) irradiance = irradiance || f["kind"] == "irradiance";
+    EXPECT_TRUE(irradiance) << target << ": " << m["files"].dump();
+    ASSERT_TRUE(m.contains("engine")) << target;
+    EXPECT_FALSE(m["engine"]["files"].empty()) << target;
+    for (const auto& f : m["engine"]["files"])
+      EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
+  }
+  fs::remove_all(dir);
+}
+
 // Issue 24, item 3: a job with a Charlie chain baked for khronos-viewer writes NAME_charlie.ktx2
 // beside NAME_ggx.ktx2 (docs/ENGINES.md), listed with the engine's files; without one, none.
 TEST(CliBake, KhronosViewerWritesTheCharlieChainItIsGiven) {

@@ -277,6 +277,35 @@ TEST(Rules, CoreBakesTheGgxTablesAndIrradianceOnlyForNonMetals) {
   EXPECT_EQ(dielectric.job.tables.size(), 3u);
 }
 
+// An engine target's file set holds the diffuse light beside the chain whatever the materials: a
+// scene of metals (which asks for no irradiance) still gets it for every target, requested by the
+// engine-file-set rule and no material; the generic target keeps the materials' plan; a scene that
+// asks for irradiance itself is not given a second one.
+TEST(Rules, EngineTargetsGetTheIrradianceTheirFileSetHolds) {
+  const std::string metals = gltf({R"({"pbrMetallicRoughness":{"metallicFactor":1}})"});
+  for (const char* target : {"filament", "babylon", "gltf", "khronos-viewer"}) {
+    PlanOptions o;
+    o.target = target;
+    const Plan p = plan_text(metals, o);
+    ASSERT_EQ(tables_of(p, TableKind::Irradiance).size(), 1u) << target;
+    const TableRequest& irr = *tables_of(p, TableKind::Irradiance)[0];
+    ASSERT_EQ(irr.requested_by.size(), 1u) << target;
+    EXPECT_EQ(irr.requested_by[0].rule, "engine-file-set") << target;
+    EXPECT_TRUE(irr.requested_by[0].materials.empty()) << target;
+    EXPECT_TRUE(fired(p, "engine-file-set")) << target;
+    EXPECT_NE(prefilter_of(p, "ggx"), nullptr) << target;
+  }
+  const Plan generic = plan_text(metals);
+  EXPECT_TRUE(tables_of(generic, TableKind::Irradiance).empty()) << "generic: only what the materials ask";
+  EXPECT_FALSE(fired(generic, "engine-file-set"));
+  PlanOptions o;
+  o.target = "filament";
+  const Plan dielectric = plan_text(gltf({R"({"pbrMetallicRoughness":{"metallicFactor":0}})"}), o);
+  ASSERT_EQ(tables_of(dielectric, TableKind::Irradiance).size(), 1u);
+  EXPECT_EQ(tables_of(dielectric, TableKind::Irradiance)[0]->requested_by.at(0).rule, "metallic-roughness");
+  EXPECT_FALSE(fired(dielectric, "engine-file-set"));
+}
+
 TEST(Rules, EnergyCompensationChoosesTheDfgForm) {
   const std::string g = gltf({"{}"});
   EXPECT_EQ(tables_of(plan_text(g), TableKind::Ggx).size(), 0u);

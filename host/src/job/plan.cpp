@@ -38,6 +38,8 @@ constexpr const char* kDispersion = "KHR_materials_dispersion";
 constexpr const char* kTransmission = "KHR_materials_transmission";
 constexpr const char* kVolume = "KHR_materials_volume";
 constexpr const char* kIridescence = "KHR_materials_iridescence";
+// Not a material's rule: what an engine target's file set holds whatever the materials.
+constexpr const char* kEngineSet = "engine-file-set";
 const char* const kRuleOrder[] = {kUnlit, kEmissiveOnly, kCore,       kClearcoat,    kSheen,  kAnisotropy,
                                   kIor,   kSpecular,     kDispersion, kTransmission, kVolume, kIridescence};
 
@@ -111,8 +113,29 @@ class Planner {
   }
 
   void finish() {
+    // An engine target's file set holds the environment's diffuse light beside its chain whatever
+    // the materials (Filament's SH key, the .env's polynomial, the glTF light's required
+    // irradianceCoefficients, the Khronos viewer's Lambertian cube): its engine loads the IBL whole.
+    // A scene that asks for the chain alone (every material a metal) gets the irradiance for the set.
+    bool target_irradiance = false;
+    if (plan_.job.target != "generic") {
+      const auto& tables = plan_.job.tables;
+      const bool chain = std::any_of(tables.begin(), tables.end(), [](const TableRequest& t) {
+        return t.kind == TableKind::Prefilter && t.find("distribution") && t.text("distribution") == "ggx";
+      });
+      const bool irradiance = std::any_of(tables.begin(), tables.end(),
+                                          [](const TableRequest& t) { return t.kind == TableKind::Irradiance; });
+      if (chain && !irradiance) {
+        ask(irradiance_table(), kEngineSet,
+            "diffuse irradiance for the " + plan_.job.target +
+                " file set, which holds it whatever the materials (its engine loads the IBL whole)",
+            "");
+        target_irradiance = true;
+      }
+    }
     for (const char* rule : kRuleOrder)
       if (fired_.count(rule)) plan_.rules_fired.push_back(rule);
+    if (target_irradiance) plan_.rules_fired.push_back(kEngineSet);
     // Only what the target's engine loads (issue 34): tables no file of its set holds and its
     // engine never reads are not baked, and the plan says why.
     if (plan_.job.target != "generic") {
@@ -162,7 +185,8 @@ class Planner {
     t.format = o_.cube_format;
     return t;
   }
-  TableRequest irradiance() const {
+  TableRequest irradiance() const { return irradiance_table(); }
+  TableRequest irradiance_table() const {
     TableRequest t;
     t.kind = TableKind::Irradiance;
     if (o_.sh_order) t.params.push_back({"sh_order", double(*o_.sh_order)});
