@@ -18,7 +18,10 @@
 
 #include "brdfbake/engines.hpp"
 #include "brdfbake/environment.hpp"
+#include "brdfbake/error.hpp"
+#include "brdfbake/job.hpp"
 #include "brdfbake/table.hpp"
+#include "families/preview/bake_preview.hpp"
 #include "io/ktx2.hpp"
 #include "io/table_read.hpp"
 #include "support/cli_runner.hpp"
@@ -365,6 +368,36 @@ TEST(CliBake, ASceneOfMetalsBakesEveryEngineTargetsWholeSet) {
     for (const auto& f : m["engine"]["files"])
       EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << target << ": " << f.get<std::string>();
   }
+  // The generic target keeps the materials' plan (no irradiance), and its preview shades the metals
+  // without one; the default grid's dielectrics need one: refused, naming a sphere, nothing written.
+  const fs::path generic = dir / "generic";
+  const CliRun baked = run("bake --scene " + (dir / "metals.gltf").string() +
+                           " --env builtin:sun --chain-size 32 --lut-size 16 --quiet -o " + generic.string());
+  ASSERT_EQ(baked.code, 0) << baked.err;
+  EXPECT_FALSE(fs::exists(generic / "irradiance_sh3.json"));
+  const CliRun shown = run("preview --bake " + generic.string() + " --scene " + (dir / "metals.gltf").string() +
+                           " --env builtin:sun --width 64 --height 64 --quiet -o " + (dir / "p.png").string());
+  ASSERT_EQ(shown.code, 0) << shown.err;
+  const json p = json::parse(std::ifstream(dir / "p.json"));
+  ASSERT_EQ(p["spheres"].size(), 1u);
+  EXPECT_EQ(p["spheres"][0]["name"], "gold");
+  EXPECT_TRUE(std::isfinite(p["spheres"][0]["error"]["linear"]["rms"].get<double>()));
+  EXPECT_EQ(p["bake"]["diffuse"].get<std::string>().rfind("none", 0), 0u) << p["bake"].dump();
+  const CliRun grid = run("preview --bake " + generic.string() + " --env builtin:sun --width 192 --height 96 -o " +
+                          (dir / "q.png").string());
+  EXPECT_EQ(grid.code, 2) << grid.err;
+  EXPECT_NE(grid.err.find("holds no irradiance table"), std::string::npos) << grid.err;
+  EXPECT_FALSE(fs::exists(dir / "q.png"));
+  // bake --preview: a scene's bake without irradiance may have one; no scene, no irradiance: refused
+  brdfbake::Job job;
+  job.scene = (dir / "metals.gltf").string();
+  brdfbake::TableRequest chain;
+  chain.kind = brdfbake::TableKind::Prefilter;
+  chain.params.push_back({"distribution", std::string("ggx")});
+  job.tables.push_back(chain);
+  EXPECT_NO_THROW(brdfbake::detail::preview::check_bake_preview(job));
+  job.scene.clear();
+  EXPECT_THROW(brdfbake::detail::preview::check_bake_preview(job), brdfbake::Error);
   fs::remove_all(dir);
 }
 

@@ -16,9 +16,17 @@ using preview::BakeFiles;
 void read_prefiltered_and_sh(const Field& manifest, BakeFiles& b) {
   const std::optional<Field> chain = bake_read::manifest_entry(manifest, "prefilter");
   const std::optional<Field> irr = bake_read::manifest_entry(manifest, "irradiance");
-  if (!chain || !irr) throw Error("'" + b.folder + "': the bake has no GGX chain or no irradiance SH JSON");
+  if (!chain) throw Error("'" + b.folder + "': the bake has no GGX chain");
   b.specular_file = bake_read::entry_file(*chain, b.folder);
   b.specular = io::read_gpu_cube(b.specular_file, &b.specular_format);
+  if (!irr) {
+    // a scene of metals plans no irradiance: only spheres without a diffuse lobe can be shaded
+    // (render_preview refuses the others)
+    b.diffuse = preview::DiffuseSource::None;
+    b.diffuse_file.clear();
+    b.sh.clear();
+    return;
+  }
   b.diffuse_file = bake_read::entry_file(*irr, b.folder);
   const nlohmann::ordered_json sh = io::parse_json(io::read_text_file(b.diffuse_file, "SH JSON"), b.diffuse_file);
   const Field doc(sh, b.diffuse_file);

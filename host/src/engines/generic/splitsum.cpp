@@ -88,7 +88,9 @@ Metadata steps(const SplitSumSampler& s) {
           {"dfg", s.lut_text() + ", at (clamp(n.v), roughness)"},
           {"specular", s.files.dfg_multiscatter ? "prefiltered x mix(bias, albedo, F0) x (1 + F0 (1 / albedo - 1))"
                                                 : "prefiltered x (F0 scale + bias)"},
-          {"diffuse", "diffuse colour x sum c_lm Y_lm(n) (E / pi, " + s.files.diffuse_file + ")"}};
+          {"diffuse", s.files.diffuse == preview::DiffuseSource::None
+                          ? std::string("none: the bake holds no irradiance, and no sphere has a diffuse lobe")
+                          : "diffuse colour x sum c_lm Y_lm(n) (E / pi, " + s.files.diffuse_file + ")"}};
 }
 
 }  // namespace

@@ -98,7 +98,9 @@ void list_settings(BakeFiles& b) {
                 {"dfg", b.dfg_file},
                 {"dfg_size", std::to_string(b.dfg.width) + "x" + std::to_string(b.dfg.height)},
                 {"dfg_channels", b.dfg_multiscatter ? "bias,albedo" : "scale,bias"},
-                {"diffuse", b.diffuse_file}};
+                {"diffuse", b.diffuse == DiffuseSource::None
+                                ? std::string("none: the bake holds no irradiance (its scene has no diffuse lobe)")
+                                : b.diffuse_file}};
   if (!b.sheen.levels.empty()) {
     b.settings.push_back({"sheen", b.sheen_file});
     b.settings.push_back({"sheen_levels", std::to_string(b.sheen.level_count())});

@@ -17,6 +17,7 @@ enum class DiffuseSource {
   GltfSh,             // EXT_lights_image_based irradianceCoefficients, E_lm with the Condon-Shortley phase
   BabylonPolynomial,  // the .env's spherical polynomial x, y, z, xx, yy, zz, yz, zx, xy (E/pi)
   IrradianceCube,     // the glTF-IBL-Sampler's Lambertian cube (E/pi a texel)
+  None,               // generic: the bake holds no irradiance (a scene of metals): no sphere may need it
 };
 
 struct BakeFiles {

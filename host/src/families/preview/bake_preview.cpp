@@ -32,7 +32,9 @@ void check_bake_preview(const Job& job) {
       if (fs::path(t.output).lexically_normal() == name)
         throw Error(origin + ": preview: the output '" + t.output + "' is the preview's own file");
   }
-  if (!chain || !irradiance)
+  // A scene of metals plans no irradiance: its preview shades them without one (generic target;
+  // the engine targets' plans always hold one). Without a scene the preview's default grid needs it.
+  if (!chain || (!irradiance && job.scene.empty()))
     throw Error(origin + ": preview: the bake has no " + (chain ? "irradiance table" : "GGX prefiltered chain") +
                 " to render a preview from (the default plan has both)");
   // The preview's reference runs on the chain's device: the scalar reference would take hours for

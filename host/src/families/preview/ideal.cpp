@@ -261,7 +261,9 @@ IdealBake apply_ideal_parts(const IdealParts& parts, const BakeFiles& files) {
   }
   out.settings = parts.settings;
   for (auto& [key, value] : out.settings)
-    if (key == "diffuse" && value.empty()) value = "the files' own (" + file_name(files.diffuse_file) + ")";
+    if (key == "diffuse" && value.empty())
+      value = files.diffuse == DiffuseSource::None ? std::string("none, as the files (no irradiance baked)")
+                                                   : "the files' own (" + file_name(files.diffuse_file) + ")";
   out.seconds = parts.seconds;
   return out;
 }

@@ -755,6 +755,13 @@ PreviewResult render_preview(Backend& backend, const EnvImage& environment, cons
   SplitSum split(read_bake_files(folder, res.spec.target, baked_first ? std::string() : environment.source),
                  split_options);
   res.times.read = since(t0);
+  if (split.files().diffuse == DiffuseSource::None)
+    for (const PreviewSphere& s : res.spheres) {
+      const Rgb cd = preview_diffuse_color(s.material);
+      if (std::max({cd.r, cd.g, cd.b}) > 0.0)
+        throw Error("'" + folder + "': the bake holds no irradiance table (its scene has no diffuse lobe), and '" +
+                    s.material.name + "' has one: preview it with a bake that has one (a scene with it, or none)");
+    }
   res.bake = split.files().settings;
   if (baked_first && !temp)
     res.bake[0].second = "baked first into " + folder + " (brdfbake bake --target " +

@@ -210,6 +210,9 @@ void SplitSumSampler::diffuse(const Vec3& n, float out[3]) const {
       bilinear(-1, n, out);
       return;
     }
+    case DiffuseSource::None:
+      out[0] = out[1] = out[2] = 0.0f;  // only for spheres without a diffuse lobe (render_preview)
+      return;
   }
 }
 
