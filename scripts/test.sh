@@ -111,7 +111,7 @@ python_part() {
     -C cmake.define.BRDFBAKE_WARNINGS_AS_ERRORS=ON "${wheel_library[@]}"
   echo "brdfbake python: virtual environment and test packages in $((python_deps - python_start)) s," \
        "pip install . in $((SECONDS - python_deps)) s" >&2
-  BRDFBAKE_CLI="$PWD/$BUILD_DIR/host/cli/brdfbake" "$VENV/bin/python" -m pytest tests/python -q -p no:cacheprovider \
+  BRDFBAKE_CLI="$PWD/$BUILD_DIR/host/cli/brdfbake" "$VENV/bin/python" -m pytest tests/python -q -p no:cacheprovider --durations=12 \
     || status=$?
   if [[ $status -eq 5 ]]; then
     echo "brdfbake python: pytest collected no tests" >&2
