@@ -69,7 +69,7 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
             std::memcpy(level0 + face_floats * size_t(f), mapped, face_bytes);
           dev.queue.enqueueUnmapMemObject(face_buf, mapped);
         }
-        dev.queue.finish();
+        dev.queue.finish();  // the unmaps done before the buffers over level 0 go
         return sum_seconds(events);
       }
       cl::Buffer face_buf(dev.context, CL_MEM_WRITE_ONLY, face_bytes);
@@ -78,7 +78,6 @@ CubeLevels detail::convert_to_cube(Device& device, const EnvImage& env, int size
         events.push_back(convert(range, src, env.width, env.height, face_buf, size, k, f));
         dev.queue.enqueueReadBuffer(face_buf, CL_TRUE, 0, face_bytes, level0 + face_floats * size_t(f));
       }
-      return sum_seconds(events);
       return sum_seconds(events);
     } else {
       cube.levels[0].resize(4 * texels);

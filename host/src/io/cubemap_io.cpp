@@ -259,9 +259,6 @@ bool is_little_endian() {
   std::memcpy(&first, &one, 1);
   return first == 1;
 }
-}  // namespace
-
-namespace {
 
 size_t texel_bytes(PixelType pixel) { return pixel == PixelType::R11G11B10 ? 4 : pixel == PixelType::F16 ? 8 : 16; }
 
