@@ -120,13 +120,13 @@ class Planner {
     bool target_irradiance = false;
     if (plan_.job.target != "generic") {
       const auto& tables = plan_.job.tables;
-      const bool chain = std::any_of(tables.begin(), tables.end(), [](const TableRequest& t) {
+      const bool has_chain = std::any_of(tables.begin(), tables.end(), [](const TableRequest& t) {
         return t.kind == TableKind::Prefilter && t.find("distribution") && t.text("distribution") == "ggx";
       });
-      const bool irradiance = std::any_of(tables.begin(), tables.end(),
-                                          [](const TableRequest& t) { return t.kind == TableKind::Irradiance; });
-      if (chain && !irradiance) {
-        ask(irradiance_table(), kEngineSet,
+      const bool has_irradiance = std::any_of(tables.begin(), tables.end(),
+                                              [](const TableRequest& t) { return t.kind == TableKind::Irradiance; });
+      if (has_chain && !has_irradiance) {
+        ask(irradiance(), kEngineSet,
             "diffuse irradiance for the " + plan_.job.target +
                 " file set, which holds it whatever the materials (its engine loads the IBL whole)",
             "");
@@ -185,8 +185,7 @@ class Planner {
     t.format = o_.cube_format;
     return t;
   }
-  TableRequest irradiance() const { return irradiance_table(); }
-  TableRequest irradiance_table() const {
+  TableRequest irradiance() const {
     TableRequest t;
     t.kind = TableKind::Irradiance;
     if (o_.sh_order) t.params.push_back({"sh_order", double(*o_.sh_order)});
