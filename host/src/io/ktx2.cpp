@@ -651,11 +651,12 @@ uint32_t ktx2_max_levels(uint32_t width, uint32_t height) {
 namespace {
 
 // Everything before the level data (header, level index, DFD, key/value data: the bytes up to the
-// smallest level's offset, padding included), and each level's offset.
+// smallest level's offset, padding included), each level's offset and, when asked, its bytes.
 std::vector<uint8_t> encode_prefix(const Ktx2Image& image, std::vector<uint64_t>& level_offsets, uint64_t& total,
-                                   bool streamed = false) {
+                                   bool streamed = false, std::vector<uint64_t>* sizes = nullptr) {
   std::vector<uint64_t> level_sizes;
   const Format& format = check_image(image, streamed, &level_sizes);
+  if (sizes) *sizes = level_sizes;
   auto entries = image.key_values;
   std::sort(entries.begin(), entries.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });  // code point order
@@ -734,7 +735,8 @@ void write_ktx2(const Ktx2Image& image, const std::string& path, const Ktx2Level
   const bool streamed = static_cast<bool>(levels);
   std::vector<uint64_t> level_offsets;
   uint64_t total = 0;
-  const std::vector<uint8_t> prefix = encode_prefix(image, level_offsets, total, streamed);
+  std::vector<uint64_t> level_sizes;
+  const std::vector<uint8_t> prefix = encode_prefix(image, level_offsets, total, streamed, &level_sizes);
   // the levels are written from where they are (or as their source makes them), smallest first as
   // they lie in the file: no second copy of a chain (a 1024^2 chain in binary16 is 64 MiB)
   OutputStream out(path);
@@ -752,8 +754,8 @@ void write_ktx2(const Ktx2Image& image, const std::string& path, const Ktx2Level
       at += image.level_data[level].size();
       continue;
     }
-    uint64_t expected = 0, written = 0;
-    level_byte_size(*find_format(image.vk_format), image.width, image.height, image.faces, level, &expected);
+    const uint64_t expected = level_sizes[level];
+    uint64_t written = 0;
     levels(level, [&](const uint8_t* data, size_t bytes) {
       if (written + bytes > expected)
         throw Error("KTX2 writer: level " + std::to_string(level) + "'s source gave more than its " +
